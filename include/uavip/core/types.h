@@ -1,0 +1,60 @@
+#pragma once
+/// \file
+/// Value types shared by every pipeline stage (ARCHITECTURE.md, "Core types").
+/// World frame: ENU metres, z up.
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace uavip {
+
+/// A 3D point or vector in the world frame [m].
+using Vec3 = Eigen::Vector3d;
+/// An unordered point cloud [m]. Vector3d needs no special allocator (12-byte
+/// alignment is not a vectorisable fixed size for Eigen).
+using PointList = std::vector<Vec3>;
+
+/// Infinite plane n·x + d = 0 with unit normal n (paper §II-D, M = [a b c d]).
+struct Plane {
+  Vec3 normal{0.0, 0.0, 1.0};  ///< unit normal; for a Surface it points toward free space
+  double offset{0.0};          ///< d [m]
+
+  /// Signed distance of p to the plane [m], positive on the normal's side.
+  double signedDistance(const Vec3& p) const { return normal.dot(p) + offset; }
+  /// Orthogonal projection of p onto the plane.
+  Vec3 project(const Vec3& p) const { return p - signedDistance(p) * normal; }
+};
+
+/// A planar surface to inspect (paper §II-D): RANSAC plane, the inliers of its
+/// largest cluster, and the convex-hull boundary of the projected inliers.
+struct Surface {
+  int id{0};                 ///< 0-based, stable for the same input and options
+  Plane plane;               ///< normal oriented toward free space
+  PointList inliers;         ///< inliers of the largest cluster [m]
+  PointList boundary;        ///< convex hull on the plane, counter-clockwise seen from +normal [m]
+  Vec3 centroid{Vec3::Zero()};  ///< mean of the inliers [m]
+  Vec3 axis_u{Vec3::UnitX()};   ///< first principal in-plane axis (unit)
+  Vec3 axis_v{Vec3::UnitY()};   ///< second in-plane axis, axis_u × axis_v = normal
+  double area_m2{0.0};          ///< area of the boundary polygon [m²]
+  double density_area_m2{0.0};  ///< inlier count × cell area, the paper's estimate [m²]
+};
+
+/// A cluster of points that belongs to no surface (paper §II-E).
+struct Obstacle {
+  int id{0};
+  PointList points;                     ///< [m]
+  Vec3 aabb_min{Vec3::Zero()};          ///< axis-aligned bounding box [m]
+  Vec3 aabb_max{Vec3::Zero()};
+};
+
+/// Result of perception: what the clean cloud means. Every measured point stays an
+/// obstacle for planning, whether it ended in a surface, a cluster or neither.
+struct Scene {
+  std::vector<Surface> surfaces;
+  std::vector<Obstacle> obstacles;
+  PointList cloud;  ///< the clean cloud (after stage 3) [m]
+};
+
+}  // namespace uavip

@@ -1,0 +1,43 @@
+#pragma once
+/// \file
+/// Camera model of the flight strategy (paper §II-F; formulas of QGroundControl's
+/// CameraCalc, ../shared/reference/formats.md): footprint given directly, or from
+/// sensor size, focal length, image size and a required ground sample distance.
+
+#include <string>
+
+namespace uavip::coverage {
+
+/// How the camera is described. Either `footprint_*` (direct, as in the paper:
+/// 0.6 × 0.4 m) or, when `from_sensor` is true, sensor/focal/image/GSD.
+struct Camera {
+  double footprint_w_m{0.6};  ///< photo width on the surface (image x axis) [m]
+  double footprint_h_m{0.4};  ///< photo height on the surface (image y axis) [m]
+
+  bool from_sensor{false};
+  double sensor_w_mm{0.0};    ///< Sw [mm]
+  double sensor_h_mm{0.0};    ///< Sh [mm]
+  double focal_mm{0.0};       ///< f [mm]
+  int image_w_px{0};          ///< Iw [px]
+  int image_h_px{0};          ///< Ih [px]
+  double gsd_mm_per_px{0.0};  ///< required GSD, met on both axes [mm/px]
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "camera") const;
+};
+
+/// What the camera gives at the chosen standoff.
+struct CameraGeometry {
+  double footprint_w_m{0.0};  ///< [m]
+  double footprint_h_m{0.0};  ///< [m]
+  double standoff_m{0.0};     ///< distance from the surface [m]
+  double gsd_w_mm{0.0};       ///< achieved GSD along the image width [mm/px] (0 if footprint given directly)
+  double gsd_h_mm{0.0};       ///< achieved GSD along the image height [mm/px]
+};
+
+/// Solves the camera. With a direct footprint the standoff is `standoff_m`.
+/// With a sensor: D = min(Iw·GSD·f/Sw, Ih·GSD·f/Sh) / 1000 [m] so the GSD is met on
+/// both axes; footprint = D·S/f on each axis; achieved GSD = D·1000·S/(I·f).
+CameraGeometry solveCamera(const Camera& camera, double standoff_m);
+
+}  // namespace uavip::coverage

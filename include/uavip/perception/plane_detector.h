@@ -1,0 +1,52 @@
+#pragma once
+/// \file
+/// Stage 4 (paper §II-D): surfaces and their boundaries. Planes are extracted one
+/// after another by RANSAC (PCL SACSegmentation, SACMODEL_PLANE), refined on their
+/// inliers; isolated groups are trimmed by keeping the largest Euclidean cluster of
+/// the inliers; small planes (area < min_area_m2) go back to the object points;
+/// the boundary is the 2D convex hull (PCL ConvexHull) of the projected inliers.
+
+#include "uavip/core/types.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace uavip::perception {
+
+/// Options of stage 4.
+struct PlaneDetectionOptions {
+  double distance_threshold_m{0.2};  ///< RANSAC inlier distance (paper: 20 cm) [m]
+  int max_iterations{200};           ///< RANSAC iterations per plane (paper: 200)
+  double min_area_m2{2.0};           ///< planes smaller than this are objects (paper: 2 m²) [m²]
+  double cluster_tolerance_m{0.3};   ///< neighbour distance that joins inliers into one cluster [m]
+  double cell_size_m{0.05};          ///< point spacing of the clean cloud (voxel edge) for the density area [m]
+  int max_planes{64};                ///< stop after this many accepted planes
+  int max_failures{8};               ///< stop after this many consecutive rejected candidates
+  Vec3 viewpoint{Vec3::Zero()};      ///< sensor position, used to orient a normal when free space is ambiguous [m]
+  std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "perception") const;
+};
+
+/// Statistics of stage 4.
+struct PlaneDetectionStats {
+  int candidates{0};        ///< planes proposed by RANSAC
+  int rejected_small{0};    ///< candidates under the area threshold (returned to the objects)
+  std::size_t trimmed_points{0};  ///< inliers dropped as isolated groups (returned to the objects)
+};
+
+/// Result of stage 4: the accepted surfaces and the points that belong to none.
+struct PlaneDetectionResult {
+  std::vector<Surface> surfaces;  ///< ids 0..n-1 in extraction order (largest first)
+  PointList remaining;            ///< every input point that is in no surface
+  PlaneDetectionStats stats;
+};
+
+/// Runs stage 4 on the clean cloud. Never throws on a cloud with too few points:
+/// it returns no surface. Normals point toward free space: toward the side with
+/// fewer cloud points in front of the surface, or toward the viewpoint on a tie.
+PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options);
+
+}  // namespace uavip::perception

@@ -1,0 +1,42 @@
+#pragma once
+/// \file
+/// The point-to-point planner interface of stage 7. Implementations live in
+/// planners/ (the paper's A* first; OMPL planners behind the same interface).
+
+#include "uavip/core/types.h"
+#include "uavip/world/voxel_grid.h"
+
+#include <cstddef>
+#include <string>
+
+namespace uavip::planning {
+
+/// Outcome of one leg.
+enum class PathStatus { Solved, NoPath, Timeout, InvalidStart, InvalidGoal };
+
+/// Text of a status ("solved", "no_path", …).
+const char* toString(PathStatus status);
+
+/// Result of planning one leg.
+struct PathResult {
+  PathStatus status{PathStatus::NoPath};
+  PointList path;              ///< start … goal; for grid planners the voxel centres of every step, with the exact start and goal at the ends [m]
+  double cost{0.0};            ///< in the planner's own cost units
+  std::size_t expansions{0};   ///< nodes expanded
+  double seconds{0.0};         ///< wall time
+  bool solved() const { return status == PathStatus::Solved; }
+};
+
+/// Plans collision-free paths on a VoxelGrid. plan() is not thread-safe (a planner
+/// may keep scratch memory); use one instance per thread.
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  /// Registry name, e.g. "astar".
+  virtual std::string name() const = 0;
+  /// Plans from start to goal; both must lie in free voxels, otherwise the status
+  /// says which end is invalid. Never throws for in-range inputs.
+  virtual PathResult plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) = 0;
+};
+
+}  // namespace uavip::planning

@@ -1,0 +1,93 @@
+#pragma once
+/// \file
+/// The planning world of the paper's stage 7 (§II-G): occupancy of the clean cloud
+/// (OctoMap OcTree at the grid resolution), copied into a dense voxel grid, then
+/// every free voxel within the inflation sphere of an occupied one is marked
+/// blocked, so the UAV can be treated as a particle moving between voxel centres.
+///
+/// Safety argument (why the inflation is larger than the UAV radius r): a point
+/// lies at most h = (√3/2)·res from its voxel's centre, and every point of a step
+/// between two adjacent voxel centres (length ≤ √3·res) lies within h of one of
+/// them. Blocking every voxel whose centre is within r + 2h = r + √3·res of an
+/// occupied voxel centre therefore guarantees a clearance ≥ r from every measured
+/// point along any path of 26-neighbour steps between free voxel centres, and along
+/// any segment whose samples (spaced ≤ res) all lie in free voxels.
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/types.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace uavip::world {
+
+/// Options of the planning grid.
+struct GridOptions {
+  double resolution_m{0.2};        ///< voxel edge [m]
+  double inflation_radius_m{0.6};  ///< r: the UAV's largest dimension (paper) [m]
+  double padding_m{2.0};           ///< free margin around the cloud's (and extra points') bounds [m]
+  std::size_t max_voxels{60'000'000};  ///< refuse grids larger than this (memory guard)
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "grid") const;
+};
+
+/// Integer voxel coordinates.
+struct Index3 {
+  int x{0}, y{0}, z{0};
+  bool operator==(const Index3& o) const { return x == o.x && y == o.y && z == o.z; }
+  bool operator!=(const Index3& o) const { return !(*this == o); }
+};
+
+/// Dense inflated occupancy grid. Immutable after build(); const queries are
+/// thread-safe.
+class VoxelGrid {
+ public:
+  /// Builds the grid covering the bounds of `cloud` and `extra` (e.g. photo stops)
+  /// grown by padding_m. Occupancy comes from an octomap::OcTree filled with the
+  /// cloud; inflation blocks voxels within r + √3·res (see the file comment).
+  /// Throws InputError for bad options or a grid over max_voxels.
+  static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options);
+
+  const GridOptions& options() const { return options_; }
+  double resolution() const { return options_.resolution_m; }
+  /// Radius used to block voxels around occupied ones: r + √3·res [m].
+  double effectiveInflation() const;
+  const std::array<int, 3>& dims() const { return dims_; }
+  const Vec3& origin() const { return origin_; }  ///< min corner of voxel (0,0,0) [m]
+  std::size_t voxelCount() const { return blocked_.size(); }
+  std::size_t occupiedCount() const { return occupied_count_; }
+  std::size_t blockedCount() const { return blocked_count_; }
+
+  bool inBounds(const Index3& i) const;
+  /// Voxel holding p (may be out of bounds).
+  Index3 indexOf(const Vec3& p) const;
+  /// Centre of voxel i [m].
+  Vec3 centreOf(const Index3& i) const;
+  /// True if the voxel contains a measured point (before inflation).
+  bool isOccupied(const Index3& i) const;
+  /// True if out of bounds, occupied or inside the inflation of an occupied voxel.
+  bool isBlocked(const Index3& i) const;
+  bool isFree(const Index3& i) const { return !isBlocked(i); }
+  /// True if the voxel holding p is free.
+  bool isFree(const Vec3& p) const { return isFree(indexOf(p)); }
+  /// True if every sample of the segment a→b, spaced ≤ resolution, lies in a free voxel.
+  bool segmentFree(const Vec3& a, const Vec3& b) const;
+  /// Linear index of an in-bounds voxel.
+  std::size_t linear(const Index3& i) const;
+  /// Marks every free voxel 26-connected to `seed` (an empty vector if seed is blocked).
+  std::vector<std::uint8_t> reachableFrom(const Index3& seed) const;
+
+ private:
+  GridOptions options_;
+  Vec3 origin_{Vec3::Zero()};
+  std::array<int, 3> dims_{{0, 0, 0}};
+  std::vector<std::uint8_t> blocked_;   ///< 0 free, 1 inflated, 2 occupied
+  std::size_t occupied_count_{0};
+  std::size_t blocked_count_{0};
+};
+
+}  // namespace uavip::world

@@ -1,0 +1,62 @@
+#pragma once
+/// \file
+/// The paper's planner (§II-G): A* over the 26-neighbour voxel grid with the step
+/// cost C(α,β,γ) = a1·α² + a2·β² + a3·γ², α,β,γ ∈ {−1,0,1}. Since α² = |α| the
+/// cost of any path is at least a1|Δx| + a2|Δy| + a3|Δz| (in voxels), which every
+/// monotone path attains: this weighted L1 distance is the exact heuristic in free
+/// space. The Euclidean mode uses √(a1α² + a2β² + a3γ²) with the weighted Euclidean
+/// distance as heuristic (admissible and consistent).
+
+#include "uavip/planning/planner.h"
+#include "uavip/world/voxel_grid.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace uavip::planners {
+
+/// Step cost model.
+enum class AStarCost { Paper, Euclidean };
+
+/// Options of the A*.
+struct AStarOptions {
+  AStarCost cost{AStarCost::Paper};
+  double a1{1.0};  ///< weight of x moves
+  double a2{1.0};  ///< weight of y moves
+  double a3{1.0};  ///< weight of z moves
+  std::size_t max_expansions{0};  ///< 0 = unlimited; otherwise status Timeout when exceeded
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "planner") const;
+};
+
+/// Result of a grid search.
+struct GridSearchResult {
+  bool found{false};
+  std::vector<world::Index3> cells;  ///< start … goal
+  double cost{0.0};
+  std::size_t expansions{0};
+  bool exhausted_budget{false};
+};
+
+/// A* between two free voxels. Deterministic: ties on f are broken by larger g,
+/// then by linear index. Returns found = false if either end is blocked.
+GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& start,
+                             const world::Index3& goal, const AStarOptions& options);
+
+/// Step cost of a move (dx, dy, dz) ∈ {−1,0,1}³ under the options.
+double stepCost(int dx, int dy, int dz, const AStarOptions& options);
+
+/// planning::Planner adapter: "astar" (paper cost) or "astar-euclid".
+class AStarPlanner : public planning::Planner {
+ public:
+  explicit AStarPlanner(AStarOptions options);
+  std::string name() const override;
+  planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) override;
+
+ private:
+  AStarOptions options_;
+};
+
+}  // namespace uavip::planners
