@@ -1,1 +1,80 @@
-int main() { return 0; }
+// Per-stage wall time (median of N runs) and peak memory of the pipeline on a
+// scenario. Usage: uavip_pipeline_bench [SCENARIO.yaml] [RUNS]
+// Prints a Markdown table; numbers go in README.md and the issue notes, never in tests.
+
+#include "uavip/app/pipeline.h"
+#include "uavip/core/error.h"
+#include "uavip/io/scenario.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double peakRssMiB() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using Clock = std::chrono::steady_clock;
+  const std::string path = argc > 1 ? argv[1] : "scenarios/single_cube.yaml";
+  const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
+  try {
+    const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+    std::vector<double> sense, pre, perc, cov, grid, planning, total;
+    std::size_t raw = 0, clean = 0, surfaces = 0, stops = 0, waypoints = 0, raw_waypoints = 0, voxels = 0;
+    for (int i = 0; i < runs; ++i) {
+      const auto t0 = Clock::now();
+      const uavip::PointList cloud = uavip::app::sense(sc);
+      const double t_sense = std::chrono::duration<double>(Clock::now() - t0).count();
+      const auto d = uavip::app::detect(cloud, sc.config);
+      const auto p = uavip::app::plan(d.scene, sc.config, uavip::app::selectSurfaces(d.scene, "all"));
+      total.push_back(std::chrono::duration<double>(Clock::now() - t0).count() - t_sense);
+      sense.push_back(t_sense);
+      pre.push_back(d.times.preprocess_s);
+      perc.push_back(d.times.perception_s);
+      cov.push_back(p.times.coverage_s);
+      grid.push_back(p.times.grid_s);
+      planning.push_back(p.times.planning_s);
+      raw = cloud.size();
+      clean = d.scene.cloud.size();
+      surfaces = d.scene.surfaces.size();
+      voxels = p.grid_voxels;
+      stops = waypoints = raw_waypoints = 0;
+      for (const auto& m : p.missions) {
+        stops += m.strategy.stops.size();
+        waypoints += m.waypoints.size();
+        raw_waypoints += m.raw_waypoint_count;
+      }
+    }
+    std::printf("scenario %s, %d runs (median wall time), peak RSS %.1f MiB\n", sc.name.c_str(), runs, peakRssMiB());
+    std::printf("points %zu raw -> %zu clean; %zu surfaces; grid %zu voxels; %zu stops, %zu waypoints (%zu voxel steps)\n\n",
+                raw, clean, surfaces, voxels, stops, waypoints, raw_waypoints);
+    std::printf("| stage | median s |\n|---|---|\n");
+    std::printf("| sense (sim, excluded from total) | %.3f |\n", median(sense));
+    std::printf("| 3 preprocess | %.3f |\n| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n", median(pre), median(perc),
+                median(cov));
+    std::printf("| 7 grid + validator index | %.3f |\n| 7 planning | %.3f |\n| total (3-7) | %.3f |\n", median(grid),
+                median(planning), median(total));
+  } catch (const uavip::InputError& e) {
+    std::cerr << "uavip_pipeline_bench: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

@@ -1,1 +1,256 @@
-// placeholder: implemented by the module's owner
+#include "planners/astar.h"
+
+#include "uavip/core/error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+#include <sstream>
+#include <unordered_map>
+
+namespace uavip::planners {
+
+namespace {
+
+/// Grids up to this many voxels use a dense, reused per-thread scratch (13 B/voxel);
+/// larger ones a hash map, so memory stays bounded.
+constexpr std::size_t kDenseScratchLimit = 6'000'000;
+
+constexpr std::uint8_t kNoParent = 255;
+
+struct Move {
+  int dx, dy, dz;
+  double cost;
+};
+
+/// One open-list entry. Ordered by f, then larger g, then smaller linear index.
+struct OpenEntry {
+  double f;
+  double g;
+  std::size_t idx;
+};
+
+struct WorseEntry {
+  bool operator()(const OpenEntry& a, const OpenEntry& b) const {
+    if (a.f != b.f) return a.f > b.f;
+    if (a.g != b.g) return a.g < b.g;
+    return a.idx > b.idx;
+  }
+};
+
+/// Per-voxel search state: g-score, parent move (0..25 or kNoParent), closed flag.
+struct NodeState {
+  double g{std::numeric_limits<double>::infinity()};
+  std::uint8_t parent{kNoParent};
+  bool closed{false};
+};
+
+/// Dense scratch reused across searches; `stamp` tells which entries are current,
+/// so a search touches only the voxels it reaches (no O(grid) reset).
+struct DenseStore {
+  std::vector<double> g;
+  std::vector<std::uint32_t> stamp;
+  std::vector<std::uint8_t> parent;  // bit 7: closed; low bits: move index
+  std::uint32_t current{0};
+
+  void begin(std::size_t n) {
+    if (g.size() != n) {
+      g.assign(n, 0.0);
+      stamp.assign(n, 0);
+      parent.assign(n, 0);
+      current = 0;
+    }
+    if (++current == 0) {  // wrapped: clear once
+      std::fill(stamp.begin(), stamp.end(), 0);
+      current = 1;
+    }
+  }
+  NodeState get(std::size_t i) const {
+    if (stamp[i] != current) return {};
+    const auto bits = static_cast<std::uint8_t>(parent[i] & 0x7F);
+    return {g[i], bits == 0x7F ? kNoParent : bits, (parent[i] & 0x80) != 0};
+  }
+  void set(std::size_t i, const NodeState& s) {
+    stamp[i] = current;
+    g[i] = s.g;
+    parent[i] = static_cast<std::uint8_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0));
+  }
+};
+
+struct HashStore {
+  std::unordered_map<std::size_t, NodeState> map;
+  void begin(std::size_t /*n*/) { map.clear(); }
+  NodeState get(std::size_t i) const {
+    const auto it = map.find(i);
+    return it == map.end() ? NodeState{} : it->second;
+  }
+  void set(std::size_t i, const NodeState& s) { map[i] = s; }
+};
+
+std::vector<Move> makeMoves(const AStarOptions& o) {
+  std::vector<Move> moves;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        moves.push_back({dx, dy, dz, stepCost(dx, dy, dz, o)});
+      }
+    }
+  }
+  return moves;
+}
+
+double heuristic(const world::Index3& a, const world::Index3& b, const AStarOptions& o) {
+  const double dx = std::abs(a.x - b.x);
+  const double dy = std::abs(a.y - b.y);
+  const double dz = std::abs(a.z - b.z);
+  if (o.cost == AStarCost::Paper) return o.a1 * dx + o.a2 * dy + o.a3 * dz;
+  return std::sqrt(o.a1 * dx * dx + o.a2 * dy * dy + o.a3 * dz * dz);
+}
+
+template <typename Store>
+GridSearchResult search(Store& store, const world::VoxelGrid& grid, const world::Index3& start,
+                        const world::Index3& goal, const AStarOptions& options) {
+  GridSearchResult result;
+  if (grid.isBlocked(start) || grid.isBlocked(goal)) return result;
+  const std::vector<Move> moves = makeMoves(options);
+  const auto& dims = grid.dims();
+  store.begin(grid.voxelCount());
+
+  std::priority_queue<OpenEntry, std::vector<OpenEntry>, WorseEntry> open;
+  const std::size_t start_idx = grid.linear(start);
+  const std::size_t goal_idx = grid.linear(goal);
+  store.set(start_idx, {0.0, kNoParent, false});
+  open.push({heuristic(start, goal, options), 0.0, start_idx});
+
+  auto toIndex3 = [&dims](std::size_t i) {
+    const std::size_t nx = static_cast<std::size_t>(dims[0]);
+    const std::size_t ny = static_cast<std::size_t>(dims[1]);
+    return world::Index3{static_cast<int>(i % nx), static_cast<int>((i / nx) % ny),
+                         static_cast<int>(i / (nx * ny))};
+  };
+
+  while (!open.empty()) {
+    const OpenEntry top = open.top();
+    open.pop();
+    NodeState s = store.get(top.idx);
+    if (s.closed || top.g > s.g) continue;  // stale entry
+    s.closed = true;
+    store.set(top.idx, s);
+    if (top.idx == goal_idx) {
+      result.found = true;
+      result.cost = s.g;
+      // Walk the parent moves back to the start.
+      world::Index3 c = goal;
+      result.cells.push_back(c);
+      std::uint8_t p = s.parent;
+      while (p != kNoParent) {
+        const Move& m = moves[p];
+        c = {c.x - m.dx, c.y - m.dy, c.z - m.dz};
+        result.cells.push_back(c);
+        p = store.get(grid.linear(c)).parent;
+      }
+      std::reverse(result.cells.begin(), result.cells.end());
+      return result;
+    }
+    if (options.max_expansions > 0 && result.expansions >= options.max_expansions) {
+      result.exhausted_budget = true;
+      return result;
+    }
+    ++result.expansions;
+    const world::Index3 c = toIndex3(top.idx);
+    for (std::size_t m = 0; m < moves.size(); ++m) {
+      const world::Index3 n{c.x + moves[m].dx, c.y + moves[m].dy, c.z + moves[m].dz};
+      if (grid.isBlocked(n)) continue;
+      const std::size_t ni = grid.linear(n);
+      const NodeState ns = store.get(ni);
+      if (ns.closed) continue;
+      const double g = s.g + moves[m].cost;
+      if (g < ns.g) {
+        store.set(ni, {g, static_cast<std::uint8_t>(m), false});
+        open.push({g + heuristic(n, goal, options), g, ni});
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+void AStarOptions::validate(const std::string& where) const {
+  requirePositive(a1, where, "a1");
+  requirePositive(a2, where, "a2");
+  requirePositive(a3, where, "a3");
+}
+
+double stepCost(int dx, int dy, int dz, const AStarOptions& options) {
+  const double c = options.a1 * dx * dx + options.a2 * dy * dy + options.a3 * dz * dz;
+  return options.cost == AStarCost::Paper ? c : std::sqrt(c);
+}
+
+GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& start,
+                             const world::Index3& goal, const AStarOptions& options) {
+  if (grid.voxelCount() <= kDenseScratchLimit) {
+    thread_local DenseStore dense;
+    return search(dense, grid, start, goal, options);
+  }
+  HashStore hash;
+  return search(hash, grid, start, goal, options);
+}
+
+AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) { options_.validate("planner"); }
+
+std::string AStarPlanner::name() const { return options_.cost == AStarCost::Paper ? "astar" : "astar-euclid"; }
+
+planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
+  const auto t0 = std::chrono::steady_clock::now();
+  planning::PathResult out;
+  auto finish = [&]() {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  };
+  if (!start.allFinite() || !grid.isFree(start)) {
+    out.status = planning::PathStatus::InvalidStart;
+    return finish();
+  }
+  if (!goal.allFinite() || !grid.isFree(goal)) {
+    out.status = planning::PathStatus::InvalidGoal;
+    return finish();
+  }
+  const world::Index3 s = grid.indexOf(start);
+  const world::Index3 g = grid.indexOf(goal);
+  if (s == g) {
+    out.status = planning::PathStatus::Solved;
+    out.path = {start, goal};
+    return finish();
+  }
+  const GridSearchResult r = astarSearch(grid, s, g, options_);
+  out.expansions = r.expansions;
+  if (!r.found) {
+    out.status = r.exhausted_budget ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
+    return finish();
+  }
+  out.status = planning::PathStatus::Solved;
+  out.cost = r.cost;
+  // Exact start, centres of the intermediate cells, exact goal. A step between
+  // adjacent free centres keeps the clearance (voxel_grid.h); the exact ends are
+  // joined directly only when the segment crosses free voxels only, otherwise
+  // through their own voxel's centre.
+  const std::size_t n = r.cells.size();
+  out.path.reserve(n + 2);
+  out.path.push_back(start);
+  if (n > 2 && !grid.segmentFree(start, grid.centreOf(r.cells[1]))) out.path.push_back(grid.centreOf(r.cells[0]));
+  if (n == 2 && !grid.segmentFree(start, goal)) {
+    out.path.push_back(grid.centreOf(r.cells[0]));
+    out.path.push_back(grid.centreOf(r.cells[1]));
+  }
+  for (std::size_t i = 1; i + 1 < n; ++i) out.path.push_back(grid.centreOf(r.cells[i]));
+  if (n > 2 && !grid.segmentFree(grid.centreOf(r.cells[n - 2]), goal)) out.path.push_back(grid.centreOf(r.cells[n - 1]));
+  out.path.push_back(goal);
+  return finish();
+}
+
+}  // namespace uavip::planners

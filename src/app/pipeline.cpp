@@ -1,1 +1,113 @@
-// placeholder: implemented by the module's owner
+#include "uavip/app/pipeline.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/coverage/flight_strategy.h"
+#include "uavip/perception/scene_builder.h"
+#include "uavip/planning/path_validator.h"
+#include "uavip/sim/surface_sampler.h"
+#include "uavip/world/voxel_grid.h"
+#include "planners/registry.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace uavip::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void report(const Progress& progress, const std::string& message) {
+  if (progress) progress(message);
+}
+
+}  // namespace
+
+PointList sense(const io::Scenario& scenario) {
+  return sim::sampleSurfaces(scenario.world, scenario.sample);
+}
+
+DetectResult detect(const PointList& raw, const io::Config& config, const Progress& progress) {
+  DetectResult result;
+  const auto t0 = Clock::now();
+  report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
+  PointList clean = preprocess::preprocess(raw, config.preprocess, &result.preprocess);
+  result.times.preprocess_s = secondsSince(t0);
+
+  const auto t1 = Clock::now();
+  report(progress, "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
+  result.scene = perception::buildScene(clean, config.perception);
+  result.times.perception_s = secondsSince(t1);
+  result.times.total_s = secondsSince(t0);
+  return result;
+}
+
+std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection) {
+  std::vector<int> ids;
+  if (selection == "all") {
+    for (const auto& s : scene.surfaces) ids.push_back(s.id);
+    return ids;
+  }
+  std::string valid;
+  for (const auto& s : scene.surfaces) valid += (valid.empty() ? "" : ", ") + std::to_string(s.id);
+  if (valid.empty()) valid = "none: no surface was detected";
+  int id = -1;
+  try {
+    std::size_t used = 0;
+    id = std::stoi(selection, &used);
+    if (used != selection.size()) throw std::invalid_argument(selection);
+  } catch (const std::exception&) {
+    throw InputError("--surface: '" + selection + "' is not a surface id or 'all' (valid ids: " + valid + ")");
+  }
+  const bool exists = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                  [id](const Surface& s) { return s.id == id; });
+  if (!exists) throw InputError("--surface: no surface with id " + selection + " (valid ids: " + valid + ")");
+  return {id};
+}
+
+PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
+                const Progress& progress) {
+  PlanResult result;
+  const auto t0 = Clock::now();
+
+  // Stage 6 first: the grid must also cover every stop.
+  std::vector<coverage::FlightStrategy> strategies;
+  PointList stop_positions;
+  for (const int id : surface_ids) {
+    const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                                 [id](const Surface& s) { return s.id == id; });
+    if (it == scene.surfaces.end()) throw InputError("--surface: no surface with id " + std::to_string(id));
+    strategies.push_back(coverage::planFlightStrategy(*it, config.coverage));
+    for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
+  }
+  if (config.mission.start) stop_positions.push_back(*config.mission.start);
+  result.times.coverage_s = secondsSince(t0);
+  if (surface_ids.empty()) return result;
+
+  const auto t1 = Clock::now();
+  report(progress, "stage 7: inflated voxel grid");
+  const world::VoxelGrid grid = world::VoxelGrid::build(scene.cloud, stop_positions, config.gridOptions());
+  const planning::PathValidator validator(scene.cloud, config.uav.inflationRadius());
+  result.grid_voxels = grid.voxelCount();
+  result.grid_blocked = grid.blockedCount();
+  result.times.grid_s = secondsSince(t1);
+
+  const auto t2 = Clock::now();
+  auto planner = planners::makePlanner(config.planner, config.planner_settings);
+  for (std::size_t i = 0; i < strategies.size(); ++i) {
+    report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
+                         std::to_string(i + 1) + "/" + std::to_string(strategies.size()) + "), " +
+                         std::to_string(strategies[i].stops.size()) + " stops");
+    result.missions.push_back(
+        planning::planSurfaceMission(strategies[i], grid, validator, *planner, config.mission));
+  }
+  result.times.planning_s = secondsSince(t2);
+  result.times.total_s = secondsSince(t0);
+  return result;
+}
+
+}  // namespace uavip::app

@@ -1,1 +1,49 @@
-// placeholder: implemented by the module's owner
+#include "uavip/coverage/camera.h"
+
+#include "uavip/core/error.h"
+
+#include <algorithm>
+
+namespace uavip::coverage {
+
+void Camera::validate(const std::string& where) const {
+  if (!from_sensor) {
+    requirePositive(footprint_w_m, where, "footprint_w_m");
+    requirePositive(footprint_h_m, where, "footprint_h_m");
+    return;
+  }
+  requirePositive(sensor_w_mm, where, "sensor_w_mm");
+  requirePositive(sensor_h_mm, where, "sensor_h_mm");
+  requirePositive(focal_mm, where, "focal_mm");
+  requirePositive(static_cast<double>(image_w_px), where, "image_w_px");
+  requirePositive(static_cast<double>(image_h_px), where, "image_h_px");
+  requirePositive(gsd_mm_per_px, where, "gsd_mm_per_px");
+}
+
+CameraGeometry solveCamera(const Camera& camera, double standoff_m) {
+  camera.validate();
+  CameraGeometry g;
+  if (!camera.from_sensor) {
+    requirePositive(standoff_m, "camera", "standoff_m");
+    g.footprint_w_m = camera.footprint_w_m;
+    g.footprint_h_m = camera.footprint_h_m;
+    g.standoff_m = standoff_m;
+    return g;
+  }
+  // QGroundControl CameraCalc on both axes (formats.md), GSD in mm/px:
+  // D [mm] = I·GSD·f/S; take the nearer so the required GSD is met on both axes.
+  const double iw = static_cast<double>(camera.image_w_px);
+  const double ih = static_cast<double>(camera.image_h_px);
+  const double f = camera.focal_mm;
+  const double d_w_mm = iw * camera.gsd_mm_per_px * f / camera.sensor_w_mm;
+  const double d_h_mm = ih * camera.gsd_mm_per_px * f / camera.sensor_h_mm;
+  const double d_mm = std::min(d_w_mm, d_h_mm);
+  g.standoff_m = d_mm / 1000.0;
+  g.footprint_w_m = g.standoff_m * camera.sensor_w_mm / f;
+  g.footprint_h_m = g.standoff_m * camera.sensor_h_mm / f;
+  g.gsd_w_mm = d_mm * camera.sensor_w_mm / (iw * f);
+  g.gsd_h_mm = d_mm * camera.sensor_h_mm / (ih * f);
+  return g;
+}
+
+}  // namespace uavip::coverage

@@ -1,1 +1,208 @@
-// placeholder: implemented by the module's owner
+#include "uavip/coverage/flight_strategy.h"
+
+#include "uavip/core/error.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+// Conventions of the photo stops (paper §II-F, 2-DOF mount: yaw by the UAV, pitch by
+// a gimbal without roll).
+//
+// The camera looks along −n (n = outward surface normal). Its image x axis (width,
+// "right" in the photo) is axis_w and its image y axis (height, "up" in the photo) is
+// axis_h, with axis_w × axis_h = n.
+//  * Non-horizontal surface (|n_z| < kHorizontalNz): axis_w = normalize(ẑ × n) is
+//    horizontal, axis_h = n × axis_w points up the surface. The heading is the
+//    horizontal view direction: yaw = atan2(−n_y, −n_x).
+//  * Near-horizontal surface (|n_z| >= kHorizontalNz: roof, deck top, ceiling, deck
+//    underside): axis_w = surface.axis_u projected onto the plane, axis_h = n × axis_w.
+//    A gimbal pitched from horizontal to straight down turns the image "up" onto the
+//    UAV's forward direction, so when looking down (pitch < 0) the heading is the
+//    horizontal direction of axis_h: yaw = atan2(axis_h_y, axis_h_x). Pitched to
+//    straight up, image "up" turns onto the UAV's backward direction, so when looking up
+//    (pitch > 0) the heading is the horizontal direction of −axis_h:
+//    yaw = atan2(−axis_h_y, −axis_h_x). Both keep image width along axis_w.
+//  * Pitch = asin(−n_z) [deg]: −90 straight down, 0 horizontal, +90 straight up.
+//  * Yaw in degrees counter-clockwise from +x, in (−180, 180].
+
+namespace uavip::coverage {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+/// |n_z| at and above which a surface counts as horizontal (roof, ceiling).
+constexpr double kHorizontalNz = 0.95;
+/// Overlap of a footprint with the boundary below this [m] counts as touching only.
+constexpr double kOverlapTol = 1e-9;
+
+using Vec2 = Eigen::Vector2d;
+
+void requireRange(bool ok, const std::string& where, const std::string& field,
+                  const std::string& range, double value) {
+  if (!ok) {
+    std::ostringstream os;
+    os << where << ": " << field << " must be " << range << ", got " << value;
+    throw InputError(os.str());
+  }
+}
+
+/// Projection of a 2D point set onto axis: [min, max].
+std::pair<double, double> projectRange(const std::vector<Vec2>& pts, const Vec2& axis) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (const auto& p : pts) {
+    const double s = p.dot(axis);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return {lo, hi};
+}
+
+/// Separating-axis test of two convex polygons (any vertex order): true when their
+/// interiors overlap by more than kOverlapTol along every candidate axis.
+bool convexOverlap(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  for (const auto* poly : {&a, &b}) {
+    const size_t n = poly->size();
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2 e = (*poly)[(i + 1) % n] - (*poly)[i];
+      const double len = e.norm();
+      if (len <= 0.0) continue;
+      const Vec2 axis(-e.y() / len, e.x() / len);
+      const auto [alo, ahi] = projectRange(a, axis);
+      const auto [blo, bhi] = projectRange(b, axis);
+      if (std::min(ahi, bhi) - std::max(alo, blo) <= kOverlapTol) return false;
+    }
+  }
+  return true;
+}
+
+/// Grid cells per axis: max(⌈extent/spacing⌉, 1), tolerant of rounding (4.8/0.48 = 10).
+int cellCount(double extent, double spacing) {
+  const double n = std::ceil(extent / spacing - 1e-9);
+  return std::max(static_cast<int>(n), 1);
+}
+
+/// Angle in degrees wrapped to (−180, 180] (atan2 gives −180 for a −0 y component).
+double wrapDeg(double deg) {
+  while (deg <= -180.0) deg += 360.0;
+  while (deg > 180.0) deg -= 360.0;
+  return deg;
+}
+
+/// Any unit vector orthogonal to n.
+Vec3 anyOrthogonal(const Vec3& n) {
+  const Vec3 trial = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (trial - trial.dot(n) * n).normalized();
+}
+
+}  // namespace
+
+void CoverageOptions::validate(const std::string& where) const {
+  camera.validate(where + ".camera");
+  requireRange(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
+  requireRange(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
+  requirePositive(standoff_m, where, "standoff_m");
+  requireRange(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
+               "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
+  requireRange(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
+               "gimbal.pitch_max_deg", "in [-90, 90]", gimbal.pitch_max_deg);
+  requireRange(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
+               "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
+               gimbal.pitch_min_deg);
+}
+
+FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options) {
+  options.validate();
+  FlightStrategy fs;
+  fs.surface_id = surface.id;
+  fs.camera = solveCamera(options.camera, options.standoff_m);
+  fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
+  fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
+
+  const double nnorm = surface.plane.normal.norm();
+  if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
+  const Vec3 n = surface.plane.normal / nnorm;
+  const bool horizontal = std::abs(n.z()) >= kHorizontalNz;
+
+  // Image axes on the surface (see the conventions at the top of this file).
+  Vec3 axis_w;
+  if (!horizontal) {
+    axis_w = Vec3::UnitZ().cross(n).normalized();
+  } else {
+    axis_w = surface.axis_u - surface.axis_u.dot(n) * n;
+    axis_w = axis_w.norm() > 1e-9 ? axis_w.normalized() : anyOrthogonal(n);
+  }
+  const Vec3 axis_h = n.cross(axis_w).normalized();
+  fs.axis_w = axis_w;
+  fs.axis_h = axis_h;
+
+  // Orientation, the same for every stop of a planar surface.
+  const double pitch = std::asin(std::clamp(-n.z(), -1.0, 1.0)) * kRadToDeg;
+  double yaw = 0.0;
+  if (!horizontal) {
+    yaw = std::atan2(-n.y(), -n.x()) * kRadToDeg;
+  } else {
+    const double sign = pitch < 0.0 ? 1.0 : -1.0;
+    yaw = std::atan2(sign * axis_h.y(), sign * axis_h.x()) * kRadToDeg;
+  }
+  yaw = wrapDeg(yaw);
+  const bool gimbal_ok = pitch >= options.gimbal.pitch_min_deg - 1e-9 &&
+                         pitch <= options.gimbal.pitch_max_deg + 1e-9;
+
+  if (surface.boundary.size() < 3) return fs;
+
+  // Boundary in (axis_w, axis_h) coordinates about the centroid.
+  const Vec3 origin = surface.plane.project(surface.centroid);
+  std::vector<Vec2> poly;
+  poly.reserve(surface.boundary.size());
+  for (const auto& p : surface.boundary) {
+    const Vec3 d = p - origin;
+    poly.emplace_back(d.dot(axis_w), d.dot(axis_h));
+  }
+  const auto [wlo, whi] = projectRange(poly, Vec2::UnitX());
+  const auto [hlo, hhi] = projectRange(poly, Vec2::UnitY());
+  fs.cols = cellCount(whi - wlo, fs.spacing_w_m);
+  fs.rows = cellCount(hhi - hlo, fs.spacing_h_m);
+  const double wc = 0.5 * (wlo + whi);
+  const double hc = 0.5 * (hlo + hhi);
+  const double half_w = 0.5 * fs.camera.footprint_w_m;
+  const double half_h = 0.5 * fs.camera.footprint_h_m;
+
+  bool left_to_right = true;
+  for (int r = 0; r < fs.rows; ++r) {
+    const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;
+    std::vector<Stop> row;
+    for (int c = 0; c < fs.cols; ++c) {
+      const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
+      const std::vector<Vec2> footprint = {Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h),
+                                           Vec2(a + half_w, b + half_h), Vec2(a - half_w, b + half_h)};
+      if (!convexOverlap(footprint, poly)) continue;
+      Stop s;
+      s.surface_id = surface.id;
+      s.row = r;
+      s.col = c;
+      s.target = surface.plane.project(origin + a * axis_w + b * axis_h);
+      s.position = s.target + fs.camera.standoff_m * n;
+      s.yaw_deg = yaw;
+      s.gimbal_pitch_deg = pitch;
+      s.gimbal_ok = gimbal_ok;
+      row.push_back(s);
+    }
+    if (row.empty()) continue;
+    if (!left_to_right) std::reverse(row.begin(), row.end());
+    left_to_right = !left_to_right;
+    for (auto& s : row) {
+      s.index = static_cast<int>(fs.stops.size());
+      fs.stops.push_back(s);
+    }
+  }
+  return fs;
+}
+
+}  // namespace uavip::coverage

@@ -1,1 +1,116 @@
-// placeholder: implemented by the module's owner
+#include "uavip/io/cloud_io.h"
+
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
+
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace uavip::io {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::string formatPoint(const Vec3& p) {
+  std::ostringstream os;
+  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return os.str();
+}
+
+PointList loadXyz(const std::string& path) {
+  std::istringstream in(readFile(path));
+  PointList out;
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    std::string sx, sy, sz;
+    if (!(fields >> sx >> sy >> sz)) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": expected 'x y z', got '" + line + "'");
+    }
+    Vec3 p;
+    try {
+      std::size_t used = 0;
+      const std::string* parts[3] = {&sx, &sy, &sz};
+      for (int i = 0; i < 3; ++i) {
+        p[i] = std::stod(*parts[i], &used);
+        if (used != parts[i]->size()) throw std::invalid_argument(*parts[i]);
+      }
+    } catch (const std::exception&) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": not a number in '" + line + "'");
+    }
+    if (!p.allFinite()) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": point " + formatPoint(p) +
+                       " is not finite; remove the line");
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+PointList fromPcl(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::string& path) {
+  PointList out;
+  out.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto& q = cloud[i];
+    const Vec3 p(q.x, q.y, q.z);
+    if (!p.allFinite()) {
+      throw InputError(path + ": point " + std::to_string(i) + " " + formatPoint(p) +
+                       " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+PointList loadCloud(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  PointList points;
+  if (ext == ".xyz" || ext == ".txt") {
+    points = loadXyz(path);
+  } else if (ext == ".pcd" || ext == ".ply") {
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    const int rc = ext == ".pcd" ? pcl::io::loadPCDFile(path, cloud) : pcl::io::loadPLYFile(path, cloud);
+    if (rc < 0) throw InputError(path + ": cannot parse as " + ext.substr(1) + " (corrupt or not x/y/z?)");
+    points = fromPcl(cloud, path);
+  } else {
+    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz or .txt)");
+  }
+  if (points.empty()) throw InputError(path + ": the cloud has no points");
+  return points;
+}
+
+void saveCloudPcd(const std::string& path, const PointList& cloud) {
+  pcl::PointCloud<pcl::PointXYZ> out;
+  out.reserve(cloud.size());
+  for (const auto& p : cloud) {
+    out.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  }
+  replaceFileAtomic(path, [&](const std::string& tmp) {
+    // PCL refuses to write an empty binary cloud; an empty ASCII PCD is still valid.
+    const int rc = out.empty() ? pcl::io::savePCDFileASCII(tmp, out) : pcl::io::savePCDFileBinary(tmp, out);
+    if (rc < 0) throw std::runtime_error(path + ": cannot write the PCD file");
+  });
+}
+
+}  // namespace uavip::io

@@ -1,1 +1,67 @@
-// placeholder: implemented by the module's owner
+#include "uavip/io/mission_json.h"
+
+#include <cmath>
+#include <limits>
+
+namespace uavip::io {
+namespace {
+
+using nlohmann::json;
+
+double round4(double v) { return std::round(v * 1e4) / 1e4; }
+json vec(const Vec3& p) { return json::array({round4(p.x()), round4(p.y()), round4(p.z())}); }
+
+/// JSON has no infinity: an unbounded clearance is written as null.
+json finiteOrNull(double v) { return std::isfinite(v) ? json(round4(v)) : json(nullptr); }
+
+}  // namespace
+
+json surfaceMissionToJson(const planning::SurfaceMission& m) {
+  json stops = json::array();
+  for (std::size_t i = 0; i < m.strategy.stops.size(); ++i) {
+    const auto& s = m.strategy.stops[i];
+    const auto problem = i < m.stop_problems.size() ? m.stop_problems[i] : planning::StopProblem::None;
+    stops.push_back({{"index", s.index},
+                     {"row", s.row},
+                     {"col", s.col},
+                     {"position", vec(s.position)},
+                     {"target", vec(s.target)},
+                     {"yaw_deg", round4(s.yaw_deg)},
+                     {"gimbal_pitch_deg", round4(s.gimbal_pitch_deg)},
+                     {"problem", planning::toString(problem)}});
+  }
+  json waypoints = json::array();
+  for (const auto& p : m.waypoints) waypoints.push_back(vec(p));
+  const auto& cam = m.strategy.camera;
+  return {{"surface_id", m.surface_id},
+          {"status", planning::toString(m.status)},
+          {"reason", m.reason},
+          {"camera",
+           {{"footprint_m", {round4(cam.footprint_w_m), round4(cam.footprint_h_m)}},
+            {"standoff_m", round4(cam.standoff_m)},
+            {"spacing_m", {round4(m.strategy.spacing_w_m), round4(m.strategy.spacing_h_m)}},
+            {"grid", {m.strategy.cols, m.strategy.rows}}}},
+          {"stop_count", m.strategy.stops.size()},
+          {"stops", stops},
+          {"waypoint_count", m.waypoints.size()},
+          {"waypoints", waypoints},
+          {"raw_waypoint_count", m.raw_waypoint_count},
+          {"path_length_m", round4(m.path_length_m)},
+          {"raw_path_length_m", round4(m.raw_length_m)},
+          {"validation",
+           {{"collision_free", m.validation.collision_free},
+            {"min_clearance_m", finiteOrNull(m.validation.min_clearance_m)},
+            {"first_violation_segment", m.validation.first_violation_segment}}},
+          {"timings", {{"planning_s", round4(m.seconds)}}}};
+}
+
+json missionToJson(const std::vector<planning::SurfaceMission>& missions, const json& meta) {
+  json out = {{"format", "uavip-mission"}, {"version", 1}, {"frame", "local ENU, metres, z up; yaw CCW from +x (east)"}};
+  for (const auto& [k, v] : meta.items()) out[k] = v;
+  json arr = json::array();
+  for (const auto& m : missions) arr.push_back(surfaceMissionToJson(m));
+  out["surfaces"] = arr;
+  return out;
+}
+
+}  // namespace uavip::io

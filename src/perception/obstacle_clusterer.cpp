@@ -1,1 +1,124 @@
-// placeholder: implemented by the module's owner
+#include "uavip/perception/obstacle_clusterer.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <pcl/PointIndices.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+namespace uavip::perception {
+namespace {
+
+using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
+
+PclCloud::Ptr toPcl(const PointList& points, const Vec3& origin) {
+  auto cloud = std::make_shared<PclCloud>();
+  cloud->points.reserve(points.size());
+  for (const auto& p : points) {
+    const Vec3 q = p - origin;
+    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                               static_cast<float>(q.z()));
+  }
+  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
+  cloud->height = 1;
+  cloud->is_dense = true;
+  return cloud;
+}
+
+/// Lexicographic (x, y, z) order, used to break ties between clusters.
+bool lexLess(const Vec3& a, const Vec3& b) {
+  if (a.x() != b.x()) return a.x() < b.x();
+  if (a.y() != b.y()) return a.y() < b.y();
+  return a.z() < b.z();
+}
+
+Obstacle makeObstacle(const PointList& points, std::vector<int> idx) {
+  std::sort(idx.begin(), idx.end());
+  Obstacle o;
+  o.points.reserve(idx.size());
+  for (const auto i : idx) o.points.push_back(points[static_cast<std::size_t>(i)]);
+  const Aabb box = boundingBox(o.points);
+  o.aabb_min = box.min;
+  o.aabb_max = box.max;
+  return o;
+}
+
+Vec3 smallestPoint(const PointList& points) {
+  return *std::min_element(points.begin(), points.end(), lexLess);
+}
+
+}  // namespace
+
+void ClusterOptions::validate(const std::string& where) const {
+  requirePositive(tolerance_m, where, "tolerance_m");
+  if (min_points < 1) {
+    throw InputError(where + ": min_points must be >= 1, got " + std::to_string(min_points));
+  }
+}
+
+std::vector<Obstacle> clusterObstacles(const PointList& points, const ClusterOptions& options) {
+  options.validate();
+  if (points.empty()) return {};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      throw InputError("perception: obstacle point " + std::to_string(i) + " is not finite");
+    }
+  }
+
+  const Aabb box = boundingBox(points);
+  const PclCloud::Ptr cloud = toPcl(points, 0.5 * (box.min + box.max));
+  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setInputCloud(cloud);
+  ec.setSearchMethod(tree);
+  ec.setClusterTolerance(options.tolerance_m);
+  ec.setMinClusterSize(1);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+
+  std::vector<Obstacle> obstacles;
+  std::vector<int> residual;
+  for (const auto& c : clusters) {
+    if (static_cast<int>(c.indices.size()) < options.min_points) {
+      residual.insert(residual.end(), c.indices.begin(), c.indices.end());
+    } else {
+      obstacles.push_back(makeObstacle(points, {c.indices.begin(), c.indices.end()}));
+    }
+  }
+  if (!residual.empty()) obstacles.push_back(makeObstacle(points, std::move(residual)));
+
+  // Largest first; equal sizes by their lexicographically smallest point.
+  std::vector<std::pair<Vec3, std::size_t>> keys;
+  keys.reserve(obstacles.size());
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    keys.emplace_back(smallestPoint(obstacles[i].points), i);
+  }
+  std::vector<std::size_t> order(obstacles.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const auto na = obstacles[a].points.size();
+    const auto nb = obstacles[b].points.size();
+    if (na != nb) return na > nb;
+    if (lexLess(keys[a].first, keys[b].first)) return true;
+    if (lexLess(keys[b].first, keys[a].first)) return false;
+    return a < b;
+  });
+  std::vector<Obstacle> sorted;
+  sorted.reserve(obstacles.size());
+  for (const auto i : order) {
+    sorted.push_back(std::move(obstacles[i]));
+    sorted.back().id = static_cast<int>(sorted.size()) - 1;
+  }
+  return sorted;
+}
+
+}  // namespace uavip::perception

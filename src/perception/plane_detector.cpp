@@ -1,1 +1,407 @@
-// placeholder: implemented by the module's owner
+#include "uavip/perception/plane_detector.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <pcl/ModelCoefficients.h>
+#include <pcl/PointIndices.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/sac_segmentation.h>
+#include <pcl/surface/convex_hull.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+namespace uavip::perception {
+namespace {
+
+using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
+using Index = pcl::index_t;
+
+/// Free-space test band in front of / behind a surface [m] (normal orientation).
+constexpr double kOrientNear = 0.3;
+constexpr double kOrientFar = 3.0;
+/// The inlier band of a candidate is tightened to this many robust sigmas of the
+/// point-to-plane distances (never wider than the RANSAC threshold, never narrower
+/// than kBandFloor × threshold): points of adjacent faces caught by the 20 cm RANSAC
+/// band stay available to their own surface.
+constexpr double kBandSigmas = 4.0;
+constexpr double kBandFloor = 0.1;
+constexpr int kBandIterations = 3;
+/// Second / largest covariance eigenvalue below which a point set is a line.
+constexpr double kDegenerateRatio = 1e-10;
+
+PclCloud::Ptr toPcl(const PointList& points, const Vec3& origin) {
+  auto cloud = std::make_shared<PclCloud>();
+  cloud->points.reserve(points.size());
+  for (const auto& p : points) {
+    const Vec3 q = p - origin;
+    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                               static_cast<float>(q.z()));
+  }
+  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
+  cloud->height = 1;
+  cloud->is_dense = true;
+  return cloud;
+}
+
+/// Principal component analysis of cloud[idx] (in double precision).
+struct Pca {
+  Vec3 centroid{Vec3::Zero()};
+  Vec3 eigenvalues{Vec3::Zero()};  ///< ascending
+  Vec3 normal{Vec3::UnitZ()};      ///< smallest-variance direction
+  Vec3 major{Vec3::UnitX()};       ///< largest-variance direction, sign made deterministic
+};
+
+Pca computePca(const PointList& cloud, const std::vector<Index>& idx) {
+  Pca pca;
+  if (idx.empty()) return pca;
+  for (const auto i : idx) pca.centroid += cloud[static_cast<std::size_t>(i)];
+  pca.centroid /= static_cast<double>(idx.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto i : idx) {
+    const Vec3 d = cloud[static_cast<std::size_t>(i)] - pca.centroid;
+    cov += d * d.transpose();
+  }
+  cov /= static_cast<double>(idx.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+  pca.eigenvalues = solver.eigenvalues();
+  pca.normal = solver.eigenvectors().col(0).normalized();
+  pca.major = solver.eigenvectors().col(2).normalized();
+  // Deterministic sign: the largest component of the major axis is positive.
+  Eigen::Index k = 0;
+  pca.major.cwiseAbs().maxCoeff(&k);
+  if (pca.major[k] < 0.0) pca.major = -pca.major;
+  return pca;
+}
+
+bool isDegenerate(const Pca& pca) {
+  const double largest = pca.eigenvalues[2];
+  return !(largest > 0.0) || pca.eigenvalues[1] <= kDegenerateRatio * largest;
+}
+
+double median(std::vector<double> values) {
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+/// Tightens the RANSAC inliers `candidate` to the points within a robust band
+/// (median ± kBandSigmas · 1.4826 · MAD of the plane distances) around their plane.
+std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& candidate,
+                              double threshold) {
+  std::vector<Index> current = candidate;
+  for (int iter = 0; iter < kBandIterations && current.size() >= 3; ++iter) {
+    const Pca pca = computePca(cloud, current);
+    std::vector<double> dist(candidate.size());
+    for (std::size_t j = 0; j < candidate.size(); ++j) {
+      dist[j] = pca.normal.dot(cloud[static_cast<std::size_t>(candidate[j])] - pca.centroid);
+    }
+    const double med = median(dist);
+    std::vector<double> dev(dist.size());
+    for (std::size_t j = 0; j < dist.size(); ++j) dev[j] = std::abs(dist[j] - med);
+    const double sigma = 1.4826 * median(dev);
+    const double band = std::clamp(kBandSigmas * sigma, kBandFloor * threshold, threshold);
+    std::vector<Index> next;
+    next.reserve(candidate.size());
+    for (std::size_t j = 0; j < candidate.size(); ++j) {
+      if (dev[j] <= band) next.push_back(candidate[j]);
+    }
+    if (next == current) break;
+    current = std::move(next);
+  }
+  return current;
+}
+
+/// The largest Euclidean cluster (PCL, kd-tree) of pcl_cloud[idx]; ties: the
+/// cluster holding the smallest index. Sorted ascending.
+std::vector<Index> largestCluster(const PclCloud::Ptr& pcl_cloud, const std::vector<Index>& idx,
+                                  double tolerance) {
+  if (idx.size() <= 1) return idx;
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setInputCloud(pcl_cloud);
+  ec.setIndices(std::make_shared<pcl::Indices>(idx));
+  ec.setClusterTolerance(tolerance);
+  ec.setMinClusterSize(1);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+  const pcl::PointIndices* best = nullptr;
+  for (const auto& c : clusters) {
+    if (c.indices.empty()) continue;
+    if (best == nullptr || c.indices.size() > best->indices.size() ||
+        (c.indices.size() == best->indices.size() && c.indices.front() < best->indices.front())) {
+      best = &c;
+    }
+  }
+  if (best == nullptr) return {};
+  std::vector<Index> out(best->indices.begin(), best->indices.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// 2D convex hull (PCL ConvexHull, dimension 2) of planar coordinates, as (u, v)
+/// pairs counter-clockwise. Empty when the points span no area.
+std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv) {
+  if (uv.size() < 3) return {};
+  // Degenerate (collinear) sets make qhull fail noisily: detect them first.
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : uv) mean += p;
+  mean /= static_cast<double>(uv.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : uv) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(cov);
+  if (!(solver.eigenvalues()[1] > 0.0) ||
+      solver.eigenvalues()[0] <= kDegenerateRatio * solver.eigenvalues()[1]) {
+    return {};
+  }
+
+  auto cloud = std::make_shared<PclCloud>();
+  cloud->points.reserve(uv.size());
+  for (const auto& p : uv) {
+    cloud->points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0F);
+  }
+  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
+  cloud->height = 1;
+  pcl::ConvexHull<pcl::PointXYZ> hull;
+  hull.setInputCloud(cloud);
+  hull.setDimension(2);
+  PclCloud hull_points;
+  hull.reconstruct(hull_points);
+  if (hull_points.size() < 3) return {};
+
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(hull_points.size());
+  for (const auto& p : hull_points.points) out.emplace_back(p.x, p.y);
+  double twice_area = 0.0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto& a = out[i];
+    const auto& b = out[(i + 1) % out.size()];
+    twice_area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (twice_area < 0.0) std::reverse(out.begin(), out.end());
+  return out;
+}
+
+/// Sign (+1 / -1) that turns `n` toward free space (see detectPlanes()).
+double orientation(const PointList& cloud, const Vec3& centroid, const Vec3& n, const Vec3& u,
+                   const Vec3& v, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                   const Vec3& viewpoint) {
+  std::size_t front = 0;
+  std::size_t back = 0;
+  for (const auto& p : cloud) {
+    const Vec3 d = p - centroid;
+    const double s = n.dot(d);
+    const bool is_front = s > kOrientNear && s <= kOrientFar;
+    const bool is_back = s >= -kOrientFar && s < -kOrientNear;
+    if (!is_front && !is_back) continue;
+    const double pu = u.dot(d);
+    const double pv = v.dot(d);
+    if (pu < lo.x() || pu > hi.x() || pv < lo.y() || pv > hi.y()) continue;
+    (is_front ? front : back) += 1;
+  }
+  if (front != back) return front < back ? 1.0 : -1.0;
+  const double sv = n.dot(viewpoint - centroid);
+  if (std::abs(sv) > 1e-9) return sv > 0.0 ? 1.0 : -1.0;
+  constexpr double kEps = 1e-9;
+  if (std::abs(n.z()) > kEps) return n.z() > 0.0 ? 1.0 : -1.0;
+  if (std::abs(n.x()) > kEps) return n.x() > 0.0 ? 1.0 : -1.0;
+  return n.y() >= 0.0 ? 1.0 : -1.0;
+}
+
+/// Builds the surface of the kept inliers: PCA plane, oriented normal, axes,
+/// convex-hull boundary and both areas.
+Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
+                    const PlaneDetectionOptions& options) {
+  const Pca pca = computePca(cloud, kept);
+  Surface s;
+  s.centroid = pca.centroid;
+  const Vec3 n0 = pca.normal;
+  const Vec3 u = (pca.major - pca.major.dot(n0) * n0).normalized();
+  const Vec3 v0 = n0.cross(u);
+
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const auto i : kept) {
+    const Vec3 d = cloud[static_cast<std::size_t>(i)] - s.centroid;
+    const Eigen::Vector2d q(u.dot(d), v0.dot(d));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const double sign = orientation(cloud, s.centroid, n0, u, v0, lo, hi, options.viewpoint);
+  s.plane.normal = sign * n0;
+  s.plane.offset = -s.plane.normal.dot(s.centroid);
+  s.axis_u = u;
+  s.axis_v = s.plane.normal.cross(u);
+
+  s.inliers.reserve(kept.size());
+  std::vector<Eigen::Vector2d> uv;
+  uv.reserve(kept.size());
+  for (const auto i : kept) {
+    const Vec3& p = cloud[static_cast<std::size_t>(i)];
+    s.inliers.push_back(p);
+    const Vec3 d = p - s.centroid;
+    uv.emplace_back(s.axis_u.dot(d), s.axis_v.dot(d));
+  }
+  for (const auto& q : convexHull2d(uv)) {
+    s.boundary.push_back(s.centroid + q.x() * s.axis_u + q.y() * s.axis_v);
+  }
+  s.area_m2 = polygonArea(s.boundary);
+  s.density_area_m2 =
+      static_cast<double>(kept.size()) * options.cell_size_m * options.cell_size_m;
+  return s;
+}
+
+/// Removes the sorted indices `drop` from the sorted `pool`.
+void removeFromPool(std::vector<Index>& pool, const std::vector<Index>& drop) {
+  std::vector<Index> out;
+  out.reserve(pool.size());
+  std::set_difference(pool.begin(), pool.end(), drop.begin(), drop.end(),
+                      std::back_inserter(out));
+  pool = std::move(out);
+}
+
+}  // namespace
+
+void PlaneDetectionOptions::validate(const std::string& where) const {
+  requirePositive(distance_threshold_m, where, "distance_threshold_m");
+  if (max_iterations < 1) {
+    throw InputError(where + ": max_iterations must be >= 1, got " +
+                     std::to_string(max_iterations));
+  }
+  if (!(std::isfinite(min_area_m2) && min_area_m2 >= 0.0)) {
+    std::ostringstream os;
+    os << where << ": min_area_m2 must be >= 0, got " << min_area_m2;
+    throw InputError(os.str());
+  }
+  requirePositive(cluster_tolerance_m, where, "cluster_tolerance_m");
+  requirePositive(cell_size_m, where, "cell_size_m");
+  if (max_planes < 0) {
+    throw InputError(where + ": max_planes must be >= 0, got " + std::to_string(max_planes));
+  }
+  if (max_failures < 1) {
+    throw InputError(where + ": max_failures must be >= 1, got " +
+                     std::to_string(max_failures));
+  }
+  if (!viewpoint.allFinite()) {
+    std::ostringstream os;
+    os << where << ": viewpoint must be finite, got (" << viewpoint.x() << ", " << viewpoint.y()
+       << ", " << viewpoint.z() << ")";
+    throw InputError(os.str());
+  }
+}
+
+PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options) {
+  options.validate();
+  PlaneDetectionResult result;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!cloud[i].allFinite()) {
+      throw InputError("perception: point " + std::to_string(i) + " is not finite");
+    }
+  }
+  if (cloud.size() < 3 || options.max_planes == 0) {
+    result.remaining = cloud;
+    return result;
+  }
+
+  const Aabb box = boundingBox(cloud);
+  const Vec3 origin = 0.5 * (box.min + box.max);  // PCL works in float near its origin
+  const PclCloud::Ptr pcl_cloud = toPcl(cloud, origin);
+
+  pcl::SACSegmentation<pcl::PointXYZ> seg;
+  seg.setOptimizeCoefficients(true);
+  seg.setModelType(pcl::SACMODEL_PLANE);
+  seg.setMethodType(pcl::SAC_RANSAC);
+  seg.setDistanceThreshold(options.distance_threshold_m);
+  seg.setMaxIterations(options.max_iterations);
+  seg.setNumberOfThreads(-1);  // serial: the result must not depend on scheduling
+  seg.setInputCloud(pcl_cloud);
+
+  // PCL reseeds its sampler with a constant for every segment() call; shuffling the
+  // candidate indices with our seeded generator makes `seed` select the samples.
+  std::mt19937 rng(options.seed);
+  std::vector<Index> pool(cloud.size());
+  std::iota(pool.begin(), pool.end(), Index{0});
+  std::vector<char> in_surface(cloud.size(), 0);
+  int failures = 0;
+
+  while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
+         failures < options.max_failures && pool.size() >= 3) {
+    if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
+
+    auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
+    std::shuffle(shuffled->begin(), shuffled->end(), rng);
+    seg.setIndices(shuffled);
+    pcl::PointIndices ransac_inliers;
+    pcl::ModelCoefficients coefficients;
+    seg.segment(ransac_inliers, coefficients);
+    if (ransac_inliers.indices.size() < 3 || coefficients.values.size() != 4) break;
+    ++result.stats.candidates;
+
+    // Refined plane (least squares on the RANSAC inliers), back in the world frame.
+    Vec3 n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
+    double d = coefficients.values[3];
+    const double norm = n.norm();
+    std::vector<Index> candidate;
+    if (norm > 0.0 && std::isfinite(norm)) {
+      n /= norm;
+      d = d / norm - n.dot(origin);
+      for (const auto i : pool) {
+        if (std::abs(n.dot(cloud[static_cast<std::size_t>(i)]) + d) <=
+            options.distance_threshold_m) {
+          candidate.push_back(i);
+        }
+      }
+    }
+    if (candidate.size() < 3) {
+      candidate.assign(ransac_inliers.indices.begin(), ransac_inliers.indices.end());
+      std::sort(candidate.begin(), candidate.end());
+    }
+
+    const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m);
+    const std::vector<Index> kept = largestCluster(pcl_cloud, band, options.cluster_tolerance_m);
+
+    bool accepted = false;
+    if (kept.size() >= 3) {
+      Surface surface = makeSurface(cloud, kept, options);
+      if (std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
+          surface.boundary.size() >= 3) {
+        surface.id = static_cast<int>(result.surfaces.size());
+        result.surfaces.push_back(std::move(surface));
+        result.stats.trimmed_points += band.size() - kept.size();
+        for (const auto i : kept) in_surface[static_cast<std::size_t>(i)] = 1;
+        accepted = true;
+      }
+    }
+    if (accepted) {
+      failures = 0;
+    } else {
+      ++result.stats.rejected_small;
+      ++failures;
+    }
+    // Accepted or not, the candidate's points are never proposed again (a rejected
+    // candidate stays in `remaining`); trimmed groups go back to the pool.
+    removeFromPool(pool, kept.size() >= 3 ? kept : candidate);
+  }
+
+  result.remaining.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (in_surface[i] == 0) result.remaining.push_back(cloud[i]);
+  }
+  return result;
+}
+
+}  // namespace uavip::perception

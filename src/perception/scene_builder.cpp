@@ -1,1 +1,42 @@
-// placeholder: implemented by the module's owner
+#include "uavip/perception/scene_builder.h"
+
+#include <chrono>
+
+namespace uavip::perception {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void PerceptionOptions::validate(const std::string& where) const {
+  planes.validate(where + ".planes");
+  clusters.validate(where + ".clusters");
+}
+
+Scene buildScene(const PointList& clean, const PerceptionOptions& options,
+                 PerceptionStats* stats) {
+  options.validate();
+  Scene scene;
+
+  auto start = std::chrono::steady_clock::now();
+  PlaneDetectionResult planes = detectPlanes(clean, options.planes);
+  const double planes_seconds = secondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  scene.obstacles = clusterObstacles(planes.remaining, options.clusters);
+  const double clusters_seconds = secondsSince(start);
+
+  scene.surfaces = std::move(planes.surfaces);
+  scene.cloud = clean;
+  if (stats != nullptr) {
+    stats->planes = planes.stats;
+    stats->planes_seconds = planes_seconds;
+    stats->clusters_seconds = clusters_seconds;
+  }
+  return scene;
+}
+
+}  // namespace uavip::perception

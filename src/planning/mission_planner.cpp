@@ -1,1 +1,196 @@
-// placeholder: implemented by the module's owner
+#include "uavip/planning/mission_planner.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/planning/path_simplifier.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace uavip::planning {
+
+const char* toString(PathStatus status) {
+  switch (status) {
+    case PathStatus::Solved: return "solved";
+    case PathStatus::NoPath: return "no_path";
+    case PathStatus::Timeout: return "timeout";
+    case PathStatus::InvalidStart: return "invalid_start";
+    case PathStatus::InvalidGoal: return "invalid_goal";
+  }
+  return "unknown";
+}
+
+const char* toString(SurfaceStatus status) {
+  switch (status) {
+    case SurfaceStatus::Ok: return "ok";
+    case SurfaceStatus::Blocked: return "blocked";
+    case SurfaceStatus::NoStops: return "no_stops";
+    case SurfaceStatus::Failed: return "failed";
+  }
+  return "unknown";
+}
+
+const char* toString(StopProblem problem) {
+  switch (problem) {
+    case StopProblem::None: return "none";
+    case StopProblem::GimbalLimit: return "gimbal_limit";
+    case StopProblem::InObstacleSpace: return "in_obstacle_space";
+    case StopProblem::Unreachable: return "unreachable";
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::string formatPoint(const Vec3& p) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return os.str();
+}
+
+std::string legName(const Leg& leg) {
+  std::ostringstream os;
+  os << (leg.from_stop < 0 ? std::string("start") : "stop " + std::to_string(leg.from_stop)) << " -> stop "
+     << leg.to_stop;
+  return os.str();
+}
+
+}  // namespace
+
+SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
+                                  const PathValidator& validator, Planner& planner, const MissionOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SurfaceMission m;
+  m.surface_id = strategy.surface_id;
+  m.strategy = strategy;
+  auto finish = [&]() {
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return m;
+  };
+
+  if (options.start) {
+    const Vec3& s = *options.start;
+    if (!s.allFinite() || !grid.isFree(s)) {
+      std::ostringstream os;
+      os << "mission: start " << formatPoint(s) << " is inside obstacle space (clearance " << std::fixed
+         << std::setprecision(2) << validator.clearance(s)
+         << " m to the nearest measured point; the grid blocks voxels within " << grid.effectiveInflation()
+         << " m of an occupied voxel and everything outside its bounds); move it farther from the structure";
+      throw InputError(os.str());
+    }
+  }
+
+  const auto& stops = strategy.stops;
+  m.stop_problems.assign(stops.size(), StopProblem::None);
+  if (stops.empty()) {
+    m.status = SurfaceStatus::NoStops;
+    m.reason = "the flight strategy produced no photo stop for surface " + std::to_string(strategy.surface_id);
+    return finish();
+  }
+
+  // Per-stop checks: gimbal, inflated obstacle space, then 26-connectivity.
+  int first_usable = -1;
+  for (std::size_t i = 0; i < stops.size(); ++i) {
+    if (!stops[i].gimbal_ok) {
+      m.stop_problems[i] = StopProblem::GimbalLimit;
+    } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
+      m.stop_problems[i] = StopProblem::InObstacleSpace;
+    } else if (first_usable < 0) {
+      first_usable = static_cast<int>(i);
+    }
+  }
+  if (options.start || first_usable >= 0) {
+    const Vec3 seed = options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position;
+    const std::vector<std::uint8_t> reach = grid.reachableFrom(grid.indexOf(seed));
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+      if (m.stop_problems[i] != StopProblem::None) continue;
+      const world::Index3 v = grid.indexOf(stops[i].position);
+      if (reach.empty() || !reach[grid.linear(v)]) m.stop_problems[i] = StopProblem::Unreachable;
+    }
+  }
+  std::size_t n_gimbal = 0, n_obstacle = 0, n_unreachable = 0;
+  for (const auto p : m.stop_problems) {
+    n_gimbal += p == StopProblem::GimbalLimit;
+    n_obstacle += p == StopProblem::InObstacleSpace;
+    n_unreachable += p == StopProblem::Unreachable;
+  }
+  const std::size_t n_bad = n_gimbal + n_obstacle + n_unreachable;
+  if (n_bad > 0) {
+    std::ostringstream os;
+    os << n_bad << " of " << stops.size() << " stops infeasible: ";
+    bool first = true;
+    auto part = [&](std::size_t n, const std::string& what) {
+      if (n == 0) return;
+      os << (first ? "" : ", ") << n << " " << what;
+      first = false;
+    };
+    std::ostringstream obstacle;
+    obstacle << std::fixed << std::setprecision(2) << "inside the inflated obstacle space (voxel centre within "
+             << grid.effectiveInflation() << " m of an occupied voxel)";
+    part(n_gimbal, "outside the gimbal pitch limits");
+    part(n_obstacle, obstacle.str());
+    part(n_unreachable, options.start ? "unreachable from the start" : "unreachable from the first usable stop");
+    os << "; no waypoints generated";
+    m.status = SurfaceStatus::Blocked;
+    m.reason = os.str();
+    return finish();
+  }
+
+  // Legs: start → stop 0 (if given), then stop i → stop i+1.
+  PointList points;  // the points joined by legs, in order
+  std::vector<int> ids;
+  if (options.start) {
+    points.push_back(*options.start);
+    ids.push_back(-1);
+  }
+  for (std::size_t i = 0; i < stops.size(); ++i) {
+    points.push_back(stops[i].position);
+    ids.push_back(static_cast<int>(i));
+  }
+  m.raw_path.push_back(points.front());
+  m.waypoints.push_back(points.front());
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    const PathResult r = planner.plan(grid, points[k], points[k + 1]);
+    Leg leg;
+    leg.from_stop = ids[k];
+    leg.to_stop = ids[k + 1];
+    leg.status = r.status;
+    leg.raw_steps = r.path.empty() ? 0 : r.path.size() - 1;
+    leg.length_m = polylineLength(r.path);
+    leg.seconds = r.seconds;
+    m.legs.push_back(leg);
+    if (!r.solved()) {
+      m.status = SurfaceStatus::Failed;
+      m.reason = "leg " + std::to_string(k) + " (" + legName(leg) + ") failed: planner '" + planner.name() +
+                 "' returned " + toString(r.status) + "; no waypoints generated";
+      m.waypoints.clear();
+      m.raw_waypoint_count = m.raw_path.size();
+      m.raw_length_m = polylineLength(m.raw_path);
+      return finish();
+    }
+    m.raw_path.insert(m.raw_path.end(), r.path.begin() + 1, r.path.end());
+    const PointList leg_points = options.simplify ? simplifyPath(r.path, grid) : r.path;
+    m.waypoints.insert(m.waypoints.end(), leg_points.begin() + 1, leg_points.end());
+  }
+  m.raw_waypoint_count = m.raw_path.size();
+  m.raw_length_m = polylineLength(m.raw_path);
+  m.path_length_m = polylineLength(m.waypoints);
+
+  m.validation = validator.validate(m.waypoints);
+  if (!m.validation.collision_free) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << "path validation failed: segment "
+       << m.validation.first_violation_segment << " comes closer than the required "
+       << validator.requiredClearance() << " m to the measured point " << formatPoint(m.validation.violation_point)
+       << " (minimum clearance " << m.validation.min_clearance_m << " m)";
+    m.status = SurfaceStatus::Failed;
+    m.reason = os.str();
+    return finish();
+  }
+  m.status = SurfaceStatus::Ok;
+  return finish();
+}
+
+}  // namespace uavip::planning

@@ -1,1 +1,136 @@
-// placeholder: implemented by the module's owner
+#include "uavip/sim/world_model.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace uavip::sim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+/// Relative tolerance on |edge_u · edge_v| / (|edge_u| |edge_v|) for a rectangle.
+constexpr double kOrthogonalityTol = 1e-6;
+
+std::string vecString(const Vec3& v) {
+  std::ostringstream os;
+  os << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return os.str();
+}
+
+/// Rotation by yaw_deg about +z (counter-clockwise seen from above).
+Eigen::Matrix3d yawRotation(double yaw_deg) {
+  return Eigen::AngleAxisd(yaw_deg * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
+}
+
+}  // namespace
+
+Vec3 Rect::normal() const { return edge_u.cross(edge_v).normalized(); }
+
+double Rect::area() const { return edge_u.cross(edge_v).norm(); }
+
+double Rect::distance(const Vec3& p) const {
+  // Edges are orthogonal (enforced by WorldModel::addPlane), so the closest point
+  // has the clamped in-plane coordinates: s = clamp((p − c)·u / |u|², 0, 1), same for t.
+  const Vec3 d = p - corner;
+  const double uu = edge_u.squaredNorm();
+  const double vv = edge_v.squaredNorm();
+  const double s = uu > 0.0 ? std::clamp(d.dot(edge_u) / uu, 0.0, 1.0) : 0.0;
+  const double t = vv > 0.0 ? std::clamp(d.dot(edge_v) / vv, 0.0, 1.0) : 0.0;
+  return (p - (corner + s * edge_u + t * edge_v)).norm();
+}
+
+void WorldModel::addPoint(const std::string& name, const Vec3& p) {
+  require(p.allFinite(), "world", "point '" + name + "' must be finite, got " + vecString(p));
+  points_.push_back({name, p});
+}
+
+void WorldModel::addLine(const std::string& name, const Vec3& a, const Vec3& b) {
+  require(a.allFinite() && b.allFinite(), "world",
+          "line '" + name + "' ends must be finite, got " + vecString(a) + " and " + vecString(b));
+  require((b - a).norm() > 0.0, "world",
+          "line '" + name + "' must have distinct ends, got " + vecString(a) + " twice");
+  segments_.push_back({name, a, b});
+}
+
+void WorldModel::addPlane(const Rect& rect) {
+  const std::string what = "plane '" + rect.name + "'";
+  require(rect.corner.allFinite() && rect.edge_u.allFinite() && rect.edge_v.allFinite(), "world",
+          what + " corner and edges must be finite");
+  const double lu = rect.edge_u.norm();
+  const double lv = rect.edge_v.norm();
+  require(lu > 0.0, "world", what + " edge_u must be non-zero, got " + vecString(rect.edge_u));
+  require(lv > 0.0, "world", what + " edge_v must be non-zero, got " + vecString(rect.edge_v));
+  const double cos_angle = std::abs(rect.edge_u.dot(rect.edge_v)) / (lu * lv);
+  if (cos_angle > kOrthogonalityTol) {
+    std::ostringstream os;
+    os << what << " edges must be orthogonal (|cos| <= " << kOrthogonalityTol << "), got |cos| "
+       << cos_angle;
+    throw InputError("world: " + os.str());
+  }
+  rects_.push_back(rect);
+}
+
+void WorldModel::addBox(const std::string& name, const Vec3& lo, const Vec3& hi, double yaw_deg) {
+  require(lo.allFinite() && hi.allFinite() && std::isfinite(yaw_deg), "world",
+          "box '" + name + "' corners and yaw must be finite");
+  require((lo.array() < hi.array()).all(), "world",
+          "box '" + name + "' needs lo < hi on every axis, got lo " + vecString(lo) + " hi " +
+              vecString(hi));
+  const Vec3 dx(hi.x() - lo.x(), 0.0, 0.0);
+  const Vec3 dy(0.0, hi.y() - lo.y(), 0.0);
+  const Vec3 dz(0.0, 0.0, hi.z() - lo.z());
+  // Each face's edges are ordered so edge_u × edge_v points out of the box.
+  const Rect faces[6] = {
+      {name + "/+x", Vec3(hi.x(), lo.y(), lo.z()), dy, dz},  // y × z = +x
+      {name + "/-x", lo, dz, dy},                            // z × y = −x
+      {name + "/+y", Vec3(lo.x(), hi.y(), lo.z()), dz, dx},  // z × x = +y
+      {name + "/-y", lo, dx, dz},                            // x × z = −y
+      {name + "/+z", Vec3(lo.x(), lo.y(), hi.z()), dx, dy},  // x × y = +z
+      {name + "/-z", lo, dy, dx},                            // y × x = −z
+  };
+  const Vec3 centre = 0.5 * (lo + hi);
+  const Eigen::Matrix3d rot = yawRotation(yaw_deg);
+  for (const Rect& f : faces) {
+    Rect r = f;
+    r.corner = centre + rot * (f.corner - centre);
+    r.edge_u = rot * f.edge_u;
+    r.edge_v = rot * f.edge_v;
+    addPlane(r);
+  }
+}
+
+void WorldModel::addCrossedPlanes(const std::string& name, const Vec3& center, double width,
+                                  double height, double yaw_deg) {
+  require(center.allFinite() && std::isfinite(yaw_deg), "world",
+          "crossed planes '" + name + "' centre and yaw must be finite");
+  requirePositive(width, "world", "crossed planes '" + name + "' width");
+  requirePositive(height, "world", "crossed planes '" + name + "' height");
+  const Vec3 up(0.0, 0.0, height);
+  const char* suffix[2] = {"/a", "/b"};
+  for (int k = 0; k < 2; ++k) {
+    const Vec3 dir = yawRotation(yaw_deg + 90.0 * k) * Vec3::UnitX();
+    Rect r;
+    r.name = name + suffix[k];
+    r.edge_u = width * dir;
+    r.edge_v = up;
+    r.corner = center - 0.5 * r.edge_u - 0.5 * r.edge_v;
+    addPlane(r);
+  }
+}
+
+double WorldModel::distanceToTruth(const Vec3& p) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& r : rects_) best = std::min(best, r.distance(p));
+  for (const auto& s : segments_) best = std::min(best, pointSegmentDistance(p, s.a, s.b));
+  for (const auto& q : points_) best = std::min(best, (p - q.p).norm());
+  return best;
+}
+
+}  // namespace uavip::sim

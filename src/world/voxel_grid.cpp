@@ -1,1 +1,285 @@
-// placeholder: implemented by the module's owner
+#include "uavip/world/voxel_grid.h"
+
+#include "uavip/core/error.h"
+
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <sstream>
+
+namespace uavip::world {
+
+namespace {
+
+constexpr std::uint8_t kFree = 0;
+constexpr std::uint8_t kInflated = 1;
+constexpr std::uint8_t kOccupied = 2;
+
+/// Largest |index| produced by indexOf; keeps int arithmetic on neighbours safe.
+constexpr double kIndexLimit = 1.0e9;
+
+int toIndex(double v) {
+  if (std::isnan(v)) return -1;
+  return static_cast<int>(std::clamp(std::floor(v), -kIndexLimit, kIndexLimit));
+}
+
+/// Integer offsets (in voxels) whose centre distance is within `radius_vox` voxels.
+std::vector<Index3> sphereOffsets(double radius_vox) {
+  // A tiny slack makes the test conservative (blocks a voxel exactly on the sphere).
+  const double r2 = radius_vox * radius_vox * (1.0 + 1e-12) + 1e-9;
+  const int n = static_cast<int>(std::floor(radius_vox + 1e-9));
+  std::vector<Index3> out;
+  for (int dz = -n; dz <= n; ++dz) {
+    for (int dy = -n; dy <= n; ++dy) {
+      for (int dx = -n; dx <= n; ++dx) {
+        const double d2 = static_cast<double>(dx * dx + dy * dy + dz * dz);
+        if (d2 <= r2) out.push_back({dx, dy, dz});
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void GridOptions::validate(const std::string& where) const {
+  requirePositive(resolution_m, where, "resolution_m");
+  if (!(std::isfinite(inflation_radius_m) && inflation_radius_m >= 0.0)) {
+    std::ostringstream os;
+    os << "inflation_radius_m must be >= 0, got " << inflation_radius_m;
+    require(false, where, os.str());
+  }
+  if (!(std::isfinite(padding_m) && padding_m >= 0.0)) {
+    std::ostringstream os;
+    os << "padding_m must be >= 0, got " << padding_m;
+    require(false, where, os.str());
+  }
+  require(max_voxels > 0, where, "max_voxels must be > 0, got 0");
+}
+
+VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const GridOptions& options) {
+  options.validate("grid");
+  require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
+  require(allFinite(extra), "grid", "an extra point (e.g. a photo stop) has a non-finite coordinate");
+
+  VoxelGrid g;
+  g.options_ = options;
+  const double res = options.resolution_m;
+
+  Aabb box = boundingBox(cloud);
+  for (const auto& p : extra) box.extend(p);
+  if (box.empty()) box.extend(Vec3::Zero());  // nothing to cover: a padded box around the origin
+  const Vec3 lo = box.min.array() - options.padding_m;
+  const Vec3 hi = box.max.array() + options.padding_m;
+
+  // The origin sits on a multiple of the resolution so that OctoMap's leaves (whose
+  // boundaries are multiples of the resolution) coincide with the dense voxels.
+  double count = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double o = std::floor(lo[a] / res) * res;
+    g.origin_[a] = o;
+    const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
+    count *= n;
+    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2)) count = std::numeric_limits<double>::infinity();
+    g.dims_[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
+  }
+  if (!(count <= static_cast<double>(options.max_voxels))) {
+    std::ostringstream os;
+    os << "grid: " << g.dims_[0] << " x " << g.dims_[1] << " x " << g.dims_[2] << " = " << count
+       << " voxels exceeds max_voxels = " << options.max_voxels << " (extent "
+       << (hi - lo).transpose() << " m at resolution_m = " << res
+       << "); increase resolution_m, reduce padding_m or crop the cloud, or raise max_voxels";
+    throw InputError(os.str());
+  }
+  g.blocked_.assign(static_cast<std::size_t>(count), kFree);
+
+  auto markRange = [&g](const Vec3& a, const Vec3& b) {
+    const Index3 i0 = g.indexOf(a);
+    const Index3 i1 = g.indexOf(b);
+    for (int z = std::max(i0.z, 0); z <= std::min(i1.z, g.dims_[2] - 1); ++z) {
+      for (int y = std::max(i0.y, 0); y <= std::min(i1.y, g.dims_[1] - 1); ++y) {
+        for (int x = std::max(i0.x, 0); x <= std::min(i1.x, g.dims_[0] - 1); ++x) {
+          g.blocked_[g.linear({x, y, z})] = kOccupied;
+        }
+      }
+    }
+  };
+
+  // Occupancy (paper §II-G): an OcTree at the grid resolution filled with the cloud.
+  if (!cloud.empty()) {
+    octomap::OcTree tree(res);
+    for (const auto& p : cloud) {
+      octomap::OcTreeKey key;
+      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      if (tree.coordToKeyChecked(q, key)) tree.updateNode(key, true, true);
+    }
+    tree.updateInnerOccupancy();
+    tree.prune();
+    // Leaves may be pruned into bigger cubes: cover every dense voxel inside each one.
+    const double eps = 1e-3 * res;
+    for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+      if (!tree.isNodeOccupied(*it)) continue;
+      const double half = 0.5 * it.getSize();
+      const Vec3 c(it.getX(), it.getY(), it.getZ());
+      markRange(c.array() - half + eps, c.array() + half - eps);
+    }
+    // Every measured point lies in an occupied voxel (the safety argument needs it,
+    // and it covers points outside OctoMap's key range or float rounding).
+    for (const auto& p : cloud) {
+      const Index3 i = g.indexOf(p);
+      if (g.inBounds(i)) g.blocked_[g.linear(i)] = kOccupied;
+    }
+  }
+
+  // Inflation: block every voxel whose centre is within r + √3·res of an occupied centre.
+  const std::vector<Index3> offsets = sphereOffsets(g.effectiveInflation() / res);
+  const int nx = g.dims_[0], ny = g.dims_[1], nz = g.dims_[2];
+  auto occupiedAt = [&](int x, int y, int z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz &&
+           g.blocked_[g.linear({x, y, z})] == kOccupied;
+  };
+  std::vector<Index3> seeds;
+  for (int z = 0; z < nz; ++z) {
+    for (int y = 0; y < ny; ++y) {
+      for (int x = 0; x < nx; ++x) {
+        if (g.blocked_[g.linear({x, y, z})] != kOccupied) continue;
+        ++g.occupied_count_;
+        // An occupied voxel whose six face neighbours are occupied adds nothing: every
+        // offset point at distance >= 1 voxel is at least as close to one of them.
+        const bool interior = occupiedAt(x - 1, y, z) && occupiedAt(x + 1, y, z) && occupiedAt(x, y - 1, z) &&
+                              occupiedAt(x, y + 1, z) && occupiedAt(x, y, z - 1) && occupiedAt(x, y, z + 1);
+        if (!interior) seeds.push_back({x, y, z});
+      }
+    }
+  }
+  for (const auto& s : seeds) {
+    for (const auto& o : offsets) {
+      const Index3 t{s.x + o.x, s.y + o.y, s.z + o.z};
+      if (!g.inBounds(t)) continue;
+      auto& v = g.blocked_[g.linear(t)];
+      if (v == kFree) v = kInflated;
+    }
+  }
+  g.blocked_count_ = static_cast<std::size_t>(
+      std::count_if(g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));
+  return g;
+}
+
+double VoxelGrid::effectiveInflation() const {
+  return options_.inflation_radius_m + std::sqrt(3.0) * options_.resolution_m;
+}
+
+bool VoxelGrid::inBounds(const Index3& i) const {
+  return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < dims_[0] && i.y < dims_[1] && i.z < dims_[2];
+}
+
+Index3 VoxelGrid::indexOf(const Vec3& p) const {
+  const double res = options_.resolution_m;
+  return {toIndex((p.x() - origin_.x()) / res), toIndex((p.y() - origin_.y()) / res),
+          toIndex((p.z() - origin_.z()) / res)};
+}
+
+Vec3 VoxelGrid::centreOf(const Index3& i) const {
+  const double res = options_.resolution_m;
+  return origin_ + res * Vec3(i.x + 0.5, i.y + 0.5, i.z + 0.5);
+}
+
+std::size_t VoxelGrid::linear(const Index3& i) const {
+  return static_cast<std::size_t>(i.x) +
+         static_cast<std::size_t>(dims_[0]) *
+             (static_cast<std::size_t>(i.y) + static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z));
+}
+
+bool VoxelGrid::isOccupied(const Index3& i) const {
+  return inBounds(i) && blocked_[linear(i)] == kOccupied;
+}
+
+bool VoxelGrid::isBlocked(const Index3& i) const {
+  return !inBounds(i) || blocked_[linear(i)] != kFree;
+}
+
+bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
+  // Stricter than sampling: every voxel the segment passes through (3D DDA,
+  // Amanatides & Woo) must be free, which includes every sample spaced <= res. A
+  // point inside a free voxel is within (√3/2)·res of its free centre, which the
+  // file comment's argument needs; plain sampling could cut a blocked corner.
+  if (!a.allFinite() || !b.allFinite()) return false;
+  Index3 cur = indexOf(a);
+  const Index3 last = indexOf(b);
+  if (isBlocked(cur) || isBlocked(last)) return false;
+  const double res = options_.resolution_m;
+  const Vec3 d = b - a;
+  int step[3];
+  double t_max[3];
+  double t_delta[3];
+  int* c[3] = {&cur.x, &cur.y, &cur.z};
+  for (int k = 0; k < 3; ++k) {
+    const double dk = d[k];
+    if (dk > 0.0) {
+      step[k] = 1;
+      const double boundary = origin_[k] + (*c[k] + 1) * res;
+      t_max[k] = (boundary - a[k]) / dk;
+      t_delta[k] = res / dk;
+    } else if (dk < 0.0) {
+      step[k] = -1;
+      const double boundary = origin_[k] + (*c[k]) * res;
+      t_max[k] = (boundary - a[k]) / dk;
+      t_delta[k] = -res / dk;
+    } else {
+      step[k] = 0;
+      t_max[k] = std::numeric_limits<double>::infinity();
+      t_delta[k] = std::numeric_limits<double>::infinity();
+    }
+  }
+  // At most |Δx|+|Δy|+|Δz| steps (plus slack for rounding at the last voxel).
+  const long long budget = std::llabs(static_cast<long long>(last.x) - cur.x) +
+                           std::llabs(static_cast<long long>(last.y) - cur.y) +
+                           std::llabs(static_cast<long long>(last.z) - cur.z) + 3;
+  for (long long n = 0; n < budget && cur != last; ++n) {
+    int k = 0;
+    if (t_max[1] < t_max[k]) k = 1;
+    if (t_max[2] < t_max[k]) k = 2;
+    if (t_max[k] > 1.0) break;  // rounding: the end lies in the current voxel's closure
+    *c[k] += step[k];
+    t_max[k] += t_delta[k];
+    if (isBlocked(cur)) return false;
+  }
+  // Sample check as well (the header's contract), spaced <= res, both ends included.
+  const double len = d.norm();
+  const int samples = static_cast<int>(std::ceil(len / res));
+  for (int s = 1; s < samples; ++s) {
+    if (isBlocked(indexOf(a + d * (static_cast<double>(s) / samples)))) return false;
+  }
+  return true;
+}
+
+std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
+  if (isBlocked(seed)) return {};
+  std::vector<std::uint8_t> seen(blocked_.size(), 0);
+  std::deque<Index3> queue;
+  seen[linear(seed)] = 1;
+  queue.push_back(seed);
+  while (!queue.empty()) {
+    const Index3 c = queue.front();
+    queue.pop_front();
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const Index3 n{c.x + dx, c.y + dy, c.z + dz};
+          if (isBlocked(n)) continue;
+          auto& s = seen[linear(n)];
+          if (s) continue;
+          s = 1;
+          queue.push_back(n);
+        }
+      }
+    }
+  }
+  return seen;
+}
+
+}  // namespace uavip::world

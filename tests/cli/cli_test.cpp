@@ -1,1 +1,160 @@
-// placeholder: implemented by the module's owner
+// The uavip executable as a user runs it: exit codes, one-line errors, outputs.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code{-1};
+  std::string out;  ///< stdout and stderr together
+};
+
+Result uavip(const std::string& args) {
+  const std::string cmd = std::string(UAVIP_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) r.out += buf.data();
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string scenario(const std::string& name) { return std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + name; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("uavip_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  /// Exit code 2 and a single line that mentions `fragment`.
+  void expectBadInput(const std::string& args, const std::string& fragment) {
+    const Result r = uavip(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(fragment), std::string::npos) << args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line expected:\n" << r.out;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpAndVersion) {
+  Result r = uavip("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* cmd : {"run", "detect", "plan"}) EXPECT_NE(r.out.find(cmd), std::string::npos);
+  r = uavip("run --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("--surface"), std::string::npos);
+  EXPECT_NE(r.out.find("astar"), std::string::npos);
+  r = uavip("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("uavip"), std::string::npos);
+  EXPECT_EQ(uavip("").code, 2);
+  EXPECT_EQ(uavip("fly").code, 2);
+}
+
+TEST_F(Cli, RunWritesTheContractFiles) {
+  const Result r = uavip("run " + scenario("single_plane.yaml") + " -o " + path("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out/cloud_clean.pcd"));
+  const auto scene = nlohmann::json::parse(slurp(dir_ / "out/scene.json"));
+  ASSERT_EQ(scene["surfaces"].size(), 1u);
+  for (const char* k : {"id", "normal", "area_m2", "boundary", "points"}) EXPECT_TRUE(scene["surfaces"][0].contains(k)) << k;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
+  const auto& m = mission["surfaces"][0];
+  EXPECT_EQ(m["status"], "ok");
+  EXPECT_GT(m["stops"].size(), 100u);
+  for (const char* k : {"position", "yaw_deg", "gimbal_pitch_deg"}) EXPECT_TRUE(m["stops"][0].contains(k)) << k;
+  EXPECT_GT(m["waypoints"].size(), 0u);
+  EXPECT_EQ(m["validation"]["collision_free"], true);
+  for (const auto& e : fs::directory_iterator(dir_ / "out")) {
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << "temporary file left: " << e.path();
+  }
+}
+
+TEST_F(Cli, NoSurfaceIsAResultNotAnError) {
+  const Result r = uavip("run " + scenario("single_point.yaml") + " -o " + path("out"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("no surface detected"), std::string::npos) << r.out;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
+  EXPECT_TRUE(mission["surfaces"].empty());
+}
+
+TEST_F(Cli, DetectThenPlanOneSurface) {
+  // A wall as an .xyz file, every 5 cm.
+  std::ostringstream xyz;
+  for (int i = 0; i <= 100; ++i)
+    for (int j = 0; j <= 60; ++j) xyz << i * 0.05 << " 0 " << 0.5 + j * 0.05 << "\n";
+  const std::string cloud = write("wall.xyz", xyz.str());
+  Result r = uavip("detect " + cloud + " -o " + path("d"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = uavip("plan " + path("d/scene.json") + " --surface 0 -o " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "p/mission.json"));
+  EXPECT_EQ(mission["surfaces"][0]["status"], "ok");
+  expectBadInput("plan " + path("d/scene.json") + " --surface 9 -o " + path("p"), "no surface with id 9");
+}
+
+TEST_F(Cli, BlockedSurfaceMakesPlanExit3) {
+  Result r = uavip("run " + scenario("cube_crossed_planes.yaml") + " --surface 0 -o " + path("x"));
+  ASSERT_EQ(r.code, 0) << r.out;  // run: blocked is a result
+  EXPECT_NE(r.out.find("blocked"), std::string::npos) << r.out;
+  r = uavip("plan " + path("x/scene.json") + " --surface 0 -o " + path("p"));
+  EXPECT_EQ(r.code, 3) << r.out;
+}
+
+TEST_F(Cli, BadInputIsOneLineAndExit2) {
+  expectBadInput("run " + path("nope.yaml"), "nope.yaml: no such file");
+  expectBadInput("run " + write("k.yaml", "name: t\nworld: [{type: point, at: [0,0,0]}]\nsensing: {spacing: 1}\n"),
+                 "sensing.spacing");
+  expectBadInput("run " + write("t.yaml", "name: t\nworld: [{type: point, at: [0,0,x]}]\nsensing: {}\n"),
+                 "world[0].at");
+  expectBadInput("run " + scenario("single_plane.yaml") + " --planner nope -o " + path("o"), "nope");
+  expectBadInput("run " + scenario("single_plane.yaml") + " --surface 42 -o " + path("o"), "no surface with id 42");
+  expectBadInput("detect " + write("e.xyz", "") + " -o " + path("o"), "no points");
+  expectBadInput("detect " + write("n.xyz", "0 0 0\nnan 1 1\n") + " -o " + path("o"), "n.xyz:2");
+  expectBadInput("detect " + write("c.xyz", "0 0 0\n") + " -c " + write("c.yaml", "preprocess: {voxel_m: -1}\n") +
+                     " -o " + path("o"),
+                 "voxel_m");
+  expectBadInput("plan " + write("s.json", "{}") + " --surface 0 -o " + path("o"), "surfaces");
+  const std::string start_inside = write("s.yaml", slurp(scenario("single_plane.yaml")) + "mission: {start: [4.0, 0.0, 2.0]}\n");
+  expectBadInput("run " + start_inside + " -o " + path("o"), "start");
+}
+
+TEST_F(Cli, AFailedRunKeepsEarlierResults) {
+  ASSERT_EQ(uavip("run " + scenario("single_plane.yaml") + " -o " + path("out")).code, 0);
+  const std::string before = slurp(dir_ / "out/mission.json");
+  EXPECT_EQ(uavip("run " + scenario("single_plane.yaml") + " --surface 5 -o " + path("out")).code, 2);
+  EXPECT_EQ(slurp(dir_ / "out/mission.json"), before);
+}
+
+}  // namespace

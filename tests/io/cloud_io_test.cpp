@@ -1,1 +1,73 @@
-// placeholder: implemented by the module's owner
+#include "uavip/io/cloud_io.h"
+
+#include "uavip/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace uavip::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CloudIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("uavip_cloud_io_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string file(const std::string& name, const std::string& text) const {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p) << text;
+    return p;
+  }
+  fs::path dir_;
+};
+
+void expectError(const std::string& path, const std::string& fragment) {
+  try {
+    loadCloud(path);
+    FAIL() << path;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(CloudIo, XyzIsRead) {
+  const PointList p = loadCloud(file("a.xyz", "# x y z\n1 2 3\n\n4.5,5,6 99\n"));
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1], Vec3(4.5, 5, 6));
+}
+
+TEST_F(CloudIo, PcdRoundTripKeepsFloatPrecision) {
+  const PointList in = {{0.1, -2.5, 3.25}, {10.0, 20.0, -0.001}};
+  const std::string p = (dir_ / "c.pcd").string();
+  saveCloudPcd(p, in);
+  const PointList out = loadCloud(p);
+  ASSERT_EQ(out.size(), in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) EXPECT_LT((out[i] - in[i]).norm(), 1e-5);
+  EXPECT_FALSE(fs::exists(p + ".tmp" + std::to_string(::getpid())));
+}
+
+TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
+  expectError((dir_ / "missing.pcd").string(), "no such file");
+  expectError(file("empty.xyz", "# nothing\n"), "no points");
+  expectError(file("nan.xyz", "1 2 3\nnan 0 0\n"), ":2:");
+  expectError(file("inf.xyz", "1 2 inf\n"), "not finite");
+  expectError(file("text.xyz", "1 2 three\n"), "not a number");
+  expectError(file("short.xyz", "1 2\n"), "expected 'x y z'");
+  expectError(file("a.las", "x"), "unknown cloud extension");
+  expectError(file("bad.pcd", "garbage"), "cannot parse");
+}
+
+TEST(CloudIoReal, RoomScanLoads) {
+  const PointList p = loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
+  EXPECT_GT(p.size(), 100000u);
+}
+
+}  // namespace
+}  // namespace uavip::io

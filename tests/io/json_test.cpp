@@ -1,1 +1,97 @@
-// placeholder: implemented by the module's owner
+#include "uavip/io/mission_json.h"
+#include "uavip/io/scene_json.h"
+
+#include "uavip/core/error.h"
+
+#include <gtest/gtest.h>
+
+namespace uavip::io {
+namespace {
+
+Scene smallScene() {
+  Scene scene;
+  Surface s;
+  s.id = 0;
+  s.plane.normal = Vec3(0, -1, 0);
+  s.plane.offset = 0.0;
+  s.inliers = {{0, 0, 0}, {4, 0, 0}, {4, 0, 2}, {0, 0, 2}, {2, 0, 1}};
+  s.boundary = {{0, 0, 0}, {4, 0, 0}, {4, 0, 2}, {0, 0, 2}};
+  s.centroid = Vec3(2, 0, 1);
+  s.axis_u = Vec3(1, 0, 0);
+  s.axis_v = s.plane.normal.cross(s.axis_u);
+  s.area_m2 = 8.0;
+  s.density_area_m2 = 7.5;
+  scene.surfaces.push_back(s);
+  Obstacle o;
+  o.id = 0;
+  o.points = {{5, 5, 5}, {5.5, 5, 5.25}};
+  o.aabb_min = Vec3(5, 5, 5);
+  o.aabb_max = Vec3(5.5, 5, 5.25);
+  scene.obstacles.push_back(o);
+  scene.cloud = s.inliers;
+  scene.cloud.insert(scene.cloud.end(), o.points.begin(), o.points.end());
+  return scene;
+}
+
+TEST(SceneJson, RoundTripRebuildsTheCloudFromSurfacesAndObstacles) {
+  const Scene in = smallScene();
+  const Scene out = sceneFromJson(sceneToJson(in), "scene.json");
+  ASSERT_EQ(out.surfaces.size(), 1u);
+  ASSERT_EQ(out.obstacles.size(), 1u);
+  EXPECT_EQ(out.cloud.size(), in.cloud.size());
+  EXPECT_LT((out.surfaces[0].plane.normal - in.surfaces[0].plane.normal).norm(), 1e-9);
+  EXPECT_DOUBLE_EQ(out.surfaces[0].area_m2, 8.0);
+  EXPECT_EQ(out.surfaces[0].boundary.size(), 4u);
+  EXPECT_LT((out.surfaces[0].axis_v - in.surfaces[0].axis_v).norm(), 1e-9);
+  EXPECT_EQ(out.obstacles[0].aabb_max, in.obstacles[0].aabb_max);
+}
+
+TEST(SceneJson, BadFieldsAreNamed) {
+  nlohmann::json j = sceneToJson(smallScene());
+  j["surfaces"][0].erase("normal");
+  try {
+    sceneFromJson(j, "s.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.json: surfaces[0].normal is missing"), std::string::npos) << e.what();
+  }
+  j = sceneToJson(smallScene());
+  j["obstacles"][0]["points"][1] = {1, "a", 2};
+  EXPECT_THROW(sceneFromJson(j, "s.json"), InputError);
+  EXPECT_THROW(sceneFromJson(nlohmann::json::object({{"surfaces", nlohmann::json::array()},
+                                                     {"obstacles", nlohmann::json::array()}}),
+                             "s.json"),
+               InputError);  // no points at all
+}
+
+TEST(MissionJson, CarriesTheContractFields) {
+  planning::SurfaceMission m;
+  m.surface_id = 3;
+  m.status = planning::SurfaceStatus::Blocked;
+  m.reason = "2 of 2 stops infeasible";
+  coverage::Stop s;
+  s.position = Vec3(1, 2, 3);
+  s.yaw_deg = 90;
+  s.gimbal_pitch_deg = -10;
+  m.strategy.stops = {s, s};
+  m.stop_problems = {planning::StopProblem::InObstacleSpace, planning::StopProblem::Unreachable};
+  m.validation.min_clearance_m = std::numeric_limits<double>::infinity();
+  const nlohmann::json j = missionToJson({m}, {{"planner", "astar"}});
+  EXPECT_EQ(j["planner"], "astar");
+  const auto& js = j["surfaces"][0];
+  EXPECT_EQ(js["surface_id"], 3);
+  EXPECT_EQ(js["status"], "blocked");
+  EXPECT_EQ(js["reason"], m.reason);
+  EXPECT_EQ(js["stops"].size(), 2u);
+  EXPECT_EQ(js["stops"][0]["position"], nlohmann::json::array({1.0, 2.0, 3.0}));
+  EXPECT_EQ(js["stops"][0]["yaw_deg"], 90.0);
+  EXPECT_EQ(js["stops"][1]["gimbal_pitch_deg"], -10.0);
+  EXPECT_NE(js["stops"][0]["problem"], js["stops"][1]["problem"]);
+  EXPECT_TRUE(js["waypoints"].is_array());
+  EXPECT_TRUE(js["validation"]["min_clearance_m"].is_null());  // JSON has no infinity
+  EXPECT_TRUE(js.contains("raw_waypoint_count"));
+  EXPECT_TRUE(js.contains("path_length_m"));
+}
+
+}  // namespace
+}  // namespace uavip::io

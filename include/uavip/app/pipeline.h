@@ -1,0 +1,62 @@
+#pragma once
+/// \file
+/// The whole flow of ARCHITECTURE.md as callable steps: sense (sim) → stage 3
+/// (preprocess) → stages 4–5 (perception) → grid (world) → stage 6 (coverage) →
+/// stage 7 (planning), with per-stage wall times. The CLI and the benchmark call
+/// these; nothing here prints.
+
+#include "uavip/io/scenario.h"
+#include "uavip/planning/mission_planner.h"
+#include "uavip/preprocess/filters.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace uavip::app {
+
+/// Progress messages for long work (the CLI shows them on a terminal).
+using Progress = std::function<void(const std::string&)>;
+
+/// Wall time per stage [s].
+struct StageTimes {
+  double sense_s{0.0};
+  double preprocess_s{0.0};
+  double perception_s{0.0};
+  double grid_s{0.0};
+  double coverage_s{0.0};
+  double planning_s{0.0};
+  double total_s{0.0};
+};
+
+/// Stages 3–5 on a raw cloud.
+struct DetectResult {
+  preprocess::PreprocessStats preprocess;
+  Scene scene;
+  StageTimes times;
+};
+
+/// Stages 6–7 for the chosen surfaces.
+struct PlanResult {
+  std::vector<planning::SurfaceMission> missions;
+  std::size_t grid_voxels{0};
+  std::size_t grid_blocked{0};
+  StageTimes times;
+};
+
+/// Runs stages 3–5. Throws InputError for an empty cloud or non-finite points.
+DetectResult detect(const PointList& raw, const io::Config& config, const Progress& progress = {});
+
+/// Parses a surface selection: "all" or an id; throws InputError naming the valid
+/// ids when the id does not exist.
+std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);
+
+/// Runs stages 6–7 for the given surface ids (each must exist).
+PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
+                const Progress& progress = {});
+
+/// Samples the scenario's world (sensing mode `sample`).
+PointList sense(const io::Scenario& scenario);
+
+}  // namespace uavip::app

@@ -1,0 +1,79 @@
+#pragma once
+/// \file
+/// Scenario and configuration files (YAML, schema in scenarios/README.md). Parsing
+/// is strict: an unknown key, a wrong type, a missing required field or a bad value
+/// throws InputError naming the file, the key path and the value.
+
+#include "uavip/core/types.h"
+#include "uavip/coverage/flight_strategy.h"
+#include "uavip/perception/scene_builder.h"
+#include "uavip/planning/mission_planner.h"
+#include "uavip/preprocess/filters.h"
+#include "uavip/sim/surface_sampler.h"
+#include "uavip/sim/world_model.h"
+#include "uavip/world/voxel_grid.h"
+#include "planners/registry.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace uavip::io {
+
+/// The UAV (paper §III: 0.6 × 0.6 × 0.4 m).
+struct UavConfig {
+  Vec3 size_m{0.6, 0.6, 0.4};  ///< [m]
+  /// Inflation radius of the grid [m]; default: the largest dimension (paper).
+  std::optional<double> inflation_radius_m;
+  double inflationRadius() const { return inflation_radius_m ? *inflation_radius_m : size_m.maxCoeff(); }
+};
+
+/// Every stage's parameters (the non-world part of a scenario; also the `-c`
+/// config of `uavip detect` and `uavip plan`).
+struct Config {
+  preprocess::PreprocessOptions preprocess;
+  perception::PerceptionOptions perception;
+  UavConfig uav;
+  world::GridOptions grid;
+  coverage::CoverageOptions coverage;
+  std::string planner{"astar"};
+  planners::PlannerSettings planner_settings;
+  planning::MissionOptions mission;
+
+  /// Validates every section; throws InputError prefixed by `where` (the file).
+  void validate(const std::string& where) const;
+  /// Grid options with the UAV's inflation radius filled in.
+  world::GridOptions gridOptions() const;
+};
+
+/// What the paper reports for a scenario, asserted by the tests.
+struct Expectation {
+  std::optional<int> surfaces;             ///< number of detected surfaces
+  std::optional<std::string> status;       ///< mission status of every surface ("ok", "blocked")
+  std::optional<double> min_surface_area_m2;  ///< smallest detected surface area, if given
+};
+
+/// A synthetic scenario: a world, how it is sensed, every stage's parameters and
+/// the expected outcome.
+struct Scenario {
+  std::string path;         ///< file it was read from
+  std::string name;
+  std::string description;
+  sim::WorldModel world;
+  std::string sensing_mode{"sample"};  ///< only "sample" for now
+  sim::SampleOptions sample;
+  Config config;
+  Expectation expect;
+};
+
+/// Reads and validates a scenario file. Throws InputError on any problem.
+Scenario loadScenario(const std::string& path);
+/// Parses a scenario from YAML text; `path` is used in messages.
+Scenario parseScenario(const std::string& yaml_text, const std::string& path);
+/// Reads a config file (the sections of a scenario other than name, world,
+/// sensing and expect). Throws InputError on any problem.
+Config loadConfig(const std::string& path);
+/// Parses a config from YAML text.
+Config parseConfig(const std::string& yaml_text, const std::string& path);
+
+}  // namespace uavip::io

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Set-up + the main job: plans the bundled default scenario (a floating 3 m cube,
+# scenarios/single_cube.yaml) and prints where the results are.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+BUILD_DIR=${BUILD_DIR:-build}
+"$BUILD_DIR"/uavip run "${1:-scenarios/single_cube.yaml}" -o "${2:-out/single_cube}"

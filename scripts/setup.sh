@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs what uavip needs on Debian 12 (as root, or with sudo), then configures and
+# builds. Environment: BUILD_DIR (default build), BUILD_TYPE (Release),
+# UAVIP_SANITIZE=ON for AddressSanitizer + UBSan, SKIP_APT=1 to skip apt-get.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(cmake make g++ pkg-config
+  libompl-dev libfcl-dev libccd-dev liboctomap-dev libpcl-dev libeigen3-dev
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev)
+
+if [ "${SKIP_APT:-0}" != 1 ]; then
+  missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    SUDO=""
+    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    echo "setup: installing ${missing[*]}" >&2
+    $SUDO apt-get update -q
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+  fi
+fi
+
+BUILD_DIR=${BUILD_DIR:-build}
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
+  -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" >/dev/null
+cmake --build "$BUILD_DIR" -j"$(nproc)"

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Set-up + the whole test suite (ctest). UAVIP_SANITIZE=ON runs it under ASan + UBSan
+# in build-asan.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ "${UAVIP_SANITIZE:-OFF}" = ON ]; then
+  export BUILD_DIR=${BUILD_DIR:-build-asan} BUILD_TYPE=${BUILD_TYPE:-RelWithDebInfo}
+fi
+bash scripts/setup.sh
+BUILD_DIR=${BUILD_DIR:-build}
+ctest --test-dir "$BUILD_DIR" --output-on-failure -j"$(nproc)"
