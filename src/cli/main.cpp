@@ -206,6 +206,7 @@ int main(int argc, char** argv) {
                "in Construction'). Exit codes: 0 done, 2 bad input, 3 no mission for the chosen surface."};
   cli.set_version_flag("--version", "uavip " UAVIP_VERSION);
   cli.require_subcommand(1);
+  cli.fallthrough();  // -q/-v also after the subcommand
   Verbosity v;
   cli.add_flag("-q,--quiet", v.quiet, "Print nothing but errors");
   cli.add_flag("-v,--verbose", v.verbose, "Show progress even when stderr is not a terminal");

@@ -1,8 +1,8 @@
 #include "uavip/coverage/camera.h"
 
-#include "uavip/core/error.h"
-
 #include <algorithm>
+
+#include "uavip/core/error.h"
 
 namespace uavip::coverage {
 

@@ -1,14 +1,13 @@
 #include "uavip/coverage/flight_strategy.h"
 
-#include "uavip/core/error.h"
-
 #include <Eigen/Geometry>
-
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 // Conventions of the photo stops (paper §II-F, 2-DOF mount: yaw by the UAV, pitch by
 // a gimbal without roll).
@@ -27,6 +26,10 @@
 //    straight up, image "up" turns onto the UAV's backward direction, so when looking up
 //    (pitch > 0) the heading is the horizontal direction of −axis_h:
 //    yaw = atan2(−axis_h_y, −axis_h_x). Both keep image width along axis_w.
+//    On an exactly horizontal surface the view is exactly along −n. On a slightly
+//    tilted one (tilt θ < acos 0.95 ≈ 18°) a mount without roll cannot both look along
+//    −n and keep the image width on axis_w; the image axes win and the view direction
+//    may differ from −n by up to 2θ (position and target are still exact).
 //  * Pitch = asin(−n_z) [deg]: −90 straight down, 0 horizontal, +90 straight up.
 //  * Yaw in degrees counter-clockwise from +x, in (−180, 180].
 
@@ -152,10 +155,13 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
     yaw = std::atan2(sign * axis_h.y(), sign * axis_h.x()) * kRadToDeg;
   }
   yaw = wrapDeg(yaw);
-  const bool gimbal_ok = pitch >= options.gimbal.pitch_min_deg - 1e-9 &&
-                         pitch <= options.gimbal.pitch_max_deg + 1e-9;
+  const bool gimbal_ok =
+      pitch >= options.gimbal.pitch_min_deg - 1e-9 && pitch <= options.gimbal.pitch_max_deg + 1e-9;
 
-  if (surface.boundary.size() < 3) return fs;
+  if (surface.boundary.size() < 3 || !allFinite(surface.boundary) ||
+      !surface.centroid.allFinite()) {
+    return fs;
+  }
 
   // Boundary in (axis_w, axis_h) coordinates about the centroid.
   const Vec3 origin = surface.plane.project(surface.centroid);
@@ -180,8 +186,9 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
     std::vector<Stop> row;
     for (int c = 0; c < fs.cols; ++c) {
       const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
-      const std::vector<Vec2> footprint = {Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h),
-                                           Vec2(a + half_w, b + half_h), Vec2(a - half_w, b + half_h)};
+      const std::vector<Vec2> footprint = {
+          Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h), Vec2(a + half_w, b + half_h),
+          Vec2(a - half_w, b + half_h)};
       if (!convexOverlap(footprint, poly)) continue;
       Stop s;
       s.surface_id = surface.id;

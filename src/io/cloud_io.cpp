@@ -12,6 +12,8 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <sstream>
 
 namespace uavip::io {
@@ -64,6 +66,50 @@ PointList loadXyz(const std::string& path) {
   return out;
 }
 
+/// PCL's readers crash on some malformed headers, so the header is checked first:
+/// the fields x y z, a point count and a DATA line (PCD), or "ply" with a vertex
+/// element and x y z properties (PLY).
+void checkHeader(const std::string& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot read (permission?)");
+  std::string line;
+  bool has_xyz = false, has_count = false, has_data = false;
+  std::size_t lines = 0;
+  const auto hasXyz = [](const std::string& l) {
+    std::istringstream words(l);
+    std::set<std::string> names;
+    for (std::string w; words >> w;) names.insert(w);
+    return names.count("x") && names.count("y") && names.count("z");
+  };
+  if (ext == ".pcd") {
+    while (lines++ < 64 && std::getline(in, line)) {
+      if (line.rfind("FIELDS", 0) == 0) has_xyz = hasXyz(line);
+      if (line.rfind("POINTS", 0) == 0) has_count = true;
+      if (line.rfind("DATA", 0) == 0) {
+        has_data = true;
+        break;
+      }
+    }
+    if (!has_xyz || !has_count || !has_data) {
+      throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
+    }
+  } else {
+    std::getline(in, line);
+    if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (first line must be 'ply')");
+    bool has_vertex = false;
+    int xyz = 0;
+    while (lines++ < 256 && std::getline(in, line)) {
+      if (line.rfind("element vertex", 0) == 0) has_vertex = true;
+      if (has_vertex && line.rfind("property", 0) == 0) {
+        const std::string name = line.substr(line.find_last_of(' ') + 1);
+        xyz += (name == "x" || name == "y" || name == "z");
+      }
+      if (line.rfind("end_header", 0) == 0) break;
+    }
+    if (!has_vertex || xyz < 3) throw InputError(path + ": PLY file has no vertex element with x y z properties");
+  }
+}
+
 PointList fromPcl(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::string& path) {
   PointList out;
   out.reserve(cloud.size());
@@ -89,6 +135,7 @@ PointList loadCloud(const std::string& path) {
   if (ext == ".xyz" || ext == ".txt") {
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
+    checkHeader(path, ext);
     pcl::PointCloud<pcl::PointXYZ> cloud;
     const int rc = ext == ".pcd" ? pcl::io::loadPCDFile(path, cloud) : pcl::io::loadPLYFile(path, cloud);
     if (rc < 0) throw InputError(path + ": cannot parse as " + ext.substr(1) + " (corrupt or not x/y/z?)");

@@ -392,9 +392,17 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
       ++result.stats.rejected_small;
       ++failures;
     }
-    // Accepted or not, the candidate's points are never proposed again (a rejected
-    // candidate stays in `remaining`); trimmed groups go back to the pool.
-    removeFromPool(pool, kept.size() >= 3 ? kept : candidate);
+    // The candidate's points are never proposed again. Accepted: the kept cluster
+    // leaves the pool and the trimmed groups stay in it (they may form their own
+    // surface). Rejected: every cluster of the band is at most as large as the
+    // rejected one, so the whole band leaves the pool (it stays in `remaining`);
+    // otherwise a plane made of many small coplanar patches would use up
+    // max_failures one patch at a time before larger planes are reached.
+    if (accepted) {
+      removeFromPool(pool, kept);
+    } else {
+      removeFromPool(pool, band.size() >= 3 ? band : candidate);
+    }
   }
 
   result.remaining.reserve(cloud.size());

@@ -1,14 +1,13 @@
 #include "uavip/sim/surface_sampler.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::sim {
 
@@ -38,8 +37,8 @@ void requireRange(bool ok, const std::string& where, const std::string& field,
 
 void SampleOptions::validate(const std::string& where) const {
   requirePositive(spacing_m, where, "spacing_m");
-  requireRange(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0, where, "noise_sigma_m",
-               ">= 0", noise_sigma_m);
+  requireRange(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0, where, "noise_sigma_m", ">= 0",
+               noise_sigma_m);
   requireRange(outlier_fraction >= 0.0 && outlier_fraction < 1.0, where, "outlier_fraction",
                "in [0, 1)", outlier_fraction);
   requireRange(std::isfinite(outlier_margin_m) && outlier_margin_m >= 0.0, where,

@@ -1,14 +1,13 @@
 #include "uavip/sim/world_model.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::sim {
 

@@ -1,1 +1,104 @@
-// placeholder: implemented by the module's owner
+// Tests of core/geometry.h against brute force and known shapes.
+#include "uavip/core/geometry.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace uavip {
+namespace {
+
+/// Brute force: minimum distance to n+1 evenly spaced points of [a, b].
+double bruteSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b, int n) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= n; ++i) best = std::min(best, (p - (a + (double(i) / n) * (b - a))).norm());
+  return best;
+}
+
+TEST(Geometry, PointSegmentDistanceMatchesBruteForce) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  const int n = 20000;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), p(u(rng), u(rng), u(rng));
+    const double exact = pointSegmentDistance(p, a, b);
+    const double brute = bruteSegmentDistance(p, a, b, n);
+    // Sampling overestimates by at most half a sample step.
+    EXPECT_LE(exact, brute + 1e-12);
+    EXPECT_GE(exact, brute - 0.5 * (b - a).norm() / n - 1e-12);
+  }
+}
+
+TEST(Geometry, PointSegmentDistanceKnownCases) {
+  const Vec3 a(0, 0, 0), b(2, 0, 0);
+  EXPECT_NEAR(pointSegmentDistance(Vec3(1, 3, 4), a, b), 5.0, 1e-12);   // interior
+  EXPECT_NEAR(pointSegmentDistance(Vec3(-3, 4, 0), a, b), 5.0, 1e-12);  // before a
+  EXPECT_NEAR(pointSegmentDistance(Vec3(5, 0, 4), a, b), 5.0, 1e-12);   // past b
+  EXPECT_NEAR(pointSegmentDistance(Vec3(1, 0, 0), a, b), 0.0, 1e-12);   // on it
+  // Degenerate segment: distance to the point.
+  EXPECT_NEAR(pointSegmentDistance(Vec3(1, 2, 2), a, a), 3.0, 1e-12);
+}
+
+/// Rotation taking the xy plane to a tilted plane, plus a translation.
+PointList placeTilted(const std::vector<Eigen::Vector2d>& poly2d) {
+  const Eigen::Matrix3d r =
+      (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(-0.4, Vec3::UnitX()))
+          .toRotationMatrix();
+  const Vec3 t(10.0, -4.0, 2.5);
+  PointList out;
+  for (const auto& q : poly2d) out.push_back(r * Vec3(q.x(), q.y(), 0.0) + t);
+  return out;
+}
+
+TEST(Geometry, PolygonAreaOfKnownPolygonsInTiltedPlanes) {
+  // Rectangle 3 × 2.
+  EXPECT_NEAR(polygonArea(placeTilted({{0, 0}, {3, 0}, {3, 2}, {0, 2}})), 6.0, 1e-9);
+  // Right triangle with legs 4, 5 → 10.
+  EXPECT_NEAR(polygonArea(placeTilted({{0, 0}, {4, 0}, {0, 5}})), 10.0, 1e-9);
+  // Clockwise order gives the same (unsigned) area.
+  EXPECT_NEAR(polygonArea(placeTilted({{0, 2}, {3, 2}, {3, 0}, {0, 0}})), 6.0, 1e-9);
+  // Regular hexagon of circumradius 1: 3√3/2.
+  std::vector<Eigen::Vector2d> hex;
+  for (int i = 0; i < 6; ++i) hex.emplace_back(std::cos(i * M_PI / 3), std::sin(i * M_PI / 3));
+  EXPECT_NEAR(polygonArea(placeTilted(hex)), 1.5 * std::sqrt(3.0), 1e-9);
+  // Non-convex L shape: 2×2 square minus a 1×1 corner = 3.
+  EXPECT_NEAR(polygonArea(placeTilted({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}})), 3.0,
+              1e-9);
+  // A vertical wall 8 × 4 (as in the coverage tests).
+  EXPECT_NEAR(polygonArea({Vec3(2, 0, 0), Vec3(2, 8, 0), Vec3(2, 8, 4), Vec3(2, 0, 4)}), 32.0,
+              1e-12);
+  // Fewer than 3 vertices.
+  EXPECT_EQ(polygonArea({}), 0.0);
+  EXPECT_EQ(polygonArea({Vec3(0, 0, 0), Vec3(1, 1, 1)}), 0.0);
+}
+
+TEST(Geometry, BoundingBox) {
+  const Aabb empty = boundingBox({});
+  EXPECT_TRUE(empty.empty());
+  const Aabb box = boundingBox({Vec3(1, -2, 3), Vec3(-1, 5, 0), Vec3(0, 0, 7)});
+  EXPECT_FALSE(box.empty());
+  EXPECT_EQ(box.min, Vec3(-1, -2, 0));
+  EXPECT_EQ(box.max, Vec3(1, 5, 7));
+  const Aabb single = boundingBox({Vec3(4, 4, 4)});
+  EXPECT_FALSE(single.empty());
+  EXPECT_EQ(single.min, single.max);
+}
+
+TEST(Geometry, PolylineLength) {
+  EXPECT_EQ(polylineLength({}), 0.0);
+  EXPECT_EQ(polylineLength({Vec3(1, 2, 3)}), 0.0);
+  EXPECT_NEAR(polylineLength({Vec3(0, 0, 0), Vec3(3, 4, 0), Vec3(3, 4, 12)}), 5.0 + 12.0, 1e-12);
+}
+
+TEST(Geometry, AllFinite) {
+  EXPECT_TRUE(allFinite({}));
+  EXPECT_TRUE(allFinite({Vec3(1, 2, 3), Vec3(-1e300, 0, 0)}));
+  EXPECT_FALSE(allFinite({Vec3(1, 2, 3), Vec3(0, std::numeric_limits<double>::quiet_NaN(), 0)}));
+  EXPECT_FALSE(allFinite({Vec3(0, 0, std::numeric_limits<double>::infinity())}));
+}
+
+}  // namespace
+}  // namespace uavip

@@ -1,11 +1,12 @@
 // Tests of the camera model (paper §II-F, QGroundControl CameraCalc on both axes):
 // footprint and standoff worked by hand.
-#include "uavip/core/error.h"
 #include "uavip/coverage/camera.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
+
+#include "uavip/core/error.h"
 
 namespace uavip::coverage {
 namespace {

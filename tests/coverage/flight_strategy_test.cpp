@@ -1,16 +1,17 @@
 // Tests of stage 6 (paper §II-F): photo stops over hand-built surfaces, checked
 // against hand-worked counts, a dense coverage sampling, and an independent
 // point-in-triangle test.
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
 #include "uavip/coverage/flight_strategy.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <set>
 #include <string>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::coverage {
 namespace {
@@ -19,8 +20,7 @@ constexpr double kDeg = M_PI / 180.0;
 
 /// A Surface built by hand: plane through boundary[0] with normal n, centroid = mean
 /// of the boundary, axis_v = n × axis_u.
-Surface makeSurface(const PointList& boundary, const Vec3& normal, const Vec3& axis_u,
-                    int id = 3) {
+Surface makeSurface(const PointList& boundary, const Vec3& normal, const Vec3& axis_u, int id = 3) {
   Surface s;
   s.id = id;
   s.plane.normal = normal.normalized();
@@ -101,7 +101,8 @@ TEST(FlightStrategy, WallAxesAreHorizontalAndUp) {
 /// lies in the footprint of some stop.
 void expectCovered(const FlightStrategy& fs, const Vec3& origin, const Vec3& u, const Vec3& v,
                    double a, double b) {
-  const int nu = static_cast<int>(std::round(a / 0.05)), nv = static_cast<int>(std::round(b / 0.05));
+  const int nu = static_cast<int>(std::round(a / 0.05)),
+            nv = static_cast<int>(std::round(b / 0.05));
   int uncovered = 0;
   for (int i = 0; i <= nu; ++i) {
     for (int j = 0; j <= nv; ++j) {
@@ -148,7 +149,7 @@ TEST(FlightStrategy, StopsAtStandoffOnNormalSide) {
   const FlightStrategy fs = planFlightStrategy(wall, opt);
   ASSERT_FALSE(fs.stops.empty());
   for (const Stop& s : fs.stops) {
-    EXPECT_NEAR(s.target.x(), 2.0, 1e-12);  // on the plane x = 2
+    EXPECT_NEAR(s.target.x(), 2.0, 1e-12);     // on the plane x = 2
     EXPECT_NEAR(s.position.x(), 4.25, 1e-12);  // 2.25 m in front, on the +x side
     EXPECT_NEAR((s.position - s.target).norm(), 2.25, 1e-12);
     // Targets are within the wall's extent grown by half a footprint.
@@ -185,8 +186,9 @@ TEST(FlightStrategy, YawPitchOfWallsRoofAndCeiling) {
     EXPECT_NEAR(s.gimbal_pitch_deg, 0.0, 1e-9);
     EXPECT_NEAR(s.yaw_deg, 180.0, 1e-9);  // looking along −x
   }
-  const Surface north = makeSurface(
-      rectangle(Vec3(0, 5, 0), -Vec3::UnitX(), Vec3::UnitZ(), 3.0, 2.0), Vec3::UnitY(), Vec3::UnitX());
+  const Surface north =
+      makeSurface(rectangle(Vec3(0, 5, 0), -Vec3::UnitX(), Vec3::UnitZ(), 3.0, 2.0), Vec3::UnitY(),
+                  Vec3::UnitX());
   for (const Stop& s : planFlightStrategy(north, CoverageOptions{}).stops) {
     EXPECT_NEAR(s.yaw_deg, -90.0, 1e-9);  // facing +y, looking along −y
     EXPECT_NEAR(s.gimbal_pitch_deg, 0.0, 1e-9);
@@ -201,8 +203,9 @@ TEST(FlightStrategy, YawPitchOfWallsRoofAndCeiling) {
     EXPECT_NEAR(s.position.z(), 4.5, 1e-12);
   }
   // Ceiling at z = 3 facing down (counter-clockwise seen from below): look straight up.
-  const Surface ceiling = makeSurface(
-      rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(), Vec3::UnitX());
+  const Surface ceiling =
+      makeSurface(rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(),
+                  Vec3::UnitX());
   const FlightStrategy cf = planFlightStrategy(ceiling, CoverageOptions{});
   ASSERT_FALSE(cf.stops.empty());
   for (const Stop& s : cf.stops) {
@@ -220,18 +223,20 @@ TEST(FlightStrategy, HorizontalSurfaceHeadingRule) {
   const FlightStrategy rf = planFlightStrategy(roof, CoverageOptions{});
   EXPECT_NEAR((rf.axis_w - Vec3::UnitX()).norm(), 0.0, 1e-12);
   EXPECT_NEAR((rf.axis_h - Vec3::UnitY()).norm(), 0.0, 1e-12);
-  EXPECT_EQ(rf.cols, 9);   // ⌈4/0.48⌉
-  EXPECT_EQ(rf.rows, 7);   // ⌈2/0.32⌉ = ⌈6.25⌉
+  EXPECT_EQ(rf.cols, 9);  // ⌈4/0.48⌉
+  EXPECT_EQ(rf.rows, 7);  // ⌈2/0.32⌉ = ⌈6.25⌉
   for (const Stop& s : rf.stops) EXPECT_NEAR(s.yaw_deg, 90.0, 1e-9);
   // Ceiling with axis_u = +x: axis_h = (−ẑ) × x̂ = −y → heading +y as well (yaw 90).
-  const Surface ceiling = makeSurface(
-      rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(), Vec3::UnitX());
+  const Surface ceiling =
+      makeSurface(rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(),
+                  Vec3::UnitX());
   const FlightStrategy cf = planFlightStrategy(ceiling, CoverageOptions{});
   EXPECT_NEAR((cf.axis_h + Vec3::UnitY()).norm(), 0.0, 1e-12);
   for (const Stop& s : cf.stops) EXPECT_NEAR(s.yaw_deg, 90.0, 1e-9);
   // Roof with axis_u along the short side: the grid turns with it.
-  const Surface turned = makeSurface(
-      rectangle(Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 4.0, 2.0), Vec3::UnitZ(), Vec3::UnitY());
+  const Surface turned =
+      makeSurface(rectangle(Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 4.0, 2.0), Vec3::UnitZ(),
+                  Vec3::UnitY());
   const FlightStrategy tf = planFlightStrategy(turned, CoverageOptions{});
   EXPECT_EQ(tf.cols, 5);   // ⌈2/0.48⌉
   EXPECT_EQ(tf.rows, 13);  // ⌈4/0.32⌉ = ⌈12.5⌉
@@ -243,8 +248,8 @@ TEST(FlightStrategy, CameraFrameMatchesImageAxes) {
   std::vector<Surface> surfaces;
   for (double az : {0.0, 37.0, 135.0, -100.0}) {
     for (double el : {0.0, 40.0, -55.0}) {  // |n_z| < 0.95: walls, sloped walls
-      const Vec3 n(std::cos(el * kDeg) * std::cos(az * kDeg), std::cos(el * kDeg) * std::sin(az * kDeg),
-                   std::sin(el * kDeg));
+      const Vec3 n(std::cos(el * kDeg) * std::cos(az * kDeg),
+                   std::cos(el * kDeg) * std::sin(az * kDeg), std::sin(el * kDeg));
       const Vec3 u = Vec3::UnitZ().cross(n).normalized();
       const Vec3 v = n.cross(u);
       surfaces.push_back(makeSurface(rectangle(Vec3(1, 2, 3), u, v, 2.0, 1.0), n, v));
@@ -252,10 +257,10 @@ TEST(FlightStrategy, CameraFrameMatchesImageAxes) {
   }
   for (double a : {0.0, 25.0, 160.0}) {  // exactly horizontal, any axis_u
     const Vec3 u(std::cos(a * kDeg), std::sin(a * kDeg), 0.0);
-    surfaces.push_back(makeSurface(rectangle(Vec3(0, 0, 2), u, Vec3::UnitZ().cross(u), 2, 1),
-                                   Vec3::UnitZ(), u));
-    surfaces.push_back(makeSurface(rectangle(Vec3(0, 0, 2), u, -Vec3::UnitZ().cross(u), 2, 1),
-                                   -Vec3::UnitZ(), u));
+    surfaces.push_back(
+        makeSurface(rectangle(Vec3(0, 0, 2), u, Vec3::UnitZ().cross(u), 2, 1), Vec3::UnitZ(), u));
+    surfaces.push_back(
+        makeSurface(rectangle(Vec3(0, 0, 2), u, -Vec3::UnitZ().cross(u), 2, 1), -Vec3::UnitZ(), u));
   }
   for (const Surface& s : surfaces) {
     const FlightStrategy fs = planFlightStrategy(s, CoverageOptions{});
@@ -269,8 +274,7 @@ TEST(FlightStrategy, CameraFrameMatchesImageAxes) {
     EXPECT_GT(stop.yaw_deg, -180.0);
     EXPECT_LE(stop.yaw_deg, 180.0);
     // The view ray from the stop hits the target.
-    EXPECT_NEAR((stop.position + fs.camera.standoff_m * f.forward - stop.target).norm(), 0.0,
-                1e-9);
+    EXPECT_NEAR((stop.position + fs.camera.standoff_m * f.forward - stop.target).norm(), 0.0, 1e-9);
   }
 }
 
@@ -278,8 +282,9 @@ TEST(FlightStrategy, GimbalLimitsMarkCeilingStops) {
   CoverageOptions opt;
   opt.gimbal.pitch_min_deg = -90.0;
   opt.gimbal.pitch_max_deg = 30.0;
-  const Surface ceiling = makeSurface(
-      rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(), Vec3::UnitX());
+  const Surface ceiling =
+      makeSurface(rectangle(Vec3(0, 0, 3), Vec3::UnitY(), Vec3::UnitX(), 2.0, 4.0), -Vec3::UnitZ(),
+                  Vec3::UnitX());
   const Surface roof = makeSurface(rectangle(Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 4.0, 2.0),
                                    Vec3::UnitZ(), Vec3::UnitX());
   const FlightStrategy cf = planFlightStrategy(ceiling, opt);
@@ -385,7 +390,8 @@ TEST(FlightStrategy, TriangleKeepsOnlyCellsMeetingIt) {
       const double y = 0.05 * i, z = 0.05 * j;
       if (y / 3.0 + z / 2.0 > 1.0 + 1e-12) continue;
       bool covered = false;
-      for (const Stop& st : fs.stops) covered = covered || inFootprint(Vec3(0, y, z), st, w, h, fw, fh);
+      for (const Stop& st : fs.stops)
+        covered = covered || inFootprint(Vec3(0, y, z), st, w, h, fw, fh);
       if (!covered) ++uncovered;
     }
   }
@@ -402,8 +408,9 @@ TEST(FlightStrategy, DegenerateBoundaryGivesNoStops) {
 
 TEST(FlightStrategy, SmallSurfaceGetsOneStop) {
   // A 0.2 × 0.1 m plate: one cell, centred on it.
-  const Surface plate = makeSurface(
-      rectangle(Vec3(5, 1, 1), Vec3::UnitY(), Vec3::UnitZ(), 0.2, 0.1), Vec3::UnitX(), Vec3::UnitY());
+  const Surface plate =
+      makeSurface(rectangle(Vec3(5, 1, 1), Vec3::UnitY(), Vec3::UnitZ(), 0.2, 0.1), Vec3::UnitX(),
+                  Vec3::UnitY());
   const FlightStrategy fs = planFlightStrategy(plate, CoverageOptions{});
   EXPECT_EQ(fs.cols, 1);
   EXPECT_EQ(fs.rows, 1);

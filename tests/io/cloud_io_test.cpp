@@ -61,7 +61,10 @@ TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
   expectError(file("text.xyz", "1 2 three\n"), "not a number");
   expectError(file("short.xyz", "1 2\n"), "expected 'x y z'");
   expectError(file("a.las", "x"), "unknown cloud extension");
-  expectError(file("bad.pcd", "garbage"), "cannot parse");
+  expectError(file("bad.pcd", "garbage"), "not a PCD file");
+  expectError(file("nofields.pcd", "VERSION 0.7\nFIELDS a b c\nPOINTS 1\nDATA ascii\n1 2 3\n"), "x y z");
+  expectError(file("bad.ply", "garbage"), "not a PLY file");
+  expectError(file("novertex.ply", "ply\nformat ascii 1.0\nend_header\n"), "no vertex");
 }
 
 TEST(CloudIoReal, RoomScanLoads) {

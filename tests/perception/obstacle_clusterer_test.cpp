@@ -89,7 +89,9 @@ TEST(ObstacleClusterer, SamePartitionAsBruteForceFloodFill) {
     // Ids 0..n-1, largest first; boxes are the brute-force bounds.
     for (std::size_t i = 0; i < obstacles.size(); ++i) {
       EXPECT_EQ(obstacles[i].id, static_cast<int>(i));
-      if (i > 0) EXPECT_GE(obstacles[i - 1].points.size(), obstacles[i].points.size());
+      if (i > 0) {
+        EXPECT_GE(obstacles[i - 1].points.size(), obstacles[i].points.size());
+      }
       Vec3 lo = obstacles[i].points[0];
       Vec3 hi = lo;
       for (const auto& p : obstacles[i].points) {

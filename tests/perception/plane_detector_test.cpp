@@ -101,7 +101,7 @@ TEST(PlaneDetector, RecoversAnInclinedPlane) {
   EXPECT_NEAR(s.area_m2, 16.0, 16.0 * 0.05);
   expectConsistent(s, o.cell_size_m);
   // The first principal axis of a square is ambiguous; it must lie in the plane.
-  EXPECT_LT(std::abs(s.axis_u.dot(n_true)), 1e-6);
+  EXPECT_NEAR(angleDeg(s.axis_u, n_true), 90.0, 1.0);
 }
 
 TEST(PlaneDetector, LoneWallPointsTowardTheViewpoint) {
@@ -127,6 +127,30 @@ TEST(PlaneDetector, LoneWallPointsTowardTheViewpoint) {
   ASSERT_EQ(r2.surfaces.size(), 1u);
   EXPECT_LT(angleDeg(r2.surfaces[0].plane.normal, Vec3::UnitX()), 1.0);
   EXPECT_NEAR(r2.surfaces[0].plane.offset, -5.0, 0.01);
+}
+
+TEST(PlaneDetector, NormalPointsAwayFromTheCrowdedSide) {
+  // Wall z-x plane y = 0 (4 m x 4 m) and a block of points 1 m behind it (y = -1 .. -1.5):
+  // free space is +y, even with the viewpoint on the block's side.
+  std::mt19937 rng(15);
+  PointList cloud;
+  addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitZ(), 41, 41, 0.1, 0.003, rng);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      for (int k = 0; k < 6; ++k) cloud.emplace_back(0.1 * i, -1.0 - 0.1 * j, 0.1 * k);
+    }
+  }
+  PlaneDetectionOptions o;
+  o.cell_size_m = 0.1;
+  o.viewpoint = Vec3(0.0, -10.0, 0.0);
+  const auto r = detectPlanes(cloud, o);
+  ASSERT_GE(r.surfaces.size(), 1u);
+  EXPECT_LT(angleDeg(r.surfaces[0].plane.normal, Vec3::UnitY()), 1.0);
+  // Without the block, the viewpoint decides.
+  cloud.resize(41 * 41);
+  const auto r2 = detectPlanes(cloud, o);
+  ASSERT_EQ(r2.surfaces.size(), 1u);
+  EXPECT_LT(angleDeg(r2.surfaces[0].plane.normal, -Vec3::UnitY()), 1.0);
 }
 
 TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {
@@ -188,6 +212,29 @@ TEST(PlaneDetector, RejectsASmallPatch) {
   const auto r2 = detectPlanes(cloud, o);
   ASSERT_EQ(r2.surfaces.size(), 1u);
   EXPECT_NEAR(r2.surfaces[0].area_m2, 1.0, 0.1);
+}
+
+TEST(PlaneDetector, ManySmallCoplanarPatchesDoNotHideALargerPlane) {
+  // Twenty 1 m² patches on z = 0 (2420 points: RANSAC proposes this plane first) and
+  // one 4 m x 4 m plate (1681 points) at z = 5.
+  std::mt19937 rng(16);
+  PointList cloud;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      addPatch(cloud, Vec3(3.0 * i, 3.0 * j, 0.0), Vec3::UnitX(), Vec3::UnitY(), 11, 11, 0.1,
+               0.003, rng);
+    }
+  }
+  addPatch(cloud, Vec3(6.0, 4.5, 5.0), Vec3::UnitX(), Vec3::UnitY(), 41, 41, 0.1, 0.003, rng);
+  PlaneDetectionOptions o;
+  o.cell_size_m = 0.1;
+  o.max_failures = 3;
+  const auto r = detectPlanes(cloud, o);
+  ASSERT_EQ(r.surfaces.size(), 1u);
+  EXPECT_NEAR(r.surfaces[0].centroid.z(), 5.0, 0.01);
+  EXPECT_NEAR(r.surfaces[0].area_m2, 16.0, 0.8);
+  EXPECT_GE(r.stats.rejected_small, 1);
+  EXPECT_EQ(r.remaining.size(), cloud.size() - r.surfaces[0].inliers.size());
 }
 
 TEST(PlaneDetector, FloatingCubeGivesSixOutwardFaces) {

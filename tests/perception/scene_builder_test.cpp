@@ -9,7 +9,7 @@
 namespace uavip::perception {
 namespace {
 
-/// A 6 m x 3 m wall x = 4 at 10 cm and a 0.4 m blob of 64 points in front of it.
+/// A 6 m x 3 m wall x = 4 at 10 cm and a 0.4 m blob of 64 points 3.5 m in front of it.
 PointList wallAndBlob() {
   std::mt19937 rng(9);
   std::normal_distribution<double> noise(0.0, 0.003);
@@ -19,7 +19,7 @@ PointList wallAndBlob() {
   }
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 4; ++j) {
-      for (int k = 0; k < 4; ++k) pts.emplace_back(1.0 + 0.1 * i, 0.1 * j, 1.0 + 0.1 * k);
+      for (int k = 0; k < 4; ++k) pts.emplace_back(0.2 + 0.1 * i, 0.1 * j, 1.0 + 0.1 * k);
     }
   }
   return pts;
@@ -38,8 +38,8 @@ TEST(SceneBuilder, WallBecomesASurfaceAndTheBlobAnObstacle) {
   EXPECT_NEAR(scene.surfaces[0].plane.offset, 4.0, 0.01);
   ASSERT_GE(scene.obstacles.size(), 1u);
   EXPECT_EQ(scene.obstacles[0].points.size(), 64u);
-  EXPECT_LT((scene.obstacles[0].aabb_min - Vec3(1.0, 0.0, 1.0)).norm(), 1e-9);
-  EXPECT_LT((scene.obstacles[0].aabb_max - Vec3(1.3, 0.3, 1.3)).norm(), 1e-9);
+  EXPECT_LT((scene.obstacles[0].aabb_min - Vec3(0.2, 0.0, 1.0)).norm(), 1e-9);
+  EXPECT_LT((scene.obstacles[0].aabb_max - Vec3(0.5, 0.3, 1.3)).norm(), 1e-9);
   std::size_t total = scene.surfaces[0].inliers.size();
   for (const auto& ob : scene.obstacles) total += ob.points.size();
   EXPECT_EQ(total, clean.size());

@@ -1,18 +1,19 @@
 // Tests of sim/: ground-truth primitives and surface sampling, against brute force
 // and hand-worked counts.
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
 #include "uavip/sim/surface_sampler.h"
-#include "uavip/sim/world_model.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <set>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/sim/world_model.h"
 
 namespace uavip::sim {
 namespace {
@@ -71,9 +72,9 @@ TEST(WorldModel, DistanceToSegmentsPointsAndEmpty) {
   world.addLine("pole", Vec3(0, 0, 0), Vec3(0, 0, 2));
   world.addPoint("lamp", Vec3(5, 0, 1));
   EXPECT_FALSE(world.empty());
-  EXPECT_NEAR(world.distanceToTruth(Vec3(5, 3, 1)), 3.0, 1e-12);    // to the point
-  EXPECT_NEAR(world.distanceToTruth(Vec3(1, 0, 1)), 1.0, 1e-12);    // to the pole
-  EXPECT_NEAR(world.distanceToTruth(Vec3(0, 0, 5)), 3.0, 1e-12);    // past the pole's end
+  EXPECT_NEAR(world.distanceToTruth(Vec3(5, 3, 1)), 3.0, 1e-12);  // to the point
+  EXPECT_NEAR(world.distanceToTruth(Vec3(1, 0, 1)), 1.0, 1e-12);  // to the pole
+  EXPECT_NEAR(world.distanceToTruth(Vec3(0, 0, 5)), 3.0, 1e-12);  // past the pole's end
 }
 
 TEST(WorldModel, BoxFacesPointOutward) {
@@ -94,8 +95,8 @@ TEST(WorldModel, BoxFacesPointOutward) {
       EXPECT_NEAR(r.distance(centre), (r.center() - centre).norm(), 1e-9);
       total_area += r.area();
     }
-    EXPECT_EQ(names, (std::set<std::string>{"box/+x", "box/-x", "box/+y", "box/-y", "box/+z",
-                                             "box/-z"}));
+    EXPECT_EQ(names,
+              (std::set<std::string>{"box/+x", "box/-x", "box/+y", "box/-y", "box/+z", "box/-z"}));
     EXPECT_NEAR(total_area, 2.0 * (2.0 * 3.0 + 2.0 * 1.5 + 3.0 * 1.5), 1e-9);
     // The centre is inside: its distance is to the nearest face (half the z size).
     EXPECT_NEAR(world.distanceToTruth(centre), 0.75, 1e-9);
