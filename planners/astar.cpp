@@ -15,8 +15,10 @@ namespace uavip::planners {
 
 namespace {
 
-/// Grids up to this many voxels use a dense, reused per-thread scratch (13 B/voxel);
-/// larger ones a hash map, so memory stays bounded.
+/// Grids up to this many voxels use a dense per-thread scratch (13 B/voxel, kept
+/// for the thread's lifetime and reused by every search on a grid of the same
+/// size, so a search costs O(expansions), not O(grid)); larger grids use a hash
+/// map so memory stays bounded.
 constexpr std::size_t kDenseScratchLimit = 6'000'000;
 
 constexpr std::uint8_t kNoParent = 255;
@@ -240,15 +242,14 @@ planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3
   // joined directly only when the segment crosses free voxels only, otherwise
   // through their own voxel's centre.
   const std::size_t n = r.cells.size();
+  const Vec3 first_centre = grid.centreOf(r.cells.front());
+  const Vec3 last_centre = grid.centreOf(r.cells.back());
   out.path.reserve(n + 2);
   out.path.push_back(start);
-  if (n > 2 && !grid.segmentFree(start, grid.centreOf(r.cells[1]))) out.path.push_back(grid.centreOf(r.cells[0]));
-  if (n == 2 && !grid.segmentFree(start, goal)) {
-    out.path.push_back(grid.centreOf(r.cells[0]));
-    out.path.push_back(grid.centreOf(r.cells[1]));
-  }
+  const Vec3 after_start = n > 2 ? grid.centreOf(r.cells[1]) : goal;
+  if (start != first_centre && !grid.segmentFree(start, after_start)) out.path.push_back(first_centre);
   for (std::size_t i = 1; i + 1 < n; ++i) out.path.push_back(grid.centreOf(r.cells[i]));
-  if (n > 2 && !grid.segmentFree(grid.centreOf(r.cells[n - 2]), goal)) out.path.push_back(grid.centreOf(r.cells[n - 1]));
+  if (goal != last_centre && !grid.segmentFree(out.path.back(), goal)) out.path.push_back(last_centre);
   out.path.push_back(goal);
   return finish();
 }

@@ -50,6 +50,14 @@ std::string formatPoint(const Vec3& p) {
   return os.str();
 }
 
+/// Appends `points` without its first point (the joint, already in `path`) and
+/// without repeating the last point of `path` (zero-length legs).
+void appendLeg(PointList& path, const PointList& points) {
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    if (path.empty() || points[i] != path.back()) path.push_back(points[i]);
+  }
+}
+
 std::string legName(const Leg& leg) {
   std::ostringstream os;
   os << (leg.from_stop < 0 ? std::string("start") : "stop " + std::to_string(leg.from_stop)) << " -> stop "
@@ -170,9 +178,8 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
       m.raw_length_m = polylineLength(m.raw_path);
       return finish();
     }
-    m.raw_path.insert(m.raw_path.end(), r.path.begin() + 1, r.path.end());
-    const PointList leg_points = options.simplify ? simplifyPath(r.path, grid) : r.path;
-    m.waypoints.insert(m.waypoints.end(), leg_points.begin() + 1, leg_points.end());
+    appendLeg(m.raw_path, r.path);
+    appendLeg(m.waypoints, options.simplify ? simplifyPath(r.path, grid) : r.path);
   }
   m.raw_waypoint_count = m.raw_path.size();
   m.raw_length_m = polylineLength(m.raw_path);

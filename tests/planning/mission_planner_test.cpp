@@ -197,6 +197,34 @@ TEST(MissionPlanner, StartInObstacleSpaceThrowsAndNoStops) {
   EXPECT_TRUE(m.waypoints.empty());
 }
 
+TEST(MissionPlanner, FailedLegOrValidationFailsTheSurface) {
+  const PointList cloud = wall();
+  const auto strategy = strategyInFront();
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  planners::PlannerSettings tight;
+  tight.astar.max_expansions = 1;  // legs between stops 1 m apart need more
+  auto starved = planners::makePlanner("astar", tight);
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *starved, MissionOptions{});
+  EXPECT_EQ(m.status, SurfaceStatus::Failed);
+  EXPECT_NE(m.reason.find("leg 0"), std::string::npos) << m.reason;
+  EXPECT_NE(m.reason.find("timeout"), std::string::npos) << m.reason;
+  ASSERT_EQ(m.legs.size(), 1u);
+  EXPECT_EQ(m.legs[0].status, PathStatus::Timeout);
+  EXPECT_TRUE(m.waypoints.empty());
+
+  // The validator is independent of the grid: ask for more clearance than the
+  // grid's inflation gives (stops are 1.5 m from the wall).
+  const PathValidator strict(cloud, 2.0);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  const SurfaceMission v = planSurfaceMission(strategy, grid, strict, *planner, MissionOptions{});
+  EXPECT_EQ(v.status, SurfaceStatus::Failed);
+  EXPECT_FALSE(v.validation.collision_free);
+  EXPECT_EQ(v.validation.first_violation_segment, 0);
+  EXPECT_NEAR(v.validation.min_clearance_m, 1.5, 1e-9);
+  EXPECT_NE(v.reason.find("validation failed"), std::string::npos) << v.reason;
+}
+
 TEST(MissionPlanner, StatusNames) {
   EXPECT_STREQ(toString(SurfaceStatus::Ok), "ok");
   EXPECT_STREQ(toString(SurfaceStatus::NoStops), "no_stops");

@@ -11,7 +11,10 @@
 /// them. Blocking every voxel whose centre is within r + 2h = r + √3·res of an
 /// occupied voxel centre therefore guarantees a clearance ≥ r from every measured
 /// point along any path of 26-neighbour steps between free voxel centres, and along
-/// any segment whose samples (spaced ≤ res) all lie in free voxels.
+/// any segment that crosses free voxels only (a point inside a free voxel is within
+/// h of its centre). Samples spaced ≤ res are not enough on their own: a segment
+/// can cut the corner of a blocked voxel between two samples, so segmentFree also
+/// walks every voxel the segment crosses.
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/types.h"
@@ -74,7 +77,8 @@ class VoxelGrid {
   bool isFree(const Index3& i) const { return !isBlocked(i); }
   /// True if the voxel holding p is free.
   bool isFree(const Vec3& p) const { return isFree(indexOf(p)); }
-  /// True if every sample of the segment a→b, spaced ≤ resolution, lies in a free voxel.
+  /// True if every sample of the segment a→b, spaced ≤ resolution, lies in a free
+  /// voxel, and so does every voxel the segment crosses (3D DDA).
   bool segmentFree(const Vec3& a, const Vec3& b) const;
   /// Linear index of an in-bounds voxel.
   std::size_t linear(const Index3& i) const;

@@ -1,0 +1,52 @@
+#pragma once
+/// \file
+/// Shared pieces of the uavip command line. Each group of subcommands lives in its
+/// own file and registers itself with a CommandRegistry; main.cpp parses and
+/// dispatches. Exit codes: 0 done (a blocked surface is a result), 2 bad input or
+/// usage, 3 no collision-free mission for the chosen surface.
+
+#include "uavip/app/pipeline.h"
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace uavip::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+constexpr int kExitNoMission = 3;
+
+/// How much goes to stderr.
+struct Verbosity {
+  bool quiet{false};
+  bool verbose{false};
+  /// Progress is shown on a terminal, or always with --verbose, never with --quiet.
+  bool showProgress() const;
+};
+
+/// A progress callback printing "uavip: <msg>" on stderr when verbosity allows.
+app::Progress progressPrinter(const Verbosity& v);
+
+/// Subcommands and the action each runs once it was chosen.
+class CommandRegistry {
+ public:
+  explicit CommandRegistry(const Verbosity& verbosity) : verbosity_(verbosity) {}
+  /// Registers `action` for `sub`; it returns the process exit code.
+  void add(CLI::App* sub, std::function<int()> action) { commands_.emplace_back(sub, std::move(action)); }
+  const Verbosity& verbosity() const { return verbosity_; }
+  /// Runs the parsed subcommand's action (kExitBadInput if none was parsed).
+  int dispatch() const;
+
+ private:
+  const Verbosity& verbosity_;
+  std::vector<std::pair<CLI::App*, std::function<int()>>> commands_;
+};
+
+/// run, detect, plan (pipeline_commands.cpp).
+void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
+
+}  // namespace uavip::cli

@@ -1,0 +1,216 @@
+// uavip run | detect | plan: the pipeline of ARCHITECTURE.md from the command line.
+
+#include "src/cli/commands.h"
+
+#include "uavip/app/pipeline.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/mission_json.h"
+#include "uavip/io/scenario.h"
+#include "uavip/io/scene_json.h"
+#include "planners/registry.h"
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#ifndef UAVIP_VERSION
+#define UAVIP_VERSION "dev"
+#endif
+#ifndef UAVIP_SCENARIO_DIR
+#define UAVIP_SCENARIO_DIR "scenarios"
+#endif
+
+namespace uavip::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+nlohmann::json metaFor(const io::Config& config, const std::string& source) {
+  const auto& cam = config.coverage.camera;
+  nlohmann::json camera = cam.from_sensor
+                              ? nlohmann::json{{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
+                                               {"focal_mm", cam.focal_mm},
+                                               {"image_px", {cam.image_w_px, cam.image_h_px}},
+                                               {"gsd_mm_per_px", cam.gsd_mm_per_px}}
+                              : nlohmann::json{{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
+  return {{"uavip_version", UAVIP_VERSION},
+          {"source", source},
+          {"planner", config.planner},
+          {"cost_weights",
+           {config.planner_settings.astar.a1, config.planner_settings.astar.a2, config.planner_settings.astar.a3}},
+          {"inflation_radius_m", config.uav.inflationRadius()},
+          {"grid_resolution_m", config.grid.resolution_m},
+          {"overlap", {config.coverage.overlap_w, config.coverage.overlap_h}},
+          {"camera_model", camera}};
+}
+
+void writeScene(const std::string& out, const Scene& scene) {
+  io::saveCloudPcd((fs::path(out) / "cloud_clean.pcd").string(), scene.cloud);
+  io::writeFileAtomic((fs::path(out) / "scene.json").string(), io::sceneToJson(scene).dump(1) + "\n");
+}
+
+void writeMission(const std::string& out, const app::PlanResult& plan, const nlohmann::json& meta) {
+  nlohmann::json m = meta;
+  m["timings"] = {{"coverage_s", plan.times.coverage_s},
+                  {"grid_s", plan.times.grid_s},
+                  {"planning_s", plan.times.planning_s}};
+  m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}};
+  io::writeFileAtomic((fs::path(out) / "mission.json").string(), io::missionToJson(plan.missions, m).dump(1) + "\n");
+}
+
+void printDetectSummary(const app::DetectResult& d) {
+  std::cout << "cloud: " << d.preprocess.input_points << " points -> " << d.preprocess.after_outliers
+            << " after outlier removal -> " << d.preprocess.output_points << " after voxel grid\n";
+  std::cout << "surfaces: " << d.scene.surfaces.size() << ", obstacles: " << d.scene.obstacles.size() << "\n";
+  for (const auto& s : d.scene.surfaces) {
+    std::cout << "  surface " << s.id << ": area " << fixed(s.area_m2, 2) << " m2, normal (" << fixed(s.plane.normal.x(), 2)
+              << ", " << fixed(s.plane.normal.y(), 2) << ", " << fixed(s.plane.normal.z(), 2) << "), "
+              << s.inliers.size() << " points\n";
+  }
+  if (d.scene.surfaces.empty()) {
+    std::cout << "no surface detected (none with area >= the threshold): nothing to inspect, no waypoints\n";
+  }
+}
+
+void printPlanSummary(const app::PlanResult& p) {
+  for (const auto& m : p.missions) {
+    std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
+              << m.strategy.stops.size() << " stops";
+    if (m.status == planning::SurfaceStatus::Ok) {
+      std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
+                << fixed(m.path_length_m, 1) << " m, min clearance " << fixed(m.validation.min_clearance_m, 2) << " m";
+    }
+    if (!m.reason.empty()) std::cout << " - " << m.reason;
+    std::cout << "\n";
+  }
+}
+
+int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
+               const std::string& planner, const Verbosity& v) {
+  std::string path = scenario_arg;
+  if (path.empty()) {
+    path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
+    std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
+  }
+  io::Scenario scenario = io::loadScenario(path);
+  if (!planner.empty()) {
+    scenario.config.planner = planner;
+    scenario.config.validate("--planner");
+  }
+  if (out.empty()) out = "out/" + scenario.name;
+  io::ensureDirectory(out);
+  const app::Progress progress = progressPrinter(v);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  if (progress) progress("sensing " + scenario.name + " (" + scenario.sensing_mode + ")");
+  const PointList raw = app::sense(scenario);
+  const app::DetectResult d = app::detect(raw, scenario.config, progress);
+  const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
+  writeScene(out, d.scene);
+  const app::PlanResult p = app::plan(d.scene, scenario.config, ids, progress);
+  writeMission(out, p, metaFor(scenario.config, path));
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  if (!v.quiet) {
+    std::cout << "scenario " << scenario.name << " (" << path << ")\n";
+    printDetectSummary(d);
+    printPlanSummary(p);
+    std::cout << "time: " << fixed(total, 2) << " s (perception " << fixed(d.times.total_s, 2) << " s, grid "
+              << fixed(p.times.grid_s, 2) << " s, planning " << fixed(p.times.planning_s, 2) << " s)\n";
+    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n";
+  }
+  return kExitOk;
+}
+
+int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out,
+                  const Verbosity& v) {
+  const io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
+  const PointList raw = io::loadCloud(cloud_path);
+  io::ensureDirectory(out);
+  const app::DetectResult d = app::detect(raw, config, progressPrinter(v));
+  writeScene(out, d.scene);
+  if (!v.quiet) {
+    printDetectSummary(d);
+    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n";
+  }
+  return kExitOk;
+}
+
+int planCommand(const std::string& scene_path, const std::string& config_path, const std::string& surface,
+                const std::string& planner, const std::string& out, const Verbosity& v) {
+  io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
+  if (!planner.empty()) {
+    config.planner = planner;
+    config.validate("--planner");
+  }
+  const Scene scene = io::loadScene(scene_path);
+  const std::vector<int> ids = app::selectSurfaces(scene, surface);
+  io::ensureDirectory(out);
+  const app::PlanResult p = app::plan(scene, config, ids, progressPrinter(v));
+  writeMission(out, p, metaFor(config, scene_path));
+  if (!v.quiet) {
+    printPlanSummary(p);
+    std::cout << "results: " << out << "/mission.json\n";
+  }
+  for (const auto& m : p.missions) {
+    if (m.status != planning::SurfaceStatus::Ok) {
+      std::cerr << "uavip: surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
+      return kExitNoMission;
+    }
+  }
+  return kExitOk;
+}
+
+
+std::string plannerList() {
+  std::string names;
+  for (const auto& n : planners::plannerNames()) names += (names.empty() ? "" : ", ") + n;
+  return names;
+}
+
+/// Options of run / detect / plan, kept alive until dispatch.
+struct PipelineArgs {
+  std::string scenario, out, surface{"all"}, planner, cloud, config, scene;
+};
+
+}  // namespace
+
+void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
+  auto a = std::make_shared<PipelineArgs>();
+  const Verbosity& v = registry.verbosity();
+  const std::string planner_help = "Point-to-point planner (" + plannerList() + "); default: the file's";
+
+  auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
+  run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
+  run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
+  run->add_option("--surface", a->surface, "Surface id to plan, or 'all'")->capture_default_str();
+  run->add_option("--planner", a->planner, planner_help);
+  registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, v); });
+
+  auto* det = cli.add_subcommand("detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
+  det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt)")->required();
+  det->add_option("-c,--config", a->config, "Config YAML (scenario sections; default: the paper's parameters)");
+  det->add_option("-o,--out", a->out, "Output directory")->required();
+  registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, v); });
+
+  auto* pl = cli.add_subcommand("plan", "Stages 6-7 for one surface of a scene.json");
+  pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
+  pl->add_option("--surface", a->surface, "Surface id, or 'all'")->required();
+  pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
+  pl->add_option("--planner", a->planner, planner_help);
+  pl->add_option("-o,--out", a->out, "Output directory")->required();
+  registry.add(pl, [a, &v] { return planCommand(a->scene, a->config, a->surface, a->planner, a->out, v); });
+}
+
+}  // namespace uavip::cli
