@@ -31,9 +31,13 @@ namespace {
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 using Index = pcl::index_t;
 
-/// Free-space test band in front of / behind a surface [m] (normal orientation).
+/// Normal orientation (see orientation()): columns in front of / behind the surface
+/// from kOrientNear to kOrientDepth [m], over cells of kOrientCell [m]; a side is
+/// enclosed when that fraction of the surface's cells sees a point on it.
 constexpr double kOrientNear = 0.3;
-constexpr double kOrientFar = 3.0;
+constexpr double kOrientDepth = 6.0;
+constexpr double kOrientCell = 0.5;
+constexpr double kEnclosedFraction = 0.9;
 /// The inlier band of a candidate is tightened to this many robust sigmas of the
 /// point-to-plane distances (never wider than the RANSAC threshold, never narrower
 /// than kBandFloor × threshold): points of adjacent faces caught by the 20 cm RANSAC
@@ -196,24 +200,52 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
   return out;
 }
 
-/// Sign (+1 / -1) that turns `n` toward free space (see detectPlanes()).
-double orientation(const PointList& cloud, const Vec3& centroid, const Vec3& n, const Vec3& u,
-                   const Vec3& v, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
-                   const Vec3& viewpoint) {
-  std::size_t front = 0;
-  std::size_t back = 0;
+/// Sign (+1 / -1) that turns `n` toward free space. The surface's extent (lo..hi in
+/// (u, v)) is cut into kOrientCell cells; a cell that holds inliers is "enclosed" on
+/// a side when the column in front of it on that side, from kOrientNear to
+/// kOrientDepth, holds a cloud point. A side enclosed over ≥ kEnclosedFraction of the
+/// cells is the inside of a closed object (a cube face, a pier face, a deck edge):
+/// the normal points to the other side. When neither or both sides are enclosed
+/// (a lone wall, the ground under a bridge, the underside of a deck), the sensor
+/// viewpoint decides, as PCL's flipNormalTowardsViewpoint does. Counting points per
+/// side instead would turn the ground under a pier upside down.
+double orientation(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid,
+                   const Vec3& n, const Vec3& u, const Vec3& v, const Eigen::Vector2d& lo,
+                   const Eigen::Vector2d& hi, const Vec3& viewpoint) {
+  const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kOrientCell)));
+  const int nv = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kOrientCell)));
+  const auto cellOf = [&](double pu, double pv) {
+    const int i = std::clamp(static_cast<int>((pu - lo.x()) / kOrientCell), 0, nu - 1);
+    const int j = std::clamp(static_cast<int>((pv - lo.y()) / kOrientCell), 0, nv - 1);
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(nu) + static_cast<std::size_t>(i);
+  };
+  const std::size_t cells = static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv);
+  // bit 0: the cell holds inliers, bit 1: enclosed in front, bit 2: enclosed behind
+  std::vector<std::uint8_t> state(cells, 0);
+  for (const auto i : kept) {
+    const Vec3 d = cloud[static_cast<std::size_t>(i)] - centroid;
+    state[cellOf(u.dot(d), v.dot(d))] |= 1;
+  }
   for (const auto& p : cloud) {
     const Vec3 d = p - centroid;
     const double s = n.dot(d);
-    const bool is_front = s > kOrientNear && s <= kOrientFar;
-    const bool is_back = s >= -kOrientFar && s < -kOrientNear;
-    if (!is_front && !is_back) continue;
+    if (std::abs(s) <= kOrientNear || std::abs(s) > kOrientDepth) continue;
     const double pu = u.dot(d);
     const double pv = v.dot(d);
     if (pu < lo.x() || pu > hi.x() || pv < lo.y() || pv > hi.y()) continue;
-    (is_front ? front : back) += 1;
+    state[cellOf(pu, pv)] |= s > 0.0 ? 2 : 4;
   }
-  if (front != back) return front < back ? 1.0 : -1.0;
+  std::size_t surface_cells = 0, front = 0, back = 0;
+  for (const auto c : state) {
+    if (!(c & 1)) continue;
+    ++surface_cells;
+    front += (c & 2) != 0;
+    back += (c & 4) != 0;
+  }
+  const double limit = kEnclosedFraction * static_cast<double>(surface_cells);
+  const bool front_enclosed = static_cast<double>(front) >= limit;
+  const bool back_enclosed = static_cast<double>(back) >= limit;
+  if (front_enclosed != back_enclosed) return front_enclosed ? -1.0 : 1.0;
   const double sv = n.dot(viewpoint - centroid);
   if (std::abs(sv) > 1e-9) return sv > 0.0 ? 1.0 : -1.0;
   constexpr double kEps = 1e-9;
@@ -241,7 +273,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
-  const double sign = orientation(cloud, s.centroid, n0, u, v0, lo, hi, options.viewpoint);
+  const double sign = orientation(cloud, kept, s.centroid, n0, u, v0, lo, hi, options.viewpoint);
   s.plane.normal = sign * n0;
   s.plane.offset = -s.plane.normal.dot(s.centroid);
   s.axis_u = u;

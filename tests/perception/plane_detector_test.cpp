@@ -129,28 +129,47 @@ TEST(PlaneDetector, LoneWallPointsTowardTheViewpoint) {
   EXPECT_NEAR(r2.surfaces[0].plane.offset, -5.0, 0.01);
 }
 
-TEST(PlaneDetector, NormalPointsAwayFromTheCrowdedSide) {
-  // Wall z-x plane y = 0 (4 m x 4 m) and a block of points 1 m behind it (y = -1 .. -1.5):
-  // free space is +y, even with the viewpoint on the block's side.
+TEST(PlaneDetector, NormalPointsAwayFromAnEnclosingSide) {
+  // Wall y = 0 (4 m x 4 m) with a parallel 4 m x 4 m wall 2 m behind it (y = -2), as
+  // two faces of a closed box: free space is +y, even with the viewpoint behind.
   std::mt19937 rng(15);
   PointList cloud;
   addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitZ(), 41, 41, 0.1, 0.003, rng);
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) {
-      for (int k = 0; k < 6; ++k) cloud.emplace_back(0.1 * i, -1.0 - 0.1 * j, 0.1 * k);
+  addPatch(cloud, Vec3(0, -2, 0), Vec3::UnitX(), Vec3::UnitZ(), 41, 41, 0.1, 0.003, rng);
+  PlaneDetectionOptions o;
+  o.cell_size_m = 0.1;
+  o.viewpoint = Vec3(2.0, -1.0, 2.0);  // between the walls
+  const auto r = detectPlanes(cloud, o);
+  ASSERT_EQ(r.surfaces.size(), 2u);
+  for (const auto& s : r.surfaces) {
+    // each wall's normal points away from the other wall (outward of the slab)
+    const double y = s.centroid.y();
+    EXPECT_LT(angleDeg(s.plane.normal, Vec3(0.0, y > -1.0 ? 1.0 : -1.0, 0.0)), 1.0) << y;
+  }
+}
+
+TEST(PlaneDetector, ClutterOnOneSideDoesNotFlipAGround) {
+  // Ground z = 0 (6 m x 6 m) with a 1 m block standing on it: the block covers only
+  // part of the ground, so the side above is not enclosed and the viewpoint above
+  // decides (counting points per side would point the ground down).
+  std::mt19937 rng(16);
+  PointList cloud;
+  addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 61, 61, 0.1, 0.003, rng);
+  for (int i = 0; i < 11; ++i) {
+    for (int j = 0; j < 11; ++j) {
+      for (int k = 4; k < 15; ++k) cloud.emplace_back(2.0 + 0.1 * i, 2.0 + 0.1 * j, 0.1 * k);
     }
   }
   PlaneDetectionOptions o;
   o.cell_size_m = 0.1;
-  o.viewpoint = Vec3(0.0, -10.0, 0.0);
+  o.viewpoint = Vec3(3.0, 3.0, 3.0);
   const auto r = detectPlanes(cloud, o);
   ASSERT_GE(r.surfaces.size(), 1u);
-  EXPECT_LT(angleDeg(r.surfaces[0].plane.normal, Vec3::UnitY()), 1.0);
-  // Without the block, the viewpoint decides.
-  cloud.resize(41 * 41);
+  EXPECT_LT(angleDeg(r.surfaces[0].plane.normal, Vec3::UnitZ()), 1.0);
+  o.viewpoint = Vec3(3.0, 3.0, -3.0);  // the viewpoint decides: below
   const auto r2 = detectPlanes(cloud, o);
-  ASSERT_EQ(r2.surfaces.size(), 1u);
-  EXPECT_LT(angleDeg(r2.surfaces[0].plane.normal, -Vec3::UnitY()), 1.0);
+  ASSERT_GE(r2.surfaces.size(), 1u);
+  EXPECT_LT(angleDeg(r2.surfaces[0].plane.normal, -Vec3::UnitZ()), 1.0);
 }
 
 TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {

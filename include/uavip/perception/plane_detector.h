@@ -45,8 +45,9 @@ struct PlaneDetectionResult {
 };
 
 /// Runs stage 4 on the clean cloud. Never throws on a cloud with too few points:
-/// it returns no surface. Normals point toward free space: toward the side with
-/// fewer cloud points in front of the surface, or toward the viewpoint on a tie.
+/// it returns no surface. Normals point toward free space: away from the side that
+/// encloses the surface (the inside of a closed object: ≥ 90 % of the surface sees
+/// a point within 6 m on that side), otherwise toward the viewpoint.
 PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options);
 
 }  // namespace uavip::perception
