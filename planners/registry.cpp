@@ -1,12 +1,25 @@
 #include "planners/registry.h"
 
+#include "planners/ompl_planners.h"
 #include "uavip/core/error.h"
+
 
 namespace uavip::planners {
 
-std::vector<std::string> plannerNames() { return {"astar", "astar-euclid"}; }
+void PlannerSettings::validate(const std::string& where) const {
+  astar.validate(where);
+  requirePositive(time_limit_s, where, "time_limit_s");
+}
+
+std::vector<std::string> plannerNames() {
+  std::vector<std::string> names{"astar", "astar-euclid"};
+  for (const auto& n : omplPlannerNames()) names.push_back(n);
+  return names;
+}
 
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings) {
+  settings.validate("planner");
+  if (isOmplPlanner(name)) return std::make_unique<OmplPlanner>(name, settings);
   AStarOptions options = settings.astar;
   if (name == "astar") {
     options.cost = AStarCost::Paper;
@@ -17,7 +30,6 @@ std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const Pl
     for (const auto& n : plannerNames()) valid += (valid.empty() ? "" : ", ") + n;
     throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
   }
-  options.validate("planner");
   return std::make_unique<AStarPlanner>(options);
 }
 

@@ -5,6 +5,7 @@
 #include "planners/astar.h"
 #include "uavip/planning/planner.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,10 +14,23 @@ namespace uavip::planners {
 
 /// Settings shared by the registered planners.
 struct PlannerSettings {
-  AStarOptions astar;  ///< weights and budget of the grid A*
+  AStarOptions astar;        ///< weights and budget of the grid A*
+  double time_limit_s{1.0};  ///< budget of an OMPL planner per leg [s]
+  /// Seed of OMPL's global RNG; only the first seed of a process takes effect
+  /// (harness.h, seedOmpl).
+  std::uint32_t seed{1};
+  /// Simplify OMPL paths (PathSimplifier reduceVertices + shortcutPath, validated with
+  /// the grid's motion validator; no B-spline).
+  bool simplify{true};
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "planner") const;
 };
 
-/// Names accepted by makePlanner, in a stable order.
+/// Names accepted by makePlanner, in a stable order: the grid A* ("astar",
+/// "astar-euclid") first, then the OMPL planners of ompl_planners.h ("rrtconnect",
+/// "rrtstar", "informed-rrtstar", "bitstar", "abitstar", "aitstar", "prmstar",
+/// "lazyprmstar", "fmtstar").
 std::vector<std::string> plannerNames();
 
 /// Creates the planner `name`; throws InputError listing the valid names otherwise.

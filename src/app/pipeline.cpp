@@ -1,16 +1,20 @@
 #include "uavip/app/pipeline.h"
 
+#include "uavip/app/assemble.h"
+
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/sim/surface_sampler.h"
+#include "uavip/world/collision_world.h"
 #include "uavip/world/voxel_grid.h"
 #include "planners/registry.h"
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 
 namespace uavip::app {
 namespace {
@@ -28,6 +32,8 @@ void report(const Progress& progress, const std::string& message) {
 }  // namespace
 
 PointList sense(const io::Scenario& scenario) {
+  // Mode scan: simulate the raw scans, then stages 1-2 (app/assemble.h).
+  if (scenario.sensing_mode == "scan") return senseScans(scenario).cloud;
   return sim::sampleSurfaces(scenario.world, scenario.sample);
 }
 
@@ -91,7 +97,10 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   const auto t1 = Clock::now();
   report(progress, "stage 7: inflated voxel grid");
   const world::VoxelGrid grid = world::VoxelGrid::build(scene.cloud, stop_positions, config.gridOptions());
-  const planning::PathValidator validator(scene.cloud, config.uav.inflationRadius());
+  // The validator sweeps the UAV against every surface slab, obstacle box and
+  // measured point (world/collision_world.h), independently of the grid.
+  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene),
+                                          config.uav.inflationRadius());
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();
   result.times.grid_s = secondsSince(t1);

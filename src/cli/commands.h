@@ -49,4 +49,16 @@ class CommandRegistry {
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 
+/// validate (validate_commands.cpp).
+void addValidateCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// bench (bench_commands.cpp).
+void addBenchCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// export (export_commands.cpp).
+void addExportCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// simulate (and assemble, stages 1-2) (scan_commands.cpp).
+void addScanCommands(CLI::App& cli, CommandRegistry& registry);
+
 }  // namespace uavip::cli

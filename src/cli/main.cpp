@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
 
   CommandRegistry registry(v);
   addPipelineCommands(cli, registry);
+  addValidateCommands(cli, registry);
+  addBenchCommands(cli, registry);
+  addExportCommands(cli, registry);
+  addScanCommands(cli, registry);
 
   try {
     cli.parse(argc, argv);

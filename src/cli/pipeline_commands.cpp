@@ -9,6 +9,7 @@
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scenario.h"
 #include "uavip/io/scene_json.h"
+#include "uavip/io/views.h"
 #include "planners/registry.h"
 
 #include <chrono>
@@ -87,7 +88,7 @@ void printPlanSummary(const app::PlanResult& p) {
   for (const auto& m : p.missions) {
     std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
               << m.strategy.stops.size() << " stops";
-    if (m.status == planning::SurfaceStatus::Ok) {
+    if (planning::flyable(m.status)) {
       std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
                 << fixed(m.path_length_m, 1) << " m, min clearance " << fixed(m.validation.min_clearance_m, 2) << " m";
     }
@@ -96,12 +97,33 @@ void printPlanSummary(const app::PlanResult& p) {
   }
 }
 
+/// One line over all surfaces: what the mission is, in numbers.
+void printTotals(const app::PlanResult& p) {
+  std::size_t ok = 0, stops = 0, waypoints = 0;
+  double length = 0.0;
+  for (const auto& m : p.missions) {
+    if (!planning::flyable(m.status)) continue;
+    ++ok;
+    stops += m.strategy.stops.size();
+    waypoints += m.waypoints.size();
+    length += m.path_length_m;
+  }
+  std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, " << stops
+            << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1) << " m of flight\n";
+}
+
+io::OverviewOptions overviewOptions(const std::string& name) {
+  io::OverviewOptions o;
+  o.title = name.empty() ? "uavip mission overview" : name + ": uavip mission overview";
+  return o;
+}
+
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
                const std::string& planner, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
-    std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
+    if (!v.quiet) std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
   }
   io::Scenario scenario = io::loadScenario(path);
   if (!planner.empty()) {
@@ -120,6 +142,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   writeScene(out, d.scene);
   const app::PlanResult p = app::plan(d.scene, scenario.config, ids, progress);
   writeMission(out, p, metaFor(scenario.config, path));
+  io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name));
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (!v.quiet) {
@@ -128,7 +151,9 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     printPlanSummary(p);
     std::cout << "time: " << fixed(total, 2) << " s (perception " << fixed(d.times.total_s, 2) << " s, grid "
               << fixed(p.times.grid_s, 2) << " s, planning " << fixed(p.times.planning_s, 2) << " s)\n";
-    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n";
+    printTotals(p);
+    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
+              << "views: " << out << "/overview.png, " << out << "/scene.ply, " << out << "/path.obj\n";
   }
   return kExitOk;
 }
@@ -140,9 +165,11 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   io::ensureDirectory(out);
   const app::DetectResult d = app::detect(raw, config, progressPrinter(v));
   writeScene(out, d.scene);
+  io::writeViews(out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
   if (!v.quiet) {
     printDetectSummary(d);
-    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n";
+    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
+              << "views: " << out << "/overview.png, " << out << "/scene.ply\n";
   }
   return kExitOk;
 }
@@ -159,12 +186,15 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   io::ensureDirectory(out);
   const app::PlanResult p = app::plan(scene, config, ids, progressPrinter(v));
   writeMission(out, p, metaFor(config, scene_path));
+  io::writeViews(out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()));
   if (!v.quiet) {
     printPlanSummary(p);
-    std::cout << "results: " << out << "/mission.json\n";
+    printTotals(p);
+    std::cout << "results: " << out << "/mission.json\n"
+              << "views: " << out << "/overview.png, " << out << "/scene.ply, " << out << "/path.obj\n";
   }
   for (const auto& m : p.missions) {
-    if (m.status != planning::SurfaceStatus::Ok) {
+    if (!planning::flyable(m.status)) {
       std::cerr << "uavip: surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
       return kExitNoMission;
     }

@@ -51,7 +51,9 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
           {"validation",
            {{"collision_free", m.validation.collision_free},
             {"min_clearance_m", finiteOrNull(m.validation.min_clearance_m)},
-            {"first_violation_segment", m.validation.first_violation_segment}}},
+            {"first_violation_segment", m.validation.first_violation_segment},
+            {"violation_object", m.validation.violation_object},
+            {"violation_point", m.validation.collision_free ? json(nullptr) : vec(m.validation.violation_point)}}},
           {"timings", {{"planning_s", round4(m.seconds)}}}};
 }
 

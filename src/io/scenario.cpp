@@ -102,6 +102,24 @@ class Section {
   }
   Vec3 vec3(const std::string& key, const Vec3& fallback) { return has(key) ? vec3(key) : fallback; }
 
+  /// A list of [x, y, z] points.
+  PointList vec3List(const std::string& key) {
+    const YAML::Node n = get(key);
+    if (!n.IsSequence()) fail(key, "must be a list of [x, y, z]");
+    PointList out;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      Vec3 v;
+      if (!n[i].IsSequence() || n[i].size() != 3) fail(key, "must be a list of [x, y, z], item " + std::to_string(i) + " is not");
+      for (int k = 0; k < 3; ++k) {
+        if (!YAML::convert<double>::decode(n[i][k], v[k]) || !std::isfinite(v[k])) {
+          fail(key, "item " + std::to_string(i) + " must hold finite numbers");
+        }
+      }
+      out.push_back(v);
+    }
+    return out;
+  }
+
   Section child(const std::string& key) { return Section(get(key), file_, where(key)); }
 
   /// Throws for any key that was never asked for (typos, unsupported options).
@@ -220,6 +238,11 @@ void parseCoverage(Section s, coverage::CoverageOptions& o) {
 
 void parsePlanner(Section s, Config& c) {
   c.planner = s.text("name", c.planner);
+  c.planner_settings.time_limit_s = s.number("time_limit_s", c.planner_settings.time_limit_s);
+  const int seed = s.integer("seed", static_cast<int>(c.planner_settings.seed));
+  if (seed < 0) s.fail("seed", "must be >= 0, got " + std::to_string(seed));
+  c.planner_settings.seed = static_cast<std::uint32_t>(seed);
+  c.planner_settings.simplify = s.boolean("simplify", c.planner_settings.simplify);
   auto& a = c.planner_settings.astar;
   if (s.has("cost_weights")) {
     const auto w = s.numbers("cost_weights", 3, 3);
@@ -233,8 +256,40 @@ void parsePlanner(Section s, Config& c) {
   s.finish();
 }
 
+void parseBench(Section s, BenchSpec& b) {
+  if (s.has("legs")) {
+    const YAML::Node legs = s.node()["legs"];
+    if (!legs.IsSequence()) s.fail("legs", "must be a list of [[x, y, z], [x, y, z]] pairs");
+    for (std::size_t i = 0; i < legs.size(); ++i) {
+      const std::string key = "legs[" + std::to_string(i) + "]";
+      const YAML::Node leg = legs[i];
+      if (!leg.IsSequence() || leg.size() != 2) s.fail(key, "must be a pair [[x, y, z], [x, y, z]]");
+      Vec3 ends[2];
+      for (std::size_t e = 0; e < 2; ++e) {
+        const YAML::Node p = leg[e];
+        if (!p.IsSequence() || p.size() != 3) s.fail(key, "must hold two points of 3 numbers");
+        for (std::size_t k = 0; k < 3; ++k) {
+          double v = 0.0;
+          if (!p[k].IsScalar() || !YAML::convert<double>::decode(p[k], v) || !std::isfinite(v)) {
+            s.fail(key, "must hold finite numbers");
+          }
+          ends[e][static_cast<int>(k)] = v;
+        }
+      }
+      b.legs.emplace_back(ends[0], ends[1]);
+    }
+  }
+  b.max_legs = s.integer("max_legs", b.max_legs);
+  if (b.max_legs < 1) s.fail("max_legs", "must be >= 1, got " + std::to_string(b.max_legs));
+  s.finish();
+}
+
 void parseMission(Section s, planning::MissionOptions& o) {
   o.simplify = s.boolean("simplify", o.simplify);
+  o.max_skipped_fraction = s.number("max_skipped_fraction", o.max_skipped_fraction);
+  if (o.max_skipped_fraction < 0.0 || o.max_skipped_fraction > 1.0) {
+    s.fail("max_skipped_fraction", "must be in [0, 1], got " + std::to_string(o.max_skipped_fraction));
+  }
   if (s.has("start")) o.start = s.vec3("start");
   s.finish();
 }
@@ -249,6 +304,58 @@ void parseConfigSections(Section& top, Config& c) {
   if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
   if (top.has("planner")) parsePlanner(top.child("planner"), c);
   if (top.has("mission")) parseMission(top.child("mission"), c.mission);
+}
+
+/// A non-negative `seed` key, or the fallback.
+std::uint32_t seedOf(Section& s, std::uint32_t fallback) {
+  const int seed = s.integer("seed", static_cast<int>(fallback));
+  if (seed < 0) s.fail("seed", "must be >= 0, got " + std::to_string(seed));
+  return static_cast<std::uint32_t>(seed);
+}
+
+/// Sensing mode `scan` (sim/scanner_sim.h).
+void parseScanSensing(Section& s, sim::ScanSimOptions& o) {
+  const YAML::Node list = s.node()["stations"];
+  s.has("stations");
+  if (!list.IsDefined() || !list.IsSequence() || list.size() == 0) {
+    s.fail("stations", "must be a non-empty list of [x, y, z] station positions");
+  }
+  o.stations.clear();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node p = list[i];
+    double v[3] = {0.0, 0.0, 0.0};
+    bool ok = p.IsSequence() && p.size() == 3;
+    for (std::size_t k = 0; ok && k < 3; ++k) {
+      ok = p[k].IsScalar() && YAML::convert<double>::decode(p[k], v[k]) && std::isfinite(v[k]);
+    }
+    if (!ok) s.fail("stations[" + std::to_string(i) + "]", "must be [x, y, z] with finite numbers");
+    o.stations.emplace_back(v[0], v[1], v[2]);
+  }
+  o.start_yaw_deg = s.number("start_yaw_deg", o.start_yaw_deg);
+  o.yaw_rate_deg_s = s.number("yaw_rate_deg_s", o.yaw_rate_deg_s);
+  o.turn_deg = s.number("turn_deg", o.turn_deg);
+  o.scanner.max_range_m = s.number("max_range_m", o.scanner.max_range_m);
+  o.scanner.min_range_m = s.number("min_range_m", o.scanner.min_range_m);
+  o.scanner.fov_deg = s.number("fov_deg", o.scanner.fov_deg);
+  o.scanner.step_deg = s.number("step_deg", o.scanner.step_deg);
+  o.scanner.period_s = s.number("scan_period_s", o.scanner.period_s);
+  o.scanner.range_noise_m = s.number("range_noise_m", o.scanner.range_noise_m);
+  o.vertical_mount_m = s.vec3("vertical_mount_m", o.vertical_mount_m);
+  o.horizontal_mount_m = s.vec3("horizontal_mount_m", o.horizontal_mount_m);
+  o.vertical_mount_rpy_deg = s.vec3("vertical_mount_rpy_deg", o.vertical_mount_rpy_deg);
+  o.horizontal_mount_rpy_deg = s.vec3("horizontal_mount_rpy_deg", o.horizontal_mount_rpy_deg);
+  o.horizontal_time_offset_s = s.number("horizontal_time_offset_s", o.horizontal_time_offset_s);
+  o.imu_rate_hz = s.number("imu_rate_hz", o.imu_rate_hz);
+  o.imu_error_deg = s.number("imu_error_deg", o.imu_error_deg);
+  o.wind_step_m = s.number("wind_step_m", o.wind_step_m);
+  o.wind_bound_m = s.number("wind_bound_m", o.wind_bound_m);
+  o.tilt_step_deg = s.number("tilt_step_deg", o.tilt_step_deg);
+  o.tilt_bound_deg = s.number("tilt_bound_deg", o.tilt_bound_deg);
+  o.gps_sigma_m = s.number("gps_sigma_m", o.gps_sigma_m);
+  o.thin_radius_m = s.number("thin_radius_m", o.thin_radius_m);
+  o.deskew = s.boolean("deskew", o.deskew);
+  o.station_gap_s = s.number("station_gap_s", o.station_gap_s);
+  o.seed = seedOf(s, o.seed);
 }
 
 void parseWorldItem(Section s, sim::WorldModel& world, std::size_t index) {
@@ -270,8 +377,29 @@ void parseWorldItem(Section s, sim::WorldModel& world, std::size_t index) {
   } else if (type == "crossed_planes") {
     world.addCrossedPlanes(name, s.vec3("center"), s.number("width_m"), s.number("height_m"),
                            s.number("yaw_deg", 0.0));
+  } else if (type == "tree") {
+    sim::TreeOptions o;
+    o.trunk_height_m = s.number("trunk_height_m", o.trunk_height_m);
+    o.trunk_width_m = s.number("trunk_width_m", o.trunk_width_m);
+    o.crown_radius_m = s.number("crown_radius_m", o.crown_radius_m);
+    o.crown_boxes = s.integer("crown_boxes", o.crown_boxes);
+    o.crown_box_m = s.number("crown_box_m", o.crown_box_m);
+    o.seed = seedOf(s, static_cast<std::uint32_t>(index + 1));
+    world.addTree(name, s.vec3("at"), o);
+  } else if (type == "grass") {
+    sim::GrassOptions o;
+    if (s.has("size_m")) {
+      const auto v = s.numbers("size_m", 2, 2);
+      o.size_x_m = v[0];
+      o.size_y_m = v[1];
+    }
+    o.tufts = s.integer("tufts", o.tufts);
+    o.tuft_height_m = s.number("tuft_height_m", o.tuft_height_m);
+    o.tuft_width_m = s.number("tuft_width_m", o.tuft_width_m);
+    o.seed = seedOf(s, static_cast<std::uint32_t>(index + 1));
+    world.addGrass(name, s.vec3("center"), o);
   } else {
-    s.fail("type", "'" + type + "' is not a primitive (point, line, plane, box, crossed_planes)");
+    s.fail("type", "'" + type + "' is not a primitive (point, line, plane, box, crossed_planes, tree, grass)");
   }
   s.finish();
 }
@@ -306,7 +434,7 @@ void Config::validate(const std::string& where) const {
     requirePositive(uav.inflationRadius(), "uav", "inflation_radius_m");
     gridOptions().validate("grid");
     coverage.validate("coverage");
-    planner_settings.astar.validate("planner");
+    planner_settings.validate("planner");
     planners::makePlanner(planner, planner_settings);  // throws for an unknown name
     if (mission.start) require(mission.start->allFinite(), "mission", "start must be finite");
   });
@@ -351,21 +479,39 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
 
     Section sensing = top.child("sensing");
     sc.sensing_mode = sensing.text("mode", "sample");
-    if (sc.sensing_mode != "sample") {
-      sensing.fail("mode", "'" + sc.sensing_mode + "' is not supported (supported: sample)");
+    if (sc.sensing_mode != "sample" && sc.sensing_mode != "scan") {
+      sensing.fail("mode", "'" + sc.sensing_mode + "' is not supported (supported: sample, scan)");
     }
-    sc.sample.spacing_m = sensing.number("spacing_m", sc.sample.spacing_m);
-    sc.sample.noise_sigma_m = sensing.number("noise_sigma_m", sc.sample.noise_sigma_m);
-    sc.sample.outlier_fraction = sensing.number("outlier_fraction", sc.sample.outlier_fraction);
-    sc.sample.outlier_margin_m = sensing.number("outlier_margin_m", sc.sample.outlier_margin_m);
-    const int seed = sensing.integer("seed", static_cast<int>(sc.sample.seed));
-    if (seed < 0) sensing.fail("seed", "must be >= 0, got " + std::to_string(seed));
-    sc.sample.seed = static_cast<std::uint32_t>(seed);
-    if (sensing.has("viewpoint")) sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
-    sensing.finish();
-    sc.sample.validate("sensing");
+    if (sc.sensing_mode == "scan") {
+      parseScanSensing(sensing, sc.scan);
+      // The pipeline runs in the raw log's frame (origin: station 0, sim/scanner_sim.h).
+      sc.config.perception.planes.viewpoint = Vec3::Zero();
+      if (sensing.has("viewpoint")) {
+        sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint") - sc.scan.stations.front();
+      }
+      // Every station saw the structure from free space: the nearest one orients a surface.
+      for (const auto& station : sc.scan.stations) {
+        sc.config.perception.planes.extra_viewpoints.push_back(station - sc.scan.stations.front());
+      }
+      sensing.finish();
+      sc.scan.validate("sensing");
+    } else {
+      sc.sample.spacing_m = sensing.number("spacing_m", sc.sample.spacing_m);
+      sc.sample.noise_sigma_m = sensing.number("noise_sigma_m", sc.sample.noise_sigma_m);
+      sc.sample.outlier_fraction = sensing.number("outlier_fraction", sc.sample.outlier_fraction);
+      sc.sample.outlier_margin_m = sensing.number("outlier_margin_m", sc.sample.outlier_margin_m);
+      const int seed = sensing.integer("seed", static_cast<int>(sc.sample.seed));
+      if (seed < 0) sensing.fail("seed", "must be >= 0, got " + std::to_string(seed));
+      sc.sample.seed = static_cast<std::uint32_t>(seed);
+      if (sensing.has("viewpoint")) sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
+      if (sensing.has("viewpoints")) sc.config.perception.planes.extra_viewpoints = sensing.vec3List("viewpoints");
+      sensing.finish();
+      sc.sample.validate("sensing");
+    }
 
     parseConfigSections(top, sc.config);
+
+    if (top.has("bench")) parseBench(top.child("bench"), sc.bench);
 
     if (top.has("expect")) {
       Section e = top.child("expect");
@@ -378,9 +524,10 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   top.finish();
   if (sc.world.empty()) top.fail("world", "is empty: add at least one primitive");
   // The density area of stage 4 uses the spacing of the clean cloud.
+  // In mode scan the cloud's spacing is the voxel edge (the raw scan spacing varies).
+  const double spacing = sc.sensing_mode == "scan" ? sc.config.preprocess.voxel_m : sc.sample.spacing_m;
   sc.config.perception.planes.cell_size_m =
-      sc.config.preprocess.voxelize ? std::max(sc.config.preprocess.voxel_m, sc.sample.spacing_m)
-                                    : sc.sample.spacing_m;
+      sc.config.preprocess.voxelize ? std::max(sc.config.preprocess.voxel_m, spacing) : spacing;
   sc.config.validate(path);
   return sc;
 }

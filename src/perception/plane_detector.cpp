@@ -207,11 +207,11 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
 /// cells is the inside of a closed object (a cube face, a pier face, a deck edge):
 /// the normal points to the other side. When neither or both sides are enclosed
 /// (a lone wall, the ground under a bridge, the underside of a deck), the sensor
-/// viewpoint decides, as PCL's flipNormalTowardsViewpoint does. Counting points per
+/// nearest viewpoint decides, as PCL's flipNormalTowardsViewpoint does. Counting points per
 /// side instead would turn the ground under a pier upside down.
 double orientation(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid,
                    const Vec3& n, const Vec3& u, const Vec3& v, const Eigen::Vector2d& lo,
-                   const Eigen::Vector2d& hi, const Vec3& viewpoint) {
+                   const Eigen::Vector2d& hi, const PlaneDetectionOptions& options) {
   const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kOrientCell)));
   const int nv = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kOrientCell)));
   const auto cellOf = [&](double pu, double pv) {
@@ -246,6 +246,10 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
   const bool front_enclosed = static_cast<double>(front) >= limit;
   const bool back_enclosed = static_cast<double>(back) >= limit;
   if (front_enclosed != back_enclosed) return front_enclosed ? -1.0 : 1.0;
+  Vec3 viewpoint = options.viewpoint;
+  for (const auto& vp : options.extra_viewpoints) {
+    if ((vp - centroid).squaredNorm() < (viewpoint - centroid).squaredNorm()) viewpoint = vp;
+  }
   const double sv = n.dot(viewpoint - centroid);
   if (std::abs(sv) > 1e-9) return sv > 0.0 ? 1.0 : -1.0;
   constexpr double kEps = 1e-9;
@@ -273,7 +277,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
-  const double sign = orientation(cloud, kept, s.centroid, n0, u, v0, lo, hi, options.viewpoint);
+  const double sign = orientation(cloud, kept, s.centroid, n0, u, v0, lo, hi, options);
   s.plane.normal = sign * n0;
   s.plane.offset = -s.plane.normal.dot(s.centroid);
   s.axis_u = u;

@@ -25,6 +25,7 @@ const char* toString(PathStatus status) {
 const char* toString(SurfaceStatus status) {
   switch (status) {
     case SurfaceStatus::Ok: return "ok";
+    case SurfaceStatus::Partial: return "partial";
     case SurfaceStatus::Blocked: return "blocked";
     case SurfaceStatus::NoStops: return "no_stops";
     case SurfaceStatus::Failed: return "failed";
@@ -125,6 +126,9 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     n_unreachable += p == StopProblem::Unreachable;
   }
   const std::size_t n_bad = n_gimbal + n_obstacle + n_unreachable;
+  const bool blocked = static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(stops.size()) ||
+                       n_bad == stops.size();
+  std::string skipped;
   if (n_bad > 0) {
     std::ostringstream os;
     os << n_bad << " of " << stops.size() << " stops infeasible: ";
@@ -140,7 +144,12 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     part(n_gimbal, "outside the gimbal pitch limits");
     part(n_obstacle, obstacle.str());
     part(n_unreachable, options.start ? "unreachable from the start" : "unreachable from the first usable stop");
-    os << "; no waypoints generated";
+    skipped = os.str();
+  }
+  if (blocked) {
+    std::ostringstream os;
+    os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
+       << " % of the stops, so no waypoints generated";
     m.status = SurfaceStatus::Blocked;
     m.reason = os.str();
     return finish();
@@ -154,6 +163,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     ids.push_back(-1);
   }
   for (std::size_t i = 0; i < stops.size(); ++i) {
+    if (m.stop_problems[i] != StopProblem::None) continue;  // skipped, reported in the reason
     points.push_back(stops[i].position);
     ids.push_back(static_cast<int>(i));
   }
@@ -190,13 +200,15 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     std::ostringstream os;
     os << std::fixed << std::setprecision(3) << "path validation failed: segment "
        << m.validation.first_violation_segment << " comes closer than the required "
-       << validator.requiredClearance() << " m to the measured point " << formatPoint(m.validation.violation_point)
+       << validator.requiredClearance() << " m to " << m.validation.violation_object << " at "
+       << formatPoint(m.validation.violation_point)
        << " (minimum clearance " << m.validation.min_clearance_m << " m)";
     m.status = SurfaceStatus::Failed;
     m.reason = os.str();
     return finish();
   }
-  m.status = SurfaceStatus::Ok;
+  m.status = n_bad > 0 ? SurfaceStatus::Partial : SurfaceStatus::Ok;
+  if (n_bad > 0) m.reason = skipped + "; those stops are skipped";
   return finish();
 }
 

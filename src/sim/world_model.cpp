@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <sstream>
 
 #include "uavip/core/error.h"
@@ -121,6 +122,60 @@ void WorldModel::addCrossedPlanes(const std::string& name, const Vec3& center, d
     r.edge_v = up;
     r.corner = center - 0.5 * r.edge_u - 0.5 * r.edge_v;
     addPlane(r);
+  }
+}
+
+void TreeOptions::validate(const std::string& where) const {
+  requirePositive(trunk_height_m, where, "trunk_height_m");
+  requirePositive(trunk_width_m, where, "trunk_width_m");
+  require(std::isfinite(crown_radius_m) && crown_radius_m >= 0.0, where,
+          "crown_radius_m must be >= 0, got " + std::to_string(crown_radius_m));
+  require(crown_boxes >= 0 && crown_boxes <= 1000, where,
+          "crown_boxes must be in [0, 1000], got " + std::to_string(crown_boxes));
+  requirePositive(crown_box_m, where, "crown_box_m");
+}
+
+void GrassOptions::validate(const std::string& where) const {
+  requirePositive(size_x_m, where, "size_x_m");
+  requirePositive(size_y_m, where, "size_y_m");
+  require(tufts >= 1 && tufts <= 10000, where, "tufts must be in [1, 10000], got " + std::to_string(tufts));
+  requirePositive(tuft_height_m, where, "tuft_height_m");
+  requirePositive(tuft_width_m, where, "tuft_width_m");
+}
+
+void WorldModel::addTree(const std::string& name, const Vec3& base, const TreeOptions& o) {
+  o.validate("world: tree '" + name + "'");
+  require(base.allFinite(), "world", "tree '" + name + "' base must be finite, got " + vecString(base));
+  const Vec3 half(0.5 * o.trunk_width_m, 0.5 * o.trunk_width_m, 0.0);
+  addBox(name + "/trunk", base - half, base + half + Vec3(0.0, 0.0, o.trunk_height_m));
+  // Crown centre one crown radius above the trunk top; centres uniform in the ball
+  // by rejection from its cube (draw order fixed, so the layout is seeded).
+  const Vec3 crown_centre = base + Vec3(0.0, 0.0, o.trunk_height_m + o.crown_radius_m);
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Vec3 h = Vec3::Constant(0.5 * o.crown_box_m);
+  for (int i = 0; i < o.crown_boxes; ++i) {
+    Vec3 d;
+    do {
+      d = Vec3(unit(rng), unit(rng), unit(rng));
+    } while (d.squaredNorm() > 1.0);
+    const Vec3 c = crown_centre + o.crown_radius_m * d;
+    addBox(name + "/crown" + std::to_string(i), c - h, c + h);
+  }
+}
+
+void WorldModel::addGrass(const std::string& name, const Vec3& center, const GrassOptions& o) {
+  o.validate("world: grass '" + name + "'");
+  require(center.allFinite(), "world", "grass '" + name + "' center must be finite, got " + vecString(center));
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double hw = 0.5 * o.tuft_width_m;
+  for (int i = 0; i < o.tufts; ++i) {
+    const double x = center.x() + (unit(rng) - 0.5) * o.size_x_m;
+    const double y = center.y() + (unit(rng) - 0.5) * o.size_y_m;
+    const double height = o.tuft_height_m * (0.5 + 0.5 * unit(rng));
+    addBox(name + "/tuft" + std::to_string(i), Vec3(x - hw, y - hw, center.z()),
+           Vec3(x + hw, y + hw, center.z() + height));
   }
 }
 

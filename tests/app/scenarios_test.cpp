@@ -174,7 +174,9 @@ TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
     if (!sc.expect.surfaces && !sc.expect.status) continue;
     SCOPED_TRACE(entry.path().filename().string());
     const Outcome o = runScenario(entry.path().filename().string());
-    if (sc.expect.surfaces) EXPECT_EQ(static_cast<int>(o.detected.scene.surfaces.size()), *sc.expect.surfaces);
+    if (sc.expect.surfaces) {
+      EXPECT_EQ(static_cast<int>(o.detected.scene.surfaces.size()), *sc.expect.surfaces);
+    }
     if (sc.expect.status) {
       EXPECT_FALSE(o.planned.missions.empty());
       for (const auto& m : o.planned.missions) EXPECT_EQ(planning::toString(m.status), *sc.expect.status);

@@ -253,7 +253,10 @@ TEST(AStar, PlannerEndsAndInvalidEnds) {
 }
 
 TEST(Registry, NamesAndUnknownName) {
-  EXPECT_EQ(plannerNames(), (std::vector<std::string>{"astar", "astar-euclid"}));
+  const auto names = plannerNames();
+  ASSERT_GE(names.size(), 2u);
+  EXPECT_EQ(names[0], "astar");
+  EXPECT_EQ(names[1], "astar-euclid");
   PlannerSettings settings;
   settings.astar.a3 = 2.0;
   EXPECT_EQ(makePlanner("astar", settings)->name(), "astar");

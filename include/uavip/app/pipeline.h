@@ -56,7 +56,9 @@ std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress = {});
 
-/// Samples the scenario's world (sensing mode `sample`).
+/// Senses the scenario's world: mode `sample` samples its surfaces; mode `scan`
+/// simulates the raw scans and runs stages 1–2 on them (app/assemble.h, senseScans),
+/// returning the merged cloud in scenario coordinates.
 PointList sense(const io::Scenario& scenario);
 
 }  // namespace uavip::app

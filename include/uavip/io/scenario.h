@@ -9,6 +9,7 @@
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
+#include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/sim/world_model.h"
 #include "uavip/world/voxel_grid.h"
@@ -16,6 +17,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace uavip::io {
@@ -53,6 +55,13 @@ struct Expectation {
   std::optional<double> min_surface_area_m2;  ///< smallest detected surface area, if given
 };
 
+/// The optional `bench:` section: the legs `uavip bench` plans (app/bench.h).
+struct BenchSpec {
+  /// Explicit legs (start, goal) [m]; empty = sampled from the photo stops.
+  std::vector<std::pair<Vec3, Vec3>> legs;
+  int max_legs{10};  ///< number of sampled legs when `legs` is empty
+};
+
 /// A synthetic scenario: a world, how it is sensed, every stage's parameters and
 /// the expected outcome.
 struct Scenario {
@@ -60,10 +69,12 @@ struct Scenario {
   std::string name;
   std::string description;
   sim::WorldModel world;
-  std::string sensing_mode{"sample"};  ///< only "sample" for now
-  sim::SampleOptions sample;
+  std::string sensing_mode{"sample"};  ///< "sample" (surface sampling) or "scan" (two 2D scanners + IMU)
+  sim::SampleOptions sample;           ///< options of mode "sample"
+  sim::ScanSimOptions scan;            ///< options of mode "scan"
   Config config;
   Expectation expect;
+  BenchSpec bench;
 };
 
 /// Reads and validates a scenario file. Throws InputError on any problem.

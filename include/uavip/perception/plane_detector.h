@@ -24,6 +24,9 @@ struct PlaneDetectionOptions {
   int max_planes{64};                ///< stop after this many accepted planes
   int max_failures{8};               ///< stop after this many consecutive rejected candidates
   Vec3 viewpoint{Vec3::Zero()};      ///< sensor position, used to orient a normal when free space is ambiguous [m]
+  /// More sensor positions (e.g. every scanning station); the one nearest to a
+  /// surface's centroid, among these and `viewpoint`, orients it [m].
+  std::vector<Vec3> extra_viewpoints;
   std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -47,7 +50,7 @@ struct PlaneDetectionResult {
 /// Runs stage 4 on the clean cloud. Never throws on a cloud with too few points:
 /// it returns no surface. Normals point toward free space: away from the side that
 /// encloses the surface (the inside of a closed object: ≥ 90 % of the surface sees
-/// a point within 6 m on that side), otherwise toward the viewpoint.
+/// a point within 6 m on that side), otherwise toward the nearest viewpoint.
 PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options);
 
 }  // namespace uavip::perception

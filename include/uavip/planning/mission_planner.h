@@ -19,12 +19,16 @@ namespace uavip::planning {
 /// Outcome for a surface. `Blocked` is a result (exit 0), not an error.
 enum class SurfaceStatus {
   Ok,       ///< every stop visited by a validated path
-  Blocked,  ///< some stops cannot be reached safely: no waypoints (paper: crossed planes)
+  Partial,  ///< the usable stops visited by a validated path; the skipped ones are reported
+  Blocked,  ///< too many stops cannot be reached safely: no waypoints (paper: crossed planes)
   NoStops,  ///< the flight strategy produced no stop
   Failed,   ///< a leg failed or the validator rejected the path
 };
 
-/// Text of a status ("ok", "blocked", "no_stops", "failed").
+/// True when the surface has a validated path to fly (Ok or Partial).
+inline bool flyable(SurfaceStatus status) { return status == SurfaceStatus::Ok || status == SurfaceStatus::Partial; }
+
+/// Text of a status ("ok", "partial", "blocked", "no_stops", "failed").
 const char* toString(SurfaceStatus status);
 
 /// Why a stop cannot be used.
@@ -34,6 +38,10 @@ const char* toString(StopProblem problem);
 /// Options of mission planning.
 struct MissionOptions {
   bool simplify{true};          ///< shortcut the raw voxel path (line of sight on the grid)
+  /// Unusable stops (gimbal limit, obstacle space, unreachable) are skipped and
+  /// reported while they are at most this fraction of the surface's stops (status
+  /// Partial); above it the surface is Blocked. 0 = any unusable stop blocks.
+  double max_skipped_fraction{0.25};
   std::optional<Vec3> start;    ///< take-off / entry point; must be free. Default: the first stop
 };
 
@@ -66,7 +74,8 @@ struct SurfaceMission {
 
 /// Plans the mission of one surface with the given strategy. Stops in the inflated
 /// obstacle space, outside the gimbal limits, or not 26-connected to the first
-/// usable stop make the surface Blocked with a reason that counts them by cause.
+/// usable stop are counted by cause in the reason; above max_skipped_fraction the
+/// surface is Blocked (no waypoints), otherwise they are skipped (Partial).
 /// Throws InputError if options.start is given and not free ("start … inside
 /// obstacle space").
 SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy,

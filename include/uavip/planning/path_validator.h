@@ -1,43 +1,76 @@
 #pragma once
 /// \file
-/// Independent check of every waypoint path against the measured points (not the
-/// grid): exact point-to-segment distances for the points near each segment, found
-/// with a kd-tree. The FCL swept-volume validator of ARCHITECTURE.md extends this.
+/// Independent check of every waypoint path (ARCHITECTURE.md, "Planning"; not the
+/// grid): for each segment the UAV is swept as a capsule of radius r (the required
+/// clearance) against the world::CollisionWorld — surface slabs, obstacle boxes and
+/// the measured points — and the segment is collision-free when the capsule touches
+/// nothing, i.e. when the segment's distance to every object is ≥ r.
+///
+/// How the verdict is computed (measured; docs/architecture_notes.md): FCL's
+/// broadphase (DynamicAABBTree) picks the objects near the capsule, and the
+/// distance to each is exact: segment–polyhedron distance for slabs and boxes, and
+/// kd-tree point-to-segment distances for the cloud. The exact kd-tree distance is
+/// the final word for measured points because FCL's OcTree treats each occupied
+/// leaf as a box, conservative by up to the leaf's diagonal, which would fail a path
+/// that grazes a point at exactly the margin. So a path grazing at r + 1e-6 passes
+/// and at r − 1e-6 fails, for points, slabs and boxes alike. FCL's own GJK sweep is
+/// CollisionWorld::sweepContacts().
 
 #include "uavip/core/types.h"
+#include "uavip/world/collision_world.h"
 
 #include <memory>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace uavip::planning {
 
 /// Verdict on one path.
 struct ValidationResult {
   bool collision_free{true};
-  double min_clearance_m{0.0};  ///< smallest distance from the path to any point [m] (inf if no points)
+  double min_clearance_m{0.0};  ///< smallest distance from the path to any object [m] (inf if none)
   int first_violation_segment{-1};  ///< index i of segment path[i]→path[i+1], −1 if none
-  Vec3 violation_point{Vec3::Zero()};  ///< the measured point that violates first [m]
+  Vec3 violation_point{Vec3::Zero()};  ///< nearest point of the violated object (a measured point for the cloud) [m]
+  std::string violation_object;  ///< "surface 3", "obstacle 12" or "cloud"; empty if none
+  /// Distance from each segment to the nearest object [m] (one entry for a single
+  /// point); a segment is collision-free when its entry is ≥ the required clearance.
+  std::vector<double> segment_clearance_m;
 };
 
-/// Checks paths against a point cloud with a required clearance. Thread-safe for
-/// const use after construction; keeps its own copy of the points.
+/// Checks paths against a collision world with a required clearance. Thread-safe
+/// for const use after construction.
 class PathValidator {
  public:
-  /// required_clearance_m: a path is collision-free when every point of it is at
-  /// least this far from every cloud point [m].
+  /// A world of just `cloud` (kept as a copy). required_clearance_m: a path is
+  /// collision-free when every point of it is at least this far from every cloud
+  /// point [m].
   PathValidator(const PointList& cloud, double required_clearance_m);
+  /// Validates against `world` (a std::shared_ptr to a CollisionWorld, shared, not
+  /// copied): surfaces, obstacles and cloud. A template only so that the older
+  /// `PathValidator({}, r)` still means an empty cloud.
+  template <typename World, typename = std::enable_if_t<
+                                std::is_convertible_v<World, std::shared_ptr<const world::CollisionWorld>>>>
+  PathValidator(World world, double required_clearance_m)
+      : PathValidator(WorldTag{}, std::shared_ptr<const world::CollisionWorld>(std::move(world)),
+                      required_clearance_m) {}
   ~PathValidator();
   PathValidator(PathValidator&&) noexcept;
   PathValidator& operator=(PathValidator&&) noexcept;
 
   double requiredClearance() const { return required_clearance_m_; }
-  /// Distance from p to the nearest cloud point [m] (inf if the cloud is empty).
+  const world::CollisionWorld& world() const { return *world_; }
+  /// Distance from p to the nearest object [m] (inf if the world is empty).
   double clearance(const Vec3& p) const;
   /// Validates the polyline `path` (a single point is checked as a point).
   ValidationResult validate(const PointList& path) const;
 
  private:
-  struct Index;
-  std::unique_ptr<Index> index_;
+  struct WorldTag {};
+  PathValidator(WorldTag, std::shared_ptr<const world::CollisionWorld> world, double required_clearance_m);
+
+  std::shared_ptr<const world::CollisionWorld> world_;
   double required_clearance_m_{0.0};
 };
 

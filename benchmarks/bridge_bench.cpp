@@ -1,0 +1,152 @@
+// The bridge pipeline from raw scans (issue 3): simulate once (excluded), then per
+// run: stage 1 assembly, stage 2 registration, stage 3 preprocess, stages 4-5
+// perception, grid, stages 6-7 planning, with wall time per stage (median of N
+// runs), peak memory and the accuracy against the truth; then stage 1 with and
+// without the IMU prior (the paper's customisation) and with PCL's ICP.
+// Usage: uavip_bridge_bench [SCENARIO.yaml] [RUNS]   (default scenarios/bridge.yaml, 3)
+// Numbers go in the issue notes and README, never in tests.
+
+#include "uavip/app/assemble.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/core/error.h"
+#include "uavip/io/scenario.h"
+#include "uavip/scan/station_assembler.h"
+#include "uavip/sim/scanner_sim.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double peakRssMiB() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;
+}
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string path = argc > 1 ? argv[1] : "scenarios/bridge.yaml";
+  const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
+  try {
+    const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+    if (sc.sensing_mode != "scan") throw uavip::InputError(path + ": sensing.mode must be scan");
+    const auto ts = Clock::now();
+    const uavip::sim::SimulatedLog s = uavip::sim::simulateScans(sc.world, sc.scan);
+    const double sim_s = since(ts);
+    uavip::sim::WorldModel world;  // the truth in the log frame
+    for (auto r : sc.world.rects()) {
+      r.corner -= s.origin_m;
+      world.addPlane(r);
+    }
+    for (const auto& seg : sc.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
+    for (const auto& p : sc.world.points()) world.addPoint(p.name, p.p - s.origin_m);
+
+    std::vector<double> asm_s, reg_s, pre_s, perc_s, grid_s, cov_s, plan_s, total_s;
+    uavip::app::AssembleResult last;
+    std::size_t clean = 0, surfaces = 0, stops = 0, waypoints = 0;
+    for (int i = 0; i < runs; ++i) {
+      const auto t0 = Clock::now();
+      uavip::app::AssembleResult a = uavip::app::assemble(s.log, {}, &s.truth, &world);
+      for (auto& p : a.cloud) p += s.origin_m;  // scenario coordinates, like `uavip run`
+      const auto d = uavip::app::detect(a.cloud, sc.config);
+      const auto p = uavip::app::plan(d.scene, sc.config, uavip::app::selectSurfaces(d.scene, "all"));
+      total_s.push_back(since(t0));
+      asm_s.push_back(a.assembly_s);
+      reg_s.push_back(a.registration_s);
+      pre_s.push_back(d.times.preprocess_s);
+      perc_s.push_back(d.times.perception_s);
+      grid_s.push_back(p.times.grid_s);
+      cov_s.push_back(p.times.coverage_s);
+      plan_s.push_back(p.times.planning_s);
+      clean = d.scene.cloud.size();
+      surfaces = d.scene.surfaces.size();
+      stops = waypoints = 0;
+      for (const auto& m : p.missions) {
+        stops += m.strategy.stops.size();
+        waypoints += m.waypoints.size();
+      }
+      last = std::move(a);
+    }
+    std::printf("scenario %s, %d runs (median wall time), peak RSS %.1f MiB, simulation %.2f s (excluded)\n",
+                sc.name.c_str(), runs, peakRssMiB(), sim_s);
+    std::printf("raw points %zu -> merged %zu -> clean %zu; %zu surfaces; %zu stops, %zu waypoints\n\n",
+                last.station_points, last.cloud.size(), clean, surfaces, stops, waypoints);
+    std::printf("| stage | median s |\n|---|---|\n");
+    std::printf("| 1 assembly | %.3f |\n| 2 registration | %.3f |\n| 3 preprocess | %.3f |\n", median(asm_s),
+                median(reg_s), median(pre_s));
+    std::printf("| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n| 7 grid | %.3f |\n| 7 planning | %.3f |\n",
+                median(perc_s), median(cov_s), median(grid_s), median(plan_s));
+    std::printf("| total (1-7) | %.3f |\n\n", median(total_s));
+
+    std::printf("| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded pos err cm | "
+                "registered pos err cm |\n|---|---|---|---|---|---|\n");
+    for (const auto& st : last.stations) {
+      std::printf("| %d | %.1f | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f |\n", st.id, 100 * st.loop_closure_m,
+                  100 * st.drift_max_m, 100 * st.true_drift_max_m.value_or(-0.01),
+                  100 * st.drift_error_max_m.value_or(-0.01), 100 * st.drift_error_rms_m.value_or(-0.01),
+                  100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01));
+    }
+    if (last.rms_to_truth_m) {
+      std::printf("\nmerged cloud to the true surfaces: RMS %.2f cm, 95 %% %.2f cm (%zu points scored)\n",
+                  100 * *last.rms_to_truth_m, 100 * last.p95_to_truth_m.value_or(0.0), last.scored_points);
+    }
+
+    // Stage 1 variants: the paper's IMU prior vs plain ICP, point-to-line vs PCL.
+    std::printf("\n| stage 1 variant | ICP s (all stations) | mean iterations | drift error max / rms cm (worst station) |\n"
+                "|---|---|---|---|\n");
+    struct Variant {
+      const char* name;
+      bool prior;
+      uavip::scan::IcpMethod icp;
+    };
+    const Variant variants[] = {{"IMU prior + point-to-line (default)", true, uavip::scan::IcpMethod::PointToLine2D},
+                                {"plain point-to-line (no IMU prior)", false, uavip::scan::IcpMethod::PointToLine2D},
+                                {"IMU prior + PCL ICP", true, uavip::scan::IcpMethod::PclPointToPoint},
+                                {"plain PCL ICP", false, uavip::scan::IcpMethod::PclPointToPoint}};
+    for (const auto& v : variants) {
+      uavip::scan::AssemblerOptions o;
+      o.use_imu_prior = v.prior;
+      o.icp = v.icp;
+      double icp = 0.0, iters = 0.0, worst = 0.0, worst_rms = 0.0;
+      for (std::size_t i = 0; i < s.log.stations.size(); ++i) {
+        const auto c = uavip::scan::assembleStation(s.log, i, o);
+        icp += c.stats.icp_s;
+        iters += c.stats.mean_icp_iterations / static_cast<double>(s.log.stations.size());
+        const auto& tp = s.truth.stations[i].horizontal_poses;
+        double e_max = 0.0, e_sum = 0.0;
+        for (std::size_t k = 0; k < c.poses.size() && k < tp.size(); ++k) {
+          const double e = (c.poses[k].translation() - (tp[k].translation() - tp[0].translation())).head<2>().norm();
+          e_max = std::max(e_max, e);
+          e_sum += e * e;
+        }
+        worst = std::max(worst, e_max);
+        worst_rms = std::max(worst_rms, std::sqrt(e_sum / static_cast<double>(std::max<std::size_t>(1, c.poses.size()))));
+      }
+      std::printf("| %s | %.3f | %.1f | %.1f / %.1f (xy) |\n", v.name, icp, iters, 100 * worst, 100 * worst_rms);
+    }
+  } catch (const uavip::InputError& e) {
+    std::cerr << "uavip_bridge_bench: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

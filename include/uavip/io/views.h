@@ -1,0 +1,63 @@
+#pragma once
+/// \file
+/// Views that people open (ARCHITECTURE.md, "Outputs"; ../shared/reference/formats.md):
+///  - OUT/scene.ply: ASCII PLY point cloud. Vertex properties x y z (float, ENU m),
+///    red green blue (uchar; MeshLab and CloudCompare show them), kind (uchar: 0 =
+///    point of no surface or obstacle, 1 = surface point, 2 = obstacle point, 3 =
+///    photo stop) and surface (int: surface id of a surface point or stop, −1
+///    otherwise; CloudCompare shows both as scalar fields). Colours: a surface's
+///    points in surfaceColor(id), obstacle points kObstacleColor, other points
+///    kCloudColor, stops kStopColor.
+///  - OUT/path.obj: the waypoint path of every surface with a mission as an OBJ
+///    polyline (`v` vertices, one `l i j k …` line per surface, object `surface_<id>`);
+///    CloudCompare ignores PLY edges but draws OBJ lines, MeshLab draws both.
+///  - OUT/overview.png: top, front and side views (equal scale, scale bar) of the
+///    cloud, surface boundaries, photo footprints, stops and paths, with a legend
+///    and a line per surface; drawn with the render module.
+/// Everything is deterministic for the same scene and missions.
+
+#include "uavip/core/types.h"
+#include "uavip/planning/mission_planner.h"
+#include "uavip/render/figure.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace uavip::io {
+
+/// Colour of surface `id` in every view (render::palette(id)).
+render::Color surfaceColor(int id);
+/// Points of obstacle clusters.
+inline const render::Color kObstacleColor{0.30, 0.30, 0.30};
+/// Cloud points that belong to no surface and no obstacle cluster.
+inline const render::Color kCloudColor{0.78, 0.78, 0.78};
+/// Photo stops in the PLY.
+inline const render::Color kStopColor{0.86, 0.08, 0.24};
+
+/// The coloured cloud and the stops as ASCII PLY text. Points: every surface's
+/// inliers, then every obstacle's points, then the cloud points in neither.
+std::string sceneToPly(const Scene& scene, const std::vector<planning::SurfaceMission>& missions);
+
+/// The waypoint paths as OBJ text (surfaces without waypoints are left out).
+std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions);
+
+/// Options of the overview picture.
+struct OverviewOptions {
+  std::string title{"uavip mission overview"};  ///< first line, e.g. the scenario name
+  int width_px{1900};
+  int height_px{1100};
+  std::size_t max_cloud_points{60000};  ///< cloud points drawn per view (evenly subsampled above this)
+};
+
+/// The overview figure (encode it with png() or svg()).
+render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                              const OverviewOptions& options = {});
+
+/// Writes out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png, each
+/// atomically (io/atomic_file.h). Throws std::runtime_error naming a file that
+/// cannot be written.
+void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                const OverviewOptions& options = {});
+
+}  // namespace uavip::io

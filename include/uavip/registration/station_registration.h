@@ -1,0 +1,98 @@
+#pragma once
+/// \file
+/// Stage 2 (paper §II-B): station clouds → one cloud in station 0's frame (= world:
+/// origin at the UAV centre at the first scan of station 0, ENU axes).
+///
+/// Each station's initial pose world_T_station comes from the recorded positions
+/// (GPS-like): translation recorded_position_i − recorded_position_0, rotation
+/// identity because the station clouds are already in the IMU's world-aligned axes
+/// (optionally the recorded yaw instead, for an IMU without a heading reference).
+/// Stations are then registered in order, each against the union of the ones
+/// already placed: the overlap is predicted from the initial poses (points of the
+/// new station inside the placed cloud's bounding box grown by a margin, and
+/// placed points inside the new station's box) and ICP runs on the predicted
+/// overlap only, down-sampled. Because the rotation is known (IMU) and the recorded
+/// positions may be a metre off (GPS), ICP starts from a coarse translation search:
+/// the offset within ±search_radius that puts most points into occupied cells of
+/// the placed cloud. The result is chained to station 0, whose pose is
+/// fixed.
+
+#include "uavip/core/raw_log.h"
+#include "uavip/core/types.h"
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace uavip::registration {
+
+/// The registration algorithm (PCL).
+enum class Method {
+  None,            ///< keep the initial poses
+  PointToPlaneTranslation,  ///< translation only (rotation from the IMU), point-to-plane, Eigen + kd-tree
+  Icp,             ///< pcl::IterativeClosestPoint (point-to-point)
+  IcpPointToPlane, ///< pcl::IterativeClosestPointWithNormals (point-to-plane)
+  Gicp,            ///< pcl::GeneralizedIterativeClosestPoint (plane-to-plane)
+  Ndt              ///< pcl::NormalDistributionsTransform
+};
+
+/// "none" | "translation" | "icp" | "icp_point_to_plane" | "gicp" | "ndt"; throws InputError otherwise.
+Method methodFromString(const std::string& name);
+std::string toString(Method method);
+
+/// Options of stage 2.
+struct RegistrationOptions {
+  Method method{Method::IcpPointToPlane};
+  double overlap_margin_m{1.0};       ///< growth of the bounding boxes that predict the overlap [m]
+  double search_radius_m{2.0};        ///< coarse translation search around the recorded position, ±this per axis (0: none) [m]
+  double search_step_m{0.2};          ///< its grid step (and occupancy cell) [m]
+  double downsample_m{0.15};          ///< voxel edge of the clouds ICP sees [m]
+  double max_correspondence_m{1.0};   ///< ICP pairs farther apart are rejected [m]
+  int max_iterations{40};
+  double ndt_resolution_m{1.0};       ///< NDT cell [m]
+  bool use_recorded_yaw{false};       ///< rotate each station by recorded_yaw − IMU yaw at its first scan
+  double output_voxel_m{0.02};        ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "registration") const;
+};
+
+/// One station's cloud in its own frame and its initial pose in the world.
+struct StationInput {
+  int id{0};
+  PointList points;                                              ///< station frame [m]
+  Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()}; ///< world_T_station guess
+};
+
+/// What registration did to one station.
+struct StationResult {
+  int id{0};
+  Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};
+  Eigen::Isometry3d pose{Eigen::Isometry3d::Identity()};  ///< world_T_station after ICP
+  std::size_t points{0};
+  std::size_t overlap_points{0};     ///< this station's points in the predicted overlap (after down-sampling)
+  double fitness_rms_m{0.0};         ///< RMS pair distance after ICP (pairs within max_correspondence) [m]
+  bool converged{false};             ///< ICP converged (station 0 and method None: true)
+  double time_s{0.0};
+};
+
+/// The merged cloud and per-station results.
+struct RegistrationResult {
+  PointList merged;                  ///< world frame [m]
+  std::vector<StationResult> stations;
+  double time_s{0.0};
+};
+
+/// Initial pose of station `index` from the recorded positions (and yaw if asked;
+/// imu_yaw_rad is the IMU's heading at the station's first scan) relative to station 0.
+Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw = false,
+                                     double imu_yaw_rad = 0.0, double imu_yaw0_rad = 0.0);
+
+/// Registers the stations (the first is the reference, pose = its initial pose)
+/// and merges them. Stations with no points are kept in the result with converged
+/// = false and contribute nothing. Throws InputError if every station is empty.
+RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options = {});
+
+}  // namespace uavip::registration

@@ -1,0 +1,145 @@
+#pragma once
+/// \file
+/// Stage 1 (paper §II-A): one station's raw scans → one 3D cloud.
+///
+/// Each vertical-scanner beam (ρ, α) at time t becomes, by eq. (1),
+///   x* = −ρ·cos α, y* = 0, z* = −ρ·sin α          (vertical scanner frame)
+///   x  = R(t)·(body_R_v·x* + body_t_v) + T(t)       (station frame)
+/// where body_T_vertical = (body_R_v, body_t_v) is the scanner mount, R(t) the IMU
+/// attitude world_q_body slerp-interpolated at the beam's own time (deskewing within
+/// the 25 ms sweep) and T(t) the UAV centre's translation since the station's first
+/// horizontal scan, interpolated linearly between the horizontal scans' poses.
+///
+/// T comes from ICP between horizontal scans. With the paper's customisation
+/// (use_imu_prior, the default) each horizontal beam is first rotated by the IMU
+/// attitude at its time, which levels and de-yaws the scan: consecutive scans then
+/// differ only by the (small) wind translation, and a 2D ICP finds it, plus a small
+/// residual yaw that absorbs the IMU error. Without the prior ("plain ICP") the ICP
+/// has to find the yaw as well, from the scans alone, and accumulates its error.
+/// Scans are matched against a keyframe (not the previous scan) so that drift grows
+/// with keyframes, not scans. T has no vertical component from the horizontal
+/// scanner; optionally (estimate_z) the vertical drift is found from the vertical
+/// scanner's near-nadir/near-zenith beams (ground, deck underside).
+///
+/// Station frame: origin at the UAV centre at the station's first horizontal scan,
+/// axes those of the IMU's reference (world ENU, gravity-aligned).
+/// Invalid ranges (0, < min_range, > max_range, NaN, inf) are skipped and counted.
+
+#include "uavip/core/raw_log.h"
+#include "uavip/core/types.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace uavip::scan {
+
+/// The ICP used between horizontal scans.
+enum class IcpMethod {
+  PointToLine2D,  ///< Gauss–Newton point-to-line on (x, y, yaw), Eigen (default)
+  PclPointToPoint ///< pcl::IterativeClosestPoint with a 2D transformation estimate
+};
+
+/// "point_to_line" | "pcl"; throws InputError for another name.
+IcpMethod icpMethodFromString(const std::string& name);
+std::string toString(IcpMethod method);
+
+/// Options of stage 1.
+struct AssemblerOptions {
+  bool use_imu_prior{true};           ///< rotate horizontal scans by the IMU before ICP (paper)
+  IcpMethod icp{IcpMethod::PointToLine2D};
+  int max_iterations{30};             ///< ICP iterations per scan pair
+  double max_correspondence_m{0.5};   ///< pairs farther apart are ignored [m]
+  double convergence_m{1e-4};         ///< stop when an ICP step moves less than this [m] (and 1e-5 rad)
+  double keyframe_yaw_deg{15.0};      ///< new keyframe after this much yaw since the last one [deg]
+  double keyframe_translation_m{0.2}; ///< … or this much translation [m]
+  int horizontal_stride{1};           ///< use every n-th horizontal beam in ICP
+  double imu_smoothing_s{0.0};        ///< > 0: local-linear fit of the IMU attitude over this window [s]
+  double max_imu_gap_s{0.025};        ///< an IMU gap longer than this (one scan) is an error [s]
+  bool estimate_z{true};              ///< vertical drift from the vertical scanner's nadir/zenith beams
+  double z_cone_deg{20.0};            ///< beams within this angle of straight down/up are used for z [deg]
+  bool include_horizontal{false};     ///< also put the horizontal scanner's points in the cloud (paper: no)
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "scan") const;
+};
+
+/// Counts and timings of one station's assembly.
+struct AssemblyStats {
+  std::size_t vertical_scans{0};
+  std::size_t horizontal_scans{0};
+  std::size_t beams{0};            ///< vertical beams seen
+  std::size_t invalid_beams{0};    ///< skipped: 0, NaN, < min_range, > max_range
+  std::size_t keyframes{0};
+  std::size_t failed_icp{0};       ///< scans with too few ICP pairs (they keep the previous pose)
+  double mean_icp_iterations{0.0};
+  double mean_icp_rms_m{0.0};      ///< mean point-to-line (or point) residual after ICP [m]
+  double icp_s{0.0};               ///< wall time of the horizontal ICP [s]
+  double points_s{0.0};            ///< wall time of eq. (1) on all vertical beams [s]
+};
+
+/// One station's cloud and trajectory.
+struct StationCloud {
+  int station_id{0};
+  PointList points;                          ///< station frame [m]
+  std::vector<double> pose_times_s;          ///< mid time of each horizontal scan [s]
+  std::vector<Eigen::Isometry3d> poses;      ///< station_T_body at each horizontal scan (IMU R, ICP T)
+  /// Loop closure (paper §III: 10 cm): the first and the last horizontal scan, each
+  /// placed with its estimated pose, are matched by ICP; this is the length of the
+  /// translation that would bring the last onto the first [m]. −1 if < 2 scans.
+  double loop_closure_m{-1.0};
+  AssemblyStats stats;
+};
+
+/// Eq. (1): the vertical scanner's beam (ρ [m], α [rad]) in its own frame.
+inline Vec3 verticalBeam(double range_m, double angle_rad) {
+  return {-range_m * std::cos(angle_rad), 0.0, -range_m * std::sin(angle_rad)};
+}
+
+/// The horizontal scanner's beam in its own frame: (ρ·cos α, ρ·sin α, 0).
+inline Vec3 horizontalBeam(double range_m, double angle_rad) {
+  return {range_m * std::cos(angle_rad), range_m * std::sin(angle_rad), 0.0};
+}
+
+/// True for a usable return: finite, > 0, within [min_range, max_range].
+inline bool validRange(float range_m, double min_range_m, double max_range_m) {
+  return std::isfinite(range_m) && range_m > 0.0f && range_m >= min_range_m && range_m <= max_range_m;
+}
+
+/// Eq. (2) for one vertical beam: world_T_body · body_T_vertical · x*.
+inline Vec3 verticalBeamToFrame(double range_m, double angle_rad, const Eigen::Isometry3d& body_T_vertical,
+                                const Eigen::Isometry3d& frame_T_body) {
+  return frame_T_body * (body_T_vertical * verticalBeam(range_m, angle_rad));
+}
+
+/// The IMU attitude over time: slerp between samples, clamped at the ends.
+class ImuTrack {
+ public:
+  /// Throws InputError ("<where>: ...") if samples is empty, times go backwards or
+  /// two samples are more than max_gap_s apart. smoothing_s > 0 replaces each
+  /// sample by a local-linear fit of the attitude over that window (white IMU noise).
+  ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, double smoothing_s,
+           const std::string& where);
+  /// Attitude world_q_body at time t [s].
+  Eigen::Quaterniond at(double t_s) const;
+  double startTime() const { return t_.front(); }
+  double endTime() const { return t_.back(); }
+
+ private:
+  std::vector<double> t_;
+  std::vector<Eigen::Quaterniond> q_;
+};
+
+/// Yaw (rotation about world z) of an attitude [rad], in (−π, π].
+double yawOf(const Eigen::Quaterniond& q);
+
+/// Assembles station `index` of `log`. A station without vertical scans gives an
+/// empty cloud; without horizontal scans, T = 0 throughout. Throws InputError for
+/// a station without IMU samples, an IMU gap longer than max_imu_gap_s, or scans
+/// outside the IMU's time span.
+StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options = {});
+
+}  // namespace uavip::scan

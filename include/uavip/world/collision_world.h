@@ -1,0 +1,117 @@
+#pragma once
+/// \file
+/// The collision world of ARCHITECTURE.md ("world/"): what the UAV must not touch,
+/// as FCL 0.7 collision objects in one broadphase manager
+/// (fcl::DynamicAABBTreeCollisionManager):
+///  - every Surface (paper §II-D) as a thin convex slab: its boundary polygon on the
+///    plane, extruded by `slab_thickness_m` *behind* the plane (against the normal,
+///    into the structure), so the face the UAV sees is the fitted plane itself;
+///  - every Obstacle cluster (paper §II-E) as its oriented bounding box (PCA axes),
+///    see the comment of WorldOptions::obstacle_min_thickness_m for why not the
+///    convex hull or the axis-aligned box;
+///  - all clean-cloud points as one fcl::OcTree built from an octomap::OcTree.
+///
+/// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
+/// a segment; a capsule contains exactly the points within r of the segment):
+///  - proximity(): exact distance from a segment to the nearest object. FCL's
+///    broadphase prunes objects by the capsule's AABB; the narrowphase is exact:
+///    segment–polyhedron distance for slabs and boxes, kd-tree point distances for
+///    the cloud (an OcTree leaf is a box, so FCL's own distance to the cloud is
+///    conservative by up to the leaf's half-diagonal, √3/2·resolution).
+///  - sweepContacts(): FCL's own discrete fcl::collide of the capsule against every
+///    object (GJK; the OcTree's occupied leaves as boxes), the pure-FCL check.
+/// Not fcl::continuousCollide: FCL 0.7's naive CCD samples ~10 poses along the
+/// motion and misses walls thinner than the step (docs/architecture_notes.md).
+///
+/// Immutable after construction; const queries are thread-safe.
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/types.h"
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace uavip::world {
+
+/// Options of the collision world.
+struct WorldOptions {
+  double octree_resolution_m{0.05};  ///< leaf edge of the cloud's OcTree [m]
+  double slab_thickness_m{0.05};     ///< extrusion of each surface polygon behind its plane [m]
+  /// Smallest edge of an obstacle box [m] (a cluster of 1–2 points or a flat sheet
+  /// would give a degenerate box). Obstacles are oriented bounding boxes (PCA axes):
+  /// unlike an axis-aligned box they stay tight around rotated sheets and rods, and
+  /// unlike a 3D convex hull they never degenerate: most clusters left after plane
+  /// extraction have 1–5 points, often coplanar or collinear, where qhull fails.
+  /// The box contains every point of the cluster, so it is conservative.
+  double obstacle_min_thickness_m{0.02};
+  bool include_surfaces{true};   ///< add a slab per Surface
+  bool include_obstacles{true};  ///< add a box per Obstacle
+  bool include_cloud{true};      ///< add the cloud (OcTree + exact kd-tree)
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "world") const;
+};
+
+/// What a collision object stands for.
+enum class ObjectKind { Surface, Obstacle, Cloud };
+
+/// One collision object of the world.
+struct WorldObject {
+  ObjectKind kind{ObjectKind::Cloud};
+  int id{-1};  ///< Surface::id or Obstacle::id; −1 for the cloud
+  Aabb box;    ///< axis-aligned bounds of the object's geometry [m]
+  /// "surface 3", "obstacle 12" or "cloud".
+  std::string name() const;
+};
+
+/// Nearest object to a segment.
+struct Proximity {
+  double distance_m{std::numeric_limits<double>::infinity()};  ///< segment–object distance [m]
+  int object{-1};                ///< index into CollisionWorld::objects(), −1 if none
+  Vec3 point{Vec3::Zero()};      ///< nearest point of the object (a measured point for the cloud) [m]
+};
+
+/// Surfaces, obstacles and cloud of a Scene as FCL objects in a broadphase manager.
+class CollisionWorld {
+ public:
+  /// Builds every object of `scene` (throws InputError for bad options).
+  explicit CollisionWorld(const Scene& scene, const WorldOptions& options = {});
+  /// A world of just these points (one "cloud" object; nothing if empty).
+  static CollisionWorld fromCloud(const PointList& cloud, const WorldOptions& options = {});
+  ~CollisionWorld();
+  CollisionWorld(CollisionWorld&&) noexcept;
+  CollisionWorld& operator=(CollisionWorld&&) noexcept;
+
+  const WorldOptions& options() const { return options_; }
+  const std::vector<WorldObject>& objects() const { return objects_; }
+  /// Number of measured points held by the cloud object.
+  std::size_t cloudSize() const;
+  /// Number of occupied OcTree leaves of the cloud object.
+  std::size_t octreeLeaves() const;
+
+  /// Exact distance from the segment a→b (a point if a == b) to the nearest object,
+  /// found through FCL's broadphase with the capsule of radius `radius` [m] as the
+  /// query: objects farther than the best distance found so far are pruned by their
+  /// AABB. Whenever the true minimum is below `radius`, every object that touches the
+  /// capsule is visited, so the result is exact either way. Ties keep the first
+  /// object visited.
+  Proximity proximity(const Vec3& a, const Vec3& b, double radius) const;
+
+  /// Indices of the objects that FCL's discrete collide reports in contact with the
+  /// capsule of radius `radius` around a→b, ascending. Conservative for the cloud
+  /// (OcTree leaves are boxes) and GJK-accurate (~1e-6 m) for slabs and boxes.
+  std::vector<int> sweepContacts(const Vec3& a, const Vec3& b, double radius) const;
+
+ private:
+  CollisionWorld() = default;
+  void build(const Scene& scene);
+
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  WorldOptions options_;
+  std::vector<WorldObject> objects_;
+};
+
+}  // namespace uavip::world

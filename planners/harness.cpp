@@ -1,0 +1,134 @@
+#include "planners/harness.h"
+
+#include "planners/astar_ompl.h"
+#include "planners/ompl_planners.h"
+#include "uavip/core/error.h"
+
+#include <ompl/base/PlannerData.h>
+#include <ompl/base/PlannerStatus.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/objectives/PathLengthOptimizationObjective.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/util/Exception.h>
+
+#include <chrono>
+#include <exception>
+#include <utility>
+
+#ifndef UAVIP_OMPL_VERSION
+#define UAVIP_OMPL_VERSION "unknown"
+#endif
+
+namespace uavip::planners {
+namespace {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+using Clock = std::chrono::steady_clock;
+
+const std::vector<std::pair<std::string, std::string>>& nameTable() {
+  static const std::vector<std::pair<std::string, std::string>> table{
+      {"astar", "AStar"},       {"astar-euclid", "AStarEuclid"}, {"rrtconnect", "RRTConnect"},
+      {"rrtstar", "RRTstar"},   {"informed-rrtstar", "InformedRRTstar"},
+      {"bitstar", "BITstar"},   {"abitstar", "ABITstar"},        {"aitstar", "AITstar"},
+      {"prmstar", "PRMstar"},   {"lazyprmstar", "LazyPRMstar"},  {"fmtstar", "FMT"}};
+  return table;
+}
+
+void setState(ob::ScopedState<>& s, const Vec3& p) {
+  for (unsigned int i = 0; i < 3; ++i) s[i] = p[static_cast<int>(i)];
+}
+
+}  // namespace
+
+std::vector<std::string> plannerStatusNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < ob::PlannerStatus::TYPE_COUNT; ++i) {
+    names.push_back(ob::PlannerStatus(static_cast<ob::PlannerStatus::StatusType>(i)).asString());
+  }
+  // OMPL 1.5.2 names ABORT "Unknown status" like UNKNOWN; the enum needs distinct values.
+  names[ob::PlannerStatus::ABORT] = "Abort";
+  return names;
+}
+
+std::string omplName(const std::string& name) {
+  for (const auto& [ours, theirs] : nameTable()) {
+    if (ours == name) return theirs;
+  }
+  std::string valid;
+  for (const auto& n : plannerNames()) valid += (valid.empty() ? "" : ", ") + n;
+  throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
+}
+
+std::string omplVersion() { return UAVIP_OMPL_VERSION; }
+
+HarnessRun runPlannerOnce(const std::string& name, const world::VoxelGrid& grid, const Vec3& start,
+                          const Vec3& goal, const PlannerSettings& settings) {
+  HarnessRun run;
+  run.ompl_name = omplName(name);
+  seedOmpl(settings.seed);
+  if (!start.allFinite() || !grid.isFree(start)) {
+    run.status = ob::PlannerStatus::INVALID_START;
+    run.path_status = planning::PathStatus::InvalidStart;
+    return run;
+  }
+  if (!goal.allFinite() || !grid.isFree(goal)) {
+    run.status = ob::PlannerStatus::INVALID_GOAL;
+    run.path_status = planning::PathStatus::InvalidGoal;
+    return run;
+  }
+
+  const ob::SpaceInformationPtr si = makeGridSpace(grid);
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> s(si);
+  ob::ScopedState<> g(si);
+  setState(s, start);
+  setState(g, goal);
+  pdef->setStartAndGoalStates(s, g);
+  pdef->setOptimizationObjective(std::make_shared<ob::PathLengthOptimizationObjective>(si));
+  const ob::PlannerPtr planner = makeOmplPlanner(name, si, grid, settings);
+  planner->setProblemDefinition(pdef);
+
+  ob::PlannerStatus status = ob::PlannerStatus::UNKNOWN;
+  const auto t0 = Clock::now();
+  try {
+    planner->setup();
+    status = planner->solve(settings.time_limit_s);
+  } catch (const std::exception&) {
+    status = ob::PlannerStatus::CRASH;
+  }
+  run.time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  run.status = static_cast<ob::PlannerStatus::StatusType>(status);
+
+  try {
+    ob::PlannerData data(si);
+    planner->getPlannerData(data);
+    run.graph_states = data.numVertices();
+    run.graph_motions = data.numEdges();
+  } catch (const std::exception&) {
+    // Statistics only: leave them at 0.
+  }
+
+  run.solved = status == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution();
+  run.approximate = status == ob::PlannerStatus::APPROXIMATE_SOLUTION;
+  if (run.solved) {
+    run.path_status = planning::PathStatus::Solved;
+    og::PathGeometric path(*pdef->getSolutionPath()->as<og::PathGeometric>());
+    run.raw_path = toPoints(path);
+    run.raw_length_m = path.length();
+    if (settings.simplify) run.simplify_time_s = simplifyOmplPath(path, si);
+    run.path = toPoints(path);
+    run.length_m = path.length();
+  } else if (const auto* astar = dynamic_cast<const AStarOmplPlanner*>(planner.get())) {
+    run.path_status = astar->lastResult().status;
+  } else if (status == ob::PlannerStatus::TIMEOUT || status == ob::PlannerStatus::APPROXIMATE_SOLUTION) {
+    run.path_status = planning::PathStatus::Timeout;
+  } else {
+    run.path_status = planning::PathStatus::NoPath;
+  }
+  return run;
+}
+
+}  // namespace uavip::planners

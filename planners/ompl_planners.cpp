@@ -1,0 +1,207 @@
+#include "planners/ompl_planners.h"
+
+#include "planners/astar_ompl.h"
+#include "planners/harness.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/planners/fmt/FMT.h>
+#include <ompl/geometric/planners/informedtrees/ABITstar.h>
+#include <ompl/geometric/planners/informedtrees/AITstar.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
+#include <ompl/geometric/planners/prm/LazyPRMstar.h>
+#include <ompl/geometric/planners/prm/PRMstar.h>
+#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+namespace uavip::planners {
+namespace {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+const std::vector<std::string>& samplingNames() {
+  static const std::vector<std::string> names{"rrtconnect", "rrtstar", "informed-rrtstar", "bitstar", "abitstar",
+                                              "aitstar",    "prmstar", "lazyprmstar",      "fmtstar"};
+  return names;
+}
+
+}  // namespace
+
+GridMotionValidator::GridMotionValidator(const ob::SpaceInformationPtr& si, const world::VoxelGrid& grid)
+    : ob::MotionValidator(si), grid_(grid) {}
+
+bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
+  if (grid_.segmentFree(toVec3(s1), toVec3(s2))) {
+    ++valid_;
+    return true;
+  }
+  ++invalid_;
+  return false;
+}
+
+bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2,
+                                      std::pair<ob::State*, double>& last_valid) const {
+  const Vec3 a = toVec3(s1);
+  const Vec3 b = toVec3(s2);
+  const double step = 0.25 * grid_.resolution();
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
+  Vec3 prev = a;
+  for (int k = 1; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    const Vec3 p = a + t * (b - a);
+    if (!grid_.segmentFree(prev, p)) {
+      last_valid.second = static_cast<double>(k - 1) / n;
+      if (last_valid.first != nullptr) {
+        si_->getStateSpace()->interpolate(s1, s2, last_valid.second, last_valid.first);
+      }
+      ++invalid_;
+      return false;
+    }
+    prev = p;
+  }
+  ++valid_;
+  return true;
+}
+
+ob::SpaceInformationPtr makeGridSpace(const world::VoxelGrid& grid) {
+  auto space = std::make_shared<ob::RealVectorStateSpace>(3);
+  ob::RealVectorBounds bounds(3);
+  for (int i = 0; i < 3; ++i) {
+    bounds.setLow(static_cast<unsigned int>(i), grid.origin()[i]);
+    bounds.setHigh(static_cast<unsigned int>(i), grid.origin()[i] + grid.dims()[static_cast<std::size_t>(i)] * grid.resolution());
+  }
+  space->setBounds(bounds);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  const world::VoxelGrid* g = &grid;
+  si->setStateValidityChecker([g](const ob::State* s) { return g->isFree(toVec3(s)); });
+  si->setMotionValidator(std::make_shared<GridMotionValidator>(si, grid));
+  si->setup();
+  return si;
+}
+
+Vec3 toVec3(const ob::State* state) {
+  const auto* s = state->as<ob::RealVectorStateSpace::StateType>();
+  return {s->values[0], s->values[1], s->values[2]};
+}
+
+PointList toPoints(const og::PathGeometric& path) {
+  PointList out;
+  out.reserve(path.getStateCount());
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) out.push_back(toVec3(path.getState(i)));
+  return out;
+}
+
+std::vector<std::string> omplPlannerNames() { return samplingNames(); }
+
+bool isOmplPlanner(const std::string& name) {
+  const auto& n = samplingNames();
+  return std::find(n.begin(), n.end(), name) != n.end();
+}
+
+bool seedOmpl(std::uint32_t seed) {
+  static std::once_flag once;
+  static std::uint32_t used = 0;
+  std::call_once(once, [seed] {
+    ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
+    ompl::RNG::setSeed(seed == 0 ? 1 : seed);  // OMPL refuses seed 0
+    used = seed;
+  });
+  return used == seed;
+}
+
+ob::PlannerPtr makeOmplPlanner(const std::string& name, const ob::SpaceInformationPtr& si,
+                               const world::VoxelGrid& grid, const PlannerSettings& settings) {
+  const std::string ompl_name = omplName(name);  // throws for an unknown name
+  seedOmpl(settings.seed);
+  ob::PlannerPtr p;
+  if (name == "astar" || name == "astar-euclid") {
+    AStarOptions o = settings.astar;
+    o.cost = name == "astar" ? AStarCost::Paper : AStarCost::Euclidean;
+    p = std::make_shared<AStarOmplPlanner>(si, grid, o);
+  } else if (name == "rrtconnect") {
+    p = std::make_shared<og::RRTConnect>(si);
+  } else if (name == "rrtstar") {
+    p = std::make_shared<og::RRTstar>(si);
+  } else if (name == "informed-rrtstar") {
+    p = std::make_shared<og::InformedRRTstar>(si);
+  } else if (name == "bitstar") {
+    p = std::make_shared<og::BITstar>(si);
+  } else if (name == "abitstar") {
+    p = std::make_shared<og::ABITstar>(si);
+  } else if (name == "aitstar") {
+    p = std::make_shared<og::AITstar>(si);
+  } else if (name == "prmstar") {
+    p = std::make_shared<og::PRMstar>(si);
+  } else if (name == "lazyprmstar") {
+    p = std::make_shared<og::LazyPRMstar>(si);
+  } else {  // fmtstar (omplName accepted the name)
+    p = std::make_shared<og::FMT>(si);
+  }
+  p->setName(ompl_name);
+  return p;
+}
+
+double simplifyOmplPath(og::PathGeometric& path, const ob::SpaceInformationPtr& si) {
+  const auto t0 = std::chrono::steady_clock::now();
+  og::PathSimplifier simplifier(si);
+  double length = path.length();
+  for (int round = 0; round < 5; ++round) {
+    simplifier.reduceVertices(path);
+    simplifier.shortcutPath(path);
+    const double now = path.length();
+    if (!(now < length - 1e-9)) break;
+    length = now;
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+OmplPlanner::OmplPlanner(std::string name, PlannerSettings settings)
+    : name_(std::move(name)), settings_(settings) {
+  if (!isOmplPlanner(name_)) throw InputError("planner: '" + name_ + "' is not an OMPL planner");
+  settings_.validate("planner");
+  seedOmpl(settings_.seed);
+}
+
+planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
+  const auto t0 = std::chrono::steady_clock::now();
+  planning::PathResult out;
+  auto finish = [&]() {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  };
+  if (!start.allFinite() || !grid.isFree(start)) {
+    out.status = planning::PathStatus::InvalidStart;
+    return finish();
+  }
+  if (!goal.allFinite() || !grid.isFree(goal)) {
+    out.status = planning::PathStatus::InvalidGoal;
+    return finish();
+  }
+  if (grid.segmentFree(start, goal)) {
+    out.status = planning::PathStatus::Solved;
+    out.path = {start, goal};
+    out.cost = (goal - start).norm();
+    return finish();
+  }
+  const HarnessRun run = runPlannerOnce(name_, grid, start, goal, settings_);
+  out.status = run.path_status;
+  out.expansions = run.graph_states;
+  if (run.solved) {
+    out.path = run.path;
+    out.cost = run.length_m;
+  }
+  return finish();
+}
+
+}  // namespace uavip::planners

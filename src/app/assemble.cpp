@@ -1,0 +1,163 @@
+#include "uavip/app/assemble.h"
+
+#include "uavip/core/error.h"
+#include "uavip/sim/scanner_sim.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace uavip::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+/// The merged cloud is scored on at most this many points (an even subsample).
+constexpr std::size_t kMaxScored = 200000;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void report(const Progress& progress, const std::string& message) {
+  if (progress) progress(message);
+}
+
+/// Stage 1 on every station, `threads` at a time (each station is independent).
+std::vector<scan::StationCloud> assembleAll(const RawLog& log, const scan::AssemblerOptions& options, int threads,
+                                            std::vector<double>& seconds) {
+  const std::size_t n = log.stations.size();
+  std::vector<scan::StationCloud> clouds(n);
+  seconds.assign(n, 0.0);
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto worker = [&] {
+    for (std::size_t i = next++; i < n; i = next++) {
+      try {
+        const auto t0 = Clock::now();
+        clouds[i] = scan::assembleStation(log, i, options);
+        seconds[i] = secondsSince(t0);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  const std::size_t count = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, threads)));
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < count; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  return clouds;
+}
+
+}  // namespace
+
+AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const RawLogTruth* truth,
+                        const sim::WorldModel* world, const Progress& progress) {
+  options.scan.validate("scan");
+  options.registration.validate("registration");
+  if (log.stations.empty()) throw InputError("assemble: the raw log has no station");
+  AssembleResult result;
+  const auto t0 = Clock::now();
+
+  report(progress, "stage 1: assembling " + std::to_string(log.stations.size()) + " stations (eq. (1), IMU, ICP)");
+  std::vector<double> seconds;
+  const std::vector<scan::StationCloud> clouds = assembleAll(log, options.scan, options.threads, seconds);
+  result.assembly_s = secondsSince(t0);
+
+  const auto t1 = Clock::now();
+  report(progress, "stage 2: registering the stations");
+  std::vector<registration::StationInput> inputs;
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    inputs.push_back({clouds[i].station_id, clouds[i].points, registration::initialStationPose(log, i)});
+    result.station_points += clouds[i].points.size();
+  }
+  registration::RegistrationResult reg = registration::registerStations(inputs, options.registration);
+  result.registration_s = secondsSince(t1);
+  result.cloud = std::move(reg.merged);
+
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    const scan::StationCloud& c = clouds[i];
+    const registration::StationResult& r = reg.stations[i];
+    StationReport s;
+    s.id = c.station_id;
+    s.points = c.points.size();
+    s.invalid_beams = c.stats.invalid_beams;
+    s.keyframes = c.stats.keyframes;
+    s.mean_icp_iterations = c.stats.mean_icp_iterations;
+    s.loop_closure_m = c.loop_closure_m;
+    for (const auto& p : c.poses) s.drift_max_m = std::max(s.drift_max_m, p.translation().norm());
+    if (!c.poses.empty()) s.drift_final_m = c.poses.back().translation().norm();
+    s.initial_pose = r.initial_pose;
+    s.pose = r.pose;
+    s.registered = r.converged;
+    s.registration_rms_m = r.fitness_rms_m;
+    s.assembly_s = seconds[i];
+    s.registration_s = r.time_s;
+    if (truth && i < truth->stations.size() && !truth->stations[i].horizontal_poses.empty()) {
+      const auto& tp = truth->stations[i].horizontal_poses;
+      const Vec3 origin = tp.front().translation();
+      double worst = 0.0, sum = 0.0, true_max = 0.0;
+      const std::size_t n = std::min(tp.size(), c.poses.size());
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec3 true_d = tp[k].translation() - origin;
+        const double e = (c.poses[k].translation() - true_d).norm();
+        worst = std::max(worst, e);
+        sum += e * e;
+        true_max = std::max(true_max, true_d.norm());
+      }
+      if (n > 0) {
+        s.drift_error_max_m = worst;
+        s.drift_error_rms_m = std::sqrt(sum / static_cast<double>(n));
+        s.true_drift_max_m = true_max;
+      }
+      // Station frame: origin at the UAV centre at the first horizontal scan, world axes.
+      s.initial_pose_error_m = (r.initial_pose.translation() - origin).norm();
+      s.pose_error_m = (r.pose.translation() - origin).norm();
+      s.pose_error_deg = Eigen::AngleAxisd(r.pose.linear()).angle() * kRadToDeg;
+    }
+    result.stations.push_back(s);
+  }
+
+  if (world && !world->empty() && !result.cloud.empty()) {
+    const std::size_t stride = std::max<std::size_t>(1, result.cloud.size() / kMaxScored);
+    std::vector<double> d;
+    d.reserve(result.cloud.size() / stride + 1);
+    for (std::size_t i = 0; i < result.cloud.size(); i += stride) d.push_back(world->distanceToTruth(result.cloud[i]));
+    double sum = 0.0;
+    for (const double v : d) sum += v * v;
+    result.rms_to_truth_m = std::sqrt(sum / static_cast<double>(d.size()));
+    const auto p95 = d.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(d.size() - 1));
+    std::nth_element(d.begin(), p95, d.end());
+    result.p95_to_truth_m = *p95;
+    result.scored_points = d.size();
+  }
+  result.total_s = secondsSince(t0);
+  return result;
+}
+
+AssembleResult senseScans(const io::Scenario& scenario, const Progress& progress) {
+  if (scenario.sensing_mode != "scan") {
+    throw InputError(scenario.path + ": sensing.mode must be 'scan' for raw scans, got '" + scenario.sensing_mode + "'");
+  }
+  report(progress, "simulating the two 2D scanners and the IMU");
+  const sim::SimulatedLog s = sim::simulateScans(scenario.world, scenario.scan, progress);
+  // The truth in the log frame, to score.
+  sim::WorldModel world;
+  for (auto r : scenario.world.rects()) {
+    r.corner -= s.origin_m;
+    world.addPlane(r);
+  }
+  for (const auto& seg : scenario.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
+  for (const auto& p : scenario.world.points()) world.addPoint(p.name, p.p - s.origin_m);
+  AssembleResult result = assemble(s.log, AssembleOptions{}, &s.truth, &world, progress);
+  for (auto& p : result.cloud) p += s.origin_m;  // back into scenario coordinates
+  return result;
+}
+
+}  // namespace uavip::app

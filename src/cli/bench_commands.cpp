@@ -1,0 +1,121 @@
+// uavip bench: the paper's A* and OMPL planners on the legs of benchmark scenarios
+// (issue 4; include/uavip/app/bench.h).
+
+#include "src/cli/commands.h"
+
+#include "uavip/app/bench.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/scenario.h"
+#include "planners/harness.h"
+#include "planners/registry.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace uavip::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Options of bench, kept alive until dispatch.
+struct BenchArgs {
+  std::vector<std::string> scenarios;
+  std::string planners;
+  int runs{5};
+  double time_limit_s{1.0};
+  std::string out{"results.log"};
+  bool no_simplify{false};
+  std::uint32_t seed{1};
+};
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto b = item.find_first_not_of(" \t");
+    const auto e = item.find_last_not_of(" \t");
+    if (b == std::string::npos) throw InputError("--planners: empty name in '" + text + "'");
+    out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+std::string hostName() {
+  char buf[256] = {0};
+  if (::gethostname(buf, sizeof(buf) - 1) != 0) return "UNKNOWN";
+  return buf;
+}
+
+/// results.log -> results.<ext> (same folder and stem).
+std::string sibling(const std::string& log, const std::string& ext) {
+  fs::path p(log);
+  p.replace_extension(ext);
+  return p.string();
+}
+
+int benchCommand(const BenchArgs& a, const Verbosity& v) {
+  app::BenchOptions options;
+  if (!a.planners.empty()) options.planners = splitList(a.planners);
+  options.runs = a.runs;
+  options.time_limit_s = a.time_limit_s;
+  options.simplify = !a.no_simplify;
+  options.seed = a.seed;
+  options.validate();
+  if (a.out.empty()) throw InputError("-o: give the log file, e.g. results.log");
+  // Before any scenario is read: reading one may create (and so seed) a planner.
+  if (!planners::seedOmpl(options.seed)) {
+    std::cerr << "uavip: warning: OMPL was already seeded; --seed " << options.seed << " has no effect\n";
+  }
+  std::vector<io::Scenario> scenarios;
+  for (const auto& path : a.scenarios) scenarios.push_back(io::loadScenario(path));
+  const fs::path parent = fs::path(a.out).parent_path();
+  if (!parent.empty()) io::ensureDirectory(parent.string());
+
+  const app::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
+  std::string name = "uavip_bench";
+  for (const auto& s : r.scenarios) name += "_" + s;
+  io::writeFileAtomic(a.out, app::benchLog(r, name, hostName()));
+  const std::string csv = sibling(a.out, ".csv");
+  const std::string md = sibling(a.out, ".md");
+  io::writeFileAtomic(csv, app::benchCsv(r));
+  const std::string markdown = app::benchMarkdown(r);
+  io::writeFileAtomic(md, markdown);
+  const std::string png = sibling(a.out, ".png");
+  io::writeFileAtomic(png, app::benchPlot(r).png());
+  if (!v.quiet) {
+    std::cout << markdown;
+    std::cout << "\nresults: " << a.out << " (ompl_benchmark_statistics " << a.out << " -d results.db), " << csv
+              << ", " << md << ", " << png << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void addBenchCommands(CLI::App& cli, CommandRegistry& registry) {
+  auto a = std::make_shared<BenchArgs>();
+  const Verbosity& v = registry.verbosity();
+  std::string names;
+  for (const auto& n : planners::plannerNames()) names += (names.empty() ? "" : ", ") + n;
+
+  auto* b = cli.add_subcommand("bench", "Benchmark the grid A* and OMPL planners on the legs of scenarios; "
+                                        "writes an OMPL benchmark log, a CSV, a Markdown summary and a plot (PNG)");
+  b->add_option("scenarios", a->scenarios, "Scenario YAML files (legs from their bench: section, or sampled)")
+      ->required();
+  b->add_option("--planners", a->planners, "Comma-separated planners (" + names + "); default: all");
+  b->add_option("--runs", a->runs, "Runs per planner and leg")->capture_default_str();
+  b->add_option("--time-limit", a->time_limit_s, "Budget per run of an OMPL planner [s]")->capture_default_str();
+  b->add_option("--seed", a->seed, "Seed of OMPL's RNG and of the leg sampling")->capture_default_str();
+  b->add_flag("--no-simplify", a->no_simplify, "Keep the planners' raw paths (no PathSimplifier)");
+  b->add_option("-o,--out", a->out, "Benchmark log; the .csv, .md and .png go next to it")->capture_default_str();
+  registry.add(b, [a, &v] { return benchCommand(*a, v); });
+}
+
+}  // namespace uavip::cli

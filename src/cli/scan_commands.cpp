@@ -1,0 +1,186 @@
+// uavip simulate: a scenario's world seen by the paper's two 2D scanners and IMU,
+// written as a raw log directory (docs/raw_log_format.md).
+// uavip assemble: stages 1-2 on a raw log directory: merged cloud + cloud.report.json.
+
+#include "src/cli/commands.h"
+
+#include "uavip/app/assemble.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/raw_log_io.h"
+#include "uavip/io/scenario.h"
+#include "uavip/sim/scanner_sim.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace uavip::cli {
+namespace {
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+int simulateCommand(const std::string& scenario_path, const std::string& out, const Verbosity& v) {
+  const io::Scenario scenario = io::loadScenario(scenario_path);
+  if (scenario.sensing_mode != "scan") {
+    throw InputError(scenario_path + ": sensing.mode must be 'scan' to simulate raw scans, got '" +
+                     scenario.sensing_mode + "' (mode sample makes a cloud: use `uavip run`)");
+  }
+  const app::Progress progress = progressPrinter(v);
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::SimulatedLog sim = sim::simulateScans(scenario.world, scenario.scan, progress);
+  const double sim_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (progress) progress("writing " + out);
+  const auto t1 = std::chrono::steady_clock::now();
+  io::writeRawLog(out, sim.log);
+  io::writeRawLogTruth(out, sim.truth, scenario.world, sim.origin_m, scenario_path);
+  const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  if (!v.quiet) {
+    const auto& o = scenario.scan;
+    std::cout << "scenario " << scenario.name << " (" << scenario_path << ")\n";
+    std::cout << "stations: " << sim.log.stations.size() << ", " << o.scansPerStation()
+              << " scans per scanner each (" << fixed(o.turn_deg, 0) << " deg at " << fixed(o.yaw_rate_deg_s, 1)
+              << " deg/s), " << o.scanner.beamCount() << " beams per scan\n";
+    std::cout << "rays: " << sim.rays << ", returns: " << sim.returns << " ("
+              << fixed(sim.rays ? 100.0 * static_cast<double>(sim.returns) / static_cast<double>(sim.rays) : 0.0, 1)
+              << " %)\n";
+    std::cout << "log origin (station 0) in scenario coordinates: [" << fixed(sim.origin_m.x(), 3) << ", "
+              << fixed(sim.origin_m.y(), 3) << ", " << fixed(sim.origin_m.z(), 3) << "]\n";
+    std::cout << "time: simulation " << fixed(sim_s, 2) << " s, writing " << fixed(write_s, 2) << " s\n";
+    std::cout << "results: " << out << "/log.json (+ station CSV files), " << out << "/truth.json\n";
+  }
+  return kExitOk;
+}
+
+nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptions& o, const std::string& source,
+                          const io::RawLogReadStats& read, bool truth) {
+  nlohmann::json stations = nlohmann::json::array();
+  for (const auto& s : r.stations) {
+    nlohmann::json j = {{"id", s.id},
+                        {"points", s.points},
+                        {"invalid_beams", s.invalid_beams},
+                        {"keyframes", s.keyframes},
+                        {"mean_icp_iterations", s.mean_icp_iterations},
+                        {"loop_closure_m", s.loop_closure_m},
+                        {"drift_final_m", s.drift_final_m},
+                        {"drift_max_m", s.drift_max_m},
+                        {"initial_position", vec(s.initial_pose.translation())},
+                        {"position", vec(s.pose.translation())},
+                        {"rotation_deg", Eigen::AngleAxisd(s.pose.linear()).angle() * 180.0 / 3.14159265358979323846},
+                        {"registered", s.registered},
+                        {"registration_rms_m", s.registration_rms_m},
+                        {"assembly_s", s.assembly_s},
+                        {"registration_s", s.registration_s}};
+    if (s.pose_error_m) {
+      j["truth"] = {{"drift_error_max_m", s.drift_error_max_m.value_or(-1.0)},
+                    {"drift_error_rms_m", s.drift_error_rms_m.value_or(-1.0)},
+                    {"true_drift_max_m", s.true_drift_max_m.value_or(-1.0)},
+                    {"initial_position_error_m", *s.initial_pose_error_m},
+                    {"position_error_m", *s.pose_error_m},
+                    {"rotation_error_deg", *s.pose_error_deg}};
+    }
+    stations.push_back(j);
+  }
+  nlohmann::json j = {{"source", source},
+                      {"stations", stations},
+                      {"cloud", {{"points", r.cloud.size()}, {"station_points", r.station_points}}},
+                      {"raw", {{"scans", read.scans}, {"beams", read.beams}, {"no_return", read.no_return},
+                               {"replaced_ranges", read.replaced_ranges}, {"imu_samples", read.imu_samples}}},
+                      {"options", {{"imu_prior", o.scan.use_imu_prior},
+                                   {"icp", scan::toString(o.scan.icp)},
+                                   {"registration", registration::toString(o.registration.method)},
+                                   {"output_voxel_m", o.registration.output_voxel_m}}},
+                      {"timings", {{"assembly_s", r.assembly_s}, {"registration_s", r.registration_s},
+                                   {"total_s", r.total_s}}}};
+  if (truth && r.rms_to_truth_m) {
+    j["truth"] = {{"rms_to_truth_m", *r.rms_to_truth_m},
+                  {"p95_to_truth_m", r.p95_to_truth_m.value_or(-1.0)},
+                  {"scored_points", r.scored_points}};
+  }
+  return j;
+}
+
+int assembleCommand(const std::string& dir, const std::string& out, bool no_imu_prior, const std::string& method,
+                    const Verbosity& v) {
+  app::AssembleOptions options;
+  options.scan.use_imu_prior = !no_imu_prior;
+  if (!method.empty()) options.registration.method = registration::methodFromString(method);
+  const app::Progress progress = progressPrinter(v);
+  if (progress) progress("reading " + dir);
+  io::RawLogReadStats read;
+  const RawLog log = io::readRawLog(dir, &read);
+  const std::optional<io::RawLogTruthFile> truth = io::readRawLogTruth(dir);
+  const app::AssembleResult r = app::assemble(log, options, truth ? &truth->poses : nullptr,
+                                              truth ? &truth->world : nullptr, progress);
+  namespace fs = std::filesystem;
+  const fs::path parent = fs::path(out).parent_path();
+  if (!parent.empty()) io::ensureDirectory(parent.string());
+  io::saveCloudPcd(out, r.cloud);
+  const std::string report_path = fs::path(out).replace_extension(".report.json").string();
+  io::writeFileAtomic(report_path, reportJson(r, options, dir, read, truth.has_value()).dump(1) + "\n");
+  if (!v.quiet) {
+    std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()
+              << " merged (voxel " << fixed(options.registration.output_voxel_m, 3) << " m)\n";
+    for (const auto& s : r.stations) {
+      std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
+                << fixed(100.0 * s.loop_closure_m, 1) << " cm, drift " << fixed(100.0 * s.drift_max_m, 1)
+                << " cm max, " << (s.registered ? "registered" : "NOT registered");
+      if (s.pose_error_m) {
+        std::cout << "; truth: drift error " << fixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
+                  << " cm max, position error " << fixed(100.0 * *s.initial_pose_error_m, 1) << " cm recorded -> "
+                  << fixed(100.0 * *s.pose_error_m, 1) << " cm registered";
+      }
+      std::cout << "\n";
+    }
+    if (r.rms_to_truth_m) {
+      std::cout << "merged cloud to the true surfaces: RMS " << fixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
+                << fixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
+    }
+    std::cout << "time: assembly " << fixed(r.assembly_s, 2) << " s, registration " << fixed(r.registration_s, 2)
+              << " s\n";
+    std::cout << "results: " << out << ", " << report_path << "\n";
+  }
+  return kExitOk;
+}
+
+/// Options of simulate and assemble, kept alive until dispatch.
+struct ScanArgs {
+  std::string scenario, out, scans, cloud_out, registration;
+  bool no_imu_prior{false};
+};
+
+}  // namespace
+
+void addScanCommands(CLI::App& cli, CommandRegistry& registry) {
+  auto a = std::make_shared<ScanArgs>();
+  const Verbosity& v = registry.verbosity();
+
+  auto* sim = cli.add_subcommand(
+      "simulate", "Simulate the two 2D scanners and the IMU on a scenario (sensing mode scan): a raw log directory");
+  sim->add_option("scenario", a->scenario, "Scenario YAML with sensing: {mode: scan, ...}")->required();
+  sim->add_option("-o,--out", a->out, "Output directory for the raw log (log.json, CSV files, truth.json)")->required();
+  registry.add(sim, [a, &v] { return simulateCommand(a->scenario, a->out, v); });
+
+  auto* as = cli.add_subcommand("assemble",
+                                "Stages 1-2 on a raw log directory: one cloud per station (eq. (1), IMU, ICP), "
+                                "registered and merged; writes the cloud and <cloud>.report.json");
+  as->add_option("scans", a->scans, "Raw log directory (written by uavip simulate)")->required();
+  as->add_option("-o,--out", a->cloud_out, "Merged cloud (.pcd); the report goes beside it")->required();
+  as->add_flag("--no-imu-prior", a->no_imu_prior, "Plain ICP between horizontal scans (no IMU rotation first)");
+  as->add_option("--registration", a->registration, "none, icp, icp_point_to_plane (default), gicp or ndt");
+  registry.add(as, [a, &v] { return assembleCommand(a->scans, a->cloud_out, a->no_imu_prior, a->registration, v); });
+}
+
+}  // namespace uavip::cli

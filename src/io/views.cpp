@@ -1,0 +1,346 @@
+#include "uavip/io/views.h"
+
+#include "uavip/core/geometry.h"
+#include "uavip/io/atomic_file.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+namespace uavip::io {
+namespace {
+
+using render::Color;
+using render::LegendEntry;
+using render::LegendKind;
+using render::Vec2;
+
+/// Exact coordinates as a key (points are copies of cloud points).
+using Key = std::array<double, 3>;
+Key key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+struct PlyVertex {
+  Vec3 p;
+  Color c;
+  int kind;
+  int surface;
+};
+
+/// One of the three orthographic views.
+struct View {
+  const char* title;
+  const char* x_label;
+  const char* y_label;
+  int u, v;  ///< coordinate indices shown as panel x and y
+  int toward, sign;  ///< the viewer looks from sign·(axis `toward`): nearer things are drawn last
+};
+
+constexpr std::array<View, 3> kViews{{
+    {"Top view (from above)", "x east [m]", "y north [m]", 0, 1, 2, 1},
+    {"Front view (from the south)", "x east [m]", "z up [m]", 0, 2, 1, -1},
+    {"Side view (from the east)", "y north [m]", "z up [m]", 1, 2, 0, 1},
+}};
+
+std::vector<Vec2> project(const PointList& pts, const View& view, std::size_t stride = 1) {
+  std::vector<Vec2> out;
+  out.reserve(pts.size() / std::max<std::size_t>(stride, 1) + 1);
+  for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(stride, 1)) out.emplace_back(pts[i][view.u], pts[i][view.v]);
+  return out;
+}
+
+/// "faces south" for a normal near an axis, else its components.
+std::string facing(const Vec3& n) {
+  static const std::array<const char*, 6> kNames{"east", "west", "north", "south", "up", "down"};
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(n[a]) > 0.95) return std::string("faces ") + kNames[static_cast<std::size_t>(2 * a + (n[a] < 0.0))];
+  }
+  return "normal (" + fixed(n.x(), 2) + ", " + fixed(n.y(), 2) + ", " + fixed(n.z(), 2) + ")";
+}
+
+/// The four corners of a stop's photo on the surface plane.
+PointList footprint(const coverage::FlightStrategy& s, const coverage::Stop& stop) {
+  const Vec3 w = s.axis_w * (s.camera.footprint_w_m / 2.0);
+  const Vec3 h = s.axis_h * (s.camera.footprint_h_m / 2.0);
+  return {stop.target - w - h, stop.target + w - h, stop.target + w + h, stop.target - w + h};
+}
+
+/// Cloud points in neither a surface nor an obstacle.
+PointList otherPoints(const Scene& scene) {
+  std::set<Key> used;
+  for (const auto& s : scene.surfaces)
+    for (const auto& p : s.inliers) used.insert(key(p));
+  for (const auto& o : scene.obstacles)
+    for (const auto& p : o.points) used.insert(key(p));
+  PointList out;
+  for (const auto& p : scene.cloud)
+    if (!used.count(key(p))) out.push_back(p);
+  return out;
+}
+
+const planning::SurfaceMission* missionOf(const std::vector<planning::SurfaceMission>& missions, int id) {
+  for (const auto& m : missions)
+    if (m.surface_id == id) return &m;
+  return nullptr;
+}
+
+}  // namespace
+
+render::Color surfaceColor(int id) { return render::palette(id); }
+
+std::string sceneToPly(const Scene& scene, const std::vector<planning::SurfaceMission>& missions) {
+  std::vector<PlyVertex> v;
+  for (const auto& s : scene.surfaces)
+    for (const auto& p : s.inliers) v.push_back({p, surfaceColor(s.id), 1, s.id});
+  for (const auto& o : scene.obstacles)
+    for (const auto& p : o.points) v.push_back({p, kObstacleColor, 2, -1});
+  for (const auto& p : otherPoints(scene)) v.push_back({p, kCloudColor, 0, -1});
+  for (const auto& m : missions)
+    for (const auto& s : m.strategy.stops) v.push_back({s.position, kStopColor, 3, m.surface_id});
+
+  std::ostringstream os;
+  os << "ply\nformat ascii 1.0\ncomment uavip scene: local ENU metres, z up\n"
+     << "comment kind: 0 other cloud point, 1 surface point, 2 obstacle point, 3 photo stop\n"
+     << "element vertex " << v.size() << "\n"
+     << "property float x\nproperty float y\nproperty float z\n"
+     << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+     << "property uchar kind\nproperty int surface\nend_header\n";
+  char line[160];
+  for (const auto& x : v) {
+    std::snprintf(line, sizeof line, "%.4f %.4f %.4f %d %d %d %d %d\n", x.p.x(), x.p.y(), x.p.z(), x.c.red8(),
+                  x.c.green8(), x.c.blue8(), x.kind, x.surface);
+    os << line;
+  }
+  return os.str();
+}
+
+std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions) {
+  std::ostringstream os;
+  os << "# uavip flight paths, local ENU metres (z up): one polyline per surface with a mission\n";
+  std::size_t next = 1;
+  char line[128];
+  for (const auto& m : missions) {
+    if (m.waypoints.size() < 2) continue;
+    os << "o surface_" << m.surface_id << "\n";
+    for (const auto& p : m.waypoints) {
+      std::snprintf(line, sizeof line, "v %.4f %.4f %.4f\n", p.x(), p.y(), p.z());
+      os << line;
+    }
+    os << "l";
+    for (std::size_t i = 0; i < m.waypoints.size(); ++i) os << " " << next + i;
+    os << "\n";
+    next += m.waypoints.size();
+  }
+  return os.str();
+}
+
+render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                              const OverviewOptions& options) {
+  render::Figure fig(options.width_px, options.height_px);
+  const double W = options.width_px, H = options.height_px;
+  const double top = 84.0, gap = 10.0;
+  const double legend_w = std::min(420.0, 0.22 * W);
+  const double main_w = 0.48 * (W - legend_w);
+  const double side_w = W - legend_w - main_w - 3.0 * gap;
+  const double half_h = (H - top - 2.0 * gap) / 2.0;
+
+  // Counts for the header.
+  std::size_t stops = 0, waypoints = 0, ok = 0;
+  double length = 0.0;
+  for (const auto& m : missions) {
+    stops += m.strategy.stops.size();
+    waypoints += m.waypoints.size();
+    length += m.path_length_m;
+    ok += planning::flyable(m.status);
+  }
+  fig.text(20, 34, options.title, {22.0, render::kBlack, render::Align::Left, true});
+  std::ostringstream sub;
+  sub << scene.cloud.size() << " cloud points, " << scene.surfaces.size() << " surfaces, " << scene.obstacles.size()
+      << " obstacle clusters  |  " << missions.size() << " surfaces planned, " << ok << " with a flight: " << stops
+      << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1)
+      << " m of flight  |  local ENU frame, metres";
+  fig.text(20, 62, sub.str(), {14.0, Color::rgb(50, 50, 50)});
+
+  // Cloud subsample (same points in every view).
+  std::size_t total = scene.cloud.size();
+  const std::size_t stride =
+      options.max_cloud_points > 0 && total > options.max_cloud_points ? (total + options.max_cloud_points - 1) / options.max_cloud_points : 1;
+  const PointList other = otherPoints(scene);
+
+  const Color path_dark = render::kBlack;
+  const render::Style other_style{kCloudColor, kCloudColor, 0.0, false, render::Marker::Square, 1.8};
+  const render::Style obstacle_style{kObstacleColor, kObstacleColor, 0.0, false, render::Marker::Square, 2.2};
+  const render::Style start_style = render::markerStyle(render::kBlack, render::Marker::Triangle, 11.0);
+  const render::Style bad_style{render::kRed, render::kRed, 2.0, false, render::Marker::Cross, 9.0};
+
+  double min_spacing = 0.5;  // [m]
+  for (const auto& m : missions) {
+    if (m.strategy.spacing_w_m > 0.0) min_spacing = std::min(min_spacing, m.strategy.spacing_w_m);
+    if (m.strategy.spacing_h_m > 0.0) min_spacing = std::min(min_spacing, m.strategy.spacing_h_m);
+  }
+  const std::array<std::array<double, 4>, 3> rects{{
+      {gap, top, main_w, 2.0 * half_h + gap},
+      {2.0 * gap + main_w, top, side_w, half_h},
+      {2.0 * gap + main_w, top + half_h + gap, side_w, half_h},
+  }};
+  for (std::size_t vi = 0; vi < kViews.size(); ++vi) {
+    const View& view = kViews[vi];
+    render::PanelOptions po;
+    po.title = view.title;
+    po.x.label = view.x_label;
+    po.y.label = view.y_label;
+    po.equal_aspect = true;
+    po.legend = render::Corner::None;
+    po.scale_bar = render::Corner::BottomRight;
+    render::Panel& p = fig.addPanel(rects[vi][0], rects[vi][1], rects[vi][2], rects[vi][3], po);
+
+    // Marker sizes follow the stop spacing on screen, so dense grids stay readable.
+    uavip::Aabb box = boundingBox(scene.cloud);
+    for (const auto& m : missions)
+      for (const auto& st : m.strategy.stops) box.extend(st.position);
+    double px_per_m = 50.0;
+    if (!box.empty()) {
+      const double du = std::max(box.max[view.u] - box.min[view.u], 1e-3) * 1.1;
+      const double dv = std::max(box.max[view.v] - box.min[view.v], 1e-3) * 1.1;
+      px_per_m = std::min((rects[vi][2] - 86.0) / du, (rects[vi][3] - 80.0) / dv);
+    }
+    const double stop_px = std::clamp(0.6 * min_spacing * px_per_m, 2.5, 6.0);
+    const render::Style bad_here{render::kRed, render::kRed, stop_px > 4.0 ? 2.0 : 1.2, false, render::Marker::Cross,
+                                 stop_px * 1.4};
+
+    // Far surfaces first, so the near ones stay visible (painter's order).
+    auto depth = [&](const Vec3& c) { return view.sign * c[view.toward]; };
+    std::vector<const Surface*> surfaces;
+    for (const auto& s : scene.surfaces) surfaces.push_back(&s);
+    std::stable_sort(surfaces.begin(), surfaces.end(),
+                     [&](const Surface* a, const Surface* b) { return depth(a->centroid) < depth(b->centroid); });
+    std::vector<const planning::SurfaceMission*> order;
+    for (const auto& m : missions) order.push_back(&m);
+    auto mission_depth = [&](const planning::SurfaceMission* m) {
+      Vec3 c = Vec3::Zero();
+      for (const auto& st : m->strategy.stops) c += st.position;
+      return m->strategy.stops.empty() ? 0.0 : depth(c / static_cast<double>(m->strategy.stops.size()));
+    };
+    std::stable_sort(order.begin(), order.end(), [&](const planning::SurfaceMission* a, const planning::SurfaceMission* b) {
+      return mission_depth(a) < mission_depth(b);
+    });
+
+    p.markers(project(other, view, stride), other_style);
+    for (const auto& o : scene.obstacles) p.markers(project(o.points, view, stride), obstacle_style);
+    for (const Surface* s : surfaces) {
+      const Color c = surfaceColor(s->id).mix(render::kWhite, 0.45);
+      p.markers(project(s->inliers, view, stride), render::Style{c, c, 0.0, false, render::Marker::Square, 1.8});
+      p.polygon(project(s->boundary, view), render::lineStyle(surfaceColor(s->id).mix(render::kBlack, 0.3), 2.4));
+      if (const auto* m = missionOf(missions, s->id)) {
+        const Color mc = surfaceColor(m->surface_id);
+        const render::Style fp =
+            render::patchStyle(mc.withAlpha(0.10), mc.mix(render::kBlack, 0.2).withAlpha(0.55), 0.8);
+        for (const auto& st : m->strategy.stops) p.polygon(project(footprint(m->strategy, st), view), fp);
+      }
+    }
+    for (const auto* mp : order) {
+      const auto& m = *mp;
+      const Color c = surfaceColor(m.surface_id);
+      if (m.waypoints.size() >= 2) p.polyline(project(m.waypoints, view), render::lineStyle(c.mix(path_dark, 0.5), 1.6));
+      PointList good, bad;
+      for (std::size_t i = 0; i < m.strategy.stops.size(); ++i) {
+        const bool problem = i < m.stop_problems.size() && m.stop_problems[i] != planning::StopProblem::None;
+        (problem ? bad : good).push_back(m.strategy.stops[i].position);
+      }
+      render::Style good_style = render::markerStyle(c, render::Marker::Circle, stop_px);
+      if (stop_px < 4.0) good_style.line_width_px = 0.0;
+      p.markers(project(good, view), good_style);
+      p.markers(project(bad, view), bad_here);
+      if (!m.waypoints.empty()) p.markers(project({m.waypoints.front()}, view), start_style);
+    }
+  }
+
+  // Legend column: symbols, then one line per surface.
+  const double lx = W - legend_w - gap + 4.0;
+  double footprint_w = 0.0, footprint_h = 0.0, standoff = 0.0;
+  for (const auto& m : missions) {
+    if (m.strategy.stops.empty()) continue;
+    footprint_w = m.strategy.camera.footprint_w_m;
+    footprint_h = m.strategy.camera.footprint_h_m;
+    standoff = m.strategy.camera.standoff_m;
+    break;
+  }
+  const Color demo = render::palette(0);
+  std::vector<LegendEntry> symbols{
+      {"surface points (colour = surface)", render::markerStyle(demo.mix(render::kWhite, 0.45), render::Marker::Square, 7.0),
+       LegendKind::Marker},
+      {"surface boundary (convex hull)", render::lineStyle(demo.mix(render::kBlack, 0.3), 2.4), LegendKind::Line},
+      {"obstacle points", render::markerStyle(kObstacleColor, render::Marker::Square, 7.0), LegendKind::Marker},
+      {"other cloud points", render::markerStyle(kCloudColor, render::Marker::Square, 7.0), LegendKind::Marker},
+      {"photo footprint " + fixed(footprint_w, 2) + " × " + fixed(footprint_h, 2) + " m",
+       render::patchStyle(demo.withAlpha(0.15), demo.mix(render::kBlack, 0.2)), LegendKind::Patch},
+      {"photo stop (UAV, " + fixed(standoff, 2) + " m off)", render::markerStyle(demo, render::Marker::Circle, 7.0),
+       LegendKind::Marker},
+      {"flight path (waypoints)", render::lineStyle(demo.mix(path_dark, 0.5), 1.8), LegendKind::Line},
+      {"start of a surface's flight", start_style, LegendKind::Marker},
+      {"infeasible stop (not flown)", bad_style, LegendKind::Marker},
+  };
+  fig.text(lx, top + 14.0, "Legend", {15.0, render::kBlack, render::Align::Left, true});
+  fig.legend(lx, top + 24.0, symbols, 12.0);
+
+  const double sy = top + 24.0 + 12.0 * 1.55 * static_cast<double>(symbols.size()) + 12.0 + 36.0;
+  fig.text(lx, sy, "Surfaces", {15.0, render::kBlack, render::Align::Left, true});
+  std::vector<LegendEntry> rows;
+  const std::size_t max_rows = static_cast<std::size_t>(std::max(1.0, (H - sy - 40.0) / (12.0 * 1.55)));
+  for (const auto& s : scene.surfaces) {
+    if (rows.size() + 1 >= max_rows && rows.size() + 1 < scene.surfaces.size()) {
+      rows.push_back({"... " + std::to_string(scene.surfaces.size() - rows.size()) + " more", render::Style{},
+                      LegendKind::Line});
+      break;
+    }
+    std::ostringstream os;
+    os << s.id << ": " << facing(s.plane.normal) << ", " << fixed(s.area_m2, 1) << " m²";
+    if (const auto* m = missionOf(missions, s.id)) {
+      os << ", " << planning::toString(m->status) << ", " << m->strategy.stops.size() << " stops";
+      if (planning::flyable(m->status)) os << ", " << fixed(m->path_length_m, 1) << " m";
+    } else {
+      os << ", not planned";
+    }
+    const Color c = surfaceColor(s.id);
+    rows.push_back({os.str(), render::patchStyle(c.mix(render::kWhite, 0.3), c.mix(render::kBlack, 0.3)), LegendKind::Patch});
+  }
+  if (rows.empty()) rows.push_back({"no surface detected", render::Style{}, LegendKind::Line});
+  fig.legend(lx, sy + 10.0, rows, 12.0);
+
+  const double hy = sy + 10.0 + 12.0 * 1.55 * static_cast<double>(rows.size()) + 12.0 + 40.0;
+  const std::vector<std::string> help{
+      "How to read",
+      "Each surface is flown on its own: from its",
+      "start (triangle) the UAV visits the photo stops",
+      "row by row at the standoff, camera on the surface;",
+      "each stop takes one photo (footprint rectangle).",
+      "Views are orthographic, nearer objects on top;",
+      "the scale bar gives the size. Numbers: local",
+      "frame in metres, x east, y north, z up.",
+  };
+  for (std::size_t i = 0; i < help.size() && hy + 18.0 * static_cast<double>(i) < H - 10.0; ++i) {
+    fig.text(lx, hy + 18.0 * static_cast<double>(i), help[i],
+             {i == 0 ? 15.0 : 12.5, i == 0 ? render::kBlack : Color::rgb(50, 50, 50), render::Align::Left, i == 0});
+  }
+  return fig;
+}
+
+void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                const OverviewOptions& options) {
+  namespace fs = std::filesystem;
+  writeFileAtomic((fs::path(out_dir) / "scene.ply").string(), sceneToPly(scene, missions));
+  writeFileAtomic((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions));
+  writeFileAtomic((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options).png());
+}
+
+}  // namespace uavip::io

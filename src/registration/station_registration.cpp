@@ -1,0 +1,553 @@
+// GCC 12 reports false positives (-Warray-bounds, -Wmaybe-uninitialized) inside the
+// Eigen/SSE code that PCL's registration templates instantiate here (set before any
+// include: the warnings are attributed to the Eigen headers).
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "uavip/registration/station_registration.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <pcl/features/normal_3d.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/ndt.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/search/kdtree.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+
+namespace uavip::registration {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+/// Centroid of each occupied voxel, in first-seen order (deterministic).
+PointList voxelDownsample(const PointList& points, double leaf) {
+  if (leaf <= 0.0) return points;
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  index.reserve(points.size() / 4 + 16);
+  std::vector<std::pair<Vec3, int>> cells;
+  for (const auto& p : points) {
+    const auto ix = static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff;
+    const auto iy = static_cast<std::int64_t>(std::floor(p.y() / leaf)) & 0x1fffff;
+    const auto iz = static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff;
+    const std::uint64_t key = (static_cast<std::uint64_t>(ix) << 42) | (static_cast<std::uint64_t>(iy) << 21) |
+                              static_cast<std::uint64_t>(iz);
+    const auto [it, inserted] = index.emplace(key, cells.size());
+    if (inserted) {
+      cells.emplace_back(p, 1);
+    } else {
+      cells[it->second].first += p;
+      cells[it->second].second += 1;
+    }
+  }
+  PointList out;
+  out.reserve(cells.size());
+  for (const auto& [sum, n] : cells) out.push_back(sum / n);
+  return out;
+}
+
+Cloud::Ptr toPcl(const PointList& points) {
+  auto c = std::make_shared<Cloud>();
+  c->points.reserve(points.size());
+  for (const auto& p : points) c->points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  c->width = static_cast<std::uint32_t>(c->points.size());
+  c->height = 1;
+  c->is_dense = true;
+  return c;
+}
+
+NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud) {
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  ne.setInputCloud(cloud);
+  ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  ne.setKSearch(12);
+  pcl::PointCloud<pcl::Normal> normals;
+  ne.compute(normals);
+  auto out = std::make_shared<NormalCloud>();
+  out->points.reserve(cloud->size());
+  for (std::size_t i = 0; i < cloud->size(); ++i) {
+    pcl::PointNormal pn;
+    pn.x = (*cloud)[i].x;
+    pn.y = (*cloud)[i].y;
+    pn.z = (*cloud)[i].z;
+    pn.normal_x = normals[i].normal_x;
+    pn.normal_y = normals[i].normal_y;
+    pn.normal_z = normals[i].normal_z;
+    pn.curvature = normals[i].curvature;
+    if (!std::isfinite(pn.normal_x)) continue;  // too few neighbours
+    out->points.push_back(pn);
+  }
+  out->width = static_cast<std::uint32_t>(out->points.size());
+  out->height = 1;
+  return out;
+}
+
+/// The points (and their normals) inside box.
+void insideBox(const PointList& points, const std::vector<Vec3>& normals, const Aabb& box, PointList& out,
+               std::vector<Vec3>& out_normals) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    if ((p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all()) {
+      out.push_back(p);
+      out_normals.push_back(normals[i]);
+    }
+  }
+}
+
+Aabb grown(Aabb box, double margin) {
+  box.min.array() -= margin;
+  box.max.array() += margin;
+  return box;
+}
+
+struct Alignment {
+  Eigen::Isometry3d delta{Eigen::Isometry3d::Identity()};  ///< maps source (world guess) onto target
+  bool converged{false};
+  double rms{0.0};
+};
+
+/// Dense occupancy bitmap of a cloud on a grid of `step`, for O(1) hit tests.
+class Occupancy {
+ public:
+  Occupancy(const PointList& points, double step) : step_(step) {
+    box_ = boundingBox(points);
+    box_.min.array() -= step;
+    box_.max.array() += step;
+    dims_ = ((box_.max - box_.min) / step).array().ceil().cast<int>().max(1);
+    const double cells = static_cast<double>(dims_.x()) * dims_.y() * dims_.z();
+    if (points.empty() || cells > 5e7) return;  // too fine for the extent: no search
+    bits_.assign(static_cast<std::size_t>(cells), 0);
+    for (const auto& p : points) {
+      std::size_t k = 0;
+      if (index(p, k)) bits_[k] = 1;
+    }
+  }
+  bool usable() const { return !bits_.empty(); }
+  bool hit(const Vec3& p) const {
+    std::size_t k = 0;
+    return index(p, k) && bits_[k];
+  }
+
+ private:
+  bool index(const Vec3& p, std::size_t& out) const {
+    const Eigen::Vector3d c = (p - box_.min) / step_;
+    if ((c.array() < 0.0).any()) return false;
+    const Eigen::Vector3i i = c.array().floor().cast<int>();
+    if ((i.array() >= dims_.array()).any()) return false;
+    out = (static_cast<std::size_t>(i.z()) * static_cast<std::size_t>(dims_.y()) + static_cast<std::size_t>(i.y())) *
+              static_cast<std::size_t>(dims_.x()) +
+          static_cast<std::size_t>(i.x());
+    return true;
+  }
+  double step_;
+  Aabb box_;
+  Eigen::Vector3i dims_{1, 1, 1};
+  std::vector<std::uint8_t> bits_;
+};
+
+/// PCA normals (k = 10) of a cloud, oriented toward `viewpoint` (the station that
+/// saw the points); NaN where undefined.
+std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint) {
+  const Cloud::Ptr cloud = toPcl(points);
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  ne.setInputCloud(cloud);
+  ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  ne.setKSearch(10);
+  pcl::PointCloud<pcl::Normal> normals;
+  ne.compute(normals);
+  std::vector<Vec3> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    out[i] = Vec3(normals[i].normal_x, normals[i].normal_y, normals[i].normal_z);
+    if (out[i].dot(viewpoint - points[i]) < 0.0) out[i] = -out[i];
+  }
+  return out;
+}
+
+/// Points whose (oriented) normal is within acos(min_cos) of axis.
+PointList facing(const PointList& points, const std::vector<Vec3>& normals, const Vec3& axis, double min_cos) {
+  PointList out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (normals[i].allFinite() && normals[i].dot(axis) > min_cos) out.push_back(points[i]);
+  }
+  return out;
+}
+
+/// Number of (strided, ≤ ~3000) source points that land in occupied target cells.
+int hits(const PointList& source, const Occupancy& target, const Vec3& offset) {
+  const std::size_t stride = std::max<std::size_t>(1, source.size() / 3000);
+  int h = 0;
+  for (std::size_t i = 0; i < source.size(); i += stride) h += target.hit(source[i] + offset) ? 1 : 0;
+  return h;
+}
+
+/// Coarse translation search (the rotation is known from the IMU). An offset along
+/// a direction is seen only by surfaces facing it (a long wall looks the same when
+/// slid along itself and would drown the signal), so the search is three 1D searches,
+/// each on the points whose normals face its axis: the two principal horizontal
+/// directions of the upright surfaces' normals (walls, piers) and z (ground, deck),
+/// twice round. Each tests offsets within ±radius on a grid of `step` and keeps the
+/// one that puts most points into occupied target cells; ties go to the smaller
+/// offset (the recorded positions are a prior).
+Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns, const PointList& target,
+                       const std::vector<Vec3>& nt, double radius, double step) {
+  // Principal horizontal directions of the target's upright normals.
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& n : nt) {
+    if (n.allFinite() && std::abs(n.z()) < 0.5) scatter += n.head<2>() * n.head<2>().transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(scatter);
+  Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  if (scatter.trace() > 0.0) {
+    axes[0] = Vec3(es.eigenvectors()(0, 1), es.eigenvectors()(1, 1), 0.0).normalized();
+    axes[1] = Vec3(-axes[0].y(), axes[0].x(), 0.0);
+  }
+  const int n = static_cast<int>(std::round(radius / step));
+  Vec3 offset = Vec3::Zero();
+  for (int round = 0; round < 2; ++round) {
+    for (const auto& axis : axes) {
+      // Faces toward +axis and toward −axis separately: the two faces of a pier are
+      // both "x-facing" but must not be matched with each other.
+      const double min_cos = axis.z() > 0.5 ? 0.8 : 0.7;
+      const PointList src_pos = facing(source, ns, axis, min_cos), src_neg = facing(source, ns, -axis, min_cos);
+      const Occupancy occ_pos(facing(target, nt, axis, min_cos), step);
+      const Occupancy occ_neg(facing(target, nt, -axis, min_cos), step);
+      const bool use_pos = src_pos.size() >= 10 && occ_pos.usable();
+      const bool use_neg = src_neg.size() >= 10 && occ_neg.usable();
+      if (!use_pos && !use_neg) continue;
+      auto score = [&](const Vec3& o) {
+        return (use_pos ? hits(src_pos, occ_pos, o) : 0) + (use_neg ? hits(src_neg, occ_neg, o) : 0);
+      };
+      const double along = offset.dot(axis);
+      const Vec3 base = offset - along * axis;
+      double best_t = along;
+      int best = score(offset);
+      for (int i = -n; i <= n; ++i) {
+        const double t = i * step;
+        const int h = score(base + t * axis);
+        if (h > best || (h == best && std::abs(t) < std::abs(best_t))) {
+          best = h;
+          best_t = t;
+        }
+      }
+      offset = base + best_t * axis;
+    }
+  }
+  return offset;
+}
+
+/// Translation-only point-to-plane ICP (the rotation is the IMU's): minimises
+/// Σ w·(n_q·(p + t − q))² over t with Tukey weights, re-pairing every step, and moves
+/// only along directions the pairs constrain. Returns the translation and the RMS.
+Vec3 icpTranslation(const PointList& source, const PointList& target, const std::vector<Vec3>& target_normals,
+                    double gate, int iterations, double& rms, bool& converged) {
+  const Cloud::Ptr tgt = toPcl(target);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(tgt);
+  Vec3 t = Vec3::Zero();
+  converged = false;
+  rms = 0.0;
+  pcl::Indices idx(1);
+  std::vector<float> d2(1);
+  for (int it = 0; it < iterations; ++it) {
+    const double c = it < 5 ? gate : std::max(0.1, 0.3 * gate);  // Tukey scale: wide, then tight
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    Vec3 g = Vec3::Zero();
+    double sse = 0.0;
+    std::size_t pairs = 0;
+    for (const auto& p0 : source) {
+      const Vec3 p = p0 + t;
+      const pcl::PointXYZ q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      if (tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
+      const auto j = static_cast<std::size_t>(idx[0]);
+      const Vec3& n = target_normals[j];
+      if (!n.allFinite()) continue;
+      const double e = n.dot(p - target[j]);
+      const double u = e / c;
+      if (std::abs(u) >= 1.0) continue;
+      const double w = (1.0 - u * u) * (1.0 - u * u);
+      h += w * n * n.transpose();
+      g += w * e * n;
+      sse += e * e;
+      ++pairs;
+    }
+    if (pairs < 30) return t;
+    rms = std::sqrt(sse / static_cast<double>(pairs));
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(h);
+    const double floor_ev = 0.02 * es.eigenvalues().maxCoeff();
+    Vec3 dt = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const double ev = es.eigenvalues()(k);
+      if (ev > floor_ev && ev > 0.0) dt -= (es.eigenvectors().col(k).dot(g) / ev) * es.eigenvectors().col(k);
+    }
+    t += dt;
+    converged = true;
+    if (dt.norm() < 1e-4 && it >= 6) break;
+  }
+  return t;
+}
+
+/// Aligns source onto target (both in world coordinates, source at its guess).
+Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals, const PointList& target,
+                const std::vector<Vec3>& target_normals, const RegistrationOptions& o) {
+  Alignment a;
+  if (source_in.size() < 10 || target.size() < 10) return a;
+  // Coarse: translation only (rotation known from the IMU), then ICP from there.
+  const Vec3 coarse = o.search_radius_m > 0.0 ? searchTranslation(source_in, source_normals, target, target_normals,
+                                                                   o.search_radius_m, o.search_step_m)
+                                              : Vec3::Zero();
+  PointList source = source_in;
+  for (auto& p : source) p += coarse;
+  if (o.method == Method::PointToPlaneTranslation) {
+    double rms = 0.0;
+    bool ok = false;
+    const Vec3 t = icpTranslation(source, target, target_normals, o.max_correspondence_m, o.max_iterations, rms, ok);
+    a.delta = Eigen::Translation3d(coarse + t) * Eigen::Isometry3d::Identity();
+    a.converged = ok;
+    a.rms = rms;
+    return a;
+  }
+  // Work around the target's centroid: floats keep sub-millimetre precision.
+  Vec3 origin = Vec3::Zero();
+  for (const auto& p : target) origin += p;
+  origin /= static_cast<double>(target.size());
+  PointList s = source, t = target;
+  for (auto& p : s) p -= origin;
+  for (auto& p : t) p -= origin;
+  const Cloud::Ptr src = toPcl(s), tgt = toPcl(t);
+  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+  double fitness = 0.0;
+  switch (o.method) {
+    case Method::None:
+    case Method::PointToPlaneTranslation:
+      return a;
+    case Method::Icp: {
+      pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+      icp.setInputSource(src);
+      icp.setInputTarget(tgt);
+      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
+      icp.setMaximumIterations(o.max_iterations);
+      icp.setTransformationEpsilon(1e-8);
+      Cloud out;
+      icp.align(out);
+      m = icp.getFinalTransformation();
+      a.converged = icp.hasConverged();
+      fitness = icp.getFitnessScore(o.max_correspondence_m);
+      break;
+    }
+    case Method::IcpPointToPlane: {
+      const NormalCloud::Ptr sn = withNormals(src), tn = withNormals(tgt);
+      pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
+      icp.setInputSource(sn);
+      icp.setInputTarget(tn);
+      icp.setMaximumIterations(o.max_iterations);
+      icp.setTransformationEpsilon(1e-8);
+      NormalCloud out;
+      // Coarse to fine: the configured gate, then a quarter of it.
+      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
+      icp.align(out);
+      Eigen::Matrix4f guess = icp.getFinalTransformation();
+      icp.setMaxCorrespondenceDistance(0.25 * o.max_correspondence_m);
+      icp.align(out, guess);
+      m = icp.getFinalTransformation();
+      a.converged = icp.hasConverged();
+      fitness = icp.getFitnessScore(o.max_correspondence_m);
+      break;
+    }
+    case Method::Gicp: {
+      pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+      icp.setInputSource(src);
+      icp.setInputTarget(tgt);
+      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
+      icp.setMaximumIterations(o.max_iterations);
+      icp.setTransformationEpsilon(1e-8);
+      Cloud out;
+      icp.align(out);
+      m = icp.getFinalTransformation();
+      a.converged = icp.hasConverged();
+      fitness = icp.getFitnessScore(o.max_correspondence_m);
+      break;
+    }
+    case Method::Ndt: {
+      pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
+      ndt.setInputSource(src);
+      ndt.setInputTarget(tgt);
+      ndt.setResolution(static_cast<float>(o.ndt_resolution_m));
+      ndt.setStepSize(0.1);
+      ndt.setMaximumIterations(o.max_iterations);
+      ndt.setTransformationEpsilon(1e-6);
+      Cloud out;
+      ndt.align(out);
+      m = ndt.getFinalTransformation();
+      a.converged = ndt.hasConverged();
+      fitness = ndt.getFitnessScore(o.max_correspondence_m);
+      break;
+    }
+  }
+  const Eigen::Isometry3d d(m.cast<double>());
+  // Back from centroid coordinates: x_world' = origin + d·(x_world − origin).
+  a.delta = Eigen::Translation3d(origin) * d * Eigen::Translation3d(-origin) * Eigen::Translation3d(coarse);
+  // Re-orthonormalise the float rotation.
+  const Eigen::Quaterniond q(a.delta.linear());
+  a.delta.linear() = q.normalized().toRotationMatrix();
+  a.rms = std::sqrt(std::max(0.0, fitness));
+  return a;
+}
+
+PointList transformed(const PointList& points, const Eigen::Isometry3d& pose) {
+  PointList out;
+  out.reserve(points.size());
+  for (const auto& p : points) out.push_back(pose * p);
+  return out;
+}
+
+}  // namespace
+
+Method methodFromString(const std::string& name) {
+  if (name == "none") return Method::None;
+  if (name == "translation") return Method::PointToPlaneTranslation;
+  if (name == "icp") return Method::Icp;
+  if (name == "icp_point_to_plane") return Method::IcpPointToPlane;
+  if (name == "gicp") return Method::Gicp;
+  if (name == "ndt") return Method::Ndt;
+  throw InputError("registration: method must be none, translation, icp, icp_point_to_plane, gicp or ndt, got '" +
+                   name + "'");
+}
+
+std::string toString(Method method) {
+  switch (method) {
+    case Method::None: return "none";
+    case Method::PointToPlaneTranslation: return "translation";
+    case Method::Icp: return "icp";
+    case Method::IcpPointToPlane: return "icp_point_to_plane";
+    case Method::Gicp: return "gicp";
+    case Method::Ndt: return "ndt";
+  }
+  return "?";
+}
+
+void RegistrationOptions::validate(const std::string& where) const {
+  if (!(overlap_margin_m >= 0.0) || !std::isfinite(overlap_margin_m)) {
+    throw InputError(where + ": overlap_margin_m must be >= 0, got " + num(overlap_margin_m));
+  }
+  requirePositive(downsample_m, where, "downsample_m");
+  requirePositive(max_correspondence_m, where, "max_correspondence_m");
+  if (max_iterations < 1) throw InputError(where + ": max_iterations must be >= 1, got " + std::to_string(max_iterations));
+  requirePositive(ndt_resolution_m, where, "ndt_resolution_m");
+  if (!(search_radius_m >= 0.0) || !std::isfinite(search_radius_m)) {
+    throw InputError(where + ": search_radius_m must be >= 0, got " + num(search_radius_m));
+  }
+  requirePositive(search_step_m, where, "search_step_m");
+  if (!(output_voxel_m >= 0.0) || !std::isfinite(output_voxel_m)) {
+    throw InputError(where + ": output_voxel_m must be >= 0, got " + num(output_voxel_m));
+  }
+}
+
+Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw, double imu_yaw_rad,
+                                     double imu_yaw0_rad) {
+  if (index >= log.stations.size()) {
+    throw InputError("registration: station index " + std::to_string(index) + " out of range");
+  }
+  const Station& s0 = log.stations.front();
+  const Station& s = log.stations[index];
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = s.recorded_position - s0.recorded_position;
+  if (use_recorded_yaw) {
+    // Station frames use the IMU's heading reference; turn each onto the recorded headings.
+    const double d = (s.recorded_yaw_rad - imu_yaw_rad) - (s0.recorded_yaw_rad - imu_yaw0_rad);
+    pose.linear() = Eigen::AngleAxisd(d, Vec3::UnitZ()).toRotationMatrix();
+  }
+  return pose;
+}
+
+RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options) {
+  options.validate();
+  const auto t0 = Clock::now();
+  RegistrationResult result;
+  std::size_t ref = stations.size();
+  for (std::size_t i = 0; i < stations.size(); ++i) {
+    if (!stations[i].points.empty()) {
+      ref = i;
+      break;
+    }
+  }
+  if (ref == stations.size()) throw InputError("registration: every station cloud is empty, nothing to register");
+
+  PointList placed;  // down-sampled world points of the stations placed so far
+  std::vector<Vec3> placed_normals;  // their normals, oriented toward their station
+  for (std::size_t i = 0; i < stations.size(); ++i) {
+    const auto ts = Clock::now();
+    const StationInput& in = stations[i];
+    StationResult r;
+    r.id = in.id;
+    r.initial_pose = in.initial_pose;
+    r.pose = in.initial_pose;
+    r.points = in.points.size();
+    if (in.points.empty()) {
+      result.stations.push_back(r);
+      continue;
+    }
+    const PointList ds = voxelDownsample(in.points, options.downsample_m);
+    PointList guess = transformed(ds, in.initial_pose);
+    // Normals in the station frame, oriented toward the station (its origin), then
+    // rotated with the points.
+    std::vector<Vec3> normals = normalsOf(ds, Vec3::Zero());
+    for (auto& n : normals) n = in.initial_pose.linear() * n;
+    if (i == ref || options.method == Method::None) {
+      r.converged = true;
+    } else {
+      // Overlap predicted from the initial poses.
+      PointList src, tgt;
+      std::vector<Vec3> src_n, tgt_n;
+      insideBox(guess, normals, grown(boundingBox(placed), options.overlap_margin_m), src, src_n);
+      insideBox(placed, placed_normals, grown(boundingBox(guess), options.overlap_margin_m), tgt, tgt_n);
+      r.overlap_points = src.size();
+      const Alignment a = align(src, src_n, tgt, tgt_n, options);
+      r.converged = a.converged;
+      r.fitness_rms_m = a.rms;
+      if (a.converged) {
+        r.pose = a.delta * in.initial_pose;
+        guess = transformed(ds, r.pose);
+        for (auto& n : normals) n = a.delta.linear() * n;
+      }
+    }
+    placed.insert(placed.end(), guess.begin(), guess.end());
+    placed_normals.insert(placed_normals.end(), normals.begin(), normals.end());
+    r.time_s = secondsSince(ts);
+    result.stations.push_back(r);
+  }
+
+  PointList all;
+  std::size_t total = 0;
+  for (const auto& s : stations) total += s.points.size();
+  all.reserve(total);
+  for (std::size_t i = 0; i < stations.size(); ++i) {
+    const Eigen::Isometry3d& pose = result.stations[i].pose;
+    for (const auto& p : stations[i].points) all.push_back(pose * p);
+  }
+  result.merged = options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m) : std::move(all);
+  result.time_s = secondsSince(t0);
+  return result;
+}
+
+}  // namespace uavip::registration

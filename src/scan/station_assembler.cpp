@@ -1,0 +1,662 @@
+// GCC 12 reports false positives (-Warray-bounds, -Wmaybe-uninitialized) inside the
+// Eigen/SSE code that PCL's registration templates instantiate here (set before any
+// include: the warnings are attributed to the Eigen headers).
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "uavip/scan/station_assembler.h"
+
+#include "uavip/core/error.h"
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/transformation_estimation_2D.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <unordered_map>
+
+namespace uavip::scan {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Vec2 = Eigen::Vector2d;
+constexpr double kPi = 3.14159265358979323846;
+/// Correspondences need normals within acos(this) of each other (20°).
+constexpr double kNormalCos = 0.94;
+/// Directions whose (range-scaled) eigenvalue is below this fraction of the largest
+/// are not updated by an ICP step (degenerate: e.g. only one flat face in view).
+constexpr double kDegenerateFraction = 0.02;
+/// Range that scales yaw against translation in the degeneracy test [m].
+constexpr double kTypicalRange = 5.0;
+/// Keyframe points join the reference map only this far from its points [m].
+constexpr double kMapSpacing = 0.03;
+/// ICP needs at least this many pairs; with fewer the scan keeps the previous pose.
+constexpr std::size_t kMinPairs = 30;
+/// Weight of the prior toward the guess, per pair (see icpPointToLine).
+constexpr double kPriorWeight = 1e-3;
+/// Line fit of a scan point: beam-order neighbours ±this many, …
+constexpr int kHalfWindow = 8;
+/// … and a line when the smaller eigenvalue is below this fraction of the larger.
+constexpr double kLineRatio = 0.1;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double wrapAngle(double a) {
+  while (a > kPi) a -= 2.0 * kPi;
+  while (a <= -kPi) a += 2.0 * kPi;
+  return a;
+}
+
+Eigen::Matrix2d rot2(double theta) {
+  Eigen::Matrix2d r;
+  const double c = std::cos(theta), s = std::sin(theta);
+  r << c, -s, s, c;
+  return r;
+}
+
+std::string num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+/// Nearest-neighbour lookup on a uniform 2D grid of cell = the search radius.
+class Grid2D {
+ public:
+  Grid2D(const std::vector<Vec2>& points, double cell) : points_(points), cell_(cell) {
+    for (std::size_t i = 0; i < points_.size(); ++i) cells_[key(cellOf(points_[i].x()), cellOf(points_[i].y()))].push_back(static_cast<int>(i));
+  }
+  /// Index of the nearest point within the cell size, or −1.
+  int nearest(const Vec2& q) const {
+    const std::int64_t cx = cellOf(q.x()), cy = cellOf(q.y());
+    double best = cell_ * cell_;
+    int best_i = -1;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = cells_.find(key(cx + dx, cy + dy));
+        if (it == cells_.end()) continue;
+        for (const int i : it->second) {
+          const double d2 = (points_[static_cast<std::size_t>(i)] - q).squaredNorm();
+          if (d2 < best) {
+            best = d2;
+            best_i = i;
+          }
+        }
+      }
+    }
+    return best_i;
+  }
+
+ private:
+  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  static std::int64_t key(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); }
+  const std::vector<Vec2>& points_;
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<int>> cells_;
+};
+
+/// A horizontal scan as 2D points (in beam order) in some frame, with the line
+/// normals there (zero where the neighbourhood is not a line).
+struct Scan2D {
+  std::vector<Vec2> pts;
+  std::vector<Vec2> normals;
+};
+
+/// A keyframe: points in the station frame with line normals (zero where unknown).
+struct Reference {
+  std::vector<Vec2> pts;
+  std::vector<Vec2> normals;
+};
+
+Reference makeReference(const Scan2D& scan, double theta, const Vec2& t) {
+  Reference ref;
+  const Eigen::Matrix2d r = rot2(theta);
+  ref.pts.reserve(scan.pts.size());
+  for (const auto& p : scan.pts) ref.pts.push_back(r * p + t);
+  ref.normals.assign(ref.pts.size(), Vec2::Zero());
+  const int n = static_cast<int>(ref.pts.size());
+  for (int i = 0; i < n; ++i) {
+    // Line fit (PCA) over beam-order neighbours close to the point.
+    const Vec2& c = ref.pts[static_cast<std::size_t>(i)];
+    const double range = (scan.pts[static_cast<std::size_t>(i)]).norm();
+    const double reach = 0.2 + 0.02 * range;
+    Vec2 mean = Vec2::Zero();
+    int m = 0;
+    for (int j = std::max(0, i - kHalfWindow); j <= std::min(n - 1, i + kHalfWindow); ++j) {
+      if ((ref.pts[static_cast<std::size_t>(j)] - c).norm() <= reach) {
+        mean += ref.pts[static_cast<std::size_t>(j)];
+        ++m;
+      }
+    }
+    if (m < 3) continue;
+    mean /= m;
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (int j = std::max(0, i - kHalfWindow); j <= std::min(n - 1, i + kHalfWindow); ++j) {
+      const Vec2 d = ref.pts[static_cast<std::size_t>(j)] - mean;
+      if ((ref.pts[static_cast<std::size_t>(j)] - c).norm() <= reach) cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    // A line: the smaller eigenvalue is much smaller than the larger one.
+    if (es.eigenvalues()(0) > kLineRatio * es.eigenvalues()(1)) continue;
+    ref.normals[static_cast<std::size_t>(i)] = es.eigenvectors().col(0).normalized();
+  }
+  return ref;
+}
+
+struct IcpResult {
+  double theta{0.0};
+  Vec2 t{Vec2::Zero()};
+  int iterations{0};
+  double rms{0.0};
+  std::size_t pairs{0};
+};
+
+/// Point-to-line ICP: finds (theta, t) with rot(theta)·src + t ≈ reference, starting
+/// from the given guess. Huber-weighted Gauss–Newton, correspondences re-found each step.
+IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& grid, double theta0,
+                         const Vec2& t0, const AssemblerOptions& o, int stride) {
+  IcpResult r;
+  r.theta = theta0;
+  r.t = t0;
+  const double huber = 0.05;
+  const double tukey = 0.1;
+  for (int it = 0; it < o.max_iterations; ++it) {
+    const Eigen::Matrix2d rot = rot2(r.theta);
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    double sse = 0.0;
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < src.pts.size(); i += static_cast<std::size_t>(stride)) {
+      const Vec2 rp = rot * src.pts[i];
+      const Vec2 x = rp + r.t;
+      const int j = grid.nearest(x);
+      if (j < 0) continue;
+      const Vec2& n = ref.normals[static_cast<std::size_t>(j)];
+      if (n.squaredNorm() == 0.0) continue;
+      // Compatible normals only: a point near a corner may be nearest to the other wall.
+      if (!src.normals.empty()) {
+        const Vec2& ns = src.normals[i];
+        if (ns.squaredNorm() == 0.0 || std::abs(n.dot(rot * ns)) < kNormalCos) continue;
+      }
+      const double e = n.dot(x - ref.pts[static_cast<std::size_t>(j)]);
+      const Vec2 drot(-rp.y(), rp.x());  // d(rot·p)/dθ
+      const Eigen::Vector3d jac(n.x(), n.y(), n.dot(drot));
+      // Huber for the first steps (the guess may be centimetres off), then Tukey:
+      // pairs across an occlusion edge or a corner get no weight at all.
+      double w = std::abs(e) <= huber ? 1.0 : huber / std::abs(e);
+      if (it >= 3) {
+        const double u = e / tukey;
+        w = std::abs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+      }
+      h += w * jac * jac.transpose();
+      g += w * jac * e;
+      sse += e * e;
+      ++pairs;
+    }
+    r.iterations = it + 1;
+    r.pairs = pairs;
+    r.rms = pairs ? std::sqrt(sse / static_cast<double>(pairs)) : 0.0;
+    if (pairs < kMinPairs) break;
+    // A weak prior toward the guess (the previous position: the wind is a random
+    // walk) keeps directions the scan does not constrain (one flat face seen, or
+    // nothing in the field of view) where they were instead of letting them slide.
+    const double lambda = kPriorWeight * static_cast<double>(pairs);
+    h(0, 0) += lambda;
+    h(1, 1) += lambda;
+    h(2, 2) += lambda;
+    g(0) += lambda * (r.t.x() - t0.x());
+    g(1) += lambda * (r.t.y() - t0.y());
+    g(2) += lambda * (r.theta - theta0);
+    // Degeneracy-aware step (Zhang et al., ICRA 2016): move only along directions
+    // the pairs constrain. θ is scaled by a typical range so the eigenvalues compare.
+    const Eigen::Vector3d scale(1.0, 1.0, 1.0 / kTypicalRange);
+    const Eigen::Matrix3d hs = scale.asDiagonal() * h * scale.asDiagonal();
+    const Eigen::Vector3d gs = scale.asDiagonal() * g;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(hs);
+    const double floor_ev = kDegenerateFraction * es.eigenvalues().maxCoeff();
+    Eigen::Vector3d dxs = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c) {
+      const double ev = es.eigenvalues()(c);
+      if (ev > floor_ev && ev > 0.0) dxs -= (es.eigenvectors().col(c).dot(gs) / ev) * es.eigenvectors().col(c);
+    }
+    const Eigen::Vector3d dx = scale.asDiagonal() * dxs;
+    if (!dx.allFinite()) break;
+    r.t += dx.head<2>();
+    r.theta += dx(2);
+    if (dx.head<2>().norm() < o.convergence_m && std::abs(dx(2)) < 1e-5) break;
+  }
+  return r;
+}
+
+/// The same problem with pcl::IterativeClosestPoint (point-to-point, 2D estimate).
+IcpResult icpPcl(const Scan2D& src, const Reference& ref, double theta0, const Vec2& t0,
+                 const AssemblerOptions& o, int stride) {
+  using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+  auto s = std::make_shared<Cloud>();
+  auto d = std::make_shared<Cloud>();
+  for (std::size_t i = 0; i < src.pts.size(); i += static_cast<std::size_t>(stride)) {
+    s->push_back(pcl::PointXYZ(static_cast<float>(src.pts[i].x()), static_cast<float>(src.pts[i].y()), 0.0f));
+  }
+  for (const auto& p : ref.pts) d->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f));
+  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+  icp.setTransformationEstimation(
+      std::make_shared<pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>>());
+  icp.setInputSource(s);
+  icp.setInputTarget(d);
+  icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
+  icp.setMaximumIterations(o.max_iterations);
+  icp.setTransformationEpsilon(o.convergence_m * o.convergence_m);
+  Eigen::Matrix4f guess = Eigen::Matrix4f::Identity();
+  guess.block<2, 2>(0, 0) = rot2(theta0).cast<float>();
+  guess(0, 3) = static_cast<float>(t0.x());
+  guess(1, 3) = static_cast<float>(t0.y());
+  Cloud aligned;
+  icp.align(aligned, guess);
+  IcpResult r;
+  const Eigen::Matrix4f m = icp.getFinalTransformation();
+  r.theta = std::atan2(static_cast<double>(m(1, 0)), static_cast<double>(m(0, 0)));
+  r.t = Vec2(static_cast<double>(m(0, 3)), static_cast<double>(m(1, 3)));
+  r.iterations = o.max_iterations;
+  r.rms = std::sqrt(std::max(0.0, icp.getFitnessScore(o.max_correspondence_m)));
+  r.pairs = s->size();
+  return r;
+}
+
+/// Quaternion → rotation vector (log map), shortest path.
+Eigen::Vector3d logMap(const Eigen::Quaterniond& q_in) {
+  Eigen::Quaterniond q = q_in.w() < 0.0 ? Eigen::Quaterniond(-q_in.coeffs()) : q_in;
+  const Eigen::AngleAxisd aa(q);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Quaterniond expMap(const Eigen::Vector3d& v) {
+  const double a = v.norm();
+  if (a < 1e-12) return Eigen::Quaterniond::Identity();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, v / a));
+}
+
+/// Median of a non-empty vector (modifies it).
+double median(std::vector<double>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// A 2D height map (cell → mean z of the first points that fell into it).
+class HeightMap {
+ public:
+  explicit HeightMap(double cell) : cell_(cell) {}
+  /// z offset of p against the map, or NaN if its cell is empty.
+  double offset(const Vec3& p) const {
+    const auto it = cells_.find(key(p));
+    if (it == cells_.end()) return std::numeric_limits<double>::quiet_NaN();
+    return p.z() - it->second.first / it->second.second;
+  }
+  void add(const Vec3& p) {
+    auto& c = cells_[key(p)];
+    if (c.second < 8) {  // freeze a cell once it is known, so the map does not drift
+      c.first += p.z();
+      c.second += 1;
+    }
+  }
+
+ private:
+  std::int64_t key(const Vec3& p) const {
+    const auto x = static_cast<std::int64_t>(std::floor(p.x() / cell_));
+    const auto y = static_cast<std::int64_t>(std::floor(p.y() / cell_));
+    return (x << 32) ^ (y & 0xffffffff);
+  }
+  double cell_;
+  std::unordered_map<std::int64_t, std::pair<double, int>> cells_;
+};
+
+}  // namespace
+
+IcpMethod icpMethodFromString(const std::string& name) {
+  if (name == "point_to_line") return IcpMethod::PointToLine2D;
+  if (name == "pcl") return IcpMethod::PclPointToPoint;
+  throw InputError("scan: icp must be point_to_line or pcl, got '" + name + "'");
+}
+
+std::string toString(IcpMethod method) {
+  return method == IcpMethod::PointToLine2D ? "point_to_line" : "pcl";
+}
+
+void AssemblerOptions::validate(const std::string& where) const {
+  if (max_iterations < 1) throw InputError(where + ": max_iterations must be >= 1, got " + std::to_string(max_iterations));
+  requirePositive(max_correspondence_m, where, "max_correspondence_m");
+  requirePositive(convergence_m, where, "convergence_m");
+  requirePositive(keyframe_yaw_deg, where, "keyframe_yaw_deg");
+  requirePositive(keyframe_translation_m, where, "keyframe_translation_m");
+  if (horizontal_stride < 1) throw InputError(where + ": horizontal_stride must be >= 1, got " + std::to_string(horizontal_stride));
+  if (!(imu_smoothing_s >= 0.0) || !std::isfinite(imu_smoothing_s)) {
+    throw InputError(where + ": imu_smoothing_s must be >= 0, got " + num(imu_smoothing_s));
+  }
+  requirePositive(max_imu_gap_s, where, "max_imu_gap_s");
+  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0)) throw InputError(where + ": z_cone_deg must be in (0, 90), got " + num(z_cone_deg));
+}
+
+double yawOf(const Eigen::Quaterniond& q) {
+  const Vec3 x = q * Vec3::UnitX();
+  return std::atan2(x.y(), x.x());
+}
+
+ImuTrack::ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, double smoothing_s,
+                   const std::string& where) {
+  if (samples.empty()) throw InputError(where + ": no IMU samples");
+  t_.reserve(samples.size());
+  q_.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const auto& s = samples[i];
+    if (!std::isfinite(s.t_s) || !s.world_q_body.coeffs().allFinite() || s.world_q_body.norm() < 1e-6) {
+      throw InputError(where + ": IMU sample " + std::to_string(i) + " is not finite or not a rotation");
+    }
+    if (i > 0) {
+      const double gap = s.t_s - t_.back();
+      if (gap < 0.0) {
+        throw InputError(where + ": IMU time goes backwards at sample " + std::to_string(i) + " (" + num(t_.back()) +
+                         " s -> " + num(s.t_s) + " s)");
+      }
+      if (gap > max_gap_s) {
+        throw InputError(where + ": IMU gap of " + num(gap) + " s at t = " + num(t_.back()) +
+                         " s is longer than max_imu_gap_s " + num(max_gap_s) + " s");
+      }
+    }
+    t_.push_back(s.t_s);
+    Eigen::Quaterniond q = s.world_q_body.normalized();
+    if (!q_.empty() && q_.back().coeffs().dot(q.coeffs()) < 0.0) q.coeffs() *= -1.0;  // same hemisphere
+    q_.push_back(q);
+  }
+  if (smoothing_s > 0.0 && q_.size() > 2) {
+    std::vector<Eigen::Quaterniond> smooth(q_.size());
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < q_.size(); ++i) {
+      while (t_[lo] < t_[i] - 0.5 * smoothing_s) ++lo;
+      while (hi + 1 < q_.size() && t_[hi + 1] <= t_[i] + 0.5 * smoothing_s) ++hi;
+      // Least-squares line r(τ) = a + b·τ through the rotation vectors relative to q_i.
+      const Eigen::Quaterniond inv = q_[i].conjugate();
+      double s0 = 0, s1 = 0, s2 = 0;
+      Eigen::Vector3d r0 = Eigen::Vector3d::Zero(), r1 = Eigen::Vector3d::Zero();
+      for (std::size_t j = lo; j <= hi; ++j) {
+        const double tau = t_[j] - t_[i];
+        const Eigen::Vector3d r = logMap(inv * q_[j]);
+        s0 += 1.0;
+        s1 += tau;
+        s2 += tau * tau;
+        r0 += r;
+        r1 += tau * r;
+      }
+      const double det = s0 * s2 - s1 * s1;
+      const Eigen::Vector3d a = std::abs(det) > 1e-18 ? Eigen::Vector3d((s2 * r0 - s1 * r1) / det) : Eigen::Vector3d(r0 / s0);
+      smooth[i] = (q_[i] * expMap(a)).normalized();
+    }
+    q_ = std::move(smooth);
+    for (std::size_t i = 1; i < q_.size(); ++i) {
+      if (q_[i - 1].coeffs().dot(q_[i].coeffs()) < 0.0) q_[i].coeffs() *= -1.0;
+    }
+  }
+}
+
+Eigen::Quaterniond ImuTrack::at(double t_s) const {
+  if (t_s <= t_.front()) return q_.front();
+  if (t_s >= t_.back()) return q_.back();
+  const auto it = std::upper_bound(t_.begin(), t_.end(), t_s);
+  const auto j = static_cast<std::size_t>(it - t_.begin());
+  const std::size_t i = j - 1;
+  const double dt = t_[j] - t_[i];
+  const double u = dt > 0.0 ? (t_s - t_[i]) / dt : 0.0;
+  return q_[i].slerp(u, q_[j]);
+}
+
+StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options) {
+  options.validate();
+  if (index >= log.stations.size()) {
+    throw InputError("scan: station index " + std::to_string(index) + " out of range (" +
+                     std::to_string(log.stations.size()) + " stations)");
+  }
+  const Station& st = log.stations[index];
+  const std::string where = "station " + std::to_string(st.id);
+  StationCloud out;
+  out.station_id = st.id;
+  out.stats.vertical_scans = st.vertical.size();
+  out.stats.horizontal_scans = st.horizontal.size();
+  if (st.vertical.empty() && st.horizontal.empty()) return out;
+
+  const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
+  const double tolerance = options.max_imu_gap_s;
+  auto checkScan = [&](const LaserScan& s, const char* kind, std::size_t i, double prev_t) {
+    if (!std::isfinite(s.t_start_s) || !std::isfinite(s.duration_s) || s.duration_s < 0.0) {
+      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " has a non-finite time");
+    }
+    if (s.t_start_s < prev_t) {
+      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " starts before the previous one (" +
+                       num(prev_t) + " s -> " + num(s.t_start_s) + " s)");
+    }
+    if (s.t_start_s < imu.startTime() - tolerance || s.t_start_s + s.duration_s > imu.endTime() + tolerance) {
+      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + num(s.t_start_s) +
+                       " s is outside the IMU's time span [" + num(imu.startTime()) + ", " + num(imu.endTime()) + "] s");
+    }
+  };
+  for (std::size_t i = 0; i < st.vertical.size(); ++i) {
+    checkScan(st.vertical[i], "vertical", i, i ? st.vertical[i - 1].t_start_s : -std::numeric_limits<double>::infinity());
+  }
+  for (std::size_t i = 0; i < st.horizontal.size(); ++i) {
+    checkScan(st.horizontal[i], "horizontal", i, i ? st.horizontal[i - 1].t_start_s : -std::numeric_limits<double>::infinity());
+  }
+
+  // --- T from the horizontal scans (ICP) ---------------------------------------
+  const auto t_icp = Clock::now();
+  const bool prior = options.use_imu_prior;
+  const int stride = options.horizontal_stride;
+  std::vector<Scan2D> scans(st.horizontal.size());
+  for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
+    const LaserScan& s = st.horizontal[k];
+    scans[k].pts.reserve(s.ranges_m.size());
+    for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+      const float r = s.ranges_m[i];
+      if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+      const Vec3 b = log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
+      // With the prior: rotate by the IMU at the beam's own time (levels, de-yaws, deskews).
+      const Vec3 p = prior ? Vec3(imu.at(s.beamTime(i)) * b) : b;
+      scans[k].pts.emplace_back(p.x(), p.y());
+    }
+    scans[k].normals = makeReference(scans[k], 0.0, Vec2::Zero()).normals;
+  }
+  // Per scan: residual yaw θ_k and position t_k in the station frame:
+  //   station xy = rot(θ_k)·scan_k + t_k.
+  std::vector<double> theta(scans.size(), 0.0);
+  std::vector<Vec2> trans(scans.size(), Vec2::Zero());
+  double iter_sum = 0.0, rms_sum = 0.0;
+  std::size_t icp_runs = 0;
+  if (!scans.empty()) {
+    // Plain ICP starts from the IMU heading of the first scan (so both modes share the frame).
+    theta[0] = prior ? 0.0 : yawOf(imu.at(st.horizontal[0].t_start_s));
+    std::size_t kf = 0;
+    Reference ref = makeReference(scans[0], theta[0], trans[0]);
+    auto grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
+    out.stats.keyframes = 1;
+    for (std::size_t k = 1; k < scans.size(); ++k) {
+      // Guess: the previous pose (the wind is a random walk; plain ICP gets no
+      // yaw prediction either: it starts from the last yaw).
+      const double th0 = theta[k - 1];
+      const Vec2 t0 = trans[k - 1];
+      const IcpResult r = options.icp == IcpMethod::PointToLine2D
+                              ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, stride)
+                              : icpPcl(scans[k], ref, th0, t0, options, stride);
+      const bool ok = r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
+      theta[k] = ok ? r.theta : th0;
+      trans[k] = ok ? r.t : t0;
+      if (!ok) ++out.stats.failed_icp;
+      iter_sum += r.iterations;
+      rms_sum += r.rms;
+      ++icp_runs;
+      // Yaw since the keyframe: the IMU's (with the prior) or the ICP's own.
+      const double yaw_k = prior ? yawOf(imu.at(st.horizontal[k].t_start_s)) + theta[k] : theta[k];
+      const double yaw_kf = prior ? yawOf(imu.at(st.horizontal[kf].t_start_s)) + theta[kf] : theta[kf];
+      if (ok && (std::abs(wrapAngle(yaw_k - yaw_kf)) * 180.0 / kPi > options.keyframe_yaw_deg ||
+                 (trans[k] - trans[kf]).norm() > options.keyframe_translation_m)) {
+        // The reference is a map of all keyframes so far: structure seen earlier in
+        // the turn stays matchable (what the scanner sees comes and goes as it yaws).
+        // New points join it only where it has none within kMapSpacing.
+        kf = k;
+        const Reference add = makeReference(scans[k], theta[k], trans[k]);
+        for (std::size_t i = 0; i < add.pts.size(); ++i) {
+          if (add.normals[i].squaredNorm() == 0.0) continue;
+          const int j = grid->nearest(add.pts[i]);
+          if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < kMapSpacing) continue;
+          ref.pts.push_back(add.pts[i]);
+          ref.normals.push_back(add.normals[i]);
+        }
+        grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
+        ++out.stats.keyframes;
+      }
+    }
+    // Loop closure: the last scan as placed, ICP'd onto the first as placed, in
+    // coordinates centred on the last scan's position (so the result is a body offset).
+    if (scans.size() >= 2) {
+      const std::size_t last = scans.size() - 1;
+      Scan2D first_c;
+      for (const auto& p : scans[0].pts) first_c.pts.push_back(rot2(theta[0]) * p + trans[0] - trans[last]);
+      Reference lref = makeReference(first_c, 0.0, Vec2::Zero());
+      const Grid2D lgrid(lref.pts, options.max_correspondence_m);
+      Scan2D last_c;
+      for (const auto& p : scans[last].pts) last_c.pts.push_back(rot2(theta[last]) * p);
+      last_c.normals = makeReference(last_c, 0.0, Vec2::Zero()).normals;
+      const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
+      out.loop_closure_m = r.t.norm();
+    }
+  }
+  out.stats.mean_icp_iterations = icp_runs ? iter_sum / static_cast<double>(icp_runs) : 0.0;
+  out.stats.mean_icp_rms_m = icp_runs ? rms_sum / static_cast<double>(icp_runs) : 0.0;
+
+  // Poses: R = IMU (with the prior, corrected by the residual yaw); T = ICP.
+  out.pose_times_s.reserve(scans.size());
+  out.poses.reserve(scans.size());
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    const LaserScan& s = st.horizontal[k];
+    const double tm = s.t_start_s + 0.5 * s.duration_s;
+    out.pose_times_s.push_back(tm);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = imu.at(s.t_start_s).toRotationMatrix();
+    pose.translation() = Vec3(trans[k].x(), trans[k].y(), 0.0);
+    out.poses.push_back(pose);
+  }
+  // Horizontal translation at time t: linear between the scans' mid times, clamped.
+  auto translationAt = [&](double t) -> Vec3 {
+    if (trans.empty()) return Vec3::Zero();
+    const auto& ts = out.pose_times_s;
+    Vec2 xy = trans.front();
+    if (t >= ts.back()) {
+      xy = trans.back();
+    } else if (t > ts.front()) {
+      const auto j = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
+      const double u = (t - ts[j - 1]) / std::max(1e-12, ts[j] - ts[j - 1]);
+      xy = (1.0 - u) * trans[j - 1] + u * trans[j];
+    }
+    return {xy.x(), xy.y(), 0.0};
+  };
+  out.stats.icp_s = secondsSince(t_icp);
+
+  // --- z drift from the vertical scanner's nadir/zenith beams -------------------
+  const auto t_pts = Clock::now();
+  const double cone = options.z_cone_deg * kPi / 180.0;
+  std::vector<double> z_of_vscan(st.vertical.size(), 0.0);
+  if (options.estimate_z && !st.vertical.empty()) {
+    HeightMap below(0.25), above(0.25);
+    double z = 0.0;
+    std::vector<double> offsets;
+    std::vector<std::pair<Vec3, bool>> pts;
+    for (std::size_t k = 0; k < st.vertical.size(); ++k) {
+      const LaserScan& s = st.vertical[k];
+      pts.clear();
+      offsets.clear();
+      for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+        const float r = s.ranges_m[i];
+        if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+        const double t = s.beamTime(i);
+        const Eigen::Quaterniond q = imu.at(t);
+        const Vec3 dir = q * (log.body_T_vertical.linear() * verticalBeam(1.0, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad));
+        if (std::abs(dir.z()) < std::cos(cone)) continue;
+        Vec3 p = q * (log.body_T_vertical * verticalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) + translationAt(t);
+        p.z() += z;
+        const bool down = dir.z() < 0.0;
+        const double off = down ? below.offset(p) : above.offset(p);
+        if (std::isfinite(off)) offsets.push_back(off);
+        pts.emplace_back(p, down);
+      }
+      double dz = 0.0;
+      if (offsets.size() >= 5) dz = median(offsets);
+      z -= dz;
+      z_of_vscan[k] = z;
+      for (const auto& [p, down] : pts) {
+        const Vec3 c(p.x(), p.y(), p.z() - dz);
+        if (down) {
+          below.add(c);
+        } else {
+          above.add(c);
+        }
+      }
+    }
+  }
+
+  // The trajectory's z: the vertical scan nearest in time.
+  if (!st.vertical.empty()) {
+    for (std::size_t k = 0; k < out.poses.size(); ++k) {
+      const double t = out.pose_times_s[k];
+      const auto it = std::lower_bound(st.vertical.begin(), st.vertical.end(), t,
+                                       [](const LaserScan& s, double v) { return s.t_start_s < v; });
+      std::size_t j = static_cast<std::size_t>(it - st.vertical.begin());
+      if (j == st.vertical.size() || (j > 0 && t - st.vertical[j - 1].t_start_s < st.vertical[j].t_start_s - t)) {
+        j = j == 0 ? 0 : j - 1;
+      }
+      out.poses[k].translation().z() = z_of_vscan[j];
+    }
+  }
+
+  // --- eq. (1) on every vertical beam ------------------------------------------
+  std::size_t n_beams = 0;
+  for (const auto& s : st.vertical) n_beams += s.ranges_m.size();
+  out.points.reserve(n_beams);
+  const Eigen::Matrix3d mount_r = log.body_T_vertical.linear();
+  const Vec3 mount_t = log.body_T_vertical.translation();
+  for (std::size_t k = 0; k < st.vertical.size(); ++k) {
+    const LaserScan& s = st.vertical[k];
+    for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+      ++out.stats.beams;
+      const float r = s.ranges_m[i];
+      if (!validRange(r, log.min_range_m, log.max_range_m)) {
+        ++out.stats.invalid_beams;
+        continue;
+      }
+      const double t = s.beamTime(i);
+      const Vec3 xs = verticalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
+      Vec3 x = imu.at(t) * (mount_r * xs + mount_t) + translationAt(t);
+      x.z() += z_of_vscan[k];
+      out.points.push_back(x);
+    }
+  }
+  if (options.include_horizontal) {
+    for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
+      const LaserScan& s = st.horizontal[k];
+      for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+        const float r = s.ranges_m[i];
+        if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+        const double t = s.beamTime(i);
+        out.points.push_back(imu.at(t) * (log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) +
+                             translationAt(t));
+      }
+    }
+  }
+  out.stats.points_s = secondsSince(t_pts);
+  return out;
+}
+
+}  // namespace uavip::scan

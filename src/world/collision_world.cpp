@@ -1,0 +1,567 @@
+#include "uavip/world/collision_world.h"
+
+#include "uavip/core/error.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <fcl/fcl.h>
+#include <octomap/OcTree.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace uavip::world {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// The cloud's segment distance is computed piece by piece, at most this long [m].
+constexpr double kPieceLength = 0.5;
+/// Smallest pruning bound handed back to FCL's broadphase: objects whose AABB
+/// overlaps the query capsule (AABB distance 0) are always visited [m].
+constexpr double kMinPrune = 1e-12;
+
+// ---------------------------------------------------------------- exact geometry
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5).
+Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// Closest points of segments p1q1 and p2q2 (Ericson §5.1.9); returns the distance.
+double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1, Vec3& c2) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  constexpr double kEps = 1e-300;
+  double s = 0.0, t = 0.0;
+  if (a <= kEps && e <= kEps) {
+    c1 = p1;
+    c2 = p2;
+    return (c1 - c2).norm();
+  }
+  if (a <= kEps) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= kEps) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2);
+      const double denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+  return (c1 - c2).norm();
+}
+
+/// Distance from segment [a, b] to triangle (t0, t1, t2); `q` gets the nearest
+/// point of the triangle.
+double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2, Vec3& q) {
+  const Vec3 n = (t1 - t0).cross(t2 - t0);
+  const double da = n.dot(a - t0), db = n.dot(b - t0);
+  if (n.squaredNorm() > 0.0 && ((da <= 0.0 && db >= 0.0) || (da >= 0.0 && db <= 0.0)) && da != db) {
+    // The segment meets the triangle's plane at x: inside the triangle → distance 0.
+    const Vec3 x = a + (da / (da - db)) * (b - a);
+    if (n.dot((t1 - t0).cross(x - t0)) >= 0.0 && n.dot((t2 - t1).cross(x - t1)) >= 0.0 &&
+        n.dot((t0 - t2).cross(x - t2)) >= 0.0) {
+      q = x;
+      return 0.0;
+    }
+  }
+  // Otherwise the minimum is at an end of the segment or on an edge of the triangle.
+  double best = kInf;
+  for (const Vec3* p : {&a, &b}) {
+    const Vec3 c = closestOnTriangle(*p, t0, t1, t2);
+    const double d = (c - *p).norm();
+    if (d < best) {
+      best = d;
+      q = c;
+    }
+  }
+  const std::array<std::pair<const Vec3*, const Vec3*>, 3> edges{{{&t0, &t1}, {&t1, &t2}, {&t2, &t0}}};
+  for (const auto& [e0, e1] : edges) {
+    Vec3 cs, ce;
+    const double d = segmentSegment(a, b, *e0, *e1, cs, ce);
+    if (d < best) {
+      best = d;
+      q = ce;
+    }
+  }
+  return best;
+}
+
+/// A convex polyhedron as triangles with outward normals.
+struct Polyhedron {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<Vec3> normals;    ///< outward unit normal per triangle
+  std::vector<double> offsets;  ///< n·x + offset = 0 per triangle
+
+  /// Orients every triangle outward (the solid is convex: away from the centroid)
+  /// and caches its plane.
+  void finish() {
+    Vec3 centre = Vec3::Zero();
+    for (const auto& v : vertices) centre += v;
+    centre /= static_cast<double>(vertices.size());
+    normals.clear();
+    offsets.clear();
+    for (auto& t : triangles) {
+      const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
+      Vec3 n = (vertices[static_cast<std::size_t>(t[1])] - a).cross(vertices[static_cast<std::size_t>(t[2])] - a);
+      if (n.dot(a - centre) < 0.0) {
+        std::swap(t[1], t[2]);
+        n = -n;
+      }
+      n.normalize();
+      normals.push_back(n);
+      offsets.push_back(-n.dot(a));
+    }
+  }
+
+  bool contains(const Vec3& p) const {
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      if (normals[i].dot(p) + offsets[i] > 0.0) return false;
+    }
+    return true;
+  }
+
+  /// Exact distance from segment [a, b] to the solid; `q` gets its nearest point.
+  double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
+    if (contains(a)) {
+      q = a;
+      return 0.0;
+    }
+    if (contains(b)) {
+      q = b;
+      return 0.0;
+    }
+    double best = kInf;
+    for (const auto& t : triangles) {
+      Vec3 c;
+      const double d = segmentTriangle(a, b, vertices[static_cast<std::size_t>(t[0])],
+                                       vertices[static_cast<std::size_t>(t[1])],
+                                       vertices[static_cast<std::size_t>(t[2])], c);
+      if (d < best) {
+        best = d;
+        q = c;
+        if (best == 0.0) break;
+      }
+    }
+    return best;
+  }
+
+  Aabb bounds() const {
+    Aabb box;
+    for (const auto& v : vertices) box.extend(v);
+    return box;
+  }
+};
+
+/// A prism: polygon `top` (convex, in order) and `top − depth` as the bottom.
+Polyhedron prism(const std::vector<Vec3>& top, const Vec3& depth) {
+  Polyhedron p;
+  const int n = static_cast<int>(top.size());
+  for (const auto& v : top) p.vertices.push_back(v);
+  for (const auto& v : top) p.vertices.push_back(v - depth);
+  for (int i = 1; i + 1 < n; ++i) {
+    p.triangles.push_back({0, i, i + 1});
+    p.triangles.push_back({n, n + i, n + i + 1});
+  }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    p.triangles.push_back({i, n + i, n + j});
+    p.triangles.push_back({i, n + j, j});
+  }
+  p.finish();
+  return p;
+}
+
+double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// Counter-clockwise convex hull (Andrew's monotone chain), collinear points dropped.
+std::vector<Eigen::Vector2d> hull2d(std::vector<Eigen::Vector2d> pts) {
+  std::sort(pts.begin(), pts.end(), [](const auto& l, const auto& r) {
+    return l.x() < r.x() || (l.x() == r.x() && l.y() < r.y());
+  });
+  if (pts.size() < 3) return pts;
+  std::vector<Eigen::Vector2d> h(2 * pts.size());
+  std::size_t k = 0;
+  for (const auto& p : pts) {
+    while (k >= 2 && cross2(h[k - 2], h[k - 1], p) <= 0.0) --k;
+    h[k++] = p;
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross2(h[k - 2], h[k - 1], pts[i]) <= 0.0) --k;
+    h[k++] = pts[i];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+/// The slab of a surface, or an empty polyhedron if its boundary is degenerate.
+Polyhedron surfaceSlab(const Surface& s, double thickness) {
+  const Vec3 n = s.plane.normal.normalized();
+  Vec3 u = s.axis_u - s.axis_u.dot(n) * n;
+  if (u.norm() < 1e-9) u = n.unitOrthogonal();
+  u.normalize();
+  const Vec3 v = n.cross(u);
+  const Vec3 origin = s.plane.project(s.boundary.empty() ? s.centroid : s.boundary.front());
+  std::vector<Eigen::Vector2d> uv;
+  for (const auto& p : s.boundary) {
+    const Vec3 d = p - origin;
+    uv.emplace_back(d.dot(u), d.dot(v));
+  }
+  const auto h = hull2d(uv);
+  double area2 = 0.0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const auto& p = h[i];
+    const auto& q = h[(i + 1) % h.size()];
+    area2 += p.x() * q.y() - q.x() * p.y();
+  }
+  if (h.size() < 3 || area2 <= 1e-12) return {};
+  std::vector<Vec3> top;
+  for (const auto& p : h) top.push_back(origin + p.x() * u + p.y() * v);
+  return prism(top, thickness * n);
+}
+
+/// The oriented bounding box (PCA axes) of an obstacle's points, every edge at least
+/// `min_edge` long; empty if the obstacle has no points.
+Polyhedron obstacleBox(const Obstacle& o, double min_edge) {
+  if (o.points.empty()) return {};
+  Vec3 mean = Vec3::Zero();
+  for (const auto& p : o.points) mean += p;
+  mean /= static_cast<double>(o.points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : o.points) cov += (p - mean) * (p - mean).transpose();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  if (o.points.size() >= 2) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    if (eig.info() == Eigen::Success) axes = eig.eigenvectors();
+    if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+  }
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  for (const auto& p : o.points) {
+    const Vec3 l = axes.transpose() * (p - mean);
+    lo = lo.cwiseMin(l);
+    hi = hi.cwiseMax(l);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const double grow = std::max(0.0, 0.5 * (min_edge - (hi[k] - lo[k])));
+    lo[k] -= grow;
+    hi[k] += grow;
+  }
+  std::vector<Vec3> top;  // the face at lo.z, in order around it
+  for (const auto& [x, y] : std::array<std::pair<double, double>, 4>{{{lo.x(), lo.y()}, {hi.x(), lo.y()},
+                                                                        {hi.x(), hi.y()}, {lo.x(), hi.y()}}}) {
+    top.push_back(mean + axes * Vec3(x, y, hi.z()));
+  }
+  return prism(top, (hi.z() - lo.z()) * axes.col(2));
+}
+
+// ---------------------------------------------------------------- cloud index
+
+/// Exact point distances through a kd-tree. Stored in float relative to `offset`
+/// (keeps precision for large coordinates); exact distances use the double copy.
+struct PointIndex {
+  PointList points;
+  Vec3 offset{Vec3::Zero()};
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  double pad{1e-3};  ///< slack added to search radii for the float kd-tree [m]
+
+  void build(const PointList& pts) {
+    points = pts;
+    if (pts.empty()) return;
+    const Aabb box = boundingBox(pts);
+    offset = 0.5 * (box.min + box.max);
+    pad = 1e-3 + 1e-6 * (box.max - box.min).norm();
+    cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    cloud->points.reserve(pts.size());
+    for (const auto& p : pts) cloud->points.push_back(toPcl(p));
+    cloud->width = static_cast<std::uint32_t>(pts.size());
+    cloud->height = 1;
+    cloud->is_dense = true;
+    tree.setInputCloud(cloud);
+  }
+
+  pcl::PointXYZ toPcl(const Vec3& p) const {
+    const Vec3 q = p - offset;
+    return {static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())};
+  }
+
+  std::vector<int> within(const Vec3& c, double radius) const {
+    std::vector<int> idx;
+    std::vector<float> d2;
+    tree.radiusSearch(toPcl(c), radius + pad, idx, d2);
+    return idx;
+  }
+
+  double approxNearest(const Vec3& c) const {
+    std::vector<int> idx(1);
+    std::vector<float> d2(1);
+    if (tree.nearestKSearch(toPcl(c), 1, idx, d2) < 1) return kInf;
+    return (points[static_cast<std::size_t>(idx[0])] - c).norm();
+  }
+
+  /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
+  double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
+    double best = kInf;
+    if (points.empty()) return best;
+    const double len = (b - a).norm();
+    const int pieces = std::max(1, static_cast<int>(std::ceil(len / kPieceLength)));
+    for (int k = 0; k < pieces; ++k) {
+      const Vec3 pa = a + (b - a) * (static_cast<double>(k) / pieces);
+      const Vec3 pb = a + (b - a) * (static_cast<double>(k + 1) / pieces);
+      const Vec3 mid = 0.5 * (pa + pb);
+      const double half = 0.5 * (pb - pa).norm();
+      // Every point nearer to the piece than the mid-point's nearest neighbour lies
+      // within d0 + half of the mid-point, so this search makes the minimum exact.
+      const double d0 = approxNearest(mid);
+      for (int i : within(mid, d0 + half)) {
+        const Vec3& p = points[static_cast<std::size_t>(i)];
+        const double d = pointSegmentDistance(p, pa, pb);
+        if (d < best) {
+          best = d;
+          q = p;
+        }
+      }
+    }
+    return best;
+  }
+};
+
+/// The object index stored as an FCL object's user data.
+int objectOf(const fcl::CollisionObjectd* o) { return *static_cast<const int*>(o->getUserData()); }
+
+fcl::Transform3d capsulePose(const Vec3& a, const Vec3& b) {
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.translation() = 0.5 * (a + b);
+  const Vec3 d = b - a;
+  if (d.norm() > 0.0) tf.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), d).toRotationMatrix();
+  return tf;
+}
+
+/// The UAV swept along a→b: a capsule of radius r (a sphere if a == b).
+fcl::CollisionObjectd sweptVolume(const Vec3& a, const Vec3& b, double radius) {
+  const double len = (b - a).norm();
+  std::shared_ptr<fcl::CollisionGeometryd> g;
+  if (len > 0.0) {
+    g = std::make_shared<fcl::Capsuled>(radius, len);
+  } else {
+    g = std::make_shared<fcl::Sphered>(radius);
+  }
+  fcl::CollisionObjectd obj(g, capsulePose(a, b));
+  obj.computeAABB();
+  return obj;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- world
+
+struct CollisionWorld::Impl {
+  std::vector<Polyhedron> solids;  ///< per object; empty for the cloud
+  PointIndex points;
+  std::shared_ptr<octomap::OcTree> octree;
+  std::size_t octree_leaves{0};
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> fcl_objects;  ///< per object
+  std::vector<int> index;  ///< per fcl object: its object index (stable storage for user data)
+  std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+
+};
+
+std::string WorldObject::name() const {
+  switch (kind) {
+    case ObjectKind::Surface: return "surface " + std::to_string(id);
+    case ObjectKind::Obstacle: return "obstacle " + std::to_string(id);
+    case ObjectKind::Cloud: return "cloud";
+  }
+  return "object";
+}
+
+void WorldOptions::validate(const std::string& where) const {
+  requirePositive(octree_resolution_m, where, "octree_resolution_m");
+  requirePositive(slab_thickness_m, where, "slab_thickness_m");
+  requirePositive(obstacle_min_thickness_m, where, "obstacle_min_thickness_m");
+}
+
+CollisionWorld::CollisionWorld(const Scene& scene, const WorldOptions& options) : options_(options) {
+  options_.validate();
+  build(scene);
+}
+
+CollisionWorld CollisionWorld::fromCloud(const PointList& cloud, const WorldOptions& options) {
+  CollisionWorld w;
+  w.options_ = options;
+  w.options_.validate();
+  Scene scene;
+  scene.cloud = cloud;
+  w.build(scene);
+  return w;
+}
+
+CollisionWorld::~CollisionWorld() = default;
+CollisionWorld::CollisionWorld(CollisionWorld&&) noexcept = default;
+CollisionWorld& CollisionWorld::operator=(CollisionWorld&&) noexcept = default;
+
+void CollisionWorld::build(const Scene& scene) {
+  impl_ = std::make_unique<Impl>();
+  Impl& im = *impl_;
+  std::vector<std::shared_ptr<fcl::CollisionGeometryd>> geoms;
+
+  auto addSolid = [&](ObjectKind kind, int id, Polyhedron&& poly) {
+    if (poly.triangles.empty()) return;
+    auto verts = std::make_shared<std::vector<fcl::Vector3d>>(poly.vertices.begin(), poly.vertices.end());
+    auto faces = std::make_shared<std::vector<int>>();
+    for (const auto& t : poly.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+    geoms.push_back(std::make_shared<fcl::Convexd>(verts, static_cast<int>(poly.triangles.size()), faces));
+    objects_.push_back({kind, id, poly.bounds()});
+    im.solids.push_back(std::move(poly));
+  };
+  if (options_.include_surfaces) {
+    for (const auto& s : scene.surfaces) addSolid(ObjectKind::Surface, s.id, surfaceSlab(s, options_.slab_thickness_m));
+  }
+  if (options_.include_obstacles) {
+    for (const auto& o : scene.obstacles) {
+      addSolid(ObjectKind::Obstacle, o.id, obstacleBox(o, options_.obstacle_min_thickness_m));
+    }
+  }
+  if (options_.include_cloud && !scene.cloud.empty()) {
+    im.points.build(scene.cloud);
+    im.octree = std::make_shared<octomap::OcTree>(options_.octree_resolution_m);
+    for (const auto& p : scene.cloud) {
+      octomap::OcTreeKey key;
+      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      if (im.octree->coordToKeyChecked(q, key)) im.octree->updateNode(key, true, true);
+    }
+    im.octree->updateInnerOccupancy();
+    for (auto it = im.octree->begin_leafs(); it != im.octree->end_leafs(); ++it) {
+      im.octree_leaves += im.octree->isNodeOccupied(*it) ? 1 : 0;
+    }
+    geoms.push_back(std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(im.octree)));
+    objects_.push_back({ObjectKind::Cloud, -1, boundingBox(scene.cloud)});
+    im.solids.emplace_back();
+  }
+
+  im.index.resize(objects_.size());
+  std::vector<fcl::CollisionObjectd*> raw;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    im.index[i] = static_cast<int>(i);
+    im.fcl_objects.push_back(std::make_unique<fcl::CollisionObjectd>(geoms[i]));
+    im.fcl_objects.back()->setUserData(&im.index[i]);
+    im.fcl_objects.back()->computeAABB();
+    raw.push_back(im.fcl_objects.back().get());
+  }
+  im.manager = std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>();
+  im.manager->registerObjects(raw);
+  im.manager->setup();
+}
+
+std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->points.points.size() : 0; }
+std::size_t CollisionWorld::octreeLeaves() const { return impl_ ? impl_->octree_leaves : 0; }
+
+namespace {
+
+struct ProximityQuery {
+  const std::vector<Polyhedron>* solids{nullptr};
+  const PointIndex* points{nullptr};
+  const fcl::CollisionObjectd* query{nullptr};
+  Vec3 a, b;
+  double radius{0.0};
+  Proximity best;
+};
+
+struct ContactQuery {
+  const fcl::CollisionObjectd* query{nullptr};
+  std::vector<int> hits;
+};
+
+}  // namespace
+
+Proximity CollisionWorld::proximity(const Vec3& a, const Vec3& b, double radius) const {
+  ProximityQuery q;
+  if (!impl_ || objects_.empty()) return q.best;
+  fcl::CollisionObjectd swept = sweptVolume(a, b, std::max(0.0, radius));
+  q.solids = &impl_->solids;
+  q.points = &impl_->points;
+  q.query = &swept;
+  q.a = a;
+  q.b = b;
+  q.radius = std::max(0.0, radius);
+  // Broadphase by FCL; narrowphase exact. `dist` is FCL's pruning bound: subtrees
+  // whose AABB lies farther than it from the capsule's AABB are skipped.
+  auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data, double& dist) {
+    auto& pq = *static_cast<ProximityQuery*>(data);
+    const fcl::CollisionObjectd* obj = o1 == pq.query ? o2 : o1;
+    const int i = objectOf(obj);
+    const auto& solid = (*pq.solids)[static_cast<std::size_t>(i)];
+    Vec3 point;
+    const double d = solid.triangles.empty() ? pq.points->distance(pq.a, pq.b, point)
+                                             : solid.distance(pq.a, pq.b, point);
+    if (d < pq.best.distance_m) {
+      pq.best.distance_m = d;
+      pq.best.object = i;
+      pq.best.point = point;
+    }
+    dist = std::max(pq.best.distance_m - pq.radius, kMinPrune);
+    return false;
+  };
+  impl_->manager->distance(&swept, &q, callback);
+  return q.best;
+}
+
+std::vector<int> CollisionWorld::sweepContacts(const Vec3& a, const Vec3& b, double radius) const {
+  ContactQuery q;
+  if (!impl_ || objects_.empty()) return q.hits;
+  fcl::CollisionObjectd swept = sweptVolume(a, b, std::max(0.0, radius));
+  q.query = &swept;
+  auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data) {
+    auto& cq = *static_cast<ContactQuery*>(data);
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    fcl::collide(o1, o2, request, result);
+    if (result.isCollision()) cq.hits.push_back(objectOf(o1 == cq.query ? o2 : o1));
+    return false;
+  };
+  impl_->manager->collide(&swept, &q, callback);
+  std::sort(q.hits.begin(), q.hits.end());
+  q.hits.erase(std::unique(q.hits.begin(), q.hits.end()), q.hits.end());
+  return q.hits;
+}
+
+}  // namespace uavip::world
