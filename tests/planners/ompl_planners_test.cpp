@@ -80,15 +80,19 @@ double bruteClearance(const PointList& path, const PointList& cloud) {
   return best;
 }
 
-/// True if a→b lies on one segment of `raw` (a piece of a raw step that
-/// shortcutPath cut at an interpolated state).
-bool onRawSegment(const Vec3& a, const Vec3& b, const PointList* raw) {
+/// True if a→b lies on the raw polyline (pieces of raw steps that reduceVertices
+/// merged, or that shortcutPath cut at interpolated states): every 1 cm sample of it
+/// is within 1e-6 m of a raw segment.
+bool onRawPath(const Vec3& a, const Vec3& b, const PointList* raw) {
   if (!raw) return false;
-  for (std::size_t i = 0; i + 1 < raw->size(); ++i) {
-    if (pointSegmentDistance(a, (*raw)[i], (*raw)[i + 1]) < 1e-9 && pointSegmentDistance(b, (*raw)[i], (*raw)[i + 1]) < 1e-9)
-      return true;
+  const int n = std::max(1, static_cast<int>((b - a).norm() / 0.01));
+  for (int k = 0; k <= n; ++k) {
+    const Vec3 p = a + (b - a) * (static_cast<double>(k) / n);
+    bool on = false;
+    for (std::size_t i = 0; i + 1 < raw->size() && !on; ++i) on = pointSegmentDistance(p, (*raw)[i], (*raw)[i + 1]) < 1e-6;
+    if (!on) return false;
   }
-  return false;
+  return true;
 }
 
 void expectValidPath(const PointList& path, const WallWorld& w, const std::string& who,
@@ -97,14 +101,15 @@ void expectValidPath(const PointList& path, const WallWorld& w, const std::strin
   EXPECT_LT((path.front() - w.start).norm(), 1e-9) << who;
   EXPECT_LT((path.back() - w.goal).norm(), 1e-9) << who;
   // Every segment crosses free voxels only, or is a 26-neighbour step between free
-  // voxels (the A*'s steps, which may touch a blocked voxel's edge; voxel_grid.h).
+  // voxels (the A*'s steps, which may touch a blocked voxel's edge; voxel_grid.h), or
+  // lies on such steps of the raw path.
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
     const world::Index3 a = w.grid.indexOf(path[i]);
     const world::Index3 b = w.grid.indexOf(path[i + 1]);
     const bool step = w.grid.isFree(a) && w.grid.isFree(b) && std::abs(a.x - b.x) <= 1 && std::abs(a.y - b.y) <= 1 &&
                       std::abs(a.z - b.z) <= 1;
-    EXPECT_TRUE(step || w.grid.segmentFree(path[i], path[i + 1]) || onRawSegment(path[i], path[i + 1], raw))
-        << who << " segment " << i;
+    EXPECT_TRUE(step || w.grid.segmentFree(path[i], path[i + 1]) || onRawPath(path[i], path[i + 1], raw))
+        << who << " segment " << i << ": (" << path[i].transpose() << ") -> (" << path[i + 1].transpose() << ")";
   }
   EXPECT_GE(bruteClearance(path, w.cloud), kRadius) << who;
   // The wall is in the way: no path is shorter than the straight line, and a

@@ -92,7 +92,7 @@ struct TargetCheck {
   double ours_length_m{0.0}, ompl_length_m{0.0};
   double ours_time_s{0.0}, ompl_time_s{0.0};
   double leg_length_ratio{0.0};   ///< median over legs of ours' / theirs' per-leg median length
-  bool as_short{false};           ///< ours_length ≤ ompl_length + 1 mm, with at least its success
+  bool as_short{false};           ///< leg_length_ratio ≤ 1 (per-leg medians), with at least its success
   bool tenth_time{false};         ///< ours_time ≤ ompl_time / 10
   bool holds() const { return as_short && tenth_time; }
 };
