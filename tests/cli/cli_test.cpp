@@ -1,5 +1,7 @@
 // The uavip executable as a user runs it: exit codes, one-line errors, outputs.
 
+#include "tests/cli/cli_runner.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -16,31 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code{-1};
-  std::string out;  ///< stdout and stderr together
-};
-
-Result uavip(const std::string& args) {
-  const std::string cmd = std::string(UAVIP_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) r.out += buf.data();
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using uavip::cli_test::Result;
+using uavip::cli_test::uavip;
+using uavip::cli_test::slurp;
 
 std::string scenario(const std::string& name) { return std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + name; }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
 
 class Cli : public ::testing::Test {
  protected:

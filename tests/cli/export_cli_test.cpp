@@ -1,6 +1,8 @@
 // uavip run → views, and uavip export, as a user runs them: files, exit codes,
 // one-line errors.
 
+#include "tests/cli/cli_runner.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -19,29 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code{-1};
-  std::string out;  ///< stdout and stderr together
-};
+using uavip::cli_test::Result;
+using uavip::cli_test::uavip;
+using uavip::cli_test::slurp;
 
-Result uavip(const std::string& args) {
-  const std::string cmd = std::string(UAVIP_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) r.out += buf.data();
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
 
 /// One run of the single-plane scenario shared by the tests of this file.
 class ExportCli : public ::testing::Test {

@@ -1,6 +1,8 @@
 // `uavip validate` as a user runs it: a planned mission passes, a waypoint moved
 // into the structure fails naming the segment, bad input exits 2 with one line.
 
+#include "tests/cli/cli_runner.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -17,22 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code{-1};
-  std::string out;  ///< stdout and stderr together
-};
-
-Result uavip(const std::string& args) {
-  const std::string cmd = std::string(UAVIP_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) r.out += buf.data();
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using uavip::cli_test::Result;
+using uavip::cli_test::uavip;
 
 nlohmann::json readJson(const fs::path& p) {
   std::ifstream in(p);
