@@ -5,6 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ "${UAVIP_SANITIZE:-OFF}" = ON ]; then
   export BUILD_DIR=${BUILD_DIR:-build-asan} BUILD_TYPE=${BUILD_TYPE:-RelWithDebInfo}
+  # third-party leaks only (tests/lsan.supp)
+  export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 fi
 bash scripts/setup.sh
 BUILD_DIR=${BUILD_DIR:-build}

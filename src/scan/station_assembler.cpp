@@ -26,6 +26,13 @@
 namespace uavip::scan {
 namespace {
 
+/// Hash key of a 2D cell. Unsigned arithmetic: shifting a negative index is undefined
+/// behaviour (UBSan).
+std::int64_t cellKey(std::int64_t x, std::int64_t y) {
+  return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^ (static_cast<std::uint64_t>(y) & 0xffffffffULL));
+}
+
+
 using Clock = std::chrono::steady_clock;
 using Vec2 = Eigen::Vector2d;
 constexpr double kPi = 3.14159265358979323846;
@@ -97,7 +104,7 @@ class Grid2D {
 
  private:
   std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
-  static std::int64_t key(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffff); }
+  static std::int64_t key(std::int64_t x, std::int64_t y) { return cellKey(x, y); }
   const std::vector<Vec2>& points_;
   double cell_;
   std::unordered_map<std::int64_t, std::vector<int>> cells_;
@@ -312,7 +319,7 @@ class HeightMap {
   std::int64_t key(const Vec3& p) const {
     const auto x = static_cast<std::int64_t>(std::floor(p.x() / cell_));
     const auto y = static_cast<std::int64_t>(std::floor(p.y() / cell_));
-    return (x << 32) ^ (y & 0xffffffff);
+    return cellKey(x, y);
   }
   double cell_;
   std::unordered_map<std::int64_t, std::pair<double, int>> cells_;
