@@ -1,6 +1,7 @@
 #include "uavip/perception/obstacle_clusterer.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
 
 #include <pcl/PointIndices.h>
@@ -18,20 +19,6 @@ namespace uavip::perception {
 namespace {
 
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
-
-PclCloud::Ptr toPcl(const PointList& points, const Vec3& origin) {
-  auto cloud = std::make_shared<PclCloud>();
-  cloud->points.reserve(points.size());
-  for (const auto& p : points) {
-    const Vec3 q = p - origin;
-    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                               static_cast<float>(q.z()));
-  }
-  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
-  return cloud;
-}
 
 /// Lexicographic (x, y, z) order, used to break ties between clusters.
 bool lexLess(const Vec3& a, const Vec3& b) {
@@ -74,7 +61,7 @@ std::vector<Obstacle> clusterObstacles(const PointList& points, const ClusterOpt
   }
 
   const Aabb box = boundingBox(points);
-  const PclCloud::Ptr cloud = toPcl(points, 0.5 * (box.min + box.max));
+  const PclCloud::Ptr cloud = toPclCloud(points, 0.5 * (box.min + box.max));
   auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
   pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
   ec.setInputCloud(cloud);

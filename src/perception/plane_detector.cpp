@@ -1,6 +1,7 @@
 #include "uavip/perception/plane_detector.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
 
 #include <Eigen/Eigenvalues>
@@ -47,20 +48,6 @@ constexpr double kBandFloor = 0.1;
 constexpr int kBandIterations = 3;
 /// Second / largest covariance eigenvalue below which a point set is a line.
 constexpr double kDegenerateRatio = 1e-10;
-
-PclCloud::Ptr toPcl(const PointList& points, const Vec3& origin) {
-  auto cloud = std::make_shared<PclCloud>();
-  cloud->points.reserve(points.size());
-  for (const auto& p : points) {
-    const Vec3 q = p - origin;
-    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                               static_cast<float>(q.z()));
-  }
-  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
-  return cloud;
-}
 
 /// Principal component analysis of cloud[idx] (in double precision).
 struct Pca {
@@ -355,7 +342,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
 
   const Aabb box = boundingBox(cloud);
   const Vec3 origin = 0.5 * (box.min + box.max);  // PCL works in float near its origin
-  const PclCloud::Ptr pcl_cloud = toPcl(cloud, origin);
+  const PclCloud::Ptr pcl_cloud = toPclCloud(cloud, origin);
 
   pcl::SACSegmentation<pcl::PointXYZ> seg;
   seg.setOptimizeCoefficients(true);

@@ -1,6 +1,7 @@
 #include "uavip/preprocess/filters.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
 
 #include <pcl/filters/statistical_outlier_removal.h>
@@ -17,22 +18,6 @@ namespace uavip::preprocess {
 namespace {
 
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
-
-/// Copies `points` into a PCL cloud, shifted by -origin: PCL stores floats, so the
-/// shift keeps geo-referenced coordinates (1e6 m) at millimetre precision.
-PclCloud::Ptr toPcl(const PointList& points, const Vec3& origin) {
-  auto cloud = std::make_shared<PclCloud>();
-  cloud->points.reserve(points.size());
-  for (const auto& p : points) {
-    const Vec3 q = p - origin;
-    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                               static_cast<float>(q.z()));
-  }
-  cloud->width = static_cast<std::uint32_t>(cloud->points.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
-  return cloud;
-}
 
 std::string formatPoint(const Vec3& p) {
   std::ostringstream os;
@@ -59,7 +44,7 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
 
   const Vec3 origin = boundingBox(cloud).min;
   pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-  sor.setInputCloud(toPcl(cloud, origin));
+  sor.setInputCloud(toPclCloud(cloud, origin));
   sor.setMeanK(k);
   sor.setStddevMulThresh(std_ratio);
   pcl::Indices kept;
@@ -94,7 +79,7 @@ PointList voxelGrid(const PointList& cloud, double leaf_m) {
   // leaf_m in the world frame while PCL works near its float origin.
   const Vec3 origin = (box.min / leaf_m).array().floor().matrix() * leaf_m;
   pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(toPcl(cloud, origin));
+  grid.setInputCloud(toPclCloud(cloud, origin));
   const auto leaf = static_cast<float>(leaf_m);
   grid.setLeafSize(leaf, leaf, leaf);
   PclCloud filtered;
