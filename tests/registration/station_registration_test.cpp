@@ -91,6 +91,35 @@ TEST(RegisterStations, TranslationOnlyRecoversAPureOffset) {
   EXPECT_TRUE(r.stations[1].pose.linear().isApprox(Eigen::Matrix3d::Identity()));
 }
 
+TEST(RegisterStations, ADirectionNoSurfaceFacesKeepsTheRecordedPositionAndIsReported) {
+  // A floor and one wall facing −x: x and z are seen, y is not (sliding along the
+  // wall changes nothing). The start is off by (0.25, 0.3, −0.1): x and z must be
+  // recovered, y must stay where the recorded position put it (not drift), and
+  // the report must name y as the weakest direction with too little information.
+  sim::WorldModel w;
+  w.addPlane({"floor", Vec3(-2.0, -5.0, 0.0), Vec3(12.0, 0.0, 0.0), Vec3(0.0, 10.0, 0.0)});
+  w.addPlane({"wall", Vec3(8.0, -5.0, 0.0), Vec3(0.0, 10.0, 0.0), Vec3(0.0, 0.0, 3.0)});
+  sim::SampleOptions so;
+  so.spacing_m = 0.1;
+  so.noise_sigma_m = 0.005;
+  const PointList cloud = sim::sampleSurfaces(w, so);
+  const Eigen::Isometry3d truth(Eigen::Translation3d(1.0, 0.5, 0.2));
+  std::vector<StationInput> in(2);
+  in[0].points = cloud;
+  in[1].id = 1;
+  for (const auto& p : cloud) in[1].points.push_back(truth.inverse() * p);
+  const Vec3 start_error(0.25, 0.3, -0.1);
+  in[1].initial_pose = Eigen::Translation3d(start_error) * truth;
+  const RegistrationResult r = registerStations(in);
+  const Vec3 err = r.stations[1].pose.translation() - truth.translation();
+  EXPECT_LT(std::abs(err.x()), 0.01);
+  EXPECT_LT(std::abs(err.z()), 0.01);
+  EXPECT_NEAR(err.y(), start_error.y(), 0.01);
+  EXPECT_LT(r.stations[1].information(0), kMinInformationPairs);
+  EXPECT_GT(r.stations[1].information(1), 10.0 * kMinInformationPairs);
+  EXPECT_GT(std::abs(r.stations[1].weakest_direction.y()), 0.99);
+}
+
 TEST(RegisterStations, EmptyStationsAreKeptButSkipped) {
   auto in = knownPair(Eigen::Isometry3d::Identity());
   in.insert(in.begin() + 1, StationInput{7, {}, Eigen::Isometry3d::Identity()});

@@ -16,8 +16,11 @@
 /// the offset within ±search_radius that puts most points into occupied cells of
 /// the placed cloud. The default refinement is a translation-only point-to-plane ICP
 /// (rotation from the IMU), measured better and faster than PCL's ICP / GICP / NDT on
-/// the bridge. The result is chained to station 0, whose pose is
-/// fixed.
+/// the bridge: normal-space sampling (all upright-surface points, as many level
+/// ones), pairs only between normals within 45°, and no motion along a direction
+/// that fewer than kMinInformationPairs effective pairs fix — such a direction keeps
+/// the recorded position and is reported (StationResult::information). The result
+/// is chained to station 0, whose pose is fixed.
 
 #include "uavip/core/raw_log.h"
 #include "uavip/core/types.h"
@@ -43,6 +46,10 @@ enum class Method {
 /// "none" | "translation" | "icp" | "icp_point_to_plane" | "gicp" | "ndt"; throws InputError otherwise.
 Method methodFromString(const std::string& name);
 std::string toString(Method method);
+
+/// A direction fixed by fewer effective point-to-plane pairs than this is not
+/// registered (it keeps the start) and is reported as unobserved.
+constexpr double kMinInformationPairs = 20.0;
 
 /// Options of stage 2.
 struct RegistrationOptions {
@@ -77,6 +84,14 @@ struct StationResult {
   std::size_t overlap_points{0};     ///< this station's points in the predicted overlap (after down-sampling)
   double fitness_rms_m{0.0};         ///< RMS pair distance after ICP (pairs within max_correspondence) [m]
   bool converged{false};             ///< ICP converged (station 0 and method None: true)
+  int iterations{0};                 ///< ICP iterations run (translation method)
+  std::size_t pairs{0};              ///< point-to-plane pairs in the last iteration (translation method)
+  /// How well the pairs fix each direction (translation method): eigenvalues of
+  /// Σ w·n nᵀ over the pairs, ascending, in effective pairs (a pair whose normal lies
+  /// along a direction adds 1 to it). Below kMinInformationPairs a direction keeps
+  /// the coarse search / recorded position: the scans do not see it.
+  Vec3 information{Vec3::Zero()};
+  Vec3 weakest_direction{Vec3::Zero()};  ///< unit eigenvector of information(0)
   double time_s{0.0};
 };
 
