@@ -101,7 +101,9 @@ int main(int argc, char** argv) {
     std::printf("| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded pos err cm | "
                 "registered pos err cm |\n|---|---|---|---|---|---|\n");
     for (const auto& st : last.stations) {
-      std::printf("| %d | %.1f | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f |\n", st.id, 100 * st.loop_closure_m,
+      char closure[32] = "n/a (unobservable)";
+      if (st.loop_closure_m >= 0.0) std::snprintf(closure, sizeof closure, "%.1f", 100 * st.loop_closure_m);
+      std::printf("| %d | %s | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f |\n", st.id, closure,
                   100 * st.drift_max_m, 100 * st.true_drift_max_m.value_or(-0.01),
                   100 * st.drift_error_max_m.value_or(-0.01), 100 * st.drift_error_rms_m.value_or(-0.01),
                   100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01));

@@ -47,6 +47,8 @@ constexpr double kTypicalRange = 5.0;
 constexpr double kMapSpacing = 0.03;
 /// ICP needs at least this many pairs; with fewer the scan keeps the previous pose.
 constexpr std::size_t kMinPairs = 30;
+/// Effective pairs the least constrained direction needs for a loop-closure figure.
+constexpr double kMinLoopInformation = 10.0;
 /// Weight of the prior toward the guess, per pair (see icpPointToLine).
 constexpr double kPriorWeight = 1e-3;
 /// Line fit of a scan point: beam-order neighbours ±this many, …
@@ -164,6 +166,9 @@ struct IcpResult {
   int iterations{0};
   double rms{0.0};
   std::size_t pairs{0};
+  /// Smallest eigenvalue of the pairs' Σ w·n nᵀ (translation block) in the last
+  /// iteration: how many effective pairs fix the least constrained direction.
+  double min_information{0.0};
 };
 
 /// Point-to-line ICP: finds (theta, t) with rot(theta)·src + t ≈ reference, starting
@@ -212,6 +217,7 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
     r.pairs = pairs;
     r.rms = pairs ? std::sqrt(sse / static_cast<double>(pairs)) : 0.0;
     if (pairs < kMinPairs) break;
+    r.min_information = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(h.topLeftCorner<2, 2>()).eigenvalues()(0);
     // A weak prior toward the guess (the previous position: the wind is a random
     // walk) keeps directions the scan does not constrain (one flat face seen, or
     // nothing in the field of view) where they were instead of letting them slide.
@@ -538,7 +544,10 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
       for (const auto& p : scans[last].pts) last_c.pts.push_back(rot2(theta[last]) * p);
       last_c.normals = makeReference(last_c, 0.0, Vec2::Zero()).normals;
       const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
-      out.loop_closure_m = r.t.norm();
+      // Only a closure the scans can see is a measurement: with too few pairs, or a
+      // direction no pair fixes (one flat face in view), the offset would read 0.
+      out.loop_closure_information = r.min_information;
+      out.loop_closure_m = r.pairs >= kMinPairs && r.min_information >= kMinLoopInformation ? r.t.norm() : -1.0;
     }
   }
   out.stats.mean_icp_iterations = icp_runs ? iter_sum / static_cast<double>(icp_runs) : 0.0;

@@ -210,6 +210,22 @@ TEST(AssembleStation, LoopClosureAndCloudAccuracyWithDefaultNoise) {
   EXPECT_LT(rms, 0.03);
 }
 
+TEST(AssembleStation, LoopClosureIsNotReportedWhenOneWallIsAllTheScannerSees) {
+  // A floor and one long wall: the horizontal scanner sees a single line, so the
+  // offset along the wall between the first and the last scan is not measurable.
+  // A figure of 0 would claim a perfect closure; the station reports −1 instead.
+  // The room (several walls) gives a figure (the test above).
+  sim::WorldModel w;
+  w.addPlane({"floor", Vec3(-20.0, -20.0, -1.5), Vec3(40.0, 0.0, 0.0), Vec3(0.0, 40.0, 0.0)});
+  w.addPlane({"wall", Vec3(3.0, -20.0, -1.5), Vec3(0.0, 40.0, 0.0), Vec3(0.0, 0.0, 4.0)});
+  const sim::SimulatedLog s = sim::simulateScans(w, windy());
+  const StationCloud one_wall = assembleStation(s.log, 0);
+  EXPECT_LT(one_wall.loop_closure_m, 0.0);
+  EXPECT_LT(one_wall.loop_closure_information, 10.0);
+  const StationCloud room_station = assembleStation(windyLog().log, 0);
+  EXPECT_GT(room_station.loop_closure_information, 10.0);
+}
+
 TEST(AssembleStation, ImuPriorNeedsFewerIcpIterations) {
   // The paper's customisation: with the scans rotated by the IMU first, ICP has only
   // the wind translation left to find and converges in fewer iterations than plain

@@ -89,8 +89,12 @@ struct StationCloud {
   std::vector<Eigen::Isometry3d> poses;      ///< station_T_body at each horizontal scan (IMU R, ICP T)
   /// Loop closure (paper §III: 10 cm): the first and the last horizontal scan, each
   /// placed with its estimated pose, are matched by ICP; this is the length of the
-  /// translation that would bring the last onto the first [m]. −1 if < 2 scans.
+  /// translation that would bring the last onto the first [m]. −1 if < 2 scans or
+  /// if the two scans do not fix both horizontal directions (too few pairs, or the
+  /// least constrained direction has < 10 effective pairs: one flat face in view).
   double loop_closure_m{-1.0};
+  /// Effective point-to-line pairs fixing the least constrained direction of that ICP.
+  double loop_closure_information{0.0};
   AssemblyStats stats;
 };
 
