@@ -21,10 +21,12 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
+#include <thread>
 
 namespace uavip::registration {
 namespace {
@@ -499,6 +501,7 @@ void RegistrationOptions::validate(const std::string& where) const {
     throw InputError(where + ": search_radius_m must be >= 0, got " + num(search_radius_m));
   }
   requirePositive(search_step_m, where, "search_step_m");
+  if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
   if (!(output_voxel_m >= 0.0) || !std::isfinite(output_voxel_m)) {
     throw InputError(where + ": output_voxel_m must be >= 0, got " + num(output_voxel_m));
   }
@@ -534,6 +537,29 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
   }
   if (ref == stations.size()) throw InputError("registration: every station cloud is empty, nothing to register");
 
+  // Down-sampling and normals do not depend on the registration order: every
+  // station's at once, `threads` at a time (each is independent).
+  std::vector<PointList> downsampled(stations.size());
+  std::vector<std::vector<Vec3>> station_normals(stations.size());
+  std::vector<double> prep_s(stations.size(), 0.0);
+  {
+    std::atomic<std::size_t> next{0};
+    auto worker = [&] {
+      for (std::size_t i = next++; i < stations.size(); i = next++) {
+        const auto tp = Clock::now();
+        if (stations[i].points.empty()) continue;
+        downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
+        // In the station frame, oriented toward the station (its origin).
+        station_normals[i] = normalsOf(downsampled[i], Vec3::Zero());
+        prep_s[i] = secondsSince(tp);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < options.threads && static_cast<std::size_t>(t) < stations.size(); ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+  }
+
   PointList placed;  // down-sampled world points of the stations placed so far
   std::vector<Vec3> placed_normals;  // their normals, oriented toward their station
   for (std::size_t i = 0; i < stations.size(); ++i) {
@@ -548,11 +574,9 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
       result.stations.push_back(r);
       continue;
     }
-    const PointList ds = voxelDownsample(in.points, options.downsample_m);
+    const PointList& ds = downsampled[i];
     PointList guess = transformed(ds, in.initial_pose);
-    // Normals in the station frame, oriented toward the station (its origin), then
-    // rotated with the points.
-    std::vector<Vec3> normals = normalsOf(ds, Vec3::Zero());
+    std::vector<Vec3> normals = std::move(station_normals[i]);  // rotated with the points
     for (auto& n : normals) n = in.initial_pose.linear() * n;
     if (i == ref || options.method == Method::None) {
       r.converged = true;
@@ -578,7 +602,7 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
     }
     placed.insert(placed.end(), guess.begin(), guess.end());
     placed_normals.insert(placed_normals.end(), normals.begin(), normals.end());
-    r.time_s = secondsSince(ts);
+    r.time_s = prep_s[i] + secondsSince(ts);
     result.stations.push_back(r);
   }
 

@@ -63,6 +63,7 @@ struct RegistrationOptions {
   double ndt_resolution_m{1.0};       ///< NDT cell [m]
   bool use_recorded_yaw{false};       ///< rotate each station by recorded_yaw − IMU yaw at its first scan
   double output_voxel_m{0.02};        ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
+  int threads{2};                     ///< stations down-sampled and given normals in parallel
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "registration") const;
