@@ -1,24 +1,17 @@
 #include "uavip/perception/obstacle_clusterer.h"
 
 #include "uavip/core/error.h"
-#include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
-
-#include <pcl/PointIndices.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/segmentation/extract_clusters.h>
+#include "uavip/perception/euclidean_clusters.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 namespace uavip::perception {
 namespace {
-
-using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 /// Lexicographic (x, y, z) order, used to break ties between clusters.
 bool lexLess(const Vec3& a, const Vec3& b) {
@@ -60,25 +53,17 @@ std::vector<Obstacle> clusterObstacles(const PointList& points, const ClusterOpt
     }
   }
 
-  const Aabb box = boundingBox(points);
-  const PclCloud::Ptr cloud = toPclCloud(points, 0.5 * (box.min + box.max));
-  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-  ec.setInputCloud(cloud);
-  ec.setSearchMethod(tree);
-  ec.setClusterTolerance(options.tolerance_m);
-  ec.setMinClusterSize(1);
-  ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  std::vector<pcl::PointIndices> clusters;
-  ec.extract(clusters);
+  std::vector<int> all(points.size());
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<std::vector<int>> clusters = euclideanClusters(points, all, options.tolerance_m);
 
   std::vector<Obstacle> obstacles;
   std::vector<int> residual;
   for (const auto& c : clusters) {
-    if (static_cast<int>(c.indices.size()) < options.min_points) {
-      residual.insert(residual.end(), c.indices.begin(), c.indices.end());
+    if (static_cast<int>(c.size()) < options.min_points) {
+      residual.insert(residual.end(), c.begin(), c.end());
     } else {
-      obstacles.push_back(makeObstacle(points, {c.indices.begin(), c.indices.end()}));
+      obstacles.push_back(makeObstacle(points, c));
     }
   }
   if (!residual.empty()) obstacles.push_back(makeObstacle(points, std::move(residual)));

@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
+#include "uavip/perception/euclidean_clusters.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -13,7 +14,6 @@
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
-#include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/sac_segmentation.h>
 #include <pcl/surface/convex_hull.h>
 
@@ -48,6 +48,9 @@ constexpr double kBandFloor = 0.1;
 constexpr int kBandIterations = 3;
 /// Second / largest covariance eigenvalue below which a point set is a line.
 constexpr double kDegenerateRatio = 1e-10;
+/// At most this many points (a seeded random subset of the pool) score RANSAC's
+/// hypotheses; a 2 m² plane at 5 cm spacing (800 of 300 k points) keeps ~160.
+constexpr std::size_t kRansacScoringPoints = 60000;
 
 /// Principal component analysis of cloud[idx] (in double precision).
 struct Pca {
@@ -117,31 +120,16 @@ std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& 
   return current;
 }
 
-/// The largest Euclidean cluster (PCL, kd-tree) of pcl_cloud[idx]; ties: the
+/// The largest Euclidean cluster of cloud[idx] (euclidean_clusters.h); ties: the
 /// cluster holding the smallest index. Sorted ascending.
-std::vector<Index> largestCluster(const PclCloud::Ptr& pcl_cloud, const std::vector<Index>& idx,
-                                  double tolerance) {
+std::vector<Index> largestCluster(const PointList& cloud, const std::vector<Index>& idx, double tolerance) {
   if (idx.size() <= 1) return idx;
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-  ec.setInputCloud(pcl_cloud);
-  ec.setIndices(std::make_shared<pcl::Indices>(idx));
-  ec.setClusterTolerance(tolerance);
-  ec.setMinClusterSize(1);
-  ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  std::vector<pcl::PointIndices> clusters;
-  ec.extract(clusters);
-  const pcl::PointIndices* best = nullptr;
-  for (const auto& c : clusters) {
-    if (c.indices.empty()) continue;
-    if (best == nullptr || c.indices.size() > best->indices.size() ||
-        (c.indices.size() == best->indices.size() && c.indices.front() < best->indices.front())) {
-      best = &c;
-    }
+  const std::vector<std::vector<int>> clusters = euclideanClusters(cloud, idx, tolerance);
+  const std::vector<int>* best = nullptr;
+  for (const auto& c : clusters) {  // ordered by smallest index: the first of equal size wins
+    if (best == nullptr || c.size() > best->size()) best = &c;
   }
-  if (best == nullptr) return {};
-  std::vector<Index> out(best->indices.begin(), best->indices.end());
-  std::sort(out.begin(), out.end());
-  return out;
+  return best ? *best : std::vector<Index>{};
 }
 
 /// 2D convex hull (PCL ConvexHull, dimension 2) of planar coordinates, as (u, v)
@@ -367,6 +355,10 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
 
     auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
     std::shuffle(shuffled->begin(), shuffled->end(), rng);
+    // RANSAC scores its hypotheses on a random subset of the pool: the inlier
+    // fraction of every plane is the same in expectation, and the candidate below is
+    // taken from the whole pool again. 200 hypotheses × 300 k points → × 60 k.
+    if (shuffled->size() > kRansacScoringPoints) shuffled->resize(kRansacScoringPoints);
     seg.setIndices(shuffled);
     pcl::PointIndices ransac_inliers;
     pcl::ModelCoefficients coefficients;
@@ -395,7 +387,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     }
 
     const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m);
-    const std::vector<Index> kept = largestCluster(pcl_cloud, band, options.cluster_tolerance_m);
+    const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
 
     bool accepted = false;
     if (kept.size() >= 3) {

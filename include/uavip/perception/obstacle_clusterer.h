@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// Stage 5 (paper §II-E): Euclidean clustering (kd-tree flood fill, PCL
-/// EuclideanClusterExtraction) of the points that belong to no surface.
+/// Stage 5 (paper §II-E): Euclidean clustering of the points that belong to no
+/// surface (euclidean_clusters.h: PCL EuclideanClusterExtraction's partition, on a
+/// voxel grid).
 
 #include "uavip/core/types.h"
 

@@ -1,0 +1,140 @@
+#include "uavip/perception/euclidean_clusters.h"
+
+#include "uavip/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <utility>
+
+namespace uavip::perception {
+namespace {
+
+/// Union–find over cells (path halving, union by index: deterministic).
+class DisjointSets {
+ public:
+  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  std::size_t find(std::size_t a) {
+    while (parent_[a] != a) {
+      parent_[a] = parent_[parent_[a]];
+      a = parent_[a];
+    }
+    return a;
+  }
+  void unite(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+constexpr int kBits = 21;
+constexpr std::int64_t kMask = (std::int64_t{1} << kBits) - 1;
+
+std::uint64_t packKey(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return (static_cast<std::uint64_t>(x) << (2 * kBits)) | (static_cast<std::uint64_t>(y) << kBits) |
+         static_cast<std::uint64_t>(z);
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> euclideanClusters(const PointList& points, const std::vector<int>& indices,
+                                                double tolerance_m) {
+  requirePositive(tolerance_m, "perception", "cluster tolerance_m");
+  if (indices.empty()) return {};
+  Vec3 lo = points[static_cast<std::size_t>(indices.front())];
+  for (const int i : indices) lo = lo.cwiseMin(points[static_cast<std::size_t>(i)]);
+  // Cell edge: the diagonal equals the tolerance less a hair, so any two points of
+  // one cell are strictly closer than it.
+  const double cell = tolerance_m / std::sqrt(3.0) * (1.0 - 1e-9);
+  const double tol2 = tolerance_m * tolerance_m;
+
+  // Points sorted by cell; each cell is a run [begin, end) of `order`.
+  std::vector<std::pair<std::uint64_t, int>> order;
+  order.reserve(indices.size());
+  for (const int i : indices) {
+    const Vec3 c = (points[static_cast<std::size_t>(i)] - lo) / cell;
+    const auto x = static_cast<std::int64_t>(c.x()), y = static_cast<std::int64_t>(c.y()),
+               z = static_cast<std::int64_t>(c.z());
+    if (x > kMask - 2 || y > kMask - 2 || z > kMask - 2) {
+      throw InputError("perception: the cloud spans more than 2^21 clustering cells of " + std::to_string(cell) +
+                       " m; raise the cluster tolerance");
+    }
+    order.emplace_back(packKey(x, y, z), i);
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<std::uint64_t> keys;
+  std::vector<std::size_t> begin;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || order[k].first != order[k - 1].first) {
+      keys.push_back(order[k].first);
+      begin.push_back(k);
+    }
+  }
+  begin.push_back(order.size());
+  const std::size_t cells = keys.size();
+
+  auto cellOf = [&](std::uint64_t key) -> std::ptrdiff_t {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it != keys.end() && *it == key ? it - keys.begin() : -1;
+  };
+
+  DisjointSets sets(cells);
+  for (std::size_t a = 0; a < cells; ++a) {
+    const auto ax = static_cast<std::int64_t>(keys[a] >> (2 * kBits)), ay = static_cast<std::int64_t>((keys[a] >> kBits) & kMask),
+               az = static_cast<std::int64_t>(keys[a] & kMask);
+    // Cells up to two apart can hold points within the tolerance (3 × edge > tolerance);
+    // each pair is visited once, from its lower key.
+    for (int dx = -2; dx <= 2; ++dx) {
+      for (int dy = -2; dy <= 2; ++dy) {
+        for (int dz = -2; dz <= 2; ++dz) {
+          const std::int64_t bx = ax + dx, by = ay + dy, bz = az + dz;
+          if (bx < 0 || by < 0 || bz < 0) continue;
+          const std::uint64_t kb = packKey(bx, by, bz);
+          if (kb <= keys[a]) continue;
+          // Closest and farthest possible distances between the two cells.
+          const double gx = std::max(0, std::abs(dx) - 1), gy = std::max(0, std::abs(dy) - 1),
+                       gz = std::max(0, std::abs(dz) - 1);
+          if ((gx * gx + gy * gy + gz * gz) * cell * cell >= tol2) continue;
+          const std::ptrdiff_t b = cellOf(kb);
+          if (b < 0) continue;
+          const auto bu = static_cast<std::size_t>(b);
+          if (sets.find(a) == sets.find(bu)) continue;
+          const double fx = std::abs(dx) + 1, fy = std::abs(dy) + 1, fz = std::abs(dz) + 1;
+          bool linked = (fx * fx + fy * fy + fz * fz) * cell * cell < tol2;
+          for (std::size_t i = begin[a]; !linked && i < begin[a + 1]; ++i) {
+            const Vec3& p = points[static_cast<std::size_t>(order[i].second)];
+            for (std::size_t j = begin[bu]; j < begin[bu + 1]; ++j) {
+              if ((p - points[static_cast<std::size_t>(order[j].second)]).squaredNorm() < tol2) {
+                linked = true;
+                break;
+              }
+            }
+          }
+          if (linked) sets.unite(a, bu);
+        }
+      }
+    }
+  }
+
+  // Components, each sorted, ordered by their smallest index.
+  std::vector<std::vector<int>> by_root(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    auto& dst = by_root[sets.find(c)];
+    for (std::size_t k = begin[c]; k < begin[c + 1]; ++k) dst.push_back(order[k].second);
+  }
+  std::vector<std::vector<int>> clusters;
+  for (auto& c : by_root) {
+    if (c.empty()) continue;
+    std::sort(c.begin(), c.end());
+    clusters.push_back(std::move(c));
+  }
+  std::sort(clusters.begin(), clusters.end(), [](const auto& x, const auto& y) { return x.front() < y.front(); });
+  return clusters;
+}
+
+}  // namespace uavip::perception
