@@ -14,9 +14,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <vector>
+
+// qhull (reentrant), the library behind PCL's ConvexHull, linked through PCL. Last:
+// its headers define macros (True, False, FORALLfacets, ...).
+#include <libqhull_r/qhull_ra.h>
 
 namespace uavip::world {
 namespace {
@@ -259,38 +265,156 @@ Polyhedron surfaceSlab(const Surface& s, double thickness) {
   return prism(top, thickness * n);
 }
 
-/// The oriented bounding box (PCA axes) of an obstacle's points, every edge at least
-/// `min_edge` long; empty if the obstacle has no points.
-Polyhedron obstacleBox(const Obstacle& o, double min_edge) {
-  if (o.points.empty()) return {};
-  Vec3 mean = Vec3::Zero();
-  for (const auto& p : o.points) mean += p;
-  mean /= static_cast<double>(o.points.size());
+/// PCA frame of a point set: centre, right-handed axes (columns) and the extents of
+/// the points along them (lo, hi, relative to the centre).
+struct PcaFrame {
+  Vec3 mean{Vec3::Zero()};
+  Eigen::Matrix3d axes{Eigen::Matrix3d::Identity()};
+  Vec3 lo{Vec3::Zero()}, hi{Vec3::Zero()};
+};
+
+PcaFrame pcaFrame(const PointList& pts) {
+  PcaFrame f;
+  for (const auto& p : pts) f.mean += p;
+  f.mean /= static_cast<double>(pts.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : o.points) cov += (p - mean) * (p - mean).transpose();
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  if (o.points.size() >= 2) {
+  for (const auto& p : pts) cov += (p - f.mean) * (p - f.mean).transpose();
+  if (pts.size() >= 2) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    if (eig.info() == Eigen::Success) axes = eig.eigenvectors();
-    if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+    if (eig.info() == Eigen::Success) f.axes = eig.eigenvectors();
+    if (f.axes.determinant() < 0.0) f.axes.col(2) = -f.axes.col(2);
   }
-  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
-  for (const auto& p : o.points) {
-    const Vec3 l = axes.transpose() * (p - mean);
-    lo = lo.cwiseMin(l);
-    hi = hi.cwiseMax(l);
+  f.lo = Vec3::Constant(kInf);
+  f.hi = Vec3::Constant(-kInf);
+  for (const auto& p : pts) {
+    const Vec3 l = f.axes.transpose() * (p - f.mean);
+    f.lo = f.lo.cwiseMin(l);
+    f.hi = f.hi.cwiseMax(l);
   }
+  return f;
+}
+
+/// The oriented bounding box of frame `f`, every edge at least `min_edge` long.
+Polyhedron orientedBox(PcaFrame f, double min_edge) {
   for (int k = 0; k < 3; ++k) {
-    const double grow = std::max(0.0, 0.5 * (min_edge - (hi[k] - lo[k])));
-    lo[k] -= grow;
-    hi[k] += grow;
+    const double grow = std::max(0.0, 0.5 * (min_edge - (f.hi[k] - f.lo[k])));
+    f.lo[k] -= grow;
+    f.hi[k] += grow;
   }
-  std::vector<Vec3> top;  // the face at lo.z, in order around it
-  for (const auto& [x, y] : std::array<std::pair<double, double>, 4>{{{lo.x(), lo.y()}, {hi.x(), lo.y()},
-                                                                        {hi.x(), hi.y()}, {lo.x(), hi.y()}}}) {
-    top.push_back(mean + axes * Vec3(x, y, hi.z()));
+  std::vector<Vec3> top;  // the face at hi.z, in order around it
+  for (const auto& [x, y] : std::array<std::pair<double, double>, 4>{{{f.lo.x(), f.lo.y()}, {f.hi.x(), f.lo.y()},
+                                                                        {f.hi.x(), f.hi.y()}, {f.lo.x(), f.hi.y()}}}) {
+    top.push_back(f.mean + f.axes * Vec3(x, y, f.hi.z()));
   }
-  return prism(top, (hi.z() - lo.z()) * axes.col(2));
+  return prism(top, (f.hi.z() - f.lo.z()) * f.axes.col(2));
+}
+
+/// Triangles of the 3D convex hull of `pts` (indices into `pts`), by qhull in double
+/// precision on the points relative to `centre`; empty if qhull fails. qhull's
+/// messages go to a memory stream, not to stderr.
+std::vector<std::array<int, 3>> hullTriangles(const PointList& pts, const Vec3& centre) {
+  std::vector<std::array<int, 3>> tris;
+  std::vector<coordT> coords;
+  coords.reserve(3 * pts.size());
+  for (const auto& p : pts) {
+    const Vec3 q = p - centre;
+    coords.insert(coords.end(), {q.x(), q.y(), q.z()});
+  }
+  char* log = nullptr;
+  std::size_t log_size = 0;
+  FILE* err = open_memstream(&log, &log_size);
+  if (err == nullptr) return tris;
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, err);
+  // "Qt": triangulated output (done inside qh_new_qhull's error guard).
+  char flags[] = "qhull Qt";
+  const int code = qh_new_qhull(qh, 3, static_cast<int>(pts.size()), coords.data(), False, flags, nullptr, err);
+  if (code == 0) {
+    facetT* facet;
+    FORALLfacets {
+      if (qh_setsize(qh, facet->vertices) != 3) {  // not triangulated: give up on the hull
+        tris.clear();
+        break;
+      }
+      std::array<int, 3> t{};
+      int k = 0;
+      vertexT *vertex, **vertexp;
+      FOREACHvertex_(facet->vertices) t[static_cast<std::size_t>(k++)] = qh_pointid(qh, vertex->point);
+      tris.push_back(t);
+    }
+  }
+  qh_freeqhull(qh, !qh_ALL);
+  int curlong = 0, totlong = 0;
+  qh_memfreeshort(qh, &curlong, &totlong);
+  std::fclose(err);
+  std::free(log);  // NOLINT: allocated by open_memstream
+  return tris;
+}
+
+/// The convex hull of `pts` as a polyhedron that contains every point (planes
+/// checked by brute force, the solid scaled about its centre by the tiny factor that
+/// any rounding needs); empty if qhull fails or the hull is degenerate.
+Polyhedron hullSolid(const PointList& pts, const Vec3& centre) {
+  const auto tris = hullTriangles(pts, centre);
+  if (tris.size() < 4) return {};
+  Polyhedron p;
+  std::vector<int> local(pts.size(), -1);
+  double extent = 0.0;
+  for (const auto& q : pts) extent = std::max(extent, (q - centre).norm());
+  const double min_area2 = 1e-12 * extent * extent;  // twice a negligible triangle area [m²]
+  for (const auto& t : tris) {
+    for (int v : t) {
+      if (v < 0 || static_cast<std::size_t>(v) >= pts.size()) return {};
+    }
+    const Vec3& a = pts[static_cast<std::size_t>(t[0])];
+    if ((pts[static_cast<std::size_t>(t[1])] - a).cross(pts[static_cast<std::size_t>(t[2])] - a).norm() <= min_area2) {
+      continue;  // a sliver of the triangulation: its edges belong to its neighbours
+    }
+    std::array<int, 3> lt{};
+    for (int k = 0; k < 3; ++k) {
+      int& id = local[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
+      if (id < 0) {
+        id = static_cast<int>(p.vertices.size());
+        p.vertices.push_back(pts[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]);
+      }
+      lt[static_cast<std::size_t>(k)] = id;
+    }
+    p.triangles.push_back(lt);
+  }
+  if (p.triangles.size() < 4 || p.vertices.size() < 4) return {};
+  for (int round = 0; round < 3; ++round) {
+    p.finish();
+    Vec3 c = Vec3::Zero();
+    for (const auto& v : p.vertices) c += v;
+    c /= static_cast<double>(p.vertices.size());
+    // Scaling about c by s moves each face plane from height h to s·h above c.
+    double scale = 1.0;
+    for (std::size_t f = 0; f < p.normals.size(); ++f) {
+      const double h = -(p.normals[f].dot(c) + p.offsets[f]);
+      if (!(h > 0.0)) return {};  // the centre is not strictly inside: degenerate
+      double out = 0.0;
+      for (const auto& q : pts) out = std::max(out, p.normals[f].dot(q) + p.offsets[f]);
+      if (out > 0.0) scale = std::max(scale, (h + out) / h + 1e-12);
+    }
+    if (scale == 1.0) return p;
+    for (auto& v : p.vertices) v = c + scale * (v - c);
+  }
+  return {};
+}
+
+/// The solid of an obstacle cluster; empty if it has no points. The 3D convex hull
+/// of its points when they span a volume at least `min_edge` thick along every PCA
+/// axis; otherwise (1–3 points, flat sheets, rods) or when qhull fails, the oriented
+/// bounding box, every edge at least `min_edge` long. Either contains every point.
+Polyhedron obstacleSolid(const Obstacle& o, double min_edge) {
+  if (o.points.empty()) return {};
+  const PcaFrame f = pcaFrame(o.points);
+  if (o.points.size() >= 4 && (f.hi - f.lo).minCoeff() >= min_edge) {
+    Polyhedron hull = hullSolid(o.points, f.mean);
+    if (!hull.triangles.empty()) return hull;
+  }
+  return orientedBox(f, min_edge);
 }
 
 // ---------------------------------------------------------------- cloud index
@@ -458,7 +582,7 @@ void CollisionWorld::build(const Scene& scene) {
   }
   if (options_.include_obstacles) {
     for (const auto& o : scene.obstacles) {
-      addSolid(ObjectKind::Obstacle, o.id, obstacleBox(o, options_.obstacle_min_thickness_m));
+      addSolid(ObjectKind::Obstacle, o.id, obstacleSolid(o, options_.obstacle_min_thickness_m));
     }
   }
   if (options_.include_cloud && !scene.cloud.empty()) {

@@ -6,16 +6,16 @@
 ///  - every Surface (paper §II-D) as a thin convex slab: its boundary polygon on the
 ///    plane, extruded by `slab_thickness_m` *behind* the plane (against the normal,
 ///    into the structure), so the face the UAV sees is the fitted plane itself;
-///  - every Obstacle cluster (paper §II-E) as its oriented bounding box (PCA axes),
-///    see the comment of WorldOptions::obstacle_min_thickness_m for why not the
-///    convex hull or the axis-aligned box;
+///  - every Obstacle cluster (paper §II-E) as the 3D convex hull of its points (qhull),
+///    or its oriented bounding box (PCA axes) when the cluster is flat, linear or
+///    tiny, see WorldOptions::obstacle_min_thickness_m;
 ///  - all clean-cloud points as one fcl::OcTree built from an octomap::OcTree.
 ///
 /// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
 /// a segment; a capsule contains exactly the points within r of the segment):
 ///  - proximity(): exact distance from a segment to the nearest object. FCL's
 ///    broadphase prunes objects by the capsule's AABB; the narrowphase is exact:
-///    segment–polyhedron distance for slabs and boxes, kd-tree point distances for
+///    segment–polyhedron distance for slabs, hulls and boxes, kd-tree point distances for
 ///    the cloud (an OcTree leaf is a box, so FCL's own distance to the cloud is
 ///    conservative by up to the leaf's half-diagonal, √3/2·resolution).
 ///  - sweepContacts(): FCL's own discrete fcl::collide of the capsule against every
@@ -39,15 +39,17 @@ namespace uavip::world {
 struct WorldOptions {
   double octree_resolution_m{0.05};  ///< leaf edge of the cloud's OcTree [m]
   double slab_thickness_m{0.05};     ///< extrusion of each surface polygon behind its plane [m]
-  /// Smallest edge of an obstacle box [m] (a cluster of 1–2 points or a flat sheet
-  /// would give a degenerate box). Obstacles are oriented bounding boxes (PCA axes):
-  /// unlike an axis-aligned box they stay tight around rotated sheets and rods, and
-  /// unlike a 3D convex hull they never degenerate: most clusters left after plane
-  /// extraction have 1–5 points, often coplanar or collinear, where qhull fails.
-  /// The box contains every point of the cluster, so it is conservative.
+  /// Smallest thickness of an obstacle solid [m]. A cluster of at least 4 points
+  /// whose extent along each of its PCA axes is at least this becomes the 3D convex
+  /// hull of its points: a box would reach past the outside corner of an L-shaped
+  /// cluster into free space the points leave open. Any other cluster (1–3 points,
+  /// flat sheets, rods: most clusters left after plane extraction, where qhull would
+  /// fail), or one qhull fails on, becomes its oriented bounding box (PCA axes), every
+  /// edge at least this long. Either solid contains every point of the cluster
+  /// (the hull is checked point by point), so it is conservative.
   double obstacle_min_thickness_m{0.02};
   bool include_surfaces{true};   ///< add a slab per Surface
-  bool include_obstacles{true};  ///< add a box per Obstacle
+  bool include_obstacles{true};  ///< add a solid (hull or box) per Obstacle
   bool include_cloud{true};      ///< add the cloud (OcTree + exact kd-tree)
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -101,7 +103,7 @@ class CollisionWorld {
 
   /// Indices of the objects that FCL's discrete collide reports in contact with the
   /// capsule of radius `radius` around a→b, ascending. Conservative for the cloud
-  /// (OcTree leaves are boxes) and GJK-accurate (~1e-6 m) for slabs and boxes.
+  /// (OcTree leaves are boxes) and GJK-accurate (~1e-6 m) for slabs, hulls and boxes.
   std::vector<int> sweepContacts(const Vec3& a, const Vec3& b, double radius) const;
 
  private:
