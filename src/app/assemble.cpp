@@ -55,6 +55,12 @@ std::vector<scan::StationCloud> assembleAll(const RawLog& log, const scan::Assem
   return clouds;
 }
 
+/// The IMU heading at a station's first sample [rad] (0 without samples: assembly
+/// refuses such a station anyway).
+double imuYaw(const Station& station) {
+  return station.imu.empty() ? 0.0 : scan::yawOf(station.imu.front().world_q_body);
+}
+
 }  // namespace
 
 AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const RawLogTruth* truth,
@@ -74,7 +80,11 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   report(progress, "stage 2: registering the stations");
   std::vector<registration::StationInput> inputs;
   for (std::size_t i = 0; i < clouds.size(); ++i) {
-    inputs.push_back({clouds[i].station_id, clouds[i].points, registration::initialStationPose(log, i)});
+    const Eigen::Isometry3d initial =
+        options.registration.use_recorded_yaw
+            ? registration::initialStationPose(log, i, true, imuYaw(log.stations[i]), imuYaw(log.stations.front()))
+            : registration::initialStationPose(log, i);
+    inputs.push_back({clouds[i].station_id, clouds[i].points, initial});
     result.station_points += clouds[i].points.size();
   }
   registration::RegistrationResult reg = registration::registerStations(inputs, options.registration);
@@ -155,7 +165,10 @@ AssembleResult senseScans(const io::Scenario& scenario, const Progress& progress
   }
   for (const auto& seg : scenario.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
   for (const auto& p : scenario.world.points()) world.addPoint(p.name, p.p - s.origin_m);
-  AssembleResult result = assemble(s.log, AssembleOptions{}, &s.truth, &world, progress);
+  AssembleOptions options;
+  options.scan = scenario.config.assembly;
+  options.registration = scenario.config.registration;
+  AssembleResult result = assemble(s.log, options, &s.truth, &world, progress);
   for (auto& p : result.cloud) p += s.origin_m;  // back into scenario coordinates
   return result;
 }

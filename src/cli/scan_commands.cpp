@@ -65,7 +65,7 @@ int simulateCommand(const std::string& scenario_path, const std::string& out, co
 nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptions& o, const std::string& source,
-                          const io::RawLogReadStats& read, bool truth) {
+                          const std::string& config_path, const io::RawLogReadStats& read, bool truth) {
   nlohmann::json stations = nlohmann::json::array();
   for (const auto& s : r.stations) {
     nlohmann::json j = {{"id", s.id},
@@ -101,7 +101,9 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
                       {"options", {{"imu_prior", o.scan.use_imu_prior},
                                    {"icp", scan::toString(o.scan.icp)},
                                    {"registration", registration::toString(o.registration.method)},
-                                   {"output_voxel_m", o.registration.output_voxel_m}}},
+                                   {"use_recorded_yaw", o.registration.use_recorded_yaw},
+                                   {"output_voxel_m", o.registration.output_voxel_m},
+                                   {"config", config_path}}},
                       {"timings", {{"assembly_s", r.assembly_s}, {"registration_s", r.registration_s},
                                    {"total_s", r.total_s}}}};
   if (truth && r.rms_to_truth_m) {
@@ -112,11 +114,25 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
   return j;
 }
 
-int assembleCommand(const std::string& dir, const std::string& out, bool no_imu_prior, const std::string& method,
-                    const Verbosity& v) {
+int assembleCommand(const std::string& dir, const std::string& out, const std::string& config_path, bool no_imu_prior,
+                    const std::string& method, const Verbosity& v) {
   app::AssembleOptions options;
-  options.scan.use_imu_prior = !no_imu_prior;
-  if (!method.empty()) options.registration.method = registration::methodFromString(method);
+  if (!config_path.empty()) {
+    const io::Config config = io::loadConfigOrScenario(config_path);
+    options.scan = config.assembly;
+    options.registration = config.registration;
+  }
+  // The flags override the config file.
+  if (no_imu_prior) options.scan.use_imu_prior = false;
+  if (!method.empty()) {
+    try {
+      options.registration.method = registration::methodFromString(method);
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      const std::size_t pos = msg.find(" must be");
+      throw InputError(pos == std::string::npos ? msg : "--registration" + msg.substr(pos));
+    }
+  }
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("reading " + dir);
   io::RawLogReadStats read;
@@ -129,7 +145,7 @@ int assembleCommand(const std::string& dir, const std::string& out, bool no_imu_
   if (!parent.empty()) io::ensureDirectory(parent.string());
   io::saveCloudPcd(out, r.cloud);
   const std::string report_path = fs::path(out).replace_extension(".report.json").string();
-  io::writeFileAtomic(report_path, reportJson(r, options, dir, read, truth.has_value()).dump(1) + "\n");
+  io::writeFileAtomic(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
   if (!v.quiet) {
     std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()
               << " merged (voxel " << fixed(options.registration.output_voxel_m, 3) << " m)\n";
@@ -157,7 +173,7 @@ int assembleCommand(const std::string& dir, const std::string& out, bool no_imu_
 
 /// Options of simulate and assemble, kept alive until dispatch.
 struct ScanArgs {
-  std::string scenario, out, scans, cloud_out, registration;
+  std::string scenario, out, scans, cloud_out, config, registration;
   bool no_imu_prior{false};
 };
 
@@ -178,9 +194,15 @@ void addScanCommands(CLI::App& cli, CommandRegistry& registry) {
                                 "registered and merged; writes the cloud and <cloud>.report.json");
   as->add_option("scans", a->scans, "Raw log directory (written by uavip simulate)")->required();
   as->add_option("-o,--out", a->cloud_out, "Merged cloud (.pcd); the report goes beside it")->required();
-  as->add_flag("--no-imu-prior", a->no_imu_prior, "Plain ICP between horizontal scans (no IMU rotation first)");
-  as->add_option("--registration", a->registration, "none, icp, icp_point_to_plane (default), gicp or ndt");
-  registry.add(as, [a, &v] { return assembleCommand(a->scans, a->cloud_out, a->no_imu_prior, a->registration, v); });
+  as->add_option("-c,--config", a->config,
+                 "Scenario or config YAML: its assembly: and registration: sections (default: the built-in options)");
+  as->add_flag("--no-imu-prior", a->no_imu_prior,
+               "Plain ICP between horizontal scans (no IMU rotation first); overrides the config");
+  as->add_option("--registration", a->registration,
+                 "none, translation (default), icp, icp_point_to_plane, gicp or ndt; overrides the config");
+  registry.add(as, [a, &v] {
+    return assembleCommand(a->scans, a->cloud_out, a->config, a->no_imu_prior, a->registration, v);
+  });
 }
 
 }  // namespace uavip::cli

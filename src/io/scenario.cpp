@@ -294,6 +294,53 @@ void parseMission(Section s, planning::MissionOptions& o) {
   s.finish();
 }
 
+/// A name parsed by `from_string` (which throws "<module>: <key> must be ..., got '…'"),
+/// re-thrown with the file and the YAML path.
+template <typename T, typename F>
+T named(Section& s, const std::string& key, T fallback, F&& from_string) {
+  if (!s.has(key)) return fallback;
+  const std::string name = s.text(key);
+  try {
+    return from_string(name);
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    const std::size_t pos = msg.find(" must be");
+    s.fail(key, pos == std::string::npos ? "is not valid: " + msg : msg.substr(pos + 1));
+  }
+}
+
+/// Stage 1 (scan/station_assembler.h); mode scan only.
+void parseAssembly(Section s, scan::AssemblerOptions& o) {
+  o.use_imu_prior = s.boolean("use_imu_prior", o.use_imu_prior);
+  o.icp = named(s, "icp", o.icp, [](const std::string& n) { return scan::icpMethodFromString(n); });
+  o.max_iterations = s.integer("max_iterations", o.max_iterations);
+  o.max_correspondence_m = s.number("max_correspondence_m", o.max_correspondence_m);
+  o.keyframe_yaw_deg = s.number("keyframe_yaw_deg", o.keyframe_yaw_deg);
+  o.keyframe_translation_m = s.number("keyframe_translation_m", o.keyframe_translation_m);
+  o.horizontal_stride = s.integer("horizontal_stride", o.horizontal_stride);
+  o.imu_smoothing_s = s.number("imu_smoothing_s", o.imu_smoothing_s);
+  o.max_imu_gap_s = s.number("max_imu_gap_s", o.max_imu_gap_s);
+  o.estimate_z = s.boolean("estimate_z", o.estimate_z);
+  o.z_cone_deg = s.number("z_cone_deg", o.z_cone_deg);
+  o.include_horizontal = s.boolean("include_horizontal", o.include_horizontal);
+  s.finish();
+}
+
+/// Stage 2 (registration/station_registration.h); mode scan only.
+void parseRegistration(Section s, registration::RegistrationOptions& o) {
+  o.method = named(s, "method", o.method, [](const std::string& n) { return registration::methodFromString(n); });
+  o.overlap_margin_m = s.number("overlap_margin_m", o.overlap_margin_m);
+  o.search_radius_m = s.number("search_radius_m", o.search_radius_m);
+  o.search_step_m = s.number("search_step_m", o.search_step_m);
+  o.downsample_m = s.number("downsample_m", o.downsample_m);
+  o.max_correspondence_m = s.number("max_correspondence_m", o.max_correspondence_m);
+  o.max_iterations = s.integer("max_iterations", o.max_iterations);
+  o.ndt_resolution_m = s.number("ndt_resolution_m", o.ndt_resolution_m);
+  o.use_recorded_yaw = s.boolean("use_recorded_yaw", o.use_recorded_yaw);
+  o.output_voxel_m = s.number("output_voxel_m", o.output_voxel_m);
+  s.finish();
+}
+
 /// Reads the config sections present in `top` (unknown keys are left to the caller).
 void parseConfigSections(Section& top, Config& c) {
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
@@ -304,6 +351,8 @@ void parseConfigSections(Section& top, Config& c) {
   if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
   if (top.has("planner")) parsePlanner(top.child("planner"), c);
   if (top.has("mission")) parseMission(top.child("mission"), c.mission);
+  if (top.has("assembly")) parseAssembly(top.child("assembly"), c.assembly);
+  if (top.has("registration")) parseRegistration(top.child("registration"), c.registration);
 }
 
 /// A non-negative `seed` key, or the fallback.
@@ -437,6 +486,8 @@ void Config::validate(const std::string& where) const {
     planner_settings.validate("planner");
     planners::makePlanner(planner, planner_settings);  // throws for an unknown name
     if (mission.start) require(mission.start->allFinite(), "mission", "start must be finite");
+    assembly.validate("assembly");
+    registration.validate("registration");
   });
 }
 
@@ -459,6 +510,13 @@ Config parseConfig(const std::string& yaml_text, const std::string& path) {
 }
 
 Config loadConfig(const std::string& path) { return parseConfig(readFile(path), path); }
+
+Config loadConfigOrScenario(const std::string& path) {
+  const std::string text = readFile(path);
+  const YAML::Node root = parseYaml(text, path);
+  if (root.IsMap() && root["world"].IsDefined()) return parseScenario(text, path).config;
+  return parseConfig(text, path);
+}
 
 Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   Scenario sc;

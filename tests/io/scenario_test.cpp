@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <utility>
 
 namespace uavip::io {
 namespace {
@@ -123,6 +127,146 @@ TEST(Config, EmptyConfigMeansDefaults) {
   const Config c = parseConfig("", "c.yaml");
   EXPECT_EQ(c.planner, "astar");
   EXPECT_THROW(parseConfig("world: []\n", "c.yaml"), InputError);  // a config has no world
+}
+
+// The `assembly:` and `registration:` sections (stages 1-2). Every value set below
+// differs from the option structs' defaults, checked first, so a value that was
+// not read cannot pass.
+const std::string kStages = R"(
+assembly:
+  use_imu_prior: false
+  icp: pcl
+  max_iterations: 12
+  max_correspondence_m: 0.35
+  keyframe_yaw_deg: 7.5
+  keyframe_translation_m: 0.15
+  horizontal_stride: 3
+  imu_smoothing_s: 0.05
+  max_imu_gap_s: 0.04
+  estimate_z: false
+  z_cone_deg: 25
+  include_horizontal: true
+registration:
+  method: gicp
+  overlap_margin_m: 0.5
+  search_radius_m: 1.5
+  search_step_m: 0.25
+  downsample_m: 0.1
+  max_correspondence_m: 0.8
+  max_iterations: 17
+  ndt_resolution_m: 0.7
+  use_recorded_yaw: true
+  output_voxel_m: 0.03
+)";
+
+void expectStagesRead(const Config& c) {
+  const scan::AssemblerOptions& a = c.assembly;
+  EXPECT_FALSE(a.use_imu_prior);
+  EXPECT_EQ(a.icp, scan::IcpMethod::PclPointToPoint);
+  EXPECT_EQ(a.max_iterations, 12);
+  EXPECT_DOUBLE_EQ(a.max_correspondence_m, 0.35);
+  EXPECT_DOUBLE_EQ(a.keyframe_yaw_deg, 7.5);
+  EXPECT_DOUBLE_EQ(a.keyframe_translation_m, 0.15);
+  EXPECT_EQ(a.horizontal_stride, 3);
+  EXPECT_DOUBLE_EQ(a.imu_smoothing_s, 0.05);
+  EXPECT_DOUBLE_EQ(a.max_imu_gap_s, 0.04);
+  EXPECT_FALSE(a.estimate_z);
+  EXPECT_DOUBLE_EQ(a.z_cone_deg, 25.0);
+  EXPECT_TRUE(a.include_horizontal);
+  const registration::RegistrationOptions& r = c.registration;
+  EXPECT_EQ(r.method, registration::Method::Gicp);
+  EXPECT_DOUBLE_EQ(r.overlap_margin_m, 0.5);
+  EXPECT_DOUBLE_EQ(r.search_radius_m, 1.5);
+  EXPECT_DOUBLE_EQ(r.search_step_m, 0.25);
+  EXPECT_DOUBLE_EQ(r.downsample_m, 0.1);
+  EXPECT_DOUBLE_EQ(r.max_correspondence_m, 0.8);
+  EXPECT_EQ(r.max_iterations, 17);
+  EXPECT_DOUBLE_EQ(r.ndt_resolution_m, 0.7);
+  EXPECT_TRUE(r.use_recorded_yaw);
+  EXPECT_DOUBLE_EQ(r.output_voxel_m, 0.03);
+}
+
+TEST(Scenario, AssemblyAndRegistrationDefaultToTheOptionStructs) {
+  const Scenario s = parseScenario(kMinimal, "x.yaml");
+  const scan::AssemblerOptions a;
+  const registration::RegistrationOptions r;
+  EXPECT_EQ(s.config.assembly.use_imu_prior, a.use_imu_prior);
+  EXPECT_EQ(s.config.assembly.icp, a.icp);
+  EXPECT_EQ(s.config.assembly.max_iterations, a.max_iterations);
+  EXPECT_EQ(s.config.assembly.horizontal_stride, a.horizontal_stride);
+  EXPECT_EQ(s.config.registration.method, r.method);
+  EXPECT_EQ(s.config.registration.max_iterations, r.max_iterations);
+  EXPECT_EQ(s.config.registration.output_voxel_m, r.output_voxel_m);
+  // The test values below are not the defaults.
+  EXPECT_TRUE(a.use_imu_prior);
+  EXPECT_NE(a.icp, scan::IcpMethod::PclPointToPoint);
+  EXPECT_FALSE(a.include_horizontal);
+  EXPECT_NE(r.method, registration::Method::Gicp);
+  EXPECT_FALSE(r.use_recorded_yaw);
+}
+
+TEST(Scenario, AssemblyAndRegistrationValuesAreRead) {
+  SCOPED_TRACE("scenario");
+  expectStagesRead(parseScenario(kMinimal + kStages, "x.yaml").config);
+}
+
+TEST(Config, AssemblyAndRegistrationValuesAreRead) {
+  SCOPED_TRACE("config");
+  expectStagesRead(parseConfig(kStages, "c.yaml"));
+  // Every registration method name maps to its enum value.
+  const std::pair<const char*, registration::Method> methods[] = {
+      {"none", registration::Method::None},   {"translation", registration::Method::PointToPlaneTranslation},
+      {"icp", registration::Method::Icp},     {"icp_point_to_plane", registration::Method::IcpPointToPlane},
+      {"gicp", registration::Method::Gicp},   {"ndt", registration::Method::Ndt}};
+  for (const auto& [name, method] : methods) {
+    EXPECT_EQ(parseConfig(std::string("registration: {method: ") + name + "}\n", "c.yaml").registration.method, method)
+        << name;
+  }
+  EXPECT_EQ(parseConfig("assembly: {icp: point_to_line}\n", "c.yaml").assembly.icp, scan::IcpMethod::PointToLine2D);
+}
+
+TEST(Scenario, AssemblyAndRegistrationAreStrict) {
+  expectInputError(kMinimal + "assembly: {max_iteration: 5}\n", {"x.yaml", "assembly.max_iteration", "not a known key"});
+  expectInputError(kMinimal + "registration: {convergence: 1}\n", {"x.yaml", "registration.convergence", "not a known key"});
+  expectInputError(kMinimal + "registration: {method: sgd}\n", {"x.yaml", "registration.method", "'sgd'", "gicp"});
+  expectInputError(kMinimal + "assembly: {icp: svd}\n", {"x.yaml", "assembly.icp", "'svd'", "point_to_line"});
+  expectInputError(kMinimal + "registration: {method: [icp]}\n", {"x.yaml", "registration.method", "string"});
+  expectInputError(kMinimal + "assembly: {use_imu_prior: often}\n", {"x.yaml", "assembly.use_imu_prior", "true or false"});
+  expectInputError(kMinimal + "assembly: {horizontal_stride: 1.5}\n", {"x.yaml", "assembly.horizontal_stride", "integer"});
+  expectInputError(kMinimal + "registration: {downsample_m: fine}\n", {"x.yaml", "registration.downsample_m", "number"});
+  expectInputError(kMinimal + "assembly: 3\n", {"x.yaml", "assembly", "mapping"});
+  // Values are checked by the options' own validate(), named by section.
+  expectInputError(kMinimal + "assembly: {max_iterations: 0}\n", {"x.yaml", "assembly", "max_iterations"});
+  expectInputError(kMinimal + "assembly: {z_cone_deg: 95}\n", {"x.yaml", "assembly", "z_cone_deg"});
+  expectInputError(kMinimal + "registration: {downsample_m: 0}\n", {"x.yaml", "registration", "downsample_m"});
+  expectInputError(kMinimal + "registration: {search_radius_m: -1}\n", {"x.yaml", "registration", "search_radius_m"});
+  EXPECT_THROW(parseConfig("registration: {method: sgd}\n", "c.yaml"), InputError);
+}
+
+TEST(Config, ScenarioOrConfigFile) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("uavip_cfg_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  };
+  {
+    SCOPED_TRACE("scenario file");
+    expectStagesRead(loadConfigOrScenario(write("s.yaml", kMinimal + kStages)));
+  }
+  {
+    SCOPED_TRACE("config file");
+    expectStagesRead(loadConfigOrScenario(write("c.yaml", kStages)));
+  }
+  try {
+    loadConfigOrScenario(write("bad.yaml", "registration: {method: sgd}\n"));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "bad.yaml").string() + ": registration.method"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -74,7 +74,8 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options = {}, 
 
 /// Sensing mode `scan` for `uavip run`: simulate the scenario's raw scans
 /// (sim::simulateScans), assemble them, and return the merged cloud shifted back
-/// into scenario coordinates. The report is scored against the scenario's world.
+/// into scenario coordinates, with the scenario's `assembly:` and `registration:`
+/// options (io::Config). The report is scored against the scenario's world.
 AssembleResult senseScans(const io::Scenario& scenario, const Progress& progress = {});
 
 }  // namespace uavip::app

@@ -9,6 +9,8 @@
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
+#include "uavip/registration/station_registration.h"
+#include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/sim/world_model.h"
@@ -31,8 +33,12 @@ struct UavConfig {
 };
 
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`
-/// config of `uavip detect` and `uavip plan`).
+/// config of `uavip detect`, `uavip plan` and `uavip assemble`).
 struct Config {
+  /// Stage 1 (paper §II-A), section `assembly:`; used with sensing mode `scan` only.
+  scan::AssemblerOptions assembly;
+  /// Stage 2 (paper §II-B), section `registration:`; used with sensing mode `scan` only.
+  registration::RegistrationOptions registration;
   preprocess::PreprocessOptions preprocess;
   perception::PerceptionOptions perception;
   UavConfig uav;
@@ -86,5 +92,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path);
 Config loadConfig(const std::string& path);
 /// Parses a config from YAML text.
 Config parseConfig(const std::string& yaml_text, const std::string& path);
+/// The `-c` file of `uavip assemble`: a scenario (a mapping with a top-level
+/// `world` key: its config part) or a config file. Throws InputError on any problem.
+Config loadConfigOrScenario(const std::string& path);
 
 }  // namespace uavip::io
