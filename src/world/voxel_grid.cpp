@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 namespace uavip::world {
@@ -66,6 +67,7 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const
   require(allFinite(extra), "grid", "an extra point (e.g. a photo stop) has a non-finite coordinate");
 
   VoxelGrid g;
+  g.reach_cache_ = std::make_shared<ReachCache>();
   g.options_ = options;
   const double res = options.resolution_m;
 
@@ -256,8 +258,17 @@ bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
   return true;
 }
 
+struct VoxelGrid::ReachCache {
+  std::mutex mutex;
+  std::vector<std::uint8_t> mask;  ///< the last component (empty: none yet)
+};
+
 std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
   if (isBlocked(seed)) return {};
+  if (reach_cache_) {
+    const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
+    if (!reach_cache_->mask.empty() && reach_cache_->mask[linear(seed)]) return reach_cache_->mask;
+  }
   std::vector<std::uint8_t> seen(blocked_.size(), 0);
   std::deque<Index3> queue;
   seen[linear(seed)] = 1;
@@ -278,6 +289,10 @@ std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
         }
       }
     }
+  }
+  if (reach_cache_) {
+    const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
+    reach_cache_->mask = seen;
   }
   return seen;
 }

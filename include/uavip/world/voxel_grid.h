@@ -22,6 +22,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,8 @@ class VoxelGrid {
   /// Linear index of an in-bounds voxel.
   std::size_t linear(const Index3& i) const;
   /// Marks every free voxel 26-connected to `seed` (an empty vector if seed is blocked).
+  /// The last component found is kept: a seed inside it (every surface of one
+  /// mission, usually) gets a copy instead of a new flood fill. Thread-safe.
   std::vector<std::uint8_t> reachableFrom(const Index3& seed) const;
 
  private:
@@ -90,6 +93,8 @@ class VoxelGrid {
   Vec3 origin_{Vec3::Zero()};
   std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<std::uint8_t> blocked_;   ///< 0 free, 1 inflated, 2 occupied
+  struct ReachCache;                    ///< the last flood fill (mutex + mask)
+  std::shared_ptr<ReachCache> reach_cache_;
   std::size_t occupied_count_{0};
   std::size_t blocked_count_{0};
 };
