@@ -99,14 +99,16 @@ int main(int argc, char** argv) {
     std::printf("| total (1-7) | %.3f |\n\n", median(total_s));
 
     std::printf("| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded pos err cm | "
-                "registered pos err cm |\n|---|---|---|---|---|---|\n");
+                "registered pos err cm | stage 2 pairs fixing the weakest direction |\n|---|---|---|---|---|---|---|\n");
     for (const auto& st : last.stations) {
       char closure[32] = "n/a (unobservable)";
       if (st.loop_closure_m >= 0.0) std::snprintf(closure, sizeof closure, "%.1f", 100 * st.loop_closure_m);
-      std::printf("| %d | %s | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f |\n", st.id, closure,
+      std::printf("| %d | %s | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f | %.0f along (%.2f, %.2f, %.2f)%s |\n", st.id, closure,
                   100 * st.drift_max_m, 100 * st.true_drift_max_m.value_or(-0.01),
                   100 * st.drift_error_max_m.value_or(-0.01), 100 * st.drift_error_rms_m.value_or(-0.01),
-                  100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01));
+                  100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01),
+                  st.registration_information.x(), st.weakest_direction.x(), st.weakest_direction.y(),
+                  st.weakest_direction.z(), st.position_observed ? "" : " (unobserved: GPS)");
     }
     if (last.rms_to_truth_m) {
       std::printf("\nmerged cloud to the true surfaces: RMS %.2f cm, 95 %% %.2f cm (%zu points scored)\n",

@@ -107,6 +107,9 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
     s.pose = r.pose;
     s.registered = r.converged;
     s.registration_rms_m = r.fitness_rms_m;
+    s.registration_information = r.information;
+    s.weakest_direction = r.weakest_direction;
+    s.position_observed = r.iterations == 0 || r.information(0) >= registration::kMinInformationPairs;
     s.assembly_s = seconds[i];
     s.registration_s = r.time_s;
     if (truth && i < truth->stations.size() && !truth->stations[i].horizontal_poses.empty()) {

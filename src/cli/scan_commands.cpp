@@ -81,6 +81,9 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
                         {"rotation_deg", Eigen::AngleAxisd(s.pose.linear()).angle() * 180.0 / 3.14159265358979323846},
                         {"registered", s.registered},
                         {"registration_rms_m", s.registration_rms_m},
+                        {"registration_information_pairs", vec(s.registration_information)},
+                        {"weakest_direction", vec(s.weakest_direction)},
+                        {"position_observed", s.position_observed},
                         {"assembly_s", s.assembly_s},
                         {"registration_s", s.registration_s}};
     if (s.pose_error_m) {
@@ -151,7 +154,8 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
               << " merged (voxel " << fixed(options.registration.output_voxel_m, 3) << " m)\n";
     for (const auto& s : r.stations) {
       std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
-                << fixed(100.0 * s.loop_closure_m, 1) << " cm, drift " << fixed(100.0 * s.drift_max_m, 1)
+                << (s.loop_closure_m >= 0.0 ? fixed(100.0 * s.loop_closure_m, 1) + " cm" : std::string("n/a (unobservable)"))
+                << ", drift " << fixed(100.0 * s.drift_max_m, 1)
                 << " cm max, " << (s.registered ? "registered" : "NOT registered");
       if (s.pose_error_m) {
         std::cout << "; truth: drift error " << fixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
@@ -159,6 +163,12 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
                   << fixed(100.0 * *s.pose_error_m, 1) << " cm registered";
       }
       std::cout << "\n";
+      if (!s.position_observed) {
+        std::cout << "  warning: station " << s.id << "'s position along (" << fixed(s.weakest_direction.x(), 2) << ", "
+                  << fixed(s.weakest_direction.y(), 2) << ", " << fixed(s.weakest_direction.z(), 2)
+                  << ") is not fixed by the scans (" << fixed(s.registration_information.x(), 1)
+                  << " effective pairs): it is the recorded (GPS) one; add a station that sees a surface facing it\n";
+      }
     }
     if (r.rms_to_truth_m) {
       std::cout << "merged cloud to the true surfaces: RMS " << fixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "

@@ -169,6 +169,12 @@ TEST_F(AssembleCli, CloudAndReportMatchTheTruth) {
     const Vec3 origin(poses[0][0].get<double>(), poses[0][1].get<double>(), poses[0][2].get<double>());
     EXPECT_LT((vec(s["position"]) - origin).norm(), 0.03);
     EXPECT_NEAR(s["truth"]["position_error_m"].get<double>(), (vec(s["position"]) - origin).norm(), 1e-9);
+    // The room has walls facing every direction: every position is fixed by the scans
+    // (station 0 is the reference and has no pairs of its own).
+    EXPECT_TRUE(s["position_observed"].get<bool>());
+    if (i > 0) {
+      EXPECT_GE(s["registration_information_pairs"][0].get<double>(), 20.0);
+    }
     // Loop closure (issue 3: at most 5 cm with the default noise).
     EXPECT_GE(s["loop_closure_m"].get<double>(), 0.0);
     EXPECT_LE(s["loop_closure_m"].get<double>(), 0.05);

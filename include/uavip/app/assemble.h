@@ -35,13 +35,20 @@ struct StationReport {
   std::size_t invalid_beams{0};       ///< vertical beams skipped (no return, out of range)
   std::size_t keyframes{0};
   double mean_icp_iterations{0.0};
-  double loop_closure_m{-1.0};        ///< first vs last horizontal scan (paper: 10 cm); −1 if < 2 scans
+  double loop_closure_m{-1.0};        ///< first vs last horizontal scan (paper: 10 cm); −1 if < 2 scans or unobservable
   double drift_final_m{0.0};          ///< estimated UAV displacement at the last scan (wind) [m]
   double drift_max_m{0.0};            ///< largest estimated displacement during the turn [m]
   Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};  ///< from the recorded position
   Eigen::Isometry3d pose{Eigen::Isometry3d::Identity()};          ///< after registration
   bool registered{false};             ///< registration converged (station 0: true)
   double registration_rms_m{0.0};     ///< ICP pair RMS [m]
+  /// Stage 2's information per direction (registration::StationResult::information):
+  /// effective point-to-plane pairs, ascending, and the weakest direction.
+  Vec3 registration_information{Vec3::Zero()};
+  Vec3 weakest_direction{Vec3::Zero()};
+  /// False when some direction had < registration::kMinInformationPairs pairs: the
+  /// station's position along weakest_direction is the recorded one (GPS), not the scans'.
+  bool position_observed{true};
   double assembly_s{0.0};
   double registration_s{0.0};
   // With the ground truth:
