@@ -542,15 +542,13 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
     }
     if (sc.sensing_mode == "scan") {
       parseScanSensing(sensing, sc.scan);
-      // The pipeline runs in the raw log's frame (origin: station 0, sim/scanner_sim.h).
-      sc.config.perception.planes.viewpoint = Vec3::Zero();
-      if (sensing.has("viewpoint")) {
-        sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint") - sc.scan.stations.front();
-      }
-      // Every station saw the structure from free space: the nearest one orients a surface.
-      for (const auto& station : sc.scan.stations) {
-        sc.config.perception.planes.extra_viewpoints.push_back(station - sc.scan.stations.front());
-      }
+      // Stages 3-7 run in scenario coordinates (app::senseScans shifts the merged
+      // cloud back from the raw log's frame), so the stations are viewpoints as given.
+      // They scanned the cloud: stage 4 orients each normal toward the side they see.
+      sc.config.perception.planes.viewpoint = sc.scan.stations.front();
+      if (sensing.has("viewpoint")) sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
+      sc.config.perception.planes.extra_viewpoints = sc.scan.stations;
+      sc.config.perception.planes.viewpoints_scanned = true;
       sensing.finish();
       sc.scan.validate("sensing");
     } else {

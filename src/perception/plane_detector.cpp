@@ -175,7 +175,79 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
   return out;
 }
 
-/// Sign (+1 / -1) that turns `n` toward free space. The surface's extent (lo..hi in
+/// Occupied voxels of a point set (sorted keys), for line-of-sight tests.
+class OccupiedVoxels {
+ public:
+  OccupiedVoxels(const PointList& cloud, double edge) : edge_(edge) {
+    origin_ = boundingBox(cloud).min - Vec3::Constant(edge);
+    keys_.reserve(cloud.size());
+    for (const auto& p : cloud) keys_.push_back(key(p));
+    std::sort(keys_.begin(), keys_.end());
+    keys_.erase(std::unique(keys_.begin(), keys_.end()), keys_.end());
+  }
+  std::uint64_t key(const Vec3& p) const {
+    const Vec3 c = ((p - origin_) / edge_).array().floor().cwiseMax(0.0).cwiseMin(2097151.0);
+    return (static_cast<std::uint64_t>(c.x()) << 42) | (static_cast<std::uint64_t>(c.y()) << 21) |
+           static_cast<std::uint64_t>(c.z());
+  }
+  bool occupied(std::uint64_t k) const { return std::binary_search(keys_.begin(), keys_.end(), k); }
+  double edge() const { return edge_; }
+
+ private:
+  double edge_;
+  Vec3 origin_;
+  std::vector<std::uint64_t> keys_;
+};
+
+/// Line of sight for scanned clouds: +1 / −1 toward the side of the plane (n through
+/// centroid) from which a larger share (≥ half) of the (viewpoint, inlier) rays
+/// reach the surface without crossing a voxel occupied by another part of the
+/// cloud, 0 if neither side does. Voxels
+/// holding the surface's own inliers do not block (a grazing ray runs along them),
+/// and a ray ends kSightStop before its target. From behind a closed object a ray
+/// crosses the object's other faces and is blocked.
+double sightSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid, const Vec3& n,
+                 const std::vector<Vec3>& viewpoints, const OccupiedVoxels& occupied) {
+  constexpr double kSightStop = 0.15;
+  constexpr double kMaxRange = 30.0;  // Hokuyo UTM-30LX
+  constexpr std::size_t kRays = 48;
+  constexpr double kSightFraction = 0.5;
+  std::vector<std::uint64_t> own;
+  own.reserve(kept.size());
+  for (const auto i : kept) own.push_back(occupied.key(cloud[static_cast<std::size_t>(i)]));
+  std::sort(own.begin(), own.end());
+  own.erase(std::unique(own.begin(), own.end()), own.end());
+  const double step = 0.5 * occupied.edge();
+  const std::size_t rays = std::min(kRays, kept.size());
+  int front = 0, back = 0, front_cast = 0, back_cast = 0;
+  for (const auto& vp : viewpoints) {
+    const double side = n.dot(vp - centroid);
+    if (std::abs(side) < 1e-6) continue;  // in the plane: sees neither face
+    for (std::size_t r = 0; r < rays; ++r) {
+      const Vec3& target = cloud[static_cast<std::size_t>(kept[r * kept.size() / rays])];
+      const Vec3 d = target - vp;
+      const double length = d.norm();
+      if (length > kMaxRange || length <= kSightStop) continue;
+      (side > 0.0 ? front_cast : back_cast) += 1;
+      bool clear = true;
+      for (double t = 0.0; t < length - kSightStop && clear; t += step) {
+        const std::uint64_t k = occupied.key(vp + d * (t / length));
+        clear = !occupied.occupied(k) || std::binary_search(own.begin(), own.end(), k);
+      }
+      if (clear) (side > 0.0 ? front : back) += 1;
+    }
+  }
+  // A side counts when most of its rays get through: from behind a closed object
+  // only the rays to the face's rim (shared with the faces in front) do.
+  const double f = front_cast ? static_cast<double>(front) / front_cast : 0.0;
+  const double b = back_cast ? static_cast<double>(back) / back_cast : 0.0;
+  if (std::max(f, b) < kSightFraction || f == b) return 0.0;
+  return f > b ? 1.0 : -1.0;
+}
+
+/// Sign (+1 / -1) that turns `n` toward free space. For a scanned cloud (occupied
+/// given) the side the stations see it from decides (sightSide). Otherwise, or
+/// when no station sees it: the surface's extent (lo..hi in
 /// (u, v)) is cut into kOrientCell cells; a cell that holds inliers is "enclosed" on
 /// a side when the column in front of it on that side, from kOrientNear to
 /// kOrientDepth, holds a cloud point. A side enclosed over ≥ kEnclosedFraction of the
@@ -186,7 +258,14 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
 /// side instead would turn the ground under a pier upside down.
 double orientation(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid,
                    const Vec3& n, const Vec3& u, const Vec3& v, const Eigen::Vector2d& lo,
-                   const Eigen::Vector2d& hi, const PlaneDetectionOptions& options) {
+                   const Eigen::Vector2d& hi, const PlaneDetectionOptions& options,
+                   const OccupiedVoxels* occupied) {
+  if (occupied) {
+    std::vector<Vec3> viewpoints = options.extra_viewpoints;
+    viewpoints.push_back(options.viewpoint);
+    const double sight = sightSide(cloud, kept, centroid, n, viewpoints, *occupied);
+    if (sight != 0.0) return sight;
+  }
   const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kOrientCell)));
   const int nv = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kOrientCell)));
   const auto cellOf = [&](double pu, double pv) {
@@ -236,7 +315,7 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
 /// Builds the surface of the kept inliers: PCA plane, oriented normal, axes,
 /// convex-hull boundary and both areas.
 Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
-                    const PlaneDetectionOptions& options) {
+                    const PlaneDetectionOptions& options, const OccupiedVoxels* occupied) {
   const Pca pca = computePca(cloud, kept);
   Surface s;
   s.centroid = pca.centroid;
@@ -252,7 +331,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
-  const double sign = orientation(cloud, kept, s.centroid, n0, u, v0, lo, hi, options);
+  const double sign = orientation(cloud, kept, s.centroid, n0, u, v0, lo, hi, options, occupied);
   s.plane.normal = sign * n0;
   s.plane.offset = -s.plane.normal.dot(s.centroid);
   s.axis_u = u;
@@ -347,6 +426,9 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   std::vector<Index> pool(cloud.size());
   std::iota(pool.begin(), pool.end(), Index{0});
   std::vector<char> in_surface(cloud.size(), 0);
+  // Line-of-sight grid for scanned clouds (10 cm voxels).
+  const std::unique_ptr<OccupiedVoxels> occupied =
+      options.viewpoints_scanned ? std::make_unique<OccupiedVoxels>(cloud, 0.1) : nullptr;
   int failures = 0;
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
@@ -391,7 +473,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
 
     bool accepted = false;
     if (kept.size() >= 3) {
-      Surface surface = makeSurface(cloud, kept, options);
+      Surface surface = makeSurface(cloud, kept, options, occupied.get());
       if (std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
           surface.boundary.size() >= 3) {
         surface.id = static_cast<int>(result.surfaces.size());

@@ -295,7 +295,12 @@ sensing:
   EXPECT_DOUBLE_EQ(s.scan.gps_sigma_m, 0.3);
   EXPECT_EQ(s.scan.seed, 9u);
   EXPECT_EQ(s.world.rects().size(), 6u + 6u * 5u + 6u * 5u);  // box, tree (trunk + 4), grass (5)
-  EXPECT_TRUE(s.config.perception.planes.viewpoint.isZero());  // station 0 = the log origin
+  // Stages 3-7 run in scenario coordinates: the stations are the viewpoints as given,
+  // and they scanned the cloud (stage 4 orients normals by their line of sight).
+  EXPECT_EQ(s.config.perception.planes.viewpoint, s.scan.stations[0]);
+  ASSERT_EQ(s.config.perception.planes.extra_viewpoints.size(), 2u);
+  EXPECT_EQ(s.config.perception.planes.extra_viewpoints[1], Vec3(-3, 2, 0.5));
+  EXPECT_TRUE(s.config.perception.planes.viewpoints_scanned);
 
   auto expectError = [](const std::string& text, const std::string& fragment) {
     try {

@@ -172,6 +172,56 @@ TEST(PlaneDetector, ClutterOnOneSideDoesNotFlipAGround) {
   EXPECT_LT(angleDeg(r2.surfaces[0].plane.normal, -Vec3::UnitZ()), 1.0);
 }
 
+TEST(PlaneDetector, ScannedCloudFacesTheStationsThatSawIt) {
+  // The bridge as scanned from under the deck: ground z = 0 and deck underside
+  // z = 3.6 (8 m x 8 m each; the deck top is never seen), a station at 1.5 m
+  // between them, plus a closed 2 m box on the ground whose far face (x = 5) the
+  // station cannot see. Each plane is enclosed by the other within 6 m, so the
+  // enclosure rule alone points the ground down and the underside up (into the
+  // deck); the stations' line of sight gives ground up, underside down, and leaves
+  // the unseen box face to the enclosure rule (outward, +x).
+  std::mt19937 rng(17);
+  PointList cloud;
+  addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 81, 81, 0.1, 0.003, rng);
+  addPatch(cloud, Vec3(0, 0, 3.6), Vec3::UnitX(), Vec3::UnitY(), 81, 81, 0.1, 0.003, rng);
+  PointList box = cube(Vec3(4.0, 0.0, 1.05), 1.0, 0.1, 0.003, 18);
+  cloud.insert(cloud.end(), box.begin(), box.end());
+  PlaneDetectionOptions o;
+  o.cell_size_m = 0.1;
+  o.viewpoint = Vec3(-2.0, 0.5, 1.5);
+  o.viewpoints_scanned = true;
+  const auto r = detectPlanes(cloud, o);
+  int checked = 0;
+  for (const auto& s : r.surfaces) {
+    const Vec3& c = s.centroid;
+    if (std::abs(c.z()) < 0.1 && s.area_m2 > 30.0) {  // not the box's bottom (z = 0.05)
+      EXPECT_LT(angleDeg(s.plane.normal, Vec3::UnitZ()), 1.0) << "ground";
+      ++checked;
+    } else if (std::abs(c.z() - 3.6) < 0.1 && s.area_m2 > 30.0) {
+      EXPECT_LT(angleDeg(s.plane.normal, -Vec3::UnitZ()), 1.0) << "underside";
+      ++checked;
+    } else if (std::abs(c.x() - 5.0) < 0.1) {
+      EXPECT_LT(angleDeg(s.plane.normal, Vec3::UnitX()), 1.0) << "box face the station cannot see";
+      ++checked;
+    } else if (std::abs(c.x() - 3.0) < 0.1) {
+      EXPECT_LT(angleDeg(s.plane.normal, -Vec3::UnitX()), 1.0) << "box face toward the station";
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 4);
+  // Without the scanned flag the enclosure rule turns both large planes inward.
+  o.viewpoints_scanned = false;
+  const auto old = detectPlanes(cloud, o);
+  int old_checked = 0;
+  for (const auto& s : old.surfaces) {
+    if (s.area_m2 < 30.0) continue;
+    const double up = std::abs(s.centroid.z()) < 0.1 ? -1.0 : 1.0;  // ground down, underside up
+    EXPECT_LT(angleDeg(s.plane.normal, up * Vec3::UnitZ()), 1.0) << s.centroid.z();
+    ++old_checked;
+  }
+  EXPECT_EQ(old_checked, 2);
+}
+
 TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {
   std::mt19937 rng(13);
   PointList cloud;

@@ -27,6 +27,11 @@ struct PlaneDetectionOptions {
   /// More sensor positions (e.g. every scanning station); the one nearest to a
   /// surface's centroid, among these and `viewpoint`, orients it [m].
   std::vector<Vec3> extra_viewpoints;
+  /// True when the viewpoints are the stations that actually scanned the cloud
+  /// (sensing mode scan): a scanner sees only the front of a surface, so the
+  /// normal points to the side from which the viewpoints have a clear line of sight
+  /// to the surface's points (the cloud occludes), before any other rule.
+  bool viewpoints_scanned{false};
   std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -48,9 +53,11 @@ struct PlaneDetectionResult {
 };
 
 /// Runs stage 4 on the clean cloud. Never throws on a cloud with too few points:
-/// it returns no surface. Normals point toward free space: away from the side that
-/// encloses the surface (the inside of a closed object: ≥ 90 % of the surface sees
-/// a point within 6 m on that side), otherwise toward the nearest viewpoint.
+/// it returns no surface. Normals point toward free space: with viewpoints_scanned,
+/// toward the side the scanning stations see the surface from (line of sight);
+/// otherwise (or if no station sees it) away from the side that encloses the
+/// surface (the inside of a closed object: ≥ 90 % of the surface sees a point
+/// within 6 m on that side), otherwise toward the nearest viewpoint.
 PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options);
 
 }  // namespace uavip::perception
