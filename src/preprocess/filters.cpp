@@ -1,18 +1,22 @@
 #include "uavip/preprocess/filters.h"
 
 #include "uavip/core/error.h"
-#include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/pcl_cloud.h"
 
-#include <pcl/filters/statistical_outlier_removal.h>
+#include <flann/flann.hpp>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 namespace uavip::preprocess {
 namespace {
@@ -33,26 +37,104 @@ void PreprocessOptions::validate(const std::string& where) const {
   }
   requirePositive(outlier_std_ratio, where, "outlier_std_ratio");
   requirePositive(voxel_m, where, "voxel_m");
+  if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
 }
 
-PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio) {
+PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads) {
   if (k < 1) {
     throw InputError("removeStatisticalOutliers: k must be >= 1, got " + std::to_string(k));
   }
   requirePositive(std_ratio, "removeStatisticalOutliers", "std_ratio");
+  if (threads < 1) {
+    throw InputError("removeStatisticalOutliers: threads must be >= 1, got " + std::to_string(threads));
+  }
   if (cloud.size() <= static_cast<std::size_t>(k)) return cloud;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!cloud[i].allFinite()) {
+      throw InputError("removeStatisticalOutliers: point " + std::to_string(i) + " is not finite: " +
+                       formatPoint(cloud[i]));
+    }
+  }
+  if (cloud.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw InputError("removeStatisticalOutliers: cloud has " + std::to_string(cloud.size()) +
+                     " points, more than the 2^31 - 1 a kd-tree index holds");
+  }
 
-  const Vec3 origin = boundingBox(cloud).min;
-  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-  sor.setInputCloud(toPclCloud(cloud, origin));
-  sor.setMeanK(k);
-  sor.setStddevMulThresh(std_ratio);
-  pcl::Indices kept;
-  sor.filter(kept);  // indices of the kept points, in input order
+  // The same computation as pcl::StatisticalOutlierRemoval<PointXYZ> (PCL 1.13), on the
+  // same FLANN kd-tree (KDTreeSingleIndex, 15 points per leaf, exact search) that its
+  // pcl::search::KdTree builds, and with the same float/double arithmetic, so the kept
+  // set is identical (tested against PCL's filter). What differs: the float copy goes
+  // straight from the PointList into FLANN (no intermediate PCL cloud), the queries are
+  // batched (no per-query wrapper) and split over `threads` threads. Each point's
+  // statistic depends on its own query only, and the mean and sigma are summed in
+  // index order by one thread, so the result does not depend on the scheduling.
+  const std::size_t n = cloud.size();
+  const Vec3 origin = boundingBox(cloud).min;  // floats near 0 keep millimetres (see toPclCloud)
+  std::vector<float> xyz(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 q = cloud[i] - origin;
+    xyz[3 * i] = static_cast<float>(q.x());
+    xyz[3 * i + 1] = static_cast<float>(q.y());
+    xyz[3 * i + 2] = static_cast<float>(q.z());
+  }
+  flann::Index<flann::L2_Simple<float>> index(flann::Matrix<float>(xyz.data(), n, 3),
+                                              flann::KDTreeSingleIndexParams(15));
+  index.buildIndex();
+
+  // First pass: mean distance of each point to its k nearest neighbours (the query
+  // point itself is the first of the k + 1 results).
+  const int searcher_k = k + 1;
+  std::vector<float> distances(n);
+  const auto meanDistances = [&](std::size_t begin, std::size_t end) {
+    constexpr std::size_t kBatch = 2048;
+    std::vector<int> nn_indices(kBatch * static_cast<std::size_t>(searcher_k));
+    std::vector<float> nn_dists(kBatch * static_cast<std::size_t>(searcher_k));
+    flann::SearchParams params(-1, 0.0f);  // exact, sorted: KdTreeFLANN's nearestKSearch
+    for (std::size_t b = begin; b < end; b += kBatch) {
+      const std::size_t m = std::min(kBatch, end - b);
+      flann::Matrix<float> queries(xyz.data() + 3 * b, m, 3);
+      flann::Matrix<int> idx(nn_indices.data(), m, static_cast<std::size_t>(searcher_k));
+      flann::Matrix<float> dst(nn_dists.data(), m, static_cast<std::size_t>(searcher_k));
+      index.knnSearch(queries, idx, dst, static_cast<std::size_t>(searcher_k), params);
+      for (std::size_t r = 0; r < m; ++r) {
+        const float* row = dst[r];
+        double dist_sum = 0.0;
+        for (int j = 1; j < searcher_k; ++j) dist_sum += std::sqrt(static_cast<double>(row[j]));
+        distances[b + r] = static_cast<float>(dist_sum / k);
+      }
+    }
+  };
+  // At least ~1000 queries per thread, so a thread start (tens of µs) stays negligible.
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(threads), n / 1024 + 1);
+  std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
+  std::size_t w = 1;
+  try {
+    for (; w < workers; ++w) pool.emplace_back(meanDistances, n * w / workers, n * (w + 1) / workers);
+  } catch (const std::system_error&) {
+    // No more threads available: this thread does the remaining slices too.
+  }
+  meanDistances(0, n / workers);
+  for (; w < workers; ++w) meanDistances(n * w / workers, n * (w + 1) / workers);
+  for (auto& t : pool) t.join();
+
+  // Mean and standard deviation of the statistic, then the threshold mu + d_t * sigma.
+  double sum = 0.0;
+  double sq_sum = 0.0;
+  for (const float d : distances) {
+    sum += d;
+    sq_sum += d * d;  // float product, as PCL
+  }
+  const auto valid = static_cast<double>(n);
+  const double mean = sum / valid;
+  const double variance = (sq_sum - sum * sum / valid) / (valid - 1.0);
+  const double threshold = mean + std_ratio * std::sqrt(variance);
 
   PointList out;
-  out.reserve(kept.size());
-  for (const auto i : kept) out.push_back(cloud[static_cast<std::size_t>(i)]);
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(static_cast<double>(distances[i]) > threshold)) out.push_back(cloud[i]);
+  }
   return out;
 }
 
@@ -106,7 +188,7 @@ PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
 
   PointList current = options.remove_outliers
                           ? removeStatisticalOutliers(cloud, options.outlier_k,
-                                                      options.outlier_std_ratio)
+                                                      options.outlier_std_ratio, options.threads)
                           : cloud;
   const std::size_t after_outliers = current.size();
   if (options.voxelize) current = voxelGrid(current, options.voxel_m);

@@ -3,13 +3,19 @@
 #include "uavip/core/error.h"
 
 #include <gtest/gtest.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <tuple>
+#include <vector>
 
 namespace uavip::preprocess {
 namespace {
@@ -52,6 +58,149 @@ TEST(StatisticalOutliers, SmallCloudIsUnchanged) {
   const PointList cloud = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {100, 100, 100}};
   EXPECT_EQ(removeStatisticalOutliers(cloud, 4, 1.0), cloud);
   EXPECT_EQ(removeStatisticalOutliers(cloud, 16, 1.0), cloud);
+}
+
+/// A scene whose neighbour statistic is a continuum, so that mu + d_t·sigma cuts
+/// through it: a floor sampled at random with a density falling along x, a noisy
+/// wall, a pole (a line of points) and duplicated points, plus `planted` isolated
+/// outliers 0.6 m above the floor, 0.25 m apart (also returned in `outliers`).
+PointList mixedScene(std::size_t planted, std::uint32_t seed, PointList* outliers) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.004);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  PointList cloud;
+  for (int i = 0; i < 3000; ++i) {  // floor 3 m x 1.5 m, density ~ (1 - x/3.3)^2
+    const double x = 3.3 * (1.0 - std::sqrt(u(rng)));
+    cloud.emplace_back(std::min(x, 3.0), 1.5 * u(rng), noise(rng));
+  }
+  for (int i = 0; i < 30; ++i) {  // wall x = 3.2 m, 3 m x 1.5 m at 10 cm
+    for (int j = 0; j < 15; ++j) cloud.emplace_back(3.2 + noise(rng), 0.1 * i - 0.5, 0.1 * j + 0.05);
+  }
+  for (int i = 0; i < 200; ++i) cloud.emplace_back(1.5, -0.3, 0.01 * i);  // pole, 1 cm steps
+  for (int i = 0; i < 20; ++i) cloud.push_back(cloud[1000]);                // duplicates
+  for (std::size_t i = 0; i < planted; ++i) {
+    const Vec3 p(0.1 + 0.25 * static_cast<double>(i), 0.75, 0.6);
+    cloud.push_back(p);
+    if (outliers != nullptr) outliers->push_back(p);
+  }
+  return cloud;
+}
+
+/// The reference: pcl::StatisticalOutlierRemoval on the cloud shifted to its lower
+/// bounding corner (PCL stores floats), kept points in input order.
+PointList pclStatisticalOutlierRemoval(const PointList& cloud, int k, double std_ratio) {
+  Vec3 lo = cloud.front();
+  for (const auto& p : cloud) lo = lo.cwiseMin(p);
+  auto pc = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (const auto& p : cloud) {
+    const Vec3 q = p - lo;
+    pc->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
+  }
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(pc);
+  sor.setMeanK(k);
+  sor.setStddevMulThresh(std_ratio);
+  pcl::Indices kept;
+  sor.filter(kept);
+  PointList out;
+  for (const auto i : kept) out.push_back(cloud[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+bool contains(const PointList& cloud, const Vec3& p) {
+  return std::find(cloud.begin(), cloud.end(), p) != cloud.end();
+}
+
+TEST(StatisticalOutliers, KeepsExactlyThePointsPclKeepsWithAnyThreadCount) {
+  PointList outliers;
+  const PointList cloud = mixedScene(12, 11, &outliers);
+  for (const double ratio : {2.0, 1.0}) {
+    const PointList reference = pclStatisticalOutlierRemoval(cloud, 16, ratio);
+    // The threshold cuts the continuum, not just the planted outliers.
+    ASSERT_GT(cloud.size() - reference.size(), outliers.size() + 20);
+    for (const int threads : {1, 2, 3}) {
+      const PointList out = removeStatisticalOutliers(cloud, 16, ratio, threads);
+      EXPECT_EQ(out, reference) << "ratio " << ratio << ", " << threads << " threads: " << out.size()
+                                << " kept, PCL keeps " << reference.size();
+    }
+  }
+  const PointList out = removeStatisticalOutliers(cloud, 16, 2.0);
+  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+}
+
+TEST(StatisticalOutliers, KeepsExactlyThePointsPclKeepsFarFromTheOrigin) {
+  // Geo-referenced coordinates (UTM-like), a cloud big enough to use both threads.
+  PointList outliers;
+  PointList cloud = mixedScene(8, 12, &outliers);
+  PointList more = noisyPlane(90, 90, 0.03, 0.003, 13);  // second floor, 2.7 m x 2.7 m
+  for (auto& p : more) p += Vec3(0.0, 2.0, 1.0);
+  cloud.insert(cloud.begin(), more.begin(), more.end());
+  const Vec3 base(500000.0, 5000000.0, 100.0);
+  for (auto& p : cloud) p += base;
+  for (auto& p : outliers) p += base;
+  const PointList out = removeStatisticalOutliers(cloud, 16, 2.0, 2);
+  EXPECT_EQ(out, pclStatisticalOutlierRemoval(cloud, 16, 2.0));
+  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+}
+
+TEST(StatisticalOutliers, AgreesWithABruteForceStatistic) {
+  // Brute force in double: mean distance to the k nearest other points, then
+  // mu + 2 sigma (sample sigma). Points clearly above the threshold must go, points
+  // clearly below must stay (the filter works in float: a thin band is not checked).
+  PointList outliers;
+  const PointList cloud = mixedScene(10, 21, &outliers);
+  const int k = 8;
+  const std::size_t n = cloud.size();
+  std::vector<double> mean_dist(n);
+  std::vector<double> d(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) d[j] = (cloud[i] - cloud[j]).norm();
+    d[i] = std::numeric_limits<double>::infinity();  // not its own neighbour
+    std::partial_sort(d.begin(), d.begin() + k, d.end());
+    double s = 0.0;
+    for (int j = 0; j < k; ++j) s += d[static_cast<std::size_t>(j)];
+    mean_dist[i] = s / k;
+  }
+  double mu = 0.0;
+  for (const double m : mean_dist) mu += m / static_cast<double>(n);
+  double var = 0.0;
+  for (const double m : mean_dist) var += (m - mu) * (m - mu) / static_cast<double>(n - 1);
+  const double threshold = mu + 2.0 * std::sqrt(var);
+
+  const PointList out = removeStatisticalOutliers(cloud, k, 2.0, 2);
+  std::size_t checked = 0;
+  std::size_t j = 0;  // out is a subsequence of cloud
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool kept = j < out.size() && out[j] == cloud[i];
+    if (kept) ++j;
+    if (mean_dist[i] > threshold * (1.0 + 1e-5)) {
+      EXPECT_FALSE(kept) << "point " << i << " mean distance " << mean_dist[i] << " > " << threshold;
+      ++checked;
+    } else if (mean_dist[i] < threshold * (1.0 - 1e-5)) {
+      EXPECT_TRUE(kept) << "point " << i << " mean distance " << mean_dist[i] << " < " << threshold;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(j, out.size()) << "output is not a subsequence of the input";
+  EXPECT_GE(checked, n - 5);
+  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+}
+
+TEST(StatisticalOutliers, BadArgumentsThrow) {
+  PointList cloud = noisyPlane(6, 6, 0.1, 0.0, 1);
+  EXPECT_THROW(removeStatisticalOutliers(cloud, 4, 2.0, 0), InputError);
+  EXPECT_THROW(removeStatisticalOutliers(cloud, 0, 2.0), InputError);
+  EXPECT_THROW(removeStatisticalOutliers(cloud, 4, 0.0), InputError);
+  cloud[3].z() = std::numeric_limits<double>::quiet_NaN();
+  try {
+    removeStatisticalOutliers(cloud, 4, 2.0);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 3"), std::string::npos) << e.what();
+  }
+  PreprocessOptions o;
+  o.threads = 0;
+  EXPECT_THROW(o.validate(), InputError);
 }
 
 TEST(VoxelGrid, EachOutputIsTheCentroidOfItsVoxel) {

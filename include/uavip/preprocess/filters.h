@@ -1,7 +1,9 @@
 #pragma once
 /// \file
 /// Stage 3 (paper §II-C): statistical outlier removal and voxel-grid
-/// down-sampling, on PCL (StatisticalOutlierRemoval, VoxelGrid).
+/// down-sampling. The outlier filter keeps exactly the points that
+/// pcl::StatisticalOutlierRemoval keeps, computed on the same FLANN kd-tree with the
+/// kNN queries split over threads; the voxel grid is pcl::VoxelGrid.
 
 #include "uavip/core/types.h"
 
@@ -14,9 +16,10 @@ namespace uavip::preprocess {
 struct PreprocessOptions {
   bool remove_outliers{true};
   int outlier_k{16};             ///< neighbours for the mean distance of each point
-  double outlier_std_ratio{2.0}; ///< d_t: a point whose mean neighbour distance is outside mu ± d_t·sigma is removed
+  double outlier_std_ratio{2.0}; ///< d_t: a point whose mean neighbour distance is above mu + d_t·sigma is removed
   bool voxelize{true};
   double voxel_m{0.05};          ///< voxel edge; each occupied voxel is replaced by its centroid [m]
+  int threads{2};                ///< threads for the outlier statistic's kNN queries; the result does not depend on it
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "preprocess") const;
@@ -29,10 +32,14 @@ struct PreprocessStats {
   std::size_t output_points{0};
 };
 
-/// Removes points whose mean distance to their k nearest neighbours lies outside
-/// mu ± d_t·sigma of all such means (Rusu 2008). Clouds with ≤ k points are returned
-/// unchanged (the statistics are meaningless there).
-PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio);
+/// Removes points whose mean distance to their k nearest neighbours lies above
+/// mu + d_t·sigma of all such means (Rusu 2008). Keeps exactly the points, in input
+/// order, that pcl::StatisticalOutlierRemoval keeps (same FLANN kd-tree, same
+/// arithmetic), with the kNN queries split over `threads` threads; the result does
+/// not depend on `threads`. Clouds with ≤ k points are returned unchanged (the
+/// statistics are meaningless there). Throws InputError for k < 1, std_ratio ≤ 0,
+/// threads < 1 or a non-finite point.
+PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads = 2);
 
 /// Replaces the points of each occupied voxel (edge leaf_m) by their centroid.
 /// Output order is deterministic.
