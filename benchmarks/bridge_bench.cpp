@@ -13,7 +13,7 @@
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
 
-#include <sys/resource.h>
+#include "bench_util.h"
 
 #include <algorithm>
 #include <chrono>
@@ -28,17 +28,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double peakRssMiB() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<double>(ru.ru_maxrss) / 1024.0;
-}
+using uavip::bench_util::median;
+using uavip::bench_util::peakRssMiB;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 

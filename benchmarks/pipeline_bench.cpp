@@ -6,7 +6,7 @@
 #include "uavip/core/error.h"
 #include "uavip/io/scenario.h"
 
-#include <sys/resource.h>
+#include "bench_util.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,17 +17,8 @@
 
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double peakRssMiB() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
+using uavip::bench_util::median;
+using uavip::bench_util::peakRssMiB;
 
 }  // namespace
 

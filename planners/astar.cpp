@@ -214,14 +214,8 @@ planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   };
-  if (!start.allFinite() || !grid.isFree(start)) {
-    out.status = planning::PathStatus::InvalidStart;
-    return finish();
-  }
-  if (!goal.allFinite() || !grid.isFree(goal)) {
-    out.status = planning::PathStatus::InvalidGoal;
-    return finish();
-  }
+  out.status = planning::checkEndpoints(grid, start, goal);
+  if (out.status != planning::PathStatus::Solved) return finish();
   const world::Index3 s = grid.indexOf(start);
   const world::Index3 g = grid.indexOf(goal);
   if (s == g) {

@@ -180,14 +180,8 @@ planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3&
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   };
-  if (!start.allFinite() || !grid.isFree(start)) {
-    out.status = planning::PathStatus::InvalidStart;
-    return finish();
-  }
-  if (!goal.allFinite() || !grid.isFree(goal)) {
-    out.status = planning::PathStatus::InvalidGoal;
-    return finish();
-  }
+  out.status = planning::checkEndpoints(grid, start, goal);
+  if (out.status != planning::PathStatus::Solved) return finish();
   if (grid.segmentFree(start, goal)) {
     out.status = planning::PathStatus::Solved;
     out.path = {start, goal};

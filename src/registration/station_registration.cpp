@@ -8,6 +8,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/pcl_cloud.h"
 
 #include <pcl/features/normal_3d.h>
 #include <pcl/point_cloud.h>
@@ -65,16 +66,6 @@ PointList voxelDownsample(const PointList& points, double leaf) {
     i = j;
   }
   return out;
-}
-
-Cloud::Ptr toPcl(const PointList& points) {
-  auto c = std::make_shared<Cloud>();
-  c->points.reserve(points.size());
-  for (const auto& p : points) c->points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  c->width = static_cast<std::uint32_t>(c->points.size());
-  c->height = 1;
-  c->is_dense = true;
-  return c;
 }
 
 NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud) {
@@ -173,7 +164,7 @@ class Occupancy {
 /// PCA normals (k = 10) of a cloud, oriented toward `viewpoint` (the station that
 /// saw the points); NaN where undefined.
 std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint) {
-  const Cloud::Ptr cloud = toPcl(points);
+  const Cloud::Ptr cloud = toPclCloud(points, Vec3::Zero());
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(cloud);
   ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
@@ -298,7 +289,7 @@ struct IcpOutcome {
 /// the largest and ≥ kMinInformationPairs effective pairs); the others keep the start.
 IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& source_normals, const PointList& target,
                           const std::vector<Vec3>& target_normals, double gate, int iterations) {
-  const Cloud::Ptr tgt = toPcl(target);
+  const Cloud::Ptr tgt = toPclCloud(target, Vec3::Zero());
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(tgt);
   const std::vector<std::size_t> sample = balancedSample(source_normals, 2000);
@@ -347,6 +338,23 @@ IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& sour
   return out;
 }
 
+/// PCL's ICP or GICP on XYZ clouds with the options' gate and iterations; returns
+/// the transform, and sets converged and the fitness (mean squared pair distance).
+template <typename Registration>
+Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, const Cloud::Ptr& tgt,
+                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+  reg.setInputSource(src);
+  reg.setInputTarget(tgt);
+  reg.setMaxCorrespondenceDistance(o.max_correspondence_m);
+  reg.setMaximumIterations(o.max_iterations);
+  reg.setTransformationEpsilon(1e-8);
+  Cloud out;
+  reg.align(out);
+  converged = reg.hasConverged();
+  fitness = reg.getFitnessScore(o.max_correspondence_m);
+  return reg.getFinalTransformation();
+}
+
 /// Aligns source onto target (both in world coordinates, source at its guess).
 Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals, const PointList& target,
                 const std::vector<Vec3>& target_normals, const RegistrationOptions& o) {
@@ -374,10 +382,7 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
   Vec3 origin = Vec3::Zero();
   for (const auto& p : target) origin += p;
   origin /= static_cast<double>(target.size());
-  PointList s = source, t = target;
-  for (auto& p : s) p -= origin;
-  for (auto& p : t) p -= origin;
-  const Cloud::Ptr src = toPcl(s), tgt = toPcl(t);
+  const Cloud::Ptr src = toPclCloud(source, origin), tgt = toPclCloud(target, origin);
   Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
   double fitness = 0.0;
   switch (o.method) {
@@ -386,16 +391,7 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
       return a;
     case Method::Icp: {
       pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-      icp.setInputSource(src);
-      icp.setInputTarget(tgt);
-      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
-      icp.setMaximumIterations(o.max_iterations);
-      icp.setTransformationEpsilon(1e-8);
-      Cloud out;
-      icp.align(out);
-      m = icp.getFinalTransformation();
-      a.converged = icp.hasConverged();
-      fitness = icp.getFitnessScore(o.max_correspondence_m);
+      m = alignPointToPoint(icp, src, tgt, o, a.converged, fitness);
       break;
     }
     case Method::IcpPointToPlane: {
@@ -419,16 +415,7 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
     }
     case Method::Gicp: {
       pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-      icp.setInputSource(src);
-      icp.setInputTarget(tgt);
-      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
-      icp.setMaximumIterations(o.max_iterations);
-      icp.setTransformationEpsilon(1e-8);
-      Cloud out;
-      icp.align(out);
-      m = icp.getFinalTransformation();
-      a.converged = icp.hasConverged();
-      fitness = icp.getFitnessScore(o.max_correspondence_m);
+      m = alignPointToPoint(icp, src, tgt, o, a.converged, fitness);
       break;
     }
     case Method::Ndt: {

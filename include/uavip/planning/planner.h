@@ -27,6 +27,14 @@ struct PathResult {
   bool solved() const { return status == PathStatus::Solved; }
 };
 
+/// The check every planner makes before searching: InvalidStart / InvalidGoal when
+/// that end is not finite or not in a free voxel, else Solved (the ends are usable).
+inline PathStatus checkEndpoints(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
+  if (!start.allFinite() || !grid.isFree(start)) return PathStatus::InvalidStart;
+  if (!goal.allFinite() || !grid.isFree(goal)) return PathStatus::InvalidGoal;
+  return PathStatus::Solved;
+}
+
 /// Plans collision-free paths on a VoxelGrid. plan() is not thread-safe (a planner
 /// may keep scratch memory); use one instance per thread.
 class Planner {

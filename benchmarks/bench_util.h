@@ -1,0 +1,27 @@
+#pragma once
+// Small helpers shared by the benchmark programs (header-only; not part of the library).
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace uavip::bench_util {
+
+/// Median of the values (the mean of the middle two for an even count; 0 if empty).
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Peak resident memory of this process so far [MiB] (ru_maxrss is in KiB on Linux).
+inline double peakRssMiB() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;
+}
+
+}  // namespace uavip::bench_util
