@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/voxel_key.h"
 #include "uavip/perception/euclidean_clusters.h"
 
 #include <Eigen/Eigenvalues>
@@ -175,27 +176,19 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
   return out;
 }
 
-/// Occupied voxels of a point set (sorted keys), for line-of-sight tests.
+/// Occupied voxels of a point set (sorted 64-bit keys), for line-of-sight tests.
 class OccupiedVoxels {
  public:
-  OccupiedVoxels(const PointList& cloud, double edge) : edge_(edge) {
-    origin_ = boundingBox(cloud).min - Vec3::Constant(edge);
-    keys_.reserve(cloud.size());
-    for (const auto& p : cloud) keys_.push_back(key(p));
-    std::sort(keys_.begin(), keys_.end());
-    keys_.erase(std::unique(keys_.begin(), keys_.end()), keys_.end());
-  }
-  std::uint64_t key(const Vec3& p) const {
-    const Vec3 c = ((p - origin_) / edge_).array().floor().cwiseMax(0.0).cwiseMin(2097151.0);
-    return (static_cast<std::uint64_t>(c.x()) << 42) | (static_cast<std::uint64_t>(c.y()) << 21) |
-           static_cast<std::uint64_t>(c.z());
-  }
+  OccupiedVoxels(const PointList& cloud, double edge)
+      : keyer_(boundingBox(cloud).min - Vec3::Constant(edge), boundingBox(cloud).max + Vec3::Constant(edge),
+               edge, "line-of-sight voxel"),
+        keys_(occupiedKeys(cloud, keyer_)) {}
+  std::uint64_t key(const Vec3& p) const { return keyer_.key(p); }
   bool occupied(std::uint64_t k) const { return std::binary_search(keys_.begin(), keys_.end(), k); }
-  double edge() const { return edge_; }
+  double edge() const { return keyer_.edge(); }
 
  private:
-  double edge_;
-  Vec3 origin_;
+  VoxelKeyer keyer_;
   std::vector<std::uint64_t> keys_;
 };
 

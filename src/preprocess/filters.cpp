@@ -3,9 +3,9 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/pcl_cloud.h"
+#include "uavip/core/voxel_key.h"
 
 #include <flann/flann.hpp>
-#include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -139,40 +139,12 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
 }
 
 PointList voxelGrid(const PointList& cloud, double leaf_m) {
-  requirePositive(leaf_m, "voxelGrid", "voxel_m");
-  if (cloud.empty()) return {};
-
-  const Aabb box = boundingBox(cloud);
-  // PCL indexes voxels with 32-bit ints (and refuses silently beyond): check first.
-  double cells = 1.0;
-  for (int a = 0; a < 3; ++a) {
-    cells *= std::floor((box.max[a] - box.min[a]) / leaf_m) + 1.0;
+  requirePositive(leaf_m, "preprocess", "voxel_m");
+  try {
+    return voxelDownsample(cloud, leaf_m, "voxel_m");
+  } catch (const InputError& e) {
+    throw InputError(std::string("preprocess: ") + e.what());
   }
-  if (!(cells <= static_cast<double>(std::numeric_limits<std::int32_t>::max()))) {
-    const Vec3 extent = box.max - box.min;
-    std::ostringstream os;
-    os << "preprocess: voxel_m " << leaf_m << " m is too small for the cloud extent "
-       << extent.x() << " x " << extent.y() << " x " << extent.z() << " m (" << cells
-       << " voxels >= 2^31); use a larger voxel_m";
-    throw InputError(os.str());
-  }
-
-  // Shift by a whole number of voxels so the voxel borders stay at multiples of
-  // leaf_m in the world frame while PCL works near its float origin.
-  const Vec3 origin = (box.min / leaf_m).array().floor().matrix() * leaf_m;
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(toPclCloud(cloud, origin));
-  const auto leaf = static_cast<float>(leaf_m);
-  grid.setLeafSize(leaf, leaf, leaf);
-  PclCloud filtered;
-  grid.filter(filtered);  // sorted by voxel index: deterministic
-
-  PointList out;
-  out.reserve(filtered.size());
-  for (const auto& p : filtered.points) {
-    out.emplace_back(origin + Vec3(p.x, p.y, p.z));
-  }
-  return out;
 }
 
 PointList preprocess(const PointList& cloud, const PreprocessOptions& options,

@@ -250,8 +250,17 @@ TEST(VoxelGrid, FarFromOriginKeepsPrecision) {
   EXPECT_LT((out[1] - cloud[2]).norm(), 1e-3);
 }
 
+TEST(VoxelGrid, ExtentBeyondA32BitIndexWorks) {
+  // 10 km at 1 cm: 1e18 voxels in all (PCL's 32-bit index overflows), 1e6 per axis.
+  const PointList cloud = {{0, 0, 0}, {0.004, 0.004, 0.004}, {10000, 10000, 10000}};
+  const PointList out = voxelGrid(cloud, 0.01);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_LT((out[0] - Vec3(0.002, 0.002, 0.002)).norm(), 1e-9);
+  EXPECT_LT((out[1] - cloud[2]).norm(), 1e-9);
+}
+
 TEST(VoxelGrid, HugeExtentForTinyLeafThrows) {
-  const PointList cloud = {{0, 0, 0}, {10000, 10000, 10000}};
+  const PointList cloud = {{0, 0, 0}, {100000, 10, 10}};  // 1e7 voxels on x > 2^21
   try {
     voxelGrid(cloud, 0.01);
     FAIL() << "expected InputError";

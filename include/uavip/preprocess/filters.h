@@ -3,7 +3,9 @@
 /// Stage 3 (paper §II-C): statistical outlier removal and voxel-grid
 /// down-sampling. The outlier filter keeps exactly the points that
 /// pcl::StatisticalOutlierRemoval keeps, computed on the same FLANN kd-tree with the
-/// kNN queries split over threads; the voxel grid is pcl::VoxelGrid.
+/// kNN queries split over threads; the voxel grid is core/voxel_key.h's
+/// down-sampler (64-bit keys: PCL's VoxelGrid overflows its 32-bit index on a
+/// 130 m building at 5 cm).
 
 #include "uavip/core/types.h"
 
@@ -42,7 +44,8 @@ struct PreprocessStats {
 PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads = 2);
 
 /// Replaces the points of each occupied voxel (edge leaf_m) by their centroid.
-/// Output order is deterministic.
+/// Output order is deterministic. Throws InputError when the extent exceeds 2^21
+/// voxels on an axis.
 PointList voxelGrid(const PointList& cloud, double leaf_m);
 
 /// Stage 3 as configured. Throws InputError for an empty cloud or non-finite points.

@@ -1,0 +1,101 @@
+#include "uavip/core/voxel_key.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace uavip {
+
+VoxelKeyer::VoxelKeyer(const Vec3& lo, const Vec3& hi, double edge, const std::string& what)
+    : edge_(edge) {
+  requirePositive(edge, "voxel grid", what);
+  if (!lo.allFinite() || !hi.allFinite()) throw InputError("voxel grid: the point bounds are not finite");
+  origin_ = (lo / edge).array().floor().matrix() * edge;
+  for (int a = 0; a < 3; ++a) {
+    const double cells = std::floor((hi[a] - origin_[a]) / edge) + 1.0;
+    if (!(cells <= static_cast<double>(kCells))) {
+      const Vec3 extent = hi - lo;
+      std::ostringstream os;
+      os << what << " " << edge << " m is too small for the extent " << extent.x() << " x "
+         << extent.y() << " x " << extent.z() << " m (" << cells << " voxels on one axis > 2^21)"
+         << "; use a larger " << what;
+      throw InputError(os.str());
+    }
+  }
+}
+
+VoxelKeyer VoxelKeyer::forPoints(const PointList& points, double edge, const std::string& what) {
+  const Aabb box = boundingBox(points);
+  return VoxelKeyer(box.min, box.max, edge, what);
+}
+
+std::array<std::int64_t, 3> VoxelKeyer::cell(const Vec3& p) const {
+  std::array<std::int64_t, 3> c{};
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::floor((p[a] - origin_[a]) / edge_);
+    c[static_cast<std::size_t>(a)] =
+        static_cast<std::int64_t>(std::clamp(f, 0.0, static_cast<double>(kCells - 1)));
+  }
+  return c;
+}
+
+std::uint64_t VoxelKeyer::pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return (static_cast<std::uint64_t>(x) << (2 * kBits)) | (static_cast<std::uint64_t>(y) << kBits) |
+         static_cast<std::uint64_t>(z);
+}
+
+std::array<std::int64_t, 3> VoxelKeyer::unpack(std::uint64_t key) {
+  constexpr std::uint64_t mask = (std::uint64_t{1} << kBits) - 1;
+  return {static_cast<std::int64_t>(key >> (2 * kBits)), static_cast<std::int64_t>((key >> kBits) & mask),
+          static_cast<std::int64_t>(key & mask)};
+}
+
+std::uint64_t VoxelKeyer::key(const Vec3& p) const {
+  const auto c = cell(p);
+  return pack(c[0], c[1], c[2]);
+}
+
+Vec3 VoxelKeyer::centre(std::uint64_t key) const {
+  const auto c = unpack(key);
+  return origin_ + edge_ * Vec3(static_cast<double>(c[0]) + 0.5, static_cast<double>(c[1]) + 0.5,
+                                static_cast<double>(c[2]) + 0.5);
+}
+
+PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what) {
+  if (cloud.empty()) {
+    requirePositive(edge, "voxel grid", what);
+    return {};
+  }
+  const VoxelKeyer keyer = VoxelKeyer::forPoints(cloud, edge, what);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    keyed[i] = {keyer.key(cloud[i]), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  PointList out;
+  for (std::size_t i = 0; i < keyed.size();) {
+    std::size_t j = i;
+    // Sum relative to the voxel's first point: exact far from the origin too.
+    const Vec3& base = cloud[keyed[i].second];
+    Vec3 sum = Vec3::Zero();
+    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j) sum += cloud[keyed[j].second] - base;
+    out.push_back(base + sum / static_cast<double>(j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer& keyer) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(cloud.size());
+  for (const auto& p : cloud) keys.push_back(keyer.key(p));
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+}  // namespace uavip
