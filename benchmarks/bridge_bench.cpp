@@ -59,8 +59,8 @@ int main(int argc, char** argv) {
       const auto t0 = Clock::now();
       uavip::app::AssembleResult a = uavip::app::assemble(s.log, {}, &s.truth, &world);
       for (auto& p : a.cloud) p += s.origin_m;  // scenario coordinates, like `uavip run`
-      const auto d = uavip::app::detect(a.cloud, sc.config);
-      const auto p = uavip::app::plan(d.scene, sc.config, uavip::app::selectSurfaces(d.scene, "all"));
+      const auto d = uavip::app::detect(a.cloud, sc.config, uavip::app::measure(a.cloud, &sc));
+      const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
       total_s.push_back(since(t0));
       asm_s.push_back(a.assembly_s);
       reg_s.push_back(a.registration_s);

@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
       const auto t0 = Clock::now();
       const uavip::PointList cloud = uavip::app::sense(sc);
       const double t_sense = std::chrono::duration<double>(Clock::now() - t0).count();
-      const auto d = uavip::app::detect(cloud, sc.config);
-      const auto p = uavip::app::plan(d.scene, sc.config, uavip::app::selectSurfaces(d.scene, "all"));
+      const auto d = uavip::app::detect(cloud, sc.config, uavip::app::measure(cloud, &sc));
+      const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
       total.push_back(std::chrono::duration<double>(Clock::now() - t0).count() - t_sense);
       sense.push_back(t_sense);
       pre.push_back(d.times.preprocess_s);

@@ -267,12 +267,13 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
     result.scenarios.push_back(sc.name);
     report(progress, "bench: " + sc.name + ": sensing, detection, coverage");
     const PointList raw = sense(sc);
-    const DetectResult d = detect(raw, sc.config);
+    const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+    const io::Config& config = d.resolved.config;
 
     std::vector<PointList> stops_by_surface;
     PointList extra;
     for (const auto& surface : d.scene.surfaces) {
-      const auto strategy = coverage::planFlightStrategy(surface, sc.config.coverage);
+      const auto strategy = coverage::planFlightStrategy(surface, config.coverage);
       PointList stops;
       for (const auto& stop : strategy.stops) stops.push_back(stop.position);
       extra.insert(extra.end(), stops.begin(), stops.end());
@@ -282,12 +283,12 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
       extra.push_back(a);
       extra.push_back(b);
     }
-    if (sc.config.mission.start) extra.push_back(*sc.config.mission.start);
+    if (config.mission.start) extra.push_back(*config.mission.start);
     if (d.scene.cloud.empty() && extra.empty()) {
       throw InputError(sc.path + ": bench: the scenario has no cloud and no legs");
     }
-    const world::VoxelGrid grid = world::VoxelGrid::build(d.scene.cloud, extra, sc.config.gridOptions());
-    const planning::PathValidator validator(d.scene.cloud, sc.config.uav.inflationRadius());
+    const world::VoxelGrid grid = world::VoxelGrid::build(d.scene.cloud, extra, config.gridOptions());
+    const planning::PathValidator validator(d.scene.cloud, config.uav.inflationRadius());
 
     const std::vector<std::pair<Vec3, Vec3>> legs =
         sc.bench.legs.empty() ? sampleLegs(grid, stops_by_surface, sc.bench.max_legs, options.seed) : sc.bench.legs;
@@ -308,7 +309,7 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
       scenario_legs.push_back(leg);
     }
 
-    planners::PlannerSettings settings = sc.config.planner_settings;
+    planners::PlannerSettings settings = config.planner_settings;
     settings.time_limit_s = options.time_limit_s;
     settings.simplify = options.simplify;
     settings.seed = options.seed;

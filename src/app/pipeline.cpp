@@ -37,19 +37,42 @@ PointList sense(const io::Scenario& scenario) {
   return sim::sampleSurfaces(scenario.world, scenario.sample);
 }
 
-DetectResult detect(const PointList& raw, const io::Config& config, const Progress& progress) {
+preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario) {
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (!raw[i].allFinite()) throw InputError("cloud: point " + std::to_string(i) + " is not finite");
+  }
+  preprocess::CloudStats stats = preprocess::measureCloud(raw);
+  if (scenario != nullptr) {
+    stats.lattice = true;
+    if (scenario->sensing_mode == "sample" && scenario->sample.spacing_m > 0.0) {
+      stats.spacing_m = scenario->sample.spacing_m;
+    }
+  }
+  return stats;
+}
+
+DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
+                    const Progress& progress) {
   DetectResult result;
+  result.cloud = cloud;
+  result.resolved = resolveConfig(config, cloud);
+  const io::Config& resolved = result.resolved.config;
   const auto t0 = Clock::now();
   report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
-  PointList clean = preprocess::preprocess(raw, config.preprocess, &result.preprocess);
+  PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess);
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = Clock::now();
   report(progress, "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
-  result.scene = perception::buildScene(clean, config.perception);
+  result.scene = perception::buildScene(clean, resolved.perception);
+  result.scene.measured = cloud;
   result.times.perception_s = secondsSince(t1);
   result.times.total_s = secondsSince(t0);
   return result;
+}
+
+ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config) {
+  return resolveConfig(config, scene.measured ? *scene.measured : preprocess::measureCloud(scene.cloud));
 }
 
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection) {
@@ -107,12 +130,14 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
 
   const auto t2 = Clock::now();
   auto planner = planners::makePlanner(config.planner, config.planner_settings);
+  planning::MissionOptions mission_options = config.mission;
+  mission_options.gimbal = config.coverage.gimbal;
   for (std::size_t i = 0; i < strategies.size(); ++i) {
     report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
                          std::to_string(i + 1) + "/" + std::to_string(strategies.size()) + "), " +
                          std::to_string(strategies[i].stops.size()) + " stops");
     result.missions.push_back(
-        planning::planSurfaceMission(strategies[i], grid, validator, *planner, config.mission));
+        planning::planSurfaceMission(strategies[i], grid, validator, *planner, mission_options));
   }
   result.times.planning_s = secondsSince(t2);
   result.times.total_s = secondsSince(t0);

@@ -56,9 +56,17 @@ nlohmann::json metaFor(const io::Config& config, const std::string& source) {
           {"camera_model", camera}};
 }
 
-void writeScene(const std::string& out, const Scene& scene) {
-  io::saveCloudPcd((fs::path(out) / "cloud_clean.pcd").string(), scene.cloud);
-  io::writeFileAtomic((fs::path(out) / "scene.json").string(), io::sceneToJson(scene).dump(1) + "\n");
+void writeScene(const std::string& out, const app::DetectResult& d, const io::CloudReadInfo* read = nullptr) {
+  io::saveCloudPcd((fs::path(out) / "cloud_clean.pcd").string(), d.scene.cloud);
+  nlohmann::json j = io::sceneToJson(d.scene);
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const auto& r : d.resolved.values) parameters[r.key] = {{"value", r.value}, {"source", r.source}};
+  j["parameters"] = parameters;
+  // Recentred input (LAS): add source_offset_m to a point to get the file's coordinates in metres.
+  if (read != nullptr && read->origin_m != Vec3::Zero()) {
+    j["source_offset_m"] = {read->origin_m.x(), read->origin_m.y(), read->origin_m.z()};
+  }
+  io::writeFileAtomic((fs::path(out) / "scene.json").string(), j.dump(1) + "\n");
 }
 
 void writeMission(const std::string& out, const app::PlanResult& plan, const nlohmann::json& meta) {
@@ -71,6 +79,16 @@ void writeMission(const std::string& out, const app::PlanResult& plan, const nlo
 }
 
 void printDetectSummary(const app::DetectResult& d) {
+  const CloudStats& c = d.cloud;
+  std::cout << "measured: " << c.points << " points, spacing " << fixed(c.spacing_m, 3) << " m, extent "
+            << fixed(c.extent_m.x(), 1) << " x " << fixed(c.extent_m.y(), 1) << " x " << fixed(c.extent_m.z(), 1)
+            << " m, noise " << fixed(c.noise_m, 3) << " m\n";
+  std::cout << "parameters:";
+  for (const auto& r : d.resolved.values) {
+    std::string key = r.key.substr(r.key.find('.') + 1);
+    std::cout << " " << key << " " << r.value << (r.source == "set" ? " (set)" : "");
+  }
+  std::cout << "\n";
   std::cout << "cloud: " << d.preprocess.input_points << " points -> " << d.preprocess.after_outliers
             << " after outlier removal -> " << d.preprocess.output_points << " after voxel grid\n";
   std::cout << "surfaces: " << d.scene.surfaces.size() << ", obstacles: " << d.scene.obstacles.size() << "\n";
@@ -88,6 +106,7 @@ void printPlanSummary(const app::PlanResult& p) {
   for (const auto& m : p.missions) {
     std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
               << m.strategy.stops.size() << " stops";
+    if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
     if (planning::flyable(m.status)) {
       std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
                 << fixed(m.path_length_m, 1) << " m, min clearance " << fixed(m.validation.min_clearance_m, 2) << " m";
@@ -137,11 +156,11 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const auto t0 = std::chrono::steady_clock::now();
   if (progress) progress("sensing " + scenario.name + " (" + scenario.sensing_mode + ")");
   const PointList raw = app::sense(scenario);
-  const app::DetectResult d = app::detect(raw, scenario.config, progress);
+  const app::DetectResult d = app::detect(raw, scenario.config, app::measure(raw, &scenario), progress);
   const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
-  writeScene(out, d.scene);
-  const app::PlanResult p = app::plan(d.scene, scenario.config, ids, progress);
-  writeMission(out, p, metaFor(scenario.config, path));
+  writeScene(out, d);
+  const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
+  writeMission(out, p, metaFor(d.resolved.config, path));
   io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name));
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -161,10 +180,12 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
 int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out,
                   const Verbosity& v) {
   const io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
-  const PointList raw = io::loadCloud(cloud_path);
+  io::CloudReadInfo read;
+  const PointList raw = io::loadCloud(cloud_path, config.input, &read);
+  if (!v.quiet && !read.note.empty()) std::cout << read.note << "\n";
   io::ensureDirectory(out);
-  const app::DetectResult d = app::detect(raw, config, progressPrinter(v));
-  writeScene(out, d.scene);
+  const app::DetectResult d = app::detect(raw, config, app::measure(raw), progressPrinter(v));
+  writeScene(out, d, &read);
   io::writeViews(out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
   if (!v.quiet) {
     printDetectSummary(d);
@@ -184,8 +205,9 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   const Scene scene = io::loadScene(scene_path);
   const std::vector<int> ids = app::selectSurfaces(scene, surface);
   io::ensureDirectory(out);
-  const app::PlanResult p = app::plan(scene, config, ids, progressPrinter(v));
-  writeMission(out, p, metaFor(config, scene_path));
+  const io::Config resolved = app::resolveForScene(scene, config).config;
+  const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
+  writeMission(out, p, metaFor(resolved, scene_path));
   io::writeViews(out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()));
   if (!v.quiet) {
     printPlanSummary(p);
@@ -229,8 +251,15 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, v); });
 
   auto* det = cli.add_subcommand("detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
-  det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt)")->required();
-  det->add_option("-c,--config", a->config, "Config YAML (scenario sections; default: the paper's parameters)");
+  det->footer(
+      "Parameters follow the cloud: its spacing, extent and noise are measured first, and every\n"
+      "parameter the config does not set is chosen from them ('auto': the voxel, the RANSAC band,\n"
+      "the cluster tolerances, the area cell, the planning grid). On a dense scan (spacing <= 5 cm)\n"
+      "they are the paper's values. The chosen values are printed and written to scene.json.\n"
+      "LAS files: metres from the file's CRS unit, recentred (source_offset_m in scene.json);\n"
+      "'input: {drop_classes: [3, 4, 5, 7]}' in the config drops vegetation and noise.");
+  det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt, .las)")->required();
+  det->add_option("-c,--config", a->config, "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();
   registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, v); });
 

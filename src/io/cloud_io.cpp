@@ -1,5 +1,7 @@
 #include "uavip/io/cloud_io.h"
 
+#include "uavip/io/las_reader.h"
+
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 
@@ -127,12 +129,36 @@ PointList fromPcl(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::string
 
 }  // namespace
 
-PointList loadCloud(const std::string& path) {
+void CloudReadOptions::validate(const std::string& where) const {
+  for (const int c : drop_classes) {
+    if (c < 0 || c > 255) throw InputError(where + ": drop_classes holds " + std::to_string(c) + ", a class must be 0..255");
+  }
+}
+
+PointList loadCloud(const std::string& path, const CloudReadOptions& options, CloudReadInfo* info) {
+  options.validate();
   const std::string ext = lowerExtension(path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
   PointList points;
-  if (ext == ".xyz" || ext == ".txt") {
+  if (ext == ".las" || ext == ".laz") {
+    LasOptions las_options;
+    las_options.drop_classes = options.drop_classes;
+    LasCloud las = readLas(path, las_options);
+    if (info != nullptr) {
+      std::ostringstream os;
+      os << path << ": LAS " << las.version_major << "." << las.version_minor << " point format " << las.point_format
+         << ", " << las.points_in_file << " points";
+      if (las.dropped > 0) os << " (" << las.dropped << " dropped by class)";
+      os << "; unit " << las.unit_name << " (" << las.unit_source << ")";
+      if (las.unit_to_m != 1.0 || las.z_unit_to_m != 1.0) os << " converted to metres";
+      os << "; recentred by (" << las.origin_m.x() << ", " << las.origin_m.y() << ", " << las.origin_m.z() << ") m";
+      info->note = os.str();
+      info->origin_m = las.origin_m;
+    }
+    points = std::move(las.points);
+    if (points.empty()) throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
+  } else if (ext == ".xyz" || ext == ".txt") {
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
     checkHeader(path, ext);
@@ -141,7 +167,7 @@ PointList loadCloud(const std::string& path) {
     if (rc < 0) throw InputError(path + ": cannot parse as " + ext.substr(1) + " (corrupt or not x/y/z?)");
     points = fromPcl(cloud, path);
   } else {
-    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz or .txt)");
+    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt or .las)");
   }
   if (points.empty()) throw InputError(path + ": the cloud has no points");
   return points;

@@ -1,5 +1,6 @@
 #include "uavip/io/mission_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,7 +29,9 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
                      {"target", vec(s.target)},
                      {"yaw_deg", round4(s.yaw_deg)},
                      {"gimbal_pitch_deg", round4(s.gimbal_pitch_deg)},
-                     {"problem", planning::toString(problem)}});
+                     {"problem", planning::toString(problem)},
+                     {"moved", std::find(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(i)) !=
+                                   m.moved_stops.end()}});
   }
   json waypoints = json::array();
   for (const auto& p : m.waypoints) waypoints.push_back(vec(p));
@@ -42,6 +45,7 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
             {"spacing_m", {round4(m.strategy.spacing_w_m), round4(m.strategy.spacing_h_m)}},
             {"grid", {m.strategy.cols, m.strategy.rows}}}},
           {"stop_count", m.strategy.stops.size()},
+          {"moved_stop_count", m.moved_stops.size()},
           {"stops", stops},
           {"waypoint_count", m.waypoints.size()},
           {"waypoints", waypoints},

@@ -172,10 +172,15 @@ void parsePerception(Section s, perception::PerceptionOptions& o) {
   p.max_iterations = s.integer("max_iterations", p.max_iterations);
   p.min_area_m2 = s.number("min_area_m2", p.min_area_m2);
   p.cluster_tolerance_m = s.number("plane_cluster_tolerance_m", p.cluster_tolerance_m);
+  p.cell_size_m = s.number("area_cell_m", p.cell_size_m);
+  const int min_inliers = s.integer("min_inliers", p.min_inliers);
+  if (min_inliers < 3) s.fail("min_inliers", "must be >= 3, got " + std::to_string(min_inliers));
+  p.min_inliers = min_inliers;
   p.max_planes = s.integer("max_planes", p.max_planes);
   p.max_failures = s.integer("max_failures", p.max_failures);
   p.seed = static_cast<std::uint32_t>(s.integer("seed", static_cast<int>(p.seed)));
   p.viewpoint = s.vec3("viewpoint", p.viewpoint);
+  p.open_voxel_m = s.number("open_voxel_m", p.open_voxel_m);
   o.clusters.tolerance_m = s.number("obstacle_tolerance_m", o.clusters.tolerance_m);
   o.clusters.min_points = s.integer("obstacle_min_points", o.clusters.min_points);
   s.finish();
@@ -291,6 +296,11 @@ void parseMission(Section s, planning::MissionOptions& o) {
     s.fail("max_skipped_fraction", "must be in [0, 1], got " + std::to_string(o.max_skipped_fraction));
   }
   if (s.has("start")) o.start = s.vec3("start");
+  o.repair_stops = s.boolean("repair_stops", o.repair_stops);
+  o.max_standoff_factor = s.number("max_standoff_factor", o.max_standoff_factor);
+  if (!(o.max_standoff_factor >= 1.0 && o.max_standoff_factor <= 3.0)) {
+    s.fail("max_standoff_factor", "must be in [1, 3] (× the standoff), got " + std::to_string(o.max_standoff_factor));
+  }
   s.finish();
 }
 
@@ -342,7 +352,25 @@ void parseRegistration(Section s, registration::RegistrationOptions& o) {
 }
 
 /// Reads the config sections present in `top` (unknown keys are left to the caller).
+void parseInput(Section s, CloudReadOptions& o) {
+  if (s.has("drop_classes")) {
+    o.drop_classes.clear();
+    for (const double v : s.numbers("drop_classes", 0, 256)) {
+      if (v != std::floor(v) || v < 0 || v > 255) s.fail("drop_classes", "must hold ASPRS class codes 0..255");
+      o.drop_classes.push_back(static_cast<int>(v));
+    }
+  }
+  s.finish();
+}
+
 void parseConfigSections(Section& top, Config& c) {
+  if (top.has("input")) parseInput(top.child("input"), c.input);
+  for (const char* section : {"input", "preprocess", "perception", "uav", "grid", "camera", "coverage", "planner",
+                              "mission", "assembly", "registration"}) {
+    const YAML::Node n = top.node()[section];
+    if (!n.IsDefined() || !n.IsMap()) continue;
+    for (const auto& kv : n) c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
+  }
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
   if (top.has("perception")) parsePerception(top.child("perception"), c.perception);
   if (top.has("uav")) parseUav(top.child("uav"), c.uav);
@@ -477,6 +505,7 @@ void withFile(const std::string& path, F&& f) {
 
 void Config::validate(const std::string& where) const {
   withFile(where, [&] {
+    input.validate("input");
     preprocess.validate("preprocess");
     perception.validate("perception");
     for (int i = 0; i < 3; ++i) requirePositive(uav.size_m[i], "uav", "size_m");
@@ -504,7 +533,6 @@ Config parseConfig(const std::string& yaml_text, const std::string& path) {
   Section top(root, path, "");
   withFile(path, [&] { parseConfigSections(top, c); });
   top.finish();
-  if (c.preprocess.voxelize) c.perception.planes.cell_size_m = c.preprocess.voxel_m;
   c.validate(path);
   return c;
 }
@@ -566,6 +594,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
     }
 
     parseConfigSections(top, sc.config);
+    // The scenario's sensor is known (its viewpoint, by default the origin).
+    sc.config.set_keys.insert("perception.viewpoint");
 
     if (top.has("bench")) parseBench(top.child("bench"), sc.bench);
 
@@ -579,11 +609,6 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   });
   top.finish();
   if (sc.world.empty()) top.fail("world", "is empty: add at least one primitive");
-  // The density area of stage 4 uses the spacing of the clean cloud.
-  // In mode scan the cloud's spacing is the voxel edge (the raw scan spacing varies).
-  const double spacing = sc.sensing_mode == "scan" ? sc.config.preprocess.voxel_m : sc.sample.spacing_m;
-  sc.config.perception.planes.cell_size_m =
-      sc.config.preprocess.voxelize ? std::max(sc.config.preprocess.voxel_m, spacing) : spacing;
   sc.config.validate(path);
   return sc;
 }

@@ -86,12 +86,23 @@ json sceneToJson(const Scene& scene) {
                          {"point_count", o.points.size()},
                          {"points", points(o.points)}});
   }
-  return {{"format", "uavip-scene"},
-          {"version", 1},
-          {"frame", "local ENU, metres, z up"},
-          {"cloud_points", scene.cloud.size()},
-          {"surfaces", surfaces},
-          {"obstacles", obstacles}};
+  json j = {{"format", "uavip-scene"},
+            {"version", 1},
+            {"frame", "local ENU, metres, z up"},
+            {"cloud_points", scene.cloud.size()},
+            {"surfaces", surfaces},
+            {"obstacles", obstacles}};
+  if (scene.measured) {
+    const CloudStats& c = *scene.measured;
+    j["cloud"] = {{"points", c.points},
+                  {"spacing_m", round4(c.spacing_m)},
+                  {"extent_m", vec(c.extent_m)},
+                  {"min", vec(c.min)},
+                  {"max", vec(c.max)},
+                  {"noise_m", round4(c.noise_m)},
+                  {"lattice", c.lattice}};
+  }
+  return j;
 }
 
 Scene sceneFromJson(const json& j, const std::string& path) {
@@ -138,6 +149,24 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     scene.obstacles.push_back(std::move(o));
   }
   if (scene.cloud.empty()) throw InputError(path + ": the scene has no points (no surfaces, no obstacles)");
+  if (j.contains("cloud")) {  // written since the auto parameters (absent in older files)
+    const json& c = j.at("cloud");
+    CloudStats m;
+    const double points = r.number(r.at(c, "points", "cloud"), "cloud.points");
+    if (!(points >= 0.0 && points < 1e12)) r.fail("cloud.points", "must be a count");
+    m.points = static_cast<std::size_t>(points);
+    m.spacing_m = r.number(r.at(c, "spacing_m", "cloud"), "cloud.spacing_m");
+    if (!(std::isfinite(m.spacing_m) && m.spacing_m >= 0.0)) r.fail("cloud.spacing_m", "must be >= 0");
+    m.extent_m = r.vec3(r.at(c, "extent_m", "cloud"), "cloud.extent_m");
+    m.min = r.vec3(r.at(c, "min", "cloud"), "cloud.min");
+    m.max = r.vec3(r.at(c, "max", "cloud"), "cloud.max");
+    m.noise_m = r.number(r.at(c, "noise_m", "cloud"), "cloud.noise_m");
+    if (!(std::isfinite(m.noise_m) && m.noise_m >= 0.0)) r.fail("cloud.noise_m", "must be >= 0");
+    const json& lattice = r.at(c, "lattice", "cloud");
+    if (!lattice.is_boolean()) r.fail("cloud.lattice", "must be true or false");
+    m.lattice = lattice.get<bool>();
+    scene.measured = m;
+  }
   return scene;
 }
 

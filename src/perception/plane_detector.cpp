@@ -180,17 +180,88 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
 class OccupiedVoxels {
  public:
   OccupiedVoxels(const PointList& cloud, double edge)
-      : keyer_(boundingBox(cloud).min - Vec3::Constant(edge), boundingBox(cloud).max + Vec3::Constant(edge),
-               edge, "line-of-sight voxel"),
-        keys_(occupiedKeys(cloud, keyer_)) {}
+      : box_(boundingBox(cloud)),
+        keyer_(box_.min - Vec3::Constant(edge), box_.max + Vec3::Constant(edge), edge, "line-of-sight voxel"),
+        keys_(occupiedKeys(cloud, keyer_)) {
+    for (const auto& p : cloud) centroid_ += p;
+    centroid_ /= static_cast<double>(std::max<std::size_t>(cloud.size(), 1));
+  }
   std::uint64_t key(const Vec3& p) const { return keyer_.key(p); }
   bool occupied(std::uint64_t k) const { return std::binary_search(keys_.begin(), keys_.end(), k); }
   double edge() const { return keyer_.edge(); }
+  /// True once p has left the cloud's bounding box by more than one voxel.
+  bool outside(const Vec3& p) const {
+    return ((p - box_.min).array() < -edge()).any() || ((p - box_.max).array() > edge()).any();
+  }
+  const Vec3& centroid() const { return centroid_; }
+  /// True if p lies below the cloud's bottom (a ray that leaves there went underground).
+  bool below(const Vec3& p) const { return p.z() < box_.min.z() - edge(); }
 
  private:
+  Aabb box_;
   VoxelKeyer keyer_;
   std::vector<std::uint64_t> keys_;
+  Vec3 centroid_{Vec3::Zero()};
 };
+
+/// Keys of the voxels holding cloud[kept], sorted (a surface's own voxels never
+/// block the rays that start on it).
+std::vector<std::uint64_t> ownKeys(const PointList& cloud, const std::vector<Index>& kept,
+                                   const OccupiedVoxels& occupied) {
+  std::vector<std::uint64_t> own;
+  own.reserve(kept.size());
+  for (const auto i : kept) own.push_back(occupied.key(cloud[static_cast<std::size_t>(i)]));
+  std::sort(own.begin(), own.end());
+  own.erase(std::unique(own.begin(), own.end()), own.end());
+  return own;
+}
+
+/// Openness for a cloud without a known sensor position (a file from airborne or
+/// mobile LiDAR, a model): +1 / −1 toward the side of the plane from which more rays
+/// leave the cloud's bounds (through its top or sides: below the lowest point is
+/// ground) without crossing a voxel occupied by another part of the cloud — the
+/// outside of a building, the sky above a roof; 0 when the two sides
+/// differ by less than kOpenMargin (a lone wall, the ground with nothing below).
+/// Rays start at up to kOpenSamples inliers, along ±n and 30° off it toward ±u, ±v.
+double opennessSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& n, const Vec3& u,
+                    const Vec3& v, const OccupiedVoxels& occupied) {
+  constexpr std::size_t kOpenSamples = 32;
+  constexpr double kOpenMargin = 0.2;
+  const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
+  const double step = 0.5 * occupied.edge();
+  const std::size_t samples = std::min(kOpenSamples, kept.size());
+  const double c = 0.8660254037844386, s = 0.5;  // cos, sin of 30°
+  int open[2] = {0, 0};
+  int cast = 0;
+  for (std::size_t r = 0; r < samples; ++r) {
+    const Vec3& start = cloud[static_cast<std::size_t>(kept[r * kept.size() / samples])];
+    for (int side = 0; side < 2; ++side) {
+      const Vec3 ns = side == 0 ? n : Vec3(-n);
+      const Vec3 dirs[5] = {ns, c * ns + s * u, c * ns - s * u, c * ns + s * v, c * ns - s * v};
+      for (const auto& d : dirs) {
+        cast += side == 0;
+        Vec3 p = start + d * occupied.edge();
+        bool blocked = false;
+        while (!occupied.outside(p)) {
+          const std::uint64_t k = occupied.key(p);
+          if (occupied.occupied(k) && !std::binary_search(own.begin(), own.end(), k)) {
+            blocked = true;
+            break;
+          }
+          p += d * step;
+        }
+        // Leaving through the bottom of the cloud is not "open": nothing was
+        // measured under the ground because it is solid, not free.
+        if (!blocked && !occupied.below(p)) ++open[side];
+      }
+    }
+  }
+  if (cast == 0) return 0.0;
+  const double f = static_cast<double>(open[0]) / cast;
+  const double b = static_cast<double>(open[1]) / cast;
+  if (std::abs(f - b) < kOpenMargin) return 0.0;
+  return f > b ? 1.0 : -1.0;
+}
 
 /// Line of sight for scanned clouds: +1 / −1 toward the side of the plane (n through
 /// centroid) from which a larger share (≥ half) of the (viewpoint, inlier) rays
@@ -205,11 +276,7 @@ double sightSide(const PointList& cloud, const std::vector<Index>& kept, const V
   constexpr double kMaxRange = 30.0;  // Hokuyo UTM-30LX
   constexpr std::size_t kRays = 48;
   constexpr double kSightFraction = 0.5;
-  std::vector<std::uint64_t> own;
-  own.reserve(kept.size());
-  for (const auto i : kept) own.push_back(occupied.key(cloud[static_cast<std::size_t>(i)]));
-  std::sort(own.begin(), own.end());
-  own.erase(std::unique(own.begin(), own.end()), own.end());
+  const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
   const double step = 0.5 * occupied.edge();
   const std::size_t rays = std::min(kRays, kept.size());
   int front = 0, back = 0, front_cast = 0, back_cast = 0;
@@ -253,7 +320,11 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
                    const Vec3& n, const Vec3& u, const Vec3& v, const Eigen::Vector2d& lo,
                    const Eigen::Vector2d& hi, const PlaneDetectionOptions& options,
                    const OccupiedVoxels* occupied) {
-  if (occupied) {
+  if (occupied && !options.viewpoint_known) {
+    const double open = opennessSide(cloud, kept, n, u, v, *occupied);
+    if (open != 0.0) return open;
+  }
+  if (occupied && options.viewpoints_scanned) {
     std::vector<Vec3> viewpoints = options.extra_viewpoints;
     viewpoints.push_back(options.viewpoint);
     const double sight = sightSide(cloud, kept, centroid, n, viewpoints, *occupied);
@@ -293,6 +364,12 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
   const bool front_enclosed = static_cast<double>(front) >= limit;
   const bool back_enclosed = static_cast<double>(back) >= limit;
   if (front_enclosed != back_enclosed) return front_enclosed ? -1.0 : 1.0;
+  if (!options.viewpoint_known) {
+    // No sensor position: level-ish surfaces face up (ground, roofs, decks seen from
+    // the air); walls face away from the middle of the cloud.
+    if (std::abs(n.z()) > 0.3) return n.z() > 0.0 ? 1.0 : -1.0;
+    if (occupied) return n.dot(centroid - occupied->centroid()) >= 0.0 ? 1.0 : -1.0;
+  }
   Vec3 viewpoint = options.viewpoint;
   for (const auto& vp : options.extra_viewpoints) {
     if ((vp - centroid).squaredNorm() < (viewpoint - centroid).squaredNorm()) viewpoint = vp;
@@ -303,6 +380,21 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
   if (std::abs(n.z()) > kEps) return n.z() > 0.0 ? 1.0 : -1.0;
   if (std::abs(n.x()) > kEps) return n.x() > 0.0 ? 1.0 : -1.0;
   return n.y() >= 0.0 ? 1.0 : -1.0;
+}
+
+/// Area the planar points occupy: distinct cells of edge `cell` [m] × cell² [m²]
+/// (not count × cell²: a tilted plane through a voxel grid holds more points per m²).
+double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(uv.size());
+  for (const auto& q : uv) {
+    const auto i = static_cast<std::int64_t>(std::floor(q.x() / cell)) + (std::int64_t{1} << 31);
+    const auto j = static_cast<std::int64_t>(std::floor(q.y() / cell)) + (std::int64_t{1} << 31);
+    keys.push_back((static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint64_t>(j & 0xffffffff));
+  }
+  std::sort(keys.begin(), keys.end());
+  const auto cells = static_cast<double>(std::unique(keys.begin(), keys.end()) - keys.begin());
+  return cells * cell * cell;
 }
 
 /// Builds the surface of the kept inliers: PCA plane, oriented normal, axes,
@@ -343,8 +435,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     s.boundary.push_back(s.centroid + q.x() * s.axis_u + q.y() * s.axis_v);
   }
   s.area_m2 = polygonArea(s.boundary);
-  s.density_area_m2 =
-      static_cast<double>(kept.size()) * options.cell_size_m * options.cell_size_m;
+  s.density_area_m2 = occupiedArea(uv, options.cell_size_m);
   return s;
 }
 
@@ -371,7 +462,11 @@ void PlaneDetectionOptions::validate(const std::string& where) const {
     throw InputError(os.str());
   }
   requirePositive(cluster_tolerance_m, where, "cluster_tolerance_m");
-  requirePositive(cell_size_m, where, "cell_size_m");
+  requirePositive(cell_size_m, where, "cell_size_m (area_cell_m)");
+  requirePositive(open_voxel_m, where, "open_voxel_m");
+  if (min_inliers < 3) {
+    throw InputError(where + ": min_inliers must be >= 3, got " + std::to_string(min_inliers));
+  }
   if (max_planes < 0) {
     throw InputError(where + ": max_planes must be >= 0, got " + std::to_string(max_planes));
   }
@@ -420,8 +515,14 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   std::iota(pool.begin(), pool.end(), Index{0});
   std::vector<char> in_surface(cloud.size(), 0);
   // Line-of-sight grid for scanned clouds (10 cm voxels).
-  const std::unique_ptr<OccupiedVoxels> occupied =
-      options.viewpoints_scanned ? std::make_unique<OccupiedVoxels>(cloud, 0.1) : nullptr;
+  // Line-of-sight grid: for scanned clouds (10 cm voxels), and for clouds with no
+  // known sensor position (openness, open_voxel_m).
+  std::unique_ptr<OccupiedVoxels> occupied;
+  if (options.viewpoints_scanned) {
+    occupied = std::make_unique<OccupiedVoxels>(cloud, 0.1);
+  } else if (!options.viewpoint_known) {
+    occupied = std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
+  }
   int failures = 0;
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
@@ -465,7 +566,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
 
     bool accepted = false;
-    if (kept.size() >= 3) {
+    if (kept.size() >= static_cast<std::size_t>(std::max(3, options.min_inliers))) {
       Surface surface = makeSurface(cloud, kept, options, occupied.get());
       if (std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
           surface.boundary.size() >= 3) {

@@ -66,6 +66,54 @@ std::string legName(const Leg& leg) {
   return os.str();
 }
 
+/// True when nothing measured lies on the ray from `from` to `target` before the
+/// ray comes within `slack` [m] of the target (the surface itself is occupied).
+bool clearSight(const world::VoxelGrid& grid, const Vec3& from, const Vec3& target, double slack) {
+  const Vec3 d = target - from;
+  const double length = d.norm();
+  const double step = 0.5 * grid.resolution();
+  for (double t = 0.0; t < length - slack; t += step) {
+    const world::Index3 i = grid.indexOf(from + d * (t / length));
+    if (grid.inBounds(i) && grid.isOccupied(i)) return false;
+  }
+  return true;
+}
+
+/// A free pose near an infeasible stop that still photographs its target: the
+/// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
+/// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
+/// The first candidate in that order that is free, in the gimbal limits and in
+/// clear sight of the target wins. Returns false if none is.
+bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
+                const MissionOptions& options) {
+  const double standoff = strategy.camera.standoff_m;
+  if (!(standoff > 0.0)) return false;
+  const Vec3 n = (stop.position - stop.target) / standoff;
+  const Vec3 up = std::abs(strategy.axis_h.z()) > 1e-6 && strategy.axis_h.z() < 0.0 ? Vec3(-strategy.axis_h)
+                                                                                       : strategy.axis_h;
+  const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
+  const double factors[3] = {1.0, 0.5 * (1.0 + options.max_standoff_factor), options.max_standoff_factor};
+  for (const double f : factors) {
+    for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
+      const double a = deg * 3.14159265358979323846 / 180.0;
+      for (const auto& side : sides) {
+        if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
+        const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
+        const Vec3 p = stop.target + f * standoff * dir;
+        if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3)) continue;
+        const Vec3 look = stop.target - p;
+        const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / 3.14159265358979323846;
+        if (pitch < options.gimbal.pitch_min_deg - 1e-9 || pitch > options.gimbal.pitch_max_deg + 1e-9) continue;
+        stop.position = p;
+        stop.gimbal_pitch_deg = pitch;
+        if (look.head<2>().norm() > 1e-6) stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / 3.14159265358979323846;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
@@ -91,7 +139,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     }
   }
 
-  const auto& stops = strategy.stops;
+  auto& stops = m.strategy.stops;
   m.stop_problems.assign(stops.size(), StopProblem::None);
   if (stops.empty()) {
     m.status = SurfaceStatus::NoStops;
@@ -105,7 +153,12 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     if (!stops[i].gimbal_ok) {
       m.stop_problems[i] = StopProblem::GimbalLimit;
     } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
-      m.stop_problems[i] = StopProblem::InObstacleSpace;
+      if (options.repair_stops && stops[i].position.allFinite() && repairStop(stops[i], strategy, grid, options)) {
+        m.moved_stops.push_back(static_cast<int>(i));
+        if (first_usable < 0) first_usable = static_cast<int>(i);
+      } else {
+        m.stop_problems[i] = StopProblem::InObstacleSpace;
+      }
     } else if (first_usable < 0) {
       first_usable = static_cast<int>(i);
     }

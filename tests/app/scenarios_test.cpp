@@ -24,8 +24,9 @@ struct Outcome {
 
 Outcome runScenario(const std::string& file) {
   Outcome o{io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + file), {}, {}};
-  o.detected = detect(sense(o.scenario), o.scenario.config);
-  o.planned = plan(o.detected.scene, o.scenario.config, selectSurfaces(o.detected.scene, "all"));
+  const PointList raw = sense(o.scenario);
+  o.detected = detect(raw, o.scenario.config, measure(raw, &o.scenario));
+  o.planned = plan(o.detected.scene, o.detected.resolved.config, selectSurfaces(o.detected.scene, "all"));
   return o;
 }
 
@@ -146,6 +147,26 @@ TEST(PaperCases, SingleCubeHasSixOutwardSurfacesAllPlanned) {
   expectSafe(o);
 }
 
+TEST(PaperCases, CrossedPlanesWithStopRepairFlyOnlyValidatedPaths) {
+  // Beyond the paper: repair moves the stops that sit in the inflated space to
+  // tilted or farther poses that still see their photo centre. Whatever it makes
+  // flyable must pass the FCL validator, and every moved stop must be free.
+  io::Scenario sc = io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/cube_crossed_planes.yaml");
+  sc.config.mission.repair_stops = true;
+  const PointList raw = sense(sc);
+  const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+  const PlanResult p = plan(d.scene, d.resolved.config, selectSurfaces(d.scene, "all"));
+  std::size_t moved = 0;
+  for (const auto& m : p.missions) {
+    moved += m.moved_stops.size();
+    if (planning::flyable(m.status)) {
+      EXPECT_TRUE(m.validation.collision_free) << "surface " << m.surface_id;
+      EXPECT_GE(bruteForceClearance(m.waypoints, d.scene.cloud), d.resolved.config.uav.inflationRadius() - 1e-6);
+    }
+  }
+  EXPECT_GT(moved, 0u);
+}
+
 TEST(PaperCases, CrossedPlanesBlockEverySurface) {
   const Outcome o = runScenario("cube_crossed_planes.yaml");
   // every true surface is detected: the detected pieces on its plane cover most of it
@@ -205,7 +226,8 @@ TEST(PaperCases, SurfaceSelectionNamesValidIds) {
 
 TEST(RealData, RoomScanGivesHorizontalAndVerticalSurfaces) {
   io::Config config = io::parseConfig("preprocess: {voxel_m: 0.05}\nperception: {min_area_m2: 2.0}\n", "cfg");
-  const DetectResult d = detect(io::loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd"), config);
+  const PointList raw = io::loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
+  const DetectResult d = detect(raw, config, measure(raw));
   ASSERT_GE(d.scene.surfaces.size(), 3u);
   int horizontal = 0, vertical = 0;
   for (const auto& s : d.scene.surfaces) {

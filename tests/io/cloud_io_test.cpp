@@ -60,7 +60,9 @@ TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
   expectError(file("inf.xyz", "1 2 inf\n"), "not finite");
   expectError(file("text.xyz", "1 2 three\n"), "not a number");
   expectError(file("short.xyz", "1 2\n"), "expected 'x y z'");
-  expectError(file("a.las", "x"), "unknown cloud extension");
+  expectError(file("a.e57", "x"), "unknown cloud extension");
+  expectError(file("b.las", "x"), "b.las");
+  expectError(file("c.laz", "x"), "laszip");
   expectError(file("bad.pcd", "garbage"), "not a PCD file");
   expectError(file("nofields.pcd", "VERSION 0.7\nFIELDS a b c\nPOINTS 1\nDATA ascii\n1 2 3\n"), "x y z");
   expectError(file("bad.ply", "garbage"), "not a PLY file");

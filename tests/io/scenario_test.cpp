@@ -57,8 +57,9 @@ TEST(Scenario, MinimalScenarioGetsThePapersDefaults) {
   EXPECT_DOUBLE_EQ(s.config.coverage.overlap_w, 0.2);
   EXPECT_DOUBLE_EQ(s.config.uav.inflationRadius(), 0.6);  // largest UAV dimension (paper)
   EXPECT_EQ(s.config.planner, "astar");
-  // density area cell = the clean cloud's spacing: max(voxel 0.05, sampling 0.1)
-  EXPECT_DOUBLE_EQ(s.config.perception.planes.cell_size_m, 0.1);
+  // The area cell is resolved from the cloud (app/config.h), not by the parser.
+  EXPECT_FALSE(s.config.isSet("perception.area_cell_m"));
+  EXPECT_TRUE(s.config.isSet("perception.viewpoint"));  // a scenario knows its sensor
 }
 
 TEST(Scenario, ValuesAreRead) {

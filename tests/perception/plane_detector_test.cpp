@@ -68,7 +68,9 @@ void expectConsistent(const Surface& s, double cell) {
   }
   EXPECT_GT(vector_area.dot(s.plane.normal), 0.0) << "boundary not counter-clockwise";
   EXPECT_NEAR(0.5 * vector_area.norm(), s.area_m2, 1e-6 * std::max(1.0, s.area_m2));
-  EXPECT_NEAR(s.density_area_m2, static_cast<double>(s.inliers.size()) * cell * cell, 1e-9);
+  // Occupied cells: never more cells than points, never (much) more than the hull.
+  EXPECT_LE(s.density_area_m2, static_cast<double>(s.inliers.size()) * cell * cell + 1e-9);
+  EXPECT_LE(s.density_area_m2, s.area_m2 + 4.0 * cell * std::sqrt(std::max(s.area_m2, 0.0)) * 2.0 + 1e-9);
   Vec3 mean = Vec3::Zero();
   for (const auto& p : s.inliers) mean += p;
   mean /= static_cast<double>(s.inliers.size());
@@ -333,6 +335,43 @@ TEST(PlaneDetector, FloatingCubeGivesSixOutwardFaces) {
   for (int h : hits) EXPECT_EQ(h, 1);
   EXPECT_EQ(in_surfaces + r.remaining.size(), cloud.size());
   EXPECT_GE(in_surfaces, cloud.size() * 95 / 100);
+}
+
+TEST(PlaneDetector, WithoutASensorABuildingFacesOutAndGroundAndRoofFaceUp) {
+  // An airborne-like cloud: a 12 × 8 × 6 m building box standing on a 40 × 40 m
+  // ground, sparse (0.3 m), no sensor position. The building's inside sees its other
+  // walls; the outside, the roof's sky and the ground's sky are open.
+  std::mt19937 rng(5);
+  PointList cloud;
+  const Vec3 c(3.0, -2.0, 0.0);
+  addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 134, 134, 0.3, 0.02, rng);  // ground
+  addPatch(cloud, c + Vec3(0, 0, 6), Vec3::UnitX(), Vec3::UnitY(), 40, 27, 0.3, 0.02, rng);   // roof
+  addPatch(cloud, c + Vec3(6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02, rng);   // east wall
+  addPatch(cloud, c + Vec3(-6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02, rng);  // west wall
+  addPatch(cloud, c + Vec3(0, 4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02, rng);   // north wall
+  addPatch(cloud, c + Vec3(0, -4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02, rng);  // south wall
+  PlaneDetectionOptions o;
+  o.viewpoint_known = false;
+  o.viewpoint = c + Vec3(0, 0, 3);  // a wrong hint inside the building must not matter
+  o.cluster_tolerance_m = 0.9;
+  o.cell_size_m = 0.3;
+  o.open_voxel_m = 0.6;
+  const auto r = detectPlanes(cloud, o);
+  ASSERT_GE(r.surfaces.size(), 6u);
+  int found = 0;
+  for (const auto& s : r.surfaces) {
+    const Vec3& n = s.plane.normal;
+    if (std::abs(n.z()) > 0.9) {
+      EXPECT_GT(n.z(), 0.9) << "level surface at z " << s.centroid.z() << " faces down";
+      ++found;
+    } else {
+      // A wall faces away from the building's axis.
+      const Vec3 out = s.centroid - Vec3(c.x(), c.y(), s.centroid.z());
+      EXPECT_GT(n.dot(out), 0.0) << "wall at " << s.centroid.transpose() << " faces in";
+      ++found;
+    }
+  }
+  EXPECT_GE(found, 6);
 }
 
 TEST(PlaneDetector, DeterministicForTheSameInput) {

@@ -5,7 +5,9 @@
 /// stage 7 (planning), with per-stage wall times. The CLI and the benchmark call
 /// these; nothing here prints.
 
+#include "uavip/app/config.h"
 #include "uavip/io/scenario.h"
+#include "uavip/preprocess/cloud_stats.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
 
@@ -32,6 +34,8 @@ struct StageTimes {
 
 /// Stages 3–5 on a raw cloud.
 struct DetectResult {
+  preprocess::CloudStats cloud;   ///< the raw cloud as measured (spacing, extent, noise)
+  ResolvedConfig resolved;        ///< the config the stages ran with (app/config.h)
   preprocess::PreprocessStats preprocess;
   Scene scene;
   StageTimes times;
@@ -45,9 +49,18 @@ struct PlanResult {
   StageTimes times;
 };
 
-/// Runs stages 3–5. Throws InputError for an empty cloud or non-finite points.
-DetectResult detect(const PointList& raw, const io::Config& config, const Progress& progress = {});
+/// Measures the raw cloud (preprocess/cloud_stats.h). With a scenario, its known
+/// sampling is used: mode sample gives the lattice spacing, mode scan a lattice
+/// after the voxel grid.
+preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario = nullptr);
+/// Runs stages 3–5 with the config resolved for `cloud` (app/config.h). Throws
+/// InputError for an empty cloud or non-finite points.
+DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
+                    const Progress& progress = {});
 
+/// The config resolved for a scene read back from scene.json: with the cloud
+/// numbers it was detected with (scene.measured), else measured on its points.
+ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config);
 /// Parses a surface selection: "all" or an id; throws InputError naming the valid
 /// ids when the id does not exist.
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);

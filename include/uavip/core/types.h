@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,7 +40,7 @@ struct Surface {
   Vec3 axis_u{Vec3::UnitX()};   ///< first principal in-plane axis (unit)
   Vec3 axis_v{Vec3::UnitY()};   ///< second in-plane axis, axis_u × axis_v = normal
   double area_m2{0.0};          ///< area of the boundary polygon [m²]
-  double density_area_m2{0.0};  ///< inlier count × cell area, the paper's estimate [m²]
+  double density_area_m2{0.0};  ///< area the inliers occupy: cells of a spacing-sized grid in the plane × cell² [m²]
 };
 
 /// A cluster of points that belongs to no surface (paper §II-E).
@@ -49,12 +51,34 @@ struct Obstacle {
   Vec3 aabb_max{Vec3::Zero()};
 };
 
+/// Measured properties of a cloud.
+struct CloudStats {
+  std::size_t points{0};
+  /// Median distance from a sampled point to its nearest distinct neighbour [m].
+  double spacing_m{0.0};
+  Vec3 extent_m{Vec3::Zero()};  ///< size of the axis-aligned bounding box [m]
+  Vec3 min{Vec3::Zero()};       ///< bounding box [m]
+  Vec3 max{Vec3::Zero()};
+  /// Median RMS distance of a point's noise_k neighbours to their least-squares
+  /// plane [m]: sensor noise on flat parts (edges and curvature add to it, the
+  /// median keeps it to the flat majority).
+  double noise_m{0.0};
+  /// True when the points lie on a regular lattice (a voxel grid's output, a
+  /// sampled synthetic surface): each point then stands for spacing² of surface.
+  /// False for irregular sampling (airborne or mobile LiDAR), where the area a
+  /// point stands for varies; set by the caller that knows (measureCloud: false).
+  bool lattice{false};
+};
+
 /// Result of perception: what the clean cloud means. Every measured point stays an
 /// obstacle for planning, whether it ended in a surface, a cluster or neither.
 struct Scene {
   std::vector<Surface> surfaces;
   std::vector<Obstacle> obstacles;
   PointList cloud;  ///< the clean cloud (after stage 3) [m]
+  /// The raw cloud as measured before stage 3 (spacing, extent, noise); its
+  /// numbers resolve the `auto` parameters of planning too (app/config.h).
+  std::optional<CloudStats> measured;
 };
 
 }  // namespace uavip

@@ -5,6 +5,7 @@
 /// throws InputError naming the file, the key path and the value.
 
 #include "uavip/core/types.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/mission_planner.h"
@@ -18,6 +19,7 @@
 #include "planners/registry.h"
 
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +37,8 @@ struct UavConfig {
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`
 /// config of `uavip detect`, `uavip plan` and `uavip assemble`).
 struct Config {
+  /// How `uavip detect` reads the cloud file, section `input:`.
+  CloudReadOptions input;
   /// Stage 1 (paper §II-A), section `assembly:`; used with sensing mode `scan` only.
   scan::AssemblerOptions assembly;
   /// Stage 2 (paper §II-B), section `registration:`; used with sensing mode `scan` only.
@@ -47,6 +51,11 @@ struct Config {
   std::string planner{"astar"};
   planners::PlannerSettings planner_settings;
   planning::MissionOptions mission;
+  /// Keys the file set, as "section.key" (e.g. "preprocess.voxel_m"); every other
+  /// `auto` key is resolved from the measured cloud (app/config.h).
+  std::set<std::string> set_keys;
+  /// True if the file set `section.key`.
+  bool isSet(const std::string& key) const { return set_keys.count(key) != 0; }
 
   /// Validates every section; throws InputError prefixed by `where` (the file).
   void validate(const std::string& where) const;

@@ -20,7 +20,10 @@ struct PlaneDetectionOptions {
   int max_iterations{200};           ///< RANSAC iterations per plane (paper: 200)
   double min_area_m2{2.0};           ///< planes smaller than this are objects (paper: 2 m²) [m²]
   double cluster_tolerance_m{0.3};   ///< neighbour distance that joins inliers into one cluster [m]
-  double cell_size_m{0.05};          ///< point spacing of the clean cloud (voxel edge) for the density area [m]
+  /// Cell of the occupied-area estimate: the inliers are projected on their plane
+  /// and area = occupied cells × cell² (app/config.h resolves it from the spacing) [m]
+  double cell_size_m{0.1};
+  int min_inliers{3};                ///< a plane with fewer points is an object, whatever its area
   int max_planes{64};                ///< stop after this many accepted planes
   int max_failures{8};               ///< stop after this many consecutive rejected candidates
   Vec3 viewpoint{Vec3::Zero()};      ///< sensor position, used to orient a normal when free space is ambiguous [m]
@@ -32,6 +35,13 @@ struct PlaneDetectionOptions {
   /// normal points to the side from which the viewpoints have a clear line of sight
   /// to the surface's points (the cloud occludes), before any other rule.
   bool viewpoints_scanned{false};
+  /// False for a cloud file with no sensor position (airborne, mobile, a model):
+  /// a normal then faces the side from which rays leave the cloud (openness), else
+  /// up for level surfaces and away from the cloud's middle for walls. A scenario
+  /// always knows its sensor (its viewpoint, default the origin).
+  bool viewpoint_known{true};
+  /// Voxel edge of the openness rays: large enough that a sparse wall blocks them [m].
+  double open_voxel_m{0.1};
   std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
 
   /// Throws InputError naming the bad field (prefix `where`).

@@ -43,6 +43,14 @@ struct MissionOptions {
   /// Partial); above it the surface is Blocked. 0 = any unusable stop blocks.
   double max_skipped_fraction{0.25};
   std::optional<Vec3> start;    ///< take-off / entry point; must be free. Default: the first stop
+  /// Stop repair: a stop inside the inflated obstacle space is moved to a nearby
+  /// free pose that still looks at its photo centre with a clear line of sight:
+  /// tilted from above, below or the sides by 15–60° at the same distance, or
+  /// farther out up to max_standoff_factor × the standoff (footprint and GSD grow
+  /// by that factor). Moved stops are counted and listed.
+  bool repair_stops{true};
+  double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
+  coverage::GimbalLimits gimbal;     ///< pitch limits a repaired stop must respect (the camera's)
 };
 
 /// A planned leg between two consecutive path points.
@@ -62,6 +70,7 @@ struct SurfaceMission {
   std::string reason;                     ///< one sentence; empty when ok
   coverage::FlightStrategy strategy;
   std::vector<StopProblem> stop_problems; ///< one per stop of the strategy
+  std::vector<int> moved_stops;           ///< stops moved by repair (strategy.stops holds the new pose)
   std::vector<Leg> legs;
   PointList raw_path;                     ///< every voxel step (the paper's waypoint count) [m]
   PointList waypoints;                    ///< simplified (or raw) path through every stop [m]

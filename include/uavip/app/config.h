@@ -1,0 +1,57 @@
+#pragma once
+/// \file
+/// Where every parameter is resolved. A config (io/scenario.h: the YAML's sections
+/// with the paper's values as defaults) says which keys the user set; every other
+/// key marked `auto` below follows the measured cloud (preprocess/cloud_stats.h).
+/// A value set in the YAML always wins. On a dense scan (spacing ≤ 5 cm, noise
+/// ≤ 5 cm) every rule gives the paper's value, so the synthetic scenarios keep
+/// their outcomes.
+///
+/// The rules (s = measured spacing, σ = noise, v = voxel, s' = max(s, v) the
+/// spacing after the voxel grid):
+///   preprocess.voxel_m                     = max(0.05, s)            paper: 5 cm
+///   perception.distance_threshold_m        = max(0.20, 4σ, s'/2)     paper: 20 cm band
+///   perception.plane_cluster_tolerance_m   = max(0.30, 3 s')         joins a plane's inliers
+///   perception.obstacle_tolerance_m        = max(0.30, 3 s')         §II-E's r
+///   perception.area_cell_m                 = 2 s' on a lattice (a synthetic sampling, or
+///                                            a voxel grid ≥ 1.5 s), 3 s' otherwise: a
+///                                            cell holds several points, so a lattice
+///                                            aligned with the cells cannot alias
+///                                            (area = occupied cells × cell²)
+///   perception.min_inliers                 = 30                      a plane needs support
+///   perception.open_voxel_m                = max(0.1, 2 s')          openness rays (no sensor known)
+///   grid.resolution_m                      = max(0.2, the edge that keeps the site
+///                                            grid ≤ grid.max_voxels / 4)
+///   camera (no camera.* and no coverage.standoff_m set) = the paper's 0.6 × 0.4 m
+///                                            footprint at 1.5 m, or for a structure over
+///                                            20 m a 1-inch 20 MP camera (13.2 × 8.8 mm,
+///                                            8.8 mm, 5472 × 3648 px) at 2 mm/px: 7.3 m off
+/// Derived, never set directly: the area cell from the sensing spacing of a
+/// synthetic scenario (a lattice), grid inflation from the UAV.
+
+#include "uavip/io/scenario.h"
+#include "uavip/preprocess/cloud_stats.h"
+
+#include <string>
+#include <vector>
+
+namespace uavip::app {
+
+/// One resolved parameter, for the printout and scene.json.
+struct ResolvedValue {
+  std::string key;     ///< "preprocess.voxel_m"
+  double value{0.0};
+  std::string source;  ///< "set", "auto: max(0.05, spacing)", "default"
+};
+
+/// The config every stage runs with, and how each auto value was chosen.
+struct ResolvedConfig {
+  io::Config config;
+  std::vector<ResolvedValue> values;
+};
+
+/// Applies the rules above to every auto key the user did not set; validates the
+/// result (InputError naming the key). Pure: the same inputs give the same config.
+ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudStats& stats);
+
+}  // namespace uavip::app

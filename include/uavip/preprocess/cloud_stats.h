@@ -1,0 +1,28 @@
+#pragma once
+/// \file
+/// What a cloud is like before any stage runs: point spacing, extent and noise.
+/// Real clouds come at every density (a terrestrial scan at 1 cm, airborne LiDAR at
+/// 0.5–1 m); app/config.h scales every `auto` parameter with these numbers.
+
+#include "uavip/core/types.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace uavip::preprocess {
+
+/// Options of the measurement.
+struct CloudStatsOptions {
+  std::size_t sample_points{4000};  ///< points (a seeded random sample) whose neighbours are measured
+  int noise_k{12};                  ///< neighbours of the local plane fit for the noise estimate
+  std::uint32_t seed{7};
+};
+
+/// Measured properties of a cloud (core/types.h).
+using CloudStats = uavip::CloudStats;
+
+/// Measures spacing, extent and noise on a seeded sample (PCL kd-tree). Never
+/// throws for a non-empty finite cloud; fewer than 2 distinct points give spacing 0.
+CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options = {});
+
+}  // namespace uavip::preprocess

@@ -1,0 +1,599 @@
+#include "uavip/coverage/coverage_evaluator.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+#include "uavip/core/error.h"
+
+namespace uavip::coverage {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Voxel indices of VoxelLineOfSight must satisfy |i| < 2^20 (21 bits per axis).
+constexpr std::int64_t kKeyHalfRange = std::int64_t{1} << 20;
+constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
+/// Most bricks of VoxelLineOfSight's empty-space bitmap (8 MB of bits).
+constexpr double kMaxBricks = 67108864.0;
+/// Cells per axis of the evaluator's point grid are capped at this.
+constexpr double kMaxGridCells = 1.0e6;
+/// Views a worker takes at a time.
+constexpr std::size_t kViewChunk = 4;
+
+void requireThat(bool ok, const std::string& where, const std::string& field,
+                 const std::string& range, double value) {
+  if (!ok) {
+    std::ostringstream os;
+    os << where << ": " << field << " must be " << range << ", got " << value;
+    throw InputError(os.str());
+  }
+}
+
+void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
+  requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
+              "max_gsd_mm_per_px", ">= 0 and finite", max_gsd_mm_per_px);
+}
+
+/// Pack of three voxel indices, each in [−2^20, 2^20), into 63 bits.
+std::uint64_t packKey(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return static_cast<std::uint64_t>(i + kKeyHalfRange) |
+         (static_cast<std::uint64_t>(j + kKeyHalfRange) << 21) |
+         (static_cast<std::uint64_t>(k + kKeyHalfRange) << 42);
+}
+
+/// SplitMix64 finaliser: spreads packed keys over the table.
+std::uint64_t mixKey(std::uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  x ^= x >> 31;
+  return x;
+}
+
+/// True when the open-addressing table holds key.
+inline bool tableHas(const std::vector<std::uint64_t>& table, std::uint64_t mask,
+                     std::uint64_t key) {
+  std::uint64_t slot = mixKey(key) & mask;
+  while (true) {
+    const std::uint64_t s = table[slot];
+    if (s == key) return true;
+    if (s == kEmptySlot) return false;
+    slot = (slot + 1) & mask;
+  }
+}
+
+/// Points bucketed in a uniform grid (cell ≥ the range limit), stored cell by cell
+/// (cells in x-fastest linear order) so a query over a box of cells reads a few
+/// contiguous runs.
+struct PointGrid {
+  Vec3 origin{Vec3::Zero()};
+  double cell{1.0};
+  std::int64_t dims[3]{1, 1, 1};
+  std::vector<std::uint64_t> keys;  ///< occupied cells, ascending
+  std::vector<std::size_t> begin;   ///< keys.size() + 1 offsets into the arrays below
+  std::vector<Vec3> pos;            ///< points in cell order [m]
+  std::vector<Vec3> nrm;            ///< their unit normals
+  std::vector<std::size_t> index;   ///< their indices in the input
+
+  std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return static_cast<std::uint64_t>(x + dims[0] * (y + dims[1] * z));
+  }
+};
+
+PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_normals,
+                    double range_limit) {
+  PointGrid g;
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec3 extent = hi - lo;
+  const double emax = extent.maxCoeff();
+  g.origin = lo;
+  g.cell = std::isfinite(range_limit) ? range_limit : emax + 1.0;
+  if (emax / g.cell > kMaxGridCells) g.cell = emax / kMaxGridCells;
+  for (int a = 0; a < 3; ++a) {
+    g.dims[a] = static_cast<std::int64_t>(std::floor(extent[a] / g.cell)) + 1;
+  }
+  const std::size_t n = points.size();
+  std::vector<std::pair<std::uint64_t, std::size_t>> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t c[3];
+    for (int a = 0; a < 3; ++a) {
+      c[a] = std::min(static_cast<std::int64_t>(std::floor((points[i][a] - lo[a]) / g.cell)),
+                      g.dims[a] - 1);
+    }
+    order[i] = {g.key(c[0], c[1], c[2]), i};
+  }
+  std::sort(order.begin(), order.end());
+  g.pos.reserve(n);
+  g.nrm.reserve(n);
+  g.index.reserve(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto& [key, i] = order[j];
+    if (j == 0 || key != order[j - 1].first) {
+      g.keys.push_back(key);
+      g.begin.push_back(j);
+    }
+    g.pos.push_back(points[i]);
+    g.nrm.push_back(unit_normals.size() == 1 ? unit_normals[0] : unit_normals[i]);
+    g.index.push_back(i);
+  }
+  g.begin.push_back(n);
+  return g;
+}
+
+/// Per-thread counters, summed at the end.
+struct WorkerTally {
+  std::vector<int> views_per_point;  ///< indexed like the input points
+  std::size_t pairs_in_range{0};
+  std::size_t los_queries{0};
+};
+
+/// Tests every point within `range_limit` of one view (criteria 1–5, cheap first).
+void evaluateView(const PointGrid& g, const ViewPose& view, const CameraModel& camera,
+                  double range_limit, double cos_max_incidence, double max_gsd,
+                  const LineOfSight* los, WorkerTally& tally) {
+  const ViewFrame frame = makeViewFrame(view);
+  const Vec3& c = view.position;
+  // Cell box holding every point within range_limit of c (clamped doubles: ±inf safe).
+  std::int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    const double top = static_cast<double>(g.dims[a] - 1);
+    const double l = std::floor((c[a] - range_limit - g.origin[a]) / g.cell);
+    const double h = std::floor((c[a] + range_limit - g.origin[a]) / g.cell);
+    if (l > top || h < 0.0) return;
+    lo[a] = static_cast<std::int64_t>(std::max(0.0, l));
+    hi[a] = static_cast<std::int64_t>(std::min(top, h));
+  }
+  const double r2_max = range_limit * range_limit;  // +inf stays +inf
+  for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
+    for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
+      const std::uint64_t k_first = g.key(lo[0], y, z);
+      const std::uint64_t k_last = g.key(hi[0], y, z);
+      auto it = std::lower_bound(g.keys.begin(), g.keys.end(), k_first);
+      for (; it != g.keys.end() && *it <= k_last; ++it) {
+        const std::size_t cell = static_cast<std::size_t>(it - g.keys.begin());
+        for (std::size_t j = g.begin[cell]; j < g.begin[cell + 1]; ++j) {
+          const Vec3& p = g.pos[j];
+          const Vec3 d = p - c;
+          const double r2 = d.squaredNorm();
+          if (r2 > r2_max || r2 <= 0.0) continue;
+          ++tally.pairs_in_range;
+          const double r = std::sqrt(r2);
+          // cos(incidence) = n·(c − p)/r.
+          if (-g.nrm[j].dot(d) < cos_max_incidence * r) continue;
+          const Projection pr = camera.projectInFrame(frame, p);
+          if (!pr.in_image) continue;
+          if (max_gsd > 0.0 && !(pr.gsd_mm_per_px <= max_gsd)) continue;
+          if (los != nullptr) {
+            ++tally.los_queries;
+            if (!los->clear(c, p)) continue;
+          }
+          ++tally.views_per_point[g.index[j]];
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- camera frame
+
+ViewFrame makeViewFrame(const ViewPose& pose) {
+  const double y = pose.yaw_deg * kDegToRad;
+  const double p = pose.pitch_deg * kDegToRad;
+  ViewFrame f;
+  f.pose = pose;
+  f.forward = Vec3(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
+  f.right = Vec3(std::sin(y), -std::cos(y), 0.0);
+  f.up = f.right.cross(f.forward);
+  return f;
+}
+
+// ---------------------------------------------------------------- footprint camera
+
+void FootprintCameraOptions::validate(const std::string& where) const {
+  camera.validate(where + ".camera");
+  if (!camera.from_sensor) requirePositive(standoff_m, where, "standoff_m");
+  requireThat(std::isfinite(range_slack) && range_slack >= 1.0, where, "range_slack",
+              ">= 1 and finite", range_slack);
+  requireThat(assumed_image_w_px > 0, where, "assumed_image_w_px", "> 0",
+              static_cast<double>(assumed_image_w_px));
+}
+
+FootprintCamera::FootprintCamera(const FootprintCameraOptions& options) : options_(options) {
+  options_.validate();
+  geometry_ = solveCamera(options_.camera, options_.standoff_m);
+  const double d = geometry_.standoff_m;
+  tan_half_w_ = geometry_.footprint_w_m / (2.0 * d);
+  tan_half_h_ = geometry_.footprint_h_m / (2.0 * d);
+  if (options_.camera.from_sensor) {
+    const Camera& c = options_.camera;
+    focal_px_ = std::min(c.image_w_px * c.focal_mm / c.sensor_w_mm,
+                         c.image_h_px * c.focal_mm / c.sensor_h_mm);
+  } else {
+    focal_px_ = options_.assumed_image_w_px * d / geometry_.footprint_w_m;
+  }
+}
+
+Projection FootprintCamera::project(const ViewPose& pose, const Vec3& point) const {
+  return projectInFrame(makeViewFrame(pose), point);
+}
+
+Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
+  const Vec3 d = point - frame.pose.position;
+  Projection pr;
+  pr.range_m = d.norm();
+  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px_;
+  const double z = frame.forward.dot(d);
+  if (z > 0.0) {
+    const double x = frame.right.dot(d);
+    const double y = frame.up.dot(d);
+    pr.in_image = std::abs(x) <= tan_half_w_ * z && std::abs(y) <= tan_half_h_ * z;
+  }
+  return pr;
+}
+
+double FootprintCamera::maxRange(double max_gsd_mm_per_px) const {
+  requireGsd(max_gsd_mm_per_px, "footprint_camera.maxRange");
+  double r = geometry_.standoff_m * options_.range_slack;
+  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
+  return r;
+}
+
+// ---------------------------------------------------------------- pinhole camera
+
+void PinholeIntrinsics::validate(const std::string& where) const {
+  requireThat(width_px > 0, where, "width_px", "> 0", static_cast<double>(width_px));
+  requireThat(height_px > 0, where, "height_px", "> 0", static_cast<double>(height_px));
+  requirePositive(fx_px, where, "fx_px");
+  requirePositive(fy_px, where, "fy_px");
+  requireThat(std::isfinite(cx_px), where, "cx_px", "finite", cx_px);
+  requireThat(std::isfinite(cy_px), where, "cy_px", "finite", cy_px);
+  requireThat(std::isfinite(max_range_m) && max_range_m >= 0.0, where, "max_range_m",
+              ">= 0 and finite (0 = none)", max_range_m);
+}
+
+PinholeCamera::PinholeCamera(const PinholeIntrinsics& intrinsics) : k_(intrinsics) {
+  k_.validate();
+  focal_px_ = std::min(k_.fx_px, k_.fy_px);
+}
+
+Projection PinholeCamera::project(const ViewPose& pose, const Vec3& point) const {
+  return projectInFrame(makeViewFrame(pose), point);
+}
+
+Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
+  const Vec3 d = point - frame.pose.position;
+  Projection pr;
+  pr.range_m = d.norm();
+  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px_;
+  const double z = frame.forward.dot(d);
+  if (z > 0.0) {
+    const double u = k_.cx_px + k_.fx_px * frame.right.dot(d) / z;
+    const double v = k_.cy_px - k_.fy_px * frame.up.dot(d) / z;  // image y points down
+    pr.in_image = u >= 0.0 && u <= k_.width_px && v >= 0.0 && v <= k_.height_px;
+  }
+  return pr;
+}
+
+double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {
+  requireGsd(max_gsd_mm_per_px, "pinhole.maxRange");
+  double r = kInf;
+  if (k_.max_range_m > 0.0) r = k_.max_range_m;
+  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
+  return r;
+}
+
+// ---------------------------------------------------------------- voxel line of sight
+
+VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxel_m,
+                                   double end_slack_m)
+    : voxel_m_(voxel_m), end_slack_m_(end_slack_m) {
+  const std::string where = "voxel_line_of_sight";
+  requirePositive(voxel_m, where, "voxel_m");
+  requireThat(std::isfinite(end_slack_m) && end_slack_m >= 0.0, where, "end_slack_m",
+              ">= 0 and finite", end_slack_m);
+  std::size_t capacity = 16;
+  while (capacity < 2 * occupied_points.size()) capacity *= 2;
+  table_.assign(capacity, kEmptySlot);
+  mask_ = capacity - 1;
+  for (std::size_t n = 0; n < occupied_points.size(); ++n) {
+    const Vec3& p = occupied_points[n];
+    std::int64_t idx[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor(p[a] / voxel_m);
+      if (!(f >= -static_cast<double>(kKeyHalfRange) && f < static_cast<double>(kKeyHalfRange))) {
+        std::ostringstream os;
+        os << where << ": point " << n << " (" << p.transpose()
+           << ") is non-finite or too far from the origin for voxel_m " << voxel_m
+           << " (|index| must be < 2^20)";
+        throw InputError(os.str());
+      }
+      idx[a] = static_cast<std::int64_t>(f);
+    }
+    if (count_ == 0) {
+      for (int a = 0; a < 3; ++a) lo_[a] = hi_[a] = idx[a];
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        lo_[a] = std::min(lo_[a], idx[a]);
+        hi_[a] = std::max(hi_[a], idx[a]);
+      }
+    }
+    const std::uint64_t key = packKey(idx[0], idx[1], idx[2]);
+    std::uint64_t slot = mixKey(key) & mask_;
+    while (table_[slot] != kEmptySlot && table_[slot] != key) slot = (slot + 1) & mask_;
+    if (table_[slot] == kEmptySlot) {
+      table_[slot] = key;
+      ++count_;
+    }
+  }
+  if (count_ == 0) return;
+  // Brick bitmap over the occupied box: the smallest brick (≥ 8 voxels) that fits.
+  auto brick_count = [&](int shift) {
+    double total = 1.0;
+    for (int a = 0; a < 3; ++a) total *= static_cast<double>(((hi_[a] - lo_[a]) >> shift) + 1);
+    return total;
+  };
+  while (brick_count(brick_shift_) > kMaxBricks) ++brick_shift_;
+  for (int a = 0; a < 3; ++a) brick_dims_[a] = ((hi_[a] - lo_[a]) >> brick_shift_) + 1;
+  brick_bits_.assign(static_cast<std::size_t>(brick_count(brick_shift_) / 64.0) + 1, 0);
+  for (std::uint64_t key : table_) {
+    if (key == kEmptySlot) continue;
+    const std::int64_t i = static_cast<std::int64_t>(key & 0x1FFFFF) - kKeyHalfRange;
+    const std::int64_t j = static_cast<std::int64_t>((key >> 21) & 0x1FFFFF) - kKeyHalfRange;
+    const std::int64_t k = static_cast<std::int64_t>((key >> 42) & 0x1FFFFF) - kKeyHalfRange;
+    const std::uint64_t b = brickIndex(i, j, k);
+    brick_bits_[b >> 6] |= std::uint64_t{1} << (b & 63);
+  }
+}
+
+std::uint64_t VoxelLineOfSight::brickIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  const std::int64_t bi = (i - lo_[0]) >> brick_shift_;
+  const std::int64_t bj = (j - lo_[1]) >> brick_shift_;
+  const std::int64_t bk = (k - lo_[2]) >> brick_shift_;
+  return static_cast<std::uint64_t>(bi + brick_dims_[0] * (bj + brick_dims_[1] * bk));
+}
+
+bool VoxelLineOfSight::occupiedIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  if (i < lo_[0] || i > hi_[0] || j < lo_[1] || j > hi_[1] || k < lo_[2] || k > hi_[2]) {
+    return false;
+  }
+  const std::uint64_t b = brickIndex(i, j, k);
+  if ((brick_bits_[b >> 6] >> (b & 63) & 1) == 0) return false;
+  return tableHas(table_, mask_, packKey(i, j, k));
+}
+
+bool VoxelLineOfSight::occupied(const Vec3& p) const {
+  if (count_ == 0 || !p.allFinite()) return false;
+  std::int64_t idx[3];
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::floor(p[a] / voxel_m_);
+    if (f < static_cast<double>(lo_[a]) || f > static_cast<double>(hi_[a])) return false;
+    idx[a] = static_cast<std::int64_t>(f);
+  }
+  return occupiedIndex(idx[0], idx[1], idx[2]);
+}
+
+bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
+  require(from.allFinite() && to.allFinite(), "voxel_line_of_sight",
+          "clear() needs finite end points");
+  if (count_ == 0) return true;
+  const Vec3 delta = to - from;
+  const double len = delta.norm();
+  const double t_end = len - end_slack_m_;
+  if (!(t_end > 0.0)) return true;  // the whole segment is within the slack
+  const Vec3 dir = delta / len;
+  const double v = voxel_m_;
+
+  // Clip [0, t_end] to the bounding box of the occupied voxels (slab test).
+  double t0 = 0.0, t1 = t_end;
+  for (int a = 0; a < 3; ++a) {
+    const double bmin = static_cast<double>(lo_[a]) * v;
+    const double bmax = static_cast<double>(hi_[a] + 1) * v;
+    if (dir[a] == 0.0) {
+      if (from[a] < bmin || from[a] > bmax) return true;
+      continue;
+    }
+    double ta = (bmin - from[a]) / dir[a];
+    double tb = (bmax - from[a]) / dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (t0 > t1) return true;
+
+  // Amanatides–Woo: parameters t measured from `from` along the unit direction.
+  const Vec3 p0 = from + t0 * dir;
+  std::int64_t idx[3], step[3];
+  double t_max[3], t_delta[3];
+  for (int a = 0; a < 3; ++a) {
+    // p0 is on or inside the box; clamping absorbs rounding at its faces.
+    const double f = std::floor(p0[a] / v);
+    idx[a] = static_cast<std::int64_t>(
+        std::clamp(f, static_cast<double>(lo_[a]), static_cast<double>(hi_[a])));
+    if (dir[a] > 0.0) {
+      step[a] = 1;
+      t_max[a] = (static_cast<double>(idx[a] + 1) * v - from[a]) / dir[a];
+      t_delta[a] = v / dir[a];
+    } else if (dir[a] < 0.0) {
+      step[a] = -1;
+      t_max[a] = (static_cast<double>(idx[a]) * v - from[a]) / dir[a];
+      t_delta[a] = -v / dir[a];
+    } else {
+      step[a] = 0;
+      t_max[a] = kInf;
+      t_delta[a] = kInf;
+    }
+  }
+  const std::int64_t brick_edge = std::int64_t{1} << brick_shift_;
+  while (true) {
+    const std::uint64_t b = brickIndex(idx[0], idx[1], idx[2]);
+    if ((brick_bits_[b >> 6] >> (b & 63) & 1) == 0) {
+      // Empty brick: jump to the voxel where the ray leaves it. rem[a] = voxels of the
+      // brick (within the box) still ahead along axis a; the brick is left through the
+      // face of the axis whose (rem + 1)-th boundary comes first.
+      std::int64_t rem[3]{0, 0, 0};
+      double t_exit = kInf;
+      int exit_axis = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (step[a] == 0) continue;
+        const std::int64_t start = lo_[a] + (((idx[a] - lo_[a]) >> brick_shift_) << brick_shift_);
+        const std::int64_t end = std::min(start + brick_edge - 1, hi_[a]);
+        rem[a] = step[a] > 0 ? end - idx[a] : idx[a] - start;
+        const double t_face = t_max[a] + static_cast<double>(rem[a]) * t_delta[a];
+        if (t_face < t_exit) {
+          t_exit = t_face;
+          exit_axis = a;
+        }
+      }
+      if (t_exit > t1) return true;
+      for (int a = 0; a < 3; ++a) {
+        if (a == exit_axis || step[a] == 0) continue;
+        std::int64_t n = 0;
+        while (n < rem[a] && t_max[a] < t_exit) {
+          t_max[a] += t_delta[a];
+          ++n;
+        }
+        idx[a] += n * step[a];
+      }
+      idx[exit_axis] += (rem[exit_axis] + 1) * step[exit_axis];
+      t_max[exit_axis] = t_exit + t_delta[exit_axis];
+      if (idx[exit_axis] < lo_[exit_axis] || idx[exit_axis] > hi_[exit_axis]) return true;
+      continue;
+    }
+    if (tableHas(table_, mask_, packKey(idx[0], idx[1], idx[2]))) return false;
+    int a = 0;
+    if (t_max[1] < t_max[a]) a = 1;
+    if (t_max[2] < t_max[a]) a = 2;
+    if (t_max[a] > t1) return true;  // the next voxel is entered beyond the tested part
+    idx[a] += step[a];
+    if (idx[a] < lo_[a] || idx[a] > hi_[a]) return true;  // left the occupied box
+    t_max[a] += t_delta[a];
+  }
+}
+
+// ---------------------------------------------------------------- evaluator
+
+void CoverageCriteria::validate(const std::string& where) const {
+  requireGsd(max_gsd_mm_per_px, where);
+  requireThat(
+      std::isfinite(max_incidence_deg) && max_incidence_deg > 0.0 && max_incidence_deg <= 180.0,
+      where, "max_incidence_deg", "in (0, 180]", max_incidence_deg);
+  requireThat(std::isfinite(max_range_m) && max_range_m >= 0.0, where, "max_range_m",
+              ">= 0 and finite (0 = from the camera model)", max_range_m);
+}
+
+CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
+                                const std::vector<ViewPose>& views, const CameraModel& camera,
+                                const CoverageCriteria& criteria, const LineOfSight* los,
+                                int threads) {
+  const std::string where = "evaluateCoverage";
+  criteria.validate(where + ".criteria");
+  requireThat(threads >= 1, where, "threads", ">= 1", threads);
+  const std::size_t n = points.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    require(points[i].allFinite(), where, "point " + std::to_string(i) + " is not finite");
+  }
+  if (n > 0) {
+    require(normals.size() == n || normals.size() == 1, where,
+            "normals must hold one normal per point (" + std::to_string(n) +
+                ") or one for all, got " + std::to_string(normals.size()));
+  }
+  std::vector<Vec3> unit_normals(n > 0 ? normals.size() : 0);
+  for (std::size_t i = 0; i < unit_normals.size(); ++i) {
+    const double len = normals[i].norm();
+    require(std::isfinite(len) && len > 0.0, where,
+            "normal " + std::to_string(i) + " is zero or not finite");
+    unit_normals[i] = normals[i] / len;
+  }
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const ViewPose& p = views[v];
+    require(p.position.allFinite() && std::isfinite(p.yaw_deg) && std::isfinite(p.pitch_deg), where,
+            "view " + std::to_string(v) + " is not finite");
+  }
+  const double range_limit = criteria.max_range_m > 0.0
+                                 ? criteria.max_range_m
+                                 : camera.maxRange(criteria.max_gsd_mm_per_px);
+  requireThat(range_limit > 0.0, where, "the range limit (criteria or camera model)", "> 0",
+              range_limit);
+
+  CoverageResult res;
+  res.points = n;
+  res.range_limit_m = range_limit;
+  res.views_per_point.assign(n, 0);
+  if (n > 0 && !views.empty()) {
+    const PointGrid grid = buildGrid(points, unit_normals, range_limit);
+    const double cos_max = criteria.max_incidence_deg >= 180.0 ? -1.0
+                           : criteria.max_incidence_deg == 90.0
+                               ? 0.0
+                               : std::cos(criteria.max_incidence_deg * kDegToRad);
+    const std::size_t workers = std::min(static_cast<std::size_t>(threads), views.size());
+    std::vector<WorkerTally> tallies(workers);
+    std::vector<std::exception_ptr> errors(workers);
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    auto work = [&](std::size_t t) {
+      try {
+        WorkerTally& tally = tallies[t];
+        tally.views_per_point.assign(n, 0);
+        while (!failed.load(std::memory_order_relaxed)) {
+          const std::size_t b = next.fetch_add(kViewChunk);
+          if (b >= views.size()) break;
+          const std::size_t e = std::min(b + kViewChunk, views.size());
+          for (std::size_t v = b; v < e; ++v) {
+            evaluateView(grid, views[v], camera, range_limit, cos_max, criteria.max_gsd_mm_per_px,
+                         los, tally);
+          }
+        }
+      } catch (...) {
+        errors[t] = std::current_exception();
+        failed = true;
+      }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(workers - 1);
+    try {
+      for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work, t);
+    } catch (...) {
+      failed = true;
+      for (auto& th : pool) th.join();
+      throw;
+    }
+    work(0);
+    for (auto& th : pool) th.join();
+    for (const auto& e : errors) {
+      if (e) std::rethrow_exception(e);
+    }
+    for (const WorkerTally& tally : tallies) {
+      for (std::size_t i = 0; i < n; ++i) res.views_per_point[i] += tally.views_per_point[i];
+      res.pairs_in_range += tally.pairs_in_range;
+      res.los_queries += tally.los_queries;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (res.views_per_point[i] > 0) {
+      ++res.covered;
+    } else {
+      res.uncovered.push_back(i);
+    }
+  }
+  res.fraction = n == 0 ? 1.0 : static_cast<double>(res.covered) / static_cast<double>(n);
+  return res;
+}
+
+}  // namespace uavip::coverage

@@ -1,0 +1,85 @@
+#include "uavip/preprocess/cloud_stats.h"
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/pcl_cloud.h"
+
+#include <Eigen/Eigenvalues>
+#include <pcl/kdtree/kdtree_flann.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
+
+namespace uavip::preprocess {
+namespace {
+
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options) {
+  CloudStats stats;
+  stats.points = cloud.size();
+  if (cloud.empty()) return stats;
+  const Aabb box = boundingBox(cloud);
+  stats.min = box.min;
+  stats.max = box.max;
+  stats.extent_m = box.max - box.min;
+  if (cloud.size() < 2) return stats;
+
+  const Vec3 origin = 0.5 * (box.min + box.max);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(toPclCloud(cloud, origin));
+
+  std::vector<std::size_t> sample(cloud.size());
+  std::iota(sample.begin(), sample.end(), std::size_t{0});
+  if (sample.size() > options.sample_points) {
+    std::mt19937 rng(options.seed);
+    std::shuffle(sample.begin(), sample.end(), rng);
+    sample.resize(options.sample_points);
+  }
+
+  const int k = std::max(options.noise_k, 8);
+  std::vector<double> nearest, noise;
+  nearest.reserve(sample.size());
+  noise.reserve(sample.size());
+  pcl::Indices idx;
+  std::vector<float> d2;
+  for (const auto i : sample) {
+    const Vec3 q = cloud[i] - origin;
+    const pcl::PointXYZ query(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+    if (tree.nearestKSearch(query, k + 1, idx, d2) < 2) continue;
+    // Nearest distinct neighbour (duplicates and the point itself are at ~0).
+    for (std::size_t j = 0; j < idx.size(); ++j) {
+      const double d = (cloud[static_cast<std::size_t>(idx[j])] - cloud[i]).norm();
+      if (d > 1e-9) {
+        nearest.push_back(d);
+        break;
+      }
+    }
+    if (idx.size() < 4) continue;
+    Vec3 mean = Vec3::Zero();
+    for (const auto j : idx) mean += cloud[static_cast<std::size_t>(j)];
+    mean /= static_cast<double>(idx.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto j : idx) {
+      const Vec3 d = cloud[static_cast<std::size_t>(j)] - mean;
+      cov += d * d.transpose();
+    }
+    cov /= static_cast<double>(idx.size());
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov, Eigen::EigenvaluesOnly);
+    noise.push_back(std::sqrt(std::max(solver.eigenvalues()[0], 0.0)));
+  }
+  stats.spacing_m = medianOf(nearest);
+  stats.noise_m = medianOf(noise);
+  return stats;
+}
+
+}  // namespace uavip::preprocess
