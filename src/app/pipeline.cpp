@@ -4,6 +4,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/path_validator.h"
@@ -14,6 +15,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
+#include <sstream>
 #include <memory>
 
 namespace uavip::app {
@@ -27,6 +30,46 @@ double secondsSince(Clock::time_point t0) {
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
+}
+
+/// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
+/// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
+/// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
+/// Below mission.min_coverage an `ok` surface becomes `partial`, stating the fraction.
+void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const Scene& scene,
+                     const world::VoxelGrid& grid, const io::Config& config) {
+  constexpr double kMaxIncidenceDeg = 75.0;
+  if (!planning::flyable(m.status) || surface.inliers.empty()) return;
+  std::vector<coverage::ViewPose> views;
+  for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
+    if (m.stop_problems[k] != planning::StopProblem::None) continue;
+    const auto& s = m.strategy.stops[k];
+    views.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
+  }
+  coverage::FootprintCameraOptions camera_options;
+  camera_options.camera = config.coverage.camera;
+  camera_options.standoff_m = config.coverage.standoff_m;
+  camera_options.range_slack = std::max(1.5, config.mission.max_standoff_factor);
+  const coverage::FootprintCamera camera(camera_options);
+  coverage::CoverageCriteria criteria;
+  criteria.max_incidence_deg = kMaxIncidenceDeg;
+  const double voxel = grid.resolution();
+  const coverage::VoxelLineOfSight sight(scene.cloud, voxel, 3.5 * voxel);
+  const coverage::CoverageResult r =
+      coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, views, camera, criteria, &sight);
+  m.coverage.evaluated = true;
+  m.coverage.fraction = r.fraction;
+  m.coverage.points = r.points;
+  m.coverage.uncovered = r.uncovered.size();
+  for (const auto i : r.uncovered) m.coverage.uncovered_points.push_back(surface.inliers[i]);
+  if (r.fraction < config.mission.min_coverage) {
+    std::ostringstream os;
+    os << "coverage " << std::fixed << std::setprecision(1) << 100.0 * r.fraction << " % of the surface's points ("
+       << r.uncovered.size() << " not imaged) is below mission.min_coverage " << 100.0 * config.mission.min_coverage
+       << " %";
+    m.status = planning::SurfaceStatus::Partial;
+    m.reason = m.reason.empty() ? os.str() : m.reason + "; " + os.str();
+  }
 }
 
 }  // namespace
@@ -138,6 +181,12 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
                          std::to_string(strategies[i].stops.size()) + " stops");
     result.missions.push_back(
         planning::planSurfaceMission(strategies[i], grid, validator, *planner, mission_options));
+  }
+  report(progress, "coverage: what the flown photos image");
+  for (std::size_t i = 0; i < strategies.size(); ++i) {
+    const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                                 [&](const Surface& s) { return s.id == surface_ids[i]; });
+    measureCoverage(result.missions[i], *it, scene, grid, config);
   }
   result.times.planning_s = secondsSince(t2);
   result.times.total_s = secondsSince(t0);

@@ -107,6 +107,7 @@ void printPlanSummary(const app::PlanResult& p) {
     std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
               << m.strategy.stops.size() << " stops";
     if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
+    if (m.coverage.evaluated) std::cout << ", coverage " << fixed(100.0 * m.coverage.fraction, 1) << " %";
     if (planning::flyable(m.status)) {
       std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
                 << fixed(m.path_length_m, 1) << " m, min clearance " << fixed(m.validation.min_clearance_m, 2) << " m";

@@ -46,6 +46,10 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
             {"grid", {m.strategy.cols, m.strategy.rows}}}},
           {"stop_count", m.strategy.stops.size()},
           {"moved_stop_count", m.moved_stops.size()},
+          {"coverage", m.coverage.evaluated ? json{{"fraction", round4(m.coverage.fraction)},
+                                                   {"points", m.coverage.points},
+                                                   {"uncovered", m.coverage.uncovered}}
+                                            : json(nullptr)},
           {"stops", stops},
           {"waypoint_count", m.waypoints.size()},
           {"waypoints", waypoints},

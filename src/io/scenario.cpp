@@ -297,6 +297,10 @@ void parseMission(Section s, planning::MissionOptions& o) {
   }
   if (s.has("start")) o.start = s.vec3("start");
   o.repair_stops = s.boolean("repair_stops", o.repair_stops);
+  o.min_coverage = s.number("min_coverage", o.min_coverage);
+  if (!(o.min_coverage >= 0.0 && o.min_coverage <= 1.0)) {
+    s.fail("min_coverage", "must be in [0, 1], got " + std::to_string(o.min_coverage));
+  }
   o.max_standoff_factor = s.number("max_standoff_factor", o.max_standoff_factor);
   if (!(o.max_standoff_factor >= 1.0 && o.max_standoff_factor <= 3.0)) {
     s.fail("max_standoff_factor", "must be in [1, 3] (× the standoff), got " + std::to_string(o.max_standoff_factor));

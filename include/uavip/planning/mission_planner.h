@@ -50,6 +50,8 @@ struct MissionOptions {
   /// by that factor). Moved stops are counted and listed.
   bool repair_stops{true};
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
+  /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
+  double min_coverage{0.95};
   coverage::GimbalLimits gimbal;     ///< pitch limits a repaired stop must respect (the camera's)
 };
 
@@ -71,6 +73,15 @@ struct SurfaceMission {
   coverage::FlightStrategy strategy;
   std::vector<StopProblem> stop_problems; ///< one per stop of the strategy
   std::vector<int> moved_stops;           ///< stops moved by repair (strategy.stops holds the new pose)
+  /// Share of the surface's points some flown photo images (coverage_evaluator.h),
+  /// filled by the caller that knows the surface's points (app::plan).
+  struct Coverage {
+    bool evaluated{false};
+    double fraction{0.0};
+    std::size_t points{0};
+    std::size_t uncovered{0};
+    PointList uncovered_points;  ///< [m], for the overview
+  } coverage;
   std::vector<Leg> legs;
   PointList raw_path;                     ///< every voxel step (the paper's waypoint count) [m]
   PointList waypoints;                    ///< simplified (or raw) path through every stop [m]
