@@ -167,6 +167,35 @@ TEST(PaperCases, CrossedPlanesWithStopRepairFlyOnlyValidatedPaths) {
   EXPECT_GT(moved, 0u);
 }
 
+TEST(RealDataCases, WallOnTheGroundIsFlownAfterStopRepair) {
+  // The wall's lowest rows sit in the ground's inflated space. The wall is found by
+  // its vertical normal; coverage is checked by the evaluator against the wall's
+  // own points, and the flown path against every measured point by brute force.
+  io::Scenario sc = io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_on_ground.yaml");
+  for (const bool repair : {false, true}) {
+    SCOPED_TRACE(repair ? "with repair" : "without repair");
+    sc.config.mission.repair_stops = repair;
+    const PointList raw = sense(sc);
+    const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+    const PlanResult p = plan(d.scene, d.resolved.config, selectSurfaces(d.scene, "all"));
+    const planning::SurfaceMission* wall = nullptr;
+    for (const auto& m : p.missions) {
+      const Surface& s = d.scene.surfaces[static_cast<std::size_t>(m.surface_id)];
+      if (std::abs(s.plane.normal.z()) < 0.1) wall = &m;
+    }
+    ASSERT_NE(wall, nullptr);
+    if (!repair) {
+      EXPECT_EQ(wall->status, planning::SurfaceStatus::Blocked);
+      continue;
+    }
+    ASSERT_TRUE(planning::flyable(wall->status)) << wall->reason;
+    EXPECT_GT(wall->moved_stops.size(), 0u);
+    ASSERT_TRUE(wall->coverage.evaluated);
+    EXPECT_GE(wall->coverage.fraction, 0.8);
+    EXPECT_GE(bruteForceClearance(wall->waypoints, d.scene.cloud), d.resolved.config.uav.inflationRadius() - 1e-6);
+  }
+}
+
 TEST(PaperCases, CrossedPlanesBlockEverySurface) {
   const Outcome o = runScenario("cube_crossed_planes.yaml");
   // every true surface is detected: the detected pieces on its plane cover most of it
