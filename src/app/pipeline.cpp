@@ -162,11 +162,15 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
 
   const auto t1 = Clock::now();
   report(progress, "stage 7: inflated voxel grid");
-  const world::VoxelGrid grid = world::VoxelGrid::build(scene.cloud, stop_positions, config.gridOptions());
-  // The validator sweeps the UAV against every surface slab, obstacle box and
-  // measured point (world/collision_world.h), independently of the grid.
-  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene),
-                                          config.uav.inflationRadius());
+  // The validator sweeps the UAV against every surface slab, obstacle solid and
+  // measured point (world/collision_world.h). The grid marks the solids occupied
+  // too, so the planner never flies through space the validator calls solid.
+  const auto world = std::make_shared<const world::CollisionWorld>(scene);
+  PointList occupied = scene.cloud;
+  const PointList solids = world->solidSamples(0.5 * config.grid.resolution_m, scene.cloud);
+  occupied.insert(occupied.end(), solids.begin(), solids.end());
+  const world::VoxelGrid grid = world::VoxelGrid::build(occupied, stop_positions, config.gridOptions());
+  const planning::PathValidator validator(world, config.uav.inflationRadius());
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();
   result.times.grid_s = secondsSince(t1);

@@ -1,6 +1,7 @@
 #include "uavip/world/collision_world.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/voxel_key.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -614,6 +615,53 @@ void CollisionWorld::build(const Scene& scene) {
   im.manager = std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>();
   im.manager->registerObjects(raw);
   im.manager->setup();
+}
+
+PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied) const {
+  requirePositive(spacing, "world", "solid sample spacing");
+  if (!impl_) return {};
+  Aabb all;
+  for (const auto& solid : impl_->solids) {
+    if (solid.triangles.empty()) continue;
+    const Aabb b = solid.bounds();
+    all.extend(b.min);
+    all.extend(b.max);
+  }
+  if (all.empty()) return {};
+  const VoxelKeyer keyer(all.min, all.max, spacing, "solid sample spacing");
+  std::vector<std::uint64_t> keys;
+  for (const auto& solid : impl_->solids) {
+    for (const auto& t : solid.triangles) {  // the shell: a barycentric lattice per face
+      const Vec3& a = solid.vertices[static_cast<std::size_t>(t[0])];
+      const Vec3& b = solid.vertices[static_cast<std::size_t>(t[1])];
+      const Vec3& c = solid.vertices[static_cast<std::size_t>(t[2])];
+      const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
+      for (int i = 0; i <= n; ++i) {
+        for (int j = 0; i + j <= n; ++j) {
+          const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
+          keys.push_back(keyer.key(a + u * (b - a) + v * (c - a)));
+        }
+      }
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  // Voxels the measured points already fill add nothing.
+  std::vector<std::uint64_t> measured;
+  measured.reserve(occupied.size());
+  const Aabb inside{all.min - Vec3::Constant(spacing), all.max + Vec3::Constant(spacing)};
+  for (const auto& p : occupied) {
+    if (((p - inside.min).array() >= 0.0).all() && ((p - inside.max).array() <= 0.0).all()) {
+      measured.push_back(keyer.key(p));
+    }
+  }
+  std::sort(measured.begin(), measured.end());
+  PointList out;
+  for (const auto k : keys) {
+    if (!std::binary_search(measured.begin(), measured.end(), k)) out.push_back(keyer.centre(k));
+  }
+  return out;
 }
 
 std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->points.points.size() : 0; }

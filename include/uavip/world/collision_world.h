@@ -105,6 +105,14 @@ class CollisionWorld {
   /// capsule of radius `radius` around a→b, ascending. Conservative for the cloud
   /// (OcTree leaves are boxes) and GJK-accurate (~1e-6 m) for slabs, hulls and boxes.
   std::vector<int> sweepContacts(const Vec3& a, const Vec3& b, double radius) const;
+  /// Voxel centres (edge `spacing` [m]) on the shell of every solid (surface slabs,
+  /// obstacle hulls and boxes), each face sampled at ≤ `spacing`, leaving out the
+  /// voxels that already hold a point of `occupied`. A planning grid that marks
+  /// these occupied cannot cross what the validator's solids enclose — on sparse,
+  /// concave real clusters a hull spans free space the points leave open, and a
+  /// planner that flew there would fail validation. The interior of a solid is
+  /// reachable only through its shell.
+  PointList solidSamples(double spacing, const PointList& occupied = {}) const;
 
  private:
   CollisionWorld() = default;
