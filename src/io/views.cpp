@@ -182,6 +182,8 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   const render::Style obstacle_style{kObstacleColor, kObstacleColor, 0.0, false, render::Marker::Square, 2.2};
   const render::Style start_style = render::markerStyle(render::kBlack, render::Marker::Triangle, 11.0);
   const render::Style bad_style{render::kRed, render::kRed, 2.0, false, render::Marker::Cross, 9.0};
+  // Surface points no flown photo images (mission coverage).
+  const render::Style uncovered_style{render::kBlack, render::Color{1.0, 0.85, 0.0}, 0.6, false, render::Marker::Diamond, 5.0};
 
   double min_spacing = 0.5;  // [m]
   for (const auto& m : missions) {
@@ -261,6 +263,7 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       if (stop_px < 4.0) good_style.line_width_px = 0.0;
       p.markers(project(good, view), good_style);
       p.markers(project(bad, view), bad_here);
+      p.markers(project(m.coverage.uncovered_points, view), uncovered_style);
       if (!m.waypoints.empty()) p.markers(project({m.waypoints.front()}, view), start_style);
     }
   }
@@ -289,6 +292,7 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       {"flight path (waypoints)", render::lineStyle(demo.mix(path_dark, 0.5), 1.8), LegendKind::Line},
       {"start of a surface's flight", start_style, LegendKind::Marker},
       {"infeasible stop (not flown)", bad_style, LegendKind::Marker},
+      {"surface point no photo images", uncovered_style, LegendKind::Marker},
   };
   fig.text(lx, top + 14.0, "Legend", {15.0, render::kBlack, render::Align::Left, true});
   fig.legend(lx, top + 24.0, symbols, 12.0);
