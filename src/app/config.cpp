@@ -48,6 +48,13 @@ ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudSt
           lattice ? "2 spacing' (lattice)" : "3 spacing' (irregular sampling)");
   // A scenario knows its sensor; a cloud file knows none unless the config gives one.
   planes.viewpoint_known = c.isSet("perception.viewpoint");
+  if (!planes.viewpoint_known && stats.scanned_from_origin) {
+    // One terrestrial scan from the origin: the sensor is known, and it saw the
+    // front of every surface.
+    planes.viewpoint_known = true;
+    planes.viewpoint = Vec3::Zero();
+    planes.single_station = true;
+  }
   resolve(r, "perception.open_voxel_m", planes.open_voxel_m, mm(std::max(0.1, 2.0 * s_eff)), "max(0.1, 2 spacing')");
   double min_inliers = planes.min_inliers;
   resolve(r, "perception.min_inliers", min_inliers, 30.0, "30");
@@ -60,7 +67,8 @@ ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudSt
   const bool camera_set = std::any_of(c.set_keys.begin(), c.set_keys.end(), [](const std::string& k) {
     return k.rfind("camera.", 0) == 0 || k == "coverage.standoff_m";
   });
-  if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM) {
+  // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
+  if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
     auto& cam = c.coverage.camera;
     cam.from_sensor = true;
     cam.sensor_w_mm = 13.2;

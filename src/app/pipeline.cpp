@@ -32,6 +32,17 @@ void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
 }
 
+/// Free space kept around the photo stops when the planning grid is cropped to them [m].
+constexpr double kLocalMarginM = 6.0;
+
+/// The auto planning-grid edge for a region (app/config.h's rule on the region
+/// instead of the site): max(0.2 m, the edge that keeps it ≤ max_voxels / 4).
+double autoGridResolution(const Aabb& region, const world::GridOptions& options) {
+  const Vec3 span = region.max - region.min + Vec3::Constant(2.0 * options.padding_m);
+  const double budget = static_cast<double>(options.max_voxels) / 4.0;
+  return std::max(0.2, std::ceil(std::cbrt(span.prod() / budget) * 1000.0) / 1000.0);
+}
+
 /// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
@@ -166,10 +177,18 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   // measured point (world/collision_world.h). The grid marks the solids occupied
   // too, so the planner never flies through space the validator calls solid.
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
+  // The grid covers the stops' neighbourhood (kLocalMarginM around them), not the
+  // whole site: on a large site one surface's grid stays small and fine.
+  Aabb region = boundingBox(stop_positions);
+  region.min.array() -= kLocalMarginM;
+  region.max.array() += kLocalMarginM;
+  world::GridOptions grid_options = config.gridOptions();
+  if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region, grid_options);
   PointList occupied = scene.cloud;
-  const PointList solids = world->solidSamples(0.5 * config.grid.resolution_m, scene.cloud);
+  const PointList solids = world->solidSamples(0.5 * grid_options.resolution_m, scene.cloud);
   occupied.insert(occupied.end(), solids.begin(), solids.end());
-  const world::VoxelGrid grid = world::VoxelGrid::build(occupied, stop_positions, config.gridOptions());
+  const world::VoxelGrid grid = world::VoxelGrid::build(occupied, {}, grid_options, region);
+  result.grid_resolution_m = grid.resolution();
   const planning::PathValidator validator(world, config.uav.inflationRadius());
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();

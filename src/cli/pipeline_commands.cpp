@@ -74,7 +74,8 @@ void writeMission(const std::string& out, const app::PlanResult& plan, const nlo
   m["timings"] = {{"coverage_s", plan.times.coverage_s},
                   {"grid_s", plan.times.grid_s},
                   {"planning_s", plan.times.planning_s}};
-  m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}};
+  m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}, {"resolution_m", plan.grid_resolution_m}};
+  m["grid_resolution_m"] = plan.grid_resolution_m;
   io::writeFileAtomic((fs::path(out) / "mission.json").string(), io::missionToJson(plan.missions, m).dump(1) + "\n");
 }
 
@@ -82,7 +83,8 @@ void printDetectSummary(const app::DetectResult& d) {
   const CloudStats& c = d.cloud;
   std::cout << "measured: " << c.points << " points, spacing " << fixed(c.spacing_m, 3) << " m, extent "
             << fixed(c.extent_m.x(), 1) << " x " << fixed(c.extent_m.y(), 1) << " x " << fixed(c.extent_m.z(), 1)
-            << " m, noise " << fixed(c.noise_m, 3) << " m\n";
+            << " m, noise " << fixed(c.noise_m, 3) << " m"
+            << (c.scanned_from_origin ? ", one scan from the origin (the sensor orients the normals)" : "") << "\n";
   std::cout << "parameters:";
   for (const auto& r : d.resolved.values) {
     std::string key = r.key.substr(r.key.find('.') + 1);
@@ -265,6 +267,13 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, v); });
 
   auto* pl = cli.add_subcommand("plan", "Stages 6-7 for one surface of a scene.json");
+  pl->footer(
+      "Stop repair: a photo stop too close to something (the ground under a facade) is moved to a\n"
+      "free pose that still sees its photo centre: tilted from above/below/the sides, or up to\n"
+      "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it off.\n"
+      "Coverage: the share of the surface's points that some flown photo images (in the photo,\n"
+      "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a surface\n"
+      "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.");
   pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
   pl->add_option("--surface", a->surface, "Surface id, or 'all'")->required();
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");

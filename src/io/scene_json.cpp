@@ -100,7 +100,9 @@ json sceneToJson(const Scene& scene) {
                   {"min", vec(c.min)},
                   {"max", vec(c.max)},
                   {"noise_m", round4(c.noise_m)},
-                  {"lattice", c.lattice}};
+                  {"lattice", c.lattice},
+                  {"scanned_from_origin", c.scanned_from_origin},
+                  {"station_ratio", round4(c.station_ratio)}};
   }
   return j;
 }
@@ -165,6 +167,11 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     const json& lattice = r.at(c, "lattice", "cloud");
     if (!lattice.is_boolean()) r.fail("cloud.lattice", "must be true or false");
     m.lattice = lattice.get<bool>();
+    if (c.contains("scanned_from_origin")) {
+      const json& station = c.at("scanned_from_origin");
+      if (!station.is_boolean()) r.fail("cloud.scanned_from_origin", "must be true or false");
+      m.scanned_from_origin = station.get<bool>();
+    }
     scene.measured = m;
   }
   return scene;

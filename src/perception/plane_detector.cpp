@@ -320,6 +320,10 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
                    const Vec3& n, const Vec3& u, const Vec3& v, const Eigen::Vector2d& lo,
                    const Eigen::Vector2d& hi, const PlaneDetectionOptions& options,
                    const OccupiedVoxels* occupied) {
+  if (options.single_station) {
+    const double sv = n.dot(options.viewpoint - centroid);
+    if (std::abs(sv) > 1e-9) return sv > 0.0 ? 1.0 : -1.0;
+  }
   if (occupied && !options.viewpoint_known) {
     const double open = opennessSide(cloud, kept, n, u, v, *occupied);
     if (open != 0.0) return open;

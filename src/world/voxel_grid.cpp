@@ -61,21 +61,39 @@ void GridOptions::validate(const std::string& where) const {
   require(max_voxels > 0, where, "max_voxels must be > 0, got 0");
 }
 
+VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const GridOptions& options,
+                           const Aabb& region) {
+  require(!region.empty() && region.min.allFinite() && region.max.allFinite(), "grid", "the region is empty");
+  options.validate("grid");
+  Aabb box = region;
+  for (const auto& p : extra) box.extend(p);
+  const Vec3 lo = box.min.array() - options.padding_m;
+  const Vec3 hi = box.max.array() + options.padding_m;
+  // A point blocks voxels up to r + √3·res away (plus a voxel of rounding).
+  const double reach = options.inflation_radius_m + 3.0 * options.resolution_m;
+  PointList cropped;
+  for (const auto& p : cloud) {
+    if (((p - lo).array() >= -reach).all() && ((p - hi).array() <= reach).all()) cropped.push_back(p);
+  }
+  return buildWithin(cropped, lo, hi, options);
+}
+
 VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const GridOptions& options) {
   options.validate("grid");
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
   require(allFinite(extra), "grid", "an extra point (e.g. a photo stop) has a non-finite coordinate");
+  Aabb box = boundingBox(cloud);
+  for (const auto& p : extra) box.extend(p);
+  if (box.empty()) box.extend(Vec3::Zero());  // nothing to cover: a padded box around the origin
+  return buildWithin(cloud, box.min.array() - options.padding_m, box.max.array() + options.padding_m, options);
+}
 
+VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options) {
+  require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
   VoxelGrid g;
   g.reach_cache_ = std::make_shared<ReachCache>();
   g.options_ = options;
   const double res = options.resolution_m;
-
-  Aabb box = boundingBox(cloud);
-  for (const auto& p : extra) box.extend(p);
-  if (box.empty()) box.extend(Vec3::Zero());  // nothing to cover: a padded box around the origin
-  const Vec3 lo = box.min.array() - options.padding_m;
-  const Vec3 hi = box.max.array() + options.padding_m;
 
   // The origin sits on a multiple of the resolution so that OctoMap's leaves (whose
   // boundaries are multiples of the resolution) coincide with the dense voxels.

@@ -20,11 +20,17 @@
 ///                                            (area = occupied cells × cell²)
 ///   perception.min_inliers                 = 30                      a plane needs support
 ///   perception.open_voxel_m                = max(0.1, 2 s')          openness rays (no sensor known)
-///   grid.resolution_m                      = max(0.2, the edge that keeps the site
-///                                            grid ≤ grid.max_voxels / 4)
+///   perception.viewpoint                   = the origin when the cloud is one scan from
+///                                            it (cloud_stats.h scanned_from_origin): each
+///                                            normal faces it; otherwise none (openness)
+///   grid.resolution_m                      = max(0.2, the edge that keeps the grid
+///                                            ≤ grid.max_voxels / 4): here for the whole
+///                                            site; app::plan applies it again to the
+///                                            region it plans (the stops + 6 m)
 ///   camera (no camera.* and no coverage.standoff_m set) = the paper's 0.6 × 0.4 m
 ///                                            footprint at 1.5 m, or for a structure over
-///                                            20 m a 1-inch 20 MP camera (13.2 × 8.8 mm,
+///                                            20 m (not a single scan from the origin:
+///                                            rooms, streets) a 1-inch 20 MP camera (13.2 × 8.8 mm,
 ///                                            8.8 mm, 5472 × 3648 px) at 2 mm/px: 7.3 m off
 /// Derived, never set directly: the area cell from the sensing spacing of a
 /// synthetic scenario (a lattice), grid inflation from the UAV.

@@ -45,6 +45,7 @@ struct DetectResult {
 struct PlanResult {
   std::vector<planning::SurfaceMission> missions;
   std::size_t grid_voxels{0};
+  double grid_resolution_m{0.0};  ///< voxel edge of the planning grid used [m]
   std::size_t grid_blocked{0};
   StageTimes times;
 };

@@ -68,6 +68,14 @@ struct CloudStats {
   /// False for irregular sampling (airborne or mobile LiDAR), where the area a
   /// point stands for varies; set by the caller that knows (measureCloud: false).
   bool lattice{false};
+  /// True when the cloud looks like one terrestrial scan taken at the origin (a
+  /// room scan, a Velodyne frame): the point spacing grows with the range from the
+  /// origin (a constant angular step), so spacing / range varies far less than the
+  /// spacing itself. The origin is then the sensor position.
+  bool scanned_from_origin{false};
+  /// spread(spacing / range) / spread(spacing), the number behind scanned_from_origin
+  /// (spread = median absolute deviation / median); 0 when not measured.
+  double station_ratio{0.0};
 };
 
 /// Result of perception: what the clean cloud means. Every measured point stays an

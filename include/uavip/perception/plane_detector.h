@@ -40,6 +40,9 @@ struct PlaneDetectionOptions {
   /// up for level surfaces and away from the cloud's middle for walls. A scenario
   /// always knows its sensor (its viewpoint, default the origin).
   bool viewpoint_known{true};
+  /// The cloud is one scan taken at `viewpoint` (a room, a street-side frame): a
+  /// single station sees only the front of every surface, so each normal faces it.
+  bool single_station{false};
   /// Voxel edge of the openness rays: large enough that a sparse wall blocks them [m].
   double open_voxel_m{0.1};
   std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)

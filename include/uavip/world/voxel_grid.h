@@ -55,6 +55,13 @@ class VoxelGrid {
   /// cloud; inflation blocks voxels within r + √3·res (see the file comment).
   /// Throws InputError for bad options or a grid over max_voxels.
   static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options);
+  /// A grid over `region` only (grown by padding_m): a surface's neighbourhood on a
+  /// large site instead of the whole site. Points of `cloud` outside the region
+  /// still block it when they lie within the inflation of a voxel inside it (the
+  /// cloud is cropped to region + padding + inflation), so the safety argument
+  /// holds; everything outside the grid is blocked.
+  static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options,
+                         const Aabb& region);
 
   const GridOptions& options() const { return options_; }
   double resolution() const { return options_.resolution_m; }
@@ -89,6 +96,9 @@ class VoxelGrid {
   std::vector<std::uint8_t> reachableFrom(const Index3& seed) const;
 
  private:
+  /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
+  static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options);
+
   GridOptions options_;
   Vec3 origin_{Vec3::Zero()};
   std::array<int, 3> dims_{{0, 0, 0}};
