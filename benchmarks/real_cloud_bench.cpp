@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
                   file.substr(file.find_last_of('/') + 1).c_str(),
                   tile_x * tile_y > 1 ? (" ×" + std::to_string(tile_x * tile_y)).c_str() : "", c.points, c.spacing_m,
                   c.extent_m.x(), c.extent_m.y(), c.extent_m.z(), pc.preprocess.voxel_m,
-                  pc.perception.planes.distance_threshold_m, pc.perception.clusters.tolerance_m, pc.grid.resolution_m,
+                  pc.perception.planes.distance_threshold_m, pc.perception.clusters.tolerance_m, p.grid_resolution_m,
                   d.scene.surfaces.size(), d.scene.obstacles.size(), largest_area,
                   m ? m->strategy.stops.size() : std::size_t{0}, m && m->coverage.evaluated ? 100.0 * m->coverage.fraction : 0.0,
                   m ? uavip::planning::toString(m->status) : "-", uavip::bench_util::median(detect_s),

@@ -185,7 +185,11 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   world::GridOptions grid_options = config.gridOptions();
   if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region, grid_options);
   PointList occupied = scene.cloud;
-  const PointList solids = world->solidSamples(0.5 * grid_options.resolution_m, scene.cloud);
+  // Solids matter as far as a point can block a voxel of the grid.
+  Aabb reach = region;
+  reach.min.array() -= grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
+  reach.max.array() += grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
+  const PointList solids = world->solidSamples(0.5 * grid_options.resolution_m, scene.cloud, &reach);
   occupied.insert(occupied.end(), solids.begin(), solids.end());
   const world::VoxelGrid grid = world::VoxelGrid::build(occupied, {}, grid_options, region);
   result.grid_resolution_m = grid.resolution();

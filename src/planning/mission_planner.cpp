@@ -164,12 +164,44 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     }
   }
   if (options.start || first_usable >= 0) {
-    const Vec3 seed = options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position;
-    const std::vector<std::uint8_t> reach = grid.reachableFrom(grid.indexOf(seed));
+    // Without a start, the flight begins in the free region that holds the most
+    // usable stops: the first usable stop may sit in a pocket (between the legs of a
+    // tower) cut off from the rest. Up to kSeedTries regions are compared.
+    constexpr int kSeedTries = 3;
+    const auto inReach = [&](const std::vector<std::uint8_t>& reach, std::size_t i) {
+      return !reach.empty() && reach[grid.linear(grid.indexOf(stops[i].position))] != 0;
+    };
+    std::vector<std::uint8_t> reach =
+        grid.reachableFrom(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
+    if (!options.start) {
+      std::size_t best = 0;
+      std::vector<char> tried(stops.size(), 0);
+      for (int t = 0; t < kSeedTries; ++t) {
+        std::size_t count = 0;
+        int next = -1;
+        for (std::size_t i = 0; i < stops.size(); ++i) {
+          if (m.stop_problems[i] != StopProblem::None) continue;
+          if (inReach(reach, i)) {
+            ++count;
+            tried[i] = 1;
+          } else if (next < 0 && !tried[i]) {
+            next = static_cast<int>(i);
+          }
+        }
+        if (count > best) best = count;
+        if (next < 0 || 2 * best >= static_cast<std::size_t>(stops.size())) break;
+        std::vector<std::uint8_t> other = grid.reachableFrom(grid.indexOf(stops[static_cast<std::size_t>(next)].position));
+        std::size_t other_count = 0;
+        for (std::size_t i = 0; i < stops.size(); ++i) {
+          if (m.stop_problems[i] == StopProblem::None && inReach(other, i)) ++other_count;
+        }
+        tried[static_cast<std::size_t>(next)] = 1;
+        if (other_count > best) reach = std::move(other);
+      }
+    }
     for (std::size_t i = 0; i < stops.size(); ++i) {
       if (m.stop_problems[i] != StopProblem::None) continue;
-      const world::Index3 v = grid.indexOf(stops[i].position);
-      if (reach.empty() || !reach[grid.linear(v)]) m.stop_problems[i] = StopProblem::Unreachable;
+      if (!inReach(reach, i)) m.stop_problems[i] = StopProblem::Unreachable;
     }
   }
   std::size_t n_gimbal = 0, n_obstacle = 0, n_unreachable = 0;
@@ -196,7 +228,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
              << grid.effectiveInflation() << " m of an occupied voxel)";
     part(n_gimbal, "outside the gimbal pitch limits");
     part(n_obstacle, obstacle.str());
-    part(n_unreachable, options.start ? "unreachable from the start" : "unreachable from the first usable stop");
+    part(n_unreachable, options.start ? "unreachable from the start" : "unreachable (cut off from the free region holding the most stops)");
     skipped = os.str();
   }
   if (blocked) {

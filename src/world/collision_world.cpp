@@ -418,6 +418,32 @@ Polyhedron obstacleSolid(const Obstacle& o, double min_edge) {
   return orientedBox(f, min_edge);
 }
 
+/// A cluster larger than `edge` [m] on some axis, cut into cells of that edge (64-bit
+/// voxel keys): a sparse, concave real cluster (a tree line, a podium wrapping round a
+/// tower) then becomes several tight solids instead of one hull over the free space
+/// between its parts. Each piece keeps the cluster's id.
+std::vector<Obstacle> obstaclePieces(const Obstacle& o, double edge) {
+  if (o.points.empty() || ((o.aabb_max - o.aabb_min).array() <= edge).all()) return {o};
+  const VoxelKeyer keyer = VoxelKeyer::forPoints(o.points, edge, "obstacle_piece_m");
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed(o.points.size());
+  for (std::size_t i = 0; i < o.points.size(); ++i) keyed[i] = {keyer.key(o.points[i]), i};
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<Obstacle> pieces;
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      pieces.emplace_back();
+      pieces.back().id = o.id;
+    }
+    pieces.back().points.push_back(o.points[keyed[i].second]);
+  }
+  for (auto& piece : pieces) {
+    const Aabb box = boundingBox(piece.points);
+    piece.aabb_min = box.min;
+    piece.aabb_max = box.max;
+  }
+  return pieces;
+}
+
 // ---------------------------------------------------------------- cloud index
 
 /// Exact point distances through a kd-tree. Stored in float relative to `offset`
@@ -542,6 +568,7 @@ std::string WorldObject::name() const {
 void WorldOptions::validate(const std::string& where) const {
   requirePositive(octree_resolution_m, where, "octree_resolution_m");
   requirePositive(slab_thickness_m, where, "slab_thickness_m");
+  requirePositive(obstacle_piece_m, where, "obstacle_piece_m");
   requirePositive(obstacle_min_thickness_m, where, "obstacle_min_thickness_m");
 }
 
@@ -583,7 +610,9 @@ void CollisionWorld::build(const Scene& scene) {
   }
   if (options_.include_obstacles) {
     for (const auto& o : scene.obstacles) {
-      addSolid(ObjectKind::Obstacle, o.id, obstacleSolid(o, options_.obstacle_min_thickness_m));
+      for (const auto& piece : obstaclePieces(o, options_.obstacle_piece_m)) {
+        addSolid(ObjectKind::Obstacle, o.id, obstacleSolid(piece, options_.obstacle_min_thickness_m));
+      }
     }
   }
   if (options_.include_cloud && !scene.cloud.empty()) {
@@ -617,13 +646,21 @@ void CollisionWorld::build(const Scene& scene) {
   im.manager->setup();
 }
 
-PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied) const {
+PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied, const Aabb* region) const {
   requirePositive(spacing, "world", "solid sample spacing");
   if (!impl_) return {};
+  const auto meets = [region](const Aabb& b) {
+    return region == nullptr || (((b.max - region->min).array() >= 0.0).all() && ((region->max - b.min).array() >= 0.0).all());
+  };
+  const auto inRegion = [region](const Vec3& p) {
+    return region == nullptr || (((p - region->min).array() >= 0.0).all() && ((region->max - p).array() >= 0.0).all());
+  };
   Aabb all;
   for (const auto& solid : impl_->solids) {
     if (solid.triangles.empty()) continue;
-    const Aabb b = solid.bounds();
+    Aabb b = solid.bounds();
+    if (!meets(b)) continue;
+    if (region != nullptr) b = Aabb{b.min.cwiseMax(region->min), b.max.cwiseMin(region->max)};
     all.extend(b.min);
     all.extend(b.max);
   }
@@ -631,16 +668,29 @@ PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied
   const VoxelKeyer keyer(all.min, all.max, spacing, "solid sample spacing");
   std::vector<std::uint64_t> keys;
   for (const auto& solid : impl_->solids) {
-    for (const auto& t : solid.triangles) {  // the shell: a barycentric lattice per face
-      const Vec3& a = solid.vertices[static_cast<std::size_t>(t[0])];
-      const Vec3& b = solid.vertices[static_cast<std::size_t>(t[1])];
-      const Vec3& c = solid.vertices[static_cast<std::size_t>(t[2])];
-      const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-      const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
-      for (int i = 0; i <= n; ++i) {
-        for (int j = 0; i + j <= n; ++j) {
-          const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
-          keys.push_back(keyer.key(a + u * (b - a) + v * (c - a)));
+    if (solid.triangles.empty() || !meets(solid.bounds())) continue;
+    for (const auto& t : solid.triangles) {
+      // The shell: rows parallel to the longest edge, `spacing` apart along the
+      // height and along each row, so the samples grow with the area (a long
+      // sliver of a hull gets a few rows, not a lattice over its longest edge).
+      Vec3 p[3] = {solid.vertices[static_cast<std::size_t>(t[0])], solid.vertices[static_cast<std::size_t>(t[1])],
+                   solid.vertices[static_cast<std::size_t>(t[2])]};
+      int longest = 0;
+      for (int e = 1; e < 3; ++e) {
+        if ((p[(e + 1) % 3] - p[e]).squaredNorm() > (p[(longest + 1) % 3] - p[longest]).squaredNorm()) longest = e;
+      }
+      const Vec3 a = p[longest], b = p[(longest + 1) % 3], apex = p[(longest + 2) % 3];
+      const Vec3 base = b - a;
+      const double height = base.squaredNorm() > 0.0 ? (apex - a).cross(base).norm() / base.norm() : (apex - a).norm();
+      const int rows = std::max(1, static_cast<int>(std::ceil(height / spacing)));
+      for (int r = 0; r <= rows; ++r) {
+        const double f = static_cast<double>(r) / rows;
+        const Vec3 from = a + f * (apex - a);
+        const Vec3 to = b + f * (apex - b);
+        const int n = std::max(1, static_cast<int>(std::ceil((to - from).norm() / spacing)));
+        for (int j = 0; j <= n; ++j) {
+          const Vec3 q = from + (to - from) * (static_cast<double>(j) / n);
+          if (inRegion(q)) keys.push_back(keyer.key(q));
         }
       }
     }

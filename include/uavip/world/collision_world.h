@@ -8,7 +8,8 @@
 ///    into the structure), so the face the UAV sees is the fitted plane itself;
 ///  - every Obstacle cluster (paper §II-E) as the 3D convex hull of its points (qhull),
 ///    or its oriented bounding box (PCA axes) when the cluster is flat, linear or
-///    tiny, see WorldOptions::obstacle_min_thickness_m;
+///    tiny, see WorldOptions::obstacle_min_thickness_m; a cluster wider than
+///    obstacle_piece_m is cut into pieces of that size, one solid each;
 ///  - all clean-cloud points as one fcl::OcTree built from an octomap::OcTree.
 ///
 /// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
@@ -48,6 +49,10 @@ struct WorldOptions {
   /// edge at least this long. Either solid contains every point of the cluster
   /// (the hull is checked point by point), so it is conservative.
   double obstacle_min_thickness_m{0.02};
+  /// A cluster wider than this on some axis is cut into cells of this edge, each its
+  /// own solid (hull or box) with the cluster's id: a sparse concave real cluster
+  /// would otherwise enclose the free space between its parts [m].
+  double obstacle_piece_m{4.0};
   bool include_surfaces{true};   ///< add a slab per Surface
   bool include_obstacles{true};  ///< add a solid (hull or box) per Obstacle
   bool include_cloud{true};      ///< add the cloud (OcTree + exact kd-tree)
@@ -112,7 +117,9 @@ class CollisionWorld {
   /// concave real clusters a hull spans free space the points leave open, and a
   /// planner that flew there would fail validation. The interior of a solid is
   /// reachable only through its shell.
-  PointList solidSamples(double spacing, const PointList& occupied = {}) const;
+  /// Only solids whose bounds meet `region` (when given) are sampled, and only
+  /// their samples inside it.
+  PointList solidSamples(double spacing, const PointList& occupied = {}, const Aabb* region = nullptr) const;
 
  private:
   CollisionWorld() = default;
