@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -55,6 +56,22 @@ TEST(RealData, MarinaBaySandsFacadesFaceOutAndLevelSurfacesFaceUp) {
   }
   EXPECT_GE(facades, 4);  // three towers, north and south faces
   EXPECT_GE(level, 1);    // the podium roofs
+
+  // The largest facade's mission: flown, its coverage measured, and every segment
+  // at least the UAV radius from every measured point (brute force).
+  const PlanResult p = plan(d.scene, d.resolved.config, {0});
+  ASSERT_EQ(p.missions.size(), 1u);
+  const auto& m = p.missions.front();
+  ASSERT_TRUE(planning::flyable(m.status)) << m.reason;
+  ASSERT_TRUE(m.coverage.evaluated);
+  EXPECT_GE(m.coverage.fraction, 0.9);
+  double clearance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < m.waypoints.size(); ++i) {
+    for (const auto& q : d.scene.cloud) {
+      clearance = std::min(clearance, pointSegmentDistance(q, m.waypoints[i], m.waypoints[i + 1]));
+    }
+  }
+  EXPECT_GE(clearance, d.resolved.config.uav.inflationRadius());
 }
 
 TEST(RealData, AutzenGroundPointsLieOnUpFacingSurfaces) {
