@@ -13,6 +13,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -112,17 +115,70 @@ void checkHeader(const std::string& path, const std::string& ext) {
   }
 }
 
-PointList fromPcl(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::string& path) {
-  PointList out;
-  out.reserve(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const auto& q = cloud[i];
-    const Vec3 p(q.x, q.y, q.z);
-    if (!p.allFinite()) {
-      throw InputError(path + ": point " + std::to_string(i) + " " + formatPoint(p) +
-                       " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
+/// One coordinate of a PCLPointCloud2 field, whatever its stored type. PCL's own
+/// conversion to PointXYZ copies the bytes of a double or integer field as if they
+/// were a float (a double PCD read back as zeros), so the fields are read here.
+double fieldValue(const std::uint8_t* at, std::uint8_t datatype) {
+  switch (datatype) {
+    case pcl::PCLPointField::INT8: return static_cast<double>(*reinterpret_cast<const std::int8_t*>(at));
+    case pcl::PCLPointField::UINT8: return static_cast<double>(*at);
+    case pcl::PCLPointField::INT16: { std::int16_t v; std::memcpy(&v, at, 2); return v; }
+    case pcl::PCLPointField::UINT16: { std::uint16_t v; std::memcpy(&v, at, 2); return v; }
+    case pcl::PCLPointField::INT32: { std::int32_t v; std::memcpy(&v, at, 4); return v; }
+    case pcl::PCLPointField::UINT32: { std::uint32_t v; std::memcpy(&v, at, 4); return v; }
+    case pcl::PCLPointField::FLOAT32: { float v; std::memcpy(&v, at, 4); return v; }
+    case pcl::PCLPointField::FLOAT64: { double v; std::memcpy(&v, at, 8); return v; }
+    default: return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+/// x, y, z of every point of a PCD/PLY blob, in double, any numeric field type.
+/// An organized cloud (height > 1, a sensor frame) marks missing returns with NaN:
+/// those are skipped. Any other non-finite point is an error naming its index.
+PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
+  const pcl::PCLPointField* fields[3] = {nullptr, nullptr, nullptr};
+  const char* names[3] = {"x", "y", "z"};
+  for (const auto& f : blob.fields) {
+    for (int a = 0; a < 3; ++a) {
+      if (f.name == names[a]) fields[a] = &f;
     }
-    out.push_back(p);
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (fields[a] == nullptr) throw InputError(path + ": no field '" + names[a] + "'");
+    const auto t = fields[a]->datatype;
+    if (t < pcl::PCLPointField::INT8 || t > pcl::PCLPointField::FLOAT64) {
+      throw InputError(path + ": field '" + names[a] + "' has type code " + std::to_string(t) +
+                       ", which is not a number type (use float, double or an integer)");
+    }
+  }
+  const std::size_t width = blob.width, height = blob.height;
+  const std::size_t sizes[9] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+  for (int a = 0; a < 3; ++a) {
+    if (fields[a]->offset + sizes[fields[a]->datatype] > blob.point_step) {
+      throw InputError(path + ": field '" + std::string(names[a]) + "' lies outside the point record");
+    }
+  }
+  if (height > 0 && width > 0 &&
+      (static_cast<std::size_t>(blob.row_step) < width * blob.point_step || blob.data.size() < height * blob.row_step)) {
+    throw InputError(path + ": the point data is shorter than the header says (" + std::to_string(width * height) +
+                     " points)");
+  }
+  const bool organized = height > 1;
+  PointList out;
+  out.reserve(width * height);
+  for (std::size_t r = 0; r < height; ++r) {
+    for (std::size_t c = 0; c < width; ++c) {
+      const std::uint8_t* at = blob.data.data() + r * blob.row_step + c * blob.point_step;
+      const Vec3 p(fieldValue(at + fields[0]->offset, fields[0]->datatype),
+                   fieldValue(at + fields[1]->offset, fields[1]->datatype),
+                   fieldValue(at + fields[2]->offset, fields[2]->datatype));
+      if (!p.allFinite()) {
+        if (organized) continue;  // no return in a sensor frame
+        throw InputError(path + ": point " + std::to_string(r * width + c) + " " + formatPoint(p) +
+                         " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
+      }
+      out.push_back(p);
+    }
   }
   return out;
 }
@@ -162,10 +218,10 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
     checkHeader(path, ext);
-    pcl::PointCloud<pcl::PointXYZ> cloud;
+    pcl::PCLPointCloud2 cloud;
     const int rc = ext == ".pcd" ? pcl::io::loadPCDFile(path, cloud) : pcl::io::loadPLYFile(path, cloud);
     if (rc < 0) throw InputError(path + ": cannot parse as " + ext.substr(1) + " (corrupt or not x/y/z?)");
-    points = fromPcl(cloud, path);
+    points = fromBlob(cloud, path);
   } else {
     throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt or .las)");
   }

@@ -53,6 +53,37 @@ TEST_F(CloudIo, PcdRoundTripKeepsFloatPrecision) {
   EXPECT_FALSE(fs::exists(p + ".tmp" + std::to_string(::getpid())));
 }
 
+TEST_F(CloudIo, DoubleAndIntegerFieldsAreReadAsNumbers) {
+  // PCL's PointXYZ conversion copies a double's bytes as a float: these read as
+  // zeros before. Geo-referenced values (5e5 m) need the double.
+  const auto pcd = [](const std::string& size, const std::string& type, const std::string& data) {
+    return "VERSION .7\nFIELDS x y z\nSIZE " + size + "\nTYPE " + type +
+           "\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n" + data;
+  };
+  const PointList d = loadCloud(file("d.pcd", pcd("8 8 8", "F F F", "500000.125 4000000.5 12.25\n-1.5 2 3\n")));
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_DOUBLE_EQ(d[0].x(), 500000.125);
+  EXPECT_DOUBLE_EQ(d[0].y(), 4000000.5);
+  EXPECT_DOUBLE_EQ(d[1].z(), 3.0);
+  const PointList i = loadCloud(file("i.pcd", pcd("4 4 2", "I I U", "-7 8 9\n1 2 3\n")));
+  ASSERT_EQ(i.size(), 2u);
+  EXPECT_DOUBLE_EQ(i[0].x(), -7.0);
+  EXPECT_DOUBLE_EQ(i[0].z(), 9.0);
+  const PointList ply = loadCloud(file("d.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\n"
+                                                "property double y\nproperty double z\nend_header\n1.25 -2.5 700000.75\n"));
+  ASSERT_EQ(ply.size(), 1u);
+  EXPECT_DOUBLE_EQ(ply[0].z(), 700000.75);
+}
+
+TEST_F(CloudIo, OrganizedFrameSkipsItsMissingReturns) {
+  // A sensor frame (HEIGHT > 1) marks beams without a return by NaN.
+  const PointList p = loadCloud(file("o.pcd", "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                               "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+                                               "1 2 3\nnan nan nan\n4 5 6\n7 8 9\n"));
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_DOUBLE_EQ(p[2].x(), 7.0);
+}
+
 TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
   expectError((dir_ / "missing.pcd").string(), "no such file");
   expectError(file("empty.xyz", "# nothing\n"), "no points");
