@@ -1,4 +1,6 @@
 #include "uavip/app/assemble.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 #include "uavip/sim/scanner_sim.h"
@@ -15,11 +17,9 @@ namespace uavip::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 /// The merged cloud is scored on at most this many points (an even subsample).
 constexpr std::size_t kMaxScored = 200000;
 
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);

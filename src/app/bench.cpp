@@ -1,4 +1,6 @@
 #include "uavip/app/bench.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -30,17 +32,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return kNan;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 bool isOurs(const std::string& planner) { return planner == "astar" || planner == "astar-euclid"; }

@@ -1,4 +1,5 @@
 #include "uavip/app/pipeline.h"
+#include "uavip/core/stopwatch.h"
 
 #include "uavip/app/assemble.h"
 
@@ -24,9 +25,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);

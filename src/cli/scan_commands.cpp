@@ -5,6 +5,7 @@
 #include "src/cli/commands.h"
 
 #include "uavip/app/assemble.h"
+#include "uavip/core/math.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
@@ -78,7 +79,7 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
                         {"drift_max_m", s.drift_max_m},
                         {"initial_position", vec(s.initial_pose.translation())},
                         {"position", vec(s.pose.translation())},
-                        {"rotation_deg", Eigen::AngleAxisd(s.pose.linear()).angle() * 180.0 / 3.14159265358979323846},
+                        {"rotation_deg", Eigen::AngleAxisd(s.pose.linear()).angle() * 180.0 / kPi},
                         {"registered", s.registered},
                         {"registration_rms_m", s.registration_rms_m},
                         {"registration_information_pairs", vec(s.registration_information)},

@@ -1,4 +1,5 @@
 #include "uavip/coverage/coverage_evaluator.h"
+#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -16,8 +17,6 @@ namespace uavip::coverage {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Voxel indices of VoxelLineOfSight must satisfy |i| < 2^20 (21 bits per axis).

@@ -1,4 +1,5 @@
 #include "uavip/coverage/flight_strategy.h"
+#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -37,8 +38,6 @@ namespace uavip::coverage {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 /// |n_z| at and above which a surface counts as horizontal (roof, ceiling).
 constexpr double kHorizontalNz = 0.95;
 /// Overlap of a footprint with the boundary below this [m] counts as touching only.

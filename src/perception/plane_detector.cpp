@@ -1,4 +1,5 @@
 #include "uavip/perception/plane_detector.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/pcl_cloud.h"
@@ -88,11 +89,6 @@ bool isDegenerate(const Pca& pca) {
   return !(largest > 0.0) || pca.eigenvalues[1] <= kDegenerateRatio * largest;
 }
 
-double median(std::vector<double> values) {
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
 
 /// Tightens the RANSAC inliers `candidate` to the points within a robust band
 /// (median ± kBandSigmas · 1.4826 · MAD of the plane distances) around their plane.
@@ -105,10 +101,10 @@ std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& 
     for (std::size_t j = 0; j < candidate.size(); ++j) {
       dist[j] = pca.normal.dot(cloud[static_cast<std::size_t>(candidate[j])] - pca.centroid);
     }
-    const double med = median(dist);
+    const double med = upperMedian(dist);
     std::vector<double> dev(dist.size());
     for (std::size_t j = 0; j < dist.size(); ++j) dev[j] = std::abs(dist[j] - med);
-    const double sigma = 1.4826 * median(dev);
+    const double sigma = 1.4826 * upperMedian(dev);
     const double band = std::clamp(kBandSigmas * sigma, kBandFloor * threshold, threshold);
     std::vector<Index> next;
     next.reserve(candidate.size());

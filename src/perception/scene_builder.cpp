@@ -1,16 +1,9 @@
 #include "uavip/perception/scene_builder.h"
+#include "uavip/core/stopwatch.h"
 
 #include <chrono>
 
 namespace uavip::perception {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
-
 void PerceptionOptions::validate(const std::string& where) const {
   planes.validate(where + ".planes");
   clusters.validate(where + ".clusters");

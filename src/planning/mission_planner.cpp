@@ -1,4 +1,5 @@
 #include "uavip/planning/mission_planner.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -95,18 +96,18 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, 
   const double factors[3] = {1.0, 0.5 * (1.0 + options.max_standoff_factor), options.max_standoff_factor};
   for (const double f : factors) {
     for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
-      const double a = deg * 3.14159265358979323846 / 180.0;
+      const double a = deg * kPi / 180.0;
       for (const auto& side : sides) {
         if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
         const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
         const Vec3 p = stop.target + f * standoff * dir;
         if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3)) continue;
         const Vec3 look = stop.target - p;
-        const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / 3.14159265358979323846;
+        const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi;
         if (pitch < options.gimbal.pitch_min_deg - 1e-9 || pitch > options.gimbal.pitch_max_deg + 1e-9) continue;
         stop.position = p;
         stop.gimbal_pitch_deg = pitch;
-        if (look.head<2>().norm() > 1e-6) stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / 3.14159265358979323846;
+        if (look.head<2>().norm() > 1e-6) stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / kPi;
         return true;
       }
     }

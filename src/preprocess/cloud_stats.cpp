@@ -1,4 +1,5 @@
 #include "uavip/preprocess/cloud_stats.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/pcl_cloud.h"
@@ -20,12 +21,8 @@ namespace {
 /// LiDAR > 1).
 constexpr double kStationSpreadRatio = 0.6;
 
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
+/// The upper median, 0 for no values.
+double medianOf(const std::vector<double>& v) { return v.empty() ? 0.0 : upperMedian(v); }
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include "uavip/registration/station_registration.h"
+#include "uavip/core/stopwatch.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -36,7 +37,6 @@ using Clock = std::chrono::steady_clock;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::string num(double v) {
   std::ostringstream os;

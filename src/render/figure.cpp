@@ -1,4 +1,5 @@
 #include "uavip/render/figure.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 
@@ -23,7 +24,6 @@
 namespace uavip::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr const char* kFont = "DejaVu Sans";
 
 using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;

@@ -5,6 +5,8 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include "uavip/scan/station_assembler.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 
@@ -35,7 +37,6 @@ std::int64_t cellKey(std::int64_t x, std::int64_t y) {
 
 using Clock = std::chrono::steady_clock;
 using Vec2 = Eigen::Vector2d;
-constexpr double kPi = 3.14159265358979323846;
 /// Correspondences need normals within acos(this) of each other (20°).
 constexpr double kNormalCos = 0.94;
 /// Directions whose (range-scaled) eigenvalue is below this fraction of the largest
@@ -56,13 +57,6 @@ constexpr int kHalfWindow = 8;
 /// … and a line when the smaller eigenvalue is below this fraction of the larger.
 constexpr double kLineRatio = 0.1;
 
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double wrapAngle(double a) {
-  while (a > kPi) a -= 2.0 * kPi;
-  while (a <= -kPi) a += 2.0 * kPi;
-  return a;
-}
 
 Eigen::Matrix2d rot2(double theta) {
   Eigen::Matrix2d r;
@@ -296,12 +290,6 @@ Eigen::Quaterniond expMap(const Eigen::Vector3d& v) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(a, v / a));
 }
 
-/// Median of a non-empty vector (modifies it).
-double median(std::vector<double>& v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 /// A 2D height map (cell → mean z of the first points that fell into it).
 class HeightMap {
@@ -609,7 +597,7 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
         pts.emplace_back(p, down);
       }
       double dz = 0.0;
-      if (offsets.size() >= 5) dz = median(offsets);
+      if (offsets.size() >= 5) dz = upperMedian(offsets);
       z -= dz;
       z_of_vscan[k] = z;
       for (const auto& [p, down] : pts) {

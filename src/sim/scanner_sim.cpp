@@ -1,4 +1,5 @@
 #include "uavip/sim/scanner_sim.h"
+#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 
@@ -11,8 +12,7 @@
 namespace uavip::sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = kDegToRad;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Hits closer than this to the ray origin are ignored (self-intersection guard) [m].
 constexpr double kMinHit = 1e-9;

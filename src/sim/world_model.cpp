@@ -1,4 +1,5 @@
 #include "uavip/sim/world_model.h"
+#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -14,7 +15,6 @@ namespace uavip::sim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Relative tolerance on |edge_u · edge_v| / (|edge_u| |edge_v|) for a rectangle.
 constexpr double kOrthogonalityTol = 1e-6;
 
