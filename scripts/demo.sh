@@ -3,6 +3,6 @@
 # scenarios/single_cube.yaml) and prints where the results are.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+BUILD_TARGET=${BUILD_TARGET:-uavip} bash scripts/setup.sh  # the CLI only; scripts/test.sh builds the rest
 BUILD_DIR=${BUILD_DIR:-build}
 "$BUILD_DIR"/uavip run "${1:-scenarios/single_cube.yaml}" -o "${2:-out/single_cube}"

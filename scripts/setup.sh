@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what uavip needs on Debian 12 (as root, or with sudo), then configures and
-# builds. Environment: BUILD_DIR (default build), BUILD_TYPE (Release),
+# builds. Environment: BUILD_DIR (default build), BUILD_TYPE (Release), BUILD_TARGET (default: all),
 # UAVIP_SANITIZE=ON for AddressSanitizer + UBSan, SKIP_APT=1 to skip apt-get.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,4 +28,6 @@ fi
 BUILD_DIR=${BUILD_DIR:-build}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
   -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" >/dev/null
-cmake --build "$BUILD_DIR" -j"$(nproc)"
+# BUILD_TARGET (e.g. uavip) builds only that target and what it needs.
+echo "setup: building ${BUILD_TARGET:-everything} in $BUILD_DIR" >&2
+cmake --build "$BUILD_DIR" -j"$(nproc)" ${BUILD_TARGET:+--target "$BUILD_TARGET"}
