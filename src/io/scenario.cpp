@@ -122,10 +122,16 @@ class Section {
 
   Section child(const std::string& key) { return Section(get(key), file_, where(key)); }
 
-  /// Throws for any key that was never asked for (typos, unsupported options).
+  /// Throws for any key that was never asked for (typos, unsupported options) and
+  /// for a key given twice (yaml-cpp would silently keep the first).
   void finish() const {
+    std::set<std::string> seen;
     for (const auto& kv : node_) {
+      if (!kv.first.IsScalar()) fail("", "has a key that is not a plain name (line " + std::to_string(kv.first.Mark().line + 1) + ")");
       const std::string key = kv.first.as<std::string>();
+      if (!seen.insert(key).second) {
+        fail(key, "is given twice (line " + std::to_string(kv.first.Mark().line + 1) + "); keep one");
+      }
       if (!known_.count(key)) {
         std::string valid;
         for (const auto& k : known_) valid += (valid.empty() ? "" : ", ") + k;

@@ -221,7 +221,7 @@ TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
   for (const auto& entry : std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
     const io::Scenario sc = io::loadScenario(entry.path().string());
-    if (!sc.expect.surfaces && !sc.expect.status) continue;
+    if (!sc.expect.surfaces && !sc.expect.status && !sc.expect.min_surface_area_m2) continue;
     SCOPED_TRACE(entry.path().filename().string());
     const Outcome o = runScenario(entry.path().filename().string());
     if (sc.expect.surfaces) {
@@ -230,6 +230,9 @@ TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
     if (sc.expect.status) {
       EXPECT_FALSE(o.planned.missions.empty());
       for (const auto& m : o.planned.missions) EXPECT_EQ(planning::toString(m.status), *sc.expect.status);
+    }
+    if (sc.expect.min_surface_area_m2) {
+      for (const auto& s : o.detected.scene.surfaces) EXPECT_GE(s.area_m2, *sc.expect.min_surface_area_m2) << s.id;
     }
   }
 }

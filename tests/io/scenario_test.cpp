@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -89,6 +91,14 @@ expect: {surfaces: 1, status: ok}
 TEST(Scenario, UnknownKeyIsNamed) {
   expectInputError(kMinimal + "grid: {resolution: 0.1}\n", {"x.yaml", "grid.resolution", "not a known key"});
   expectInputError(kMinimal + "colour: red\n", {"x.yaml", "colour"});
+}
+
+TEST(Scenario, DuplicateKeyIsRefusedWithItsLine) {
+  // yaml-cpp keeps the first of two equal keys; a user who repeats one means the second.
+  expectInputError(kMinimal + "grid: {resolution_m: 0.1, resolution_m: 0.3}\n", {"x.yaml", "grid.resolution_m", "twice"});
+  const auto second = std::count(kMinimal.begin(), kMinimal.end(), '\n') + 2;  // 1-based line of the repeat
+  expectInputError(kMinimal + "planner: {name: astar}\nplanner: {name: rrtstar}\n",
+                   {"x.yaml", "planner", "twice", "line " + std::to_string(second)});
 }
 
 TEST(Scenario, WrongTypeIsNamed) {
