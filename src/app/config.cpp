@@ -25,6 +25,12 @@ void resolve(ResolvedConfig& r, const std::string& key, double& field, double au
 
 }  // namespace
 
+double autoGridResolution(const Vec3& extent_m, const world::GridOptions& grid) {
+  const Vec3 span = extent_m + Vec3::Constant(2.0 * grid.padding_m);
+  const double budget = static_cast<double>(grid.max_voxels) / 4.0;
+  return mm(std::max(0.2, std::cbrt(span.x() * span.y() * span.z() / budget)));
+}
+
 ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudStats& stats) {
   ResolvedConfig r;
   r.config = config;
@@ -82,12 +88,9 @@ ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudSt
     r.values.push_back({"coverage.standoff_m", c.coverage.standoff_m, camera_set ? "set" : "default (paper)"});
   }
 
-  // The planning grid spans the cloud and its stops: keep it ≤ a quarter of the
-  // memory guard at default settings (a 1 km site gets a coarser grid, not an error).
-  const Vec3 span = stats.extent_m + Vec3::Constant(2.0 * c.grid.padding_m);
-  const double volume = span.x() * span.y() * span.z();
-  const double budget = static_cast<double>(c.grid.max_voxels) / 4.0;
-  resolve(r, "grid.resolution_m", c.grid.resolution_m, mm(std::max(0.2, std::cbrt(volume / budget))),
+  // The planning grid of the whole site (app::plan applies the rule again to the
+  // region it plans): a 1 km site gets a coarser grid, not an error.
+  resolve(r, "grid.resolution_m", c.grid.resolution_m, autoGridResolution(stats.extent_m, c.grid),
           "max(0.2, (site volume / (max_voxels/4))^(1/3))");
   c.validate("config");
   return r;

@@ -33,14 +33,6 @@ void report(const Progress& progress, const std::string& message) {
 /// Free space kept around the photo stops when the planning grid is cropped to them [m].
 constexpr double kLocalMarginM = 6.0;
 
-/// The auto planning-grid edge for a region (app/config.h's rule on the region
-/// instead of the site): max(0.2 m, the edge that keeps it ≤ max_voxels / 4).
-double autoGridResolution(const Aabb& region, const world::GridOptions& options) {
-  const Vec3 span = region.max - region.min + Vec3::Constant(2.0 * options.padding_m);
-  const double budget = static_cast<double>(options.max_voxels) / 4.0;
-  return std::max(0.2, std::ceil(std::cbrt(span.prod() / budget) * 1000.0) / 1000.0);
-}
-
 /// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
@@ -181,7 +173,7 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions();
-  if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region, grid_options);
+  if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   PointList occupied = scene.cloud;
   // Solids matter as far as a point can block a voxel of the grid.
   Aabb reach = region;

@@ -56,6 +56,10 @@ struct ResolvedConfig {
   std::vector<ResolvedValue> values;
 };
 
+/// The `auto` planning-grid edge for a box of this extent [m]: max(0.2 m, the edge
+/// that keeps the grid (with its padding) ≤ grid.max_voxels / 4).
+double autoGridResolution(const Vec3& extent_m, const world::GridOptions& grid);
+
 /// Applies the rules above to every auto key the user did not set; validates the
 /// result (InputError naming the key). Pure: the same inputs give the same config.
 ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudStats& stats);
