@@ -37,8 +37,8 @@ constexpr double kLocalMarginM = 6.0;
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
 /// Below mission.min_coverage an `ok` surface becomes `partial`, stating the fraction.
-void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const Scene& scene,
-                     const world::VoxelGrid& grid, const io::Config& config) {
+void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const coverage::LineOfSight& sight,
+                     const io::Config& config) {
   constexpr double kMaxIncidenceDeg = 75.0;
   if (!planning::flyable(m.status) || surface.inliers.empty()) return;
   std::vector<coverage::ViewPose> views;
@@ -54,8 +54,6 @@ void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const 
   const coverage::FootprintCamera camera(camera_options);
   coverage::CoverageCriteria criteria;
   criteria.max_incidence_deg = kMaxIncidenceDeg;
-  const double voxel = grid.resolution();
-  const coverage::VoxelLineOfSight sight(scene.cloud, voxel, 3.5 * voxel);
   const coverage::CoverageResult r =
       coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, views, camera, criteria, &sight);
   m.coverage.evaluated = true;
@@ -200,10 +198,13 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
         planning::planSurfaceMission(strategies[i], grid, validator, *planner, mission_options));
   }
   report(progress, "coverage: what the flown photos image");
+  // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
+  // voxels before their target (its own surface never hides it at ≤ 75°).
+  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
   for (std::size_t i = 0; i < strategies.size(); ++i) {
     const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
                                  [&](const Surface& s) { return s.id == surface_ids[i]; });
-    measureCoverage(result.missions[i], *it, scene, grid, config);
+    measureCoverage(result.missions[i], *it, sight, config);
   }
   result.times.planning_s = secondsSince(t2);
   result.times.total_s = secondsSince(t0);
