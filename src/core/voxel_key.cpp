@@ -71,9 +71,12 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
     return {};
   }
   const VoxelKeyer keyer = VoxelKeyer::forPoints(cloud, edge, what);
+  // Sorted with x varying fastest, then y, then z: the order of PCL's VoxelGrid,
+  // so the stages after it see the points in the order they always did.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    keyed[i] = {keyer.key(cloud[i]), static_cast<std::uint32_t>(i)};
+    const auto c = keyer.cell(cloud[i]);
+    keyed[i] = {VoxelKeyer::pack(c[2], c[1], c[0]), static_cast<std::uint32_t>(i)};
   }
   std::sort(keyed.begin(), keyed.end());
   PointList out;

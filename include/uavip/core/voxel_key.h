@@ -50,8 +50,9 @@ class VoxelKeyer {
 };
 
 /// Voxel-grid down-sampling (paper §II-C): each occupied voxel of edge `edge` [m]
-/// is replaced by the centroid of its points (double precision). Output sorted by
-/// voxel key: deterministic. Memory: 16 bytes per input point.
+/// is replaced by the centroid of its points (double precision). Output ordered
+/// with x varying fastest, then y, then z (pcl::VoxelGrid's order): deterministic.
+/// Memory: 16 bytes per input point.
 PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what = "voxel_m");
 
 /// Sorted, unique keys of the voxels that hold at least one point.
