@@ -1,8 +1,8 @@
 #include "uavip/app/assemble.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/sim/scanner_sim.h"
 
 #include <algorithm>

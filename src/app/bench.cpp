@@ -1,9 +1,9 @@
 #include "uavip/app/bench.h"
-#include "uavip/core/math.h"
-#include "uavip/core/stopwatch.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/render/plot.h"

@@ -1,10 +1,10 @@
 #include "uavip/app/pipeline.h"
-#include "uavip/core/stopwatch.h"
 
 #include "uavip/app/assemble.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
@@ -24,7 +24,6 @@ namespace uavip::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);

@@ -5,8 +5,8 @@
 #include "src/cli/commands.h"
 
 #include "uavip/app/assemble.h"
-#include "uavip/core/math.h"
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/raw_log_io.h"

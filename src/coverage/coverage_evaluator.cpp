@@ -1,5 +1,4 @@
 #include "uavip/coverage/coverage_evaluator.h"
-#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <utility>
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 
 namespace uavip::coverage {
 

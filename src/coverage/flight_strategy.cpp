@@ -1,5 +1,4 @@
 #include "uavip/coverage/flight_strategy.h"
-#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -9,6 +8,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
 
 // Conventions of the photo stops (paper §II-F, 2-DOF mount: yaw by the UAV, pitch by
 // a gimbal without roll).

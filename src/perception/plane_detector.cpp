@@ -1,7 +1,7 @@
 #include "uavip/perception/plane_detector.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/voxel_key.h"

@@ -1,4 +1,5 @@
 #include "uavip/perception/scene_builder.h"
+
 #include "uavip/core/stopwatch.h"
 
 #include <chrono>

@@ -1,8 +1,8 @@
 #include "uavip/planning/mission_planner.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
 #include "uavip/planning/path_simplifier.h"
 
 #include <chrono>

@@ -1,7 +1,7 @@
 #include "uavip/preprocess/cloud_stats.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
 #include "uavip/core/pcl_cloud.h"
 
 #include <Eigen/Eigenvalues>

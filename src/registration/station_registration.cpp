@@ -5,11 +5,11 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include "uavip/registration/station_registration.h"
-#include "uavip/core/stopwatch.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/pcl_cloud.h"
+#include "uavip/core/stopwatch.h"
 
 #include <pcl/features/normal_3d.h>
 #include <pcl/point_cloud.h>

@@ -1,7 +1,7 @@
 #include "uavip/render/figure.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 
 #include <cairo-svg.h>
 #include <cairo.h>

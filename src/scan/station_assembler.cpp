@@ -5,10 +5,10 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include "uavip/scan/station_assembler.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

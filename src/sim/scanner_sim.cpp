@@ -1,7 +1,7 @@
 #include "uavip/sim/scanner_sim.h"
-#include "uavip/core/math.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,4 @@
 #include "uavip/sim/world_model.h"
-#include "uavip/core/math.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,6 +9,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
 
 namespace uavip::sim {
 
