@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
         if (largest >= 0) p = uavip::app::plan(d.scene, d.resolved.config, {largest});
         plan_s.push_back(since(t1));
       }
-      const auto& c = d.cloud;
+      const auto& c = *d.scene.measured;
       const auto& pc = d.resolved.config;
       const uavip::planning::SurfaceMission* m = p.missions.empty() ? nullptr : &p.missions.front();
       double largest_area = 0.0;

@@ -95,7 +95,6 @@ preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenari
 DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
                     const Progress& progress) {
   DetectResult result;
-  result.cloud = cloud;
   result.resolved = resolveConfig(config, cloud);
   const io::Config& resolved = result.resolved.config;
   const auto t0 = Clock::now();

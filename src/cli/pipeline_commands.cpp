@@ -80,7 +80,7 @@ void writeMission(const std::string& out, const app::PlanResult& plan, const nlo
 }
 
 void printDetectSummary(const app::DetectResult& d) {
-  const CloudStats& c = d.cloud;
+  const CloudStats& c = *d.scene.measured;  // set by app::detect
   std::cout << "measured: " << c.points << " points, spacing " << fixed(c.spacing_m, 3) << " m, extent "
             << fixed(c.extent_m.x(), 1) << " x " << fixed(c.extent_m.y(), 1) << " x " << fixed(c.extent_m.z(), 1)
             << " m, noise " << fixed(c.noise_m, 3) << " m"
@@ -187,7 +187,9 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   const PointList raw = io::loadCloud(cloud_path, config.input, &read);
   if (!v.quiet && !read.note.empty()) std::cout << read.note << "\n";
   io::ensureDirectory(out);
-  const app::DetectResult d = app::detect(raw, config, app::measure(raw), progressPrinter(v));
+  const app::Progress progress = progressPrinter(v);
+  if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
+  const app::DetectResult d = app::detect(raw, config, app::measure(raw), progress);
   writeScene(out, d, &read);
   io::writeViews(out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
   if (!v.quiet) {

@@ -385,15 +385,11 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
 /// Area the planar points occupy: distinct cells of edge `cell` [m] × cell² [m²]
 /// (not count × cell²: a tilted plane through a voxel grid holds more points per m²).
 double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
-  std::vector<std::uint64_t> keys;
-  keys.reserve(uv.size());
-  for (const auto& q : uv) {
-    const auto i = static_cast<std::int64_t>(std::floor(q.x() / cell)) + (std::int64_t{1} << 31);
-    const auto j = static_cast<std::int64_t>(std::floor(q.y() / cell)) + (std::int64_t{1} << 31);
-    keys.push_back((static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint64_t>(j & 0xffffffff));
-  }
-  std::sort(keys.begin(), keys.end());
-  const auto cells = static_cast<double>(std::unique(keys.begin(), keys.end()) - keys.begin());
+  if (uv.empty()) return 0.0;
+  PointList flat;  // the (u, v) coordinates as points of the plane z = 0
+  flat.reserve(uv.size());
+  for (const auto& q : uv) flat.emplace_back(q.x(), q.y(), 0.0);
+  const auto cells = static_cast<double>(occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "area_cell_m")).size());
   return cells * cell * cell;
 }
 

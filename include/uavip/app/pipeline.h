@@ -34,7 +34,6 @@ struct StageTimes {
 
 /// Stages 3–5 on a raw cloud.
 struct DetectResult {
-  preprocess::CloudStats cloud;   ///< the raw cloud as measured (spacing, extent, noise)
   ResolvedConfig resolved;        ///< the config the stages ran with (app/config.h)
   preprocess::PreprocessStats preprocess;
   Scene scene;
