@@ -124,18 +124,27 @@ std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection
   std::string valid;
   for (const auto& s : scene.surfaces) valid += (valid.empty() ? "" : ", ") + std::to_string(s.id);
   if (valid.empty()) valid = "none: no surface was detected";
-  int id = -1;
-  try {
-    std::size_t used = 0;
-    id = std::stoi(selection, &used);
-    if (used != selection.size()) throw std::invalid_argument(selection);
-  } catch (const std::exception&) {
-    throw InputError("--surface: '" + selection + "' is not a surface id or 'all' (valid ids: " + valid + ")");
+  std::stringstream list(selection);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    int id = -1;
+    try {
+      std::size_t used = 0;
+      id = std::stoi(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError("--surface: '" + selection + "' is not a surface id, a list of ids like 0,3,5, or 'all' (valid ids: " +
+                       valid + ")");
+    }
+    const bool exists = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                    [id](const Surface& s) { return s.id == id; });
+    if (!exists) throw InputError("--surface: no surface with id " + item + " (valid ids: " + valid + ")");
+    if (std::find(ids.begin(), ids.end(), id) != ids.end())
+      throw InputError("--surface: surface " + item + " is listed twice in '" + selection + "'");
+    ids.push_back(id);
   }
-  const bool exists = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
-                                  [id](const Surface& s) { return s.id == id; });
-  if (!exists) throw InputError("--surface: no surface with id " + selection + " (valid ids: " + valid + ")");
-  return {id};
+  if (ids.empty()) throw InputError("--surface: empty; give a surface id, a list like 0,3,5, or 'all' (valid ids: " + valid + ")");
+  return ids;
 }
 
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
@@ -154,6 +163,7 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
     for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
   }
   if (config.mission.start) stop_positions.push_back(*config.mission.start);
+  if (config.flight.home) stop_positions.push_back(*config.flight.home);
   result.times.coverage_s = secondsSince(t0);
   if (surface_ids.empty()) return result;
 
@@ -205,6 +215,14 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
     measureCoverage(result.missions[i], *it, sight, config);
   }
   result.times.planning_s = secondsSince(t2);
+
+  const auto t3 = Clock::now();
+  report(progress, "flight: order, connecting legs, sorties");
+  planning::FlightOptions flight_options = config.flight;
+  flight_options.start = config.mission.start;
+  flight_options.simplify = config.mission.simplify;
+  result.flight = planning::planFlight(result.missions, grid, validator, *planner, flight_options);
+  result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);
   return result;
 }

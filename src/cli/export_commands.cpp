@@ -6,20 +6,57 @@
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/mission_export.h"
+#include "uavip/io/scene_json.h"
+#include "uavip/planning/path_validator.h"
+#include "uavip/world/collision_world.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace uavip::cli {
 namespace {
 
+namespace fs = std::filesystem;
+
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
-  std::string mission, format, origin, out, surface, autopilot{"px4"};
+  std::string mission, format, origin, out, surface, autopilot{"px4"}, scene;
+  int sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0};
 };
+
+/// Every exported path is checked again against the scene with the FCL validator:
+/// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
+void checkAgainstScene(const std::vector<io::Flight>& flights, const nlohmann::json& mission, const ExportArgs& a) {
+  const std::string scene_path =
+      a.scene.empty() ? (fs::path(a.mission).parent_path() / "scene.json").string() : a.scene;
+  if (!fs::is_regular_file(scene_path))
+    throw InputError("--scene: " + scene_path + " not found; export checks every leg against the scene the mission " +
+                     "was planned in: pass --scene OUT/scene.json");
+  const auto r = mission.find("inflation_radius_m");
+  if (r == mission.end() || !r->is_number() || !(r->get<double>() > 0.0))
+    throw InputError(a.mission + ": inflation_radius_m is missing or not > 0 (not a mission.json of uavip run or plan)");
+  const Scene scene = io::loadScene(scene_path);
+  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene), r->get<double>());
+  for (const auto& f : flights) {
+    PointList path;
+    for (const auto& w : f.waypoints) path.push_back(w.enu);
+    const planning::ValidationResult v = validator.validate(path);
+    if (v.collision_free) continue;
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << a.mission << ": "
+       << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) : "surface " + std::to_string(f.surface_ids.front()))
+       << ", segment " << v.first_violation_segment << " comes "
+       << v.segment_clearance_m[static_cast<std::size_t>(v.first_violation_segment)] << " m from "
+       << v.violation_object << " of " << scene_path << " (required " << validator.requiredClearance()
+       << " m); not exported: re-run uavip plan";
+    throw io::NoMissionError(os.str());
+  }
+}
 
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
   if (a.origin.empty())
@@ -42,33 +79,56 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
     throw InputError(a.mission + ": not valid JSON (" + std::string(e.what()) + "); pass the mission.json of uavip run or plan");
   }
 
-  io::Flight flight;
+  std::vector<io::Flight> flights;
   try {
-    flight = io::flightFromMissionJson(mission, a.mission, a.surface);
+    if (a.surface == "all" || a.sortie != 0) {
+      if (!a.surface.empty() && a.surface != "all")
+        throw InputError("--sortie: sorties belong to the flight over all surfaces; drop --surface " + a.surface);
+      flights = io::sortiesFromMissionJson(mission, a.mission);
+      if (a.sortie < 0 || a.sortie > static_cast<int>(flights.size()))
+        throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission + " has " +
+                         std::to_string(flights.size()) + " sortie(s), numbered from 1");
+      if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
+    } else {
+      flights = {io::flightFromMissionJson(mission, a.mission, a.surface)};
+    }
+    checkAgainstScene(flights, mission, a);
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << e.what() << "\n";
     return kExitNoMission;
   }
-  if (flight.surface_ids.size() > 1 && !v.quiet) {
-    std::cerr << "uavip: warning: " << flight.surface_ids.size()
-              << " surfaces joined by straight legs that were not planned or checked for collisions\n";
-  }
   double min_up = 0.0;
-  for (const auto& w : flight.waypoints) min_up = std::min(min_up, w.enu.z());
+  for (const auto& f : flights) {
+    for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z());
+  }
   if (min_up < 0.0 && !v.quiet) {
     std::cerr << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2) << -min_up
               << " m below the origin (home); check that the origin's altitude is that of the ground or lower\n";
   }
 
-  io::writeFileAtomic(a.out, io::exportFlight(flight, format, options));
+  // Several sorties: one file each, OUT with _sortieN before the extension.
+  std::vector<std::string> paths;
+  for (const auto& f : flights) {
+    if (flights.size() == 1) {
+      paths.push_back(a.out);
+    } else {
+      const fs::path out(a.out);
+      paths.push_back((out.parent_path() / (out.stem().string() + "_sortie" + std::to_string(f.sortie) +
+                                            out.extension().string())).string());
+    }
+  }
+  for (std::size_t i = 0; i < flights.size(); ++i) io::writeFileAtomic(paths[i], io::exportFlight(flights[i], format, options));
   if (!v.quiet) {
-    std::string ids;
-    for (int id : flight.surface_ids) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
-    const std::size_t items = format == io::ExportFormat::Csv ? flight.waypoints.size()
-                                                              : io::missionItems(flight, options).size();
-    std::cout << "exported surface" << (flight.surface_ids.size() > 1 ? "s " : " ") << ids << ": "
-              << flight.waypoints.size() << " waypoints, " << flight.stopCount() << " photo stops, " << items
-              << (format == io::ExportFormat::Csv ? " rows" : " mission items") << " -> " << a.out << "\n";
+    for (std::size_t i = 0; i < flights.size(); ++i) {
+      const io::Flight& f = flights[i];
+      std::string ids;
+      for (int id : f.surface_ids) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+      const std::size_t items = format == io::ExportFormat::Csv ? f.waypoints.size() : io::missionItems(f, options).size();
+      std::cout << "exported " << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) + " (surfaces " : "surface ")
+                << ids << (f.sortie > 0 ? ")" : "") << ": " << f.waypoints.size() << " waypoints, " << f.stopCount()
+                << " photo stops, " << items << (format == io::ExportFormat::Csv ? " rows" : " mission items")
+                << ", validated against the scene -> " << paths[i] << "\n";
+    }
   }
   return kExitOk;
 }
@@ -87,7 +147,11 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   ex->add_option("--origin", a->origin, "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
   ex->add_option("-o,--out", a->out, "Output file")->required();
   ex->add_option("--surface", a->surface,
-                 "Surface id, or 'all' (joined by unchecked straight legs); default: the only surface with a mission");
+                 "Surface id (its own path), or 'all' (the ordered flight's sorties, one file each when several); "
+                 "default: the only surface with a mission");
+  ex->add_option("--sortie", a->sortie, "Only this sortie of the ordered flight (from 1)");
+  ex->add_option("--scene", a->scene, "scene.json the mission was planned in (default: beside the mission); every "
+                                      "exported leg is checked against it");
   ex->add_option("--autopilot", a->autopilot, "px4 (heading in NAV_WAYPOINT) or ardupilot (adds CONDITION_YAW)")
       ->capture_default_str();
   ex->add_option("--hold", a->hold_s, "Hover time at each photo stop [s]")->capture_default_str();

@@ -69,14 +69,18 @@ void writeScene(const std::string& out, const app::DetectResult& d, const io::Cl
   io::writeFileAtomic((fs::path(out) / "scene.json").string(), j.dump(1) + "\n");
 }
 
-void writeMission(const std::string& out, const app::PlanResult& plan, const nlohmann::json& meta) {
+void writeMission(const std::string& out, const app::PlanResult& plan, const nlohmann::json& meta,
+                  const planning::FlightModel& model) {
   nlohmann::json m = meta;
   m["timings"] = {{"coverage_s", plan.times.coverage_s},
                   {"grid_s", plan.times.grid_s},
-                  {"planning_s", plan.times.planning_s}};
+                  {"planning_s", plan.times.planning_s},
+                  {"flight_s", plan.times.flight_s}};
   m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}, {"resolution_m", plan.grid_resolution_m}};
   m["grid_resolution_m"] = plan.grid_resolution_m;
-  io::writeFileAtomic((fs::path(out) / "mission.json").string(), io::missionToJson(plan.missions, m).dump(1) + "\n");
+  nlohmann::json doc = io::missionToJson(plan.missions, m);
+  doc["flight"] = io::flightToJson(plan.flight, model);
+  io::writeFileAtomic((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
 }
 
 void printDetectSummary(const app::DetectResult& d) {
@@ -119,6 +123,24 @@ void printPlanSummary(const app::PlanResult& p) {
   }
 }
 
+/// The ordered flight: order, length against the bound, duration, sorties.
+void printFlight(const planning::FlightPlan& f) {
+  if (f.status != planning::FlightPlan::Status::Ok) {
+    std::cout << "flight: " << planning::toString(f.status) << " - " << f.reason << "\n";
+    return;
+  }
+  std::string order;
+  for (const auto& v : f.order) order += (order.empty() ? "" : " ") + std::to_string(v.surface_id) + (v.reversed ? "r" : "");
+  const double gap = f.lower_bound_m > 0.0 ? 100.0 * (f.tour_length_m / f.lower_bound_m - 1.0) : 0.0;
+  std::cout << "flight: " << fixed(f.length_m, 1) << " m, " << fixed(f.duration_s / 60.0, 1) << " min, "
+            << f.sorties.size() << " sortie" << (f.sorties.size() == 1 ? "" : "s") << " from home "
+            << "(" << fixed(f.home.x(), 1) << ", " << fixed(f.home.y(), 1) << ", " << fixed(f.home.z(), 1) << ", "
+            << f.home_source << "); order " << order << " (r = reversed); tour " << fixed(f.tour_length_m, 1)
+            << " m, " << fixed(gap, 1) << " % above the lower bound " << fixed(f.lower_bound_m, 1) << " m"
+            << (f.exact_order ? " (optimal order)" : "") << ", by id " << fixed(f.naive_length_m, 1) << " m\n";
+  for (const auto& e : f.excluded) std::cout << "  not flown: surface " << e.surface_id << " (" << e.reason << ")\n";
+}
+
 /// One line over all surfaces: what the mission is, in numbers.
 void printTotals(const app::PlanResult& p) {
   std::size_t ok = 0, stops = 0, waypoints = 0;
@@ -131,7 +153,8 @@ void printTotals(const app::PlanResult& p) {
     length += m.path_length_m;
   }
   std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, " << stops
-            << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1) << " m of flight\n";
+            << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1) << " m over the surfaces\n";
+  printFlight(p.flight);
 }
 
 io::OverviewOptions overviewOptions(const std::string& name) {
@@ -163,8 +186,8 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
   writeScene(out, d);
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
-  writeMission(out, p, metaFor(d.resolved.config, path));
-  io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name));
+  writeMission(out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
+  io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (!v.quiet) {
@@ -212,8 +235,9 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   io::ensureDirectory(out);
   const io::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
-  writeMission(out, p, metaFor(resolved, scene_path));
-  io::writeViews(out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()));
+  writeMission(out, p, metaFor(resolved, scene_path), resolved.flight.model);
+  io::writeViews(out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()),
+                 &p.flight);
   if (!v.quiet) {
     printPlanSummary(p);
     printTotals(p);
@@ -225,6 +249,10 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
       std::cerr << "uavip: surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
       return kExitNoMission;
     }
+  }
+  if (p.flight.status == planning::FlightPlan::Status::Failed) {
+    std::cerr << "uavip: no collision-free flight: " << p.flight.reason << "\n";
+    return kExitNoMission;
   }
   return kExitOk;
 }
@@ -251,7 +279,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
-  run->add_option("--surface", a->surface, "Surface id to plan, or 'all'")->capture_default_str();
+  run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'")->capture_default_str();
   run->add_option("--planner", a->planner, planner_help);
   registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, v); });
 
@@ -268,8 +296,13 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   det->add_option("-o,--out", a->out, "Output directory")->required();
   registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, v); });
 
-  auto* pl = cli.add_subcommand("plan", "Stages 6-7 for one surface of a scene.json");
+  auto* pl = cli.add_subcommand("plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
   pl->footer(
+      "The flight: the flyable surfaces ordered from home and back (each forward or reversed),\n"
+      "every connecting leg planned on the grid, split into battery sorties, each validated.\n"
+      "Home: mission.home, else mission.start, else the lowest photo stop. Flight model: section\n"
+      "'flight: {cruise_speed_m_s: 3, climb_speed_m_s: 2, descent_speed_m_s: 1.5, hover_s: 2,\n"
+      "settle_s: 1, endurance_s: 1200, reserve: 0.25}'. Export it with 'uavip export --surface all'.\n"
       "Stop repair: a photo stop too close to something (the ground under a facade) is moved to a\n"
       "free pose that still sees its photo centre: tilted from above/below/the sides, or up to\n"
       "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it off.\n"
@@ -277,7 +310,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
       "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a surface\n"
       "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.");
   pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
-  pl->add_option("--surface", a->surface, "Surface id, or 'all'")->required();
+  pl->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'")->required();
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
   pl->add_option("-o,--out", a->out, "Output directory")->required();

@@ -6,7 +6,9 @@
 
 #include <cerrno>
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
+#include <map>
 #include <iomanip>
 #include <sstream>
 
@@ -72,6 +74,25 @@ double number(const json& j, const std::string& path, const std::string& where) 
   return j.get<double>();
 }
 
+/// Between stops a waypoint takes the surface and orientation of the next stop
+/// (after the last stop: of the last).
+void orientBetweenStops(std::vector<FlightWaypoint>& out) {
+  const FlightWaypoint* next = nullptr;  // the next stop, else the last
+  for (const auto& w : out) {
+    if (w.isStop()) next = &w;
+  }
+  if (next == nullptr) return;
+  for (std::size_t i = out.size(); i-- > 0;) {
+    if (out[i].isStop()) {
+      next = &out[i];
+    } else {
+      out[i].surface_id = next->surface_id;
+      out[i].yaw_deg = next->yaw_deg;
+      out[i].gimbal_pitch_deg = next->gimbal_pitch_deg;
+    }
+  }
+}
+
 /// The waypoints of one surface with status ok, stops marked.
 std::vector<FlightWaypoint> surfaceFlight(const json& s, int id, const std::string& path, const std::string& where) {
   const json& stops = field(s, "stops", path, where);
@@ -108,17 +129,7 @@ std::vector<FlightWaypoint> surfaceFlight(const json& s, int id, const std::stri
   if (k < st.size())
     throw InputError(path + ": " + where + ".stops[" + std::to_string(st[k].index) +
                      "] is not on the waypoint path (in order); the file was changed or is not a uavip mission");
-  // Between stops: the orientation of the next stop (after the last stop: of the last).
-  double yaw = st.empty() ? 0.0 : st.back().yaw, pitch = st.empty() ? 0.0 : st.back().pitch;
-  for (std::size_t i = out.size(); i-- > 0;) {
-    if (out[i].isStop()) {
-      yaw = out[i].yaw_deg;
-      pitch = out[i].gimbal_pitch_deg;
-    } else {
-      out[i].yaw_deg = yaw;
-      out[i].gimbal_pitch_deg = pitch;
-    }
-  }
+  orientBetweenStops(out);
   return out;
 }
 
@@ -208,19 +219,21 @@ Flight flightFromMissionJson(const json& mission, const std::string& path, const
   }
 
   std::vector<std::size_t> chosen;
-  if (surface.empty() || surface == "all") {
+  if (surface == "all")
+    throw InputError("--surface all: the surfaces are flown as the ordered, validated flight of " + path +
+                     " (its sorties), not joined here");
+  if (surface.empty()) {
     if (ok.empty()) {
       std::string why;
       for (const auto& s : surfaces)
         why += (why.empty() ? "" : "; ") + ("surface " + std::to_string(s["surface_id"].get<int>()) + " " + describe(s));
       throw NoMissionError(path + ": no surface has a flyable mission" + (why.empty() ? " (no surfaces)" : " (" + why + ")"));
     }
-    if (surface.empty() && ok.size() > 1) {
+    if (ok.size() > 1) {
       std::string ids;
       for (auto i : ok) ids += (ids.empty() ? "" : ", ") + std::to_string(surfaces[i]["surface_id"].get<int>());
       throw InputError(path + ": " + std::to_string(ok.size()) + " surfaces have a mission (" + ids +
-                       ") and the flights between them are not planned: pass --surface ID, or --surface all "
-                       "to join them by straight legs that are not checked for collisions");
+                       "): pass --surface ID for one of them, or --surface all for the ordered flight over all");
     }
     chosen = ok;
   } else {
@@ -248,6 +261,69 @@ Flight flightFromMissionJson(const json& mission, const std::string& path, const
     f.waypoints.insert(f.waypoints.end(), w.begin(), w.end());
   }
   return f;
+}
+
+std::vector<Flight> sortiesFromMissionJson(const json& mission, const std::string& path) {
+  if (!mission.is_object() || !mission.contains("flight"))
+    throw InputError(path + ": has no ordered flight (written by an older uavip); re-run uavip plan --surface all");
+  const json& flight = mission.at("flight");
+  const json& status = field(flight, "status", path, "flight");
+  if (status != "ok") {
+    const std::string reason = flight.contains("reason") && flight["reason"].is_string() ? flight["reason"].get<std::string>() : "";
+    throw NoMissionError(path + ": the flight has status " + status.dump() + (reason.empty() ? "" : ": " + reason));
+  }
+  // Stops of each surface by id, for their orientation.
+  std::map<long, const json*> stops_of;
+  for (const auto& s : field(mission, "surfaces", path, "")) {
+    const json& id = field(s, "surface_id", path, "surfaces[]");
+    if (!id.is_number_integer()) throw InputError(path + ": surfaces[].surface_id must be an integer");
+    stops_of[id.get<long>()] = &field(s, "stops", path, "surfaces[]");
+  }
+  const json& sorties = field(flight, "sorties", path, "flight");
+  if (!sorties.is_array() || sorties.empty()) throw InputError(path + ": flight.sorties must be a non-empty list");
+  std::vector<Flight> out;
+  for (std::size_t i = 0; i < sorties.size(); ++i) {
+    const std::string where = "flight.sorties[" + std::to_string(i) + "]";
+    Flight f;
+    f.sortie = static_cast<int>(i + 1);
+    const json& wps = field(sorties[i], "waypoints", path, where);
+    const json& st = field(sorties[i], "stops", path, where);
+    if (!wps.is_array() || wps.size() < 2 || !st.is_array())
+      throw InputError(path + ": " + where + ".waypoints must list home ... home and .stops must be a list");
+    for (std::size_t k = 0; k < wps.size(); ++k) {
+      FlightWaypoint w;
+      w.enu = vec3(wps[k], path, where + ".waypoints[" + std::to_string(k) + "]");
+      f.waypoints.push_back(w);
+    }
+    long previous = -1;
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      const std::string ws = where + ".stops[" + std::to_string(k) + "]";
+      const json& sid = field(st[k], "surface_id", path, ws);
+      const json& stop = field(st[k], "stop", path, ws);
+      const json& at = field(st[k], "waypoint", path, ws);
+      if (!sid.is_number_integer() || !stop.is_number_integer() || !at.is_number_integer())
+        throw InputError(path + ": " + ws + " must hold integers surface_id, stop and waypoint");
+      const auto it = stops_of.find(sid.get<long>());
+      const long a = at.get<long>();
+      if (it == stops_of.end() || stop.get<long>() < 0 || stop.get<std::size_t>() >= it->second->size() || a <= previous ||
+          a >= static_cast<long>(f.waypoints.size()))
+        throw InputError(path + ": " + ws + " names no stop of the mission or no later waypoint of the sortie");
+      previous = a;
+      const json& s = (*it->second)[stop.get<std::size_t>()];
+      FlightWaypoint& w = f.waypoints[static_cast<std::size_t>(a)];
+      if ((w.enu - vec3(field(s, "position", path, ws), path, ws + ".position")).norm() > kStopMatchM)
+        throw InputError(path + ": " + ws + " is not at its waypoint; the file was changed or is not a uavip mission");
+      w.surface_id = sid.get<int>();
+      w.stop_index = stop.get<int>();
+      w.yaw_deg = number(field(s, "yaw_deg", path, ws), path, ws + ".yaw_deg");
+      w.gimbal_pitch_deg = number(field(s, "gimbal_pitch_deg", path, ws), path, ws + ".gimbal_pitch_deg");
+      if (std::find(f.surface_ids.begin(), f.surface_ids.end(), w.surface_id) == f.surface_ids.end())
+        f.surface_ids.push_back(w.surface_id);
+    }
+    orientBetweenStops(f.waypoints);
+    out.push_back(std::move(f));
+  }
+  return out;
 }
 
 std::vector<MissionItem> missionItems(const Flight& flight, const ExportOptions& options) {

@@ -15,6 +15,14 @@ json vec(const Vec3& p) { return json::array({round4(p.x()), round4(p.y()), roun
 /// JSON has no infinity: an unbounded clearance is written as null.
 json finiteOrNull(double v) { return std::isfinite(v) ? json(round4(v)) : json(nullptr); }
 
+json validationToJson(const planning::ValidationResult& v) {
+  return {{"collision_free", v.collision_free},
+          {"min_clearance_m", finiteOrNull(v.min_clearance_m)},
+          {"first_violation_segment", v.first_violation_segment},
+          {"violation_object", v.violation_object},
+          {"violation_point", v.collision_free ? json(nullptr) : vec(v.violation_point)}};
+}
+
 }  // namespace
 
 json surfaceMissionToJson(const planning::SurfaceMission& m) {
@@ -56,13 +64,56 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
           {"raw_waypoint_count", m.raw_waypoint_count},
           {"path_length_m", round4(m.path_length_m)},
           {"raw_path_length_m", round4(m.raw_length_m)},
-          {"validation",
-           {{"collision_free", m.validation.collision_free},
-            {"min_clearance_m", finiteOrNull(m.validation.min_clearance_m)},
-            {"first_violation_segment", m.validation.first_violation_segment},
-            {"violation_object", m.validation.violation_object},
-            {"violation_point", m.validation.collision_free ? json(nullptr) : vec(m.validation.violation_point)}}},
+          {"validation", validationToJson(m.validation)},
           {"timings", {{"planning_s", round4(m.seconds)}}}};
+}
+
+json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& model) {
+  json order = json::array();
+  for (const auto& v : f.order) order.push_back({{"surface_id", v.surface_id}, {"reversed", v.reversed}});
+  json excluded = json::array();
+  for (const auto& e : f.excluded) excluded.push_back({{"surface_id", e.surface_id}, {"reason", e.reason}});
+  json sorties = json::array();
+  for (std::size_t i = 0; i < f.sorties.size(); ++i) {
+    const auto& s = f.sorties[i];
+    json stops = json::array();
+    for (const auto& st : s.stops)
+      stops.push_back({{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
+    json waypoints = json::array();
+    for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
+    sorties.push_back({{"sortie", i + 1},
+                       {"length_m", round4(s.length_m)},
+                       {"duration_s", round4(s.duration_s)},
+                       {"stop_count", s.stops.size()},
+                       {"stops", stops},
+                       {"waypoint_count", s.waypoints.size()},
+                       {"waypoints", waypoints},
+                       {"validation", validationToJson(s.validation)}});
+  }
+  return {{"status", planning::toString(f.status)},
+          {"reason", f.reason},
+          {"home", vec(f.home)},
+          {"home_source", f.home_source},
+          {"order", order},
+          {"excluded", excluded},
+          {"tour_length_m", round4(f.tour_length_m)},
+          {"naive_length_m", round4(f.naive_length_m)},
+          {"lower_bound_m", round4(f.lower_bound_m)},
+          {"exact_order", f.exact_order},
+          {"planned_legs", f.planned_legs},
+          {"length_m", round4(f.length_m)},
+          {"duration_s", round4(f.duration_s)},
+          {"sortie_count", f.sorties.size()},
+          {"model",
+           {{"cruise_speed_m_s", model.cruise_speed_m_s},
+            {"climb_speed_m_s", model.climb_speed_m_s},
+            {"descent_speed_m_s", model.descent_speed_m_s},
+            {"hover_s", model.hover_s},
+            {"settle_s", model.settle_s},
+            {"endurance_s", model.endurance_s},
+            {"reserve", model.reserve}}},
+          {"sorties", sorties},
+          {"timings", {{"order_s", round4(f.order_seconds)}, {"flight_s", round4(f.seconds)}}}};
 }
 
 json missionToJson(const std::vector<planning::SurfaceMission>& missions, const json& meta) {

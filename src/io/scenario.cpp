@@ -295,13 +295,14 @@ void parseBench(Section s, BenchSpec& b) {
   s.finish();
 }
 
-void parseMission(Section s, planning::MissionOptions& o) {
+void parseMission(Section s, planning::MissionOptions& o, planning::FlightOptions& flight) {
   o.simplify = s.boolean("simplify", o.simplify);
   o.max_skipped_fraction = s.number("max_skipped_fraction", o.max_skipped_fraction);
   if (o.max_skipped_fraction < 0.0 || o.max_skipped_fraction > 1.0) {
     s.fail("max_skipped_fraction", "must be in [0, 1], got " + std::to_string(o.max_skipped_fraction));
   }
   if (s.has("start")) o.start = s.vec3("start");
+  if (s.has("home")) flight.home = s.vec3("home");
   o.repair_stops = s.boolean("repair_stops", o.repair_stops);
   o.min_coverage = s.number("min_coverage", o.min_coverage);
   if (!(o.min_coverage >= 0.0 && o.min_coverage <= 1.0)) {
@@ -311,6 +312,18 @@ void parseMission(Section s, planning::MissionOptions& o) {
   if (!(o.max_standoff_factor >= 1.0 && o.max_standoff_factor <= 3.0)) {
     s.fail("max_standoff_factor", "must be in [1, 3] (× the standoff), got " + std::to_string(o.max_standoff_factor));
   }
+  s.finish();
+}
+
+/// The flight model (planning/flight_planner.h), section `flight:`.
+void parseFlight(Section s, planning::FlightModel& o) {
+  o.cruise_speed_m_s = s.number("cruise_speed_m_s", o.cruise_speed_m_s);
+  o.climb_speed_m_s = s.number("climb_speed_m_s", o.climb_speed_m_s);
+  o.descent_speed_m_s = s.number("descent_speed_m_s", o.descent_speed_m_s);
+  o.hover_s = s.number("hover_s", o.hover_s);
+  o.settle_s = s.number("settle_s", o.settle_s);
+  o.endurance_s = s.number("endurance_s", o.endurance_s);
+  o.reserve = s.number("reserve", o.reserve);
   s.finish();
 }
 
@@ -376,7 +389,7 @@ void parseInput(Section s, CloudReadOptions& o) {
 void parseConfigSections(Section& top, Config& c) {
   if (top.has("input")) parseInput(top.child("input"), c.input);
   for (const char* section : {"input", "preprocess", "perception", "uav", "grid", "camera", "coverage", "planner",
-                              "mission", "assembly", "registration"}) {
+                              "mission", "flight", "assembly", "registration"}) {
     const YAML::Node n = top.node()[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
     for (const auto& kv : n) c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
@@ -388,7 +401,8 @@ void parseConfigSections(Section& top, Config& c) {
   if (top.has("camera")) parseCamera(top.child("camera"), c.coverage.camera);
   if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
   if (top.has("planner")) parsePlanner(top.child("planner"), c);
-  if (top.has("mission")) parseMission(top.child("mission"), c.mission);
+  if (top.has("mission")) parseMission(top.child("mission"), c.mission, c.flight);
+  if (top.has("flight")) parseFlight(top.child("flight"), c.flight.model);
   if (top.has("assembly")) parseAssembly(top.child("assembly"), c.assembly);
   if (top.has("registration")) parseRegistration(top.child("registration"), c.registration);
 }
@@ -525,6 +539,8 @@ void Config::validate(const std::string& where) const {
     planner_settings.validate("planner");
     planners::makePlanner(planner, planner_settings);  // throws for an unknown name
     if (mission.start) require(mission.start->allFinite(), "mission", "start must be finite");
+    if (flight.home) require(flight.home->allFinite(), "mission", "home must be finite");
+    flight.model.validate("flight");
     assembly.validate("assembly");
     registration.validate("registration");
   });

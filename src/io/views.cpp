@@ -124,28 +124,60 @@ std::string sceneToPly(const Scene& scene, const std::vector<planning::SurfaceMi
   return os.str();
 }
 
-std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions) {
+std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions, const planning::FlightPlan* flight) {
   std::ostringstream os;
-  os << "# uavip flight paths, local ENU metres (z up): one polyline per surface with a mission\n";
   std::size_t next = 1;
   char line[128];
-  for (const auto& m : missions) {
-    if (m.waypoints.size() < 2) continue;
-    os << "o surface_" << m.surface_id << "\n";
-    for (const auto& p : m.waypoints) {
+  auto polyline = [&](const std::string& name, const PointList& points) {
+    os << "o " << name << "\n";
+    for (const auto& p : points) {
       std::snprintf(line, sizeof line, "v %.4f %.4f %.4f\n", p.x(), p.y(), p.z());
       os << line;
     }
     os << "l";
-    for (std::size_t i = 0; i < m.waypoints.size(); ++i) os << " " << next + i;
+    for (std::size_t i = 0; i < points.size(); ++i) os << " " << next + i;
     os << "\n";
-    next += m.waypoints.size();
+    next += points.size();
+  };
+  if (flight != nullptr && flight->status == planning::FlightPlan::Status::Ok) {
+    os << "# uavip flight, local ENU metres (z up): one polyline per sortie, home to home, in flight order\n";
+    for (std::size_t i = 0; i < flight->sorties.size(); ++i) polyline("sortie_" + std::to_string(i + 1), flight->sorties[i].waypoints);
+    return os.str();
+  }
+  os << "# uavip flight paths, local ENU metres (z up): one polyline per surface with a mission\n";
+  for (const auto& m : missions) {
+    if (m.waypoints.size() >= 2) polyline("surface_" + std::to_string(m.surface_id), m.waypoints);
   }
   return os.str();
 }
 
+/// Colour of sortie k (from 0): the categorical palette, darkened so it reads over
+/// the surfaces' own colours.
+Color sortieColor(std::size_t k) { return render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35); }
+
+const render::Style kHomeStyle{render::kBlack, Color{1.0, 1.0, 1.0}, 2.0, false, render::Marker::Square, 12.0};
+
+/// The ordered flight on one view: each sortie in its colour, home, and the place
+/// where each surface is entered numbered in flight order.
+void drawFlight(render::Panel& p, const planning::FlightPlan& flight, const View& view) {
+  for (std::size_t k = 0; k < flight.sorties.size(); ++k)
+    p.polyline(project(flight.sorties[k].waypoints, view), render::lineStyle(sortieColor(k), 1.4));
+  int n = 0;
+  int current = -1;
+  for (const auto& s : flight.sorties) {
+    for (const auto& st : s.stops) {
+      if (st.surface_id == current) continue;
+      current = st.surface_id;
+      const auto at = project({s.waypoints[st.waypoint]}, view);
+      p.text(at.front(), " " + std::to_string(++n), {13.0, render::kBlack, render::Align::Left, true});
+    }
+  }
+  p.markers(project({flight.home}, view), kHomeStyle);
+}
+
 render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                              const OverviewOptions& options) {
+                              const OverviewOptions& options, const planning::FlightPlan* flight) {
+  const bool flown = flight != nullptr && flight->status == planning::FlightPlan::Status::Ok;
   render::Figure fig(options.width_px, options.height_px);
   const double W = options.width_px, H = options.height_px;
   const double top = 84.0, gap = 10.0;
@@ -168,7 +200,12 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   sub << scene.cloud.size() << " cloud points, " << scene.surfaces.size() << " surfaces, " << scene.obstacles.size()
       << " obstacle clusters  |  " << missions.size() << " surfaces planned, " << ok << " with a flight: " << stops
       << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1)
-      << " m of flight  |  local ENU frame, metres";
+      << " m over the surfaces";
+  if (flown) {
+    sub << "  |  flight " << fixed(flight->length_m, 1) << " m, " << fixed(flight->duration_s / 60.0, 1) << " min, "
+        << flight->sorties.size() << " sortie" << (flight->sorties.size() == 1 ? "" : "s");
+  }
+  sub << "  |  local ENU frame, metres";
   fig.text(20, 62, sub.str(), {14.0, Color::rgb(50, 50, 50)});
 
   // Cloud subsample (same points in every view).
@@ -264,8 +301,9 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       p.markers(project(good, view), good_style);
       p.markers(project(bad, view), bad_here);
       p.markers(project(m.coverage.uncovered_points, view), uncovered_style);
-      if (!m.waypoints.empty()) p.markers(project({m.waypoints.front()}, view), start_style);
+      if (!flown && !m.waypoints.empty()) p.markers(project({m.waypoints.front()}, view), start_style);
     }
+    if (flown) drawFlight(p, *flight, view);
   }
 
   // Legend column: symbols, then one line per surface.
@@ -290,7 +328,8 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       {"photo stop (UAV, " + fixed(standoff, 2) + " m off)", render::markerStyle(demo, render::Marker::Circle, 7.0),
        LegendKind::Marker},
       {"flight path (waypoints)", render::lineStyle(demo.mix(path_dark, 0.5), 1.8), LegendKind::Line},
-      {"start of a surface's flight", start_style, LegendKind::Marker},
+      flown ? LegendEntry{"sortie k (colour), home to home", render::lineStyle(sortieColor(0), 1.4), LegendKind::Line}
+            : LegendEntry{"start of a surface's flight", start_style, LegendKind::Marker},
       {"infeasible stop (not flown)", bad_style, LegendKind::Marker},
       {"surface point no photo images", uncovered_style, LegendKind::Marker},
   };
@@ -299,6 +338,10 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
 
   const double sy = top + 24.0 + 12.0 * 1.55 * static_cast<double>(symbols.size()) + 12.0 + 36.0;
   fig.text(lx, sy, "Surfaces", {15.0, render::kBlack, render::Align::Left, true});
+  if (flown) {
+    symbols.push_back({"home (take-off, landing)", kHomeStyle, LegendKind::Marker});
+    symbols.push_back({"n: n-th surface of the flight", render::Style{}, LegendKind::Line});
+  }
   std::vector<LegendEntry> rows;
   const std::size_t max_rows = static_cast<std::size_t>(std::max(1.0, (H - sy - 40.0) / (12.0 * 1.55)));
   for (const auto& s : scene.surfaces) {
@@ -322,7 +365,16 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   fig.legend(lx, sy + 10.0, rows, 12.0);
 
   const double hy = sy + 10.0 + 12.0 * 1.55 * static_cast<double>(rows.size()) + 12.0 + 40.0;
-  const std::vector<std::string> help{
+  const std::vector<std::string> help = flown ? std::vector<std::string>{
+      "How to read",
+      "One flight from home: the surfaces in the order",
+      "of the numbers, each row by row at the standoff,",
+      "split into battery sorties (one colour each);",
+      "each stop takes one photo (footprint rectangle).",
+      "Views are orthographic, nearer objects on top;",
+      "the scale bar gives the size. Numbers: local",
+      "frame in metres, x east, y north, z up.",
+  } : std::vector<std::string>{
       "How to read",
       "Each surface is flown on its own: from its",
       "start (triangle) the UAV visits the photo stops",
@@ -340,11 +392,11 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
 }
 
 void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                const OverviewOptions& options) {
+                const OverviewOptions& options, const planning::FlightPlan* flight) {
   namespace fs = std::filesystem;
   writeFileAtomic((fs::path(out_dir) / "scene.ply").string(), sceneToPly(scene, missions));
-  writeFileAtomic((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions));
-  writeFileAtomic((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options).png());
+  writeFileAtomic((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions, flight));
+  writeFileAtomic((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options, flight).png());
 }
 
 }  // namespace uavip::io

@@ -104,6 +104,42 @@ TEST_F(ExportCli, BadInputIsOneLineAndExit2) {
   EXPECT_FALSE(fs::exists(dir_ / "x.wpl"));
 }
 
+TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefused) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  EXPECT_NE(run_.out.find("flight: "), std::string::npos) << run_.out;
+  const auto m = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
+  const auto& flight = m["flight"];
+  ASSERT_EQ(flight["status"], "ok") << flight.dump();
+  ASSERT_EQ(flight["sorties"].size(), 1u);
+  const auto& sortie = flight["sorties"][0];
+  EXPECT_EQ(sortie["waypoints"].front(), sortie["waypoints"].back());  // home to home
+  EXPECT_EQ(sortie["waypoints"].front(), flight["home"]);
+  const Result r = uavip("export " + mission() + " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " +
+                         path("flight.plan"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("sortie 1"), std::string::npos) << r.out;
+  const auto plan = nlohmann::json::parse(slurp(dir_ / "flight.plan"));
+  std::map<int, std::size_t> count;
+  for (const auto& it : plan["mission"]["items"]) ++count[it["command"].get<int>()];
+  EXPECT_EQ(count[16], sortie["waypoints"].size());
+  EXPECT_EQ(count[2000], sortie["stops"].size());
+  expectBadInput("export " + mission() + " --sortie 2 --format wpl --origin 1,2,3 -o " + path("x.wpl"), "--sortie");
+
+  // A waypoint on the plane itself (a photo's centre) inserted after home.
+  auto changed = m;
+  auto& s = changed["flight"]["sorties"][0];
+  s["waypoints"].insert(s["waypoints"].begin() + 1, m["surfaces"][0]["stops"][0]["target"]);
+  for (auto& st : s["stops"])
+    if (st["waypoint"].get<int>() >= 1) st["waypoint"] = st["waypoint"].get<int>() + 1;
+  std::ofstream(dir_ / "out/changed.json") << changed.dump();
+  const Result bad = uavip("export " + (dir_ / "out/changed.json").string() +
+                           " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " + path("bad.plan"));
+  EXPECT_EQ(bad.code, 3) << bad.out;
+  EXPECT_NE(bad.out.find("sortie 1, segment 0"), std::string::npos) << bad.out;
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_FALSE(fs::exists(dir_ / "bad.plan"));
+}
+
 TEST_F(ExportCli, BlockedSurfaceExits3) {
   // A mission.json as run writes it for a blocked surface (no waypoints).
   std::ofstream(path("blocked.json")) << R"({"format": "uavip-mission", "surfaces": [{"surface_id": 0,

@@ -54,7 +54,15 @@ json mission() {
              {"reason", ""},
              {"stops", {stop(0, 0, 5, -90.0, -90.0)}},
              {"waypoints", {{0, 0, 5}}}};
-  return {{"format", "uavip-mission"}, {"surfaces", {s0, s1, s2}}};
+  // The ordered flight: home at surface 0's first stop, surface 0, surface 2, home.
+  json sortie = {{"sortie", 1},
+                 {"waypoints", {{0, 100, 10}, {50, 50, 12}, {100, 0, 10}, {0, 0, 5}, {0, 100, 10}}},
+                 {"stops",
+                  {{{"surface_id", 0}, {"stop", 0}, {"waypoint", 0}},
+                   {{"surface_id", 0}, {"stop", 1}, {"waypoint", 2}},
+                   {{"surface_id", 2}, {"stop", 0}, {"waypoint", 3}}}}};
+  json flight = {{"status", "ok"}, {"reason", ""}, {"sorties", {sortie}}};
+  return {{"format", "uavip-mission"}, {"surfaces", {s0, s1, s2}}, {"flight", flight}};
 }
 
 io::ExportOptions options(io::Autopilot ap = io::Autopilot::Px4) {
@@ -136,9 +144,8 @@ TEST(Flight, SelectionOfSurfaces) {
   // Between stops: the next stop's orientation.
   EXPECT_DOUBLE_EQ(f.waypoints[1].yaw_deg, 0.0);
   EXPECT_DOUBLE_EQ(f.waypoints[1].gimbal_pitch_deg, 5.0);
-  const io::Flight all = io::flightFromMissionJson(m, "m.json", "all");
-  EXPECT_EQ(all.surface_ids, (std::vector<int>{0, 2}));
-  EXPECT_EQ(all.waypoints.size(), 4u);
+  // Several surfaces are flown by the ordered flight only, never joined here.
+  EXPECT_THROW(io::flightFromMissionJson(m, "m.json", "all"), uavip::InputError);
   EXPECT_THROW(io::flightFromMissionJson(m, "m.json", "1"), io::NoMissionError);
   EXPECT_THROW(io::flightFromMissionJson(m, "m.json", "7"), uavip::InputError);
   EXPECT_THROW(io::flightFromMissionJson(m, "m.json", "x"), uavip::InputError);
@@ -277,7 +284,7 @@ TEST(Wpl, TwelveTabSeparatedFieldsAndHomeFirst) {
 }
 
 TEST(Csv, OneRowPerWaypointWithBothFrames) {
-  const io::Flight f = io::flightFromMissionJson(mission(), "m.json", "all");
+  const io::Flight f = io::sortiesFromMissionJson(mission(), "m.json").at(0);
   const auto lines = split(io::toCsv(f, options()), '\n');
   ASSERT_EQ(lines.size(), 1 + f.waypoints.size());
   const auto header = split(lines[0], ',');
@@ -303,6 +310,35 @@ TEST(Csv, OneRowPerWaypointWithBothFrames) {
   EXPECT_EQ(last[col["surface_id"]], "2");
   EXPECT_NEAR(std::stod(last[col["heading_deg"]]), 180.0, 1e-9);
   EXPECT_NEAR(std::stod(last[col["gimbal_pitch_deg"]]), -90.0, 1e-9);
+}
+
+TEST(Flight, SortiesOfTheOrderedFlight) {
+  json m = mission();
+  const auto sorties = io::sortiesFromMissionJson(m, "m.json");
+  ASSERT_EQ(sorties.size(), 1u);
+  const io::Flight& f = sorties[0];
+  EXPECT_EQ(f.sortie, 1);
+  EXPECT_EQ(f.surface_ids, (std::vector<int>{0, 2}));
+  ASSERT_EQ(f.waypoints.size(), 5u);
+  EXPECT_EQ(f.stopCount(), 3u);
+  EXPECT_EQ(f.waypoints[3].surface_id, 2);
+  EXPECT_EQ(f.waypoints[3].stop_index, 0);
+  // Between stops: the next stop's orientation; back home: the last stop's.
+  EXPECT_DOUBLE_EQ(f.waypoints[1].gimbal_pitch_deg, 5.0);
+  EXPECT_DOUBLE_EQ(f.waypoints[4].gimbal_pitch_deg, -90.0);
+  // A stop moved off its waypoint, a missing flight, a failed flight.
+  json moved = m;
+  moved["flight"]["sorties"][0]["waypoints"][2] = {100, 0, 11};
+  EXPECT_THROW(io::sortiesFromMissionJson(moved, "m.json"), uavip::InputError);
+  json old = m;
+  old.erase("flight");
+  EXPECT_THROW(io::sortiesFromMissionJson(old, "m.json"), uavip::InputError);
+  json failed = m;
+  failed["flight"]["status"] = "failed";
+  EXPECT_THROW(io::sortiesFromMissionJson(failed, "m.json"), io::NoMissionError);
+  json bad = m;
+  bad["flight"]["sorties"][0]["stops"][1]["waypoint"] = 0;  // not after the previous stop
+  EXPECT_THROW(io::sortiesFromMissionJson(bad, "m.json"), uavip::InputError);
 }
 
 TEST(Export, FormatAndOptionsAreChecked) {

@@ -8,6 +8,7 @@
 #include "uavip/app/config.h"
 #include "uavip/io/scenario.h"
 #include "uavip/preprocess/cloud_stats.h"
+#include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
 
@@ -29,6 +30,7 @@ struct StageTimes {
   double grid_s{0.0};
   double coverage_s{0.0};
   double planning_s{0.0};
+  double flight_s{0.0};  ///< ordering, connecting legs, sorties, their validation
   double total_s{0.0};
 };
 
@@ -46,6 +48,8 @@ struct PlanResult {
   std::size_t grid_voxels{0};
   double grid_resolution_m{0.0};  ///< voxel edge of the planning grid used [m]
   std::size_t grid_blocked{0};
+  /// One ordered flight over every flyable surface (planning/flight_planner.h).
+  planning::FlightPlan flight;
   StageTimes times;
 };
 

@@ -101,16 +101,18 @@ struct FlightWaypoint {
   bool isStop() const { return stop_index >= 0; }
 };
 
-/// What is flown: the waypoints of the chosen surfaces, joined in order.
+/// What is flown: one surface's path, or one sortie of the ordered flight.
 struct Flight {
+  int sortie{0};  ///< sortie number (from 1) of the ordered flight; 0 for one surface's path
   std::vector<int> surface_ids;
   std::vector<FlightWaypoint> waypoints;
   std::size_t stopCount() const;
 };
 
-/// Reads the flight from a mission.json document (`path` for messages).
-/// `surface`: an id, "all" (every surface with status ok or partial, joined by
-/// straight legs that were NOT planned or checked), or "" (the only such surface).
+/// Reads one surface's path from a mission.json document (`path` for messages).
+/// `surface`: an id, or "" (the only surface with status ok or partial). Several
+/// surfaces are flown by the ordered flight (sortiesFromMissionJson), never joined
+/// here; "all" throws InputError saying so.
 /// Stops with a problem other than "none" (skipped by a partial mission) are not
 /// flown; every other stop must lie on the waypoint path, in order.
 /// Throws InputError naming the file when the JSON lacks a field, a stop is not on
@@ -118,6 +120,12 @@ struct Flight {
 /// the chosen surface has no flyable mission (names its status and reason; the CLI
 /// exits 3 for that, see NoMissionError).
 Flight flightFromMissionJson(const nlohmann::json& mission, const std::string& path, const std::string& surface);
+
+/// The sorties of the ordered flight (`flight` of mission.json), each home → stops →
+/// home, stops oriented from their surface's stops[]. Throws InputError naming the
+/// file and field when the flight is missing (an older file) or malformed (a stop not
+/// at its waypoint), NoMissionError when its status is not ok.
+std::vector<Flight> sortiesFromMissionJson(const nlohmann::json& mission, const std::string& path);
 
 /// The chosen surface exists but has no collision-free mission (CLI exit code 3).
 class NoMissionError : public std::runtime_error {

@@ -8,6 +8,7 @@
 #include "uavip/io/cloud_io.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
+#include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
 #include "uavip/registration/station_registration.h"
@@ -51,6 +52,9 @@ struct Config {
   std::string planner{"astar"};
   planners::PlannerSettings planner_settings;
   planning::MissionOptions mission;
+  /// The flight over all chosen surfaces: `mission.home` and section `flight:`
+  /// (speeds, hover and settle time, endurance, reserve; planning/flight_planner.h).
+  planning::FlightOptions flight;
   /// Keys the file set, as "section.key" (e.g. "preprocess.voxel_m"); every other
   /// `auto` key is resolved from the measured cloud (app/config.h).
   std::set<std::string> set_keys;

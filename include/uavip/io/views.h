@@ -8,8 +8,8 @@
 ///    otherwise; CloudCompare shows both as scalar fields). Colours: a surface's
 ///    points in surfaceColor(id), obstacle points kObstacleColor, other points
 ///    kCloudColor, stops kStopColor.
-///  - OUT/path.obj: the waypoint path of every surface with a mission as an OBJ
-///    polyline (`v` vertices, one `l i j k …` line per surface, object `surface_<id>`);
+///  - OUT/path.obj: the flight as OBJ polylines (`v` vertices, one `l i j k …` line
+///    per sortie, object `sortie_<k>`; without a flight one per surface, `surface_<id>`);
 ///    CloudCompare ignores PLY edges but draws OBJ lines, MeshLab draws both.
 ///  - OUT/overview.png: top, front and side views (equal scale, scale bar) of the
 ///    cloud, surface boundaries, photo footprints, stops and paths, with a legend
@@ -17,6 +17,7 @@
 /// Everything is deterministic for the same scene and missions.
 
 #include "uavip/core/types.h"
+#include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/render/figure.h"
 
@@ -39,8 +40,10 @@ inline const render::Color kStopColor{0.86, 0.08, 0.24};
 /// inliers, then every obstacle's points, then the cloud points in neither.
 std::string sceneToPly(const Scene& scene, const std::vector<planning::SurfaceMission>& missions);
 
-/// The waypoint paths as OBJ text (surfaces without waypoints are left out).
-std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions);
+/// The paths as OBJ text: with a flight (status ok) one polyline per sortie
+/// (object `sortie_<k>`, home to home), else one per surface with waypoints.
+std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions,
+                       const planning::FlightPlan* flight = nullptr);
 
 /// Options of the overview picture.
 struct OverviewOptions {
@@ -51,13 +54,15 @@ struct OverviewOptions {
 };
 
 /// The overview figure (encode it with png() or svg()).
+/// With a flight (status ok): every sortie in its colour, home, and each surface's
+/// place in the order as a number where it is entered.
 render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                              const OverviewOptions& options = {});
+                              const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
 /// Writes out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png, each
 /// atomically (io/atomic_file.h). Throws std::runtime_error naming a file that
 /// cannot be written.
 void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                const OverviewOptions& options = {});
+                const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
 }  // namespace uavip::io
