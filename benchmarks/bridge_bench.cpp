@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     for (const auto& seg : sc.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
     for (const auto& p : sc.world.points()) world.addPoint(p.name, p.p - s.origin_m);
 
-    std::vector<double> asm_s, reg_s, pre_s, perc_s, grid_s, cov_s, plan_s, total_s;
+    std::vector<double> asm_s, reg_s, pre_s, perc_s, grid_s, cov_s, plan_s, flight_s, total_s;
     uavip::app::AssembleResult last;
     std::size_t clean = 0, surfaces = 0, stops = 0, waypoints = 0;
     for (int i = 0; i < runs; ++i) {
@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
       grid_s.push_back(p.times.grid_s);
       cov_s.push_back(p.times.coverage_s);
       plan_s.push_back(p.times.planning_s);
+      flight_s.push_back(p.times.flight_s);
       clean = d.scene.cloud.size();
       surfaces = d.scene.surfaces.size();
       stops = waypoints = 0;
@@ -85,8 +86,9 @@ int main(int argc, char** argv) {
     std::printf("| stage | median s |\n|---|---|\n");
     std::printf("| 1 assembly | %.3f |\n| 2 registration | %.3f |\n| 3 preprocess | %.3f |\n", median(asm_s),
                 median(reg_s), median(pre_s));
-    std::printf("| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n| 7 grid | %.3f |\n| 7 planning | %.3f |\n",
-                median(perc_s), median(cov_s), median(grid_s), median(plan_s));
+    std::printf("| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n| 7 grid | %.3f |\n| 7 planning | %.3f |\n"
+                "| 7 flight (order, legs, sorties, validation) | %.3f |\n",
+                median(perc_s), median(cov_s), median(grid_s), median(plan_s), median(flight_s));
     std::printf("| total (1-7) | %.3f |\n\n", median(total_s));
 
     std::printf("| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded pos err cm | "

@@ -137,7 +137,9 @@ void printFlight(const planning::FlightPlan& f) {
             << "(" << fixed(f.home.x(), 1) << ", " << fixed(f.home.y(), 1) << ", " << fixed(f.home.z(), 1) << ", "
             << f.home_source << "); order " << order << " (r = reversed); tour " << fixed(f.tour_length_m, 1)
             << " m, " << fixed(gap, 1) << " % above the lower bound " << fixed(f.lower_bound_m, 1) << " m"
-            << (f.exact_order ? " (optimal order)" : "") << ", by id " << fixed(f.naive_length_m, 1) << " m\n";
+            << (f.exact_order ? " (optimal order)" : "");
+  if (f.naive_length_m > 0.0) std::cout << ", by id " << fixed(f.naive_length_m, 1) << " m";
+  std::cout << "\n";
   for (const auto& e : f.excluded) std::cout << "  not flown: surface " << e.surface_id << " (" << e.reason << ")\n";
 }
 

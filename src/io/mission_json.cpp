@@ -97,7 +97,8 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
           {"order", order},
           {"excluded", excluded},
           {"tour_length_m", round4(f.tour_length_m)},
-          {"naive_length_m", round4(f.naive_length_m)},
+          {"inner_length_m", round4(f.inner_length_m)},
+          {"naive_length_m", f.naive_length_m > 0.0 ? json(round4(f.naive_length_m)) : json(nullptr)},
           {"lower_bound_m", round4(f.lower_bound_m)},
           {"exact_order", f.exact_order},
           {"planned_legs", f.planned_legs},
@@ -113,7 +114,10 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
             {"endurance_s", model.endurance_s},
             {"reserve", model.reserve}}},
           {"sorties", sorties},
-          {"timings", {{"order_s", round4(f.order_seconds)}, {"flight_s", round4(f.seconds)}}}};
+          {"timings",
+           {{"order_s", round4(f.order_seconds)},
+            {"validate_s", round4(f.validate_seconds)},
+            {"flight_s", round4(f.seconds)}}}};
 }
 
 json missionToJson(const std::vector<planning::SurfaceMission>& missions, const json& meta) {

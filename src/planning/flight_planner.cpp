@@ -209,6 +209,52 @@ TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfa
   return t;
 }
 
+using SegmentKey = std::array<double, 6>;
+
+SegmentKey segmentKey(const Vec3& a, const Vec3& b) { return {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}; }
+
+/// Clearance of every segment the surfaces' own validation measured, both ways [m].
+std::map<SegmentKey, double> validatedSegments(const std::vector<SurfaceMission>& missions) {
+  std::map<SegmentKey, double> known;
+  for (const auto& m : missions) {
+    if (!flyable(m.status) || m.validation.segment_clearance_m.size() + 1 != m.waypoints.size()) continue;
+    for (std::size_t i = 0; i + 1 < m.waypoints.size(); ++i) {
+      known[segmentKey(m.waypoints[i], m.waypoints[i + 1])] = m.validation.segment_clearance_m[i];
+      known[segmentKey(m.waypoints[i + 1], m.waypoints[i])] = m.validation.segment_clearance_m[i];
+    }
+  }
+  return known;
+}
+
+/// The validator's verdict on a sortie, segment by segment: a segment of a
+/// surface's own path keeps the clearance its surface's validation measured (the
+/// same validator on the same segment), every other segment is validated here.
+ValidationResult validateSortie(const PointList& path, const std::map<SegmentKey, double>& known,
+                                const PathValidator& validator) {
+  if (path.size() < 2) return validator.validate(path);
+  ValidationResult r;
+  r.min_clearance_m = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    double c = 0.0;
+    const auto it = known.find(segmentKey(path[i], path[i + 1]));
+    if (it != known.end()) {
+      c = it->second;
+    } else {
+      const ValidationResult v = validator.validate({path[i], path[i + 1]});
+      c = v.segment_clearance_m.front();
+      if (!v.collision_free && r.collision_free) {
+        r.collision_free = false;
+        r.first_violation_segment = static_cast<int>(i);
+        r.violation_point = v.violation_point;
+        r.violation_object = v.violation_object;
+      }
+    }
+    r.segment_clearance_m.push_back(c);
+    r.min_clearance_m = std::min(r.min_clearance_m, c);
+  }
+  return r;
+}
+
 std::string describeViolation(std::size_t sortie, const ValidationResult& v, const PathValidator& validator) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(3) << "sortie " << sortie << " fails validation: segment "
@@ -348,6 +394,7 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     c.variants.push_back({first, first + 1, s.length_m});
     if (s.waypoints.size() > 1) c.variants.push_back({first + 1, first, s.length_m});
     clusters.push_back(c);
+    plan.inner_length_m += s.length_m;
   }
   LegPlanner legs(grid, planner, options.simplify);
   const PointCost estimate = [&](int a, int b) { return legs.length(points[a], points[b]); };
@@ -383,16 +430,19 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
   }
   planUnknown(tour);
   tour.cost = tourCost(clusters, tour, estimate);
+  plan.order_seconds = secondsSince(t0);
   plan.exact_order = tour.exact;
   plan.tour_length_m = tour.cost;
   plan.lower_bound_m = tourLowerBound(clusters, [&](int a, int b) { return (points[b] - points[a]).norm(); });
-  Tour naive;
-  for (std::size_t c = 1; c < clusters.size(); ++c) {
-    naive.order.push_back(static_cast<int>(c));
-    naive.variant.push_back(0);
+  if (options.compare_naive) {
+    Tour naive;
+    for (std::size_t c = 1; c < clusters.size(); ++c) {
+      naive.order.push_back(static_cast<int>(c));
+      naive.variant.push_back(0);
+    }
+    planUnknown(naive);
+    plan.naive_length_m = tourCost(clusters, naive, estimate);
   }
-  planUnknown(naive);
-  plan.naive_length_m = tourCost(clusters, naive, estimate);
   plan.planned_legs = legs.planned();
 
   for (const auto& [a, b] : legEnds(tour)) {
@@ -409,7 +459,6 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     order.push_back(tour.order[i] - 1);
     plan.order.push_back({surfaces[static_cast<std::size_t>(tour.order[i] - 1)].surface_id, tour.variant[i] == 1});
   }
-  plan.order_seconds = secondsSince(t0);
 
   const TourPath path = buildTour(plan, surfaces, order, tour.variant, legs);
   const std::string why = splitSorties(path, plan, options.model, legs, plan.sorties);
@@ -422,9 +471,11 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     return plan;
   }
   plan.status = FlightPlan::Status::Ok;
+  const auto t_validate = SteadyClock::now();
+  const std::map<SegmentKey, double> known = validatedSegments(missions);
   for (std::size_t i = 0; i < plan.sorties.size(); ++i) {
     Sortie& s = plan.sorties[i];
-    s.validation = validator.validate(s.waypoints);
+    s.validation = validateSortie(s.waypoints, known, validator);
     plan.length_m += s.length_m;
     plan.duration_s += s.duration_s;
     if (!s.validation.collision_free && plan.status == FlightPlan::Status::Ok) {
@@ -432,6 +483,7 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
       plan.reason = describeViolation(i + 1, s.validation, validator) + "; the flight is not written";
     }
   }
+  plan.validate_seconds = secondsSince(t_validate);
   plan.seconds = secondsSince(t0);
   return plan;
 }

@@ -93,6 +93,12 @@ void expectWholeFlight(const FlightPlan& f, const World& w) {
     EXPECT_EQ(s.waypoints.back(), f.home);
     EXPECT_TRUE(s.validation.collision_free);
     EXPECT_GE(bruteClearance(w.cloud, s.waypoints), kRadius - 1e-9);
+    // Reused surface clearances give the verdict of validating the whole sortie.
+    const ValidationResult whole = w.validator.validate(s.waypoints);
+    EXPECT_NEAR(s.validation.min_clearance_m, whole.min_clearance_m, 1e-9);
+    ASSERT_EQ(s.validation.segment_clearance_m.size(), whole.segment_clearance_m.size());
+    for (std::size_t i = 0; i < whole.segment_clearance_m.size(); ++i)
+      EXPECT_NEAR(s.validation.segment_clearance_m[i], whole.segment_clearance_m[i], 1e-9) << "segment " << i;
     for (const auto& st : s.stops) {
       EXPECT_TRUE(flown.insert({st.surface_id, st.stop}).second) << "stop flown twice";
       ASSERT_LT(st.waypoint, s.waypoints.size());
@@ -108,6 +114,7 @@ TEST(FlightPlanner, OneTourFromHomeOverEverySurface) {
   std::unique_ptr<Planner> planner;
   const World w = twoSidedWall(planner);
   FlightOptions o;
+  o.compare_naive = true;
   const FlightPlan f = planFlight(w.missions, w.grid, w.validator, *planner, o);
   expectWholeFlight(f, w);
   EXPECT_EQ(f.sorties.size(), 1u);

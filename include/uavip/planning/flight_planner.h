@@ -15,6 +15,11 @@
 /// Sorties: the ordered stops are cut greedily so that each sortie, home → first
 /// stop → … → last stop → home, lasts at most the usable endurance of the flight
 /// model (FlightModel), counting flight time, hover and settle time per photo.
+///
+/// Validation: every segment of every sortie has the validator's clearance. A
+/// segment of a surface's own path keeps the clearance its surface's validation
+/// measured (same validator, same segment); connecting, outbound and return legs are
+/// validated here.
 
 #include "uavip/core/types.h"
 #include "uavip/planning/mission_planner.h"
@@ -62,6 +67,9 @@ struct FlightOptions {
   std::optional<Vec3> start;  ///< the missions' start (MissionOptions::start): home when `home` is not given
   FlightModel model;
   bool simplify{true};   ///< shortcut planned legs (path_simplifier.h)
+  /// Also plan the naive tour (surfaces by id, each forward) to report its length;
+  /// costs one planned leg per blocked straight line (seconds on a large site).
+  bool compare_naive{false};
   int max_rounds{8};     ///< lazy re-solves with newly planned legs
 };
 
@@ -103,11 +111,13 @@ struct FlightPlan {
   std::vector<SurfaceVisit> order;
   std::vector<ExcludedSurface> excluded;
   double tour_length_m{0.0};          ///< one tour home → every surface → home [m]
-  double naive_length_m{0.0};         ///< surfaces by id, each forward, same legs [m]
+  double inner_length_m{0.0};         ///< of which flown along the surfaces' own paths [m]
+  double naive_length_m{0.0};         ///< surfaces by id, each forward, same legs [m]; 0 unless compare_naive
   double lower_bound_m{0.0};          ///< no tour is shorter (tour.h, tourLowerBound) [m]
   bool exact_order{false};            ///< the order is optimal for the leg costs (Held–Karp)
   std::size_t planned_legs{0};        ///< connecting legs the planner was asked for
   double order_seconds{0.0};          ///< wall time of ordering (solves + leg planning) [s]
+  double validate_seconds{0.0};       ///< wall time of validating the sorties [s]
   double length_m{0.0};               ///< all sorties [m]
   double duration_s{0.0};             ///< all sorties [s]
   std::vector<Sortie> sorties;
