@@ -254,6 +254,34 @@ TEST(Scenario, AssemblyAndRegistrationAreStrict) {
   EXPECT_THROW(parseConfig("registration: {method: sgd}\n", "c.yaml"), InputError);
 }
 
+TEST(Config, FlightModelAndHomeAreRead) {
+  const Config d = parseConfig("", "c.yaml");
+  EXPECT_FALSE(d.flight.home);
+  EXPECT_DOUBLE_EQ(d.flight.model.endurance_s, 1200.0);
+  const Config c = parseConfig(
+      "mission: {home: [1, 2, 3]}\nflight: {cruise_speed_m_s: 4, climb_speed_m_s: 1, descent_speed_m_s: 0.5, hover_s: 0, "
+      "settle_s: 0.5, endurance_s: 600, reserve: 0.3}\n",
+      "c.yaml");
+  ASSERT_TRUE(c.flight.home);
+  EXPECT_EQ(*c.flight.home, Vec3(1, 2, 3));
+  EXPECT_DOUBLE_EQ(c.flight.model.cruise_speed_m_s, 4.0);
+  EXPECT_DOUBLE_EQ(c.flight.model.climb_speed_m_s, 1.0);
+  EXPECT_DOUBLE_EQ(c.flight.model.descent_speed_m_s, 0.5);
+  EXPECT_DOUBLE_EQ(c.flight.model.hover_s, 0.0);
+  EXPECT_DOUBLE_EQ(c.flight.model.settle_s, 0.5);
+  EXPECT_DOUBLE_EQ(c.flight.model.endurance_s, 600.0);
+  EXPECT_DOUBLE_EQ(c.flight.model.reserve, 0.3);
+  for (const std::string bad : {"flight: {reserve: 1}\n", "flight: {endurance_s: 0}\n", "flight: {hover_s: -1}\n",
+                                "flight: {speed: 3}\n", "mission: {home: [1, 2]}\n"}) {
+    try {
+      parseConfig(bad, "c.yaml");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("c.yaml"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Config, ScenarioOrConfigFile) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("uavip_cfg_" + std::to_string(::getpid()));

@@ -19,6 +19,7 @@ namespace {
 
 namespace io = uavip::io;
 namespace render = uavip::render;
+namespace planning = uavip::planning;
 using uavip::Vec3;
 
 /// A 2 × 2 m wall in the plane y = 0 (facing −y, points every 0.25 m), a 5-point
@@ -157,6 +158,26 @@ TEST(Views, ObjHasOnePolylinePerFlownSurface) {
   two[1].surface_id = 3;
   const auto ls2 = lines(io::pathsToObj(two));
   EXPECT_EQ(ls2.back(), "l 4 5 6");
+}
+
+TEST(Views, ObjHasOnePolylinePerSortieOfTheFlight) {
+  const Fixture f;
+  planning::FlightPlan flight;
+  flight.status = planning::FlightPlan::Status::Ok;
+  flight.sorties.resize(2);
+  flight.sorties[0].waypoints = {{0, 0, 1}, {1, 0, 1}, {0, 0, 1}};
+  flight.sorties[1].waypoints = {{0, 0, 1}, {0, 2, 1}, {0, 2, 2}, {0, 0, 1}};
+  const auto ls = lines(io::pathsToObj(f.missions, &flight));
+  std::vector<std::string> objects, polylines;
+  for (const auto& s : ls) {
+    if (s.rfind("o ", 0) == 0) objects.push_back(s);
+    if (s.rfind("l ", 0) == 0) polylines.push_back(s);
+  }
+  EXPECT_EQ(objects, (std::vector<std::string>{"o sortie_1", "o sortie_2"}));
+  EXPECT_EQ(polylines, (std::vector<std::string>{"l 1 2 3", "l 4 5 6 7"}));
+  // A failed flight: the surfaces' own paths.
+  flight.status = planning::FlightPlan::Status::Failed;
+  EXPECT_EQ(io::pathsToObj(f.missions, &flight), io::pathsToObj(f.missions));
 }
 
 /// Pixels with a clear colour (not white, grey or black) left of column x_max.
