@@ -19,7 +19,7 @@ namespace {
 /// for the thread's lifetime and reused by every search on a grid of the same
 /// size, so a search costs O(expansions), not O(grid)); larger grids use a hash
 /// map so memory stays bounded.
-constexpr std::size_t kDenseScratchLimit = 6'000'000;
+constexpr std::size_t kDenseScratchLimit = 16'000'000;
 
 constexpr std::uint8_t kNoParent = 255;
 

@@ -28,6 +28,7 @@ using nlohmann::json;
 
 /// One surface of a mission file, as far as validation needs it.
 struct MissionSurface {
+  std::string label;  ///< "surface 3", or "sortie 2" of the ordered flight
   int surface_id{0};
   std::string status;
   PointList waypoints;
@@ -45,6 +46,26 @@ struct MissionFile {
 const json& field(const std::string& path, const json& j, const std::string& key, const std::string& where) {
   if (!j.is_object() || !j.contains(key)) fail(path, where.empty() ? key : where + "." + key, "is missing");
   return j.at(key);
+}
+
+/// The `waypoints` list of `js` (field path `f` for messages).
+PointList readWaypoints(const std::string& path, const json& js, const std::string& f) {
+  const json& wps = field(path, js, "waypoints", f);
+  if (!wps.is_array()) fail(path, f + ".waypoints", "must be a list of [x, y, z]");
+  PointList out;
+  for (std::size_t k = 0; k < wps.size(); ++k) {
+    const std::string fw = f + ".waypoints[" + std::to_string(k) + "]";
+    const json& w = wps[k];
+    if (!w.is_array() || w.size() != 3) fail(path, fw, "must be [x, y, z]");
+    Vec3 p;
+    for (int c = 0; c < 3; ++c) {
+      if (!w[static_cast<std::size_t>(c)].is_number()) fail(path, fw, "must hold numbers");
+      p[c] = w[static_cast<std::size_t>(c)].get<double>();
+    }
+    if (!p.allFinite()) fail(path, fw, "must be finite");
+    out.push_back(p);
+  }
+  return out;
 }
 
 /// Reads the parts of OUT/mission.json that validation needs; throws InputError
@@ -76,21 +97,21 @@ MissionFile readMission(const std::string& path) {
     const json& status = field(path, js, "status", f);
     if (!status.is_string()) fail(path, f + ".status", "must be a string");
     s.status = status.get<std::string>();
-    const json& wps = field(path, js, "waypoints", f);
-    if (!wps.is_array()) fail(path, f + ".waypoints", "must be a list of [x, y, z]");
-    for (std::size_t k = 0; k < wps.size(); ++k) {
-      const std::string fw = f + ".waypoints[" + std::to_string(k) + "]";
-      const json& w = wps[k];
-      if (!w.is_array() || w.size() != 3) fail(path, fw, "must be [x, y, z]");
-      Vec3 p;
-      for (int c = 0; c < 3; ++c) {
-        if (!w[static_cast<std::size_t>(c)].is_number()) fail(path, fw, "must hold numbers");
-        p[c] = w[static_cast<std::size_t>(c)].get<double>();
-      }
-      if (!p.allFinite()) fail(path, fw, "must be finite");
-      s.waypoints.push_back(p);
-    }
+    s.label = "surface " + std::to_string(s.surface_id);
+    s.waypoints = readWaypoints(path, js, f);
     m.surfaces.push_back(std::move(s));
+  }
+  // The ordered flight's sorties (absent in files of older versions).
+  if (j.contains("flight") && j["flight"].is_object() && j["flight"].contains("sorties")) {
+    const json& sorties = j["flight"]["sorties"];
+    if (!sorties.is_array()) fail(path, "flight.sorties", "must be a list");
+    for (std::size_t i = 0; i < sorties.size(); ++i) {
+      MissionSurface s;
+      s.label = "sortie " + std::to_string(i + 1);
+      s.status = "ok";
+      s.waypoints = readWaypoints(path, sorties[i], "flight.sorties[" + std::to_string(i) + "]");
+      m.surfaces.push_back(std::move(s));
+    }
   }
   return m;
 }
@@ -128,7 +149,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   std::ostringstream out;
   std::string first_error;
   for (const auto& s : mission.surfaces) {
-    out << "  surface " << s.surface_id << ": ";
+    out << "  " << s.label << ": ";
     if (s.status != "ok") {
       out << "status " << s.status << ", not validated\n";
       continue;
@@ -153,7 +174,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
         << point(r.violation_point) << " (required " << fixed(clearance, 3) << " m)";
     out << "VIOLATION: " << msg.str() << "; " << bad << " of " << r.segment_clearance_m.size()
         << " segments too close, min clearance " << min << "\n";
-    if (first_error.empty()) first_error = "surface " + std::to_string(s.surface_id) + ": " + msg.str();
+    if (first_error.empty()) first_error = s.label + ": " + msg.str();
   }
   const double check_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 
@@ -163,7 +184,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
     std::cout << "world: " << world->objects().size() << " objects (" << scene.surfaces.size() << " surfaces, "
               << scene.obstacles.size() << " obstacles, cloud of " << world->cloudSize() << " points)\n";
     std::cout << out.str();
-    std::cout << "validated " << checked << " of " << mission.surfaces.size() << " surfaces: "
+    std::cout << "validated " << checked << " of " << mission.surfaces.size() << " paths (surfaces and sorties): "
               << (violated == 0 ? std::string("all collision-free") : std::to_string(violated) + " with violations")
               << "\n";
     std::cout << "time: world " << fixed(build_s, 3) << " s, validation " << fixed(check_s, 3) << " s\n";

@@ -423,15 +423,17 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     return planned;
   };
 
+  // Estimates are lower bounds: a tour optimal for them whose legs are all exact is
+  // optimal for the true lengths (docs/architecture_notes.md).
   Tour tour;
-  for (int round = 0; round < std::max(1, options.max_rounds); ++round) {
+  bool converged = false;
+  for (int round = 0; round < std::max(1, options.max_rounds) && !converged; ++round) {
     tour = solveTour(clusters, estimate);
-    if (!planUnknown(tour)) break;
+    converged = !planUnknown(tour);
   }
-  planUnknown(tour);
   tour.cost = tourCost(clusters, tour, estimate);
   plan.order_seconds = secondsSince(t0);
-  plan.exact_order = tour.exact;
+  plan.exact_order = tour.exact && converged;
   plan.tour_length_m = tour.cost;
   plan.lower_bound_m = tourLowerBound(clusters, [&](int a, int b) { return (points[b] - points[a]).norm(); });
   if (options.compare_naive) {

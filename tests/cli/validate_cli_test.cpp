@@ -59,6 +59,24 @@ TEST_F(ValidateCli, PlannedMissionPasses) {
     EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   }
   EXPECT_NE(r.out.find("clearance 0.600 m"), std::string::npos) << r.out;  // the mission's inflation radius
+  // And one per sortie of the ordered flight.
+  ASSERT_GE(mission["flight"]["sorties"].size(), 1u);
+  for (std::size_t k = 1; k <= mission["flight"]["sorties"].size(); ++k)
+    EXPECT_NE(r.out.find("sortie " + std::to_string(k) + ": collision-free"), std::string::npos) << r.out;
+}
+
+TEST_F(ValidateCli, SortieWaypointMovedIntoTheCubeFails) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  auto mission = readJson(out() / "mission.json");
+  auto& wps = mission["flight"]["sorties"][0]["waypoints"];
+  ASSERT_GT(wps.size(), 3u);
+  wps[2] = {1.5, 1.5, 2.5};  // the cube's centre: segments 1 and 2 cross a face
+  const fs::path edited = dir_ / "edited_sortie";
+  fs::create_directories(edited);
+  writeJson(edited / "mission.json", mission);
+  const Result r = uavip("validate -q " + (edited / "mission.json").string() + " --scene " + (out() / "scene.json").string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("sortie 1: segment 1 "), std::string::npos) << r.out;
 }
 
 TEST_F(ValidateCli, WaypointMovedIntoTheCubeFailsNamingTheSegment) {

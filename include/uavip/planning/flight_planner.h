@@ -70,7 +70,7 @@ struct FlightOptions {
   /// Also plan the naive tour (surfaces by id, each forward) to report its length;
   /// costs one planned leg per blocked straight line (seconds on a large site).
   bool compare_naive{false};
-  int max_rounds{8};     ///< lazy re-solves with newly planned legs
+  int max_rounds{50};    ///< lazy re-solves with newly planned legs (each plans the new legs of its tour)
 };
 
 /// A photo stop in a sortie.
@@ -114,7 +114,7 @@ struct FlightPlan {
   double inner_length_m{0.0};         ///< of which flown along the surfaces' own paths [m]
   double naive_length_m{0.0};         ///< surfaces by id, each forward, same legs [m]; 0 unless compare_naive
   double lower_bound_m{0.0};          ///< no tour is shorter (tour.h, tourLowerBound) [m]
-  bool exact_order{false};            ///< the order is optimal for the leg costs (Held–Karp)
+  bool exact_order{false};            ///< the order is optimal for the planned leg lengths (Held–Karp, converged)
   std::size_t planned_legs{0};        ///< connecting legs the planner was asked for
   double order_seconds{0.0};          ///< wall time of ordering (solves + leg planning) [s]
   double validate_seconds{0.0};       ///< wall time of validating the sorties [s]
