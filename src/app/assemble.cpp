@@ -2,16 +2,13 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/sim/scanner_sim.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <mutex>
-#include <thread>
 
 namespace uavip::app {
 namespace {
@@ -31,27 +28,11 @@ std::vector<scan::StationCloud> assembleAll(const RawLog& log, const scan::Assem
   const std::size_t n = log.stations.size();
   std::vector<scan::StationCloud> clouds(n);
   seconds.assign(n, 0.0);
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (std::size_t i = next++; i < n; i = next++) {
-      try {
-        const auto t0 = Clock::now();
-        clouds[i] = scan::assembleStation(log, i, options);
-        seconds[i] = secondsSince(t0);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  const std::size_t count = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, threads)));
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < count; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallelFor(n, threads, [&](std::size_t i, std::size_t) {
+    const auto t0 = Clock::now();
+    clouds[i] = scan::assembleStation(log, i, options);
+    seconds[i] = secondsSince(t0);
+  });
   return clouds;
 }
 

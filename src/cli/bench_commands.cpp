@@ -73,6 +73,7 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   if (!planners::seedOmpl(options.seed)) {
     std::cerr << "uavip: warning: OMPL was already seeded; --seed " << options.seed << " has no effect\n";
   }
+  io::requireDistinctOutputs(a.scenarios, {a.out, sibling(a.out, ".csv"), sibling(a.out, ".md"), sibling(a.out, ".png")});
   std::vector<io::Scenario> scenarios;
   for (const auto& path : a.scenarios) scenarios.push_back(io::loadScenario(path));
   const fs::path parent = fs::path(a.out).parent_path();

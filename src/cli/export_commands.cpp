@@ -29,11 +29,15 @@ struct ExportArgs {
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0};
 };
 
+/// The scene.json export checks against: --scene, else the one beside the mission.
+std::string sceneFor(const ExportArgs& a) {
+  return a.scene.empty() ? (fs::path(a.mission).parent_path() / "scene.json").string() : a.scene;
+}
+
 /// Every exported path is checked again against the scene with the FCL validator:
 /// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
 void checkAgainstScene(const std::vector<io::Flight>& flights, const nlohmann::json& mission, const ExportArgs& a) {
-  const std::string scene_path =
-      a.scene.empty() ? (fs::path(a.mission).parent_path() / "scene.json").string() : a.scene;
+  const std::string scene_path = sceneFor(a);
   if (!fs::is_regular_file(scene_path))
     throw InputError("--scene: " + scene_path + " not found; export checks every leg against the scene the mission " +
                      "was planned in: pass --scene OUT/scene.json");
@@ -117,6 +121,7 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
                                             out.extension().string())).string());
     }
   }
+  io::requireDistinctOutputs({a.mission, sceneFor(a)}, paths);
   for (std::size_t i = 0; i < flights.size(); ++i) io::writeFileAtomic(paths[i], io::exportFlight(flights[i], format, options));
   if (!v.quiet) {
     for (std::size_t i = 0; i < flights.size(); ++i) {

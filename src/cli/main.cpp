@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <new>
 
 #ifndef UAVIP_VERSION
 #define UAVIP_VERSION "dev"
@@ -56,7 +57,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
-    cli.exit(e);
+    // One line, like every other error (CLI11 prints two).
+    std::string what = e.what();
+    for (char& c : what) c = c == '\n' ? ' ' : c;
+    std::cerr << "uavip: error: " << what << " (uavip --help, or uavip COMMAND --help)\n";
     return kExitBadInput;
   }
 
@@ -65,6 +69,10 @@ int main(int argc, char** argv) {
     return registry.dispatch();
   } catch (const uavip::InputError& e) {
     std::cerr << "uavip: error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "uavip: error: out of memory: the input is too large for this machine's memory; down-sample the "
+                 "cloud, raise preprocess.voxel_m or grid.resolution_m, or plan fewer surfaces\n";
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "uavip: internal error: " << e.what() << "\n";

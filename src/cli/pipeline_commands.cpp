@@ -186,8 +186,10 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const PointList raw = app::sense(scenario);
   const app::DetectResult d = app::detect(raw, scenario.config, app::measure(raw, &scenario), progress);
   const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
-  writeScene(out, d);
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
+  // Every output is written only once all the work succeeded: a run that fails
+  // leaves the previous scene, mission and views together.
+  writeScene(out, d);
   writeMission(out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
   io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

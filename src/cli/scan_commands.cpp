@@ -137,6 +137,18 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
       throw InputError(pos == std::string::npos ? msg : "--registration" + msg.substr(pos));
     }
   }
+  namespace fs = std::filesystem;
+  const std::string report_path = fs::path(out).replace_extension(".report.json").string();
+  if (fs::path(out).extension() != ".pcd")
+    throw InputError("-o: " + out + " must end in .pcd (the merged cloud is written as binary PCD)");
+  {
+    std::vector<std::string> inputs;
+    std::error_code ec;
+    if (fs::is_directory(dir, ec))
+      for (const auto& e : fs::directory_iterator(dir, ec)) inputs.push_back(e.path().string());
+    if (!config_path.empty()) inputs.push_back(config_path);
+    io::requireDistinctOutputs(inputs, {out, report_path});
+  }
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("reading " + dir);
   io::RawLogReadStats read;
@@ -144,11 +156,9 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   const std::optional<io::RawLogTruthFile> truth = io::readRawLogTruth(dir);
   const app::AssembleResult r = app::assemble(log, options, truth ? &truth->poses : nullptr,
                                               truth ? &truth->world : nullptr, progress);
-  namespace fs = std::filesystem;
   const fs::path parent = fs::path(out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());
   io::saveCloudPcd(out, r.cloud);
-  const std::string report_path = fs::path(out).replace_extension(".report.json").string();
   io::writeFileAtomic(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
   if (!v.quiet) {
     std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -74,44 +75,162 @@ PointList loadXyz(const std::string& path) {
 /// PCL's readers crash on some malformed headers, so the header is checked first:
 /// the fields x y z, a point count and a DATA line (PCD), or "ply" with a vertex
 /// element and x y z properties (PLY).
+/// A header count: a whole number >= 0 (no sign, no fraction), else InputError
+/// naming the file, the key and the text.
+std::uint64_t headerCount(const std::string& path, const std::string& key, const std::string& text) {
+  const bool digits = !text.empty() && text.size() <= 19 &&
+                      std::all_of(text.begin(), text.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  if (!digits) throw InputError(path + ": " + key + " must be a whole number >= 0, got '" + text.substr(0, 40) + "'");
+  return std::stoull(text);
+}
+
+/// The header's claim against the bytes that follow it: a file that claims more
+/// points than it can hold is refused before anything is allocated.
+void checkPayload(const std::string& path, std::uint64_t points, std::uint64_t min_bytes_per_point,
+                  std::uint64_t available, const std::string& what) {
+  if (min_bytes_per_point == 0 || points <= available / min_bytes_per_point) return;
+  throw InputError(path + ": the header claims " + std::to_string(points) + " points (" + what + ", at least " +
+                   std::to_string(min_bytes_per_point) + " bytes each) but only " + std::to_string(available) +
+                   " bytes follow it; the file is truncated or its header is wrong");
+}
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+/// PCD header (PCL's PCD v0.7): FIELDS with x y z; SIZE 1, 2, 4 or 8 and TYPE F
+/// (4 or 8), I or U per field; WIDTH × HEIGHT = POINTS; DATA ascii, binary or
+/// binary_compressed; and no more points than the data can hold.
+void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
+  std::vector<std::string> fields, sizes, types, counts;
+  std::optional<std::uint64_t> width, height, points;
+  std::string data;
+  std::string line;
+  for (int lines = 0; lines < 64 && data.empty() && std::getline(in, line); ++lines) {
+    std::vector<std::string> w = words(line);
+    if (w.empty() || w[0][0] == '#') continue;
+    const std::string key = w[0];
+    w.erase(w.begin());
+    if (key == "FIELDS") fields = w;
+    if (key == "SIZE") sizes = w;
+    if (key == "TYPE") types = w;
+    if (key == "COUNT") counts = w;
+    if ((key == "WIDTH" || key == "HEIGHT" || key == "POINTS") && w.size() != 1)
+      throw InputError(path + ": " + key + " must hold one number");
+    if (key == "WIDTH") width = headerCount(path, "WIDTH", w[0]);
+    if (key == "HEIGHT") height = headerCount(path, "HEIGHT", w[0]);
+    if (key == "POINTS") points = headerCount(path, "POINTS", w[0]);
+    if (key == "DATA") data = w.empty() ? "?" : w[0];
+  }
+  const std::set<std::string> names(fields.begin(), fields.end());
+  if (!names.count("x") || !names.count("y") || !names.count("z") || !points || data.empty())
+    throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
+  if (sizes.size() != fields.size() || types.size() != fields.size() || (!counts.empty() && counts.size() != fields.size()))
+    throw InputError(path + ": SIZE, TYPE and COUNT must give one value per field of FIELDS");
+  std::uint64_t step = 0;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const std::string& size = sizes[i];
+    const std::string& type = types[i];
+    if (size != "1" && size != "2" && size != "4" && size != "8")
+      throw InputError(path + ": SIZE of field " + fields[i] + " must be 1, 2, 4 or 8 bytes, got '" + size + "'");
+    if (type != "F" && type != "I" && type != "U")
+      throw InputError(path + ": TYPE of field " + fields[i] + " must be F, I or U, got '" + type + "'");
+    if (type == "F" && size != "4" && size != "8")
+      throw InputError(path + ": field " + fields[i] + " is a float of " + size + " bytes; PCD floats have 4 or 8");
+    const std::uint64_t count = counts.empty() ? 1 : headerCount(path, "COUNT", counts[i]);
+    if (count == 0 || count > 1'000'000) throw InputError(path + ": COUNT of field " + fields[i] + " must be 1..1000000");
+    step += count * std::stoull(size);
+  }
+  const std::uint64_t w = width.value_or(*points), h = height.value_or(1);
+  if (h != 0 && w > UINT64_MAX / h) throw InputError(path + ": WIDTH x HEIGHT overflows");
+  if (w * h != *points)
+    throw InputError(path + ": WIDTH x HEIGHT (" + std::to_string(w) + " x " + std::to_string(h) + ") differs from POINTS " +
+                     std::to_string(*points));
+  const std::streamoff at = in.tellg();
+  const std::uint64_t available = at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
+  if (data == "binary") {
+    checkPayload(path, *points, step, available, "binary");
+  } else if (data == "ascii") {
+    checkPayload(path, *points, 2 * fields.size(), available + 1, "ascii, a digit and a separator per value");
+  } else if (data == "binary_compressed") {
+    // LZF expands at most about 100 times; beyond that the header cannot be right.
+    checkPayload(path, *points, std::max<std::uint64_t>(1, step / 100), available, "compressed");
+  } else {
+    throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + data + "'");
+  }
+}
+
+/// Bytes of a PLY scalar type, 0 if unknown.
+std::uint64_t plyTypeSize(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+/// PLY header: a vertex element with x y z, known property types, and no more
+/// vertices than the data can hold.
+void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (first line must be 'ply')");
+  std::string format;
+  std::optional<std::uint64_t> vertices;
+  bool in_vertex = false, ended = false;
+  int xyz = 0;
+  std::uint64_t step = 0, properties = 0;
+  for (int lines = 0; lines < 256 && std::getline(in, line); ++lines) {
+    const std::vector<std::string> w = words(line);
+    if (w.empty()) continue;
+    if (w[0] == "format" && w.size() >= 2) format = w[1];
+    if (w[0] == "element") {
+      if (w.size() != 3) throw InputError(path + ": malformed PLY line '" + line.substr(0, 60) + "'");
+      in_vertex = w[1] == "vertex";
+      if (in_vertex) vertices = headerCount(path, "element vertex", w[2]);
+    }
+    if (w[0] == "property" && in_vertex) {
+      ++properties;
+      if (w.size() >= 2 && w[1] == "list") {
+        step += 1;  // at least the list's count
+      } else if (w.size() == 3) {
+        const std::uint64_t size = plyTypeSize(w[1]);
+        if (size == 0) throw InputError(path + ": vertex property " + w[2] + " has unknown type '" + w[1] + "'");
+        step += size;
+        xyz += (w[2] == "x" || w[2] == "y" || w[2] == "z");
+      }
+    }
+    if (w[0] == "end_header") {
+      ended = true;
+      break;
+    }
+  }
+  if (!ended) throw InputError(path + ": PLY header has no end_header within 256 lines");
+  if (!vertices || xyz < 3) throw InputError(path + ": PLY file has no vertex element with x y z properties");
+  if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+    throw InputError(path + ": PLY format must be ascii, binary_little_endian or binary_big_endian, got '" + format + "'");
+  const std::streamoff at = in.tellg();
+  const std::uint64_t available = at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
+  if (format == "ascii") {
+    checkPayload(path, *vertices, 2 * properties, available + 1, "ascii, a digit and a separator per value");
+  } else {
+    checkPayload(path, *vertices, step, available, "binary");
+  }
+}
+
 void checkHeader(const std::string& path, const std::string& ext) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read (permission?)");
-  std::string line;
-  bool has_xyz = false, has_count = false, has_data = false;
-  std::size_t lines = 0;
-  const auto hasXyz = [](const std::string& l) {
-    std::istringstream words(l);
-    std::set<std::string> names;
-    for (std::string w; words >> w;) names.insert(w);
-    return names.count("x") && names.count("y") && names.count("z");
-  };
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
   if (ext == ".pcd") {
-    while (lines++ < 64 && std::getline(in, line)) {
-      if (line.rfind("FIELDS", 0) == 0) has_xyz = hasXyz(line);
-      if (line.rfind("POINTS", 0) == 0) has_count = true;
-      if (line.rfind("DATA", 0) == 0) {
-        has_data = true;
-        break;
-      }
-    }
-    if (!has_xyz || !has_count || !has_data) {
-      throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
-    }
+    checkPcdHeader(path, in, size);
   } else {
-    std::getline(in, line);
-    if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (first line must be 'ply')");
-    bool has_vertex = false;
-    int xyz = 0;
-    while (lines++ < 256 && std::getline(in, line)) {
-      if (line.rfind("element vertex", 0) == 0) has_vertex = true;
-      if (has_vertex && line.rfind("property", 0) == 0) {
-        const std::string name = line.substr(line.find_last_of(' ') + 1);
-        xyz += (name == "x" || name == "y" || name == "z");
-      }
-      if (line.rfind("end_header", 0) == 0) break;
-    }
-    if (!has_vertex || xyz < 3) throw InputError(path + ": PLY file has no vertex element with x y z properties");
+    checkPlyHeader(path, in, size);
   }
 }
 
@@ -194,8 +313,7 @@ void CloudReadOptions::validate(const std::string& where) const {
 PointList loadCloud(const std::string& path, const CloudReadOptions& options, CloudReadInfo* info) {
   options.validate();
   const std::string ext = lowerExtension(path);
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  requireRegularFile(path);
   PointList points;
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;

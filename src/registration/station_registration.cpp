@@ -8,6 +8,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/stopwatch.h"
 
@@ -23,12 +24,10 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
-#include <thread>
 
 namespace uavip::registration {
 namespace {
@@ -529,23 +528,14 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
   std::vector<PointList> downsampled(stations.size());
   std::vector<std::vector<Vec3>> station_normals(stations.size());
   std::vector<double> prep_s(stations.size(), 0.0);
-  {
-    std::atomic<std::size_t> next{0};
-    auto worker = [&] {
-      for (std::size_t i = next++; i < stations.size(); i = next++) {
-        const auto tp = Clock::now();
-        if (stations[i].points.empty()) continue;
-        downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
-        // In the station frame, oriented toward the station (its origin).
-        station_normals[i] = normalsOf(downsampled[i], Vec3::Zero());
-        prep_s[i] = secondsSince(tp);
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < options.threads && static_cast<std::size_t>(t) < stations.size(); ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& t : pool) t.join();
-  }
+  parallelFor(stations.size(), options.threads, [&](std::size_t i, std::size_t) {
+    const auto tp = Clock::now();
+    if (stations[i].points.empty()) return;
+    downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
+    // In the station frame, oriented toward the station (its origin).
+    station_normals[i] = normalsOf(downsampled[i], Vec3::Zero());
+    prep_s[i] = secondsSince(tp);
+  });
 
   PointList placed;  // down-sampled world points of the stations placed so far
   std::vector<Vec3> placed_normals;  // their normals, oriented toward their station

@@ -5,10 +5,12 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace uavip::io {
 
-/// Writes `text` to `path` atomically. Throws std::runtime_error naming the path.
+/// Writes `text` to `path` atomically, creating missing parent folders. Throws
+/// InputError naming the path when it is a folder or cannot be written.
 void writeFileAtomic(const std::string& path, const std::string& text);
 
 /// Calls write(tmp_path) then renames tmp_path to `path`; removes tmp_path if write throws.
@@ -17,7 +19,15 @@ void replaceFileAtomic(const std::string& path, const std::function<void(const s
 /// Creates `dir` (and parents) if missing. Throws InputError if it is not a directory.
 void ensureDirectory(const std::string& dir);
 
-/// Reads a whole file. Throws InputError "<path>: cannot read …" if missing.
+/// Throws InputError naming the output when an output path is one of the inputs
+/// (same file after resolving links and `..`) or two outputs are the same file.
+void requireDistinctOutputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+
+/// Throws InputError naming `path` unless it is an existing regular file (not a
+/// folder, device, pipe or socket: reading /dev/zero or a FIFO would never end).
+void requireRegularFile(const std::string& path);
+
+/// Reads a whole regular file (requireRegularFile). Throws InputError "<path>: …".
 std::string readFile(const std::string& path);
 
 }  // namespace uavip::io
