@@ -9,6 +9,8 @@
 
 #include <iostream>
 #include <new>
+#include <set>
+#include <string>
 
 #ifndef UAVIP_VERSION
 #define UAVIP_VERSION "dev"
@@ -57,7 +59,24 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
-    // One line, like every other error (CLI11 prints two).
+    // One line, like every other error (CLI11 prints two). A first word that is no
+    // command is named, with the commands there are.
+    std::string commands;
+    std::set<std::string> names;
+    for (const auto* sub : cli.get_subcommands([](const CLI::App*) { return true; })) {
+      commands += (commands.empty() ? "" : ", ") + sub->get_name();
+      names.insert(sub->get_name());
+    }
+    for (int i = 1; i < argc; ++i) {
+      const std::string word = argv[i];
+      if (word.empty() || word[0] == '-') continue;
+      if (names.count(word) == 0) {
+        std::cerr << "uavip: error: unknown command '" << word.substr(0, 60) << "'; the commands are " << commands
+                  << " (uavip --help)\n";
+        return kExitBadInput;
+      }
+      break;
+    }
     std::string what = e.what();
     for (char& c : what) c = c == '\n' ? ' ' : c;
     std::cerr << "uavip: error: " << what << " (uavip --help, or uavip COMMAND --help)\n";
