@@ -84,12 +84,6 @@ bool convexOverlap(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   return true;
 }
 
-/// Grid cells per axis: max(⌈extent/spacing⌉, 1), tolerant of rounding (4.8/0.48 = 10).
-int cellCount(double extent, double spacing) {
-  const double n = std::ceil(extent / spacing - 1e-9);
-  return std::max(static_cast<int>(n), 1);
-}
-
 /// Angle in degrees wrapped to (−180, 180] (atan2 gives −180 for a −0 y component).
 double wrapDeg(double deg) {
   while (deg <= -180.0) deg += 360.0;
@@ -110,6 +104,7 @@ void CoverageOptions::validate(const std::string& where) const {
   requireRange(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
   requireRange(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
   requirePositive(standoff_m, where, "standoff_m");
+  requireRange(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
   requireRange(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
                "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
   requireRange(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
@@ -172,8 +167,20 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   }
   const auto [wlo, whi] = projectRange(poly, Vec2::UnitX());
   const auto [hlo, hhi] = projectRange(poly, Vec2::UnitY());
-  fs.cols = cellCount(whi - wlo, fs.spacing_w_m);
-  fs.rows = cellCount(hhi - hlo, fs.spacing_h_m);
+  // Cells per axis: max(⌈extent/spacing⌉, 1), tolerant of rounding (4.8/0.48 = 10),
+  // counted in double first: a tiny footprint or a huge boundary must not overflow.
+  const double cols = std::max(1.0, std::ceil((whi - wlo) / fs.spacing_w_m - 1e-9));
+  const double rows = std::max(1.0, std::ceil((hhi - hlo) / fs.spacing_h_m - 1e-9));
+  if (!(cols * rows <= options.max_stops)) {
+    std::ostringstream os;
+    os << "surface " << surface.id << " (" << whi - wlo << " x " << hhi - hlo << " m) would need " << cols << " x "
+       << rows << " photo stops at " << fs.spacing_w_m << " x " << fs.spacing_h_m
+       << " m spacing, more than coverage.max_stops " << options.max_stops
+       << "; use a larger footprint (camera) or raise coverage.max_stops";
+    throw InputError(os.str());
+  }
+  fs.cols = static_cast<int>(cols);
+  fs.rows = static_cast<int>(rows);
   const double wc = 0.5 * (wlo + whi);
   const double hc = 0.5 * (hlo + hhi);
   const double half_w = 0.5 * fs.camera.footprint_w_m;

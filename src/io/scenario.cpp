@@ -239,6 +239,7 @@ void parseCoverage(Section s, coverage::CoverageOptions& o) {
     }
   }
   o.standoff_m = s.number("standoff_m", o.standoff_m);
+  o.max_stops = s.number("max_stops", o.max_stops);
   if (s.has("gimbal_pitch_deg")) {
     const auto v = s.numbers("gimbal_pitch_deg", 2, 2);
     o.gimbal.pitch_min_deg = v[0];

@@ -104,6 +104,7 @@ class BadInput : public ::testing::Test {
     write("speed0.yaml", "flight: {cruise_speed_m_s: 0}\n");
     write("camera.yaml", "camera: {footprint_m: [0, 1]}\n");
     write("overlap.yaml", "coverage: {overlap_w: 1.5}\n");
+    write("tiny.yaml", "camera: {footprint_m: [0.001, 0.001]}\n");
     // Scenarios.
     write("no_world.yaml", "name: x\n");
     write("bad_mode.yaml", "name: x\nworld:\n  - {type: point, name: p, at: [0, 0, 2]}\nsensing: {mode: teleport}\n");
@@ -186,6 +187,7 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2, "home"},
       {"cruise speed 0", "plan " + scene + " --surface 0 -c $D/speed0.yaml -o $D/prev", 2, "cruise_speed_m_s"},
       {"zero footprint", "plan " + scene + " --surface 0 -c $D/camera.yaml -o $D/prev", 2, "footprint"},
+      {"1 mm footprint: 32 million stops", "plan " + scene + " --surface 0 -c $D/tiny.yaml -o $D/prev", 2, "max_stops"},
       {"overlap 1.5", "plan " + scene + " --surface 0 -c $D/overlap.yaml -o $D/prev", 2, "overlap"},
       {"config is a folder", "plan " + scene + " --surface 0 -c $D/a_dir.pcd -o $D/prev", 2, "is a directory"},
       {"missing config", "plan " + scene + " --surface 0 -c $D/nope.yaml -o $D/prev", 2, "nope.yaml"},

@@ -471,5 +471,21 @@ TEST(CoverageOptions, ValidateNamesTheField) {
   EXPECT_THROW(planFlightStrategy(wallFacingX(), o), InputError);
 }
 
+TEST(FlightStrategy, TooManyStopsAreRefusedBeforeAnyIsMade) {
+  // 8 × 4 m wall, 1 cm footprint, 20 % overlap: 1000 × 500 cells 0.8 cm apart = 500,000 > 200,000.
+  CoverageOptions o;
+  o.camera.footprint_w_m = 0.01;
+  o.camera.footprint_h_m = 0.01;
+  try {
+    planFlightStrategy(wallFacingX(), o);
+    ADD_FAILURE() << "500,000 stops accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("coverage.max_stops 200000"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("surface 3"), std::string::npos) << e.what();
+  }
+  o.max_stops = 600000;  // now allowed: the count is the ideal one
+  EXPECT_EQ(planFlightStrategy(wallFacingX(), o).stops.size(), 500000u);
+}
+
 }  // namespace
 }  // namespace uavip::coverage

@@ -27,6 +27,9 @@ struct CoverageOptions {
   double overlap_h{0.2};   ///< overlap along the image height [0, 1)
   double standoff_m{1.5};  ///< distance from the surface when the camera gives a footprint directly [m]
   GimbalLimits gimbal;
+  /// Most photo stops one surface may get (the footprint grid's cells, counted
+  /// before any stop is made); a tiny footprint on a large surface is refused.
+  double max_stops{200000};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "coverage") const;
@@ -57,8 +60,9 @@ struct FlightStrategy {
 };
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per
-/// axis, grid centred on the boundary's extent. Never throws for a valid surface
-/// and options; a surface with < 3 boundary vertices gives no stops.
+/// axis, grid centred on the boundary's extent. A surface with < 3 boundary
+/// vertices gives no stops. Throws InputError, naming the surface, the count and
+/// coverage.max_stops, when the grid would have more cells than max_stops.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options);
 
 }  // namespace uavip::coverage
