@@ -3,6 +3,8 @@
 #include "planners/ompl_planners.h"
 #include "uavip/core/error.h"
 
+#include <algorithm>
+
 
 namespace uavip::planners {
 
@@ -17,18 +19,23 @@ std::vector<std::string> plannerNames() {
   return names;
 }
 
+void requireKnownPlanner(const std::string& name) {
+  const std::vector<std::string> names = plannerNames();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string valid;
+  for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
+  throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
+}
+
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings) {
   settings.validate("planner");
+  requireKnownPlanner(name);
   if (isOmplPlanner(name)) return std::make_unique<OmplPlanner>(name, settings);
   AStarOptions options = settings.astar;
   if (name == "astar") {
     options.cost = AStarCost::Paper;
-  } else if (name == "astar-euclid") {
-    options.cost = AStarCost::Euclidean;
   } else {
-    std::string valid;
-    for (const auto& n : plannerNames()) valid += (valid.empty() ? "" : ", ") + n;
-    throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
+    options.cost = AStarCost::Euclidean;  // "astar-euclid"
   }
   return std::make_unique<AStarPlanner>(options);
 }

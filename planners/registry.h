@@ -33,6 +33,10 @@ struct PlannerSettings {
 /// "lazyprmstar", "fmtstar").
 std::vector<std::string> plannerNames();
 
+/// Throws InputError listing the valid names unless `name` is one of plannerNames().
+/// Creates nothing: validating a config must not seed OMPL (harness.h, seedOmpl).
+void requireKnownPlanner(const std::string& name);
+
 /// Creates the planner `name`; throws InputError listing the valid names otherwise.
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings);
 

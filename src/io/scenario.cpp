@@ -538,7 +538,7 @@ void Config::validate(const std::string& where) const {
     gridOptions().validate("grid");
     coverage.validate("coverage");
     planner_settings.validate("planner");
-    planners::makePlanner(planner, planner_settings);  // throws for an unknown name
+    planners::requireKnownPlanner(planner);  // creates nothing, so OMPL stays unseeded
     if (mission.start) require(mission.start->allFinite(), "mission", "start must be finite");
     if (flight.home) require(flight.home->allFinite(), "mission", "home must be finite");
     flight.model.validate("flight");

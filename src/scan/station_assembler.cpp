@@ -163,6 +163,7 @@ struct IcpResult {
   /// Smallest eigenvalue of the pairs' Σ w·n nᵀ (translation block) in the last
   /// iteration: how many effective pairs fix the least constrained direction.
   double min_information{0.0};
+  bool converged{true};  ///< false when the solver says it did not converge (PCL)
 };
 
 /// Point-to-line ICP: finds (theta, t) with rot(theta)·src + t ≈ reference, starting
@@ -271,9 +272,10 @@ IcpResult icpPcl(const Scan2D& src, const Reference& ref, double theta0, const V
   const Eigen::Matrix4f m = icp.getFinalTransformation();
   r.theta = std::atan2(static_cast<double>(m(1, 0)), static_cast<double>(m(0, 0)));
   r.t = Vec2(static_cast<double>(m(0, 3)), static_cast<double>(m(1, 3)));
-  r.iterations = o.max_iterations;
+  r.iterations = o.max_iterations;  // PCL does not report the iterations it used
   r.rms = std::sqrt(std::max(0.0, icp.getFitnessScore(o.max_correspondence_m)));
   r.pairs = s->size();
+  r.converged = icp.hasConverged();  // no correspondences, or no convergence in max_iterations
   return r;
 }
 
@@ -492,7 +494,7 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
       const IcpResult r = options.icp == IcpMethod::PointToLine2D
                               ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, stride)
                               : icpPcl(scans[k], ref, th0, t0, options, stride);
-      const bool ok = r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
+      const bool ok = r.converged && r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
       theta[k] = ok ? r.theta : th0;
       trans[k] = ok ? r.t : t0;
       if (!ok) ++out.stats.failed_icp;

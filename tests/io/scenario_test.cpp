@@ -1,10 +1,12 @@
 #include "uavip/io/scenario.h"
 
 #include "uavip/core/error.h"
+#include "planners/harness.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 
 #include <unistd.h>
 
@@ -280,6 +282,19 @@ TEST(Config, FlightModelAndHomeAreRead) {
       EXPECT_NE(std::string(e.what()).find("c.yaml"), std::string::npos) << e.what();
     }
   }
+}
+
+// Validating a config names an unknown planner without creating one: creating an
+// OMPL planner would seed OMPL's global RNG with the config's seed, and a later
+// `bench --seed` could no longer take effect.
+TEST(Config, ValidatingDoesNotSeedOmpl) {
+  EXPECT_EXIT(
+      {
+        parseConfig("planner: {name: rrtconnect, seed: 5}\n", "c.yaml");
+        std::exit(planners::seedOmpl(9) ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+  EXPECT_THROW(parseConfig("planner: {name: warp}\n", "c.yaml"), InputError);
 }
 
 TEST(Config, ScenarioOrConfigFile) {

@@ -239,6 +239,19 @@ TEST(AssembleStation, ImuPriorNeedsFewerIcpIterations) {
   EXPECT_LT(trajectoryError(with, s.truth.stations.front()).xy, 0.03);
 }
 
+// With `icp: pcl`, a scan PCL could not align (here: no correspondence within a
+// micrometre) is a failed ICP, kept at its guess, not a silent success.
+TEST(AssembleStation, PclIcpThatDoesNotConvergeIsCountedAsFailed) {
+  const sim::SimulatedLog& s = windyLog();
+  AssemblerOptions o;
+  o.icp = IcpMethod::PclPointToPoint;
+  const StationCloud good = assembleStation(s.log, 0, o);
+  EXPECT_EQ(good.stats.failed_icp, 0u);
+  o.max_correspondence_m = 1e-6;
+  const StationCloud none = assembleStation(s.log, 0, o);
+  EXPECT_GT(none.stats.failed_icp, 0u);
+}
+
 TEST(AssembleStation, SkipsInvalidRanges) {
   const sim::WorldModel w = room();
   sim::SimulatedLog s = sim::simulateScans(w, quiet());

@@ -74,7 +74,7 @@ struct AssemblyStats {
   std::size_t beams{0};            ///< vertical beams seen
   std::size_t invalid_beams{0};    ///< skipped: 0, NaN, < min_range, > max_range
   std::size_t keyframes{0};
-  std::size_t failed_icp{0};       ///< scans with too few ICP pairs (they keep the previous pose)
+  std::size_t failed_icp{0};       ///< scans with too few ICP pairs or no convergence (they keep the previous pose)
   double mean_icp_iterations{0.0};
   double mean_icp_rms_m{0.0};      ///< mean point-to-line (or point) residual after ICP [m]
   double icp_s{0.0};               ///< wall time of the horizontal ICP [s]
