@@ -107,13 +107,23 @@ std::vector<std::string> words(const std::string& line) {
 void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
   std::vector<std::string> fields, sizes, types, counts;
   std::optional<std::uint64_t> width, height, points;
-  std::string data;
+  std::string data, version;
   std::string line;
+  std::set<std::string> seen;
+  static const std::set<std::string> kKeys{"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT",
+                                           "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
   for (int lines = 0; lines < 64 && data.empty() && std::getline(in, line); ++lines) {
     std::vector<std::string> w = words(line);
     if (w.empty() || w[0][0] == '#') continue;
     const std::string key = w[0];
     w.erase(w.begin());
+    // PCL's reader crashes on some malformed headers (tests/fuzz/fuzz_cloud): every
+    // line must be one of the PCD keys, each once.
+    if (!kKeys.count(key))
+      throw InputError(path + ": header line " + std::to_string(lines + 1) + " is not a PCD key (VERSION, FIELDS, SIZE, "
+                       "TYPE, COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA); the file is not a PCD or is damaged");
+    if (!seen.insert(key).second) throw InputError(path + ": PCD header has " + key + " twice");
+    if (key == "VERSION") version = w.empty() ? "?" : w[0];
     if (key == "FIELDS") fields = w;
     if (key == "SIZE") sizes = w;
     if (key == "TYPE") types = w;
@@ -125,9 +135,13 @@ void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t fil
     if (key == "POINTS") points = headerCount(path, "POINTS", w[0]);
     if (key == "DATA") data = w.empty() ? "?" : w[0];
   }
+  // PCL's reader dereferences a missing VERSION (found by tests/fuzz/fuzz_cloud).
+  if (version != "0.7" && version != ".7" && version != "0.6" && version != ".6")
+    throw InputError(path + ": PCD header needs VERSION 0.7 (or 0.6) before FIELDS, got '" + version.substr(0, 20) + "'");
   const std::set<std::string> names(fields.begin(), fields.end());
   if (!names.count("x") || !names.count("y") || !names.count("z") || !points || data.empty())
     throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
+  if (!width || !height) throw InputError(path + ": PCD header needs WIDTH and HEIGHT");
   if (sizes.size() != fields.size() || types.size() != fields.size() || (!counts.empty() && counts.size() != fields.size()))
     throw InputError(path + ": SIZE, TYPE and COUNT must give one value per field of FIELDS");
   std::uint64_t step = 0;

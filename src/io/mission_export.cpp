@@ -274,10 +274,14 @@ std::vector<Flight> sortiesFromMissionJson(const json& mission, const std::strin
   }
   // Stops of each surface by id, for their orientation.
   std::map<long, const json*> stops_of;
-  for (const auto& s : field(mission, "surfaces", path, "")) {
+  const json& surfaces = field(mission, "surfaces", path, "");
+  if (!surfaces.is_array()) throw InputError(path + ": surfaces must be a list");
+  for (const auto& s : surfaces) {
     const json& id = field(s, "surface_id", path, "surfaces[]");
     if (!id.is_number_integer()) throw InputError(path + ": surfaces[].surface_id must be an integer");
-    stops_of[id.get<long>()] = &field(s, "stops", path, "surfaces[]");
+    const json& stops = field(s, "stops", path, "surfaces[]");
+    if (!stops.is_array()) throw InputError(path + ": surfaces[].stops must be a list");
+    stops_of[id.get<long>()] = &stops;
   }
   const json& sorties = field(flight, "sorties", path, "flight");
   if (!sorties.is_array() || sorties.empty()) throw InputError(path + ": flight.sorties must be a non-empty list");

@@ -4,6 +4,8 @@
 #include "uavip/core/geometry.h"
 #include "uavip/io/atomic_file.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 
 namespace uavip::io {
