@@ -120,8 +120,8 @@ void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t fil
     // PCL's reader crashes on some malformed headers (tests/fuzz/fuzz_cloud): every
     // line must be one of the PCD keys, each once.
     if (!kKeys.count(key))
-      throw InputError(path + ": header line " + std::to_string(lines + 1) + " is not a PCD key (VERSION, FIELDS, SIZE, "
-                       "TYPE, COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA); the file is not a PCD or is damaged");
+      throw InputError(path + ": not a PCD file, or a damaged one: header line " + std::to_string(lines + 1) +
+                       " is not a PCD key (VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA)");
     if (!seen.insert(key).second) throw InputError(path + ": PCD header has " + key + " twice");
     if (key == "VERSION") version = w.empty() ? "?" : w[0];
     if (key == "FIELDS") fields = w;

@@ -96,7 +96,20 @@ TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
   expectError(file("c.laz", "x"), "laszip");
   expectError(file("bad.pcd", "garbage"), "not a PCD file");
   expectError(file("nofields.pcd", "VERSION 0.7\nFIELDS a b c\nPOINTS 1\nDATA ascii\n1 2 3\n"), "x y z");
+  // Headers PCL's reader crashes on (found by tests/fuzz/fuzz_cloud) are refused first.
+  const std::string body = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+  expectError(file("noversion.pcd", body + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"), "VERSION");
+  expectError(file("nowidth.pcd", "VERSION 0.7\n" + body + "HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"), "WIDTH");
+  expectError(file("key.pcd", "VERSION 0.7\n" + body + "WIDT\xfe\xff HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+              "header line 6");
+  expectError(file("twice.pcd", "VERSION 0.7\n" + body + "WIDTH 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+              "WIDTH twice");
+  expectError(file("claims.pcd", "VERSION 0.7\n" + body + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" +
+                                     std::string(12, '\0')), "claims 100 points");
   expectError(file("bad.ply", "garbage"), "not a PLY file");
+  expectError(file("claims.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\n"
+                                 "property float y\nproperty float z\nend_header\n" + std::string(12, '\0')),
+              "claims 9 points");
   expectError(file("novertex.ply", "ply\nformat ascii 1.0\nend_header\n"), "no vertex");
 }
 
