@@ -33,6 +33,9 @@ void requireRange(bool ok, const std::string& where, const std::string& field,
   }
 }
 
+/// Most points one sampling may draw (about 1.2 GB as doubles).
+constexpr double kMaxSamples = 50e6;
+
 }  // namespace
 
 void SampleOptions::validate(const std::string& where) const {
@@ -53,6 +56,19 @@ PointList sampleSurfaces(const WorldModel& world, const SampleOptions& options) 
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const double sigma = options.noise_sigma_m;
   const double spacing = options.spacing_m;
+
+  // The count is known before any point is drawn: a tiny spacing on a large world
+  // is refused instead of filling the memory.
+  double expected = 0.0;
+  for (const Rect& r : world.rects())
+    expected += (r.edge_u.norm() / spacing + 1.0) * (r.edge_v.norm() / spacing + 1.0);
+  for (const auto& seg : world.segments()) expected += (seg.b - seg.a).norm() / spacing + 1.0;
+  if (!(expected <= kMaxSamples)) {
+    std::ostringstream os;
+    os << "spacing_m " << spacing << " m would sample about " << expected << " points, more than "
+       << kMaxSamples << "; raise sensing.spacing_m";
+    throw InputError(os.str());
+  }
 
   PointList out;
   // Draw order: rectangles (in insertion order, s outer, t inner, one normal draw each),

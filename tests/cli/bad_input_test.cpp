@@ -108,6 +108,8 @@ class BadInput : public ::testing::Test {
     // Scenarios.
     write("no_world.yaml", "name: x\n");
     write("bad_mode.yaml", "name: x\nworld:\n  - {type: point, name: p, at: [0, 0, 2]}\nsensing: {mode: teleport}\n");
+    write("fine.yaml", "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [40, 0, 0], edge_v: [0, 0, 20]}\n"
+                       "sensing: {mode: sample, spacing_m: 0.0001}\n");
     write("bad_prim.yaml", "name: x\nworld:\n  - {type: sphere, name: s, at: [0, 0, 2]}\n");
     write("world_map.yaml", "name: x\nworld: {spheres: [{c: [0,0,0]}]}\n");
     // Scene and mission JSON.
@@ -196,6 +198,7 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"scenario without world", "run $D/no_world.yaml -o $D/prev", 2, "world"},
       {"unknown sensing mode", "run $D/bad_mode.yaml -o $D/prev", 2, "teleport"},
       {"unknown primitive", "run $D/bad_prim.yaml -o $D/prev", 2, "sphere"},
+      {"0.1 mm sampling of a 40 x 20 m wall", "run $D/fine.yaml -o $D/prev", 2, "spacing_m"},
       {"world not a list", "run $D/world_map.yaml -o $D/prev", 2, "world"},
       {"scenario YAML syntax", "run $D/syntax.yaml -o $D/prev", 2, "syntax.yaml"},
       {"unknown planner flag", "run " + S + "single_plane.yaml --planner warp -o $D/prev", 2, "warp"},
