@@ -104,7 +104,18 @@ std::vector<std::string> words(const std::string& line) {
 /// PCD header (PCL's PCD v0.7): FIELDS with x y z; SIZE 1, 2, 4 or 8 and TYPE F
 /// (4 or 8), I or U per field; WIDTH × HEIGHT = POINTS; DATA ascii, binary or
 /// binary_compressed; and no more points than the data can hold.
-void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
+/// What a checked PCD header says.
+struct PcdHeader {
+  std::vector<std::string> fields;
+  std::vector<std::uint64_t> sizes, counts;
+  std::vector<char> types;
+  std::uint64_t width{0}, height{0}, points{0}, step{0};
+  std::string data;
+  std::uint64_t body{0};       ///< byte offset of the data
+  std::uint64_t available{0};  ///< bytes from there to the end of the file
+};
+
+PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
   std::vector<std::string> fields, sizes, types, counts;
   std::optional<std::uint64_t> width, height, points;
   std::string data, version;
@@ -144,6 +155,7 @@ void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t fil
   if (!width || !height) throw InputError(path + ": PCD header needs WIDTH and HEIGHT");
   if (sizes.size() != fields.size() || types.size() != fields.size() || (!counts.empty() && counts.size() != fields.size()))
     throw InputError(path + ": SIZE, TYPE and COUNT must give one value per field of FIELDS");
+  PcdHeader header;
   std::uint64_t step = 0;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const std::string& size = sizes[i];
@@ -157,6 +169,9 @@ void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t fil
     const std::uint64_t count = counts.empty() ? 1 : headerCount(path, "COUNT", counts[i]);
     if (count == 0 || count > 1'000'000) throw InputError(path + ": COUNT of field " + fields[i] + " must be 1..1000000");
     step += count * std::stoull(size);
+    header.sizes.push_back(std::stoull(size));
+    header.counts.push_back(count);
+    header.types.push_back(type[0]);
   }
   const std::uint64_t w = width.value_or(*points), h = height.value_or(1);
   if (h != 0 && w > UINT64_MAX / h) throw InputError(path + ": WIDTH x HEIGHT overflows");
@@ -175,6 +190,128 @@ void checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t fil
   } else {
     throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + data + "'");
   }
+  header.fields = fields;
+  header.width = w;
+  header.height = h;
+  header.points = *points;
+  header.step = step;
+  header.data = data;
+  header.body = static_cast<std::uint64_t>(at);
+  header.available = available;
+  return header;
+}
+
+/// LZF decompression (liblzf's format, used by PCD binary_compressed), bounds-checked:
+/// false when the stream is damaged or does not fill `out` exactly.
+bool lzfDecompress(const std::uint8_t* in, std::size_t in_size, std::vector<std::uint8_t>& out) {
+  std::size_t ip = 0, op = 0;
+  while (ip < in_size) {
+    const unsigned ctrl = in[ip++];
+    if (ctrl < 32) {  // a literal run of ctrl + 1 bytes
+      const std::size_t len = ctrl + 1;
+      if (ip + len > in_size || op + len > out.size()) return false;
+      std::memcpy(out.data() + op, in + ip, len);
+      ip += len;
+      op += len;
+    } else {  // a back reference
+      std::size_t len = ctrl >> 5;
+      std::size_t back = (static_cast<std::size_t>(ctrl & 0x1f) << 8) + 1;
+      if (len == 7) {
+        if (ip >= in_size) return false;
+        len += in[ip++];
+      }
+      if (ip >= in_size) return false;
+      back += in[ip++];
+      len += 2;
+      if (back > op || op + len > out.size()) return false;
+      for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
+    }
+  }
+  return op == out.size();
+}
+
+/// PCL's datatype code of a PCD field (0 when PCL has none, e.g. 8-byte integers).
+std::uint8_t pclType(char type, std::uint64_t size) {
+  if (type == 'F') return size == 4 ? pcl::PCLPointField::FLOAT32 : pcl::PCLPointField::FLOAT64;
+  if (size == 1) return type == 'I' ? pcl::PCLPointField::INT8 : pcl::PCLPointField::UINT8;
+  if (size == 2) return type == 'I' ? pcl::PCLPointField::INT16 : pcl::PCLPointField::UINT16;
+  if (size == 4) return type == 'I' ? pcl::PCLPointField::INT32 : pcl::PCLPointField::UINT32;
+  return 0;
+}
+
+/// The data of a checked PCD file as a PCLPointCloud2 (records of the fields in
+/// order). uavip reads PCD itself: PCL's PCDReader crashes on damaged files that
+/// pass every header check (tests/fuzz/fuzz_cloud), ours refuses them by name.
+/// ascii values are stored as FLOAT64.
+pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
+  pcl::PCLPointCloud2 blob;
+  blob.width = static_cast<std::uint32_t>(h.width);
+  blob.height = static_cast<std::uint32_t>(h.height);
+  if (h.width > UINT32_MAX || h.height > UINT32_MAX) throw InputError(path + ": WIDTH or HEIGHT above 2^32");
+  const bool ascii = h.data == "ascii";
+  std::uint64_t offset = 0;
+  for (std::size_t f = 0; f < h.fields.size(); ++f) {
+    pcl::PCLPointField field;
+    field.name = h.fields[f];
+    field.offset = static_cast<std::uint32_t>(offset);
+    field.datatype = ascii ? static_cast<std::uint8_t>(pcl::PCLPointField::FLOAT64) : pclType(h.types[f], h.sizes[f]);
+    field.count = static_cast<std::uint32_t>(h.counts[f]);
+    blob.fields.push_back(field);
+    offset += (ascii ? 8 : h.sizes[f]) * h.counts[f];
+  }
+  blob.point_step = static_cast<std::uint32_t>(offset);
+  blob.row_step = static_cast<std::uint32_t>(offset * h.width);
+  blob.data.resize(static_cast<std::size_t>(offset * h.points));
+
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(h.body));
+  if (ascii) {
+    // A 4-byte float field is parsed as a float (as PCL does), anything else as double.
+    std::vector<bool> single;
+    for (std::size_t f = 0; f < h.fields.size(); ++f)
+      single.insert(single.end(), h.counts[f], h.types[f] == 'F' && h.sizes[f] == 4);
+    const std::uint64_t values = single.size();
+    auto* out = reinterpret_cast<double*>(blob.data.data());
+    std::string token;
+    for (std::uint64_t k = 0; k < values * h.points; ++k) {
+      if (!(in >> token))
+        throw InputError(path + ": point " + std::to_string(k / values) + " has fewer values than FIELDS/COUNT say (" +
+                         std::to_string(values) + " per point); the file is truncated");
+      char* end = nullptr;
+      const double v = single[k % values] ? static_cast<double>(std::strtof(token.c_str(), &end))
+                                          : std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        throw InputError(path + ": point " + std::to_string(k / values) + ": '" + token.substr(0, 20) + "' is not a number");
+      out[k] = v;
+    }
+    return blob;
+  }
+  if (h.data == "binary") {
+    in.read(reinterpret_cast<char*>(blob.data.data()), static_cast<std::streamsize>(blob.data.size()));
+    if (static_cast<std::size_t>(in.gcount()) != blob.data.size()) throw InputError(path + ": the binary data is truncated");
+    return blob;
+  }
+  // binary_compressed: uint32 compressed size, uint32 size, LZF stream of the
+  // fields one after the other (all x, then all y, …).
+  std::uint32_t sizes[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(sizes), sizeof sizes);
+  if (!in || sizes[0] > h.available - std::min<std::uint64_t>(h.available, 8) || sizes[1] != blob.data.size())
+    throw InputError(path + ": the compressed data's sizes do not match the header (" + std::to_string(h.points) +
+                     " points); the file is damaged");
+  std::vector<std::uint8_t> packed(sizes[0]);
+  in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(packed.size()));
+  std::vector<std::uint8_t> columns(sizes[1]);
+  if (static_cast<std::size_t>(in.gcount()) != packed.size() || !lzfDecompress(packed.data(), packed.size(), columns))
+    throw InputError(path + ": the compressed data is damaged (LZF)");
+  std::uint64_t column = 0;
+  for (std::size_t f = 0; f < h.fields.size(); ++f) {
+    const std::uint64_t bytes = h.sizes[f] * h.counts[f];
+    for (std::uint64_t i = 0; i < h.points; ++i) {
+      std::memcpy(blob.data.data() + i * h.step + blob.fields[f].offset, columns.data() + column + i * bytes, bytes);
+    }
+    column += bytes * h.points;
+  }
+  return blob;
 }
 
 /// Bytes of a PLY scalar type, 0 if unknown.
@@ -235,17 +372,19 @@ void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t fil
   }
 }
 
-void checkHeader(const std::string& path, const std::string& ext) {
+/// Reads a PCD (uavip's own reader, see readPcdBody) or PLY (PCL's reader after the
+/// header checks) file into a PCLPointCloud2.
+pcl::PCLPointCloud2 readBlob(const std::string& path, const std::string& ext) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read (permission?)");
   std::error_code ec;
   const std::uint64_t size = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
-  if (ext == ".pcd") {
-    checkPcdHeader(path, in, size);
-  } else {
-    checkPlyHeader(path, in, size);
-  }
+  if (ext == ".pcd") return readPcdBody(path, checkPcdHeader(path, in, size));
+  checkPlyHeader(path, in, size);
+  pcl::PCLPointCloud2 cloud;
+  if (pcl::io::loadPLYFile(path, cloud) < 0) throw InputError(path + ": cannot parse as ply (corrupt or not x/y/z?)");
+  return cloud;
 }
 
 /// One coordinate of a PCLPointCloud2 field, whatever its stored type. PCL's own
@@ -349,11 +488,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   } else if (ext == ".xyz" || ext == ".txt") {
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
-    checkHeader(path, ext);
-    pcl::PCLPointCloud2 cloud;
-    const int rc = ext == ".pcd" ? pcl::io::loadPCDFile(path, cloud) : pcl::io::loadPLYFile(path, cloud);
-    if (rc < 0) throw InputError(path + ": cannot parse as " + ext.substr(1) + " (corrupt or not x/y/z?)");
-    points = fromBlob(cloud, path);
+    points = fromBlob(readBlob(path, ext), path);
   } else {
     throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt or .las)");
   }

@@ -3,9 +3,18 @@
 #include "uavip/core/error.h"
 
 #include <gtest/gtest.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+#include <unistd.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
 
 namespace uavip::io {
 namespace {
@@ -116,6 +125,58 @@ TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
 TEST(CloudIoReal, RoomScanLoads) {
   const PointList p = loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
   EXPECT_GT(p.size(), 100000u);
+}
+
+
+// uavip reads PCD itself (PCL's reader crashes on some damaged files): every layout
+// PCL writes must read back point for point as PCL reads it.
+TEST(CloudIoPcd, OwnReaderMatchesPclOnEveryDataLayout) {
+  pcl::PointCloud<pcl::PointXYZRGB> cloud;  // x y z and a packed rgb field after them
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-50.0f, 50.0f);
+  for (int i = 0; i < 5000; ++i) {
+    pcl::PointXYZRGB p;
+    p.x = u(rng);
+    p.y = u(rng);
+    p.z = std::round(u(rng));  // runs of equal bytes: LZF back references
+    p.r = static_cast<std::uint8_t>(i);
+    cloud.push_back(p);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / ("uavip_pcd_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string ascii = (dir / "a.pcd").string(), binary = (dir / "b.pcd").string(),
+                    compressed = (dir / "c.pcd").string();
+  pcl::io::savePCDFileASCII(ascii, cloud);
+  pcl::io::savePCDFileBinary(binary, cloud);
+  pcl::io::savePCDFileBinaryCompressed(compressed, cloud);
+  std::vector<std::string> files = {ascii, binary, compressed,
+                                    std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd",
+                                    std::string(UAVIP_SOURCE_DIR) + "/tests/data/fcplanner_MBS.pcd"};
+  for (const auto& f : files) {
+    pcl::PointCloud<pcl::PointXYZ> reference;
+    ASSERT_EQ(pcl::io::loadPCDFile(f, reference), 0) << f;
+    const PointList ours = loadCloud(f);
+    ASSERT_EQ(ours.size(), reference.size()) << f;
+    for (std::size_t i = 0; i < ours.size(); ++i) {
+      ASSERT_EQ(ours[i], reference[i].getVector3fMap().cast<double>()) << f << " point " << i;
+    }
+  }
+  // A damaged LZF stream or size is refused by name, not a crash.
+  std::string bytes;
+  {
+    std::ifstream in(compressed, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t data = bytes.find("DATA binary_compressed\n") + 23;
+  std::string damaged = bytes;
+  damaged[data + 8] = static_cast<char>(0xff);  // the first control byte: a back reference before the start
+  std::ofstream(dir / "d.pcd", std::ios::binary) << damaged;
+  EXPECT_THROW(loadCloud((dir / "d.pcd").string()), InputError);
+  damaged = bytes;
+  damaged[data + 4] = static_cast<char>(damaged[data + 4] + 1);  // uncompressed size off by one
+  std::ofstream(dir / "e.pcd", std::ios::binary) << damaged;
+  EXPECT_THROW(loadCloud((dir / "e.pcd").string()), InputError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
