@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdint>
 
 namespace uavip::io {
 namespace {
@@ -119,14 +120,19 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     const json& js = surfaces[i];
     Surface s;
     const json& id = r.at(js, "id", f);
-    if (!id.is_number_integer()) r.fail(f + ".id", "must be an integer");
+    if (!id.is_number_integer() || id.get<std::int64_t>() < 0 || id.get<std::int64_t>() > 1'000'000)
+      r.fail(f + ".id", "must be a whole number in [0, 1000000]");
     s.id = id.get<int>();
+    for (const auto& earlier : scene.surfaces) {
+      if (earlier.id == s.id) r.fail(f + ".id", std::to_string(s.id) + " is used by an earlier surface; ids must differ");
+    }
     s.plane.normal = r.vec3(r.at(js, "normal", f), f + ".normal");
     if (std::abs(s.plane.normal.norm() - 1.0) > 1e-3) r.fail(f + ".normal", "must be a unit vector");
     s.plane.normal.normalize();
     s.plane.offset = r.number(r.at(js, "offset", f), f + ".offset");
     s.area_m2 = r.number(r.at(js, "area_m2", f), f + ".area_m2");
     s.density_area_m2 = js.contains("density_area_m2") ? r.number(js["density_area_m2"], f) : s.area_m2;
+    if (!(s.area_m2 >= 0.0) || !(s.density_area_m2 >= 0.0)) r.fail(f + ".area_m2", "must be >= 0 m2");
     s.centroid = r.vec3(r.at(js, "centroid", f), f + ".centroid");
     s.axis_u = r.vec3(r.at(js, "axis_u", f), f + ".axis_u");
     s.axis_u = (s.axis_u - s.axis_u.dot(s.plane.normal) * s.plane.normal).normalized();

@@ -6,6 +6,7 @@
 #include "tests/cli/cli_runner.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -41,6 +42,20 @@ class BadInput : public ::testing::Test {
     for (const char* f : {"scene.json", "mission.json", "cloud_clean.pcd", "overview.png", "path.obj"})
       before_.push_back(slurp(dir_ / "prev" / f));
     writeFixtures();
+    // Scenes that are valid JSON but wrong: an id beyond int, an id used twice, a negative area.
+    const std::string scene = slurp(dir_ / "prev/scene.json");
+    if (!scene.empty()) {
+      auto j = nlohmann::json::parse(scene);
+      auto big = j;
+      big["surfaces"][0]["id"] = 4294967296LL;
+      write("scene_bigid.json", big.dump());
+      auto twice = j;
+      twice["surfaces"].push_back(j["surfaces"][0]);
+      write("scene_twice.json", twice.dump());
+      auto negative = j;
+      negative["surfaces"][0]["area_m2"] = -3.0;
+      write("scene_negative.json", negative.dump());
+    }
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
@@ -205,6 +220,9 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"surface that does not exist", "run " + S + "single_plane.yaml --surface 7 -o $D/prev", 2, "no surface with id 7"},
       // Scene selection.
       {"scene not JSON", "plan $D/not.json --surface 0 -o $D/prev", 2, "not.json"},
+      {"scene id beyond int", "plan $D/scene_bigid.json --surface all -o $D/prev", 2, "surfaces[0].id"},
+      {"scene id used twice", "plan $D/scene_twice.json --surface all -o $D/prev", 2, "ids must differ"},
+      {"scene negative area", "plan $D/scene_negative.json --surface all -o $D/prev", 2, "area_m2"},
       {"scene without surfaces", "plan $D/scene_nosurf.json --surface 0 -o $D/prev", 2, "scene_nosurf.json"},
       {"missing scene", "plan $D/nope.json --surface 0 -o $D/prev", 2, "nope.json"},
       {"surface id 99", "plan " + scene + " --surface 99 -o $D/prev", 2, "no surface with id 99"},

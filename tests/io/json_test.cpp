@@ -62,6 +62,27 @@ TEST(SceneJson, BadFieldsAreNamed) {
                                                      {"obstacles", nlohmann::json::array()}}),
                              "s.json"),
                InputError);  // no points at all
+  // Ids out of range or used twice, and negative areas, are named.
+  auto expectField = [](const nlohmann::json& scene, const std::string& fragment) {
+    try {
+      sceneFromJson(scene, "s.json");
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  j = sceneToJson(smallScene());
+  j["surfaces"][0]["id"] = 4294967296LL;
+  expectField(j, "surfaces[0].id");
+  j = sceneToJson(smallScene());
+  j["surfaces"][0]["id"] = -1;
+  expectField(j, "surfaces[0].id");
+  j = sceneToJson(smallScene());
+  j["surfaces"][0]["area_m2"] = -5.0;
+  expectField(j, "surfaces[0].area_m2");
+  j = sceneToJson(smallScene());
+  j["surfaces"].push_back(j["surfaces"][0]);
+  expectField(j, "surfaces[" + std::to_string(j["surfaces"].size() - 1) + "].id");
 }
 
 TEST(MissionJson, CarriesTheContractFields) {
