@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/stopwatch.h"
+#include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
 #include "uavip/planning/tour.h"
 
@@ -52,19 +53,6 @@ namespace {
 
 /// Cost of a leg no planner could find [m]: keeps the solver away from it.
 constexpr double kNoLegM = 1e9;
-
-std::string formatPoint(const Vec3& p) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(2) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return os.str();
-}
-
-/// Appends `points` without its first point (the joint, already in `path`).
-void appendTail(PointList& path, const PointList& points) {
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    if (path.empty() || points[i] != path.back()) path.push_back(points[i]);
-  }
-}
 
 /// Connecting legs between two points: the straight segment when it is free on the
 /// grid, else the planner's (simplified) path. Each pair is planned at most once.
@@ -200,12 +188,12 @@ TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfa
   for (std::size_t i = 0; i < order.size(); ++i) {
     const SurfacePath s = variant[i] == 0 ? surfaces[static_cast<std::size_t>(order[i])]
                                           : reversed(surfaces[static_cast<std::size_t>(order[i])]);
-    appendTail(t.waypoints, *legs.path(t.waypoints.back(), s.waypoints.front()));
+    appendLeg(t.waypoints, *legs.path(t.waypoints.back(), s.waypoints.front()));
     const std::size_t base = t.waypoints.size() - 1;  // s.waypoints.front() sits here
     for (std::size_t k = 0; k < s.stops.size(); ++k) t.stops.push_back({s.surface_id, s.stops[k], base + s.at[k]});
     t.waypoints.insert(t.waypoints.end(), s.waypoints.begin() + 1, s.waypoints.end());
   }
-  appendTail(t.waypoints, *legs.path(t.waypoints.back(), plan.home));
+  appendLeg(t.waypoints, *legs.path(t.waypoints.back(), plan.home));
   return t;
 }
 
@@ -312,7 +300,7 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
     }
     Sortie s;
     s.waypoints.push_back(plan.home);
-    appendTail(s.waypoints, *legs.path(plan.home, entry));
+    appendLeg(s.waypoints, *legs.path(plan.home, entry));
     const std::size_t shift = s.waypoints.size() - 1 - tour.stops[first].waypoint;
     s.waypoints.insert(s.waypoints.end(),
                        tour.waypoints.begin() + static_cast<std::ptrdiff_t>(tour.stops[first].waypoint + 1),
@@ -322,7 +310,7 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
       fs.waypoint += shift;
       s.stops.push_back(fs);
     }
-    appendTail(s.waypoints, *legs.path(exit, plan.home));
+    appendLeg(s.waypoints, *legs.path(exit, plan.home));
     s.length_m = polylineLength(s.waypoints);
     s.duration_s = model.pathSeconds(s.waypoints) + static_cast<double>(s.stops.size()) * model.stopSeconds();
     sorties.push_back(std::move(s));

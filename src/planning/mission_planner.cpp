@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
 
 #include <chrono>
@@ -45,20 +46,6 @@ const char* toString(StopProblem problem) {
 }
 
 namespace {
-
-std::string formatPoint(const Vec3& p) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(2) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return os.str();
-}
-
-/// Appends `points` without its first point (the joint, already in `path`) and
-/// without repeating the last point of `path` (zero-length legs).
-void appendLeg(PointList& path, const PointList& points) {
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    if (path.empty() || points[i] != path.back()) path.push_back(points[i]);
-  }
-}
 
 std::string legName(const Leg& leg) {
   std::ostringstream os;

@@ -65,8 +65,8 @@ DetectResult detect(const PointList& raw, const io::Config& config, const prepro
 /// The config resolved for a scene read back from scene.json: with the cloud
 /// numbers it was detected with (scene.measured), else measured on its points.
 ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config);
-/// Parses a surface selection: "all" or an id; throws InputError naming the valid
-/// ids when the id does not exist.
+/// Parses a surface selection: "all", an id, or a list of ids "0,3,5"; throws
+/// InputError naming the valid ids when an id does not exist or is listed twice.
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);
 
 /// Runs stages 6–7 for the given surface ids (each must exist).
