@@ -4,6 +4,7 @@
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/render/plot.h"
@@ -48,26 +49,12 @@ std::string localTime() {
   return os.str();
 }
 
-/// Number as text for the log/CSV: full precision, empty for nan/inf (NULL in SQLite).
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
+/// A report cell: the number with 10 significant digits, blank when missing (nan/inf:
+/// NULL in SQLite).
+std::string cell(double v) { return std::isfinite(v) ? formatNumber(v, 10) : ""; }
 
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
-
-std::string point(const Vec3& p) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(2) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return os.str();
-}
+/// A table entry with `decimals` decimals, "-" when missing (nan/inf).
+std::string shown(double v, int decimals) { return std::isfinite(v) ? formatFixed(v, decimals) : "-"; }
 
 /// Legs of one scenario with feasibility on the grid.
 bool feasibleOnGrid(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b) {
@@ -375,16 +362,16 @@ std::string benchLog(const BenchResult& result, const std::string& experiment_na
   out << "uavip bench: every planner through the ompl::base::Planner interface on R^3 over the inflated grid\n";
   for (std::size_t s = 0; s < result.scenarios.size(); ++s) out << "scenario " << s << ": " << result.scenarios[s] << "\n";
   for (const auto& leg : result.legs) {
-    out << "leg " << leg.id << " (scenario " << leg.scenario << "): " << point(leg.start) << " -> " << point(leg.goal)
+    out << "leg " << leg.id << " (scenario " << leg.scenario << "): " << formatPoint(leg.start) << " -> " << formatPoint(leg.goal)
         << (leg.feasible ? "" : " [infeasible on the grid]") << "\n";
   }
   out << "|>>>\n";
   out << "<<<|\n|>>>\n";  // CPU info: not collected
   out << result.options.seed << " is the random seed\n";
-  out << num(result.options.time_limit_s) << " seconds per run\n";
+  out << cell(result.options.time_limit_s) << " seconds per run\n";
   out << "0 MB per run\n";
   out << static_cast<std::size_t>(result.options.runs) * result.legs.size() << " runs per planner\n";
-  out << num(result.total_s) << " seconds spent to collect the data\n";
+  out << cell(result.total_s) << " seconds spent to collect the data\n";
   out << "1 enum type\n";
   out << "status";
   for (const auto& s : planners::plannerStatusNames()) out << "|" << s;
@@ -408,16 +395,16 @@ std::string benchLog(const BenchResult& result, const std::string& experiment_na
     out << "3 common properties\n";
     out << "registry name = " << name << "\n";
     out << "simplify = " << (result.options.simplify ? 1 : 0) << "\n";
-    out << "time limit = " << num(result.options.time_limit_s) << "\n";
+    out << "time limit = " << cell(result.options.time_limit_s) << "\n";
     out << std::size(kProperties) << " properties for each run\n";
     for (const char* p : kProperties) out << p << "\n";
     out << runs.size() << " runs\n";
     for (const BenchRun* r : runs) {
       const bool ok = r->solved;
       out << (r->approximate ? 1 : 0) << "; " << r->graph_motions << "; " << r->graph_states << "; " << r->leg << "; "
-          << (ok ? num(r->min_clearance_m) : "") << "; " << r->raw_waypoints << "; " << r->scenario << "; "
-          << num(r->simplify_time_s) << "; " << (ok ? num(r->length_m) : "") << "; "
-          << (ok ? num(r->raw_length_m) : "") << "; " << (ok ? 1 : 0) << "; " << r->status << "; " << num(r->time_s)
+          << (ok ? cell(r->min_clearance_m) : "") << "; " << r->raw_waypoints << "; " << r->scenario << "; "
+          << cell(r->simplify_time_s) << "; " << (ok ? cell(r->length_m) : "") << "; "
+          << (ok ? cell(r->raw_length_m) : "") << "; " << (ok ? 1 : 0) << "; " << r->status << "; " << cell(r->time_s)
           << "; " << (r->valid ? 1 : 0) << "; " << r->waypoints << "; \n";
     }
     out << ".\n";
@@ -430,10 +417,10 @@ std::string benchCsv(const BenchResult& result) {
   out << "scenario,planner,runs,solved,success_pct,median_time_s,median_length_m,length_ratio_to_best,"
          "time_ratio_to_astar,length_ratio_to_astar,min_clearance_m,median_waypoints,invalid\n";
   for (const auto& s : result.summary) {
-    out << s.scenario << "," << s.planner << "," << s.runs << "," << s.solved << "," << num(s.success_pct) << ","
-        << num(s.median_time_s) << "," << num(s.median_length_m) << "," << num(s.length_ratio_to_best) << ","
-        << num(s.time_ratio_to_astar) << "," << num(s.length_ratio_to_astar) << "," << num(s.min_clearance_m) << ","
-        << num(s.median_waypoints) << "," << s.invalid << "\n";
+    out << s.scenario << "," << s.planner << "," << s.runs << "," << s.solved << "," << cell(s.success_pct) << ","
+        << cell(s.median_time_s) << "," << cell(s.median_length_m) << "," << cell(s.length_ratio_to_best) << ","
+        << cell(s.time_ratio_to_astar) << "," << cell(s.length_ratio_to_astar) << "," << cell(s.min_clearance_m) << ","
+        << cell(s.median_waypoints) << "," << s.invalid << "\n";
   }
   return out.str();
 }
@@ -443,8 +430,8 @@ std::string benchMarkdown(const BenchResult& result) {
   out << "# uavip bench\n\n";
   out << result.scenarios.size() << " scenario(s), " << result.legs.size() << " legs, " << result.planners.size()
       << " planners, " << result.options.runs << " runs per planner and leg, time limit "
-      << fixed(result.options.time_limit_s, 2) << " s, simplification " << (result.options.simplify ? "on" : "off")
-      << ", seed " << result.options.seed << "; total " << fixed(result.total_s, 1) << " s.\n\n";
+      << shown(result.options.time_limit_s, 2) << " s, simplification " << (result.options.simplify ? "on" : "off")
+      << ", seed " << result.options.seed << "; total " << shown(result.total_s, 1) << " s.\n\n";
   out << "Time = solve + simplification of solved runs. Length and clearance are those of the final path. "
          "Ratios to the best planner and to the A* are medians over legs of per-leg median lengths "
          "(legs both solved). The anytime OMPL planners (RRT*, Informed RRT*, BIT*, ABIT*, AIT*, PRM*, LazyPRM*) "
@@ -458,25 +445,25 @@ std::string benchMarkdown(const BenchResult& result) {
     out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : result.summary) {
       if (s.scenario != g) continue;
-      out << "| " << s.planner << " | " << fixed(s.success_pct, 0) << " | " << fixed(s.median_time_s, 4) << " | "
-          << fixed(s.median_length_m, 2) << " | " << fixed(s.length_ratio_to_best, 3) << " | "
-          << fixed(s.time_ratio_to_astar, s.time_ratio_to_astar < 0.1 ? 4 : 2) << " | " << fixed(s.length_ratio_to_astar, 3) << " | "
-          << fixed(s.min_clearance_m, 3) << " | " << fixed(s.median_waypoints, 0) << " | " << s.invalid << " |\n";
+      out << "| " << s.planner << " | " << shown(s.success_pct, 0) << " | " << shown(s.median_time_s, 4) << " | "
+          << shown(s.median_length_m, 2) << " | " << shown(s.length_ratio_to_best, 3) << " | "
+          << shown(s.time_ratio_to_astar, s.time_ratio_to_astar < 0.1 ? 4 : 2) << " | " << shown(s.length_ratio_to_astar, 3) << " | "
+          << shown(s.min_clearance_m, 3) << " | " << shown(s.median_waypoints, 0) << " | " << s.invalid << " |\n";
     }
     for (const auto& t : result.targets) {
       if (t.scenario != g) continue;
       out << "\nTarget (ours at least as short as the best OMPL planner's median path at one tenth of its time): "
           << (t.holds() ? "**holds**" : "**does not hold**") << ". Ours: " << t.ours << ", "
-          << fixed(t.ours_length_m, 2) << " m in " << fixed(t.ours_time_s, 4) << " s; best OMPL: " << t.best_ompl
-          << ", " << fixed(t.ompl_length_m, 2) << " m in " << fixed(t.ompl_time_s, 4) << " s (as short: "
+          << shown(t.ours_length_m, 2) << " m in " << shown(t.ours_time_s, 4) << " s; best OMPL: " << t.best_ompl
+          << ", " << shown(t.ompl_length_m, 2) << " m in " << shown(t.ompl_time_s, 4) << " s (as short: "
           << (t.as_short ? "yes" : "no") << ", a tenth of the time: " << (t.tenth_time ? "yes" : "no")
-          << "; leg by leg, ours / theirs = " << fixed(t.leg_length_ratio, 3) << ").\n";
+          << "; leg by leg, ours / theirs = " << shown(t.leg_length_ratio, 3) << ").\n";
     }
   }
   out << "\n## Legs\n\n| leg | scenario | start | goal | straight [m] | feasible on the grid |\n|---:|---|---|---|---:|---|\n";
   for (const auto& leg : result.legs) {
     out << "| " << leg.id << " | " << result.scenarios[static_cast<std::size_t>(leg.scenario)] << " | "
-        << point(leg.start) << " | " << point(leg.goal) << " | " << fixed(leg.straight_m, 2) << " | "
+        << formatPoint(leg.start) << " | " << formatPoint(leg.goal) << " | " << shown(leg.straight_m, 2) << " | "
         << (leg.feasible ? "yes" : "no") << " |\n";
   }
   return out.str();

@@ -4,6 +4,7 @@
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
@@ -30,12 +31,6 @@ namespace uavip::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 nlohmann::json metaFor(const io::Config& config, const std::string& source) {
   const auto& cam = config.coverage.camera;
@@ -85,9 +80,9 @@ void writeMission(const std::string& out, const app::PlanResult& plan, const nlo
 
 void printDetectSummary(const app::DetectResult& d) {
   const CloudStats& c = *d.scene.measured;  // set by app::detect
-  std::cout << "measured: " << c.points << " points, spacing " << fixed(c.spacing_m, 3) << " m, extent "
-            << fixed(c.extent_m.x(), 1) << " x " << fixed(c.extent_m.y(), 1) << " x " << fixed(c.extent_m.z(), 1)
-            << " m, noise " << fixed(c.noise_m, 3) << " m"
+  std::cout << "measured: " << c.points << " points, spacing " << formatFixed(c.spacing_m, 3) << " m, extent "
+            << formatFixed(c.extent_m.x(), 1) << " x " << formatFixed(c.extent_m.y(), 1) << " x " << formatFixed(c.extent_m.z(), 1)
+            << " m, noise " << formatFixed(c.noise_m, 3) << " m"
             << (c.scanned_from_origin ? ", one scan from the origin (the sensor orients the normals)" : "") << "\n";
   std::cout << "parameters:";
   for (const auto& r : d.resolved.values) {
@@ -99,8 +94,8 @@ void printDetectSummary(const app::DetectResult& d) {
             << " after outlier removal -> " << d.preprocess.output_points << " after voxel grid\n";
   std::cout << "surfaces: " << d.scene.surfaces.size() << ", obstacles: " << d.scene.obstacles.size() << "\n";
   for (const auto& s : d.scene.surfaces) {
-    std::cout << "  surface " << s.id << ": area " << fixed(s.area_m2, 2) << " m2, normal (" << fixed(s.plane.normal.x(), 2)
-              << ", " << fixed(s.plane.normal.y(), 2) << ", " << fixed(s.plane.normal.z(), 2) << "), "
+    std::cout << "  surface " << s.id << ": area " << formatFixed(s.area_m2, 2) << " m2, normal (" << formatFixed(s.plane.normal.x(), 2)
+              << ", " << formatFixed(s.plane.normal.y(), 2) << ", " << formatFixed(s.plane.normal.z(), 2) << "), "
               << s.inliers.size() << " points\n";
   }
   if (d.scene.surfaces.empty()) {
@@ -113,10 +108,10 @@ void printPlanSummary(const app::PlanResult& p) {
     std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
               << m.strategy.stops.size() << " stops";
     if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
-    if (m.coverage.evaluated) std::cout << ", coverage " << fixed(100.0 * m.coverage.fraction, 1) << " %";
+    if (m.coverage.evaluated) std::cout << ", coverage " << formatFixed(100.0 * m.coverage.fraction, 1) << " %";
     if (planning::flyable(m.status)) {
       std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
-                << fixed(m.path_length_m, 1) << " m, min clearance " << fixed(m.validation.min_clearance_m, 2) << " m";
+                << formatFixed(m.path_length_m, 1) << " m, min clearance " << formatFixed(m.validation.min_clearance_m, 2) << " m";
     }
     if (!m.reason.empty()) std::cout << " - " << m.reason;
     std::cout << "\n";
@@ -132,13 +127,13 @@ void printFlight(const planning::FlightPlan& f) {
   std::string order;
   for (const auto& v : f.order) order += (order.empty() ? "" : " ") + std::to_string(v.surface_id) + (v.reversed ? "r" : "");
   const double gap = f.lower_bound_m > 0.0 ? 100.0 * (f.tour_length_m / f.lower_bound_m - 1.0) : 0.0;
-  std::cout << "flight: " << fixed(f.length_m, 1) << " m, " << fixed(f.duration_s / 60.0, 1) << " min, "
+  std::cout << "flight: " << formatFixed(f.length_m, 1) << " m, " << formatFixed(f.duration_s / 60.0, 1) << " min, "
             << f.sorties.size() << " sortie" << (f.sorties.size() == 1 ? "" : "s") << " from home "
-            << "(" << fixed(f.home.x(), 1) << ", " << fixed(f.home.y(), 1) << ", " << fixed(f.home.z(), 1) << ", "
-            << f.home_source << "); order " << order << " (r = reversed); tour " << fixed(f.tour_length_m, 1)
-            << " m, " << fixed(gap, 1) << " % above the lower bound " << fixed(f.lower_bound_m, 1) << " m"
+            << "(" << formatFixed(f.home.x(), 1) << ", " << formatFixed(f.home.y(), 1) << ", " << formatFixed(f.home.z(), 1) << ", "
+            << f.home_source << "); order " << order << " (r = reversed); tour " << formatFixed(f.tour_length_m, 1)
+            << " m, " << formatFixed(gap, 1) << " % above the lower bound " << formatFixed(f.lower_bound_m, 1) << " m"
             << (f.exact_order ? " (optimal order)" : "");
-  if (f.naive_length_m > 0.0) std::cout << ", by id " << fixed(f.naive_length_m, 1) << " m";
+  if (f.naive_length_m > 0.0) std::cout << ", by id " << formatFixed(f.naive_length_m, 1) << " m";
   std::cout << "\n";
   for (const auto& e : f.excluded) std::cout << "  not flown: surface " << e.surface_id << " (" << e.reason << ")\n";
 }
@@ -155,7 +150,7 @@ void printTotals(const app::PlanResult& p) {
     length += m.path_length_m;
   }
   std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, " << stops
-            << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1) << " m over the surfaces\n";
+            << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1) << " m over the surfaces\n";
   printFlight(p.flight);
 }
 
@@ -198,8 +193,8 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     std::cout << "scenario " << scenario.name << " (" << path << ")\n";
     printDetectSummary(d);
     printPlanSummary(p);
-    std::cout << "time: " << fixed(total, 2) << " s (perception " << fixed(d.times.total_s, 2) << " s, grid "
-              << fixed(p.times.grid_s, 2) << " s, planning " << fixed(p.times.planning_s, 2) << " s)\n";
+    std::cout << "time: " << formatFixed(total, 2) << " s (perception " << formatFixed(d.times.total_s, 2) << " s, grid "
+              << formatFixed(p.times.grid_s, 2) << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
     std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
               << "views: " << out << "/overview.png, " << out << "/scene.ply, " << out << "/path.obj\n";

@@ -7,6 +7,7 @@
 #include "uavip/app/assemble.h"
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/raw_log_io.h"
@@ -24,12 +25,6 @@
 
 namespace uavip::cli {
 namespace {
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 int simulateCommand(const std::string& scenario_path, const std::string& out, const Verbosity& v) {
   const io::Scenario scenario = io::loadScenario(scenario_path);
@@ -50,14 +45,14 @@ int simulateCommand(const std::string& scenario_path, const std::string& out, co
     const auto& o = scenario.scan;
     std::cout << "scenario " << scenario.name << " (" << scenario_path << ")\n";
     std::cout << "stations: " << sim.log.stations.size() << ", " << o.scansPerStation()
-              << " scans per scanner each (" << fixed(o.turn_deg, 0) << " deg at " << fixed(o.yaw_rate_deg_s, 1)
+              << " scans per scanner each (" << formatFixed(o.turn_deg, 0) << " deg at " << formatFixed(o.yaw_rate_deg_s, 1)
               << " deg/s), " << o.scanner.beamCount() << " beams per scan\n";
     std::cout << "rays: " << sim.rays << ", returns: " << sim.returns << " ("
-              << fixed(sim.rays ? 100.0 * static_cast<double>(sim.returns) / static_cast<double>(sim.rays) : 0.0, 1)
+              << formatFixed(sim.rays ? 100.0 * static_cast<double>(sim.returns) / static_cast<double>(sim.rays) : 0.0, 1)
               << " %)\n";
-    std::cout << "log origin (station 0) in scenario coordinates: [" << fixed(sim.origin_m.x(), 3) << ", "
-              << fixed(sim.origin_m.y(), 3) << ", " << fixed(sim.origin_m.z(), 3) << "]\n";
-    std::cout << "time: simulation " << fixed(sim_s, 2) << " s, writing " << fixed(write_s, 2) << " s\n";
+    std::cout << "log origin (station 0) in scenario coordinates: [" << formatFixed(sim.origin_m.x(), 3) << ", "
+              << formatFixed(sim.origin_m.y(), 3) << ", " << formatFixed(sim.origin_m.z(), 3) << "]\n";
+    std::cout << "time: simulation " << formatFixed(sim_s, 2) << " s, writing " << formatFixed(write_s, 2) << " s\n";
     std::cout << "results: " << out << "/log.json (+ station CSV files), " << out << "/truth.json\n";
   }
   return kExitOk;
@@ -162,30 +157,30 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   io::writeFileAtomic(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
   if (!v.quiet) {
     std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()
-              << " merged (voxel " << fixed(options.registration.output_voxel_m, 3) << " m)\n";
+              << " merged (voxel " << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";
     for (const auto& s : r.stations) {
       std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
-                << (s.loop_closure_m >= 0.0 ? fixed(100.0 * s.loop_closure_m, 1) + " cm" : std::string("n/a (unobservable)"))
-                << ", drift " << fixed(100.0 * s.drift_max_m, 1)
+                << (s.loop_closure_m >= 0.0 ? formatFixed(100.0 * s.loop_closure_m, 1) + " cm" : std::string("n/a (unobservable)"))
+                << ", drift " << formatFixed(100.0 * s.drift_max_m, 1)
                 << " cm max, " << (s.registered ? "registered" : "NOT registered");
       if (s.pose_error_m) {
-        std::cout << "; truth: drift error " << fixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
-                  << " cm max, position error " << fixed(100.0 * *s.initial_pose_error_m, 1) << " cm recorded -> "
-                  << fixed(100.0 * *s.pose_error_m, 1) << " cm registered";
+        std::cout << "; truth: drift error " << formatFixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
+                  << " cm max, position error " << formatFixed(100.0 * *s.initial_pose_error_m, 1) << " cm recorded -> "
+                  << formatFixed(100.0 * *s.pose_error_m, 1) << " cm registered";
       }
       std::cout << "\n";
       if (!s.position_observed) {
-        std::cout << "  warning: station " << s.id << "'s position along (" << fixed(s.weakest_direction.x(), 2) << ", "
-                  << fixed(s.weakest_direction.y(), 2) << ", " << fixed(s.weakest_direction.z(), 2)
-                  << ") is not fixed by the scans (" << fixed(s.registration_information.x(), 1)
+        std::cout << "  warning: station " << s.id << "'s position along (" << formatFixed(s.weakest_direction.x(), 2) << ", "
+                  << formatFixed(s.weakest_direction.y(), 2) << ", " << formatFixed(s.weakest_direction.z(), 2)
+                  << ") is not fixed by the scans (" << formatFixed(s.registration_information.x(), 1)
                   << " effective pairs): it is the recorded (GPS) one; add a station that sees a surface facing it\n";
       }
     }
     if (r.rms_to_truth_m) {
-      std::cout << "merged cloud to the true surfaces: RMS " << fixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
-                << fixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
+      std::cout << "merged cloud to the true surfaces: RMS " << formatFixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
+                << formatFixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
     }
-    std::cout << "time: assembly " << fixed(r.assembly_s, 2) << " s, registration " << fixed(r.registration_s, 2)
+    std::cout << "time: assembly " << formatFixed(r.assembly_s, 2) << " s, registration " << formatFixed(r.registration_s, 2)
               << " s\n";
     std::cout << "results: " << out << ", " << report_path << "\n";
   }

@@ -3,6 +3,7 @@
 #include "uavip/io/las_reader.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 
 #include <pcl/io/pcd_io.h>
@@ -29,12 +30,6 @@ std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
-}
-
-std::string formatPoint(const Vec3& p) {
-  std::ostringstream os;
-  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return os.str();
 }
 
 PointList loadXyz(const std::string& path) {
@@ -64,7 +59,7 @@ PointList loadXyz(const std::string& path) {
       throw InputError(path + ":" + std::to_string(line_no) + ": not a number in '" + line + "'");
     }
     if (!p.allFinite()) {
-      throw InputError(path + ":" + std::to_string(line_no) + ": point " + formatPoint(p) +
+      throw InputError(path + ":" + std::to_string(line_no) + ": point " + formatRawPoint(p) +
                        " is not finite; remove the line");
     }
     out.push_back(p);
@@ -446,7 +441,7 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
                    fieldValue(at + fields[2]->offset, fields[2]->datatype));
       if (!p.allFinite()) {
         if (organized) continue;  // no return in a sensor frame
-        throw InputError(path + ": point " + std::to_string(r * width + c) + " " + formatPoint(p) +
+        throw InputError(path + ": point " + std::to_string(r * width + c) + " " + formatRawPoint(p) +
                          " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
       }
       out.push_back(p);

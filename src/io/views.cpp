@@ -1,6 +1,7 @@
 #include "uavip/io/views.h"
 
 #include "uavip/core/geometry.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 
 #include <algorithm>
@@ -23,12 +24,6 @@ using render::Vec2;
 /// Exact coordinates as a key (points are copies of cloud points).
 using Key = std::array<double, 3>;
 Key key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 struct PlyVertex {
   Vec3 p;
@@ -65,7 +60,7 @@ std::string facing(const Vec3& n) {
   for (int a = 0; a < 3; ++a) {
     if (std::abs(n[a]) > 0.95) return std::string("faces ") + kNames[static_cast<std::size_t>(2 * a + (n[a] < 0.0))];
   }
-  return "normal (" + fixed(n.x(), 2) + ", " + fixed(n.y(), 2) + ", " + fixed(n.z(), 2) + ")";
+  return "normal (" + formatFixed(n.x(), 2) + ", " + formatFixed(n.y(), 2) + ", " + formatFixed(n.z(), 2) + ")";
 }
 
 /// The four corners of a stop's photo on the surface plane.
@@ -199,10 +194,10 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   std::ostringstream sub;
   sub << scene.cloud.size() << " cloud points, " << scene.surfaces.size() << " surfaces, " << scene.obstacles.size()
       << " obstacle clusters  |  " << missions.size() << " surfaces planned, " << ok << " with a flight: " << stops
-      << " photo stops, " << waypoints << " waypoints, " << fixed(length, 1)
+      << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1)
       << " m over the surfaces";
   if (flown) {
-    sub << "  |  flight " << fixed(flight->length_m, 1) << " m, " << fixed(flight->duration_s / 60.0, 1) << " min, "
+    sub << "  |  flight " << formatFixed(flight->length_m, 1) << " m, " << formatFixed(flight->duration_s / 60.0, 1) << " min, "
         << flight->sorties.size() << " sortie" << (flight->sorties.size() == 1 ? "" : "s");
   }
   sub << "  |  local ENU frame, metres";
@@ -323,9 +318,9 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       {"surface boundary (convex hull)", render::lineStyle(demo.mix(render::kBlack, 0.3), 2.4), LegendKind::Line},
       {"obstacle points", render::markerStyle(kObstacleColor, render::Marker::Square, 7.0), LegendKind::Marker},
       {"other cloud points", render::markerStyle(kCloudColor, render::Marker::Square, 7.0), LegendKind::Marker},
-      {"photo footprint " + fixed(footprint_w, 2) + " × " + fixed(footprint_h, 2) + " m",
+      {"photo footprint " + formatFixed(footprint_w, 2) + " × " + formatFixed(footprint_h, 2) + " m",
        render::patchStyle(demo.withAlpha(0.15), demo.mix(render::kBlack, 0.2)), LegendKind::Patch},
-      {"photo stop (UAV, " + fixed(standoff, 2) + " m off)", render::markerStyle(demo, render::Marker::Circle, 7.0),
+      {"photo stop (UAV, " + formatFixed(standoff, 2) + " m off)", render::markerStyle(demo, render::Marker::Circle, 7.0),
        LegendKind::Marker},
       {"flight path (waypoints)", render::lineStyle(demo.mix(path_dark, 0.5), 1.8), LegendKind::Line},
       flown ? LegendEntry{"sortie k (colour), home to home", render::lineStyle(sortieColor(0), 1.4), LegendKind::Line}
@@ -351,10 +346,10 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
       break;
     }
     std::ostringstream os;
-    os << s.id << ": " << facing(s.plane.normal) << ", " << fixed(s.area_m2, 1) << " m²";
+    os << s.id << ": " << facing(s.plane.normal) << ", " << formatFixed(s.area_m2, 1) << " m²";
     if (const auto* m = missionOf(missions, s.id)) {
       os << ", " << planning::toString(m->status) << ", " << m->strategy.stops.size() << " stops";
-      if (planning::flyable(m->status)) os << ", " << fixed(m->path_length_m, 1) << " m";
+      if (planning::flyable(m->status)) os << ", " << formatFixed(m->path_length_m, 1) << " m";
     } else {
       os << ", not planned";
     }

@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/pcl_cloud.h"
+#include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
 
 #include <flann/flann.hpp>
@@ -22,12 +23,6 @@ namespace uavip::preprocess {
 namespace {
 
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
-
-std::string formatPoint(const Vec3& p) {
-  std::ostringstream os;
-  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return os.str();
-}
 
 }  // namespace
 
@@ -52,7 +47,7 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud[i].allFinite()) {
       throw InputError("removeStatisticalOutliers: point " + std::to_string(i) + " is not finite: " +
-                       formatPoint(cloud[i]));
+                       formatRawPoint(cloud[i]));
     }
   }
   if (cloud.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
@@ -154,7 +149,7 @@ PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud[i].allFinite()) {
       throw InputError("preprocess: point " + std::to_string(i) + " is not finite: " +
-                       formatPoint(cloud[i]));
+                       formatRawPoint(cloud[i]));
     }
   }
 

@@ -9,6 +9,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -63,12 +64,6 @@ Eigen::Matrix2d rot2(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
   r << c, -s, s, c;
   return r;
-}
-
-std::string num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
 }
 
 /// Nearest-neighbour lookup on a uniform 2D grid of cell = the search radius.
@@ -341,10 +336,10 @@ void AssemblerOptions::validate(const std::string& where) const {
   requirePositive(keyframe_translation_m, where, "keyframe_translation_m");
   if (horizontal_stride < 1) throw InputError(where + ": horizontal_stride must be >= 1, got " + std::to_string(horizontal_stride));
   if (!(imu_smoothing_s >= 0.0) || !std::isfinite(imu_smoothing_s)) {
-    throw InputError(where + ": imu_smoothing_s must be >= 0, got " + num(imu_smoothing_s));
+    throw InputError(where + ": imu_smoothing_s must be >= 0, got " + formatNumber(imu_smoothing_s));
   }
   requirePositive(max_imu_gap_s, where, "max_imu_gap_s");
-  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0)) throw InputError(where + ": z_cone_deg must be in (0, 90), got " + num(z_cone_deg));
+  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0)) throw InputError(where + ": z_cone_deg must be in (0, 90), got " + formatNumber(z_cone_deg));
 }
 
 double yawOf(const Eigen::Quaterniond& q) {
@@ -365,12 +360,12 @@ ImuTrack::ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, doub
     if (i > 0) {
       const double gap = s.t_s - t_.back();
       if (gap < 0.0) {
-        throw InputError(where + ": IMU time goes backwards at sample " + std::to_string(i) + " (" + num(t_.back()) +
-                         " s -> " + num(s.t_s) + " s)");
+        throw InputError(where + ": IMU time goes backwards at sample " + std::to_string(i) + " (" + formatNumber(t_.back()) +
+                         " s -> " + formatNumber(s.t_s) + " s)");
       }
       if (gap > max_gap_s) {
-        throw InputError(where + ": IMU gap of " + num(gap) + " s at t = " + num(t_.back()) +
-                         " s is longer than max_imu_gap_s " + num(max_gap_s) + " s");
+        throw InputError(where + ": IMU gap of " + formatNumber(gap) + " s at t = " + formatNumber(t_.back()) +
+                         " s is longer than max_imu_gap_s " + formatNumber(max_gap_s) + " s");
       }
     }
     t_.push_back(s.t_s);
@@ -441,11 +436,11 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
     }
     if (s.t_start_s < prev_t) {
       throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " starts before the previous one (" +
-                       num(prev_t) + " s -> " + num(s.t_start_s) + " s)");
+                       formatNumber(prev_t) + " s -> " + formatNumber(s.t_start_s) + " s)");
     }
     if (s.t_start_s < imu.startTime() - tolerance || s.t_start_s + s.duration_s > imu.endTime() + tolerance) {
-      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + num(s.t_start_s) +
-                       " s is outside the IMU's time span [" + num(imu.startTime()) + ", " + num(imu.endTime()) + "] s");
+      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + formatNumber(s.t_start_s) +
+                       " s is outside the IMU's time span [" + formatNumber(imu.startTime()) + ", " + formatNumber(imu.endTime()) + "] s");
     }
   };
   for (std::size_t i = 0; i < st.vertical.size(); ++i) {
