@@ -4,6 +4,7 @@
 #include "src/cli/commands.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/scene_json.h"
@@ -11,6 +12,7 @@
 #include "uavip/world/collision_world.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -21,6 +23,10 @@ namespace uavip::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// Farthest waypoint from the origin (home) that export converts [m]: local ENU is a
+/// flat-earth frame, and no inspection flight goes farther.
+constexpr double kMaxDistanceFromOriginM = 50e3;
 
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
@@ -34,18 +40,30 @@ std::string sceneFor(const ExportArgs& a) {
   return a.scene.empty() ? (fs::path(a.mission).parent_path() / "scene.json").string() : a.scene;
 }
 
+/// Local ENU is a flat-earth frame about the origin: a waypoint beyond
+/// kMaxDistanceFromOriginM is refused, naming it.
+void requireNearOrigin(const std::vector<io::Flight>& flights, const std::string& mission) {
+  for (const auto& f : flights) {
+    for (const auto& w : f.waypoints) {
+      if (w.enu.norm() > kMaxDistanceFromOriginM)
+        throw InputError(mission + ": waypoint " + formatPoint(w.enu) + " lies " + formatFixed(w.enu.norm() / 1e3, 1) +
+                         " km from the origin; export converts flights within " +
+                         formatNumber(kMaxDistanceFromOriginM / 1e3) + " km of --origin (local metres about it)");
+    }
+  }
+}
+
 /// Every exported path is checked again against the scene with the FCL validator:
 /// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
-void checkAgainstScene(const std::vector<io::Flight>& flights, const nlohmann::json& mission, const ExportArgs& a) {
+void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission, const ExportArgs& a) {
   const std::string scene_path = sceneFor(a);
   if (!fs::is_regular_file(scene_path))
     throw InputError("--scene: " + scene_path + " not found; export checks every leg against the scene the mission " +
                      "was planned in: pass --scene OUT/scene.json");
-  const auto r = mission.find("inflation_radius_m");
-  if (r == mission.end() || !r->is_number() || !(r->get<double>() > 0.0))
-    throw InputError(a.mission + ": inflation_radius_m is missing or not > 0 (not a mission.json of uavip run or plan)");
+  if (std::isnan(mission.inflation_radius_m))
+    throw InputError(a.mission + ": inflation_radius_m is missing (not a mission.json of uavip run or plan)");
   const Scene scene = io::loadScene(scene_path);
-  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene), r->get<double>());
+  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene), mission.inflation_radius_m);
   for (const auto& f : flights) {
     PointList path;
     for (const auto& w : f.waypoints) path.push_back(w.enu);
@@ -75,27 +93,22 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   options.validate();
   const io::ExportFormat format = io::parseExportFormat(a.format);
 
-  const std::string text = io::readFile(a.mission);
-  nlohmann::json mission;
-  try {
-    mission = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(a.mission + ": not valid JSON (" + std::string(e.what()) + "); pass the mission.json of uavip run or plan");
-  }
+  const io::MissionRecord mission = io::loadMission(a.mission);
 
   std::vector<io::Flight> flights;
   try {
     if (a.surface == "all" || a.sortie != 0) {
       if (!a.surface.empty() && a.surface != "all")
         throw InputError("--sortie: sorties belong to the flight over all surfaces; drop --surface " + a.surface);
-      flights = io::sortiesFromMissionJson(mission, a.mission);
+      flights = io::sortiesFromMission(mission, a.mission);
       if (a.sortie < 0 || a.sortie > static_cast<int>(flights.size()))
         throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission + " has " +
                          std::to_string(flights.size()) + " sortie(s), numbered from 1");
       if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
     } else {
-      flights = {io::flightFromMissionJson(mission, a.mission, a.surface)};
+      flights = {io::flightFromMission(mission, a.mission, a.surface)};
     }
+    requireNearOrigin(flights, a.mission);
     checkAgainstScene(flights, mission, a);
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << e.what() << "\n";

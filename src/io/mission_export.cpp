@@ -1,6 +1,8 @@
 #include "uavip/io/mission_export.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
+#include "uavip/io/mission_json.h"
 
 #include <GeographicLib/LocalCartesian.hpp>
 
@@ -25,8 +27,6 @@ constexpr int kFrameGlobal = 0;
 constexpr int kFrameMission = 2;
 constexpr int kFrameGlobalRelativeAlt = 3;
 constexpr double kGimbalFlagsRollPitchLock = 4 + 8;  // GIMBAL_MANAGER_FLAGS_ROLL_LOCK | PITCH_LOCK
-/// A stop is the waypoint within this distance of its position (mission.json rounds to 0.1 mm) [m].
-constexpr double kStopMatchM = 2e-3;
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -41,37 +41,6 @@ bool parseDouble(const std::string& text, double& out) {
   errno = 0;
   out = std::strtod(t.c_str(), &end);
   return errno == 0 && end == t.c_str() + t.size() && std::isfinite(out);
-}
-
-std::string num(double v) {
-  std::ostringstream os;
-  os << std::setprecision(12) << v;
-  return os.str();
-}
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
-
-// ---- mission.json access with messages naming the file and the field
-
-const json& field(const json& j, const char* key, const std::string& path, const std::string& where) {
-  if (!j.is_object() || !j.contains(key))
-    throw InputError(path + ": " + where + (where.empty() ? "" : ".") + key + " is missing (not a uavip mission.json?)");
-  return j.at(key);
-}
-
-Vec3 vec3(const json& j, const std::string& path, const std::string& where) {
-  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
-    throw InputError(path + ": " + where + " must be an array of 3 numbers, got " + j.dump());
-  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-}
-
-double number(const json& j, const std::string& path, const std::string& where) {
-  if (!j.is_number()) throw InputError(path + ": " + where + " must be a number, got " + j.dump());
-  return j.get<double>();
 }
 
 /// Between stops a waypoint takes the surface and orientation of the next stop
@@ -93,50 +62,37 @@ void orientBetweenStops(std::vector<FlightWaypoint>& out) {
   }
 }
 
-/// The waypoints of one surface with status ok, stops marked.
-std::vector<FlightWaypoint> surfaceFlight(const json& s, int id, const std::string& path, const std::string& where) {
-  const json& stops = field(s, "stops", path, where);
-  const json& wps = field(s, "waypoints", path, where);
-  if (!stops.is_array() || !wps.is_array()) throw InputError(path + ": " + where + ".stops and .waypoints must be arrays");
-  struct StopInfo {
-    int index;
-    Vec3 p;
-    double yaw, pitch;
-  };
-  std::vector<StopInfo> st;  // the stops that are flown (problem "none"), in order
-  for (std::size_t k = 0; k < stops.size(); ++k) {
-    const std::string w = where + ".stops[" + std::to_string(k) + "]";
-    const bool skipped = stops[k].contains("problem") && stops[k]["problem"] != "none";
-    if (skipped) continue;  // a "partial" surface skips stops it cannot reach safely
-    st.push_back({static_cast<int>(k), vec3(field(stops[k], "position", path, w), path, w + ".position"),
-                  number(field(stops[k], "yaw_deg", path, w), path, w + ".yaw_deg"),
-                  number(field(stops[k], "gimbal_pitch_deg", path, w), path, w + ".gimbal_pitch_deg")});
-  }
+/// The waypoints of one flyable surface, its flown stops marked and oriented; each
+/// flown stop must be a waypoint, in order.
+std::vector<FlightWaypoint> surfaceFlight(const SurfaceRecord& s, const std::string& path, const std::string& where) {
   std::vector<FlightWaypoint> out;
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < wps.size(); ++i) {
+  std::size_t k = 0;  // the next stop to find
+  const auto skipUnflown = [&] {
+    while (k < s.stops.size() && !s.stops[k].flown()) ++k;  // a "partial" surface skips stops it cannot reach
+  };
+  skipUnflown();
+  for (const Vec3& p : s.waypoints) {
     FlightWaypoint w;
-    w.surface_id = id;
-    w.enu = vec3(wps[i], path, where + ".waypoints[" + std::to_string(i) + "]");
-    if (k < st.size() && (w.enu - st[k].p).norm() <= kStopMatchM) {
-      w.stop_index = st[k].index;
-      w.yaw_deg = st[k].yaw;
-      w.gimbal_pitch_deg = st[k].pitch;
+    w.surface_id = s.surface_id;
+    w.enu = p;
+    if (k < s.stops.size() && (p - s.stops[k].position).norm() <= kStopMatchM) {
+      w.stop_index = static_cast<int>(k);
+      w.yaw_deg = s.stops[k].yaw_deg;
+      w.gimbal_pitch_deg = s.stops[k].gimbal_pitch_deg;
       ++k;
+      skipUnflown();
     }
     out.push_back(w);
   }
-  if (k < st.size())
-    throw InputError(path + ": " + where + ".stops[" + std::to_string(st[k].index) +
+  if (k < s.stops.size())
+    throw InputError(path + ": " + where + ".stops[" + std::to_string(k) +
                      "] is not on the waypoint path (in order); the file was changed or is not a uavip mission");
   orientBetweenStops(out);
   return out;
 }
 
-std::string describe(const json& s) {
-  const std::string status = s.contains("status") && s["status"].is_string() ? s["status"].get<std::string>() : "?";
-  const std::string reason = s.contains("reason") && s["reason"].is_string() ? s["reason"].get<std::string>() : "";
-  return "status " + status + (reason.empty() ? "" : ": " + reason);
+std::string describe(const SurfaceRecord& s) {
+  return "status " + s.status + (s.reason.empty() ? "" : ": " + s.reason);
 }
 
 }  // namespace
@@ -193,7 +149,7 @@ Autopilot parseAutopilot(const std::string& text) {
 }
 
 void ExportOptions::validate() const {
-  require(std::isfinite(hold_s) && hold_s >= 0.0, "--hold", "must be >= 0 s, got " + num(hold_s));
+  require(std::isfinite(hold_s) && hold_s >= 0.0, "--hold", "must be >= 0 s, got " + formatNumber(hold_s, 12));
   requirePositive(acceptance_m, "export", "--acceptance");
   requirePositive(speed_m_s, "export", "--speed");
 }
@@ -204,123 +160,78 @@ std::size_t Flight::stopCount() const {
   return n;
 }
 
-Flight flightFromMissionJson(const json& mission, const std::string& path, const std::string& surface) {
-  const json& surfaces = field(mission, "surfaces", path, "");
-  if (!surfaces.is_array()) throw InputError(path + ": surfaces must be an array");
-  std::vector<std::size_t> ok;
-  std::string all_ids;
-  for (std::size_t i = 0; i < surfaces.size(); ++i) {
-    const std::string where = "surfaces[" + std::to_string(i) + "]";
-    const json& id = field(surfaces[i], "surface_id", path, where);
-    if (!id.is_number_integer()) throw InputError(path + ": " + where + ".surface_id must be an integer");
-    all_ids += (all_ids.empty() ? "" : ", ") + std::to_string(id.get<int>());
-    const json& status = field(surfaces[i], "status", path, where);
-    if (status == "ok" || status == "partial") ok.push_back(i);
-  }
-
-  std::vector<std::size_t> chosen;
+Flight flightFromMission(const MissionRecord& mission, const std::string& path, const std::string& surface) {
   if (surface == "all")
     throw InputError("--surface all: the surfaces are flown as the ordered, validated flight of " + path +
                      " (its sorties), not joined here");
+  std::vector<std::size_t> chosen;
   if (surface.empty()) {
-    if (ok.empty()) {
-      std::string why;
-      for (const auto& s : surfaces)
-        why += (why.empty() ? "" : "; ") + ("surface " + std::to_string(s["surface_id"].get<int>()) + " " + describe(s));
+    std::string ids, why;
+    for (std::size_t i = 0; i < mission.surfaces.size(); ++i) {
+      const SurfaceRecord& s = mission.surfaces[i];
+      if (s.flyable()) {
+        chosen.push_back(i);
+        ids += (ids.empty() ? "" : ", ") + std::to_string(s.surface_id);
+      }
+      why += (why.empty() ? "" : "; ") + ("surface " + std::to_string(s.surface_id) + " " + describe(s));
+    }
+    if (chosen.empty())
       throw NoMissionError(path + ": no surface has a flyable mission" + (why.empty() ? " (no surfaces)" : " (" + why + ")"));
-    }
-    if (ok.size() > 1) {
-      std::string ids;
-      for (auto i : ok) ids += (ids.empty() ? "" : ", ") + std::to_string(surfaces[i]["surface_id"].get<int>());
-      throw InputError(path + ": " + std::to_string(ok.size()) + " surfaces have a mission (" + ids +
+    if (chosen.size() > 1)
+      throw InputError(path + ": " + std::to_string(chosen.size()) + " surfaces have a mission (" + ids +
                        "): pass --surface ID for one of them, or --surface all for the ordered flight over all");
-    }
-    chosen = ok;
   } else {
     char* end = nullptr;
     const long want = std::strtol(surface.c_str(), &end, 10);
     if (end == surface.c_str() || *end != '\0')
       throw InputError("--surface: expected a surface id or 'all', got '" + surface + "'");
-    bool found = false;
-    for (std::size_t i = 0; i < surfaces.size(); ++i) {
-      if (surfaces[i]["surface_id"].get<long>() != want) continue;
-      found = true;
-      if (surfaces[i]["status"] != "ok" && surfaces[i]["status"] != "partial")
-        throw NoMissionError(path + ": surface " + surface + " has no flyable mission (" + describe(surfaces[i]) + ")");
+    std::string all_ids;
+    for (std::size_t i = 0; i < mission.surfaces.size(); ++i) {
+      const SurfaceRecord& s = mission.surfaces[i];
+      all_ids += (all_ids.empty() ? "" : ", ") + std::to_string(s.surface_id);
+      if (s.surface_id != want) continue;
+      if (!s.flyable())
+        throw NoMissionError(path + ": surface " + surface + " has no flyable mission (" + describe(s) + ")");
       chosen.push_back(i);
     }
-    if (!found)
+    if (chosen.empty())
       throw InputError(path + ": no surface with id " + surface + " (ids: " + (all_ids.empty() ? "none" : all_ids) + ")");
   }
-
   Flight f;
   for (auto i : chosen) {
-    const int id = surfaces[i]["surface_id"].get<int>();
-    f.surface_ids.push_back(id);
-    auto w = surfaceFlight(surfaces[i], id, path, "surfaces[" + std::to_string(i) + "]");
+    const SurfaceRecord& s = mission.surfaces[i];
+    f.surface_ids.push_back(s.surface_id);
+    auto w = surfaceFlight(s, path, "surfaces[" + std::to_string(i) + "]");
     f.waypoints.insert(f.waypoints.end(), w.begin(), w.end());
   }
   return f;
 }
 
-std::vector<Flight> sortiesFromMissionJson(const json& mission, const std::string& path) {
-  if (!mission.is_object() || !mission.contains("flight"))
+std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::string& path) {
+  if (!mission.flight)
     throw InputError(path + ": has no ordered flight (written by an older uavip); re-run uavip plan --surface all");
-  const json& flight = mission.at("flight");
-  const json& status = field(flight, "status", path, "flight");
-  if (status != "ok") {
-    const std::string reason = flight.contains("reason") && flight["reason"].is_string() ? flight["reason"].get<std::string>() : "";
-    throw NoMissionError(path + ": the flight has status " + status.dump() + (reason.empty() ? "" : ": " + reason));
-  }
-  // Stops of each surface by id, for their orientation.
-  std::map<long, const json*> stops_of;
-  const json& surfaces = field(mission, "surfaces", path, "");
-  if (!surfaces.is_array()) throw InputError(path + ": surfaces must be a list");
-  for (const auto& s : surfaces) {
-    const json& id = field(s, "surface_id", path, "surfaces[]");
-    if (!id.is_number_integer()) throw InputError(path + ": surfaces[].surface_id must be an integer");
-    const json& stops = field(s, "stops", path, "surfaces[]");
-    if (!stops.is_array()) throw InputError(path + ": surfaces[].stops must be a list");
-    stops_of[id.get<long>()] = &stops;
-  }
-  const json& sorties = field(flight, "sorties", path, "flight");
-  if (!sorties.is_array() || sorties.empty()) throw InputError(path + ": flight.sorties must be a non-empty list");
+  const FlightRecord& flight = *mission.flight;
+  if (flight.status != "ok")
+    throw NoMissionError(path + ": the flight has status \"" + flight.status + "\"" +
+                         (flight.reason.empty() ? "" : ": " + flight.reason));
+  if (flight.sorties.empty()) throw InputError(path + ": flight.sorties must be a non-empty list");
   std::vector<Flight> out;
-  for (std::size_t i = 0; i < sorties.size(); ++i) {
-    const std::string where = "flight.sorties[" + std::to_string(i) + "]";
+  for (std::size_t i = 0; i < flight.sorties.size(); ++i) {
+    const SortieRecord& sortie = flight.sorties[i];
     Flight f;
     f.sortie = static_cast<int>(i + 1);
-    const json& wps = field(sorties[i], "waypoints", path, where);
-    const json& st = field(sorties[i], "stops", path, where);
-    if (!wps.is_array() || wps.size() < 2 || !st.is_array())
-      throw InputError(path + ": " + where + ".waypoints must list home ... home and .stops must be a list");
-    for (std::size_t k = 0; k < wps.size(); ++k) {
+    for (const Vec3& p : sortie.waypoints) {
       FlightWaypoint w;
-      w.enu = vec3(wps[k], path, where + ".waypoints[" + std::to_string(k) + "]");
+      w.enu = p;
       f.waypoints.push_back(w);
     }
-    long previous = -1;
-    for (std::size_t k = 0; k < st.size(); ++k) {
-      const std::string ws = where + ".stops[" + std::to_string(k) + "]";
-      const json& sid = field(st[k], "surface_id", path, ws);
-      const json& stop = field(st[k], "stop", path, ws);
-      const json& at = field(st[k], "waypoint", path, ws);
-      if (!sid.is_number_integer() || !stop.is_number_integer() || !at.is_number_integer())
-        throw InputError(path + ": " + ws + " must hold integers surface_id, stop and waypoint");
-      const auto it = stops_of.find(sid.get<long>());
-      const long a = at.get<long>();
-      if (it == stops_of.end() || stop.get<long>() < 0 || stop.get<std::size_t>() >= it->second->size() || a <= previous ||
-          a >= static_cast<long>(f.waypoints.size()))
-        throw InputError(path + ": " + ws + " names no stop of the mission or no later waypoint of the sortie");
-      previous = a;
-      const json& s = (*it->second)[stop.get<std::size_t>()];
-      FlightWaypoint& w = f.waypoints[static_cast<std::size_t>(a)];
-      if ((w.enu - vec3(field(s, "position", path, ws), path, ws + ".position")).norm() > kStopMatchM)
-        throw InputError(path + ": " + ws + " is not at its waypoint; the file was changed or is not a uavip mission");
-      w.surface_id = sid.get<int>();
-      w.stop_index = stop.get<int>();
-      w.yaw_deg = number(field(s, "yaw_deg", path, ws), path, ws + ".yaw_deg");
-      w.gimbal_pitch_deg = number(field(s, "gimbal_pitch_deg", path, ws), path, ws + ".gimbal_pitch_deg");
+    for (const SortieStopRecord& st : sortie.stops) {  // consistency checked by missionFromJson
+      const StopRecord& stop = mission.surface(st.surface_id)->stops[st.stop];
+      FlightWaypoint& w = f.waypoints[st.waypoint];
+      w.surface_id = st.surface_id;
+      w.stop_index = static_cast<int>(st.stop);
+      w.yaw_deg = stop.yaw_deg;
+      w.gimbal_pitch_deg = stop.gimbal_pitch_deg;
       if (std::find(f.surface_ids.begin(), f.surface_ids.end(), w.surface_id) == f.surface_ids.end())
         f.surface_ids.push_back(w.surface_id);
     }
@@ -385,12 +296,12 @@ std::string toWpl(const Flight& flight, const ExportOptions& options) {
   const auto& o = options.origin;
   std::ostringstream os;
   os << "QGC WPL 110\n";
-  os << "0\t1\t" << kFrameGlobal << "\t" << kCmdWaypoint << "\t0\t0\t0\t0\t" << num(o.lat_deg) << "\t" << num(o.lon_deg)
-     << "\t" << num(o.alt_m) << "\t1\n";
+  os << "0\t1\t" << kFrameGlobal << "\t" << kCmdWaypoint << "\t0\t0\t0\t0\t" << formatNumber(o.lat_deg, 12) << "\t" << formatNumber(o.lon_deg, 12)
+     << "\t" << formatNumber(o.alt_m, 12) << "\t1\n";
   int index = 0;
   for (const auto& it : missionItems(flight, options)) {
     os << ++index << "\t0\t" << it.frame << "\t" << it.command;
-    for (double p : it.params) os << "\t" << num(p);
+    for (double p : it.params) os << "\t" << formatNumber(p, 12);
     os << "\t1\n";
   }
   return os.str();
@@ -405,10 +316,10 @@ std::string toCsv(const Flight& flight, const ExportOptions& options) {
     const auto& w = flight.waypoints[i];
     double lat = 0.0, lon = 0.0, h = 0.0;
     lc.Reverse(w.enu.x(), w.enu.y(), w.enu.z(), lat, lon, h);
-    os << i << "," << w.surface_id << "," << w.stop_index << "," << (w.isStop() ? 1 : 0) << "," << fixed(w.enu.x(), 4)
-       << "," << fixed(w.enu.y(), 4) << "," << fixed(w.enu.z(), 4) << "," << fixed(lat, 9) << "," << fixed(lon, 9) << ","
-       << fixed(h - options.origin.alt_m, 4) << "," << fixed(w.yaw_deg, 4) << "," << fixed(headingFromYaw(w.yaw_deg), 4)
-       << "," << fixed(w.gimbal_pitch_deg, 4) << "\n";
+    os << i << "," << w.surface_id << "," << w.stop_index << "," << (w.isStop() ? 1 : 0) << "," << formatFixed(w.enu.x(), 4)
+       << "," << formatFixed(w.enu.y(), 4) << "," << formatFixed(w.enu.z(), 4) << "," << formatFixed(lat, 9) << "," << formatFixed(lon, 9) << ","
+       << formatFixed(h - options.origin.alt_m, 4) << "," << formatFixed(w.yaw_deg, 4) << "," << formatFixed(headingFromYaw(w.yaw_deg), 4)
+       << "," << formatFixed(w.gimbal_pitch_deg, 4) << "\n";
   }
   return os.str();
 }

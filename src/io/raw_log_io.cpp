@@ -1,7 +1,9 @@
 #include "uavip/io/raw_log_io.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/json_reader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -104,13 +106,6 @@ json poseJson(const Eigen::Isometry3d& T) {
   throw InputError(file + ":" + std::to_string(line) + ": " + what);
 }
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
-}
-
 /// Line-by-line reader over a whole file with 1-based line numbers; comment lines
 /// ('#') and empty lines are skipped. Every line must end with '\n' (a missing one
 /// means the file was cut).
@@ -176,7 +171,7 @@ class Fields {
 
   double finite(const std::string& name) {
     const double v = number(name);
-    if (!std::isfinite(v)) reader_.fail(name + " must be finite, got " + num(v));
+    if (!std::isfinite(v)) reader_.fail(name + " must be finite, got " + formatNumber(v, 9));
     return v;
   }
 
@@ -201,12 +196,12 @@ std::vector<LaserScan> readScans(const std::string& path, const RawLog& log, Raw
     LaserScan s;
     s.t_start_s = f.finite("t_start_s");
     s.duration_s = f.finite("duration_s");
-    if (s.duration_s < 0.0) r.fail("duration_s must be >= 0, got " + num(s.duration_s));
+    if (s.duration_s < 0.0) r.fail("duration_s must be >= 0, got " + formatNumber(s.duration_s, 9));
     s.angle_min_rad = f.finite("angle_min_rad");
     s.angle_step_rad = f.finite("angle_step_rad");
     const double n = f.finite("beam_count");
     if (n < 1.0 || n > 100000.0 || n != std::floor(n)) {
-      r.fail("beam_count must be a whole number in [1, 100000], got " + num(n));
+      r.fail("beam_count must be a whole number in [1, 100000], got " + formatNumber(n, 9));
     }
     const auto count = static_cast<std::size_t>(n);
     s.ranges_m.resize(count);
@@ -222,8 +217,8 @@ std::vector<LaserScan> readScans(const std::string& path, const RawLog& log, Raw
     }
     if (!f.done()) r.fail("more than beam_count = " + std::to_string(count) + " ranges");
     if (!scans.empty() && !(s.t_start_s > scans.back().t_start_s)) {
-      r.fail("timestamps go backwards: t_start_s " + num(s.t_start_s) + " is not after the previous scan's " +
-             num(scans.back().t_start_s));
+      r.fail("timestamps go backwards: t_start_s " + formatNumber(s.t_start_s, 9) + " is not after the previous scan's " +
+             formatNumber(scans.back().t_start_s, 9));
     }
     stats.beams += count;
     ++stats.scans;
@@ -266,21 +261,21 @@ std::vector<ImuSample> readImu(const std::string& path, const Station& st, RawLo
     q.y() = f.finite("qy");
     q.z() = f.finite("qz");
     if (!f.done()) r.fail("expected 5 fields (t_s,qw,qx,qy,qz), got more");
-    if (std::abs(q.norm() - 1.0) > kQuatNormTol) r.fail("quaternion must have norm 1, got " + num(q.norm()));
+    if (std::abs(q.norm() - 1.0) > kQuatNormTol) r.fail("quaternion must have norm 1, got " + formatNumber(q.norm(), 9));
     m.world_q_body = q.normalized();
     if (imu.empty()) {
       if (m.t_s > first_scan + allowed_gap) {
-        r.fail("IMU gap: the first sample at t = " + num(m.t_s) + " s comes more than a scan period (" +
-               num(period) + " s) after the first scan at " + num(first_scan) + " s");
+        r.fail("IMU gap: the first sample at t = " + formatNumber(m.t_s, 9) + " s comes more than a scan period (" +
+               formatNumber(period, 9) + " s) after the first scan at " + formatNumber(first_scan, 9) + " s");
       }
     } else {
       const double prev = imu.back().t_s;
       if (!(m.t_s > prev)) {
-        r.fail("timestamps go backwards: t_s " + num(m.t_s) + " is not after the previous sample's " + num(prev));
+        r.fail("timestamps go backwards: t_s " + formatNumber(m.t_s, 9) + " is not after the previous sample's " + formatNumber(prev, 9));
       }
       if (m.t_s - prev > allowed_gap && m.t_s > first_scan && prev < last_scan) {
-        r.fail("IMU gap of " + num(m.t_s - prev) + " s after t = " + num(prev) + " s is longer than a scan period (" +
-               num(period) + " s)");
+        r.fail("IMU gap of " + formatNumber(m.t_s - prev, 9) + " s after t = " + formatNumber(prev, 9) + " s is longer than a scan period (" +
+               formatNumber(period, 9) + " s)");
       }
     }
     imu.push_back(m);
@@ -288,47 +283,33 @@ std::vector<ImuSample> readImu(const std::string& path, const Station& st, RawLo
   if (imu.empty()) failAt(path, r.lineNo() + 1, "no IMU samples: a station needs IMU samples over its scans");
   if (imu.back().t_s < last_scan - allowed_gap) {
     failAt(path, r.lineNo(),
-           "IMU gap: the last sample at t = " + num(imu.back().t_s) + " s ends more than a scan period before the last scan ends at " +
-               num(last_scan) + " s");
+           "IMU gap: the last sample at t = " + formatNumber(imu.back().t_s, 9) + " s ends more than a scan period before the last scan ends at " +
+               formatNumber(last_scan, 9) + " s");
   }
   stats.imu_samples += imu.size();
   return imu;
 }
 
-/// JSON helpers naming the file and the key path.
-class JsonReader {
+/// log.json access by key (`path` is the parent's field path with a trailing dot),
+/// on the strict io::JsonReader, plus the log's rotations and poses.
+class LogJson {
  public:
-  explicit JsonReader(std::string file) : file_(std::move(file)) {}
+  explicit LogJson(std::string file) : r_(std::move(file)) {}
 
-  json parse(const std::string& text) const {
-    try {
-      return json::parse(text);
-    } catch (const json::parse_error& e) {
-      const std::size_t byte = std::min<std::size_t>(e.byte, text.size());
-      const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
-      failAt(file_, line, std::string("not valid JSON (truncated?): ") + e.what());
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw InputError(file_ + ": " + key + " " + what);
-  }
-
+  json parse(const std::string& text) const { return r_.parse(text); }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const { r_.fail(key, what); }
   const json& get(const json& j, const std::string& key, const std::string& path) const {
     if (!j.is_object() || !j.contains(key)) fail(path + key, "is missing");
     return j.at(key);
   }
-
   double number(const json& j, const std::string& key, const std::string& path) const {
-    const json& v = get(j, key, path);
-    if (!v.is_number() || !std::isfinite(v.get<double>())) fail(path + key, "must be a finite number, got " + v.dump());
-    return v.get<double>();
+    return r_.number(get(j, key, path), path + key);
   }
-
   std::string text(const json& j, const std::string& key, const std::string& path) const {
-    const json& v = get(j, key, path);
-    if (!v.is_string()) fail(path + key, "must be a string, got " + v.dump());
-    return v.get<std::string>();
+    return r_.text(get(j, key, path), path + key);
+  }
+  Vec3 vec3(const json& j, const std::string& key, const std::string& path) const {
+    return r_.vec3(get(j, key, path), path + key);
   }
 
   std::vector<double> numbers(const json& j, const std::string& key, const std::string& path, std::size_t n) const {
@@ -342,15 +323,11 @@ class JsonReader {
     return out;
   }
 
-  Vec3 vec3(const json& j, const std::string& key, const std::string& path) const {
-    const auto v = numbers(j, key, path, 3);
-    return {v[0], v[1], v[2]};
-  }
 
   Eigen::Quaterniond quat(const json& j, const std::string& key, const std::string& path) const {
     const auto v = numbers(j, key, path, 4);
     const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
-    if (std::abs(q.norm() - 1.0) > kQuatNormTol) fail(path + key, "must be a unit quaternion, got norm " + num(q.norm()));
+    if (std::abs(q.norm() - 1.0) > kQuatNormTol) fail(path + key, "must be a unit quaternion, got norm " + formatNumber(q.norm(), 9));
     return q.normalized();
   }
 
@@ -370,10 +347,10 @@ class JsonReader {
   }
 
  private:
-  std::string file_;
+  JsonReader r_;
 };
 
-Eigen::Isometry3d readMount(const JsonReader& jr, const json& j, const std::string& path) {
+Eigen::Isometry3d readMount(const LogJson& jr, const json& j, const std::string& path) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = jr.quat(j, "rotation_wxyz", path).toRotationMatrix();
   T.translation() = jr.vec3(j, "translation_m", path);
@@ -459,7 +436,7 @@ void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth, const si
 RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
   const std::string index_path = (fs::path(dir) / rawLogIndexName()).string();
   if (!fs::is_directory(dir)) throw InputError(dir + ": not a raw log directory (expected " + index_path + ")");
-  const JsonReader jr(index_path);
+  const LogJson jr(index_path);
   const json j = jr.parse(readText(index_path));
   if (!j.is_object()) jr.fail("top level", "must be a JSON object");
   if (jr.text(j, "format", "") != kFormat) jr.fail("format", std::string("must be '") + kFormat + "'");
@@ -470,7 +447,7 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
   log.max_range_m = jr.number(j, "max_range_m", "");
   log.min_range_m = jr.number(j, "min_range_m", "");
   if (!(log.min_range_m >= 0.0 && log.min_range_m < log.max_range_m)) {
-    jr.fail("min_range_m", "must be >= 0 and < max_range_m, got " + num(log.min_range_m) + " and " + num(log.max_range_m));
+    jr.fail("min_range_m", "must be >= 0 and < max_range_m, got " + formatNumber(log.min_range_m, 9) + " and " + formatNumber(log.max_range_m, 9));
   }
   const json& mounts = jr.get(j, "mounts", "");
   log.body_T_vertical = readMount(jr, jr.get(mounts, "vertical", "mounts."), "mounts.vertical.");
@@ -485,7 +462,7 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
     const json& sj = stations[i];
     Station st;
     const double id = jr.number(sj, "id", path);
-    if (id < 0 || id > 1e6 || id != std::floor(id)) jr.fail(path + "id", "must be a whole number >= 0, got " + num(id));
+    if (id < 0 || id > 1e6 || id != std::floor(id)) jr.fail(path + "id", "must be a whole number >= 0, got " + formatNumber(id, 9));
     st.id = static_cast<int>(id);
     if (!ids.insert(st.id).second) jr.fail(path + "id", "repeats station id " + std::to_string(st.id));
     st.recorded_position = jr.vec3(sj, "recorded_position_m", path);
@@ -509,7 +486,7 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
 std::optional<RawLogTruthFile> readRawLogTruth(const std::string& dir) {
   const std::string path = (fs::path(dir) / rawLogTruthName()).string();
   if (!fs::exists(path)) return std::nullopt;
-  const JsonReader jr(path);
+  const LogJson jr(path);
   const json j = jr.parse(readFile(path));
   if (!j.is_object()) jr.fail("top level", "must be a JSON object");
   if (jr.text(j, "format", "") != "uavip-raw-log-truth") jr.fail("format", "must be 'uavip-raw-log-truth'");

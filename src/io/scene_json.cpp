@@ -2,7 +2,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
-#include "uavip/io/atomic_file.h"
+#include "uavip/io/json_reader.h"
 
 #include <Eigen/Geometry>
 
@@ -24,47 +24,6 @@ json points(const PointList& pts) {
   return arr;
 }
 
-/// Reads JSON strictly, naming the file and the field on failure.
-class Reader {
- public:
-  explicit Reader(std::string path) : path_(std::move(path)) {}
-
-  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw InputError(path_ + ": " + field + " " + what);
-  }
-
-  const json& at(const json& j, const std::string& key, const std::string& field) const {
-    if (!j.is_object() || !j.contains(key)) fail(field + "." + key, "is missing");
-    return j.at(key);
-  }
-
-  Vec3 vec3(const json& j, const std::string& field) const {
-    if (!j.is_array() || j.size() != 3) fail(field, "must be [x, y, z]");
-    Vec3 p;
-    for (int i = 0; i < 3; ++i) {
-      if (!j[i].is_number()) fail(field, "must hold numbers");
-      p[i] = j[i].get<double>();
-    }
-    if (!p.allFinite()) fail(field, "must be finite");
-    return p;
-  }
-
-  PointList pointList(const json& j, const std::string& field) const {
-    if (!j.is_array()) fail(field, "must be a list of [x, y, z]");
-    PointList out;
-    out.reserve(j.size());
-    for (std::size_t i = 0; i < j.size(); ++i) out.push_back(vec3(j[i], field + "[" + std::to_string(i) + "]"));
-    return out;
-  }
-
-  double number(const json& j, const std::string& field) const {
-    if (!j.is_number()) fail(field, "must be a number");
-    return j.get<double>();
-  }
-
- private:
-  std::string path_;
-};
 
 }  // namespace
 
@@ -111,47 +70,42 @@ json sceneToJson(const Scene& scene) {
 }
 
 Scene sceneFromJson(const json& j, const std::string& path) {
-  const Reader r(path);
+  const JsonReader r(path);
   Scene scene;
-  const json& surfaces = r.at(j, "surfaces", "scene");
+  const json& surfaces = r.at(j, "surfaces", "");
   if (!surfaces.is_array()) r.fail("surfaces", "must be a list");
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const std::string f = "surfaces[" + std::to_string(i) + "]";
     const json& js = surfaces[i];
     Surface s;
-    const json& id = r.at(js, "id", f);
-    if (!id.is_number_integer() || id.get<std::int64_t>() < 0 || id.get<std::int64_t>() > 1'000'000)
-      r.fail(f + ".id", "must be a whole number in [0, 1000000]");
-    s.id = id.get<int>();
+    s.id = static_cast<int>(r.integer(r.at(js, "id", f), f + ".id", 0, 1'000'000));
     for (const auto& earlier : scene.surfaces) {
       if (earlier.id == s.id) r.fail(f + ".id", std::to_string(s.id) + " is used by an earlier surface; ids must differ");
     }
     s.plane.normal = r.vec3(r.at(js, "normal", f), f + ".normal");
     if (std::abs(s.plane.normal.norm() - 1.0) > 1e-3) r.fail(f + ".normal", "must be a unit vector");
     s.plane.normal.normalize();
-    s.plane.offset = r.number(r.at(js, "offset", f), f + ".offset");
+    s.plane.offset = r.number(r.at(js, "offset", f), f + ".offset", -2.0 * kMaxLocalCoordinateM, 2.0 * kMaxLocalCoordinateM, "m");
     s.area_m2 = r.number(r.at(js, "area_m2", f), f + ".area_m2");
-    s.density_area_m2 = js.contains("density_area_m2") ? r.number(js["density_area_m2"], f) : s.area_m2;
+    s.density_area_m2 = js.contains("density_area_m2") ? r.number(js["density_area_m2"], f + ".density_area_m2") : s.area_m2;
     if (!(s.area_m2 >= 0.0) || !(s.density_area_m2 >= 0.0)) r.fail(f + ".area_m2", "must be >= 0 m2");
     s.centroid = r.vec3(r.at(js, "centroid", f), f + ".centroid");
     s.axis_u = r.vec3(r.at(js, "axis_u", f), f + ".axis_u");
     s.axis_u = (s.axis_u - s.axis_u.dot(s.plane.normal) * s.plane.normal).normalized();
     s.axis_v = s.plane.normal.cross(s.axis_u);
-    s.boundary = r.pointList(r.at(js, "boundary", f), f + ".boundary");
+    s.boundary = r.points(r.at(js, "boundary", f), f + ".boundary");
     if (s.boundary.size() < 3) r.fail(f + ".boundary", "needs at least 3 vertices");
-    s.inliers = r.pointList(r.at(js, "points", f), f + ".points");
+    s.inliers = r.points(r.at(js, "points", f), f + ".points");
     scene.cloud.insert(scene.cloud.end(), s.inliers.begin(), s.inliers.end());
     scene.surfaces.push_back(std::move(s));
   }
-  const json& obstacles = r.at(j, "obstacles", "scene");
+  const json& obstacles = r.at(j, "obstacles", "");
   if (!obstacles.is_array()) r.fail("obstacles", "must be a list");
   for (std::size_t i = 0; i < obstacles.size(); ++i) {
     const std::string f = "obstacles[" + std::to_string(i) + "]";
     Obstacle o;
-    const json& id = r.at(obstacles[i], "id", f);
-    if (!id.is_number_integer()) r.fail(f + ".id", "must be an integer");
-    o.id = id.get<int>();
-    o.points = r.pointList(r.at(obstacles[i], "points", f), f + ".points");
+    o.id = static_cast<int>(r.integer(r.at(obstacles[i], "id", f), f + ".id", 0, 1'000'000'000));
+    o.points = r.points(r.at(obstacles[i], "points", f), f + ".points");
     const Aabb box = boundingBox(o.points);
     o.aabb_min = box.empty() ? Vec3::Zero() : box.min;
     o.aabb_max = box.empty() ? Vec3::Zero() : box.max;
@@ -167,33 +121,21 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     m.points = static_cast<std::size_t>(points);
     m.spacing_m = r.number(r.at(c, "spacing_m", "cloud"), "cloud.spacing_m");
     if (!(std::isfinite(m.spacing_m) && m.spacing_m >= 0.0)) r.fail("cloud.spacing_m", "must be >= 0");
-    m.extent_m = r.vec3(r.at(c, "extent_m", "cloud"), "cloud.extent_m");
+    m.extent_m = r.vec3(r.at(c, "extent_m", "cloud"), "cloud.extent_m", false);
     m.min = r.vec3(r.at(c, "min", "cloud"), "cloud.min");
     m.max = r.vec3(r.at(c, "max", "cloud"), "cloud.max");
     m.noise_m = r.number(r.at(c, "noise_m", "cloud"), "cloud.noise_m");
     if (!(std::isfinite(m.noise_m) && m.noise_m >= 0.0)) r.fail("cloud.noise_m", "must be >= 0");
-    const json& lattice = r.at(c, "lattice", "cloud");
-    if (!lattice.is_boolean()) r.fail("cloud.lattice", "must be true or false");
-    m.lattice = lattice.get<bool>();
-    if (c.contains("scanned_from_origin")) {
-      const json& station = c.at("scanned_from_origin");
-      if (!station.is_boolean()) r.fail("cloud.scanned_from_origin", "must be true or false");
-      m.scanned_from_origin = station.get<bool>();
-    }
+    m.lattice = r.boolean(r.at(c, "lattice", "cloud"), "cloud.lattice");
+    if (c.contains("scanned_from_origin"))
+      m.scanned_from_origin = r.boolean(c.at("scanned_from_origin"), "cloud.scanned_from_origin");
     scene.measured = m;
   }
   return scene;
 }
 
 Scene loadScene(const std::string& path) {
-  const std::string text = readFile(path);
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw InputError(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-  }
-  return sceneFromJson(j, path);
+  return sceneFromJson(JsonReader(path).load(), path);
 }
 
 }  // namespace uavip::io

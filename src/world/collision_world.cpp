@@ -451,6 +451,7 @@ std::vector<Obstacle> obstaclePieces(const Obstacle& o, double edge) {
 struct PointIndex {
   PointList points;
   Vec3 offset{Vec3::Zero()};
+  Aabb box;  ///< of the points
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud;
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   double pad{1e-3};  ///< slack added to search radii for the float kd-tree [m]
@@ -458,7 +459,7 @@ struct PointIndex {
   void build(const PointList& pts) {
     points = pts;
     if (pts.empty()) return;
-    const Aabb box = boundingBox(pts);
+    box = boundingBox(pts);
     offset = 0.5 * (box.min + box.max);
     pad = 1e-3 + 1e-6 * (box.max - box.min).norm();
     cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
@@ -490,16 +491,31 @@ struct PointIndex {
   }
 
   /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
+  /// The segment is cut into pieces of kPieceLength; a piece whose mid-point lies
+  /// farther from the cloud's box than the best distance so far plus its half length
+  /// cannot hold the minimum and costs no search, so a segment reaching far beyond
+  /// the cloud stays cheap.
   double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
     double best = kInf;
     if (points.empty()) return best;
     const double len = (b - a).norm();
-    const int pieces = std::max(1, static_cast<int>(std::ceil(len / kPieceLength)));
+    // A true distance to start from: the point nearest to the segment's point
+    // closest to the cloud's centre.
+    const Vec3 ab = b - a;
+    const double t = ab.squaredNorm() > 0.0 ? std::clamp((offset - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    std::vector<int> idx(1);
+    std::vector<float> d2(1);
+    if (tree.nearestKSearch(toPcl(a + t * ab), 1, idx, d2) == 1) {
+      q = points[static_cast<std::size_t>(idx[0])];
+      best = pointSegmentDistance(q, a, b);
+    }
+    const int pieces = static_cast<int>(std::clamp(std::ceil(len / kPieceLength), 1.0, 1e9));
     for (int k = 0; k < pieces; ++k) {
       const Vec3 pa = a + (b - a) * (static_cast<double>(k) / pieces);
       const Vec3 pb = a + (b - a) * (static_cast<double>(k + 1) / pieces);
       const Vec3 mid = 0.5 * (pa + pb);
       const double half = 0.5 * (pb - pa).norm();
+      if ((mid - mid.cwiseMax(box.min).cwiseMin(box.max)).norm() - half >= best) continue;
       // Every point nearer to the piece than the mid-point's nearest neighbour lies
       // within d0 + half of the mid-point, so this search makes the minimum exact.
       const double d0 = approxNearest(mid);

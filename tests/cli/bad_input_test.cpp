@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -132,7 +133,14 @@ class BadInput : public ::testing::Test {
     write("scene_nosurf.json", "{\"cloud\": []}");
     write("mission_nosurf.json", "{\"inflation_radius_m\": 0.6}");
     write("mission_badwp.json",
-          "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", \"waypoints\": [[1, \"a\", 3]]}]}");
+          "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", \"stops\": [], "
+          "\"waypoints\": [[1, \"a\", 3]]}]}");
+    // A surface path 60 km from the origin (within the file's 1,000 km), and one at 1e155 m.
+    const std::string far_surface =
+        "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", \"stops\": "
+        "[{\"position\": [60000, 0, 5], \"yaw_deg\": 0, \"gimbal_pitch_deg\": 0}], \"waypoints\": [[60000, 0, 5], [WP]]}]}";
+    write("mission_far.json", std::regex_replace(far_surface, std::regex("WP"), "60001, 0, 5"));
+    write("mission_1e155.json", std::regex_replace(far_surface, std::regex("WP"), "1e155, 0, 5"));
     // Scans folder with a file an output could overwrite.
     write("scans/cloud.pcd", "keep");
   }
@@ -251,6 +259,9 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       // Validate.
       {"validate missing mission", "validate $D/nope.json", 2, "nope.json"},
       {"validate a waypoint of text", "validate $D/mission_badwp.json --scene " + scene, 2, "waypoints[0]"},
+      {"validate a waypoint at 1e155 m", "validate $D/mission_1e155.json --scene " + scene, 2, "waypoints[1]"},
+      {"export a flight 60 km from the origin", "export $D/mission_far.json --format wpl --origin 47,8,400 -o $D/x.wpl", 2,
+       "60.0 km from the origin"},
       {"validate negative clearance", "validate " + mission + " --clearance -1", 2, "--clearance"},
       {"validate a mission without surfaces", "validate $D/mission_nosurf.json --scene " + scene, 2, "surfaces"},
       // Command line.

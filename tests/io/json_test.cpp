@@ -1,3 +1,4 @@
+#include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 
@@ -83,6 +84,97 @@ TEST(SceneJson, BadFieldsAreNamed) {
   j = sceneToJson(smallScene());
   j["surfaces"].push_back(j["surfaces"][0]);
   expectField(j, "surfaces[" + std::to_string(j["surfaces"].size() - 1) + "].id");
+}
+
+TEST(JsonReader, NamesTheFieldAndBoundsLocalCoordinates) {
+  const JsonReader r("f.json");
+  auto message = [](const auto& call) -> std::string {
+    try {
+      call();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const nlohmann::json j = {{"p", {1.0, 2.0, 3.0}}, {"far", {1e155, 0.0, 0.0}}, {"n", 5}, {"big", 4294967296LL}};
+  EXPECT_EQ(r.vec3(j["p"], "p"), Vec3(1, 2, 3));
+  EXPECT_NE(message([&] { r.vec3(j["far"], "far"); }).find("f.json: far (1e+155, 0, 0) lies beyond"), std::string::npos);
+  EXPECT_NO_THROW(r.vec3(j["far"], "far", false));  // not a position: only finite
+  EXPECT_NE(message([&] { r.at(j, "q", "top"); }).find("f.json: top.q is missing"), std::string::npos);
+  EXPECT_EQ(r.integer(j["n"], "n", 0, 10), 5);
+  EXPECT_NE(message([&] { r.integer(j["big"], "big", 0, 1'000'000); }).find("big must be a whole number in [0, 1000000]"),
+            std::string::npos);
+  EXPECT_NE(message([&] { r.number(j["n"], "n", 0.0, 1.0, "m"); }).find("n must be in [0, 1] m, got 5"), std::string::npos);
+  EXPECT_NE(message([&] { r.parse("{\"a\": \n [1, 2"); }).find("f.json:2: not valid JSON (byte"), std::string::npos);
+}
+
+/// A mission of two surfaces and one sortie, as the planner writes it.
+nlohmann::json smallMission() {
+  auto stop = [](double x) {
+    return nlohmann::json{{"position", {x, 0.0, 2.0}}, {"yaw_deg", 90.0}, {"gimbal_pitch_deg", 0.0}, {"problem", "none"}};
+  };
+  nlohmann::json s0 = {{"surface_id", 0}, {"status", "ok"}, {"reason", ""}, {"stops", {stop(0), stop(2)}},
+                       {"waypoints", {{0.0, 0.0, 2.0}, {1.0, 0.0, 2.5}, {2.0, 0.0, 2.0}}}};
+  nlohmann::json s3 = {{"surface_id", 3}, {"status", "blocked"}, {"reason", "no stop reachable"},
+                       {"stops", {stop(9)}}, {"waypoints", nlohmann::json::array()}};
+  nlohmann::json sortie = {{"waypoints", {{0.0, 0.0, 0.0}, {0.0, 0.0, 2.0}, {2.0, 0.0, 2.0}, {0.0, 0.0, 0.0}}},
+                           {"stops", {{{"surface_id", 0}, {"stop", 0}, {"waypoint", 1}},
+                                      {{"surface_id", 0}, {"stop", 1}, {"waypoint", 2}}}}};
+  return {{"inflation_radius_m", 0.6},
+          {"surfaces", {s0, s3}},
+          {"flight", {{"status", "ok"}, {"reason", ""}, {"sorties", {sortie}}}}};
+}
+
+TEST(MissionJson, ReadsBackWhatThePlannerWrote) {
+  const MissionRecord m = missionFromJson(smallMission(), "m.json");
+  EXPECT_DOUBLE_EQ(m.inflation_radius_m, 0.6);
+  ASSERT_EQ(m.surfaces.size(), 2u);
+  EXPECT_TRUE(m.surfaces[0].flyable());
+  EXPECT_FALSE(m.surface(3)->flyable());
+  EXPECT_EQ(m.surface(7), nullptr);
+  EXPECT_EQ(m.surfaces[0].waypoints[1], Vec3(1.0, 0.0, 2.5));
+  EXPECT_DOUBLE_EQ(m.surfaces[0].stops[1].yaw_deg, 90.0);
+  ASSERT_TRUE(m.flight.has_value());
+  ASSERT_EQ(m.flight->sorties.size(), 1u);
+  EXPECT_EQ(m.flight->sorties[0].stops[1].waypoint, 2u);
+  nlohmann::json old = smallMission();
+  old.erase("flight");
+  EXPECT_FALSE(missionFromJson(old, "m.json").flight.has_value());  // files of older versions
+}
+
+TEST(MissionJson, InconsistentFilesAreNamed) {
+  auto expectField = [](const nlohmann::json& mission, const std::string& fragment) {
+    try {
+      missionFromJson(mission, "m.json");
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("m.json: " + fragment), std::string::npos) << e.what();
+    }
+  };
+  nlohmann::json j = smallMission();
+  j["surfaces"][1]["surface_id"] = 0;
+  expectField(j, "surfaces[1].surface_id 0 is used by an earlier surface");
+  j = smallMission();
+  j["surfaces"][0]["waypoints"][1] = {1e155, 0.0, 2.0};  // validate once called such a path collision-free
+  expectField(j, "surfaces[0].waypoints[1]");
+  j = smallMission();
+  j["surfaces"][0]["stops"][0]["position"][2] = 1.7e12;  // export once wrote this altitude
+  expectField(j, "surfaces[0].stops[0].position");
+  j = smallMission();
+  j["flight"]["sorties"][0]["stops"][1]["waypoint"] = 1;  // not later than the previous stop
+  expectField(j, "flight.sorties[0].stops[1] names no stop");
+  j = smallMission();
+  j["flight"]["sorties"][0]["stops"][0]["stop"] = 5;
+  expectField(j, "flight.sorties[0].stops[0] names no stop");
+  j = smallMission();
+  j["flight"]["sorties"][0]["waypoints"][1] = {0.0, 0.5, 2.0};
+  expectField(j, "flight.sorties[0].stops[0] is not at its waypoint");
+  j = smallMission();
+  j["inflation_radius_m"] = -1.0;
+  expectField(j, "inflation_radius_m must be in");
+  j = smallMission();
+  j["surfaces"][0].erase("stops");
+  expectField(j, "surfaces[0].stops is missing");
 }
 
 TEST(MissionJson, CarriesTheContractFields) {

@@ -185,6 +185,32 @@ TEST(CollisionWorld, CloudProximityIsExactAndTheOctreeIsConservative) {
   EXPECT_GT(far, 5);
 }
 
+TEST(CollisionWorld, SegmentsReachingFarBeyondTheCloudStayExact) {
+  // Pieces far from the cloud are skipped by a box bound; the minimum must not change.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  PointList cloud;
+  for (int i = 0; i < 300; ++i) cloud.emplace_back(u(rng), u(rng), u(rng));
+  const CollisionWorld world = CollisionWorld::fromCloud(cloud, WorldOptions{});
+  std::uniform_real_distribution<double> dir(-1.0, 1.0);
+  for (int k = 0; k < 40; ++k) {
+    const double reach = k % 2 == 0 ? 50.0 : 5e4;  // metres beyond the cloud
+    const Vec3 through(u(rng), u(rng), u(rng));
+    const Vec3 d = Vec3(dir(rng), dir(rng), dir(rng)).normalized();
+    const Vec3 a = through - reach * d, b = through + (k % 3 == 0 ? 1.0 : reach) * d + Vec3(0, 0, 0.2 * (k % 4));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
+    const Proximity p = world.proximity(a, b, 0.5);
+    EXPECT_NEAR(p.distance_m, brute, 1e-9) << k;
+    EXPECT_NEAR(pointSegmentDistance(p.point, a, b), brute, 1e-9) << k;
+  }
+  // A segment that never comes near: its distance is still exact.
+  const Vec3 a(-1e5, 50.0, 0.0), b(1e5, 50.0, 0.0);
+  double brute = std::numeric_limits<double>::infinity();
+  for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
+  EXPECT_NEAR(world.proximity(a, b, 0.5).distance_m, brute, 1e-9);
+}
+
 TEST(CollisionWorld, EmptyWorldAndBadOptions) {
   const CollisionWorld none = CollisionWorld::fromCloud({});
   EXPECT_TRUE(none.objects().empty());

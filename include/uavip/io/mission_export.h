@@ -34,6 +34,7 @@
 /// takes off and lands as its ground station or autopilot is set up to do.
 
 #include "uavip/core/types.h"
+#include "uavip/io/mission_json.h"
 
 #include <nlohmann/json.hpp>
 
@@ -109,23 +110,30 @@ struct Flight {
   std::size_t stopCount() const;
 };
 
-/// Reads one surface's path from a mission.json document (`path` for messages).
+/// One surface's path of a mission (`path` names its file in messages).
 /// `surface`: an id, or "" (the only surface with status ok or partial). Several
-/// surfaces are flown by the ordered flight (sortiesFromMissionJson), never joined
+/// surfaces are flown by the ordered flight (sortiesFromMission), never joined
 /// here; "all" throws InputError saying so.
 /// Stops with a problem other than "none" (skipped by a partial mission) are not
 /// flown; every other stop must lie on the waypoint path, in order.
-/// Throws InputError naming the file when the JSON lacks a field, a stop is not on
-/// the waypoint path, the id does not exist, "" is ambiguous (lists the ids), or
-/// the chosen surface has no flyable mission (names its status and reason; the CLI
-/// exits 3 for that, see NoMissionError).
-Flight flightFromMissionJson(const nlohmann::json& mission, const std::string& path, const std::string& surface);
+/// Throws InputError naming the file when a stop is not on the waypoint path, the
+/// id does not exist, "" is ambiguous (lists the ids), or NoMissionError when the
+/// chosen surface has no flyable mission (names its status and reason; the CLI
+/// exits 3 for that).
+Flight flightFromMission(const MissionRecord& mission, const std::string& path, const std::string& surface);
 
-/// The sorties of the ordered flight (`flight` of mission.json), each home → stops →
-/// home, stops oriented from their surface's stops[]. Throws InputError naming the
-/// file and field when the flight is missing (an older file) or malformed (a stop not
-/// at its waypoint), NoMissionError when its status is not ok.
-std::vector<Flight> sortiesFromMissionJson(const nlohmann::json& mission, const std::string& path);
+/// The sorties of the ordered flight, each home → stops → home, stops oriented from
+/// their surface's stops. Throws InputError when the flight is missing (an older
+/// file), NoMissionError when its status is not ok.
+std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::string& path);
+
+/// The same from a mission.json document (read with missionFromJson).
+inline Flight flightFromMissionJson(const nlohmann::json& mission, const std::string& path, const std::string& surface) {
+  return flightFromMission(missionFromJson(mission, path), path, surface);
+}
+inline std::vector<Flight> sortiesFromMissionJson(const nlohmann::json& mission, const std::string& path) {
+  return sortiesFromMission(missionFromJson(mission, path), path);
+}
 
 /// The chosen surface exists but has no collision-free mission (CLI exit code 3).
 class NoMissionError : public std::runtime_error {

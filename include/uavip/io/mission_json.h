@@ -3,12 +3,17 @@
 /// OUT/mission.json (ARCHITECTURE.md): surfaces[] {surface_id, status, reason,
 /// stops[] {position, target, yaw_deg, gimbal_pitch_deg, problem}, waypoints,
 /// raw_waypoint_count, path_length_m, validation, timings}, flight {…}.
+/// This file owns the format: the planner's results are written here, and
+/// `export` and `validate` read it back through missionFromJson / loadMission.
 
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,5 +34,68 @@ nlohmann::json flightToJson(const planning::FlightPlan& flight, const planning::
 /// planner, camera…).
 nlohmann::json missionToJson(const std::vector<planning::SurfaceMission>& missions,
                              const nlohmann::json& meta);
+
+// ---- reading back
+
+/// A photo stop as mission.json records it.
+struct StopRecord {
+  Vec3 position{Vec3::Zero()};  ///< [m], local ENU
+  double yaw_deg{0.0};          ///< CCW from +x (east) [deg]
+  double gimbal_pitch_deg{0.0};  ///< up positive [deg]
+  std::string problem{"none"};   ///< "none" when flown; a partial mission skips the others
+  bool flown() const { return problem == "none"; }
+};
+
+/// One surface's mission as recorded.
+struct SurfaceRecord {
+  int surface_id{0};
+  std::string status;  ///< ok, partial, blocked, failed, …
+  std::string reason;
+  std::vector<StopRecord> stops;
+  PointList waypoints;  ///< [m]
+  bool flyable() const { return status == "ok" || status == "partial"; }
+};
+
+/// A photo stop of a sortie: stop `stop` of surface `surface_id` at waypoint `waypoint`.
+struct SortieStopRecord {
+  int surface_id{0};
+  std::size_t stop{0};
+  std::size_t waypoint{0};
+};
+
+/// One battery sortie of the ordered flight: home … home.
+struct SortieRecord {
+  PointList waypoints;  ///< [m]
+  std::vector<SortieStopRecord> stops;
+};
+
+/// The ordered flight as recorded.
+struct FlightRecord {
+  std::string status;
+  std::string reason;
+  std::vector<SortieRecord> sorties;
+};
+
+/// A mission.json read back.
+struct MissionRecord {
+  double inflation_radius_m{std::numeric_limits<double>::quiet_NaN()};  ///< NaN when absent [m]
+  std::vector<SurfaceRecord> surfaces;
+  std::optional<FlightRecord> flight;  ///< absent in files of older versions
+  /// The surface with `id`, or nullptr.
+  const SurfaceRecord* surface(int id) const;
+};
+
+/// Reads a mission.json document strictly (io/json_reader.h): every coordinate
+/// finite and local, ids whole numbers in [0, 10⁶] and unique, each sortie stop
+/// naming a stop of its surface at a later waypoint of its sortie, within 2 mm of
+/// the stop's position. Throws InputError naming `path` and the field.
+MissionRecord missionFromJson(const nlohmann::json& mission, const std::string& path);
+
+/// Loads and reads `path` (missionFromJson).
+MissionRecord loadMission(const std::string& path);
+
+/// A stop is the waypoint within this distance of its position (mission.json rounds
+/// coordinates to 0.1 mm) [m].
+constexpr double kStopMatchM = 2e-3;
 
 }  // namespace uavip::io
