@@ -186,8 +186,10 @@ void BenchOptions::validate() const {
   }
   std::set<std::string> seen(planners.begin(), planners.end());
   require(seen.size() == planners.size(), "--planners", "lists a planner twice");
-  if (runs < 1) throw InputError("--runs: must be >= 1, got " + std::to_string(runs));
+  if (runs < 1 || runs > 10000) throw InputError("--runs: must be in [1, 10000], got " + std::to_string(runs));
   requirePositive(time_limit_s, "--time-limit", "the time limit [s]");
+  require(time_limit_s <= 3600.0, "--time-limit", "must be <= 3600 s, got " + formatNumber(time_limit_s));
+  requirePositive(max_total_s, "--max-total", "the worst-case planning time [s]");
 }
 
 std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
@@ -243,6 +245,7 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
   const auto t0 = Clock::now();
 
   std::vector<std::vector<BenchRun>> runs_by_scenario;
+  double worst_case_s = 0.0;  // if every run took its whole time limit
   for (std::size_t si = 0; si < scenarios.size(); ++si) {
     const io::Scenario& sc = scenarios[si];
     result.scenarios.push_back(sc.name);
@@ -289,6 +292,13 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
       result.legs.push_back(leg);
       scenario_legs.push_back(leg);
     }
+
+    worst_case_s += static_cast<double>(scenario_legs.size() * result.planners.size()) * options.runs * options.time_limit_s;
+    if (worst_case_s > options.max_total_s)
+      throw InputError("bench: " + std::to_string(result.legs.size()) + " legs x " + std::to_string(result.planners.size()) +
+                       " planners x " + std::to_string(options.runs) + " runs x " + formatNumber(options.time_limit_s) +
+                       " s may take " + formatFixed(worst_case_s / 3600.0, 1) + " h, more than --max-total " +
+                       formatNumber(options.max_total_s) + " s; lower --runs, --time-limit or the legs, or raise --max-total");
 
     planners::PlannerSettings settings = config.planner_settings;
     settings.time_limit_s = options.time_limit_s;

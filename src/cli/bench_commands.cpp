@@ -29,6 +29,7 @@ struct BenchArgs {
   std::string planners;
   int runs{5};
   double time_limit_s{1.0};
+  double max_total_s{4.0 * 3600.0};
   std::string out{"results.log"};
   bool no_simplify{false};
   std::uint32_t seed{1};
@@ -64,6 +65,7 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   app::BenchOptions options;
   if (!a.planners.empty()) options.planners = splitList(a.planners);
   options.runs = a.runs;
+  options.max_total_s = a.max_total_s;
   options.time_limit_s = a.time_limit_s;
   options.simplify = !a.no_simplify;
   options.seed = a.seed;
@@ -113,6 +115,9 @@ void addBenchCommands(CLI::App& cli, CommandRegistry& registry) {
   b->add_option("--planners", a->planners, "Comma-separated planners (" + names + "); default: all");
   b->add_option("--runs", a->runs, "Runs per planner and leg")->capture_default_str();
   b->add_option("--time-limit", a->time_limit_s, "Budget per run of an OMPL planner [s]")->capture_default_str();
+  b->add_option("--max-total", a->max_total_s,
+                "Refuse a bench whose worst case (legs x planners x runs x time limit) exceeds this [s]")
+      ->capture_default_str();
   b->add_option("--seed", a->seed, "Seed of OMPL's RNG and of the leg sampling")->capture_default_str();
   b->add_flag("--no-simplify", a->no_simplify, "Keep the planners' raw paths (no PathSimplifier)");
   b->add_option("-o,--out", a->out, "Benchmark log; the .csv, .md and .png go next to it")->capture_default_str();

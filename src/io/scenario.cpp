@@ -436,6 +436,7 @@ void parseScanSensing(Section& s, sim::ScanSimOptions& o) {
   o.start_yaw_deg = s.number("start_yaw_deg", o.start_yaw_deg);
   o.yaw_rate_deg_s = s.number("yaw_rate_deg_s", o.yaw_rate_deg_s);
   o.turn_deg = s.number("turn_deg", o.turn_deg);
+  o.max_readings = s.number("max_readings", o.max_readings);
   o.scanner.max_range_m = s.number("max_range_m", o.scanner.max_range_m);
   o.scanner.min_range_m = s.number("min_range_m", o.scanner.min_range_m);
   o.scanner.fov_deg = s.number("fov_deg", o.scanner.fov_deg);

@@ -1,6 +1,7 @@
 #include "uavip/sim/scanner_sim.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/core/math.h"
 
 #include <algorithm>
@@ -188,6 +189,14 @@ void ScanSimOptions::validate(const std::string& where) const {
   require(turn_deg <= 3600.0, where, "turn_deg must be <= 3600, got " + std::to_string(turn_deg));
   require(turn_deg / (yaw_rate_deg_s * scanner.period_s) <= 1e6, where,
           "turn_deg / (yaw_rate_deg_s * period) must be <= 1e6 scans per station");
+  requirePositive(max_readings, where, "max_readings");
+  const double readings = static_cast<double>(stations.size()) * (turn_deg / (yaw_rate_deg_s * scanner.period_s) + 1.0) *
+                          2.0 * scanner.beamCount();
+  require(readings <= max_readings, where,
+          formatNumber(static_cast<double>(stations.size())) + " stations x " + formatNumber(turn_deg) + " deg at " +
+              formatNumber(yaw_rate_deg_s) + " deg/s make " + formatNumber(readings / 1e6, 3) +
+              " M range readings, more than max_readings = " + formatNumber(max_readings / 1e6, 3) +
+              " M; use fewer stations, a smaller turn_deg or a faster yaw_rate_deg_s, or raise sensing.max_readings");
   for (const Vec3* v : {&vertical_mount_m, &horizontal_mount_m, &vertical_mount_rpy_deg, &horizontal_mount_rpy_deg}) {
     require(v->allFinite(), where, "mount offsets and angles must be finite");
   }

@@ -123,6 +123,11 @@ class BadInput : public ::testing::Test {
     write("tiny.yaml", "camera: {footprint_m: [0.001, 0.001]}\n");
     // Scenarios.
     write("no_world.yaml", "name: x\n");
+    const std::string wall = "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [4, 0, 0], edge_v: [0, 0, 2]}\n";
+    write("turn3600.yaml", wall + "sensing: {mode: scan, stations: [[1, -3, 1], [2, -3, 1], [3, -3, 1]], turn_deg: 3600}\n");
+    std::string stations;
+    for (int i = 0; i < 200; ++i) stations += std::string(i ? ", " : "") + "[" + std::to_string(i) + ", -3, 1]";
+    write("stations200.yaml", wall + "sensing: {mode: scan, stations: [" + stations + "]}\n");
     write("bad_mode.yaml", "name: x\nworld:\n  - {type: point, name: p, at: [0, 0, 2]}\nsensing: {mode: teleport}\n");
     write("fine.yaml", "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [40, 0, 0], edge_v: [0, 0, 20]}\n"
                        "sensing: {mode: sample, spacing_m: 0.0001}\n");
@@ -219,6 +224,8 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       // Scenarios (run writes into prev/).
       {"missing scenario", "run $D/nope.yaml -o $D/prev", 2, "nope.yaml"},
       {"scenario without world", "run $D/no_world.yaml -o $D/prev", 2, "world"},
+      {"three 3600 deg turns: 31 M range readings", "run $D/turn3600.yaml -o $D/prev", 2, "max_readings"},
+      {"200 scan stations", "run $D/stations200.yaml -o $D/prev", 2, "200 stations"},
       {"unknown sensing mode", "run $D/bad_mode.yaml -o $D/prev", 2, "teleport"},
       {"unknown primitive", "run $D/bad_prim.yaml -o $D/prev", 2, "sphere"},
       {"0.1 mm sampling of a 40 x 20 m wall", "run $D/fine.yaml -o $D/prev", 2, "spacing_m"},
@@ -271,6 +278,8 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"quiet and verbose", "-v run " + S + "single_plane.yaml -o $D/prev", 2, "--quiet and --verbose"},
       {"runs not a number", "bench " + S + "bench_cube_around.yaml --runs many -o $D/b.log", 2, "many"},
       // Outputs that would overwrite an input or each other.
+      {"bench of 55,000 h worst case", "bench " + S + "bench_cube_around.yaml --runs 10000 --time-limit 600 -o $D/b.log", 2,
+       "--max-total"},
       {"bench log onto its own csv", "bench " + S + "bench_cube_around.yaml --runs 1 -o $D/r.csv", 2, "same file"},
       {"bench missing scenario", "bench $D/nope.yaml -o $D/b.log", 2, "nope.yaml"},
       {"assemble into .xyz", "assemble $D/scans -o $D/x.xyz", 2, ".pcd"},

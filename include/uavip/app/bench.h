@@ -28,8 +28,12 @@ struct BenchOptions {
   double time_limit_s{1.0};           ///< budget per run of an OMPL planner [s]
   bool simplify{true};                ///< simplify every path (OMPL PathSimplifier, no B-spline)
   std::uint32_t seed{1};              ///< OMPL's global seed (first seed of the process wins) and leg sampling
+  /// Most planning time the bench may take in the worst case (every run using its whole
+  /// time limit): legs × planners × runs × time_limit_s, checked before planning [s].
+  double max_total_s{4.0 * 3600.0};
 
-  /// Throws InputError naming the bad option (unknown planner, runs < 1, limit <= 0).
+  /// Throws InputError naming the bad option (unknown planner, runs not in [1, 10000],
+  /// limit not in (0, 3600] s, max_total_s <= 0).
   void validate() const;
 };
 

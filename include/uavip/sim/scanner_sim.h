@@ -60,6 +60,10 @@ struct ScanSimOptions {
   double start_yaw_deg{0.0};          ///< heading (body +x from world +x, CCW) at each station's first scan [deg]
   double yaw_rate_deg_s{30.0};        ///< yaw rate; the turn takes turn_deg / yaw_rate [deg/s]
   double turn_deg{360.0};             ///< yaw swept per station (paper: 360°) [deg]
+  /// Most range readings of the whole recording (stations × scans × 2 scanners ×
+  /// beams): bounds time and memory before anything is simulated (the bridge takes
+  /// 4.2 M; 20 M take about 1 GB) [readings].
+  double max_readings{20e6};
   ScannerModel scanner;               ///< both scanners are the same model
   Vec3 vertical_mount_m{-0.15, 0.0, 0.0};    ///< vertical scanner centre in the body frame [m]
   Vec3 horizontal_mount_m{0.15, 0.0, 0.0};   ///< horizontal scanner centre in the body frame [m]
