@@ -84,14 +84,16 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   const app::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
   std::string name = "uavip_bench";
   for (const auto& s : r.scenarios) name += "_" + s;
-  io::writeFileAtomic(a.out, app::benchLog(r, name, hostName()));
+  io::StagedOutputs outputs;  // the log, CSV, table and plot are written together
+  outputs.write(a.out, app::benchLog(r, name, hostName()));
   const std::string csv = sibling(a.out, ".csv");
   const std::string md = sibling(a.out, ".md");
-  io::writeFileAtomic(csv, app::benchCsv(r));
+  outputs.write(csv, app::benchCsv(r));
   const std::string markdown = app::benchMarkdown(r);
-  io::writeFileAtomic(md, markdown);
+  outputs.write(md, markdown);
   const std::string png = sibling(a.out, ".png");
-  io::writeFileAtomic(png, app::benchPlot(r).png());
+  outputs.write(png, app::benchPlot(r).png());
+  outputs.commit();
   if (!v.quiet) {
     std::cout << markdown;
     std::cout << "\nresults: " << a.out << " (ompl_benchmark_statistics " << a.out << " -d results.db), " << csv

@@ -135,7 +135,9 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
     }
   }
   io::requireDistinctOutputs({a.mission, sceneFor(a)}, paths);
-  for (std::size_t i = 0; i < flights.size(); ++i) io::writeFileAtomic(paths[i], io::exportFlight(flights[i], format, options));
+  io::StagedOutputs outputs;  // every sortie's file, or none
+  for (std::size_t i = 0; i < flights.size(); ++i) outputs.write(paths[i], io::exportFlight(flights[i], format, options));
+  outputs.commit();
   if (!v.quiet) {
     for (std::size_t i = 0; i < flights.size(); ++i) {
       const io::Flight& f = flights[i];

@@ -51,8 +51,10 @@ nlohmann::json metaFor(const io::Config& config, const std::string& source) {
           {"camera_model", camera}};
 }
 
-void writeScene(const std::string& out, const app::DetectResult& d, const io::CloudReadInfo* read = nullptr) {
-  io::saveCloudPcd((fs::path(out) / "cloud_clean.pcd").string(), d.scene.cloud);
+void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
+                const io::CloudReadInfo* read = nullptr) {
+  const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
+  outputs.writeWith(pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
   nlohmann::json j = io::sceneToJson(d.scene);
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& r : d.resolved.values) parameters[r.key] = {{"value", r.value}, {"source", r.source}};
@@ -61,11 +63,11 @@ void writeScene(const std::string& out, const app::DetectResult& d, const io::Cl
   if (read != nullptr && read->origin_m != Vec3::Zero()) {
     j["source_offset_m"] = {read->origin_m.x(), read->origin_m.y(), read->origin_m.z()};
   }
-  io::writeFileAtomic((fs::path(out) / "scene.json").string(), j.dump(1) + "\n");
+  outputs.write((fs::path(out) / "scene.json").string(), j.dump(1) + "\n");
 }
 
-void writeMission(const std::string& out, const app::PlanResult& plan, const nlohmann::json& meta,
-                  const planning::FlightModel& model) {
+void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
+                  const nlohmann::json& meta, const planning::FlightModel& model) {
   nlohmann::json m = meta;
   m["timings"] = {{"coverage_s", plan.times.coverage_s},
                   {"grid_s", plan.times.grid_s},
@@ -75,7 +77,7 @@ void writeMission(const std::string& out, const app::PlanResult& plan, const nlo
   m["grid_resolution_m"] = plan.grid_resolution_m;
   nlohmann::json doc = io::missionToJson(plan.missions, m);
   doc["flight"] = io::flightToJson(plan.flight, model);
-  io::writeFileAtomic((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
+  outputs.write((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
 }
 
 void printDetectSummary(const app::DetectResult& d) {
@@ -182,11 +184,13 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const app::DetectResult d = app::detect(raw, scenario.config, app::measure(raw, &scenario), progress);
   const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
-  // Every output is written only once all the work succeeded: a run that fails
-  // leaves the previous scene, mission and views together.
-  writeScene(out, d);
-  writeMission(out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
-  io::writeViews(out, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
+  // The outputs are staged and renamed together once all of them are written: a run
+  // that fails leaves the previous scene, mission and views together.
+  io::StagedOutputs outputs;
+  writeScene(outputs, out, d);
+  writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
+  io::writeViews(outputs, out, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
+  outputs.commit();
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (!v.quiet) {
@@ -212,8 +216,10 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
   const app::DetectResult d = app::detect(raw, config, app::measure(raw), progress);
-  writeScene(out, d, &read);
-  io::writeViews(out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
+  io::StagedOutputs outputs;
+  writeScene(outputs, out, d, &read);
+  io::writeViews(outputs, out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
+  outputs.commit();
   if (!v.quiet) {
     printDetectSummary(d);
     std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
@@ -234,9 +240,11 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   io::ensureDirectory(out);
   const io::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
-  writeMission(out, p, metaFor(resolved, scene_path), resolved.flight.model);
-  io::writeViews(out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()),
+  io::StagedOutputs outputs;
+  writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
+  io::writeViews(outputs, out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()),
                  &p.flight);
+  outputs.commit();
   if (!v.quiet) {
     printPlanSummary(p);
     printTotals(p);

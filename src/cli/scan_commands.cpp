@@ -153,8 +153,10 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
                                               truth ? &truth->world : nullptr, progress);
   const fs::path parent = fs::path(out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());
-  io::saveCloudPcd(out, r.cloud);
-  io::writeFileAtomic(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
+  io::StagedOutputs outputs;  // the cloud and its report are written together
+  outputs.writeWith(out, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, r.cloud, out); });
+  outputs.write(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
+  outputs.commit();
   if (!v.quiet) {
     std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()
               << " merged (voxel " << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";

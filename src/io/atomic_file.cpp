@@ -14,31 +14,60 @@ namespace uavip::io {
 namespace fs = std::filesystem;
 
 void replaceFileAtomic(const std::string& path, const std::function<void(const std::string&)>& write) {
+  StagedOutputs one;
+  one.writeWith(path, write);
+  one.commit();
+}
+
+namespace {
+
+std::string temporaryFor(const std::string& path) { return path + ".tmp" + std::to_string(::getpid()); }
+
+/// Writes `text` to `file`; messages name `path`, the file the user asked for.
+void writeText(const std::string& file, const std::string& text, const std::string& path) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw InputError(path + ": cannot write (no permission, or the disk is full); choose another -o");
+}
+
+/// The checks before writing `path`: not a folder, its folder created.
+void prepareTarget(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory; give a file name to write");
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty()) ensureDirectory(parent.string());
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  try {
-    write(tmp);
-  } catch (...) {
-    fs::remove(tmp, ec);
-    throw;
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path + ": cannot write (" + ec.message() + "); choose another -o");
-  }
 }
 
+}  // namespace
+
 void writeFileAtomic(const std::string& path, const std::string& text) {
-  replaceFileAtomic(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw InputError(path + ": cannot write (no permission, or the disk is full); choose another -o");
-  });
+  replaceFileAtomic(path, [&](const std::string& tmp) { writeText(tmp, text, path); });
+}
+
+StagedOutputs::~StagedOutputs() {
+  std::error_code ec;
+  for (const auto& s : staged_) fs::remove(s.first, ec);
+}
+
+void StagedOutputs::writeWith(const std::string& path, const std::function<void(const std::string&)>& write) {
+  prepareTarget(path);
+  const std::string tmp = temporaryFor(path);
+  staged_.emplace_back(tmp, path);  // removed by the destructor unless committed
+  write(tmp);
+}
+
+void StagedOutputs::write(const std::string& path, const std::string& text) {
+  writeWith(path, [&](const std::string& tmp) { writeText(tmp, text, path); });
+}
+
+void StagedOutputs::commit() {
+  for (const auto& [tmp, path] : staged_) {
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) throw InputError(path + ": cannot write (" + ec.message() + "); choose another -o");
+  }
+  staged_.clear();
 }
 
 void ensureDirectory(const std::string& dir) {

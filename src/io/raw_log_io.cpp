@@ -371,6 +371,7 @@ void writeRawLog(const std::string& dir, const RawLog& log) {
               log.min_range_m < log.max_range_m,
           "raw log", "min_range_m and max_range_m must satisfy 0 <= min < max");
   ensureDirectory(dir);
+  StagedOutputs outputs;  // the log's files are written together
   json stations = json::array();
   std::set<int> ids;
   for (const Station& st : log.stations) {
@@ -378,9 +379,9 @@ void writeRawLog(const std::string& dir, const RawLog& log) {
     require(st.id >= 0, "raw log", "station ids must be >= 0, got " + std::to_string(st.id));
     require(st.recorded_position.allFinite() && std::isfinite(st.recorded_yaw_rad), "raw log",
             "station " + std::to_string(st.id) + " recorded position and yaw must be finite");
-    writeFileAtomic((fs::path(dir) / rawLogScanFileName(st.id, true)).string(), scanCsv(st.vertical, "vertical"));
-    writeFileAtomic((fs::path(dir) / rawLogScanFileName(st.id, false)).string(), scanCsv(st.horizontal, "horizontal"));
-    writeFileAtomic((fs::path(dir) / rawLogImuFileName(st.id)).string(), imuCsv(st.imu));
+    outputs.write((fs::path(dir) / rawLogScanFileName(st.id, true)).string(), scanCsv(st.vertical, "vertical"));
+    outputs.write((fs::path(dir) / rawLogScanFileName(st.id, false)).string(), scanCsv(st.horizontal, "horizontal"));
+    outputs.write((fs::path(dir) / rawLogImuFileName(st.id)).string(), imuCsv(st.imu));
     stations.push_back({{"id", st.id},
                         {"recorded_position_m", vecJson(st.recorded_position)},
                         {"recorded_yaw_rad", st.recorded_yaw_rad},
@@ -399,7 +400,8 @@ void writeRawLog(const std::string& dir, const RawLog& log) {
       {"min_range_m", log.min_range_m},
       {"mounts", {{"vertical", mountJson(log.body_T_vertical)}, {"horizontal", mountJson(log.body_T_horizontal)}}},
       {"stations", stations}};
-  writeFileAtomic((fs::path(dir) / rawLogIndexName()).string(), index.dump(1) + "\n");
+  outputs.write((fs::path(dir) / rawLogIndexName()).string(), index.dump(1) + "\n");
+  outputs.commit();
 }
 
 void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth, const sim::WorldModel& world,

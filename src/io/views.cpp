@@ -386,12 +386,13 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   return fig;
 }
 
-void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                const OverviewOptions& options, const planning::FlightPlan* flight) {
+void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
+                const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options,
+                const planning::FlightPlan* flight) {
   namespace fs = std::filesystem;
-  writeFileAtomic((fs::path(out_dir) / "scene.ply").string(), sceneToPly(scene, missions));
-  writeFileAtomic((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions, flight));
-  writeFileAtomic((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options, flight).png());
+  outputs.write((fs::path(out_dir) / "scene.ply").string(), sceneToPly(scene, missions));
+  outputs.write((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions, flight));
+  outputs.write((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options, flight).png());
 }
 
 }  // namespace uavip::io

@@ -229,7 +229,10 @@ TEST(Views, WriteViewsWritesThreeFilesAtomically) {
   io::OverviewOptions o;
   o.width_px = 800;
   o.height_px = 500;
-  io::writeViews(dir.string(), f.scene, f.missions, o);
+  io::StagedOutputs outputs;
+  io::writeViews(outputs, dir.string(), f.scene, f.missions, o);
+  EXPECT_FALSE(fs::exists(dir / "overview.png"));  // staged until the command commits
+  outputs.commit();
   for (const char* name : {"scene.ply", "path.obj", "overview.png"}) {
     EXPECT_TRUE(fs::exists(dir / name)) << name;
     EXPECT_GT(fs::file_size(dir / name), 100u) << name;

@@ -16,6 +16,29 @@ void writeFileAtomic(const std::string& path, const std::string& text);
 /// Calls write(tmp_path) then renames tmp_path to `path`; removes tmp_path if write throws.
 void replaceFileAtomic(const std::string& path, const std::function<void(const std::string&)>& write);
 
+/// The outputs of one command, written as one unit: each file goes to a temporary
+/// beside its target, and commit() renames them all onto their targets. Destroyed
+/// without commit (an error on the way), it removes its temporaries, so every
+/// earlier output stays as it was and a folder never mixes two runs.
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();
+
+  /// Stages `text` for `path` (creating its folder). Throws InputError naming the
+  /// path when it is a folder or cannot be written.
+  void write(const std::string& path, const std::string& text);
+  /// Stages the file write(tmp_path) makes for `path`.
+  void writeWith(const std::string& path, const std::function<void(const std::string&)>& write);
+  /// Renames every staged file onto its target, in the order staged.
+  void commit();
+
+ private:
+  std::vector<std::pair<std::string, std::string>> staged_;  ///< (temporary, target)
+};
+
 /// Creates `dir` (and parents) if missing. Throws InputError if it is not a directory.
 void ensureDirectory(const std::string& dir);
 

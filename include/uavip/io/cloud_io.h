@@ -30,7 +30,12 @@ struct CloudReadInfo {
 /// point (with its index or line).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
 
-/// Writes a binary PCD atomically (temporary file + rename). Throws std::runtime_error on I/O failure.
+/// Writes a binary PCD atomically (temporary file + rename). Throws InputError naming
+/// `path` on I/O failure.
 void saveCloudPcd(const std::string& path, const PointList& cloud);
+
+/// Writes a binary PCD to `file` as it is (a staged temporary, io/atomic_file.h);
+/// messages name `path`, the file the user will see.
+void writeCloudPcdFile(const std::string& file, const PointList& cloud, const std::string& path);
 
 }  // namespace uavip::io

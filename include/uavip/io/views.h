@@ -16,6 +16,7 @@
 ///    and a line per surface; drawn with the render module.
 /// Everything is deterministic for the same scene and missions.
 
+#include "uavip/io/atomic_file.h"
 #include "uavip/core/types.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
@@ -59,10 +60,11 @@ struct OverviewOptions {
 render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                               const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
-/// Writes out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png, each
-/// atomically (io/atomic_file.h). Throws std::runtime_error naming a file that
-/// cannot be written.
-void writeViews(const std::string& out_dir, const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
+/// Stages out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png in `outputs`
+/// (io/atomic_file.h: written when the command commits its outputs). Throws
+/// InputError naming a file that cannot be written.
+void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
+                const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options = {},
+                const planning::FlightPlan* flight = nullptr);
 
 }  // namespace uavip::io

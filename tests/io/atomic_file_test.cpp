@@ -1,0 +1,86 @@
+// Outputs written as one unit (io/atomic_file.h): staged files appear only on
+// commit, and an error before commit leaves the earlier files and no temporaries.
+
+#include "uavip/io/atomic_file.h"
+
+#include "uavip/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace uavip::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// A fresh folder holding a.txt = "old a" and b.txt = "old b".
+fs::path folder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("uavip_staged_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  writeFileAtomic((dir / "a.txt").string(), "old a");
+  writeFileAtomic((dir / "b.txt").string(), "old b");
+  return dir;
+}
+
+std::size_t entries(const fs::path& dir) {
+  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+TEST(StagedOutputs, FilesAppearTogetherOnCommit) {
+  const fs::path dir = folder("commit");
+  StagedOutputs out;
+  out.write((dir / "a.txt").string(), "new a");
+  out.write((dir / "sub" / "c.txt").string(), "new c");  // a missing folder is created
+  EXPECT_EQ(slurp(dir / "a.txt"), "old a");
+  EXPECT_FALSE(fs::exists(dir / "sub" / "c.txt"));
+  out.commit();
+  EXPECT_EQ(slurp(dir / "a.txt"), "new a");
+  EXPECT_EQ(slurp(dir / "sub" / "c.txt"), "new c");
+  EXPECT_EQ(slurp(dir / "b.txt"), "old b");
+  EXPECT_EQ(entries(dir), 3u);  // a.txt, b.txt, sub: no temporaries left
+}
+
+TEST(StagedOutputs, AnErrorBeforeCommitLeavesTheEarlierFilesWhole) {
+  const fs::path dir = folder("error");
+  try {
+    StagedOutputs out;
+    out.write((dir / "a.txt").string(), "new a");
+    out.writeWith((dir / "b.txt").string(), [](const std::string& tmp) {
+      std::ofstream(tmp) << "half";
+      throw std::runtime_error("the disk is full");
+    });
+    out.commit();
+    FAIL() << "the error was swallowed";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "the disk is full");
+  }
+  EXPECT_EQ(slurp(dir / "a.txt"), "old a");
+  EXPECT_EQ(slurp(dir / "b.txt"), "old b");
+  EXPECT_EQ(entries(dir), 2u);  // the temporaries are gone
+}
+
+TEST(StagedOutputs, AFolderAsTargetIsNamed) {
+  const fs::path dir = folder("folder");
+  StagedOutputs out;
+  try {
+    out.write(dir.string(), "x");
+    FAIL() << "a folder was accepted as a file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace uavip::io
