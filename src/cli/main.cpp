@@ -4,6 +4,7 @@
 #include "src/cli/commands.h"
 
 #include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
 
 #include <unistd.h>
 
@@ -85,6 +86,7 @@ int main(int argc, char** argv) {
 
   try {
     if (v.quiet && v.verbose) throw uavip::InputError("--quiet and --verbose: choose one");
+    uavip::io::setPclConsole(v.verbose);
     return registry.dispatch();
   } catch (const uavip::InputError& e) {
     std::cerr << "uavip: error: " << e.what() << "\n";

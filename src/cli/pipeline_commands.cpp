@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <future>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -59,6 +60,8 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& r : d.resolved.values) parameters[r.key] = {{"value", r.value}, {"source", r.source}};
   j["parameters"] = parameters;
+  // Stage times [s]: 3 outlier removal + voxel grid, 4-5 planes + obstacle clusters.
+  j["timings"] = {{"preprocess_s", d.times.preprocess_s}, {"perception_s", d.times.perception_s}};
   // Recentred input (LAS): add source_offset_m to a point to get the file's coordinates in metres.
   if (read != nullptr && read->origin_m != Vec3::Zero()) {
     j["source_offset_m"] = {read->origin_m.x(), read->origin_m.y(), read->origin_m.z()};
@@ -162,8 +165,25 @@ io::OverviewOptions overviewOptions(const std::string& name) {
   return o;
 }
 
+/// The views rendered on a thread of their own while the scene and the mission are
+/// written; none with --no-views. The arguments must outlive the future (declare it
+/// after them: its destructor waits for the thread).
+std::future<io::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
+                                            const std::vector<planning::SurfaceMission>& missions,
+                                            const io::OverviewOptions& options, const planning::FlightPlan* flight) {
+  if (!views) return {};
+  return std::async(std::launch::async, [&scene, &missions, options, flight] {
+    return io::renderViews(scene, missions, options, flight);
+  });
+}
+
+/// Stages the views once rendered (nothing with --no-views).
+void stageViews(io::StagedOutputs& outputs, const std::string& out, std::future<io::ViewFiles>& views) {
+  if (views.valid()) io::stageViews(outputs, out, views.get());
+}
+
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
-               const std::string& planner, const Verbosity& v) {
+               const std::string& planner, bool views, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
@@ -186,10 +206,11 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
+  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
   writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
-  io::writeViews(outputs, out, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
+  stageViews(outputs, out, rendered);
   outputs.commit();
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -201,12 +222,12 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
               << formatFixed(p.times.grid_s, 2) << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
     std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
-              << "views: " << out << "/overview.png, " << out << "/scene.ply, " << out << "/path.obj\n";
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
   return kExitOk;
 }
 
-int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out,
+int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out, bool views,
                   const Verbosity& v) {
   const io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
   io::CloudReadInfo read;
@@ -216,20 +237,22 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
   const app::DetectResult d = app::detect(raw, config, app::measure(raw), progress);
+  const std::vector<planning::SurfaceMission> no_missions;
+  auto rendered = renderViewsAsync(views, d.scene, no_missions, overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d, &read);
-  io::writeViews(outputs, out, d.scene, {}, overviewOptions(fs::path(cloud_path).stem().string()));
+  stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {
     printDetectSummary(d);
     std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
-              << "views: " << out << "/overview.png, " << out << "/scene.ply\n";
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply\n" : "");
   }
   return kExitOk;
 }
 
 int planCommand(const std::string& scene_path, const std::string& config_path, const std::string& surface,
-                const std::string& planner, const std::string& out, const Verbosity& v) {
+                const std::string& planner, const std::string& out, bool views, const Verbosity& v) {
   io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
   if (!planner.empty()) {
     config.planner = planner;
@@ -240,16 +263,17 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   io::ensureDirectory(out);
   const io::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
+  auto rendered = renderViewsAsync(views, scene, p.missions,
+                                   overviewOptions(fs::path(scene_path).parent_path().filename().string()), &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
-  io::writeViews(outputs, out, scene, p.missions, overviewOptions(fs::path(scene_path).parent_path().filename().string()),
-                 &p.flight);
+  stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {
     printPlanSummary(p);
     printTotals(p);
     std::cout << "results: " << out << "/mission.json\n"
-              << "views: " << out << "/overview.png, " << out << "/scene.ply, " << out << "/path.obj\n";
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
   for (const auto& m : p.missions) {
     if (!planning::flyable(m.status)) {
@@ -274,6 +298,7 @@ std::string plannerList() {
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
   std::string scenario, out, surface{"all"}, planner, cloud, config, scene;
+  bool no_views{false};
 };
 
 }  // namespace
@@ -282,13 +307,15 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();
   const Verbosity& v = registry.verbosity();
   const std::string planner_help = "Point-to-point planner (" + plannerList() + "); default: the file's";
+  const std::string views_help = "Skip overview.png, scene.ply and path.obj (the views are drawn on a second thread)";
 
   auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'")->capture_default_str();
   run->add_option("--planner", a->planner, planner_help);
-  registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, v); });
+  run->add_flag("--no-views", a->no_views, views_help);
+  registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, !a->no_views, v); });
 
   auto* det = cli.add_subcommand("detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
   det->footer(
@@ -301,7 +328,8 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt, .las)")->required();
   det->add_option("-c,--config", a->config, "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();
-  registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, v); });
+  det->add_flag("--no-views", a->no_views, views_help);
+  registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, !a->no_views, v); });
 
   auto* pl = cli.add_subcommand("plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
   pl->footer(
@@ -321,7 +349,8 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
   pl->add_option("-o,--out", a->out, "Output directory")->required();
-  registry.add(pl, [a, &v] { return planCommand(a->scene, a->config, a->surface, a->planner, a->out, v); });
+  pl->add_flag("--no-views", a->no_views, views_help);
+  registry.add(pl, [a, &v] { return planCommand(a->scene, a->config, a->surface, a->planner, a->out, !a->no_views, v); });
 }
 
 }  // namespace uavip::cli

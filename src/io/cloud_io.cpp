@@ -6,6 +6,7 @@
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 
+#include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
@@ -500,6 +501,10 @@ void writeCloudPcdFile(const std::string& file, const PointList& cloud, const st
   // PCL refuses to write an empty binary cloud; an empty ASCII PCD is still valid.
   const int rc = out.empty() ? pcl::io::savePCDFileASCII(file, out) : pcl::io::savePCDFileBinary(file, out);
   if (rc < 0) throw InputError(path + ": cannot write the PCD file (no permission, or the disk is full)");
+}
+
+void setPclConsole(bool verbose) {
+  pcl::console::setVerbosityLevel(verbose ? pcl::console::L_WARN : pcl::console::L_ALWAYS);
 }
 
 void saveCloudPcd(const std::string& path, const PointList& cloud) {

@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
-#include <set>
 #include <sstream>
+#include <unordered_set>
 
 namespace uavip::io {
 namespace {
@@ -24,6 +24,12 @@ using render::Vec2;
 /// Exact coordinates as a key (points are copies of cloud points).
 using Key = std::array<double, 3>;
 Key key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    const std::hash<double> h;
+    return h(k[0]) ^ (h(k[1]) * 0x9E3779B97F4A7C15ULL) ^ (h(k[2]) * 0xC2B2AE3D27D4EB4FULL);
+  }
+};
 
 struct PlyVertex {
   Vec3 p;
@@ -72,7 +78,7 @@ PointList footprint(const coverage::FlightStrategy& s, const coverage::Stop& sto
 
 /// Cloud points in neither a surface nor an obstacle.
 PointList otherPoints(const Scene& scene) {
-  std::set<Key> used;
+  std::unordered_set<Key, KeyHash> used;
   for (const auto& s : scene.surfaces)
     for (const auto& p : s.inliers) used.insert(key(p));
   for (const auto& o : scene.obstacles)
@@ -279,7 +285,9 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
         const Color mc = surfaceColor(m->surface_id);
         const render::Style fp =
             render::patchStyle(mc.withAlpha(0.10), mc.mix(render::kBlack, 0.2).withAlpha(0.55), 0.8);
-        for (const auto& st : m->strategy.stops) p.polygon(project(footprint(m->strategy, st), view), fp);
+        std::vector<std::vector<Vec2>> footprints;
+        for (const auto& st : m->strategy.stops) footprints.push_back(project(footprint(m->strategy, st), view));
+        p.polygons(footprints, fp);
       }
     }
     for (const auto* mp : order) {
@@ -386,13 +394,22 @@ render::Figure overviewFigure(const Scene& scene, const std::vector<planning::Su
   return fig;
 }
 
+ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                      const OverviewOptions& options, const planning::FlightPlan* flight) {
+  return {sceneToPly(scene, missions), pathsToObj(missions, flight), overviewFigure(scene, missions, options, flight).png()};
+}
+
+void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views) {
+  namespace fs = std::filesystem;
+  outputs.write((fs::path(out_dir) / "scene.ply").string(), views.ply);
+  outputs.write((fs::path(out_dir) / "path.obj").string(), views.obj);
+  outputs.write((fs::path(out_dir) / "overview.png").string(), views.png);
+}
+
 void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
                 const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options,
                 const planning::FlightPlan* flight) {
-  namespace fs = std::filesystem;
-  outputs.write((fs::path(out_dir) / "scene.ply").string(), sceneToPly(scene, missions));
-  outputs.write((fs::path(out_dir) / "path.obj").string(), pathsToObj(missions, flight));
-  outputs.write((fs::path(out_dir) / "overview.png").string(), overviewFigure(scene, missions, options, flight).png());
+  stageViews(outputs, out_dir, renderViews(scene, missions, options, flight));
 }
 
 }  // namespace uavip::io

@@ -19,6 +19,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <unordered_set>
 #include <utility>
 
 namespace uavip::render {
@@ -373,6 +374,16 @@ void Panel::polygon(const std::vector<Vec2>& points, const Style& style, const s
   if (!label.empty()) legend_.push_back({label, style, LegendKind::Patch});
 }
 
+void Panel::polygons(const std::vector<std::vector<Vec2>>& polygons, const Style& style, const std::string& label) {
+  std::vector<Vec2> rings;
+  for (const auto& ring : polygons) {
+    rings.insert(rings.end(), ring.begin(), ring.end());
+    rings.emplace_back(Vec2::Constant(std::numeric_limits<double>::quiet_NaN()));  // pen up: the next ring
+  }
+  items_.push_back({Kind::Polygons, rings, style, {}, {}});
+  if (!label.empty()) legend_.push_back({label, style, LegendKind::Patch});
+}
+
 void Panel::markers(const std::vector<Vec2>& points, const Style& style, const std::string& label) {
   items_.push_back({Kind::Markers, points, style, {}, {}});
   if (!label.empty()) legend_.push_back({label, style, LegendKind::Marker});
@@ -459,11 +470,36 @@ void Panel::draw(void* cairo) const {
   for (const auto& it : items_) {
     switch (it.kind) {
       case Kind::Polyline:
-      case Kind::Polygon: {
+        if (!it.style.dashed && it.points.size() > 64) {
+          // A long path seen edge-on (a boustrophedon from the side) retraces the same
+          // pixels hundreds of times, and Cairo's stroker slows down on so many
+          // overlaps: draw each distinct half-pixel segment once, as its own sub-path
+          // (round caps and joins make the union look the same).
+          std::unordered_set<std::uint64_t> drawn;
+          auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e6, 1e6); };
+          for (std::size_t i = 1; i < it.points.size(); ++i) {
+            if (!ok(it.points[i - 1]) || !ok(it.points[i])) continue;
+            const Vec2 a = f.toPixel(it.points[i - 1]), b = f.toPixel(it.points[i]);
+            std::array<double, 4> s{half(a.x()), half(a.y()), half(b.x()), half(b.y())};
+            if (std::make_pair(s[2], s[3]) < std::make_pair(s[0], s[1])) s = {s[2], s[3], s[0], s[1]};
+            std::uint64_t key = 1469598103934665603ULL;  // FNV-1a over the four half-pixel coordinates
+            for (double c : s) key = (key ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(c) + (1 << 21))) * 1099511628211ULL;
+            if (!drawn.insert(key).second) continue;
+            cairo_move_to(cr, 0.5 * s[0], 0.5 * s[1]);
+            cairo_line_to(cr, 0.5 * s[2], 0.5 * s[3]);
+          }
+          applyLine(cr, it.style);
+          cairo_stroke(cr);
+          break;
+        }
+        [[fallthrough]];
+      case Kind::Polygon:
+      case Kind::Polygons: {
         bool pen = false;
         std::size_t n = 0;
         for (const auto& p : it.points) {
           if (!ok(p)) {
+            if (pen && it.kind == Kind::Polygons) cairo_close_path(cr);
             pen = false;
             continue;
           }
@@ -477,8 +513,8 @@ void Panel::draw(void* cairo) const {
           ++n;
         }
         if (n == 0) break;
-        if (it.kind == Kind::Polygon) {
-          cairo_close_path(cr);
+        if (it.kind != Kind::Polyline) {
+          if (pen) cairo_close_path(cr);
           if (it.style.fill) {
             setColor(cr, *it.style.fill);
             cairo_fill_preserve(cr);
@@ -493,10 +529,21 @@ void Panel::draw(void* cairo) const {
         break;
       }
       case Kind::Markers: {
+        // One marker per cell of half a pixel (filled markers) or half a marker
+        // (outlined ones): a dense cloud puts thousands of points on one pixel, and
+        // Cairo takes minutes to fill and stroke their overlapping outlines on the
+        // bridge; thinned so, the picture moves by at most a quarter of a cell.
+        const double cell_px = it.style.line_width_px > 0.0 ? std::max(0.5, 0.5 * it.style.marker_size_px) : 0.5;
+        std::unordered_set<std::uint64_t> drawn;
         for (const auto& p : it.points) {
           if (!ok(p)) continue;
           const Vec2 q = f.toPixel(p);
-          markerPath(cr, it.style.marker, q.x(), q.y(), it.style.marker_size_px);
+          const double sx = std::round(q.x() / cell_px), sy = std::round(q.y() / cell_px);
+          if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9)) continue;  // far outside the clip
+          const std::uint64_t cell = static_cast<std::uint64_t>(static_cast<std::int64_t>(sx) + (1LL << 31)) << 32 |
+                                     static_cast<std::uint32_t>(static_cast<std::int64_t>(sy) + (1LL << 31));
+          if (!drawn.insert(cell).second) continue;
+          markerPath(cr, it.style.marker, cell_px * sx, cell_px * sy, it.style.marker_size_px);
         }
         finishMarkers(cr, it.style);
         break;

@@ -30,6 +30,11 @@ struct CloudReadInfo {
 /// point (with its index or line).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
 
+/// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too
+/// few inliers, which uavip handles): they are silenced unless `verbose`, so that an
+/// error is one uavip line.
+void setPclConsole(bool verbose);
+
 /// Writes a binary PCD atomically (temporary file + rename). Throws InputError naming
 /// `path` on I/O failure.
 void saveCloudPcd(const std::string& path, const PointList& cloud);

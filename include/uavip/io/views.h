@@ -60,6 +60,21 @@ struct OverviewOptions {
 render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                               const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
+/// The three views as file contents.
+struct ViewFiles {
+  std::string ply;  ///< scene.ply
+  std::string obj;  ///< path.obj
+  std::string png;  ///< overview.png
+};
+
+/// Renders the three views. Reads its arguments only, so it may run on a thread of
+/// its own while the caller writes the scene and the mission.
+ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+                      const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
+
+/// Stages rendered views as out_dir/scene.ply, path.obj and overview.png.
+void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
+
 /// Stages out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png in `outputs`
 /// (io/atomic_file.h: written when the command commits its outputs). Throws
 /// InputError naming a file that cannot be written.
