@@ -1,8 +1,12 @@
 #include "uavip/planning/path_validator.h"
 
+#include "uavip/core/parallel.h"
+
 #include <algorithm>
 #include <limits>
+#include <thread>
 #include <utility>
+#include <vector>
 
 namespace uavip::planning {
 
@@ -11,6 +15,8 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Tolerance of the clearance test [m].
 constexpr double kTolerance = 1e-9;
+/// Paths of at least this many segments are validated on all cores.
+constexpr std::size_t kParallelSegments = 64;
 
 }  // namespace
 
@@ -38,11 +44,16 @@ ValidationResult PathValidator::validate(const PointList& path) const {
   if (path.empty() || !world_ || world_->objects().empty()) return out;
   const double req = required_clearance_m_;
   const std::size_t segments = path.size() == 1 ? 1 : path.size() - 1;
+  // The segments are independent read-only queries: spread over the cores, then
+  // summarised in order, so the result does not depend on the threads.
+  std::vector<world::Proximity> near(segments);
+  const int threads = segments >= kParallelSegments ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : 1;
+  parallelFor(segments, threads, [&](std::size_t s, std::size_t) {
+    near[s] = world_->proximity(path[s], path.size() == 1 ? path[0] : path[s + 1], req);
+  });
   out.segment_clearance_m.reserve(segments);
   for (std::size_t s = 0; s < segments; ++s) {
-    const Vec3& a = path[s];
-    const Vec3& b = path.size() == 1 ? path[0] : path[s + 1];
-    const world::Proximity p = world_->proximity(a, b, req);
+    const world::Proximity& p = near[s];
     out.segment_clearance_m.push_back(p.distance_m);
     out.min_clearance_m = std::min(out.min_clearance_m, p.distance_m);
     if (p.distance_m < req - kTolerance && out.first_violation_segment < 0) {

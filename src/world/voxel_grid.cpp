@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -278,40 +277,52 @@ bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
 
 struct VoxelGrid::ReachCache {
   std::mutex mutex;
-  std::vector<std::uint8_t> mask;  ///< the last component (empty: none yet)
+  /// The 26-connected component of every voxel (0: blocked, 1…: free), labelled on
+  /// the first call by one flood fill per component; empty until then.
+  std::vector<std::int32_t> label;
 };
 
-std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
-  if (isBlocked(seed)) return {};
-  if (reach_cache_) {
-    const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
-    if (!reach_cache_->mask.empty() && reach_cache_->mask[linear(seed)]) return reach_cache_->mask;
-  }
-  std::vector<std::uint8_t> seen(blocked_.size(), 0);
-  std::deque<Index3> queue;
-  seen[linear(seed)] = 1;
-  queue.push_back(seed);
-  while (!queue.empty()) {
-    const Index3 c = queue.front();
-    queue.pop_front();
-    for (int dz = -1; dz <= 1; ++dz) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Index3 n{c.x + dx, c.y + dy, c.z + dz};
-          if (isBlocked(n)) continue;
-          auto& s = seen[linear(n)];
-          if (s) continue;
-          s = 1;
-          queue.push_back(n);
+std::vector<std::int32_t> VoxelGrid::labelComponents() const {
+  std::vector<std::int32_t> label(blocked_.size(), 0);
+  std::vector<Index3> stack;
+  std::int32_t next = 0;
+  for (int z = 0; z < dims_[2]; ++z) {
+    for (int y = 0; y < dims_[1]; ++y) {
+      for (int x = 0; x < dims_[0]; ++x) {
+        const Index3 seed{x, y, z};
+        if (isBlocked(seed) || label[linear(seed)] != 0) continue;
+        label[linear(seed)] = ++next;
+        stack.push_back(seed);
+        while (!stack.empty()) {
+          const Index3 c = stack.back();
+          stack.pop_back();
+          for (int dz = -1; dz <= 1; ++dz) {
+            for (int dy = -1; dy <= 1; ++dy) {
+              for (int dx = -1; dx <= 1; ++dx) {
+                const Index3 n{c.x + dx, c.y + dy, c.z + dz};
+                if (isBlocked(n)) continue;
+                auto& l = label[linear(n)];
+                if (l != 0) continue;
+                l = next;
+                stack.push_back(n);
+              }
+            }
+          }
         }
       }
     }
   }
-  if (reach_cache_) {
-    const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
-    reach_cache_->mask = seen;
-  }
+  return label;
+}
+
+std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
+  if (isBlocked(seed)) return {};
+  std::shared_ptr<ReachCache> cache = reach_cache_ ? reach_cache_ : std::make_shared<ReachCache>();
+  const std::lock_guard<std::mutex> lock(cache->mutex);
+  if (cache->label.empty()) cache->label = labelComponents();
+  const std::int32_t mine = cache->label[linear(seed)];
+  std::vector<std::uint8_t> seen(blocked_.size(), 0);
+  for (std::size_t i = 0; i < seen.size(); ++i) seen[i] = cache->label[i] == mine;
   return seen;
 }
 

@@ -91,8 +91,8 @@ class VoxelGrid {
   /// Linear index of an in-bounds voxel.
   std::size_t linear(const Index3& i) const;
   /// Marks every free voxel 26-connected to `seed` (an empty vector if seed is blocked).
-  /// The last component found is kept: a seed inside it (every surface of one
-  /// mission, usually) gets a copy instead of a new flood fill. Thread-safe.
+  /// The grid's connected components are labelled once, on the first call, so each
+  /// later call is one pass over the labels instead of a flood fill. Thread-safe.
   std::vector<std::uint8_t> reachableFrom(const Index3& seed) const;
 
  private:
@@ -103,7 +103,9 @@ class VoxelGrid {
   Vec3 origin_{Vec3::Zero()};
   std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<std::uint8_t> blocked_;   ///< 0 free, 1 inflated, 2 occupied
-  struct ReachCache;                    ///< the last flood fill (mutex + mask)
+  struct ReachCache;                    ///< component labels (mutex + labels)
+  /// Labels of the 26-connected components of the free voxels (0 for blocked).
+  std::vector<std::int32_t> labelComponents() const;
   std::shared_ptr<ReachCache> reach_cache_;
   std::size_t occupied_count_{0};
   std::size_t blocked_count_{0};
