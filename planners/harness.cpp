@@ -1,7 +1,9 @@
 #include "planners/harness.h"
 
+
 #include "planners/astar_ompl.h"
 #include "planners/ompl_planners.h"
+#include "planners/planner_table.h"
 #include "uavip/core/error.h"
 
 #include <ompl/base/PlannerData.h>
@@ -28,15 +30,6 @@ namespace og = ompl::geometric;
 
 using Clock = std::chrono::steady_clock;
 
-const std::vector<std::pair<std::string, std::string>>& nameTable() {
-  static const std::vector<std::pair<std::string, std::string>> table{
-      {"astar", "AStar"},       {"astar-euclid", "AStarEuclid"}, {"rrtconnect", "RRTConnect"},
-      {"rrtstar", "RRTstar"},   {"informed-rrtstar", "InformedRRTstar"},
-      {"bitstar", "BITstar"},   {"abitstar", "ABITstar"},        {"aitstar", "AITstar"},
-      {"prmstar", "PRMstar"},   {"lazyprmstar", "LazyPRMstar"},  {"fmtstar", "FMT"}};
-  return table;
-}
-
 void setState(ob::ScopedState<>& s, const Vec3& p) {
   for (unsigned int i = 0; i < 3; ++i) s[i] = p[static_cast<int>(i)];
 }
@@ -54,9 +47,7 @@ std::vector<std::string> plannerStatusNames() {
 }
 
 std::string omplName(const std::string& name) {
-  for (const auto& [ours, theirs] : nameTable()) {
-    if (ours == name) return theirs;
-  }
+  if (const PlannerInfo* p = findPlanner(name)) return p->ompl_name;
   std::string valid;
   for (const auto& n : plannerNames()) valid += (valid.empty() ? "" : ", ") + n;
   throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);

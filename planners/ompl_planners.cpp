@@ -1,21 +1,14 @@
 #include "planners/ompl_planners.h"
 
+
 #include "planners/astar_ompl.h"
 #include "planners/harness.h"
+#include "planners/planner_table.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
-#include <ompl/geometric/planners/fmt/FMT.h>
-#include <ompl/geometric/planners/informedtrees/ABITstar.h>
-#include <ompl/geometric/planners/informedtrees/AITstar.h>
-#include <ompl/geometric/planners/informedtrees/BITstar.h>
-#include <ompl/geometric/planners/prm/LazyPRMstar.h>
-#include <ompl/geometric/planners/prm/PRMstar.h>
-#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
-#include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
@@ -29,12 +22,6 @@ namespace {
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
-
-const std::vector<std::string>& samplingNames() {
-  static const std::vector<std::string> names{"rrtconnect", "rrtstar", "informed-rrtstar", "bitstar", "abitstar",
-                                              "aitstar",    "prmstar", "lazyprmstar",      "fmtstar"};
-  return names;
-}
 
 }  // namespace
 
@@ -102,11 +89,17 @@ PointList toPoints(const og::PathGeometric& path) {
   return out;
 }
 
-std::vector<std::string> omplPlannerNames() { return samplingNames(); }
+std::vector<std::string> omplPlannerNames() {
+  std::vector<std::string> names;
+  for (const auto& p : plannerTable()) {
+    if (p.isSampling()) names.push_back(p.name);
+  }
+  return names;
+}
 
 bool isOmplPlanner(const std::string& name) {
-  const auto& n = samplingNames();
-  return std::find(n.begin(), n.end(), name) != n.end();
+  const PlannerInfo* p = findPlanner(name);
+  return p != nullptr && p->isSampling();
 }
 
 bool seedOmpl(std::uint32_t seed) {
@@ -125,28 +118,13 @@ ob::PlannerPtr makeOmplPlanner(const std::string& name, const ob::SpaceInformati
   const std::string ompl_name = omplName(name);  // throws for an unknown name
   seedOmpl(settings.seed);
   ob::PlannerPtr p;
-  if (name == "astar" || name == "astar-euclid") {
+  const PlannerInfo& row = *findPlanner(name);  // omplName accepted the name
+  if (row.isSampling()) {
+    p = row.make(si);
+  } else {  // astar, astar-euclid: uavip's A* behind OMPL's interface
     AStarOptions o = settings.astar;
     o.cost = name == "astar" ? AStarCost::Paper : AStarCost::Euclidean;
     p = std::make_shared<AStarOmplPlanner>(si, grid, o);
-  } else if (name == "rrtconnect") {
-    p = std::make_shared<og::RRTConnect>(si);
-  } else if (name == "rrtstar") {
-    p = std::make_shared<og::RRTstar>(si);
-  } else if (name == "informed-rrtstar") {
-    p = std::make_shared<og::InformedRRTstar>(si);
-  } else if (name == "bitstar") {
-    p = std::make_shared<og::BITstar>(si);
-  } else if (name == "abitstar") {
-    p = std::make_shared<og::ABITstar>(si);
-  } else if (name == "aitstar") {
-    p = std::make_shared<og::AITstar>(si);
-  } else if (name == "prmstar") {
-    p = std::make_shared<og::PRMstar>(si);
-  } else if (name == "lazyprmstar") {
-    p = std::make_shared<og::LazyPRMstar>(si);
-  } else {  // fmtstar (omplName accepted the name)
-    p = std::make_shared<og::FMT>(si);
   }
   p->setName(ompl_name);
   return p;

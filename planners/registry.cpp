@@ -1,6 +1,7 @@
 #include "planners/registry.h"
 
 #include "planners/ompl_planners.h"
+#include "planners/planner_table.h"
 #include "uavip/core/error.h"
 
 #include <algorithm>
@@ -14,8 +15,8 @@ void PlannerSettings::validate(const std::string& where) const {
 }
 
 std::vector<std::string> plannerNames() {
-  std::vector<std::string> names{"astar", "astar-euclid"};
-  for (const auto& n : omplPlannerNames()) names.push_back(n);
+  std::vector<std::string> names;
+  for (const auto& p : plannerTable()) names.push_back(p.name);
   return names;
 }
 
