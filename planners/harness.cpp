@@ -1,6 +1,5 @@
 #include "planners/harness.h"
 
-
 #include "planners/astar_ompl.h"
 #include "planners/ompl_planners.h"
 #include "planners/planner_table.h"
