@@ -181,6 +181,9 @@ class Fields {
   std::size_t pos_{0};
 };
 
+/// Largest max_range_m a log may declare [m].
+constexpr double kMaxRangeM = 10000.0;
+
 std::string readText(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path + ": missing file of the raw log (see docs/raw_log_format.md)");
   return readFile(path);
@@ -448,6 +451,9 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
   RawLog log;
   log.max_range_m = jr.number(j, "max_range_m", "");
   log.min_range_m = jr.number(j, "min_range_m", "");
+  if (!(log.max_range_m <= kMaxRangeM))  // ranges are stored as float: a larger bound lets them overflow
+    jr.fail("max_range_m", "must be <= " + formatNumber(kMaxRangeM) + " m (a laser scanner's reach), got " +
+                               formatNumber(log.max_range_m, 9));
   if (!(log.min_range_m >= 0.0 && log.min_range_m < log.max_range_m)) {
     jr.fail("min_range_m", "must be >= 0 and < max_range_m, got " + formatNumber(log.min_range_m, 9) + " and " + formatNumber(log.max_range_m, 9));
   }

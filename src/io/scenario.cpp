@@ -393,7 +393,10 @@ void parseConfigSections(Section& top, Config& c) {
                               "mission", "flight", "assembly", "registration"}) {
     const YAML::Node n = top.node()[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
-    for (const auto& kv : n) c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
+    for (const auto& kv : n) {
+      // A key that is not a plain name is refused, naming its line, when the section is read.
+      if (kv.first.IsScalar()) c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
+    }
   }
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
   if (top.has("perception")) parsePerception(top.child("perception"), c.perception);

@@ -255,6 +255,20 @@ TEST_F(RawLogIo, TruncatedIndex) {
   expectError("log.json", ls.size() + 1, {"not valid JSON"});
 }
 
+TEST_F(RawLogIo, MaxRangeBeyondAFloatIsRefused) {
+  // A fuzz finding: max_range_m 1e300 let a range of 1e299 through, which overflowed
+  // to infinity when stored as float.
+  auto ls = lines("log.json");
+  for (auto& l : ls) l = std::regex_replace(l, std::regex("\"max_range_m\": [0-9.e+]+"), "\"max_range_m\": 1e300");
+  writeLines("log.json", ls);
+  try {
+    readRawLog(dir_.string());
+    FAIL() << "max_range_m 1e300 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_range_m must be <= 10000 m"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(RawLogIo, MissingStationFile) {
   fs::remove(file("station_0_imu.csv"));
   try {

@@ -103,6 +103,17 @@ TEST(Scenario, DuplicateKeyIsRefusedWithItsLine) {
                    {"x.yaml", "planner", "twice", "line " + std::to_string(second)});
 }
 
+TEST(Config, NonScalarKeyInsideASectionIsNamed) {
+  // A fuzz finding: a key such as [1] inside a section escaped as a yaml-cpp exception.
+  try {
+    parseConfig("preprocess: {[1]: 2}\n", "c.yaml");
+    FAIL() << "a non-scalar key was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a plain name"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scenario, WrongTypeIsNamed) {
   expectInputError(kMinimal + "grid: {resolution_m: fine}\n", {"x.yaml", "grid.resolution_m", "number", "fine"});
   expectInputError(kMinimal + "perception: {max_iterations: 2.5}\n", {"perception.max_iterations", "integer"});
