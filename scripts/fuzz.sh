@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of tests/fuzz with clang 14 under ASan + UBSan and runs
-# each for SECONDS (default 60) on seed corpora made from tests/data, then prints the
-# executions per target. A crash, leak or sanitizer report stops with exit 1 and
+# each for SECONDS (default 60) on seed corpora made from tests/data and scenarios/
+# (the raw log seeds are written here with printf), then prints the executions per
+# target and in total. A crash, leak or sanitizer report stops with exit 1 and
 # leaves the input in FUZZ_DIR (default build-fuzz).
 # Usage: bash scripts/fuzz.sh [SECONDS]      (SKIP_APT=1 to skip apt-get)
 set -euo pipefail
@@ -11,7 +12,8 @@ OUT=${FUZZ_DIR:-build-fuzz}
 
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()
-  for p in clang-14 libclang-rt-14-dev libpcl-dev libeigen3-dev nlohmann-json3-dev libgeographiclib-dev; do
+  for p in clang-14 libclang-rt-14-dev libpcl-dev libeigen3-dev nlohmann-json3-dev libgeographiclib-dev \
+      libyaml-cpp-dev libompl-dev libfcl-dev liboctomap-dev; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then
@@ -25,16 +27,56 @@ fi
 mkdir -p "$OUT"
 CXX=clang++-14
 FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-  -Iinclude -I. -isystem /usr/include/eigen3 -isystem "$(ls -d /usr/include/pcl-1.* | tail -1)")
+  -Iinclude -I. -isystem /usr/include/eigen3 -isystem "$(ls -d /usr/include/pcl-1.* | tail -1)"
+  -isystem "$(ls -d /usr/include/ompl-1.* | tail -1)")
 
-echo "fuzz: building fuzz_cloud and fuzz_json in $OUT" >&2
-$CXX "${FLAGS[@]}" tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
-  src/core/error.cpp -lpcl_io -lpcl_common -o "$OUT/fuzz_cloud"
-$CXX "${FLAGS[@]}" tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/atomic_file.cpp \
-  src/core/error.cpp src/core/geometry.cpp -lGeographicLib -o "$OUT/fuzz_json"
+# Every source is compiled once per run into $OUT/obj and linked into each target that
+# lists it; a target lists what its linker demands.
+mkdir -p "$OUT/obj"
+declare -A compiled=()
+build() {  # target, then its sources and libraries
+  local target=$1 arg obj link=()
+  shift
+  for arg in "$@"; do
+    case $arg in
+      *.cpp)
+        obj="$OUT/obj/${arg//\//_}.o"
+        if [ -z "${compiled[$arg]:-}" ]; then
+          $CXX "${FLAGS[@]}" -c "$arg" -o "$obj"
+          compiled[$arg]=1
+        fi
+        link+=("$obj") ;;
+      *) link+=("$arg") ;;
+    esac
+  done
+  $CXX "${FLAGS[@]}" "${link[@]}" -o "$OUT/$target"
+}
+
+echo "fuzz: building fuzz_cloud, fuzz_json, fuzz_yaml and fuzz_rawlog in $OUT" >&2
+build fuzz_cloud tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
+  src/core/error.cpp -lpcl_io -lpcl_common
+build fuzz_json tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/mission_json_read.cpp \
+  src/io/json_reader.cpp src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp -lGeographicLib
+# scenario.cpp checks every stage's options (Config::validate: the checks live next to
+# the stages, the planner names next to the planners), so it links most of the library.
+build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp src/io/las_reader.cpp \
+  src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp src/core/parallel.cpp src/core/voxel_key.cpp \
+  src/sim/world_model.cpp src/sim/surface_sampler.cpp src/sim/scanner_sim.cpp src/scan/station_assembler.cpp \
+  src/registration/station_registration.cpp src/preprocess/filters.cpp src/perception/scene_builder.cpp \
+  src/perception/plane_detector.cpp src/perception/obstacle_clusterer.cpp src/perception/euclidean_clusters.cpp \
+  src/coverage/camera.cpp src/coverage/flight_strategy.cpp src/world/voxel_grid.cpp src/world/collision_world.cpp \
+  src/planning/mission_planner.cpp src/planning/flight_planner.cpp src/planning/path_validator.cpp \
+  src/planning/path_simplifier.cpp src/planning/tour.cpp planners/planner_table.cpp planners/registry.cpp planners/astar.cpp \
+  planners/astar_ompl.cpp planners/ompl_planners.cpp planners/harness.cpp \
+  -lyaml-cpp -lpcl_io -lpcl_common -lpcl_kdtree -lpcl_search -lpcl_filters -lpcl_features -lpcl_segmentation \
+  -lpcl_surface -lqhull_r -llz4 -lfcl -loctomap -loctomath -lompl
+build fuzz_rawlog tests/fuzz/fuzz_rawlog.cpp src/io/raw_log_io.cpp src/io/json_reader.cpp src/io/atomic_file.cpp \
+  src/core/error.cpp src/core/geometry.cpp src/sim/world_model.cpp
 
 # Seeds: the first byte picks the reader (fuzz_cloud: 0 pcd, 1 ply, 2 xyz, 3 las;
-# fuzz_json: 0 scene, 1-2 mission surfaces, 3 mission sorties).
+# fuzz_json: 0 scene, 1-2 mission surfaces, 3 mission sorties; fuzz_yaml: 0 scenario,
+# 1 config). fuzz_rawlog has no selector byte: its input is log.json, the vertical,
+# horizontal and IMU CSV files of station 0, separated by "@@@@".
 seed() { mkdir -p "$OUT/corpus_$1"; { printf "\\x$(printf %02x "$2")"; cat; } > "$OUT/corpus_$1/$3"; }
 head -c 4096 tests/data/room_scan1.pcd | seed cloud 0 room.pcd
 printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 2 3\n4 5 6\n' | seed cloud 0 ascii.pcd
@@ -49,9 +91,54 @@ m='{"inflation_radius_m": 0.6, "surfaces": [{"surface_id": 0, "status": "ok", "r
 printf '%s' "$m" | seed json 1 mission1.json
 printf '%s' "$m" | seed json 2 mission2.json
 printf '%s' "$m" | seed json 3 mission3.json
+for f in single_point single_line single_plane single_cube wall_on_ground bench_cube_around bridge; do
+  seed yaml 0 "$f.yaml" < "scenarios/$f.yaml"
+done
+grep -E '^(input|preprocess|perception|uav|grid|camera|coverage|planner|mission|flight|assembly|registration):' \
+  scenarios/bridge.yaml | seed yaml 1 bridge_config.yaml
+printf '%s\n' 'input: {drop_classes: [3, 4, 5, 7]}' \
+  'preprocess: {remove_outliers: true, outlier_k: 16, outlier_std_ratio: 2.0, voxelize: true, voxel_m: 0.05}' \
+  'perception: {distance_threshold_m: 0.2, max_iterations: 200, min_area_m2: 2.0, plane_cluster_tolerance_m: 0.3,' \
+  '  area_cell_m: 0.1, min_inliers: 30, open_voxel_m: 0.1, viewpoint: [0, 0, 0], max_planes: 64, max_failures: 8,' \
+  '  seed: 42, obstacle_tolerance_m: 0.3, obstacle_min_points: 1}' \
+  'uav: {size_m: [0.6, 0.6, 0.4], inflation_radius_m: 0.6}' 'grid: {resolution_m: 0.2, padding_m: 2.0}' \
+  'camera: {sensor_mm: [13.2, 8.8], focal_mm: 8.8, image_px: [5472, 3648], gsd_mm_per_px: 1.0}' \
+  'coverage: {overlap: [0.2, 0.3], standoff_m: 1.5, gimbal_pitch_deg: [-90, 90], max_stops: 200000}' \
+  'planner: {name: rrtconnect, cost_weights: [1, 1, 1], max_expansions: 0, time_limit_s: 1.0, seed: 1, simplify: true}' \
+  'mission: {simplify: true, max_skipped_fraction: 0.25, start: [0, 0, 1], home: [0, 0, 1], repair_stops: true,' \
+  '  max_standoff_factor: 1.25, min_coverage: 0.95}' \
+  'flight: {cruise_speed_m_s: 3, climb_speed_m_s: 2, descent_speed_m_s: 1.5, hover_s: 2, settle_s: 1,' \
+  '  endurance_s: 1200, reserve: 0.25}' \
+  'assembly: {use_imu_prior: true, icp: point_to_line, max_iterations: 30, max_correspondence_m: 0.5,' \
+  '  keyframe_yaw_deg: 15, keyframe_translation_m: 0.2, horizontal_stride: 1, imu_smoothing_s: 0,' \
+  '  max_imu_gap_s: 0.025, estimate_z: true, z_cone_deg: 20, include_horizontal: false}' \
+  'registration: {method: translation, overlap_margin_m: 1.0, search_radius_m: 2.0, search_step_m: 0.2,' \
+  '  downsample_m: 0.15, max_correspondence_m: 1.0, max_iterations: 40, ndt_resolution_m: 1.0,' \
+  '  use_recorded_yaw: false, output_voxel_m: 0.02}' | seed yaml 1 full_config.yaml
+# A minimal valid raw log: one station, two scans per scanner, IMU samples over them.
+mkdir -p "$OUT/corpus_rawlog"
+station() {  # id, position: a log.json station record naming the files of station 0
+  printf '{"id": %s, "recorded_position_m": [%s], "recorded_yaw_rad": 0.003, "vertical_scans": "station_0_vertical.csv",' "$1" "$2"
+  printf ' "horizontal_scans": "station_0_horizontal.csv", "imu": "station_0_imu.csv"}'
+}
+rawlog() {  # stations...: the fuzz_rawlog input
+  printf '{"format": "uavip-raw-log", "version": 1, "max_range_m": 30.0, "min_range_m": 0.1, "mounts": {'
+  printf '"vertical": {"translation_m": [-0.15, 0, 0], "rotation_wxyz": [1, 0, 0, 0]}, '
+  printf '"horizontal": {"translation_m": [0.15, 0, 0], "rotation_wxyz": [1, 0, 0, 0]}}, "stations": [%s]}\n' "$(IFS=,; echo "$*")"
+  printf '@@@@# uavip raw log, vertical scans\n'
+  printf '0.000000,0.018750,-2.356194490,0.004363323,4,5.654,0,31.500,0.050\n'
+  printf '0.025000,0.018750,-2.356194490,0.004363323,4,5.650,5.700,0,2.000\n'
+  printf '@@@@# uavip raw log, horizontal scans\n'
+  printf '0.012500,0.018750,-0.785398163,0.004363323,3,1.000,2.000,3.000\n'
+  printf '0.037500,0.018750,-0.785398163,0.004363323,3,1.100,2.100,3.100\n'
+  printf '@@@@# uavip raw log, IMU samples\n'
+  for t in 0.000000 0.020000 0.040000 0.060000; do printf '%s,1.000000000,0.000000000,0.000000000,0.000000000\n' "$t"; done
+}
+rawlog "$(station 0 0,0,0)" > "$OUT/corpus_rawlog/one_station.log"
+rawlog "$(station 0 0,0,0)" "$(station 1 4.5,-0.2,0.01)" > "$OUT/corpus_rawlog/two_stations.log"
 
 total=0
-for t in cloud json; do
+for t in cloud json yaml rawlog; do
   log="$OUT/fuzz_$t.log"
   echo "fuzz: running fuzz_$t for $SECONDS_PER_TARGET s" >&2
   if ! "$OUT/fuzz_$t" "$OUT/corpus_$t" -max_total_time="$SECONDS_PER_TARGET" -print_final_stats=1 \

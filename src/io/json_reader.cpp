@@ -25,6 +25,8 @@ json JsonReader::parse(const std::string& text) const {
     const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n');
     throw InputError(file_ + ":" + std::to_string(line) + ": not valid JSON (byte " + std::to_string(e.byte) +
                      "; truncated or edited?)");
+  } catch (const json::exception& e) {  // e.g. a number beyond a double (1e999): out_of_range, not parse_error
+    throw InputError(file_ + ": not valid JSON (" + std::string(e.what()).substr(0, 120) + ")");
   }
 }
 

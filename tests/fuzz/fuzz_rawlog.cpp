@@ -27,18 +27,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const std::string kNames[] = {uavip::io::rawLogIndexName(), uavip::io::rawLogScanFileName(0, true),
                                        uavip::io::rawLogScanFileName(0, false), uavip::io::rawLogImuFileName(0)};
   constexpr std::string_view kSeparator = "@@@@";
-  fs::create_directories(dir);
+  // New files every time (removed at the end): rewriting a file in place is slow on
+  // ext4 (it flushes the old data first), and a part that is missing must be missing.
+  static const bool made = fs::create_directories(dir);
+  (void)made;
   std::string_view rest(reinterpret_cast<const char*>(data), size);
-  for (std::size_t i = 0; i < 4; ++i) {
-    const std::string path = dir + "/" + kNames[i];
-    if (rest.data() == nullptr) {  // fewer parts than files
-      fs::remove(path);
-      continue;
-    }
+  for (std::size_t i = 0; i < 4 && rest.data() != nullptr; ++i) {
     const std::size_t end = i < 3 ? rest.find(kSeparator) : std::string_view::npos;
     const std::string_view part = rest.substr(0, end);
     {
-      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      std::ofstream out(dir + "/" + kNames[i], std::ios::binary);
       out.write(part.data(), static_cast<std::streamsize>(part.size()));
     }
     rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + kSeparator.size());
@@ -70,5 +68,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } catch (const uavip::InputError&) {
   }
+  for (const auto& name : kNames) fs::remove(dir + "/" + name);
   return 0;
 }

@@ -106,6 +106,8 @@ TEST(JsonReader, NamesTheFieldAndBoundsLocalCoordinates) {
             std::string::npos);
   EXPECT_NE(message([&] { r.number(j["n"], "n", 0.0, 1.0, "m"); }).find("n must be in [0, 1] m, got 5"), std::string::npos);
   EXPECT_NE(message([&] { r.parse("{\"a\": \n [1, 2"); }).find("f.json:2: not valid JSON (byte"), std::string::npos);
+  // A fuzz finding: a number beyond a double threw nlohmann's out_of_range, not an InputError.
+  EXPECT_NE(message([&] { r.parse("{\"a\": 1e999}"); }).find("f.json: not valid JSON"), std::string::npos);
 }
 
 /// A mission of two surfaces and one sortie, as the planner writes it.

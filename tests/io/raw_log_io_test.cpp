@@ -256,8 +256,8 @@ TEST_F(RawLogIo, TruncatedIndex) {
 }
 
 TEST_F(RawLogIo, MaxRangeBeyondAFloatIsRefused) {
-  // A fuzz finding: max_range_m 1e300 let a range of 1e299 through, which overflowed
-  // to infinity when stored as float.
+  // max_range_m 1e300 let a range of 1e299 through, which overflowed to infinity when
+  // stored as float (found while checking a fuzz report).
   auto ls = lines("log.json");
   for (auto& l : ls) l = std::regex_replace(l, std::regex("\"max_range_m\": [0-9.e+]+"), "\"max_range_m\": 1e300");
   writeLines("log.json", ls);
