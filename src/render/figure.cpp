@@ -120,6 +120,20 @@ void markerPath(cairo_t* cr, Marker m, double x, double y, double size) {
   }
 }
 
+/// Exact key of a cell of a 2D lattice (whole-number coordinates within ±2^31, which
+/// callers ensure by clamping or skipping).
+std::uint64_t cellKey(double x, double y) {
+  return static_cast<std::uint64_t>(static_cast<std::int64_t>(x) + (1LL << 31)) << 32 |
+         static_cast<std::uint32_t>(static_cast<std::int64_t>(y) + (1LL << 31));
+}
+
+/// Hash of a pair of cell keys (a segment between two cells).
+struct CellPairHash {
+  std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& p) const {
+    return std::hash<std::uint64_t>()(p.first) ^ (std::hash<std::uint64_t>()(p.second) * 0x9E3779B97F4A7C15ULL);
+  }
+};
+
 bool strokeOnly(Marker m) { return m == Marker::Cross || m == Marker::Plus; }
 
 /// Fills and strokes the current path of markers with a style.
@@ -475,16 +489,14 @@ void Panel::draw(void* cairo) const {
           // pixels hundreds of times, and Cairo's stroker slows down on so many
           // overlaps: draw each distinct half-pixel segment once, as its own sub-path
           // (round caps and joins make the union look the same).
-          std::unordered_set<std::uint64_t> drawn;
-          auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e6, 1e6); };
+          std::unordered_set<std::pair<std::uint64_t, std::uint64_t>, CellPairHash> drawn;
+          auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e9, 1e9); };
           for (std::size_t i = 1; i < it.points.size(); ++i) {
             if (!ok(it.points[i - 1]) || !ok(it.points[i])) continue;
             const Vec2 a = f.toPixel(it.points[i - 1]), b = f.toPixel(it.points[i]);
             std::array<double, 4> s{half(a.x()), half(a.y()), half(b.x()), half(b.y())};
             if (std::make_pair(s[2], s[3]) < std::make_pair(s[0], s[1])) s = {s[2], s[3], s[0], s[1]};
-            std::uint64_t key = 1469598103934665603ULL;  // FNV-1a over the four half-pixel coordinates
-            for (double c : s) key = (key ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(c) + (1 << 21))) * 1099511628211ULL;
-            if (!drawn.insert(key).second) continue;
+            if (!drawn.insert({cellKey(s[0], s[1]), cellKey(s[2], s[3])}).second) continue;
             cairo_move_to(cr, 0.5 * s[0], 0.5 * s[1]);
             cairo_line_to(cr, 0.5 * s[2], 0.5 * s[3]);
           }
@@ -540,9 +552,7 @@ void Panel::draw(void* cairo) const {
           const Vec2 q = f.toPixel(p);
           const double sx = std::round(q.x() / cell_px), sy = std::round(q.y() / cell_px);
           if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9)) continue;  // far outside the clip
-          const std::uint64_t cell = static_cast<std::uint64_t>(static_cast<std::int64_t>(sx) + (1LL << 31)) << 32 |
-                                     static_cast<std::uint32_t>(static_cast<std::int64_t>(sy) + (1LL << 31));
-          if (!drawn.insert(cell).second) continue;
+          if (!drawn.insert(cellKey(sx, sy)).second) continue;
           markerPath(cr, it.style.marker, cell_px * sx, cell_px * sy, it.style.marker_size_px);
         }
         finishMarkers(cr, it.style);
