@@ -58,9 +58,7 @@ std::string shown(double v, int decimals) { return std::isfinite(v) ? formatFixe
 
 /// Legs of one scenario with feasibility on the grid.
 bool feasibleOnGrid(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b) {
-  if (!grid.isFree(a) || !grid.isFree(b)) return false;
-  const auto mask = grid.reachableFrom(grid.indexOf(a));
-  return !mask.empty() && mask[grid.linear(grid.indexOf(b))] != 0;
+  return grid.connected(grid.indexOf(a), grid.indexOf(b));
 }
 
 /// Per-leg median final length of each planner's solved runs.
@@ -207,15 +205,6 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
   if (stops.size() < 2 || max_legs < 1) return legs;
   const bool one_surface = std::all_of(stops.begin(), stops.end(), [&](const Stop& s) { return s.surface == stops[0].surface; });
 
-  std::vector<std::vector<std::uint8_t>> components;  // reachability masks computed so far
-  auto component = [&](const Vec3& p) -> const std::vector<std::uint8_t>& {
-    const std::size_t li = grid.linear(grid.indexOf(p));
-    for (const auto& c : components)
-      if (c[li]) return c;
-    components.push_back(grid.reachableFrom(grid.indexOf(p)));
-    return components.back();
-  };
-
   std::mt19937 rng(seed);
   std::set<std::pair<std::size_t, std::size_t>> used;
   const std::size_t n = stops.size();
@@ -227,7 +216,7 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
     const Vec3& a = stops[i].p;
     const Vec3& b = stops[j].p;
     if (grid.segmentFree(a, b)) continue;  // trivial: the straight line is free
-    if (!component(a)[grid.linear(grid.indexOf(b))]) continue;
+    if (!grid.connected(grid.indexOf(a), grid.indexOf(b))) continue;
     used.insert({std::min(i, j), std::max(i, j)});
     legs.emplace_back(a, b);
   }

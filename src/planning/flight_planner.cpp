@@ -353,10 +353,10 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
   }
 
   // Surfaces the home's free region cannot reach are left out.
-  const std::vector<std::uint8_t> reach = grid.reachableFrom(grid.indexOf(plan.home));
+  const world::Index3 home_voxel = grid.indexOf(plan.home);
   std::vector<SurfacePath> reachable;
   for (auto& s : surfaces) {
-    if (reach[grid.linear(grid.indexOf(s.waypoints.front()))] != 0) {
+    if (grid.connected(home_voxel, grid.indexOf(s.waypoints.front()))) {
       reachable.push_back(std::move(s));
     } else {
       plan.excluded.push_back({s.surface_id, "cut off from home " + formatPoint(plan.home) + " on the grid"});

@@ -156,11 +156,9 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     // usable stops: the first usable stop may sit in a pocket (between the legs of a
     // tower) cut off from the rest. Up to kSeedTries regions are compared.
     constexpr int kSeedTries = 3;
-    const auto inReach = [&](const std::vector<std::uint8_t>& reach, std::size_t i) {
-      return !reach.empty() && reach[grid.linear(grid.indexOf(stops[i].position))] != 0;
-    };
-    std::vector<std::uint8_t> reach =
-        grid.reachableFrom(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
+    const auto componentOf = [&](std::size_t i) { return grid.component(grid.indexOf(stops[i].position)); };
+    std::int32_t reach =
+        grid.component(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
     if (!options.start) {
       std::size_t best = 0;
       std::vector<char> tried(stops.size(), 0);
@@ -169,7 +167,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
         int next = -1;
         for (std::size_t i = 0; i < stops.size(); ++i) {
           if (m.stop_problems[i] != StopProblem::None) continue;
-          if (inReach(reach, i)) {
+          if (reach != 0 && componentOf(i) == reach) {
             ++count;
             tried[i] = 1;
           } else if (next < 0 && !tried[i]) {
@@ -178,18 +176,18 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
         }
         if (count > best) best = count;
         if (next < 0 || 2 * best >= static_cast<std::size_t>(stops.size())) break;
-        std::vector<std::uint8_t> other = grid.reachableFrom(grid.indexOf(stops[static_cast<std::size_t>(next)].position));
+        const std::int32_t other = componentOf(static_cast<std::size_t>(next));
         std::size_t other_count = 0;
         for (std::size_t i = 0; i < stops.size(); ++i) {
-          if (m.stop_problems[i] == StopProblem::None && inReach(other, i)) ++other_count;
+          if (m.stop_problems[i] == StopProblem::None && other != 0 && componentOf(i) == other) ++other_count;
         }
         tried[static_cast<std::size_t>(next)] = 1;
-        if (other_count > best) reach = std::move(other);
+        if (other_count > best) reach = other;
       }
     }
     for (std::size_t i = 0; i < stops.size(); ++i) {
       if (m.stop_problems[i] != StopProblem::None) continue;
-      if (!inReach(reach, i)) m.stop_problems[i] = StopProblem::Unreachable;
+      if (reach == 0 || componentOf(i) != reach) m.stop_problems[i] = StopProblem::Unreachable;
     }
   }
   std::size_t n_gimbal = 0, n_obstacle = 0, n_unreachable = 0;

@@ -191,10 +191,6 @@ double VoxelGrid::effectiveInflation() const {
   return options_.inflation_radius_m + std::sqrt(3.0) * options_.resolution_m;
 }
 
-bool VoxelGrid::inBounds(const Index3& i) const {
-  return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < dims_[0] && i.y < dims_[1] && i.z < dims_[2];
-}
-
 Index3 VoxelGrid::indexOf(const Vec3& p) const {
   const double res = options_.resolution_m;
   return {toIndex((p.x() - origin_.x()) / res), toIndex((p.y() - origin_.y()) / res),
@@ -206,18 +202,8 @@ Vec3 VoxelGrid::centreOf(const Index3& i) const {
   return origin_ + res * Vec3(i.x + 0.5, i.y + 0.5, i.z + 0.5);
 }
 
-std::size_t VoxelGrid::linear(const Index3& i) const {
-  return static_cast<std::size_t>(i.x) +
-         static_cast<std::size_t>(dims_[0]) *
-             (static_cast<std::size_t>(i.y) + static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z));
-}
-
 bool VoxelGrid::isOccupied(const Index3& i) const {
   return inBounds(i) && blocked_[linear(i)] == kOccupied;
-}
-
-bool VoxelGrid::isBlocked(const Index3& i) const {
-  return !inBounds(i) || blocked_[linear(i)] != kFree;
 }
 
 bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
@@ -278,52 +264,105 @@ bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
 struct VoxelGrid::ReachCache {
   std::mutex mutex;
   /// The 26-connected component of every voxel (0: blocked, 1…: free), labelled on
-  /// the first call by one flood fill per component; empty until then.
+  /// the first call; empty until then.
   std::vector<std::int32_t> label;
 };
 
+namespace {
+
+/// A run of free voxels along x in one row (fixed y, z): x0 … x1 inclusive.
+struct Run {
+  int x0, x1;
+};
+
+/// Union-find root with path halving.
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+/// Joins two sets; the smaller run index becomes the root.
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+  a = findRoot(parent, a);
+  b = findRoot(parent, b);
+  if (a < b) parent[b] = a;
+  else if (b < a) parent[a] = b;
+}
+
+}  // namespace
+
 std::vector<std::int32_t> VoxelGrid::labelComponents() const {
-  std::vector<std::int32_t> label(blocked_.size(), 0);
-  std::vector<Index3> stack;
-  std::int32_t next = 0;
-  for (int z = 0; z < dims_[2]; ++z) {
-    for (int y = 0; y < dims_[1]; ++y) {
-      for (int x = 0; x < dims_[0]; ++x) {
-        const Index3 seed{x, y, z};
-        if (isBlocked(seed) || label[linear(seed)] != 0) continue;
-        label[linear(seed)] = ++next;
-        stack.push_back(seed);
-        while (!stack.empty()) {
-          const Index3 c = stack.back();
-          stack.pop_back();
-          for (int dz = -1; dz <= 1; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-              for (int dx = -1; dx <= 1; ++dx) {
-                const Index3 n{c.x + dx, c.y + dy, c.z + dz};
-                if (isBlocked(n)) continue;
-                auto& l = label[linear(n)];
-                if (l != 0) continue;
-                l = next;
-                stack.push_back(n);
-              }
-            }
-          }
-        }
+  // Union-find over runs of free voxels along x. Two runs in rows whose y and z
+  // differ by at most one are 26-connected exactly when their x ranges, each grown
+  // by one voxel, overlap; within a row a run is connected by construction. Each
+  // row is joined to its four earlier neighbour rows, so every pair is seen once.
+  const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
+  const std::size_t rows = static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz);
+  std::vector<Run> runs;
+  std::vector<std::size_t> row_start(rows + 1, 0);
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::uint8_t* row = blocked_.data() + r * static_cast<std::size_t>(nx);
+    for (int x = 0; x < nx;) {
+      if (row[x] != kFree) {
+        ++x;
+        continue;
       }
+      const int x0 = x;
+      while (x < nx && row[x] == kFree) ++x;
+      runs.push_back({x0, x - 1});
+    }
+    row_start[r + 1] = runs.size();
+  }
+  require(runs.size() < std::numeric_limits<std::uint32_t>::max(), "grid", "too many free runs to label");
+  std::vector<std::uint32_t> parent(runs.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto joinRows = [&](std::size_t ra, std::size_t rb) {
+    std::size_t i = row_start[ra], j = row_start[rb];
+    while (i < row_start[ra + 1] && j < row_start[rb + 1]) {
+      if (runs[i].x0 <= runs[j].x1 + 1 && runs[j].x0 <= runs[i].x1 + 1)
+        unite(parent, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+      // Advance the run that ends first: the next run of its row starts ≥ 2 voxels
+      // after that end, so it cannot meet the other row's runs already passed.
+      if (runs[i].x1 < runs[j].x1) ++i;
+      else ++j;
+    }
+  };
+  for (int z = 0; z < nz; ++z) {
+    for (int y = 0; y < ny; ++y) {
+      const std::size_t r = static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z);
+      if (y > 0) joinRows(r, r - 1);
+      if (z == 0) continue;
+      const std::size_t below = r - static_cast<std::size_t>(ny);
+      joinRows(r, below);
+      if (y > 0) joinRows(r, below - 1);
+      if (y + 1 < ny) joinRows(r, below + 1);
+    }
+  }
+  // Number the components in the order their first voxel appears (roots are the
+  // smallest run index of their set, and runs are in linear order).
+  std::vector<std::int32_t> label(blocked_.size(), 0);
+  std::vector<std::int32_t> run_label(runs.size(), 0);
+  std::int32_t next = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    std::int32_t* row = label.data() + r * static_cast<std::size_t>(nx);
+    for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
+      const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(k));
+      if (root == k) run_label[k] = ++next;
+      else run_label[k] = run_label[root];
+      std::fill(row + runs[k].x0, row + runs[k].x1 + 1, run_label[k]);
     }
   }
   return label;
 }
 
-std::vector<std::uint8_t> VoxelGrid::reachableFrom(const Index3& seed) const {
-  if (isBlocked(seed)) return {};
-  std::shared_ptr<ReachCache> cache = reach_cache_ ? reach_cache_ : std::make_shared<ReachCache>();
-  const std::lock_guard<std::mutex> lock(cache->mutex);
-  if (cache->label.empty()) cache->label = labelComponents();
-  const std::int32_t mine = cache->label[linear(seed)];
-  std::vector<std::uint8_t> seen(blocked_.size(), 0);
-  for (std::size_t i = 0; i < seen.size(); ++i) seen[i] = cache->label[i] == mine;
-  return seen;
+std::int32_t VoxelGrid::component(const Index3& i) const {
+  if (isBlocked(i)) return 0;  // also every voxel of a default-constructed grid (no cache)
+  const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
+  if (reach_cache_->label.empty()) reach_cache_->label = labelComponents();
+  return reach_cache_->label[linear(i)];
 }
 
 }  // namespace uavip::world

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
 #include <limits>
+#include <map>
 #include <random>
 
 namespace uavip::world {
@@ -218,10 +220,10 @@ TEST(VoxelGrid, ReachabilityStopsAtAWall) {
   const Index3 right = g.indexOf(Vec3(0.8, 1.0, 1.0));
   ASSERT_TRUE(g.isFree(left));
   ASSERT_TRUE(g.isFree(right));
-  const auto reach = g.reachableFrom(left);
-  ASSERT_EQ(reach.size(), g.voxelCount());
+  const std::int32_t mine = g.component(left);
+  ASSERT_NE(mine, 0);
   forEachVoxel(g, [&](const Index3& i) {
-    const bool r = reach[g.linear(i)] != 0;
+    const bool r = g.component(i) == mine;
     if (r) {
       EXPECT_TRUE(g.isFree(i));
     }
@@ -230,7 +232,62 @@ TEST(VoxelGrid, ReachabilityStopsAtAWall) {
       EXPECT_EQ(r, g.centreOf(i).x() < 0.0);
     }
   });
-  EXPECT_TRUE(g.reachableFrom(g.indexOf(Vec3(0.0, 1.0, 1.0))).empty());
+  EXPECT_TRUE(g.connected(left, g.indexOf(Vec3(-0.5, 0.3, 1.7))));
+  EXPECT_FALSE(g.connected(left, right));
+  EXPECT_EQ(g.component(g.indexOf(Vec3(0.0, 1.0, 1.0))), 0);  // in the wall
+  EXPECT_EQ(g.component(Index3{-1, 0, 0}), 0);                // outside the grid
+}
+
+TEST(VoxelGrid, ComponentsMatchABruteForceFloodFill) {
+  // Random clutter in a small grid; the reference labels each free voxel by a plain
+  // breadth-first search over its 26 neighbours. Two voxels must share a component
+  // in one labelling exactly when they do in the other.
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::uniform_real_distribution<double> u(0.0, 3.0);
+    PointList cloud;
+    for (int k = 0; k < 60 + 40 * trial; ++k) cloud.emplace_back(u(rng), u(rng), u(rng));
+    GridOptions o;
+    o.resolution_m = 0.1;
+    o.inflation_radius_m = 0.05 + 0.02 * trial;
+    o.padding_m = 0.0;
+    const VoxelGrid g = VoxelGrid::build(cloud, {Vec3(0.0, 0.0, 0.0), Vec3(3.0, 3.0, 3.0)}, o);
+    std::vector<int> ref(g.voxelCount(), -1);
+    int components = 0;
+    forEachVoxel(g, [&](const Index3& seed) {
+      if (g.isBlocked(seed) || ref[g.linear(seed)] >= 0) return;
+      std::deque<Index3> queue{seed};
+      ref[g.linear(seed)] = components;
+      while (!queue.empty()) {
+        const Index3 c = queue.front();
+        queue.pop_front();
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const Index3 n{c.x + dx, c.y + dy, c.z + dz};
+              if (g.isBlocked(n) || ref[g.linear(n)] >= 0) continue;
+              ref[g.linear(n)] = components;
+              queue.push_back(n);
+            }
+      }
+      ++components;
+    });
+    // A bijection between the reference's components and the grid's labels.
+    std::map<int, std::int32_t> to_label;
+    std::map<std::int32_t, int> to_ref;
+    forEachVoxel(g, [&](const Index3& i) {
+      const std::int32_t l = g.component(i);
+      const int r = ref[g.linear(i)];
+      ASSERT_EQ(l == 0, r < 0);
+      if (r < 0) return;
+      EXPECT_EQ(to_label.emplace(r, l).first->second, l);
+      EXPECT_EQ(to_ref.emplace(l, r).first->second, r);
+    });
+    EXPECT_EQ(static_cast<int>(to_label.size()), components);
+    if (trial == 5) {
+      EXPECT_GT(components, 1) << "the densest clutter should cut off pockets";
+    }
+  }
 }
 
 }  // namespace

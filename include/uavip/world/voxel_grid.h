@@ -73,7 +73,9 @@ class VoxelGrid {
   std::size_t occupiedCount() const { return occupied_count_; }
   std::size_t blockedCount() const { return blocked_count_; }
 
-  bool inBounds(const Index3& i) const;
+  bool inBounds(const Index3& i) const {
+    return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < dims_[0] && i.y < dims_[1] && i.z < dims_[2];
+  }
   /// Voxel holding p (may be out of bounds).
   Index3 indexOf(const Vec3& p) const;
   /// Centre of voxel i [m].
@@ -81,19 +83,28 @@ class VoxelGrid {
   /// True if the voxel contains a measured point (before inflation).
   bool isOccupied(const Index3& i) const;
   /// True if out of bounds, occupied or inside the inflation of an occupied voxel.
-  bool isBlocked(const Index3& i) const;
+  bool isBlocked(const Index3& i) const { return !inBounds(i) || blocked_[linear(i)] != 0; }
   bool isFree(const Index3& i) const { return !isBlocked(i); }
   /// True if the voxel holding p is free.
   bool isFree(const Vec3& p) const { return isFree(indexOf(p)); }
   /// True if every sample of the segment a→b, spaced ≤ resolution, lies in a free
   /// voxel, and so does every voxel the segment crosses (3D DDA).
   bool segmentFree(const Vec3& a, const Vec3& b) const;
-  /// Linear index of an in-bounds voxel.
-  std::size_t linear(const Index3& i) const;
-  /// Marks every free voxel 26-connected to `seed` (an empty vector if seed is blocked).
-  /// The grid's connected components are labelled once, on the first call, so each
-  /// later call is one pass over the labels instead of a flood fill. Thread-safe.
-  std::vector<std::uint8_t> reachableFrom(const Index3& seed) const;
+  /// Linear index of an in-bounds voxel (x fastest, then y, then z).
+  std::size_t linear(const Index3& i) const {
+    return static_cast<std::size_t>(i.x) +
+           static_cast<std::size_t>(dims_[0]) *
+               (static_cast<std::size_t>(i.y) + static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z));
+  }
+  /// The 26-connected component of voxel i: 0 if blocked, else a label ≥ 1 shared
+  /// by exactly the free voxels connected to it. The grid's components are labelled
+  /// once, on the first call (union-find over free runs along x). Thread-safe.
+  std::int32_t component(const Index3& i) const;
+  /// True if a and b are free and 26-connected through free voxels.
+  bool connected(const Index3& a, const Index3& b) const {
+    const std::int32_t c = component(a);
+    return c != 0 && c == component(b);
+  }
 
  private:
   /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
