@@ -476,6 +476,7 @@ struct PointIndex {
     return {static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())};
   }
 
+  /// Indices of the points within `radius` of c (plus the float slack `pad`).
   std::vector<int> within(const Vec3& c, double radius) const {
     std::vector<int> idx;
     std::vector<float> d2;
@@ -483,50 +484,52 @@ struct PointIndex {
     return idx;
   }
 
-  double approxNearest(const Vec3& c) const {
+  /// The cloud point nearest to c (approximately: float kd-tree); -1 if none.
+  int nearest(const Vec3& c) const {
     std::vector<int> idx(1);
     std::vector<float> d2(1);
-    if (tree.nearestKSearch(toPcl(c), 1, idx, d2) < 1) return kInf;
-    return (points[static_cast<std::size_t>(idx[0])] - c).norm();
+    return tree.nearestKSearch(toPcl(c), 1, idx, d2) == 1 ? idx[0] : -1;
   }
 
   /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
   /// The segment is cut into pieces of kPieceLength; a piece whose mid-point lies
   /// farther from the cloud's box than the best distance so far plus its half length
   /// cannot hold the minimum and costs no search, so a segment reaching far beyond
-  /// the cloud stays cheap.
+  /// the cloud stays cheap. In a piece of length L with mid-point m, the point
+  /// nearest to m gives an upper bound `best`; a point p nearer to the piece than
+  /// `best` either has its foot inside the piece, and then |p − m|² < best² + L²/4
+  /// (Pythagoras), or at an end e, and then |p − e| < best. Those three balls make
+  /// the minimum exact; near a surface the first holds a disc of radius about L/2,
+  /// where a ball of radius d(m) + L/2 would hold one of radius √(d·L).
   double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
     double best = kInf;
     if (points.empty()) return best;
-    const double len = (b - a).norm();
+    auto consider = [&](int i, const Vec3& pa, const Vec3& pb) {
+      if (i < 0) return;
+      const Vec3& p = points[static_cast<std::size_t>(i)];
+      const double d = pointSegmentDistance(p, pa, pb);
+      if (d < best) {
+        best = d;
+        q = p;
+      }
+    };
     // A true distance to start from: the point nearest to the segment's point
     // closest to the cloud's centre.
     const Vec3 ab = b - a;
     const double t = ab.squaredNorm() > 0.0 ? std::clamp((offset - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    std::vector<int> idx(1);
-    std::vector<float> d2(1);
-    if (tree.nearestKSearch(toPcl(a + t * ab), 1, idx, d2) == 1) {
-      q = points[static_cast<std::size_t>(idx[0])];
-      best = pointSegmentDistance(q, a, b);
-    }
+    consider(nearest(a + t * ab), a, b);
+    const double len = ab.norm();
     const int pieces = static_cast<int>(std::clamp(std::ceil(len / kPieceLength), 1.0, 1e9));
     for (int k = 0; k < pieces; ++k) {
-      const Vec3 pa = a + (b - a) * (static_cast<double>(k) / pieces);
-      const Vec3 pb = a + (b - a) * (static_cast<double>(k + 1) / pieces);
+      const Vec3 pa = a + ab * (static_cast<double>(k) / pieces);
+      const Vec3 pb = a + ab * (static_cast<double>(k + 1) / pieces);
       const Vec3 mid = 0.5 * (pa + pb);
-      const double half = 0.5 * (pb - pa).norm();
-      if ((mid - mid.cwiseMax(box.min).cwiseMin(box.max)).norm() - half >= best) continue;
-      // Every point nearer to the piece than the mid-point's nearest neighbour lies
-      // within d0 + half of the mid-point, so this search makes the minimum exact.
-      const double d0 = approxNearest(mid);
-      for (int i : within(mid, d0 + half)) {
-        const Vec3& p = points[static_cast<std::size_t>(i)];
-        const double d = pointSegmentDistance(p, pa, pb);
-        if (d < best) {
-          best = d;
-          q = p;
-        }
-      }
+      const double piece = (pb - pa).norm();
+      if ((mid - mid.cwiseMax(box.min).cwiseMin(box.max)).norm() - 0.5 * piece >= best) continue;
+      consider(nearest(mid), pa, pb);
+      for (int i : within(mid, std::sqrt(best * best + 0.25 * piece * piece))) consider(i, pa, pb);
+      for (int i : within(pa, best)) consider(i, pa, pb);
+      for (int i : within(pb, best)) consider(i, pa, pb);
     }
     return best;
   }

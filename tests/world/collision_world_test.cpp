@@ -211,6 +211,47 @@ TEST(CollisionWorld, SegmentsReachingFarBeyondTheCloudStayExact) {
   EXPECT_NEAR(world.proximity(a, b, 0.5).distance_m, brute, 1e-9);
 }
 
+TEST(CollisionWorld, SegmentsAlongADenseSurfaceAreExact) {
+  // A dense, slightly rough wall (2 cm spacing): segments running along it, across
+  // it and towards it, the shapes a flight path takes. The search balls around the
+  // samples must still find the exact nearest point (brute force).
+  std::mt19937 rng(12);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  PointList cloud;
+  for (double y = 0.0; y <= 4.0; y += 0.02)
+    for (double z = 0.0; z <= 3.0; z += 0.02) cloud.emplace_back(noise(rng), y, z);
+  const CollisionWorld world = CollisionWorld::fromCloud(cloud, WorldOptions{});
+  std::uniform_real_distribution<double> u(-0.5, 4.5), off(0.05, 2.0);
+  for (int k = 0; k < 60; ++k) {
+    const Vec3 a(off(rng), u(rng), u(rng));
+    const Vec3 b = k % 3 == 0 ? Vec3(a.x(), u(rng), u(rng)) : Vec3(off(rng), u(rng), u(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
+    const Proximity p = world.proximity(a, b, 0.5);
+    EXPECT_NEAR(p.distance_m, brute, 1e-12) << k;
+    EXPECT_NEAR(pointSegmentDistance(p.point, a, b), brute, 1e-12) << k;
+  }
+}
+
+TEST(CollisionWorld, NearestPointBetweenProbePositionsIsFound) {
+  // Adversarial for a search that probes the cloud from points of the segment: a
+  // row of points beside it, every 5 cm, alternately 10.4 cm and 10 cm away, so the
+  // nearest neighbour of a probe is often not the point nearest to the segment.
+  // Segments of every length and offset along the row against brute force.
+  PointList cloud;
+  for (int k = -10; k <= 40; ++k) cloud.emplace_back(0.05 * k, k % 2 == 0 ? 0.104 : 0.1, 0.0);
+  const CollisionWorld world = CollisionWorld::fromCloud(cloud, WorldOptions{});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> start(0.0, 0.5), length(0.02, 1.2), lift(0.0, 0.05);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 a(start(rng), 0.0, lift(rng));
+    const Vec3 b(a.x() + length(rng), 0.0, lift(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
+    EXPECT_NEAR(world.proximity(a, b, 0.05).distance_m, brute, 1e-12) << k;
+  }
+}
+
 TEST(CollisionWorld, EmptyWorldAndBadOptions) {
   const CollisionWorld none = CollisionWorld::fromCloud({});
   EXPECT_TRUE(none.objects().empty());
