@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <limits>
 #include <queue>
 #include <sstream>
@@ -15,10 +17,11 @@ namespace uavip::planners {
 
 namespace {
 
-/// Grids up to this many voxels use a dense per-thread scratch (13 B/voxel, kept
-/// for the thread's lifetime and reused by every search on a grid of the same
-/// size, so a search costs O(expansions), not O(grid)); larger grids use a hash
-/// map so memory stays bounded.
+/// Grids up to this many voxels use a dense per-thread scratch (13 B/voxel of
+/// address space, kept for the thread's lifetime and reused by every search on a
+/// grid of the same size; zero pages, so only the pages a search touches cost
+/// memory and time: a search costs O(expansions), not O(grid)); larger grids use a
+/// hash map so memory stays bounded.
 constexpr std::size_t kDenseScratchLimit = 16'000'000;
 
 constexpr std::uint8_t kNoParent = 255;
@@ -50,23 +53,51 @@ struct NodeState {
   bool closed{false};
 };
 
+/// An array of n zero-initialised T from calloc: a large block comes from the OS as
+/// untouched zero pages, so a search that visits a few voxels of a big grid faults
+/// in a few pages instead of writing the whole array.
+template <typename T>
+class ZeroedArray {
+ public:
+  ZeroedArray() = default;
+  ZeroedArray(const ZeroedArray&) = delete;
+  ZeroedArray& operator=(const ZeroedArray&) = delete;
+  ~ZeroedArray() { std::free(data_); }
+  void reset(std::size_t n) {
+    std::free(data_);
+    data_ = nullptr;
+    size_ = 0;
+    if (n == 0) return;
+    data_ = static_cast<T*>(std::calloc(n, sizeof(T)));
+    if (data_ == nullptr) throw std::bad_alloc();
+    size_ = n;
+  }
+  std::size_t size() const { return size_; }
+  T& operator[](std::size_t i) { return data_[i]; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+
+ private:
+  T* data_{nullptr};
+  std::size_t size_{0};
+};
+
 /// Dense scratch reused across searches; `stamp` tells which entries are current,
 /// so a search touches only the voxels it reaches (no O(grid) reset).
 struct DenseStore {
-  std::vector<double> g;
-  std::vector<std::uint32_t> stamp;
-  std::vector<std::uint8_t> parent;  // bit 7: closed; low bits: move index
+  ZeroedArray<double> g;
+  ZeroedArray<std::uint32_t> stamp;
+  ZeroedArray<std::uint8_t> parent;  // bit 7: closed; low bits: move index
   std::uint32_t current{0};
 
   void begin(std::size_t n) {
-    if (g.size() != n) {
-      g.assign(n, 0.0);
-      stamp.assign(n, 0);
-      parent.assign(n, 0);
+    if (stamp.size() != n) {
+      g.reset(n);
+      stamp.reset(n);
+      parent.reset(n);
       current = 0;
     }
     if (++current == 0) {  // wrapped: clear once
-      std::fill(stamp.begin(), stamp.end(), 0);
+      stamp.reset(n);
       current = 1;
     }
   }

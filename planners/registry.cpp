@@ -28,6 +28,11 @@ void requireKnownPlanner(const std::string& name) {
   throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
 }
 
+bool isDeterministic(const std::string& name) {
+  const PlannerInfo* row = findPlanner(name);
+  return row != nullptr && !row->isSampling();
+}
+
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings) {
   settings.validate("planner");
   requireKnownPlanner(name);

@@ -37,6 +37,11 @@ std::vector<std::string> plannerNames();
 /// Creates nothing: validating a config must not seed OMPL (harness.h, seedOmpl).
 void requireKnownPlanner(const std::string& name);
 
+/// True for the planners whose paths do not depend on a random stream (the grid
+/// A*s): instances may plan in parallel and the mission stays reproducible. OMPL's
+/// planners draw from one process-wide stream (seedOmpl), so they plan in order.
+bool isDeterministic(const std::string& name);
+
 /// Creates the planner `name`; throws InputError listing the valid names otherwise.
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings);
 

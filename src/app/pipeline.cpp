@@ -4,6 +4,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
@@ -19,6 +20,7 @@
 #include <iomanip>
 #include <sstream>
 #include <memory>
+#include <thread>
 
 namespace uavip::app {
 namespace {
@@ -198,13 +200,31 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   auto planner = planners::makePlanner(config.planner, config.planner_settings);
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
-  for (std::size_t i = 0; i < strategies.size(); ++i) {
-    report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
-                         std::to_string(i + 1) + "/" + std::to_string(strategies.size()) + "), " +
-                         std::to_string(strategies[i].stops.size()) + " stops");
-    result.missions.push_back(
-        planning::planSurfaceMission(strategies[i], grid, validator, *planner, mission_options));
+  // Surfaces are independent: with a deterministic planner they are spread over the
+  // cores, one planner per worker, each mission written to its own slot.
+  const int threads = planners::isDeterministic(config.planner)
+                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                          : 1;
+  if (threads > 1) {
+    std::size_t stops = 0;
+    for (const auto& s : strategies) stops += s.stops.size();
+    report(progress, "stage 7: " + std::to_string(strategies.size()) + " surfaces, " + std::to_string(stops) +
+                         " stops, on " + std::to_string(threads) + " threads");
   }
+  std::vector<std::unique_ptr<planning::Planner>> worker_planners(static_cast<std::size_t>(threads));
+  worker_planners[0] = std::move(planner);
+  result.missions.resize(strategies.size());
+  parallelFor(strategies.size(), threads, [&](std::size_t i, std::size_t worker) {
+    auto& mine = worker_planners[worker];
+    if (!mine) mine = planners::makePlanner(config.planner, config.planner_settings);
+    if (threads == 1) {
+      report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" + std::to_string(i + 1) + "/" +
+                           std::to_string(strategies.size()) + "), " + std::to_string(strategies[i].stops.size()) +
+                           " stops");
+    }
+    result.missions[i] = planning::planSurfaceMission(strategies[i], grid, validator, *mine, mission_options);
+  });
+  planner = std::move(worker_planners[0]);
   report(progress, "coverage: what the flown photos image");
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).
