@@ -1,6 +1,7 @@
 #include "uavip/perception/euclidean_clusters.h"
 
 #include "uavip/core/error.h"
+#include "uavip/core/voxel_key.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,14 +33,6 @@ class DisjointSets {
   std::vector<std::size_t> parent_;
 };
 
-constexpr int kBits = 21;
-constexpr std::int64_t kMask = (std::int64_t{1} << kBits) - 1;
-
-std::uint64_t packKey(std::int64_t x, std::int64_t y, std::int64_t z) {
-  return (static_cast<std::uint64_t>(x) << (2 * kBits)) | (static_cast<std::uint64_t>(y) << kBits) |
-         static_cast<std::uint64_t>(z);
-}
-
 }  // namespace
 
 std::vector<std::vector<int>> euclideanClusters(const PointList& points, const std::vector<int>& indices,
@@ -47,25 +40,21 @@ std::vector<std::vector<int>> euclideanClusters(const PointList& points, const s
   requirePositive(tolerance_m, "perception", "cluster tolerance_m");
   if (indices.empty()) return {};
   Vec3 lo = points[static_cast<std::size_t>(indices.front())];
-  for (const int i : indices) lo = lo.cwiseMin(points[static_cast<std::size_t>(i)]);
+  Vec3 hi = lo;
+  for (const int i : indices) {
+    lo = lo.cwiseMin(points[static_cast<std::size_t>(i)]);
+    hi = hi.cwiseMax(points[static_cast<std::size_t>(i)]);
+  }
   // Cell edge: the diagonal equals the tolerance less a hair, so any two points of
   // one cell are strictly closer than it.
   const double cell = tolerance_m / std::sqrt(3.0) * (1.0 - 1e-9);
   const double tol2 = tolerance_m * tolerance_m;
+  const VoxelKeyer keyer(lo, hi, cell, "perception.cluster_tolerance_m / sqrt(3)");
 
   // Points sorted by cell; each cell is a run [begin, end) of `order`.
   std::vector<std::pair<std::uint64_t, int>> order;
   order.reserve(indices.size());
-  for (const int i : indices) {
-    const Vec3 c = (points[static_cast<std::size_t>(i)] - lo) / cell;
-    const auto x = static_cast<std::int64_t>(c.x()), y = static_cast<std::int64_t>(c.y()),
-               z = static_cast<std::int64_t>(c.z());
-    if (x > kMask - 2 || y > kMask - 2 || z > kMask - 2) {
-      throw InputError("perception: the cloud spans more than 2^21 clustering cells of " + std::to_string(cell) +
-                       " m; raise the cluster tolerance");
-    }
-    order.emplace_back(packKey(x, y, z), i);
-  }
+  for (const int i : indices) order.emplace_back(keyer.key(points[static_cast<std::size_t>(i)]), i);
   std::sort(order.begin(), order.end());
   std::vector<std::uint64_t> keys;
   std::vector<std::size_t> begin;
@@ -85,16 +74,18 @@ std::vector<std::vector<int>> euclideanClusters(const PointList& points, const s
 
   DisjointSets sets(cells);
   for (std::size_t a = 0; a < cells; ++a) {
-    const auto ax = static_cast<std::int64_t>(keys[a] >> (2 * kBits)), ay = static_cast<std::int64_t>((keys[a] >> kBits) & kMask),
-               az = static_cast<std::int64_t>(keys[a] & kMask);
+    const auto [ax, ay, az] = VoxelKeyer::unpack(keys[a]);
     // Cells up to two apart can hold points within the tolerance (3 × edge > tolerance);
     // each pair is visited once, from its lower key.
     for (int dx = -2; dx <= 2; ++dx) {
       for (int dy = -2; dy <= 2; ++dy) {
         for (int dz = -2; dz <= 2; ++dz) {
           const std::int64_t bx = ax + dx, by = ay + dy, bz = az + dz;
-          if (bx < 0 || by < 0 || bz < 0) continue;
-          const std::uint64_t kb = packKey(bx, by, bz);
+          if (bx < 0 || by < 0 || bz < 0 || bx >= VoxelKeyer::kCells || by >= VoxelKeyer::kCells ||
+              bz >= VoxelKeyer::kCells) {
+            continue;
+          }
+          const std::uint64_t kb = VoxelKeyer::pack(bx, by, bz);
           if (kb <= keys[a]) continue;
           // Closest and farthest possible distances between the two cells.
           const double gx = std::max(0, std::abs(dx) - 1), gy = std::max(0, std::abs(dy) - 1),
