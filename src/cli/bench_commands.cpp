@@ -62,7 +62,7 @@ std::string sibling(const std::string& log, const std::string& ext) {
 }
 
 int benchCommand(const BenchArgs& a, const Verbosity& v) {
-  app::BenchOptions options;
+  io::BenchOptions options;
   if (!a.planners.empty()) options.planners = splitList(a.planners);
   options.runs = a.runs;
   options.max_total_s = a.max_total_s;
@@ -81,18 +81,18 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   const fs::path parent = fs::path(a.out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());
 
-  const app::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
+  const io::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
   std::string name = "uavip_bench";
   for (const auto& s : r.scenarios) name += "_" + s;
   io::StagedOutputs outputs;  // the log, CSV, table and plot are written together
-  outputs.write(a.out, app::benchLog(r, name, hostName()));
+  outputs.write(a.out, io::benchLog(r, name, hostName()));
   const std::string csv = sibling(a.out, ".csv");
   const std::string md = sibling(a.out, ".md");
-  outputs.write(csv, app::benchCsv(r));
-  const std::string markdown = app::benchMarkdown(r);
+  outputs.write(csv, io::benchCsv(r));
+  const std::string markdown = io::benchMarkdown(r);
   outputs.write(md, markdown);
   const std::string png = sibling(a.out, ".png");
-  outputs.write(png, app::benchPlot(r).png());
+  outputs.write(png, io::benchPlot(r).png());
   outputs.commit();
   if (!v.quiet) {
     std::cout << markdown;
