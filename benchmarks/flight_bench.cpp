@@ -10,6 +10,7 @@
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
 
 #include "bench_util.h"
@@ -30,6 +31,7 @@ double percentAbove(double value, double bound) { return bound > 0.0 ? 100.0 * (
 }  // namespace
 
 int main(int argc, char** argv) {
+  uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
   std::vector<std::string> paths;
   int runs = 3;
   for (int i = 1; i < argc; ++i) {

@@ -48,6 +48,7 @@ uavip::PointList tiled(const uavip::PointList& cloud, int nx, int ny) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
   std::vector<std::string> files;
   int tile_x = 1, tile_y = 1, runs = 1;
   for (int i = 1; i < argc; ++i) {
