@@ -102,40 +102,25 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, 
   return false;
 }
 
-}  // namespace
+/// Throws InputError when mission.start is given but not in a free voxel.
+void requireFreeStart(const world::VoxelGrid& grid, const PathValidator& validator, const MissionOptions& options) {
+  if (!options.start) return;
+  const Vec3& s = *options.start;
+  if (s.allFinite() && grid.isFree(s)) return;
+  std::ostringstream os;
+  os << "mission: start " << formatPoint(s) << " is inside obstacle space (clearance " << std::fixed
+     << std::setprecision(2) << validator.clearance(s)
+     << " m to the nearest measured point; the grid blocks voxels within " << grid.effectiveInflation()
+     << " m of an occupied voxel and everything outside its bounds); move it farther from the structure";
+  throw InputError(os.str());
+}
 
-SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
-                                  const PathValidator& validator, Planner& planner, const MissionOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  SurfaceMission m;
-  m.surface_id = strategy.surface_id;
-  m.strategy = strategy;
-  auto finish = [&]() {
-    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return m;
-  };
-
-  if (options.start) {
-    const Vec3& s = *options.start;
-    if (!s.allFinite() || !grid.isFree(s)) {
-      std::ostringstream os;
-      os << "mission: start " << formatPoint(s) << " is inside obstacle space (clearance " << std::fixed
-         << std::setprecision(2) << validator.clearance(s)
-         << " m to the nearest measured point; the grid blocks voxels within " << grid.effectiveInflation()
-         << " m of an occupied voxel and everything outside its bounds); move it farther from the structure";
-      throw InputError(os.str());
-    }
-  }
-
+/// Per-stop checks: gimbal limits, then the inflated obstacle space (where stop
+/// repair may move the stop). Fills m.stop_problems and m.moved_stops; returns the
+/// first usable stop, −1 if none.
+int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
+               const MissionOptions& options) {
   auto& stops = m.strategy.stops;
-  m.stop_problems.assign(stops.size(), StopProblem::None);
-  if (stops.empty()) {
-    m.status = SurfaceStatus::NoStops;
-    m.reason = "the flight strategy produced no photo stop for surface " + std::to_string(strategy.surface_id);
-    return finish();
-  }
-
-  // Per-stop checks: gimbal, inflated obstacle space, then 26-connectivity.
   int first_usable = -1;
   for (std::size_t i = 0; i < stops.size(); ++i) {
     if (!stops[i].gimbal_ok) {
@@ -151,82 +136,86 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
       first_usable = static_cast<int>(i);
     }
   }
-  if (options.start || first_usable >= 0) {
-    // Without a start, the flight begins in the free region that holds the most
-    // usable stops: the first usable stop may sit in a pocket (between the legs of a
-    // tower) cut off from the rest. Up to kSeedTries regions are compared.
-    constexpr int kSeedTries = 3;
-    const auto componentOf = [&](std::size_t i) { return grid.component(grid.indexOf(stops[i].position)); };
-    std::int32_t reach =
-        grid.component(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
-    if (!options.start) {
-      std::size_t best = 0;
-      std::vector<char> tried(stops.size(), 0);
-      for (int t = 0; t < kSeedTries; ++t) {
-        std::size_t count = 0;
-        int next = -1;
-        for (std::size_t i = 0; i < stops.size(); ++i) {
-          if (m.stop_problems[i] != StopProblem::None) continue;
-          if (reach != 0 && componentOf(i) == reach) {
-            ++count;
-            tried[i] = 1;
-          } else if (next < 0 && !tried[i]) {
-            next = static_cast<int>(i);
-          }
+  return first_usable;
+}
+
+/// 26-connectivity: usable stops outside the free region of the start (or, without
+/// a start, of the region holding the most usable stops: the first usable stop may
+/// sit in a pocket, between the legs of a tower, cut off from the rest; up to
+/// kSeedTries regions are compared) are marked Unreachable.
+void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const MissionOptions& options,
+                     int first_usable) {
+  const auto& stops = m.strategy.stops;
+  constexpr int kSeedTries = 3;
+  const auto componentOf = [&](std::size_t i) { return grid.component(grid.indexOf(stops[i].position)); };
+  std::int32_t reach =
+      grid.component(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
+  if (!options.start) {
+    std::size_t best = 0;
+    std::vector<char> tried(stops.size(), 0);
+    for (int t = 0; t < kSeedTries; ++t) {
+      std::size_t count = 0;
+      int next = -1;
+      for (std::size_t i = 0; i < stops.size(); ++i) {
+        if (m.stop_problems[i] != StopProblem::None) continue;
+        if (reach != 0 && componentOf(i) == reach) {
+          ++count;
+          tried[i] = 1;
+        } else if (next < 0 && !tried[i]) {
+          next = static_cast<int>(i);
         }
-        if (count > best) best = count;
-        if (next < 0 || 2 * best >= static_cast<std::size_t>(stops.size())) break;
-        const std::int32_t other = componentOf(static_cast<std::size_t>(next));
-        std::size_t other_count = 0;
-        for (std::size_t i = 0; i < stops.size(); ++i) {
-          if (m.stop_problems[i] == StopProblem::None && other != 0 && componentOf(i) == other) ++other_count;
-        }
-        tried[static_cast<std::size_t>(next)] = 1;
-        if (other_count > best) reach = other;
       }
-    }
-    for (std::size_t i = 0; i < stops.size(); ++i) {
-      if (m.stop_problems[i] != StopProblem::None) continue;
-      if (reach == 0 || componentOf(i) != reach) m.stop_problems[i] = StopProblem::Unreachable;
+      if (count > best) best = count;
+      if (next < 0 || 2 * best >= static_cast<std::size_t>(stops.size())) break;
+      const std::int32_t other = componentOf(static_cast<std::size_t>(next));
+      std::size_t other_count = 0;
+      for (std::size_t i = 0; i < stops.size(); ++i) {
+        if (m.stop_problems[i] == StopProblem::None && other != 0 && componentOf(i) == other) ++other_count;
+      }
+      tried[static_cast<std::size_t>(next)] = 1;
+      if (other_count > best) reach = other;
     }
   }
+  for (std::size_t i = 0; i < stops.size(); ++i) {
+    if (m.stop_problems[i] != StopProblem::None) continue;
+    if (reach == 0 || componentOf(i) != reach) m.stop_problems[i] = StopProblem::Unreachable;
+  }
+}
+
+/// "N of M stops infeasible: …" by cause, empty when every stop is usable; `n_bad`
+/// gets the number of skipped stops.
+std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& grid, const MissionOptions& options,
+                            std::size_t& n_bad) {
   std::size_t n_gimbal = 0, n_obstacle = 0, n_unreachable = 0;
   for (const auto p : m.stop_problems) {
     n_gimbal += p == StopProblem::GimbalLimit;
     n_obstacle += p == StopProblem::InObstacleSpace;
     n_unreachable += p == StopProblem::Unreachable;
   }
-  const std::size_t n_bad = n_gimbal + n_obstacle + n_unreachable;
-  const bool blocked = static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(stops.size()) ||
-                       n_bad == stops.size();
-  std::string skipped;
-  if (n_bad > 0) {
-    std::ostringstream os;
-    os << n_bad << " of " << stops.size() << " stops infeasible: ";
-    bool first = true;
-    auto part = [&](std::size_t n, const std::string& what) {
-      if (n == 0) return;
-      os << (first ? "" : ", ") << n << " " << what;
-      first = false;
-    };
-    std::ostringstream obstacle;
-    obstacle << std::fixed << std::setprecision(2) << "inside the inflated obstacle space (voxel centre within "
-             << grid.effectiveInflation() << " m of an occupied voxel)";
-    part(n_gimbal, "outside the gimbal pitch limits");
-    part(n_obstacle, obstacle.str());
-    part(n_unreachable, options.start ? "unreachable from the start" : "unreachable (cut off from the free region holding the most stops)");
-    skipped = os.str();
-  }
-  if (blocked) {
-    std::ostringstream os;
-    os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
-       << " % of the stops, so no waypoints generated";
-    m.status = SurfaceStatus::Blocked;
-    m.reason = os.str();
-    return finish();
-  }
+  n_bad = n_gimbal + n_obstacle + n_unreachable;
+  if (n_bad == 0) return {};
+  std::ostringstream os;
+  os << n_bad << " of " << m.stop_problems.size() << " stops infeasible: ";
+  bool first = true;
+  auto part = [&](std::size_t n, const std::string& what) {
+    if (n == 0) return;
+    os << (first ? "" : ", ") << n << " " << what;
+    first = false;
+  };
+  std::ostringstream obstacle;
+  obstacle << std::fixed << std::setprecision(2) << "inside the inflated obstacle space (voxel centre within "
+           << grid.effectiveInflation() << " m of an occupied voxel)";
+  part(n_gimbal, "outside the gimbal pitch limits");
+  part(n_obstacle, obstacle.str());
+  part(n_unreachable, options.start ? "unreachable from the start" : "unreachable (cut off from the free region holding the most stops)");
+  return os.str();
+}
 
-  // Legs: start → stop 0 (if given), then stop i → stop i+1.
+/// Legs start → stop 0 (if given), then usable stop → next usable stop, each planned
+/// on the grid; fills m.legs, m.raw_path and m.waypoints. On a failed leg: status
+/// Failed with its reason, no waypoints, and false.
+bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner, const MissionOptions& options) {
+  const auto& stops = m.strategy.stops;
   PointList points;  // the points joined by legs, in order
   std::vector<int> ids;
   if (options.start) {
@@ -257,7 +246,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
       m.waypoints.clear();
       m.raw_waypoint_count = m.raw_path.size();
       m.raw_length_m = polylineLength(m.raw_path);
-      return finish();
+      return false;
     }
     appendLeg(m.raw_path, r.path);
     appendLeg(m.waypoints, options.simplify ? simplifyPath(r.path, grid) : r.path);
@@ -265,6 +254,43 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
   m.raw_waypoint_count = m.raw_path.size();
   m.raw_length_m = polylineLength(m.raw_path);
   m.path_length_m = polylineLength(m.waypoints);
+  return true;
+}
+
+}  // namespace
+
+SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
+                                  const PathValidator& validator, Planner& planner, const MissionOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SurfaceMission m;
+  m.surface_id = strategy.surface_id;
+  m.strategy = strategy;
+  auto finish = [&]() {
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return m;
+  };
+  requireFreeStart(grid, validator, options);
+
+  m.stop_problems.assign(m.strategy.stops.size(), StopProblem::None);
+  if (m.strategy.stops.empty()) {
+    m.status = SurfaceStatus::NoStops;
+    m.reason = "the flight strategy produced no photo stop for surface " + std::to_string(strategy.surface_id);
+    return finish();
+  }
+  const int first_usable = checkStops(m, strategy, grid, options);
+  if (options.start || first_usable >= 0) markUnreachable(m, grid, options, first_usable);
+  std::size_t n_bad = 0;
+  const std::string skipped = describeSkipped(m, grid, options, n_bad);
+  const std::size_t n_stops = m.strategy.stops.size();
+  if (static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(n_stops) || n_bad == n_stops) {
+    std::ostringstream os;
+    os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
+       << " % of the stops, so no waypoints generated";
+    m.status = SurfaceStatus::Blocked;
+    m.reason = os.str();
+    return finish();
+  }
+  if (!planLegs(m, grid, planner, options)) return finish();
 
   m.validation = validator.validate(m.waypoints);
   if (!m.validation.collision_free) {
