@@ -319,14 +319,8 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
   return {};
 }
 
-}  // namespace
-
-FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
-                      const PathValidator& validator, Planner& planner, const FlightOptions& options) {
-  const auto t0 = SteadyClock::now();
-  FlightPlan plan;
-  options.model.validate("flight");
-
+/// The missions that can be flown, as surface paths; the others go to plan.excluded.
+std::vector<SurfacePath> flyableSurfaces(const std::vector<SurfaceMission>& missions, FlightPlan& plan) {
   std::vector<SurfacePath> surfaces;
   for (const auto& m : missions) {
     if (!flyable(m.status)) {
@@ -340,19 +334,11 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     }
     surfaces.push_back(std::move(*s));
   }
-  if (surfaces.empty()) {
-    plan.status = FlightPlan::Status::Empty;
-    plan.reason = "no surface has a flyable mission";
-    plan.seconds = secondsSince(t0);
-    return plan;
-  }
-  chooseHome(surfaces, options, plan);
-  if (!plan.home.allFinite() || !grid.isFree(plan.home)) {
-    throw InputError("mission.home: " + formatPoint(plan.home) +
-                     " is inside obstacle space or outside the planning grid; move it into open space near the structure");
-  }
+  return surfaces;
+}
 
-  // Surfaces the home's free region cannot reach are left out.
+/// Leaves out the surfaces the home's free region cannot reach (to plan.excluded).
+void dropUnreachable(std::vector<SurfacePath>& surfaces, const world::VoxelGrid& grid, FlightPlan& plan) {
   const world::Index3 home_voxel = grid.indexOf(plan.home);
   std::vector<SurfacePath> reachable;
   for (auto& s : surfaces) {
@@ -363,30 +349,29 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     }
   }
   surfaces = std::move(reachable);
-  if (surfaces.empty()) {
-    plan.status = FlightPlan::Status::Failed;
-    plan.reason = "no flyable surface can be reached from home " + formatPoint(plan.home);
-    plan.seconds = secondsSince(t0);
-    return plan;
+}
+
+/// The ordering problem: point 0 = home, points 2i+1 and 2i+2 = first and last
+/// stop of surface i; cluster 0 is home, cluster i + 1 surface i (forward or reversed).
+struct TourProblem {
+  PointList points;
+  std::vector<TourCluster> clusters;
+
+  TourProblem(const std::vector<SurfacePath>& surfaces, const Vec3& home) : points{home}, clusters(1) {
+    clusters[0].variants.push_back({0, 0, 0.0});
+    for (const auto& s : surfaces) {
+      const int first = static_cast<int>(points.size());
+      points.push_back(s.waypoints.front());
+      points.push_back(s.waypoints.back());
+      TourCluster c;
+      c.variants.push_back({first, first + 1, s.length_m});
+      if (s.waypoints.size() > 1) c.variants.push_back({first + 1, first, s.length_m});
+      clusters.push_back(c);
+    }
   }
 
-  // Tour problem: point 0 = home, points 2i+1 and 2i+2 = first and last stop of surface i.
-  PointList points{plan.home};
-  std::vector<TourCluster> clusters(1);
-  clusters[0].variants.push_back({0, 0, 0.0});
-  for (const auto& s : surfaces) {
-    const int first = static_cast<int>(points.size());
-    points.push_back(s.waypoints.front());
-    points.push_back(s.waypoints.back());
-    TourCluster c;
-    c.variants.push_back({first, first + 1, s.length_m});
-    if (s.waypoints.size() > 1) c.variants.push_back({first + 1, first, s.length_m});
-    clusters.push_back(c);
-    plan.inner_length_m += s.length_m;
-  }
-  LegPlanner legs(grid, planner, options.simplify);
-  const PointCost estimate = [&](int a, int b) { return legs.length(points[a], points[b]); };
-  auto legEnds = [&](const Tour& tour) {
+  /// The (from, to) point pairs of a tour's connecting legs, home to home.
+  std::vector<std::pair<int, int>> legEnds(const Tour& tour) const {
     std::vector<std::pair<int, int>> ends;
     int at = 0;
     for (std::size_t i = 0; i < tour.order.size(); ++i) {
@@ -396,9 +381,10 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     }
     ends.emplace_back(at, 0);
     return ends;
-  };
-  // Plans the tour's legs not yet known; false when all were already exact.
-  auto planUnknown = [&](const Tour& tour) {
+  }
+
+  /// Plans the tour's legs not yet known; false when all were already exact.
+  bool planUnknown(const Tour& tour, LegPlanner& legs) const {
     bool planned = false;
     for (const auto& [a, b] : legEnds(tour)) {
       bool exact = false;
@@ -409,58 +395,44 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
       }
     }
     return planned;
-  };
+  }
+};
 
-  // Estimates are lower bounds: a tour optimal for them whose legs are all exact is
-  // optimal for the true lengths (docs/architecture_notes.md).
+/// The surface order: solve on leg-length estimates, plan the chosen tour's unknown
+/// legs exactly, repeat. Estimates are lower bounds: a tour optimal for them whose
+/// legs are all exact is optimal for the true lengths (docs/architecture_notes.md).
+/// Fills the plan's order figures (exact_order, tour and bound lengths, naive tour).
+Tour orderSurfaces(const TourProblem& problem, LegPlanner& legs, const FlightOptions& options, FlightPlan& plan,
+                   SteadyClock::time_point t0) {
+  const PointList& points = problem.points;
+  const PointCost estimate = [&](int a, int b) { return legs.length(points[a], points[b]); };
   Tour tour;
   bool converged = false;
   for (int round = 0; round < std::max(1, options.max_rounds) && !converged; ++round) {
-    tour = solveTour(clusters, estimate);
-    converged = !planUnknown(tour);
+    tour = solveTour(problem.clusters, estimate);
+    converged = !problem.planUnknown(tour, legs);
   }
-  tour.cost = tourCost(clusters, tour, estimate);
+  tour.cost = tourCost(problem.clusters, tour, estimate);
   plan.order_seconds = secondsSince(t0);
   plan.exact_order = tour.exact && converged;
   plan.tour_length_m = tour.cost;
-  plan.lower_bound_m = tourLowerBound(clusters, [&](int a, int b) { return (points[b] - points[a]).norm(); });
+  plan.lower_bound_m = tourLowerBound(problem.clusters, [&](int a, int b) { return (points[b] - points[a]).norm(); });
   if (options.compare_naive) {
     Tour naive;
-    for (std::size_t c = 1; c < clusters.size(); ++c) {
+    for (std::size_t c = 1; c < problem.clusters.size(); ++c) {
       naive.order.push_back(static_cast<int>(c));
       naive.variant.push_back(0);
     }
-    planUnknown(naive);
-    plan.naive_length_m = tourCost(clusters, naive, estimate);
+    problem.planUnknown(naive, legs);
+    plan.naive_length_m = tourCost(problem.clusters, naive, estimate);
   }
   plan.planned_legs = legs.planned();
+  return tour;
+}
 
-  for (const auto& [a, b] : legEnds(tour)) {
-    if (legs.path(points[a], points[b]) == nullptr) {
-      plan.status = FlightPlan::Status::Failed;
-      plan.reason = "planner '" + planner.name() + "' found no leg from " + formatPoint(points[a]) + " to " +
-                    formatPoint(points[b]) + "; no flight generated";
-      plan.seconds = secondsSince(t0);
-      return plan;
-    }
-  }
-  std::vector<int> order;
-  for (std::size_t i = 0; i < tour.order.size(); ++i) {
-    order.push_back(tour.order[i] - 1);
-    plan.order.push_back({surfaces[static_cast<std::size_t>(tour.order[i] - 1)].surface_id, tour.variant[i] == 1});
-  }
-
-  const TourPath path = buildTour(plan, surfaces, order, tour.variant, legs);
-  const std::string why = splitSorties(path, plan, options.model, legs, plan.sorties);
-  plan.planned_legs = legs.planned();
-  if (!why.empty()) {
-    plan.status = FlightPlan::Status::Failed;
-    plan.reason = why + "; no flight generated";
-    plan.sorties.clear();
-    plan.seconds = secondsSince(t0);
-    return plan;
-  }
-  plan.status = FlightPlan::Status::Ok;
+/// Sweeps the UAV along every sortie (segments the surface missions already
+/// validated are reused); the first violation fails the plan. Sums length and time.
+void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missions, const PathValidator& validator) {
   const auto t_validate = SteadyClock::now();
   const std::map<SegmentKey, double> known = validatedSegments(missions);
   for (std::size_t i = 0; i < plan.sorties.size(); ++i) {
@@ -474,6 +446,60 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
     }
   }
   plan.validate_seconds = secondsSince(t_validate);
+}
+
+}  // namespace
+
+FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
+                      const PathValidator& validator, Planner& planner, const FlightOptions& options) {
+  const auto t0 = SteadyClock::now();
+  FlightPlan plan;
+  options.model.validate("flight");
+  auto fail = [&](FlightPlan::Status status, const std::string& reason) {
+    plan.status = status;
+    plan.reason = reason;
+    plan.seconds = secondsSince(t0);
+    return plan;
+  };
+
+  std::vector<SurfacePath> surfaces = flyableSurfaces(missions, plan);
+  if (surfaces.empty()) return fail(FlightPlan::Status::Empty, "no surface has a flyable mission");
+  chooseHome(surfaces, options, plan);
+  if (!plan.home.allFinite() || !grid.isFree(plan.home)) {
+    throw InputError("mission.home: " + formatPoint(plan.home) +
+                     " is inside obstacle space or outside the planning grid; move it into open space near the structure");
+  }
+  dropUnreachable(surfaces, grid, plan);
+  if (surfaces.empty()) {
+    return fail(FlightPlan::Status::Failed, "no flyable surface can be reached from home " + formatPoint(plan.home));
+  }
+  for (const auto& s : surfaces) plan.inner_length_m += s.length_m;
+
+  const TourProblem problem(surfaces, plan.home);
+  LegPlanner legs(grid, planner, options.simplify);
+  const Tour tour = orderSurfaces(problem, legs, options, plan, t0);
+  for (const auto& [a, b] : problem.legEnds(tour)) {
+    if (legs.path(problem.points[a], problem.points[b]) == nullptr) {
+      return fail(FlightPlan::Status::Failed, "planner '" + planner.name() + "' found no leg from " +
+                                                  formatPoint(problem.points[a]) + " to " +
+                                                  formatPoint(problem.points[b]) + "; no flight generated");
+    }
+  }
+  std::vector<int> order;
+  for (std::size_t i = 0; i < tour.order.size(); ++i) {
+    order.push_back(tour.order[i] - 1);
+    plan.order.push_back({surfaces[static_cast<std::size_t>(tour.order[i] - 1)].surface_id, tour.variant[i] == 1});
+  }
+
+  const TourPath path = buildTour(plan, surfaces, order, tour.variant, legs);
+  const std::string why = splitSorties(path, plan, options.model, legs, plan.sorties);
+  plan.planned_legs = legs.planned();
+  if (!why.empty()) {
+    plan.sorties.clear();
+    return fail(FlightPlan::Status::Failed, why + "; no flight generated");
+  }
+  plan.status = FlightPlan::Status::Ok;
+  validateSorties(plan, missions, validator);
   plan.seconds = secondsSince(t0);
   return plan;
 }
