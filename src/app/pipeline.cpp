@@ -149,34 +149,23 @@ std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection
   return ids;
 }
 
-PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
-                const Progress& progress) {
-  PlanResult result;
-  const auto t0 = Clock::now();
+namespace {
 
-  // Stage 6 first: the grid must also cover every stop.
-  std::vector<coverage::FlightStrategy> strategies;
-  PointList stop_positions;
-  for (const int id : surface_ids) {
-    const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
-                                 [id](const Surface& s) { return s.id == id; });
-    if (it == scene.surfaces.end()) throw InputError("--surface: no surface with id " + std::to_string(id));
-    strategies.push_back(coverage::planFlightStrategy(*it, config.coverage));
-    for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
-  }
-  if (config.mission.start) stop_positions.push_back(*config.mission.start);
-  if (config.flight.home) stop_positions.push_back(*config.flight.home);
-  result.times.coverage_s = secondsSince(t0);
-  if (surface_ids.empty()) return result;
+/// The surface with this id (the selection was validated against the scene).
+const Surface& surfaceById(const Scene& scene, int id) {
+  const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(), [id](const Surface& s) { return s.id == id; });
+  if (it == scene.surfaces.end()) throw InputError("--surface: no surface with id " + std::to_string(id));
+  return *it;
+}
 
-  const auto t1 = Clock::now();
-  report(progress, "stage 7: inflated voxel grid");
-  // The validator sweeps the UAV against every surface slab, obstacle solid and
-  // measured point (world/collision_world.h). The grid marks the solids occupied
-  // too, so the planner never flies through space the validator calls solid.
-  const auto world = std::make_shared<const world::CollisionWorld>(scene);
-  // The grid covers the stops' neighbourhood (kLocalMarginM around them), not the
-  // whole site: on a large site one surface's grid stays small and fine.
+/// The planning grid (stage 7, paper §II-G) over the stops' neighbourhood
+/// (kLocalMarginM around them), not the whole site: on a large site one surface's
+/// grid stays small and fine. The validator sweeps the UAV against every surface
+/// slab, obstacle solid and measured point (world/collision_world.h); the grid marks
+/// the solids occupied too, so the planner never flies through space the validator
+/// calls solid.
+world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const io::Config& config,
+                              const PointList& stop_positions) {
   Aabb region = boundingBox(stop_positions);
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
@@ -184,24 +173,25 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   PointList occupied = scene.cloud;
   // Solids matter as far as a point can block a voxel of the grid.
+  const double reach_m = grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
   Aabb reach = region;
-  reach.min.array() -= grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
-  reach.max.array() += grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
-  const PointList solids = world->solidSamples(0.5 * grid_options.resolution_m, scene.cloud, &reach);
+  reach.min.array() -= reach_m;
+  reach.max.array() += reach_m;
+  const PointList solids = world.solidSamples(0.5 * grid_options.resolution_m, scene.cloud, &reach);
   occupied.insert(occupied.end(), solids.begin(), solids.end());
-  const world::VoxelGrid grid = world::VoxelGrid::build(occupied, {}, grid_options, region);
-  result.grid_resolution_m = grid.resolution();
-  const planning::PathValidator validator(world, config.uav.inflationRadius());
-  result.grid_voxels = grid.voxelCount();
-  result.grid_blocked = grid.blockedCount();
-  result.times.grid_s = secondsSince(t1);
+  return world::VoxelGrid::build(occupied, {}, grid_options, region);
+}
 
-  const auto t2 = Clock::now();
-  auto planner = planners::makePlanner(config.planner, config.planner_settings);
+/// Stage 7 for every surface. Surfaces are independent: with a deterministic
+/// planner they are spread over the cores, one planner per worker (`planner` is the
+/// caller's, for worker 0), each mission written to its own slot; OMPL's planners
+/// plan them in order (one random stream).
+std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::FlightStrategy>& strategies,
+                                                   const std::vector<int>& surface_ids, const world::VoxelGrid& grid,
+                                                   const planning::PathValidator& validator, planning::Planner& planner,
+                                                   const io::Config& config, const Progress& progress) {
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
-  // Surfaces are independent: with a deterministic planner they are spread over the
-  // cores, one planner per worker, each mission written to its own slot.
   const int threads = planners::isDeterministic(config.planner)
                           ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
                           : 1;
@@ -212,27 +202,59 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
                          " stops, on " + std::to_string(threads) + " threads");
   }
   std::vector<std::unique_ptr<planning::Planner>> worker_planners(static_cast<std::size_t>(threads));
-  worker_planners[0] = std::move(planner);
-  result.missions.resize(strategies.size());
+  std::vector<planning::SurfaceMission> missions(strategies.size());
   parallelFor(strategies.size(), threads, [&](std::size_t i, std::size_t worker) {
-    auto& mine = worker_planners[worker];
-    if (!mine) mine = planners::makePlanner(config.planner, config.planner_settings);
+    auto& own = worker_planners[worker];
+    if (worker > 0 && !own) own = planners::makePlanner(config.planner, config.planner_settings);
+    planning::Planner& mine = worker == 0 ? planner : *own;
     if (threads == 1) {
       report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" + std::to_string(i + 1) + "/" +
                            std::to_string(strategies.size()) + "), " + std::to_string(strategies[i].stops.size()) +
                            " stops");
     }
-    result.missions[i] = planning::planSurfaceMission(strategies[i], grid, validator, *mine, mission_options);
+    missions[i] = planning::planSurfaceMission(strategies[i], grid, validator, mine, mission_options);
   });
-  planner = std::move(worker_planners[0]);
+  return missions;
+}
+
+}  // namespace
+
+PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
+                const Progress& progress) {
+  PlanResult result;
+  const auto t0 = Clock::now();
+
+  // Stage 6 first: the grid must also cover every stop.
+  std::vector<coverage::FlightStrategy> strategies;
+  PointList stop_positions;
+  for (const int id : surface_ids) {
+    strategies.push_back(coverage::planFlightStrategy(surfaceById(scene, id), config.coverage));
+    for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
+  }
+  if (config.mission.start) stop_positions.push_back(*config.mission.start);
+  if (config.flight.home) stop_positions.push_back(*config.flight.home);
+  result.times.coverage_s = secondsSince(t0);
+  if (surface_ids.empty()) return result;
+
+  const auto t1 = Clock::now();
+  report(progress, "stage 7: inflated voxel grid");
+  const auto world = std::make_shared<const world::CollisionWorld>(scene);
+  const world::VoxelGrid grid = planningGrid(scene, *world, config, stop_positions);
+  const planning::PathValidator validator(world, config.uav.inflationRadius());
+  result.grid_resolution_m = grid.resolution();
+  result.grid_voxels = grid.voxelCount();
+  result.grid_blocked = grid.blockedCount();
+  result.times.grid_s = secondsSince(t1);
+
+  const auto t2 = Clock::now();
+  const auto planner = planners::makePlanner(config.planner, config.planner_settings);
+  result.missions = planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
   report(progress, "coverage: what the flown photos image");
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
   for (std::size_t i = 0; i < strategies.size(); ++i) {
-    const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
-                                 [&](const Surface& s) { return s.id == surface_ids[i]; });
-    measureCoverage(result.missions[i], *it, sight, config);
+    measureCoverage(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config);
   }
   result.times.planning_s = secondsSince(t2);
 
