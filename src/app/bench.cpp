@@ -14,6 +14,7 @@
 #include <ctime>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <random>
 #include <set>
 #include <sstream>
@@ -77,6 +78,96 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
   return legs;
 }
 
+namespace {
+
+/// One scenario made ready for the runs: its grid, validator and legs.
+struct PreparedScenario {
+  world::VoxelGrid grid;
+  std::unique_ptr<planning::PathValidator> validator;
+  std::vector<BenchLeg> legs;
+  io::Config config;
+};
+
+/// Sense, stages 3–5, stage 6 for every surface, the inflated grid over the cloud,
+/// the stops and the legs (explicit, or sampled between stops); the legs are
+/// appended to result.legs with global ids.
+PreparedScenario prepareScenario(const io::Scenario& sc, int scenario_index, const BenchOptions& options,
+                                 BenchResult& result) {
+  const PointList raw = sense(sc);
+  const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+  PreparedScenario out;
+  out.config = d.resolved.config;
+  std::vector<PointList> stops_by_surface;
+  PointList extra;
+  for (const auto& surface : d.scene.surfaces) {
+    const auto strategy = coverage::planFlightStrategy(surface, out.config.coverage);
+    PointList stops;
+    for (const auto& stop : strategy.stops) stops.push_back(stop.position);
+    extra.insert(extra.end(), stops.begin(), stops.end());
+    stops_by_surface.push_back(std::move(stops));
+  }
+  for (const auto& [a, b] : sc.bench.legs) {
+    extra.push_back(a);
+    extra.push_back(b);
+  }
+  if (out.config.mission.start) extra.push_back(*out.config.mission.start);
+  if (d.scene.cloud.empty() && extra.empty()) {
+    throw InputError(sc.path + ": bench: the scenario has no cloud and no legs");
+  }
+  out.grid = world::VoxelGrid::build(d.scene.cloud, extra, out.config.gridOptions());
+  out.validator = std::make_unique<planning::PathValidator>(d.scene.cloud, out.config.uav.inflationRadius());
+
+  const std::vector<std::pair<Vec3, Vec3>> legs =
+      sc.bench.legs.empty() ? sampleLegs(out.grid, stops_by_surface, sc.bench.max_legs, options.seed) : sc.bench.legs;
+  if (legs.empty()) {
+    throw InputError(sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
+  }
+  for (const auto& [a, b] : legs) {
+    BenchLeg leg;
+    leg.id = static_cast<int>(result.legs.size());
+    leg.scenario = scenario_index;
+    leg.start = a;
+    leg.goal = b;
+    leg.explicit_leg = !sc.bench.legs.empty();
+    leg.feasible = feasibleOnGrid(out.grid, a, b);
+    leg.straight_m = (b - a).norm();
+    result.legs.push_back(leg);
+    out.legs.push_back(leg);
+  }
+  return out;
+}
+
+/// One run of `planner` on `leg` through the OMPL harness, its final path validated.
+BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const PreparedScenario& prepared,
+                 const planners::PlannerSettings& settings) {
+  const planners::HarnessRun h = planners::runPlannerOnce(planner, prepared.grid, leg.start, leg.goal, settings);
+  BenchRun r;
+  r.leg = leg.id;
+  r.scenario = leg.scenario;
+  r.planner = planner;
+  r.ompl_name = h.ompl_name;
+  r.status = h.status;
+  r.solved = h.solved;
+  r.approximate = h.approximate;
+  r.time_s = h.time_s;
+  r.simplify_time_s = h.simplify_time_s;
+  r.raw_length_m = h.solved ? h.raw_length_m : kNan;
+  r.length_m = h.solved ? h.length_m : kNan;
+  r.raw_waypoints = h.raw_path.size();
+  r.waypoints = h.path.size();
+  r.graph_states = h.graph_states;
+  r.graph_motions = h.graph_motions;
+  r.min_clearance_m = kNan;
+  if (h.solved) {
+    const planning::ValidationResult v = prepared.validator->validate(h.path);
+    r.min_clearance_m = v.min_clearance_m;
+    r.valid = v.collision_free;
+  }
+  return r;
+}
+
+}  // namespace
+
 BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOptions& options,
                      const Progress& progress) {
   options.validate();
@@ -93,92 +184,26 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
     const io::Scenario& sc = scenarios[si];
     result.scenarios.push_back(sc.name);
     report(progress, "bench: " + sc.name + ": sensing, detection, coverage");
-    const PointList raw = sense(sc);
-    const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
-    const io::Config& config = d.resolved.config;
+    const PreparedScenario prepared = prepareScenario(sc, static_cast<int>(si), options, result);
 
-    std::vector<PointList> stops_by_surface;
-    PointList extra;
-    for (const auto& surface : d.scene.surfaces) {
-      const auto strategy = coverage::planFlightStrategy(surface, config.coverage);
-      PointList stops;
-      for (const auto& stop : strategy.stops) stops.push_back(stop.position);
-      extra.insert(extra.end(), stops.begin(), stops.end());
-      stops_by_surface.push_back(std::move(stops));
-    }
-    for (const auto& [a, b] : sc.bench.legs) {
-      extra.push_back(a);
-      extra.push_back(b);
-    }
-    if (config.mission.start) extra.push_back(*config.mission.start);
-    if (d.scene.cloud.empty() && extra.empty()) {
-      throw InputError(sc.path + ": bench: the scenario has no cloud and no legs");
-    }
-    const world::VoxelGrid grid = world::VoxelGrid::build(d.scene.cloud, extra, config.gridOptions());
-    const planning::PathValidator validator(d.scene.cloud, config.uav.inflationRadius());
-
-    const std::vector<std::pair<Vec3, Vec3>> legs =
-        sc.bench.legs.empty() ? sampleLegs(grid, stops_by_surface, sc.bench.max_legs, options.seed) : sc.bench.legs;
-    if (legs.empty()) {
-      throw InputError(sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
-    }
-    std::vector<BenchLeg> scenario_legs;
-    for (const auto& [a, b] : legs) {
-      BenchLeg leg;
-      leg.id = static_cast<int>(result.legs.size());
-      leg.scenario = static_cast<int>(si);
-      leg.start = a;
-      leg.goal = b;
-      leg.explicit_leg = !sc.bench.legs.empty();
-      leg.feasible = feasibleOnGrid(grid, a, b);
-      leg.straight_m = (b - a).norm();
-      result.legs.push_back(leg);
-      scenario_legs.push_back(leg);
-    }
-
-    worst_case_s += static_cast<double>(scenario_legs.size() * result.planners.size()) * options.runs * options.time_limit_s;
+    worst_case_s += static_cast<double>(prepared.legs.size() * result.planners.size()) * options.runs * options.time_limit_s;
     if (worst_case_s > options.max_total_s)
       throw InputError("bench: " + std::to_string(result.legs.size()) + " legs x " + std::to_string(result.planners.size()) +
                        " planners x " + std::to_string(options.runs) + " runs x " + formatNumber(options.time_limit_s) +
                        " s may take " + formatFixed(worst_case_s / 3600.0, 1) + " h, more than --max-total " +
                        formatNumber(options.max_total_s) + " s; lower --runs, --time-limit or the legs, or raise --max-total");
 
-    planners::PlannerSettings settings = config.planner_settings;
+    planners::PlannerSettings settings = prepared.config.planner_settings;
     settings.time_limit_s = options.time_limit_s;
     settings.simplify = options.simplify;
     settings.seed = options.seed;
     std::vector<BenchRun> runs;
     const auto tp = Clock::now();
-    for (const auto& leg : scenario_legs) {
+    for (const auto& leg : prepared.legs) {
       for (const auto& name : result.planners) {
         report(progress, "bench: " + sc.name + ": leg " + std::to_string(leg.id) + ", " + name + " x" +
                              std::to_string(options.runs));
-        for (int k = 0; k < options.runs; ++k) {
-          const planners::HarnessRun h = planners::runPlannerOnce(name, grid, leg.start, leg.goal, settings);
-          BenchRun r;
-          r.leg = leg.id;
-          r.scenario = leg.scenario;
-          r.planner = name;
-          r.ompl_name = h.ompl_name;
-          r.status = h.status;
-          r.solved = h.solved;
-          r.approximate = h.approximate;
-          r.time_s = h.time_s;
-          r.simplify_time_s = h.simplify_time_s;
-          r.raw_length_m = h.solved ? h.raw_length_m : kNan;
-          r.length_m = h.solved ? h.length_m : kNan;
-          r.raw_waypoints = h.raw_path.size();
-          r.waypoints = h.path.size();
-          r.graph_states = h.graph_states;
-          r.graph_motions = h.graph_motions;
-          r.min_clearance_m = kNan;
-          if (h.solved) {
-            const planning::ValidationResult v = validator.validate(h.path);
-            r.min_clearance_m = v.min_clearance_m;
-            r.valid = v.collision_free;
-          }
-          runs.push_back(r);
-        }
+        for (int k = 0; k < options.runs; ++k) runs.push_back(runOnce(name, leg, prepared, settings));
       }
     }
     result.planning_s += secondsSince(tp);
