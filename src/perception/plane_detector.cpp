@@ -444,6 +444,63 @@ void removeFromPool(std::vector<Index>& pool, const std::vector<Index>& drop) {
   pool = std::move(out);
 }
 
+/// pcl::SACSegmentation for planes (paper §II-D: threshold, iterations), with the
+/// least-squares refinement, serial (the result must not depend on scheduling).
+void configureSegmenter(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PclCloud::Ptr& cloud,
+                        const PlaneDetectionOptions& options) {
+  seg.setOptimizeCoefficients(true);
+  seg.setModelType(pcl::SACMODEL_PLANE);
+  seg.setMethodType(pcl::SAC_RANSAC);
+  seg.setDistanceThreshold(options.distance_threshold_m);
+  seg.setMaxIterations(options.max_iterations);
+  seg.setNumberOfThreads(-1);
+  seg.setInputCloud(cloud);
+}
+
+/// The line-of-sight grid: for scanned clouds (10 cm voxels), and for clouds with no
+/// known sensor position (openness, open_voxel_m); none when the viewpoint is known.
+std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud, const PlaneDetectionOptions& options) {
+  if (options.viewpoints_scanned) return std::make_unique<OccupiedVoxels>(cloud, 0.1);
+  if (!options.viewpoint_known) return std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
+  return nullptr;
+}
+
+/// One RANSAC candidate (paper §II-D): the plane of pcl::SACSegmentation scored on
+/// a random subset of the pool (kRansacScoringPoints; the inlier fraction of every
+/// plane is the same in expectation), refined by least squares, then every pool
+/// point within the threshold of it (world frame). Empty when RANSAC finds nothing.
+/// PCL reseeds its sampler with a constant on every segment() call; shuffling the
+/// pool with our seeded generator makes `seed` select the samples.
+std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PointList& cloud,
+                                   const std::vector<Index>& pool, const Vec3& origin, double threshold_m,
+                                   std::mt19937& rng) {
+  auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
+  std::shuffle(shuffled->begin(), shuffled->end(), rng);
+  if (shuffled->size() > kRansacScoringPoints) shuffled->resize(kRansacScoringPoints);
+  seg.setIndices(shuffled);
+  pcl::PointIndices ransac_inliers;
+  pcl::ModelCoefficients coefficients;
+  seg.segment(ransac_inliers, coefficients);
+  if (ransac_inliers.indices.size() < 3 || coefficients.values.size() != 4) return {};
+
+  Vec3 n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
+  double d = coefficients.values[3];
+  const double norm = n.norm();
+  std::vector<Index> candidate;
+  if (norm > 0.0 && std::isfinite(norm)) {
+    n /= norm;
+    d = d / norm - n.dot(origin);
+    for (const auto i : pool) {
+      if (std::abs(n.dot(cloud[static_cast<std::size_t>(i)]) + d) <= threshold_m) candidate.push_back(i);
+    }
+  }
+  if (candidate.size() < 3) {
+    candidate.assign(ransac_inliers.indices.begin(), ransac_inliers.indices.end());
+    std::sort(candidate.begin(), candidate.end());
+  }
+  return candidate;
+}
+
 }  // namespace
 
 void PlaneDetectionOptions::validate(const std::string& where) const {
@@ -496,67 +553,23 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   const PclCloud::Ptr pcl_cloud = toPclCloud(cloud, origin);
 
   pcl::SACSegmentation<pcl::PointXYZ> seg;
-  seg.setOptimizeCoefficients(true);
-  seg.setModelType(pcl::SACMODEL_PLANE);
-  seg.setMethodType(pcl::SAC_RANSAC);
-  seg.setDistanceThreshold(options.distance_threshold_m);
-  seg.setMaxIterations(options.max_iterations);
-  seg.setNumberOfThreads(-1);  // serial: the result must not depend on scheduling
-  seg.setInputCloud(pcl_cloud);
+  configureSegmenter(seg, pcl_cloud, options);
 
-  // PCL reseeds its sampler with a constant for every segment() call; shuffling the
-  // candidate indices with our seeded generator makes `seed` select the samples.
   std::mt19937 rng(options.seed);
   std::vector<Index> pool(cloud.size());
   std::iota(pool.begin(), pool.end(), Index{0});
   std::vector<char> in_surface(cloud.size(), 0);
-  // Line-of-sight grid for scanned clouds (10 cm voxels).
-  // Line-of-sight grid: for scanned clouds (10 cm voxels), and for clouds with no
-  // known sensor position (openness, open_voxel_m).
-  std::unique_ptr<OccupiedVoxels> occupied;
-  if (options.viewpoints_scanned) {
-    occupied = std::make_unique<OccupiedVoxels>(cloud, 0.1);
-  } else if (!options.viewpoint_known) {
-    occupied = std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
-  }
+  const std::unique_ptr<OccupiedVoxels> occupied = lineOfSightVoxels(cloud, options);
   int failures = 0;
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
          failures < options.max_failures && pool.size() >= 3) {
     if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
 
-    auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
-    std::shuffle(shuffled->begin(), shuffled->end(), rng);
-    // RANSAC scores its hypotheses on a random subset of the pool: the inlier
-    // fraction of every plane is the same in expectation, and the candidate below is
-    // taken from the whole pool again. 200 hypotheses × 300 k points → × 60 k.
-    if (shuffled->size() > kRansacScoringPoints) shuffled->resize(kRansacScoringPoints);
-    seg.setIndices(shuffled);
-    pcl::PointIndices ransac_inliers;
-    pcl::ModelCoefficients coefficients;
-    seg.segment(ransac_inliers, coefficients);
-    if (ransac_inliers.indices.size() < 3 || coefficients.values.size() != 4) break;
+    const std::vector<Index> candidate =
+        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m, rng);
+    if (candidate.empty()) break;
     ++result.stats.candidates;
-
-    // Refined plane (least squares on the RANSAC inliers), back in the world frame.
-    Vec3 n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
-    double d = coefficients.values[3];
-    const double norm = n.norm();
-    std::vector<Index> candidate;
-    if (norm > 0.0 && std::isfinite(norm)) {
-      n /= norm;
-      d = d / norm - n.dot(origin);
-      for (const auto i : pool) {
-        if (std::abs(n.dot(cloud[static_cast<std::size_t>(i)]) + d) <=
-            options.distance_threshold_m) {
-          candidate.push_back(i);
-        }
-      }
-    }
-    if (candidate.size() < 3) {
-      candidate.assign(ransac_inliers.indices.begin(), ransac_inliers.indices.end());
-      std::sort(candidate.begin(), candidate.end());
-    }
 
     const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m);
     const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
