@@ -29,15 +29,6 @@ constexpr double kMaxGridCells = 1.0e6;
 /// Views a worker takes at a time.
 constexpr std::size_t kViewChunk = 4;
 
-void requireThat(bool ok, const std::string& where, const std::string& field,
-                 const std::string& range, double value) {
-  if (!ok) {
-    std::ostringstream os;
-    os << where << ": " << field << " must be " << range << ", got " << value;
-    throw InputError(os.str());
-  }
-}
-
 void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
   requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
               "max_gsd_mm_per_px", ">= 0 and finite", max_gsd_mm_per_px);

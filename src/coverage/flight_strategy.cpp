@@ -45,15 +45,6 @@ constexpr double kOverlapTol = 1e-9;
 
 using Vec2 = Eigen::Vector2d;
 
-void requireRange(bool ok, const std::string& where, const std::string& field,
-                  const std::string& range, double value) {
-  if (!ok) {
-    std::ostringstream os;
-    os << where << ": " << field << " must be " << range << ", got " << value;
-    throw InputError(os.str());
-  }
-}
-
 /// Projection of a 2D point set onto axis: [min, max].
 std::pair<double, double> projectRange(const std::vector<Vec2>& pts, const Vec2& axis) {
   double lo = std::numeric_limits<double>::infinity();
@@ -101,15 +92,15 @@ Vec3 anyOrthogonal(const Vec3& n) {
 
 void CoverageOptions::validate(const std::string& where) const {
   camera.validate(where + ".camera");
-  requireRange(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
-  requireRange(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
+  requireThat(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
+  requireThat(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
   requirePositive(standoff_m, where, "standoff_m");
-  requireRange(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
-  requireRange(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
+  requireThat(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
+  requireThat(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
                "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
-  requireRange(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
+  requireThat(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
                "gimbal.pitch_max_deg", "in [-90, 90]", gimbal.pitch_max_deg);
-  requireRange(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
+  requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
                "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
                gimbal.pitch_min_deg);
 }

@@ -24,15 +24,6 @@ int samplesAlong(double length, double spacing) {
 /// Evenly spaced fraction i/(n−1) in [0, 1].
 double fraction(int i, int n) { return static_cast<double>(i) / static_cast<double>(n - 1); }
 
-void requireRange(bool ok, const std::string& where, const std::string& field,
-                  const std::string& range, double value) {
-  if (!ok) {
-    std::ostringstream os;
-    os << where << ": " << field << " must be " << range << ", got " << value;
-    throw InputError(os.str());
-  }
-}
-
 /// Most points one sampling may draw (about 1.2 GB as doubles).
 constexpr double kMaxSamples = 50e6;
 
@@ -40,11 +31,11 @@ constexpr double kMaxSamples = 50e6;
 
 void SampleOptions::validate(const std::string& where) const {
   requirePositive(spacing_m, where, "spacing_m");
-  requireRange(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0, where, "noise_sigma_m", ">= 0",
+  requireThat(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0, where, "noise_sigma_m", ">= 0",
                noise_sigma_m);
-  requireRange(outlier_fraction >= 0.0 && outlier_fraction < 1.0, where, "outlier_fraction",
+  requireThat(outlier_fraction >= 0.0 && outlier_fraction < 1.0, where, "outlier_fraction",
                "in [0, 1)", outlier_fraction);
-  requireRange(std::isfinite(outlier_margin_m) && outlier_margin_m >= 0.0, where,
+  requireThat(std::isfinite(outlier_margin_m) && outlier_margin_m >= 0.0, where,
                "outlier_margin_m", ">= 0", outlier_margin_m);
 }
 

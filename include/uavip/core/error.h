@@ -21,4 +21,7 @@ void require(bool cond, const std::string& where, const std::string& what);
 /// Throws InputError unless value > 0 and finite: "<where>: <name> must be > 0, got <value>".
 void requirePositive(double value, const std::string& where, const std::string& name);
 
+/// Throws InputError unless ok: "<where>: <name> must be <range>, got <value>".
+void requireThat(bool ok, const std::string& where, const std::string& name, const std::string& range, double value);
+
 }  // namespace uavip
