@@ -451,33 +451,200 @@ Frame Panel::frame() const {
   return f;
 }
 
+// ---------------------------------------------------------------- panel drawing
+
+namespace {
+
+/// True if a data point can be placed on the frame (finite, and > 0 on a log axis).
+bool usablePoint(const Frame& f, const Vec2& p) { return usable(p.x(), f.x_scale) && usable(p.y(), f.y_scale); }
+
+/// True for the two corners on the right of the plot area.
+bool onRight(Corner c) { return c == Corner::TopRight || c == Corner::BottomRight; }
+/// True for the two corners at the bottom of the plot area.
+bool onBottom(Corner c) { return c == Corner::BottomLeft || c == Corner::BottomRight; }
+
+/// Fills the plot area with the panel's background colour.
+void fillPlotArea(cairo_t* cr, const Frame& f, const Color& background) {
+  cairo_rectangle(cr, f.left_px, f.top_px, f.width_px, f.height_px);
+  setColor(cr, background);
+  cairo_fill(cr);
+}
+
+/// Light grid lines across the plot area at the ticks (data units), on whole pixels.
+void drawGrid(cairo_t* cr, const Frame& f, const std::vector<double>& xt, const std::vector<double>& yt) {
+  const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
+  applyLine(cr, lineStyle(Color::rgb(225, 225, 225), 0.8));
+  for (double v : xt) {
+    const double px = std::round(f.toPixel({v, f.y_min}).x()) + 0.5;
+    cairo_move_to(cr, px, T);
+    cairo_line_to(cr, px, T + H);
+  }
+  for (double v : yt) {
+    const double py = std::round(f.toPixel({f.x_min, v}).y()) + 0.5;
+    cairo_move_to(cr, L, py);
+    cairo_line_to(cr, L + W, py);
+  }
+  cairo_stroke(cr);
+}
+
+/// A long solid polyline stroked as its distinct half-pixel segments.
+/// A long path seen edge-on (a boustrophedon from the side) retraces the same pixels
+/// hundreds of times, and Cairo's stroker slows down on so many overlaps: each
+/// distinct segment is drawn once, as its own sub-path (round caps and joins make
+/// the union look the same).
+void strokeDistinctSegments(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style) {
+  std::unordered_set<std::pair<std::uint64_t, std::uint64_t>, CellPairHash> drawn;
+  auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e9, 1e9); };
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    if (!usablePoint(f, points[i - 1]) || !usablePoint(f, points[i])) continue;
+    const Vec2 a = f.toPixel(points[i - 1]), b = f.toPixel(points[i]);
+    std::array<double, 4> s{half(a.x()), half(a.y()), half(b.x()), half(b.y())};
+    if (std::make_pair(s[2], s[3]) < std::make_pair(s[0], s[1])) s = {s[2], s[3], s[0], s[1]};
+    if (!drawn.insert({cellKey(s[0], s[1]), cellKey(s[2], s[3])}).second) continue;
+    cairo_move_to(cr, 0.5 * s[0], 0.5 * s[1]);
+    cairo_line_to(cr, 0.5 * s[2], 0.5 * s[3]);
+  }
+  applyLine(cr, style);
+  cairo_stroke(cr);
+}
+
+/// How drawPath joins its points.
+enum class PathShape {
+  Open,    ///< a polyline
+  Closed,  ///< one polygon
+  Rings,   ///< polygons separated by unusable (NaN) points
+};
+
+/// A polyline or polygon(s): closed shapes are closed and filled (if the style has a
+/// fill), then the outline is stroked. An unusable point lifts the pen (for Rings it
+/// first closes the ring before it).
+void drawPath(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style, PathShape shape) {
+  bool pen = false;
+  std::size_t n = 0;
+  for (const auto& p : points) {
+    if (!usablePoint(f, p)) {
+      if (pen && shape == PathShape::Rings) cairo_close_path(cr);
+      pen = false;
+      continue;
+    }
+    const Vec2 q = f.toPixel(p);
+    if (pen) {
+      cairo_line_to(cr, q.x(), q.y());
+    } else {
+      cairo_move_to(cr, q.x(), q.y());
+    }
+    pen = true;
+    ++n;
+  }
+  if (n == 0) return;
+  if (shape != PathShape::Open) {
+    if (pen) cairo_close_path(cr);
+    if (style.fill) {
+      setColor(cr, *style.fill);
+      cairo_fill_preserve(cr);
+    }
+  }
+  if (style.line_width_px > 0.0) {
+    applyLine(cr, style);
+    cairo_stroke(cr);
+  } else {
+    cairo_new_path(cr);
+  }
+}
+
+/// Markers at the points, thinned to one per cell of half a pixel (filled markers) or
+/// half a marker (outlined ones): a dense cloud puts thousands of points on one pixel,
+/// and Cairo takes minutes to fill and stroke their overlapping outlines on the
+/// bridge; thinned so, the picture moves by at most a quarter of a cell.
+void drawMarkers(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style) {
+  const double cell_px = style.line_width_px > 0.0 ? std::max(0.5, 0.5 * style.marker_size_px) : 0.5;
+  std::unordered_set<std::uint64_t> drawn;
+  for (const auto& p : points) {
+    if (!usablePoint(f, p)) continue;
+    const Vec2 q = f.toPixel(p);
+    const double sx = std::round(q.x() / cell_px), sy = std::round(q.y() / cell_px);
+    if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9)) continue;  // far outside the clip
+    if (!drawn.insert(cellKey(sx, sy)).second) continue;
+    markerPath(cr, style.marker, cell_px * sx, cell_px * sy, style.marker_size_px);
+  }
+  finishMarkers(cr, style);
+}
+
+/// Text anchored at a data point (nothing if the point is unusable).
+void drawTextAt(cairo_t* cr, const Frame& f, const Vec2& at, const std::string& text, const TextStyle& style) {
+  if (!usablePoint(f, at)) return;
+  const Vec2 q = f.toPixel(at);
+  drawText(cr, q.x(), q.y(), text, style);
+}
+
+/// The frame of the plot area, tick marks with their labels, and the axis labels.
+/// panel_left_px: the panel's left edge, where the y label goes [px].
+void drawAxes(cairo_t* cr, const Frame& f, const PanelOptions& options, double panel_left_px,
+              const std::vector<double>& xt, const std::vector<double>& yt) {
+  const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
+  const TextStyle tick_style{11.0, Color::rgb(60, 60, 60), Align::Center};
+  applyLine(cr, lineStyle(Color::rgb(90, 90, 90), 1.0));
+  cairo_rectangle(cr, L + 0.5, T + 0.5, W - 1.0, H - 1.0);
+  cairo_stroke(cr);
+  for (double v : xt) {
+    const double px = f.toPixel({v, f.y_min}).x();
+    cairo_move_to(cr, px, T + H);
+    cairo_line_to(cr, px, T + H + 4.0);
+    drawText(cr, px, T + H + 17.0, tickLabel(v), tick_style);
+  }
+  for (double v : yt) {
+    const double py = f.toPixel({f.x_min, v}).y();
+    cairo_move_to(cr, L, py);
+    cairo_line_to(cr, L - 4.0, py);
+    drawText(cr, L - 7.0, py + 4.0, tickLabel(v), TextStyle{11.0, tick_style.color, Align::Right});
+  }
+  applyLine(cr, lineStyle(Color::rgb(90, 90, 90), 1.0));
+  cairo_stroke(cr);
+  drawText(cr, L + W / 2.0, T + H + 38.0, options.x.label, TextStyle{13.0, kBlack, Align::Center});
+  drawText(cr, panel_left_px + 17.0, T + H / 2.0, options.y.label, TextStyle{13.0, kBlack, Align::Center, false, true});
+}
+
+/// A two-tone scale bar in a corner of the plot area: the largest 1/2/5 × 10^k length
+/// under a quarter of the width, labelled with `unit`. Linear x axes only.
+void drawScaleBar(cairo_t* cr, const Frame& f, Corner corner, const std::string& unit) {
+  const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
+  const double len = roundDown125(0.25 * (f.x_max - f.x_min));
+  const double px_len = len * W / (f.x_max - f.x_min);
+  const double bx = onRight(corner) ? L + W - 16.0 - px_len : L + 16.0;
+  const double by = onBottom(corner) ? T + H - 18.0 : T + 30.0;
+  cairo_rectangle(cr, bx - 6.0, by - 22.0, px_len + 12.0, 32.0);
+  setColor(cr, kWhite.withAlpha(0.8));
+  cairo_fill(cr);
+  for (int k = 0; k < 2; ++k) {
+    cairo_rectangle(cr, bx + k * px_len / 2.0, by, px_len / 2.0, 6.0);
+    setColor(cr, k == 0 ? kBlack : kWhite);
+    cairo_fill_preserve(cr);
+    applyLine(cr, lineStyle(kBlack, 1.0));
+    cairo_stroke(cr);
+  }
+  drawText(cr, bx + px_len / 2.0, by - 5.0, tickLabel(len) + " " + unit, TextStyle{12.0, kBlack, Align::Center, true});
+}
+
+/// The legend box 8 px inside a corner of the plot area.
+void drawPanelLegend(cairo_t* cr, const Frame& f, Corner corner, const std::vector<LegendEntry>& entries) {
+  const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
+  const Vec2 size = legendSize(cr, entries, 12.0);
+  drawLegend(cr, onRight(corner) ? L + W - 8.0 - size.x() : L + 8.0, onBottom(corner) ? T + H - 8.0 - size.y() : T + 8.0,
+             entries, 12.0);
+}
+
+}  // namespace
+
 void Panel::draw(void* cairo) const {
   cairo_t* cr = ctx(cairo);
   const Frame f = frame();
   const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
-  auto ok = [&](const Vec2& p) { return usable(p.x(), f.x_scale) && usable(p.y(), f.y_scale); };
 
   cairo_save(cr);
-  cairo_rectangle(cr, L, T, W, H);
-  setColor(cr, options_.background);
-  cairo_fill(cr);
-
+  fillPlotArea(cr, f, options_.background);
   const auto xt = ticks(f.x_min, f.x_max, f.x_scale, std::max(2, static_cast<int>(W / 110.0)));
   const auto yt = ticks(f.y_min, f.y_max, f.y_scale, std::max(2, static_cast<int>(H / 70.0)));
-  if (options_.grid) {
-    applyLine(cr, lineStyle(Color::rgb(225, 225, 225), 0.8));
-    for (double v : xt) {
-      const double px = std::round(f.toPixel({v, f.y_min}).x()) + 0.5;
-      cairo_move_to(cr, px, T);
-      cairo_line_to(cr, px, T + H);
-    }
-    for (double v : yt) {
-      const double py = std::round(f.toPixel({f.x_min, v}).y()) + 0.5;
-      cairo_move_to(cr, L, py);
-      cairo_line_to(cr, L + W, py);
-    }
-    cairo_stroke(cr);
-  }
+  if (options_.grid) drawGrid(cr, f, xt, yt);
 
   cairo_rectangle(cr, L, T, W, H);
   cairo_clip(cr);
@@ -485,142 +652,32 @@ void Panel::draw(void* cairo) const {
     switch (it.kind) {
       case Kind::Polyline:
         if (!it.style.dashed && it.points.size() > 64) {
-          // A long path seen edge-on (a boustrophedon from the side) retraces the same
-          // pixels hundreds of times, and Cairo's stroker slows down on so many
-          // overlaps: draw each distinct half-pixel segment once, as its own sub-path
-          // (round caps and joins make the union look the same).
-          std::unordered_set<std::pair<std::uint64_t, std::uint64_t>, CellPairHash> drawn;
-          auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e9, 1e9); };
-          for (std::size_t i = 1; i < it.points.size(); ++i) {
-            if (!ok(it.points[i - 1]) || !ok(it.points[i])) continue;
-            const Vec2 a = f.toPixel(it.points[i - 1]), b = f.toPixel(it.points[i]);
-            std::array<double, 4> s{half(a.x()), half(a.y()), half(b.x()), half(b.y())};
-            if (std::make_pair(s[2], s[3]) < std::make_pair(s[0], s[1])) s = {s[2], s[3], s[0], s[1]};
-            if (!drawn.insert({cellKey(s[0], s[1]), cellKey(s[2], s[3])}).second) continue;
-            cairo_move_to(cr, 0.5 * s[0], 0.5 * s[1]);
-            cairo_line_to(cr, 0.5 * s[2], 0.5 * s[3]);
-          }
-          applyLine(cr, it.style);
-          cairo_stroke(cr);
-          break;
-        }
-        [[fallthrough]];
-      case Kind::Polygon:
-      case Kind::Polygons: {
-        bool pen = false;
-        std::size_t n = 0;
-        for (const auto& p : it.points) {
-          if (!ok(p)) {
-            if (pen && it.kind == Kind::Polygons) cairo_close_path(cr);
-            pen = false;
-            continue;
-          }
-          const Vec2 q = f.toPixel(p);
-          if (pen) {
-            cairo_line_to(cr, q.x(), q.y());
-          } else {
-            cairo_move_to(cr, q.x(), q.y());
-          }
-          pen = true;
-          ++n;
-        }
-        if (n == 0) break;
-        if (it.kind != Kind::Polyline) {
-          if (pen) cairo_close_path(cr);
-          if (it.style.fill) {
-            setColor(cr, *it.style.fill);
-            cairo_fill_preserve(cr);
-          }
-        }
-        if (it.style.line_width_px > 0.0) {
-          applyLine(cr, it.style);
-          cairo_stroke(cr);
+          strokeDistinctSegments(cr, f, it.points, it.style);
         } else {
-          cairo_new_path(cr);
+          drawPath(cr, f, it.points, it.style, PathShape::Open);
         }
         break;
-      }
-      case Kind::Markers: {
-        // One marker per cell of half a pixel (filled markers) or half a marker
-        // (outlined ones): a dense cloud puts thousands of points on one pixel, and
-        // Cairo takes minutes to fill and stroke their overlapping outlines on the
-        // bridge; thinned so, the picture moves by at most a quarter of a cell.
-        const double cell_px = it.style.line_width_px > 0.0 ? std::max(0.5, 0.5 * it.style.marker_size_px) : 0.5;
-        std::unordered_set<std::uint64_t> drawn;
-        for (const auto& p : it.points) {
-          if (!ok(p)) continue;
-          const Vec2 q = f.toPixel(p);
-          const double sx = std::round(q.x() / cell_px), sy = std::round(q.y() / cell_px);
-          if (!(std::abs(sx) < 1e9 && std::abs(sy) < 1e9)) continue;  // far outside the clip
-          if (!drawn.insert(cellKey(sx, sy)).second) continue;
-          markerPath(cr, it.style.marker, cell_px * sx, cell_px * sy, it.style.marker_size_px);
-        }
-        finishMarkers(cr, it.style);
+      case Kind::Polygon:
+        drawPath(cr, f, it.points, it.style, PathShape::Closed);
         break;
-      }
-      case Kind::Text: {
-        if (!ok(it.points.front())) break;
-        const Vec2 q = f.toPixel(it.points.front());
-        drawText(cr, q.x(), q.y(), it.text, it.text_style);
+      case Kind::Polygons:
+        drawPath(cr, f, it.points, it.style, PathShape::Rings);
         break;
-      }
+      case Kind::Markers:
+        drawMarkers(cr, f, it.points, it.style);
+        break;
+      case Kind::Text:
+        drawTextAt(cr, f, it.points.front(), it.text, it.text_style);
+        break;
     }
   }
   cairo_reset_clip(cr);
 
-  const TextStyle tick_style{11.0, Color::rgb(60, 60, 60), Align::Center};
-  if (options_.axes) {
-    applyLine(cr, lineStyle(Color::rgb(90, 90, 90), 1.0));
-    cairo_rectangle(cr, L + 0.5, T + 0.5, W - 1.0, H - 1.0);
-    cairo_stroke(cr);
-    for (double v : xt) {
-      const double px = f.toPixel({v, f.y_min}).x();
-      cairo_move_to(cr, px, T + H);
-      cairo_line_to(cr, px, T + H + 4.0);
-      drawText(cr, px, T + H + 17.0, tickLabel(v), tick_style);
-    }
-    for (double v : yt) {
-      const double py = f.toPixel({f.x_min, v}).y();
-      cairo_move_to(cr, L, py);
-      cairo_line_to(cr, L - 4.0, py);
-      drawText(cr, L - 7.0, py + 4.0, tickLabel(v), TextStyle{11.0, tick_style.color, Align::Right});
-    }
-    applyLine(cr, lineStyle(Color::rgb(90, 90, 90), 1.0));
-    cairo_stroke(cr);
-    drawText(cr, L + W / 2.0, T + H + 38.0, options_.x.label, TextStyle{13.0, kBlack, Align::Center});
-    drawText(cr, x_px_ + 17.0, T + H / 2.0, options_.y.label, TextStyle{13.0, kBlack, Align::Center, false, true});
-  }
+  if (options_.axes) drawAxes(cr, f, options_, x_px_, xt, yt);
   drawText(cr, L + W / 2.0, y_px_ + 20.0, options_.title, TextStyle{15.0, kBlack, Align::Center, true});
-
-  // Scale bar: the largest 1/2/5 × 10^k length under a quarter of the width.
-  if (options_.scale_bar != Corner::None && f.x_scale == Scale::Linear) {
-    const double len = roundDown125(0.25 * (f.x_max - f.x_min));
-    const double px_len = len * W / (f.x_max - f.x_min);
-    const bool right = options_.scale_bar == Corner::TopRight || options_.scale_bar == Corner::BottomRight;
-    const bool bottom = options_.scale_bar == Corner::BottomLeft || options_.scale_bar == Corner::BottomRight;
-    const double bx = right ? L + W - 16.0 - px_len : L + 16.0;
-    const double by = bottom ? T + H - 18.0 : T + 30.0;
-    cairo_rectangle(cr, bx - 6.0, by - 22.0, px_len + 12.0, 32.0);
-    setColor(cr, kWhite.withAlpha(0.8));
-    cairo_fill(cr);
-    for (int k = 0; k < 2; ++k) {
-      cairo_rectangle(cr, bx + k * px_len / 2.0, by, px_len / 2.0, 6.0);
-      setColor(cr, k == 0 ? kBlack : kWhite);
-      cairo_fill_preserve(cr);
-      applyLine(cr, lineStyle(kBlack, 1.0));
-      cairo_stroke(cr);
-    }
-    drawText(cr, bx + px_len / 2.0, by - 5.0, tickLabel(len) + " " + options_.scale_bar_unit,
-             TextStyle{12.0, kBlack, Align::Center, true});
-  }
-
-  if (options_.legend != Corner::None && !legend_.empty()) {
-    const Vec2 size = legendSize(cr, legend_, 12.0);
-    const bool right = options_.legend == Corner::TopRight || options_.legend == Corner::BottomRight;
-    const bool bottom = options_.legend == Corner::BottomLeft || options_.legend == Corner::BottomRight;
-    drawLegend(cr, right ? L + W - 8.0 - size.x() : L + 8.0, bottom ? T + H - 8.0 - size.y() : T + 8.0, legend_,
-               12.0);
-  }
+  if (options_.scale_bar != Corner::None && f.x_scale == Scale::Linear)
+    drawScaleBar(cr, f, options_.scale_bar, options_.scale_bar_unit);
+  if (options_.legend != Corner::None && !legend_.empty()) drawPanelLegend(cr, f, options_.legend, legend_);
   cairo_restore(cr);
 }
 
