@@ -460,15 +460,15 @@ std::vector<std::string> howToRead(bool flown) {
 void drawLegendColumn(render::Figure& fig, const OverviewLayout& l, const OverviewContent& c) {
   const double lx = l.width - l.legend_w - l.gap + 4.0;
   std::vector<LegendEntry> symbols = symbolEntries(c);
+  if (c.flight != nullptr) {
+    symbols.push_back({"home (take-off, landing)", kHomeStyle, LegendKind::Marker});
+    symbols.push_back({"n: n-th surface of the flight", render::Style{}, LegendKind::Line});
+  }
   fig.text(lx, l.top + 14.0, "Legend", {15.0, render::kBlack, render::Align::Left, true});
   fig.legend(lx, l.top + 24.0, symbols, 12.0);
 
   const double sy = l.top + 24.0 + 12.0 * 1.55 * static_cast<double>(symbols.size()) + 12.0 + 36.0;
   fig.text(lx, sy, "Surfaces", {15.0, render::kBlack, render::Align::Left, true});
-  if (c.flight != nullptr) {
-    symbols.push_back({"home (take-off, landing)", kHomeStyle, LegendKind::Marker});
-    symbols.push_back({"n: n-th surface of the flight", render::Style{}, LegendKind::Line});
-  }
   const std::size_t max_rows = static_cast<std::size_t>(std::max(1.0, (l.height - sy - 40.0) / (12.0 * 1.55)));
   const std::vector<LegendEntry> rows = surfaceRows(c, max_rows);
   fig.legend(lx, sy + 10.0, rows, 12.0);
