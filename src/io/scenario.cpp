@@ -357,6 +357,10 @@ void parseAssembly(Section s, scan::AssemblerOptions& o) {
   o.estimate_z = s.boolean("estimate_z", o.estimate_z);
   o.z_cone_deg = s.number("z_cone_deg", o.z_cone_deg);
   o.include_horizontal = s.boolean("include_horizontal", o.include_horizontal);
+  o.refine_drift = s.boolean("refine_drift", o.refine_drift);
+  o.drift_segment_deg = s.number("drift_segment_deg", o.drift_segment_deg);
+  o.drift_iterations = s.integer("drift_iterations", o.drift_iterations);
+  o.drift_voxel_m = s.number("drift_voxel_m", o.drift_voxel_m);
   s.finish();
 }
 

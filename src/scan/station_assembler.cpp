@@ -6,6 +6,8 @@
 
 #include "uavip/scan/station_assembler.h"
 
+#include "uavip/scan/drift_refinement.h"
+
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
@@ -340,6 +342,11 @@ void AssemblerOptions::validate(const std::string& where) const {
   }
   requirePositive(max_imu_gap_s, where, "max_imu_gap_s");
   if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0)) throw InputError(where + ": z_cone_deg must be in (0, 90), got " + formatNumber(z_cone_deg));
+  if (!(drift_segment_deg > 0.0 && drift_segment_deg <= 360.0)) {
+    throw InputError(where + ": drift_segment_deg must be in (0, 360], got " + formatNumber(drift_segment_deg));
+  }
+  if (drift_iterations < 1) throw InputError(where + ": drift_iterations must be >= 1, got " + std::to_string(drift_iterations));
+  requirePositive(drift_voxel_m, where, "drift_voxel_m");
 }
 
 double yawOf(const Eigen::Quaterniond& q) {
@@ -414,46 +421,49 @@ Eigen::Quaterniond ImuTrack::at(double t_s) const {
   return q_[i].slerp(u, q_[j]);
 }
 
-StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options) {
-  options.validate();
-  if (index >= log.stations.size()) {
-    throw InputError("scan: station index " + std::to_string(index) + " out of range (" +
-                     std::to_string(log.stations.size()) + " stations)");
-  }
-  const Station& st = log.stations[index];
-  const std::string where = "station " + std::to_string(st.id);
-  StationCloud out;
-  out.station_id = st.id;
-  out.stats.vertical_scans = st.vertical.size();
-  out.stats.horizontal_scans = st.horizontal.size();
-  if (st.vertical.empty() && st.horizontal.empty()) return out;
+namespace {
 
-  const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
-  const double tolerance = options.max_imu_gap_s;
-  auto checkScan = [&](const LaserScan& s, const char* kind, std::size_t i, double prev_t) {
-    if (!std::isfinite(s.t_start_s) || !std::isfinite(s.duration_s) || s.duration_s < 0.0) {
-      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " has a non-finite time");
-    }
-    if (s.t_start_s < prev_t) {
-      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " starts before the previous one (" +
-                       formatNumber(prev_t) + " s -> " + formatNumber(s.t_start_s) + " s)");
-    }
-    if (s.t_start_s < imu.startTime() - tolerance || s.t_start_s + s.duration_s > imu.endTime() + tolerance) {
-      throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + formatNumber(s.t_start_s) +
-                       " s is outside the IMU's time span [" + formatNumber(imu.startTime()) + ", " + formatNumber(imu.endTime()) + "] s");
+/// Refinement points: every kDriftBeamStride-th beam of every vertical scan and of
+/// every kDriftHorizontalScanStride-th horizontal scan (~10⁵ points per station).
+constexpr std::size_t kDriftBeamStride = 4;
+constexpr std::size_t kDriftHorizontalScanStride = 2;
+/// Position noise of a beam: range noise [m] and attitude error [rad] (Hokuyo
+/// UTM-30LX: 1–3 cm; Xsens MTi-10: 0.5°, here about its mean).
+constexpr double kBeamRangeSigma = 0.015;
+constexpr double kBeamAngleSigma = 0.005;
+/// Before the refinement the odometry's xy is averaged over ± this fraction of a segment.
+constexpr double kOdometrySmoothing = 0.25;
+/// The loop closure's end window: the last this much of the sweep's yaw [deg].
+constexpr double kLoopWindowDeg = 30.0;
+/// At most this many refinement segments (the normal equations are dense: 3 per node).
+constexpr double kMaxDriftSegments = 120.0;
+
+/// Throws InputError for a scan with a bad time, out of order or outside the IMU's span.
+void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, const std::string& where) {
+  auto check = [&](const std::vector<LaserScan>& scans, const char* kind) {
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      const LaserScan& s = scans[i];
+      const double prev_t = i ? scans[i - 1].t_start_s : -std::numeric_limits<double>::infinity();
+      if (!std::isfinite(s.t_start_s) || !std::isfinite(s.duration_s) || s.duration_s < 0.0) {
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " has a non-finite time");
+      }
+      if (s.t_start_s < prev_t) {
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " starts before the previous one (" +
+                         formatNumber(prev_t) + " s -> " + formatNumber(s.t_start_s) + " s)");
+      }
+      if (s.t_start_s < imu.startTime() - tolerance_s || s.t_start_s + s.duration_s > imu.endTime() + tolerance_s) {
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + formatNumber(s.t_start_s) +
+                         " s is outside the IMU's time span [" + formatNumber(imu.startTime()) + ", " +
+                         formatNumber(imu.endTime()) + "] s");
+      }
     }
   };
-  for (std::size_t i = 0; i < st.vertical.size(); ++i) {
-    checkScan(st.vertical[i], "vertical", i, i ? st.vertical[i - 1].t_start_s : -std::numeric_limits<double>::infinity());
-  }
-  for (std::size_t i = 0; i < st.horizontal.size(); ++i) {
-    checkScan(st.horizontal[i], "horizontal", i, i ? st.horizontal[i - 1].t_start_s : -std::numeric_limits<double>::infinity());
-  }
+  check(st.vertical, "vertical");
+  check(st.horizontal, "horizontal");
+}
 
-  // --- T from the horizontal scans (ICP) ---------------------------------------
-  const auto t_icp = Clock::now();
-  const bool prior = options.use_imu_prior;
-  const int stride = options.horizontal_stride;
+/// The horizontal scans as 2D points (IMU-rotated with the prior) with line normals.
+std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu, bool prior) {
   std::vector<Scan2D> scans(st.horizontal.size());
   for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
     const LaserScan& s = st.horizontal[k];
@@ -468,168 +478,255 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
     }
     scans[k].normals = makeReference(scans[k], 0.0, Vec2::Zero()).normals;
   }
-  // Per scan: residual yaw θ_k and position t_k in the station frame:
-  //   station xy = rot(θ_k)·scan_k + t_k.
-  std::vector<double> theta(scans.size(), 0.0);
-  std::vector<Vec2> trans(scans.size(), Vec2::Zero());
+  return scans;
+}
+
+/// Horizontal odometry: per scan, residual yaw θ_k and position t_k in the station
+/// frame (station xy = rot(θ_k)·scan_k + t_k), and the 2D loop closure.
+struct Odometry {
+  std::vector<double> theta;
+  std::vector<Vec2> trans;
+  double loop_closure_m{-1.0};
+  double loop_closure_information{0.0};
+};
+
+/// Loop closure of the odometry: the last scan as placed, ICP'd onto the first as
+/// placed, in coordinates centred on the last scan's position (so the result is a
+/// body offset). Only a closure the scans can see is a measurement: with too few
+/// pairs, or a direction no pair fixes (one flat face in view), the offset would read 0.
+void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo, const AssemblerOptions& options) {
+  if (scans.size() < 2) return;
+  const std::size_t last = scans.size() - 1;
+  Scan2D first_c;
+  for (const auto& p : scans[0].pts) first_c.pts.push_back(rot2(odo.theta[0]) * p + odo.trans[0] - odo.trans[last]);
+  Reference lref = makeReference(first_c, 0.0, Vec2::Zero());
+  const Grid2D lgrid(lref.pts, options.max_correspondence_m);
+  Scan2D last_c;
+  for (const auto& p : scans[last].pts) last_c.pts.push_back(rot2(odo.theta[last]) * p);
+  last_c.normals = makeReference(last_c, 0.0, Vec2::Zero()).normals;
+  const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
+  odo.loop_closure_information = r.min_information;
+  odo.loop_closure_m = r.pairs >= kMinPairs && r.min_information >= kMinLoopInformation ? r.t.norm() : -1.0;
+}
+
+/// T in xy from ICP between horizontal scans and a keyframe map (see the header).
+/// (The 2D loop closure only with `loop_closure`: the refinement has its own.)
+Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu, const AssemblerOptions& options,
+                            bool loop_closure, AssemblyStats& stats) {
+  const bool prior = options.use_imu_prior;
+  const std::vector<Scan2D> scans = horizontalScans(log, st, imu, prior);
+  Odometry odo;
+  odo.theta.assign(scans.size(), 0.0);
+  odo.trans.assign(scans.size(), Vec2::Zero());
+  if (scans.empty()) return odo;
   double iter_sum = 0.0, rms_sum = 0.0;
   std::size_t icp_runs = 0;
-  if (!scans.empty()) {
-    // Plain ICP starts from the IMU heading of the first scan (so both modes share the frame).
-    theta[0] = prior ? 0.0 : yawOf(imu.at(st.horizontal[0].t_start_s));
-    std::size_t kf = 0;
-    Reference ref = makeReference(scans[0], theta[0], trans[0]);
-    auto grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
-    out.stats.keyframes = 1;
-    for (std::size_t k = 1; k < scans.size(); ++k) {
-      // Guess: the previous pose (the wind is a random walk; plain ICP gets no
-      // yaw prediction either: it starts from the last yaw).
-      const double th0 = theta[k - 1];
-      const Vec2 t0 = trans[k - 1];
-      const IcpResult r = options.icp == IcpMethod::PointToLine2D
-                              ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, stride)
-                              : icpPcl(scans[k], ref, th0, t0, options, stride);
-      const bool ok = r.converged && r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
-      theta[k] = ok ? r.theta : th0;
-      trans[k] = ok ? r.t : t0;
-      if (!ok) ++out.stats.failed_icp;
-      iter_sum += r.iterations;
-      rms_sum += r.rms;
-      ++icp_runs;
-      // Yaw since the keyframe: the IMU's (with the prior) or the ICP's own.
-      const double yaw_k = prior ? yawOf(imu.at(st.horizontal[k].t_start_s)) + theta[k] : theta[k];
-      const double yaw_kf = prior ? yawOf(imu.at(st.horizontal[kf].t_start_s)) + theta[kf] : theta[kf];
-      if (ok && (std::abs(wrapAngle(yaw_k - yaw_kf)) * 180.0 / kPi > options.keyframe_yaw_deg ||
-                 (trans[k] - trans[kf]).norm() > options.keyframe_translation_m)) {
-        // The reference is a map of all keyframes so far: structure seen earlier in
-        // the turn stays matchable (what the scanner sees comes and goes as it yaws).
-        // New points join it only where it has none within kMapSpacing.
-        kf = k;
-        const Reference add = makeReference(scans[k], theta[k], trans[k]);
-        for (std::size_t i = 0; i < add.pts.size(); ++i) {
-          if (add.normals[i].squaredNorm() == 0.0) continue;
-          const int j = grid->nearest(add.pts[i]);
-          if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < kMapSpacing) continue;
-          ref.pts.push_back(add.pts[i]);
-          ref.normals.push_back(add.normals[i]);
-        }
-        grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
-        ++out.stats.keyframes;
+  auto& theta = odo.theta;
+  auto& trans = odo.trans;
+  // Plain ICP starts from the IMU heading of the first scan (so both modes share the frame).
+  theta[0] = prior ? 0.0 : yawOf(imu.at(st.horizontal[0].t_start_s));
+  std::size_t kf = 0;
+  Reference ref = makeReference(scans[0], theta[0], trans[0]);
+  auto grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
+  stats.keyframes = 1;
+  for (std::size_t k = 1; k < scans.size(); ++k) {
+    // Guess: the previous pose (the wind is a random walk; plain ICP gets no
+    // yaw prediction either: it starts from the last yaw).
+    const double th0 = theta[k - 1];
+    const Vec2 t0 = trans[k - 1];
+    const IcpResult r = options.icp == IcpMethod::PointToLine2D
+                            ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, options.horizontal_stride)
+                            : icpPcl(scans[k], ref, th0, t0, options, options.horizontal_stride);
+    const bool ok = r.converged && r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
+    theta[k] = ok ? r.theta : th0;
+    trans[k] = ok ? r.t : t0;
+    if (!ok) ++stats.failed_icp;
+    iter_sum += r.iterations;
+    rms_sum += r.rms;
+    ++icp_runs;
+    // Yaw since the keyframe: the IMU's (with the prior) or the ICP's own.
+    const double yaw_k = prior ? yawOf(imu.at(st.horizontal[k].t_start_s)) + theta[k] : theta[k];
+    const double yaw_kf = prior ? yawOf(imu.at(st.horizontal[kf].t_start_s)) + theta[kf] : theta[kf];
+    if (ok && (std::abs(wrapAngle(yaw_k - yaw_kf)) * 180.0 / kPi > options.keyframe_yaw_deg ||
+               (trans[k] - trans[kf]).norm() > options.keyframe_translation_m)) {
+      // The reference is a map of all keyframes so far: structure seen earlier in
+      // the turn stays matchable (what the scanner sees comes and goes as it yaws).
+      // New points join it only where it has none within kMapSpacing.
+      kf = k;
+      const Reference add = makeReference(scans[k], theta[k], trans[k]);
+      for (std::size_t i = 0; i < add.pts.size(); ++i) {
+        if (add.normals[i].squaredNorm() == 0.0) continue;
+        const int j = grid->nearest(add.pts[i]);
+        if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < kMapSpacing) continue;
+        ref.pts.push_back(add.pts[i]);
+        ref.normals.push_back(add.normals[i]);
+      }
+      grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
+      ++stats.keyframes;
+    }
+  }
+  if (loop_closure) odometryLoopClosure(scans, odo, options);
+  stats.mean_icp_iterations = icp_runs ? iter_sum / static_cast<double>(icp_runs) : 0.0;
+  stats.mean_icp_rms_m = icp_runs ? rms_sum / static_cast<double>(icp_runs) : 0.0;
+  return odo;
+}
+
+/// Vertical drift z per vertical scan from the nadir/zenith beams (0 without
+/// estimate_z): each scan's height offset against height maps of the ground below
+/// and the ceiling above built from the scans before it. `xy` places the beams.
+std::vector<double> verticalDrift(const RawLog& log, const Station& st, const ImuTrack& imu,
+                                  const TranslationTrack& xy, const AssemblerOptions& options) {
+  std::vector<double> z_of_vscan(st.vertical.size(), 0.0);
+  if (!options.estimate_z || st.vertical.empty()) return z_of_vscan;
+  const double cone = options.z_cone_deg * kPi / 180.0;
+  HeightMap below(0.25), above(0.25);
+  double z = 0.0;
+  std::vector<double> offsets;
+  std::vector<std::pair<Vec3, bool>> pts;
+  for (std::size_t k = 0; k < st.vertical.size(); ++k) {
+    const LaserScan& s = st.vertical[k];
+    pts.clear();
+    offsets.clear();
+    for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+      const float r = s.ranges_m[i];
+      if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+      const double t = s.beamTime(i);
+      const Eigen::Quaterniond q = imu.at(t);
+      const double a = s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad;
+      const Vec3 dir = q * (log.body_T_vertical.linear() * verticalBeam(1.0, a));
+      if (std::abs(dir.z()) < std::cos(cone)) continue;
+      Vec3 p = q * (log.body_T_vertical * verticalBeam(r, a)) + xy.at(t);
+      p.z() += z;
+      const bool down = dir.z() < 0.0;
+      const double off = down ? below.offset(p) : above.offset(p);
+      if (std::isfinite(off)) offsets.push_back(off);
+      pts.emplace_back(p, down);
+    }
+    double dz = 0.0;
+    if (offsets.size() >= 5) dz = upperMedian(offsets);
+    z -= dz;
+    z_of_vscan[k] = z;
+    for (const auto& [p, down] : pts) {
+      const Vec3 c(p.x(), p.y(), p.z() - dz);
+      if (down) {
+        below.add(c);
+      } else {
+        above.add(c);
       }
     }
-    // Loop closure: the last scan as placed, ICP'd onto the first as placed, in
-    // coordinates centred on the last scan's position (so the result is a body offset).
-    if (scans.size() >= 2) {
-      const std::size_t last = scans.size() - 1;
-      Scan2D first_c;
-      for (const auto& p : scans[0].pts) first_c.pts.push_back(rot2(theta[0]) * p + trans[0] - trans[last]);
-      Reference lref = makeReference(first_c, 0.0, Vec2::Zero());
-      const Grid2D lgrid(lref.pts, options.max_correspondence_m);
-      Scan2D last_c;
-      for (const auto& p : scans[last].pts) last_c.pts.push_back(rot2(theta[last]) * p);
-      last_c.normals = makeReference(last_c, 0.0, Vec2::Zero()).normals;
-      const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
-      // Only a closure the scans can see is a measurement: with too few pairs, or a
-      // direction no pair fixes (one flat face in view), the offset would read 0.
-      out.loop_closure_information = r.min_information;
-      out.loop_closure_m = r.pairs >= kMinPairs && r.min_information >= kMinLoopInformation ? r.t.norm() : -1.0;
-    }
   }
-  out.stats.mean_icp_iterations = icp_runs ? iter_sum / static_cast<double>(icp_runs) : 0.0;
-  out.stats.mean_icp_rms_m = icp_runs ? rms_sum / static_cast<double>(icp_runs) : 0.0;
+  return z_of_vscan;
+}
 
-  // Poses: R = IMU (with the prior, corrected by the residual yaw); T = ICP.
-  out.pose_times_s.reserve(scans.size());
-  out.poses.reserve(scans.size());
-  for (std::size_t k = 0; k < scans.size(); ++k) {
-    const LaserScan& s = st.horizontal[k];
-    const double tm = s.t_start_s + 0.5 * s.duration_s;
-    out.pose_times_s.push_back(tm);
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = imu.at(s.t_start_s).toRotationMatrix();
-    pose.translation() = Vec3(trans[k].x(), trans[k].y(), 0.0);
-    out.poses.push_back(pose);
-  }
-  // Horizontal translation at time t: linear between the scans' mid times, clamped.
-  auto translationAt = [&](double t) -> Vec3 {
-    if (trans.empty()) return Vec3::Zero();
-    const auto& ts = out.pose_times_s;
-    Vec2 xy = trans.front();
-    if (t >= ts.back()) {
-      xy = trans.back();
-    } else if (t > ts.front()) {
-      const auto j = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
-      const double u = (t - ts[j - 1]) / std::max(1e-12, ts[j] - ts[j - 1]);
-      xy = (1.0 - u) * trans[j - 1] + u * trans[j];
+/// Index of the vertical scan starting nearest to time t (scans non-empty).
+std::size_t nearestVerticalScan(const std::vector<LaserScan>& vertical, double t) {
+  const auto it = std::lower_bound(vertical.begin(), vertical.end(), t,
+                                   [](const LaserScan& s, double v) { return s.t_start_s < v; });
+  std::size_t j = static_cast<std::size_t>(it - vertical.begin());
+  if (j == vertical.size() || (j > 0 && t - vertical[j - 1].t_start_s < vertical[j].t_start_s - t)) j = j == 0 ? 0 : j - 1;
+  return j;
+}
+
+/// T(t) from the odometry (xy at the horizontal scans' mid times) and the vertical
+/// drift (z of the vertical scan nearest in time). Without horizontal scans: the
+/// vertical scans' start times, z only.
+TranslationTrack odometryTrack(const Station& st, const Odometry& odo, const std::vector<double>& z_of_vscan) {
+  TranslationTrack track;
+  if (!st.horizontal.empty()) {
+    for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
+      const LaserScan& s = st.horizontal[k];
+      const double tm = s.t_start_s + 0.5 * s.duration_s;
+      const double z = z_of_vscan.empty() ? 0.0 : z_of_vscan[nearestVerticalScan(st.vertical, tm)];
+      track.times_s.push_back(tm);
+      track.positions.emplace_back(odo.trans[k].x(), odo.trans[k].y(), z);
     }
-    return {xy.x(), xy.y(), 0.0};
-  };
-  out.stats.icp_s = secondsSince(t_icp);
-
-  // --- z drift from the vertical scanner's nadir/zenith beams -------------------
-  const auto t_pts = Clock::now();
-  const double cone = options.z_cone_deg * kPi / 180.0;
-  std::vector<double> z_of_vscan(st.vertical.size(), 0.0);
-  if (options.estimate_z && !st.vertical.empty()) {
-    HeightMap below(0.25), above(0.25);
-    double z = 0.0;
-    std::vector<double> offsets;
-    std::vector<std::pair<Vec3, bool>> pts;
+  } else {
     for (std::size_t k = 0; k < st.vertical.size(); ++k) {
-      const LaserScan& s = st.vertical[k];
-      pts.clear();
-      offsets.clear();
-      for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+      track.times_s.push_back(st.vertical[k].t_start_s);
+      track.positions.emplace_back(0.0, 0.0, z_of_vscan.empty() ? 0.0 : z_of_vscan[k]);
+    }
+  }
+  return track;
+}
+
+/// Position noise of a beam of range ρ: range noise and attitude error [m].
+double beamSigma(double range_m) {
+  return std::sqrt(kBeamRangeSigma * kBeamRangeSigma + range_m * kBeamAngleSigma * range_m * kBeamAngleSigma);
+}
+
+/// Every vertical beam (every kDriftBeamStride-th) and every other horizontal scan's
+/// beams, as refinement points.
+std::vector<DriftPoint> driftPoints(const RawLog& log, const Station& st, const ImuTrack& imu) {
+  std::vector<DriftPoint> pts;
+  std::size_t beams = 0;
+  for (const auto& s : st.vertical) beams += s.ranges_m.size();
+  for (const auto& s : st.horizontal) beams += s.ranges_m.size() / kDriftHorizontalScanStride;
+  pts.reserve(beams / kDriftBeamStride + 1);
+  auto add = [&](const std::vector<LaserScan>& scans, const Eigen::Isometry3d& mount, bool horizontal, std::size_t scan_stride) {
+    for (std::size_t k = 0; k < scans.size(); k += scan_stride) {
+      const LaserScan& s = scans[k];
+      for (std::size_t i = k % kDriftBeamStride; i < s.ranges_m.size(); i += kDriftBeamStride) {
         const float r = s.ranges_m[i];
         if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+        const double a = s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad;
         const double t = s.beamTime(i);
-        const Eigen::Quaterniond q = imu.at(t);
-        const Vec3 dir = q * (log.body_T_vertical.linear() * verticalBeam(1.0, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad));
-        if (std::abs(dir.z()) < std::cos(cone)) continue;
-        Vec3 p = q * (log.body_T_vertical * verticalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) + translationAt(t);
-        p.z() += z;
-        const bool down = dir.z() < 0.0;
-        const double off = down ? below.offset(p) : above.offset(p);
-        if (std::isfinite(off)) offsets.push_back(off);
-        pts.emplace_back(p, down);
-      }
-      double dz = 0.0;
-      if (offsets.size() >= 5) dz = upperMedian(offsets);
-      z -= dz;
-      z_of_vscan[k] = z;
-      for (const auto& [p, down] : pts) {
-        const Vec3 c(p.x(), p.y(), p.z() - dz);
-        if (down) {
-          below.add(c);
-        } else {
-          above.add(c);
-        }
+        const Vec3 x = horizontal ? horizontalBeam(r, a) : verticalBeam(r, a);
+        pts.push_back({imu.at(t) * (mount * x), t, beamSigma(r), horizontal, static_cast<double>(kDriftBeamStride * scan_stride)});
       }
     }
-  }
+  };
+  add(st.vertical, log.body_T_vertical, false, 1);
+  add(st.horizontal, log.body_T_horizontal, true, kDriftHorizontalScanStride);
+  return pts;
+}
 
-  // The trajectory's z: the vertical scan nearest in time.
-  if (!st.vertical.empty()) {
-    for (std::size_t k = 0; k < out.poses.size(); ++k) {
-      const double t = out.pose_times_s[k];
-      const auto it = std::lower_bound(st.vertical.begin(), st.vertical.end(), t,
-                                       [](const LaserScan& s, double v) { return s.t_start_s < v; });
-      std::size_t j = static_cast<std::size_t>(it - st.vertical.begin());
-      if (j == st.vertical.size() || (j > 0 && t - st.vertical[j - 1].t_start_s < st.vertical[j].t_start_s - t)) {
-        j = j == 0 ? 0 : j - 1;
-      }
-      out.poses[k].translation().z() = z_of_vscan[j];
-    }
+/// The track's xy averaged over ±half_s (re-zeroed at the first sample): the
+/// odometry's scan-to-scan jitter (a weakly constrained direction jumping at a
+/// keyframe) is noise at a time scale the refinement cannot correct.
+void smoothTrackXY(TranslationTrack& track, double half_s) {
+  const std::size_t n = track.times_s.size();
+  if (n < 3 || !(half_s > 0.0)) return;
+  std::vector<Vec2> xy(n);
+  std::size_t lo = 0, hi = 0;
+  Vec2 sum = Vec2::Zero();
+  for (std::size_t k = 0; k < n; ++k) {
+    while (hi < n && track.times_s[hi] <= track.times_s[k] + half_s) sum += track.positions[hi++].head<2>();
+    while (track.times_s[lo] < track.times_s[k] - half_s) sum -= track.positions[lo++].head<2>();
+    xy[k] = sum / static_cast<double>(hi - lo);
   }
+  const Vec2 origin = xy.front();
+  for (std::size_t k = 0; k < n; ++k) track.positions[k].head<2>() = xy[k] - origin;
+}
 
-  // --- eq. (1) on every vertical beam ------------------------------------------
+/// The joint refinement of T(t) (drift_refinement.h) on `track`, in place; returns it.
+DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack& imu, const AssemblerOptions& options,
+                            TranslationTrack& track) {
+  if (track.times_s.size() < 2) return {};
+  std::vector<double> yaw(track.times_s.size());
+  for (std::size_t k = 0; k < yaw.size(); ++k) yaw[k] = yawOf(imu.at(track.times_s[k]));
+  const std::vector<double> swept = sweptYawDeg(yaw);
+  const double segment_deg = std::max(options.drift_segment_deg, swept.back() / kMaxDriftSegments);
+  const std::vector<double> nodes = segmentNodeTimes(track.times_s, swept, segment_deg);
+  const double loop_start_s = timeAtSweptDeg(track.times_s, swept, swept.back() - kLoopWindowDeg);
+  const double segment_s = (nodes.back() - nodes.front()) / static_cast<double>(nodes.size() - 1);
+  smoothTrackXY(track, kOdometrySmoothing * segment_s);
+  DriftRefinementOptions o;
+  o.iterations = options.drift_iterations;
+  o.voxel_m = options.drift_voxel_m;
+  const DriftRefinement r = refineDrift(driftPoints(log, st, imu), track, nodes, loop_start_s, o);
+  for (std::size_t k = 0; k < track.times_s.size(); ++k) track.positions[k] += r.at(track.times_s[k]);
+  return r;
+}
+
+/// Eq. (1) on every vertical beam (and the horizontal ones with include_horizontal).
+void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu, const TranslationTrack& track,
+                 bool include_horizontal, StationCloud& out) {
   std::size_t n_beams = 0;
   for (const auto& s : st.vertical) n_beams += s.ranges_m.size();
   out.points.reserve(n_beams);
   const Eigen::Matrix3d mount_r = log.body_T_vertical.linear();
   const Vec3 mount_t = log.body_T_vertical.translation();
-  for (std::size_t k = 0; k < st.vertical.size(); ++k) {
-    const LaserScan& s = st.vertical[k];
+  for (const LaserScan& s : st.vertical) {
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
       ++out.stats.beams;
       const float r = s.ranges_m[i];
@@ -639,24 +736,73 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
       }
       const double t = s.beamTime(i);
       const Vec3 xs = verticalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
-      Vec3 x = imu.at(t) * (mount_r * xs + mount_t) + translationAt(t);
-      x.z() += z_of_vscan[k];
-      out.points.push_back(x);
+      out.points.push_back(imu.at(t) * (mount_r * xs + mount_t) + track.at(t));
     }
   }
-  if (options.include_horizontal) {
-    for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
-      const LaserScan& s = st.horizontal[k];
-      for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
-        const float r = s.ranges_m[i];
-        if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
-        const double t = s.beamTime(i);
-        out.points.push_back(imu.at(t) * (log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) +
-                             translationAt(t));
-      }
+  if (!include_horizontal) return;
+  for (const LaserScan& s : st.horizontal) {
+    for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
+      const float r = s.ranges_m[i];
+      if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
+      const double t = s.beamTime(i);
+      out.points.push_back(imu.at(t) * (log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) +
+                           track.at(t));
     }
   }
+}
+
+}  // namespace
+
+StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options) {
+  options.validate();
+  if (index >= log.stations.size()) {
+    throw InputError("scan: station index " + std::to_string(index) + " out of range (" +
+                     std::to_string(log.stations.size()) + " stations)");
+  }
+  const Station& st = log.stations[index];
+  const std::string where = "station " + std::to_string(st.id);
+  StationCloud out;
+  out.station_id = st.id;
+  out.stats.vertical_scans = st.vertical.size();
+  out.stats.horizontal_scans = st.horizontal.size();
+  if (st.vertical.empty() && st.horizontal.empty()) return out;
+  const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
+  checkScans(st, imu, options.max_imu_gap_s, where);
+
+  // T: xy from the horizontal odometry, z from the nadir/zenith beams, then (refine_drift)
+  // all beams jointly.
+  const auto t_icp = Clock::now();
+  const Odometry odo = horizontalOdometry(log, st, imu, options, !options.refine_drift, out.stats);
+  out.loop_closure_m = odo.loop_closure_m;
+  out.loop_closure_information = odo.loop_closure_information;
+  TranslationTrack track = odometryTrack(st, odo, {});
+  out.stats.icp_s = secondsSince(t_icp);
+  auto t_pts = Clock::now();
+  track = odometryTrack(st, odo, verticalDrift(log, st, imu, track, options));
   out.stats.points_s = secondsSince(t_pts);
+  if (options.refine_drift) {
+    const auto t_refine = Clock::now();
+    const DriftRefinement r = refineTrack(log, st, imu, options, track);
+    out.stats.refine_s = secondsSince(t_refine);
+    out.stats.drift_segments = r.node_times_s.size() > 1 ? r.node_times_s.size() - 1 : 0;
+    out.stats.drift_planes = r.planes;
+    out.loop_closure_m = r.loop_closure_m;
+    out.loop_closure_information = r.loop_closure_information;
+  }
+
+  // Poses: R = IMU at the scan start, T = the track at the scan's mid time.
+  for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
+    const LaserScan& s = st.horizontal[k];
+    const double tm = s.t_start_s + 0.5 * s.duration_s;
+    out.pose_times_s.push_back(tm);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = imu.at(s.t_start_s).toRotationMatrix();
+    pose.translation() = track.at(tm);
+    out.poses.push_back(pose);
+  }
+  t_pts = Clock::now();
+  placePoints(log, st, imu, track, options.include_horizontal, out);
+  out.stats.points_s += secondsSince(t_pts);
   return out;
 }
 

@@ -170,6 +170,10 @@ assembly:
   estimate_z: false
   z_cone_deg: 25
   include_horizontal: true
+  refine_drift: false
+  drift_segment_deg: 20
+  drift_iterations: 2
+  drift_voxel_m: 0.4
 registration:
   method: gicp
   overlap_margin_m: 0.5
@@ -197,6 +201,10 @@ void expectStagesRead(const Config& c) {
   EXPECT_FALSE(a.estimate_z);
   EXPECT_DOUBLE_EQ(a.z_cone_deg, 25.0);
   EXPECT_TRUE(a.include_horizontal);
+  EXPECT_FALSE(a.refine_drift);
+  EXPECT_DOUBLE_EQ(a.drift_segment_deg, 20.0);
+  EXPECT_EQ(a.drift_iterations, 2);
+  EXPECT_DOUBLE_EQ(a.drift_voxel_m, 0.4);
   const registration::RegistrationOptions& r = c.registration;
   EXPECT_EQ(r.method, registration::Method::Gicp);
   EXPECT_DOUBLE_EQ(r.overlap_margin_m, 0.5);
@@ -218,6 +226,8 @@ TEST(Scenario, AssemblyAndRegistrationDefaultToTheOptionStructs) {
   EXPECT_EQ(s.config.assembly.icp, a.icp);
   EXPECT_EQ(s.config.assembly.max_iterations, a.max_iterations);
   EXPECT_EQ(s.config.assembly.horizontal_stride, a.horizontal_stride);
+  EXPECT_EQ(s.config.assembly.refine_drift, a.refine_drift);
+  EXPECT_EQ(s.config.assembly.drift_iterations, a.drift_iterations);
   EXPECT_EQ(s.config.registration.method, r.method);
   EXPECT_EQ(s.config.registration.max_iterations, r.max_iterations);
   EXPECT_EQ(s.config.registration.output_voxel_m, r.output_voxel_m);
@@ -225,6 +235,7 @@ TEST(Scenario, AssemblyAndRegistrationDefaultToTheOptionStructs) {
   EXPECT_TRUE(a.use_imu_prior);
   EXPECT_NE(a.icp, scan::IcpMethod::PclPointToPoint);
   EXPECT_FALSE(a.include_horizontal);
+  EXPECT_TRUE(a.refine_drift);
   EXPECT_NE(r.method, registration::Method::Gicp);
   EXPECT_FALSE(r.use_recorded_yaw);
 }
@@ -262,6 +273,7 @@ TEST(Scenario, AssemblyAndRegistrationAreStrict) {
   // Values are checked by the options' own validate(), named by section.
   expectInputError(kMinimal + "assembly: {max_iterations: 0}\n", {"x.yaml", "assembly", "max_iterations"});
   expectInputError(kMinimal + "assembly: {z_cone_deg: 95}\n", {"x.yaml", "assembly", "z_cone_deg"});
+  expectInputError(kMinimal + "assembly: {drift_segment_deg: 0}\n", {"x.yaml", "assembly", "drift_segment_deg"});
   expectInputError(kMinimal + "registration: {downsample_m: 0}\n", {"x.yaml", "registration", "downsample_m"});
   expectInputError(kMinimal + "registration: {search_radius_m: -1}\n", {"x.yaml", "registration", "search_radius_m"});
   EXPECT_THROW(parseConfig("registration: {method: sgd}\n", "c.yaml"), InputError);

@@ -3,6 +3,8 @@
 
 #include "uavip/scan/station_assembler.h"
 
+#include "uavip/scan/drift_refinement.h"
+
 #include "uavip/core/error.h"
 #include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/world_model.h"
@@ -211,10 +213,11 @@ TEST(AssembleStation, LoopClosureAndCloudAccuracyWithDefaultNoise) {
 }
 
 TEST(AssembleStation, LoopClosureIsNotReportedWhenOneWallIsAllTheScannerSees) {
-  // A floor and one long wall: the horizontal scanner sees a single line, so the
-  // offset along the wall between the first and the last scan is not measurable.
-  // A figure of 0 would claim a perfect closure; the station reports −1 instead.
-  // The room (several walls) gives a figure (the test above).
+  // A floor and one long wall: the horizontal scanner sees a single line and the
+  // vertical one that line and the floor, so the offset along the wall between the
+  // end and the start of the sweep is not measurable, in 2D or in 3D. A figure of 0
+  // would claim a perfect closure; the station reports −1 instead. The room (several
+  // walls) gives a figure (the test above).
   sim::WorldModel w;
   w.addPlane({"floor", Vec3(-20.0, -20.0, -1.5), Vec3(40.0, 0.0, 0.0), Vec3(0.0, 40.0, 0.0)});
   w.addPlane({"wall", Vec3(3.0, -20.0, -1.5), Vec3(0.0, 40.0, 0.0), Vec3(0.0, 0.0, 4.0)});
@@ -224,6 +227,69 @@ TEST(AssembleStation, LoopClosureIsNotReportedWhenOneWallIsAllTheScannerSees) {
   EXPECT_LT(one_wall.loop_closure_information, 10.0);
   const StationCloud room_station = assembleStation(windyLog().log, 0);
   EXPECT_GT(room_station.loop_closure_information, 10.0);
+  // Along the wall the refinement corrects nothing (the odometry's y is kept, up to
+  // its smoothing); across it, it may.
+  AssemblerOptions odometry_only;
+  odometry_only.refine_drift = false;
+  const StationCloud odo = assembleStation(s.log, 0, odometry_only);
+  ASSERT_EQ(odo.poses.size(), one_wall.poses.size());
+  for (std::size_t k = 0; k < odo.poses.size(); ++k) {
+    EXPECT_NEAR(one_wall.poses[k].translation().y(), odo.poses[k].translation().y(), 0.01) << "scan " << k;
+  }
+}
+
+/// Part of the bridge of scenarios/bridge.yaml: the deck underside, a pier of two
+/// columns, the abutment and the ground (no clutter).
+sim::WorldModel bridgeWithoutClutter() {
+  sim::WorldModel w;
+  w.addPlane({"deck", Vec3(0.0, 0.0, 3.6), Vec3(0.0, 10.0, 0.0), Vec3(22.0, 0.0, 0.0)});
+  w.addBox("column_south", {10.0, 1.5, 0.0}, {12.0, 3.5, 3.6});
+  w.addBox("column_north", {10.0, 6.5, 0.0}, {12.0, 8.5, 3.6});
+  w.addBox("abutment", {-1.0, -0.5, 0.0}, {0.0, 10.5, 3.6});
+  w.addPlane({"ground", Vec3(-6.0, -7.0, 0.0), Vec3(34.0, 0.0, 0.0), Vec3(0.0, 24.0, 0.0)});
+  return w;
+}
+
+TEST(AssembleStation, VerticalScansFixTheDriftTheHorizontalScannerCannotSee) {
+  // Station 1 of the bridge, under the deck east of the pier, with the bridge's
+  // sensing (30°/s, σ range 1 cm, IMU 0.5°, wind walk 3 mm per scan). At 1.5 m the
+  // horizontal scanner sees the columns' x faces and little else: its first scan,
+  // whose blind sector faces the pier, sees nothing, so every ICP fails and the
+  // odometry stays at 0, and no loop closure is measurable in its plane. The
+  // vertical scanner sees the deck underside, the ground, the abutment and the
+  // columns' faces all round: with the refinement the drift is found in every
+  // direction. Tolerances: 5 cm horizontally (on a true drift of 10–13 cm), 3 cm
+  // vertically; loop closure ≤ 5 cm (paper: 10 cm).
+  sim::ScanSimOptions o;
+  o.stations = {Vec3(17.0, 5.0, 1.5)};
+  o.scanner.range_noise_m = 0.01;
+  o.gps_sigma_m = 0.0;
+  o.seed = 3;
+  const sim::SimulatedLog s = sim::simulateScans(bridgeWithoutClutter(), o);
+  const RawLogTruth::StationTruth& truth = s.truth.stations.front();
+  double true_x = 0.0, true_y = 0.0;
+  for (const auto& p : truth.horizontal_poses) {
+    const Vec3 d = p.translation() - truth.horizontal_poses.front().translation();
+    true_x = std::max(true_x, std::abs(d.x()));
+    true_y = std::max(true_y, std::abs(d.y()));
+  }
+  ASSERT_GT(true_x, 0.08);
+  ASSERT_GT(true_y, 0.08);
+
+  AssemblerOptions odometry_only;
+  odometry_only.refine_drift = false;
+  const StationCloud odo = assembleStation(s.log, 0, odometry_only);
+  EXPECT_LT(odo.loop_closure_m, 0.0);                   // the premise: not measurable in 2D
+  EXPECT_GT(trajectoryError(odo, truth).xy, 0.08);      // and the drift not seen
+
+  const StationCloud c = assembleStation(s.log, 0);
+  const TrajError e = trajectoryError(c, truth);
+  EXPECT_LT(e.xy, 0.05);
+  EXPECT_LT(e.z, 0.03);
+  EXPECT_GE(c.loop_closure_information, 10.0);
+  EXPECT_GE(c.loop_closure_m, 0.0);
+  EXPECT_LT(c.loop_closure_m, 0.05);
+  EXPECT_GT(c.stats.drift_segments, 20u);
 }
 
 TEST(AssembleStation, ImuPriorNeedsFewerIcpIterations) {
@@ -313,6 +379,31 @@ TEST(AssembleStation, BadRawDataIsAnInputErrorNamingTheStation) {
   EXPECT_THROW(assembleStation(s.log, 5), InputError);
 }
 
+TEST(DriftRefinement, NodesAtEqualSharesOfTheSweptYaw) {
+  // 0.5 s per sample, yaw −170°, 170°, 150° …: wrapping counts 20° per step, either way.
+  const std::vector<double> t{0.0, 0.5, 1.0, 1.5, 2.0};
+  const std::vector<double> yaw{-170.0 * kDeg, 170.0 * kDeg, 150.0 * kDeg, 130.0 * kDeg, 110.0 * kDeg};
+  const std::vector<double> swept = sweptYawDeg(yaw);
+  ASSERT_EQ(swept.size(), 5u);
+  EXPECT_NEAR(swept.back(), 80.0, 1e-9);
+  EXPECT_NEAR(timeAtSweptDeg(t, swept, 30.0), 0.75, 1e-9);
+  EXPECT_DOUBLE_EQ(timeAtSweptDeg(t, swept, -5.0), 0.0);
+  EXPECT_DOUBLE_EQ(timeAtSweptDeg(t, swept, 500.0), 2.0);
+  // 80° in segments of about 25°: 3 segments of 26.7°.
+  const std::vector<double> nodes = segmentNodeTimes(t, swept, 25.0);
+  ASSERT_EQ(nodes.size(), 4u);
+  EXPECT_DOUBLE_EQ(nodes.front(), 0.0);
+  EXPECT_NEAR(nodes[1], 2.0 / 3.0, 1e-9);
+  EXPECT_NEAR(nodes[2], 4.0 / 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(nodes.back(), 2.0);
+  // No points: no correction and no loop closure.
+  TranslationTrack track{t, std::vector<Vec3>(5, Vec3(0.1, 0.0, 0.0))};
+  EXPECT_TRUE(track.at(1.3).isApprox(Vec3(0.1, 0.0, 0.0)));
+  const DriftRefinement r = refineDrift({}, track, nodes, 1.5, DriftRefinementOptions{});
+  EXPECT_TRUE(r.at(1.0).isZero());
+  EXPECT_LT(r.loop_closure_m, 0.0);
+}
+
 TEST(AssemblerOptions, ValidateNamesTheField) {
   AssemblerOptions o;
   o.max_correspondence_m = -1.0;
@@ -322,6 +413,15 @@ TEST(AssemblerOptions, ValidateNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("max_correspondence_m"), std::string::npos);
   }
+  AssemblerOptions segment;
+  segment.drift_segment_deg = 0.0;
+  EXPECT_THROW(segment.validate(), InputError);
+  AssemblerOptions iterations;
+  iterations.drift_iterations = 0;
+  EXPECT_THROW(iterations.validate(), InputError);
+  AssemblerOptions voxel;
+  voxel.drift_voxel_m = -0.5;
+  EXPECT_THROW(voxel.validate(), InputError);
   EXPECT_EQ(icpMethodFromString("pcl"), IcpMethod::PclPointToPoint);
   EXPECT_THROW(icpMethodFromString("foo"), InputError);
 }

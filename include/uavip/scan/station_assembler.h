@@ -10,16 +10,24 @@
 /// the 25 ms sweep) and T(t) the UAV centre's translation since the station's first
 /// horizontal scan, interpolated linearly between the horizontal scans' poses.
 ///
-/// T comes from ICP between horizontal scans. With the paper's customisation
-/// (use_imu_prior, the default) each horizontal beam is first rotated by the IMU
-/// attitude at its time, which levels and de-yaws the scan: consecutive scans then
-/// differ only by the (small) wind translation, and a 2D ICP finds it, plus a small
-/// residual yaw that absorbs the IMU error. Without the prior ("plain ICP") the ICP
-/// has to find the yaw as well, from the scans alone, and accumulates its error.
-/// Scans are matched against a keyframe (not the previous scan) so that drift grows
-/// with keyframes, not scans. T has no vertical component from the horizontal
-/// scanner; optionally (estimate_z) the vertical drift is found from the vertical
-/// scanner's near-nadir/near-zenith beams (ground, deck underside).
+/// T comes first from ICP between horizontal scans (the odometry). With the paper's
+/// customisation (use_imu_prior, the default) each horizontal beam is first rotated
+/// by the IMU attitude at its time, which levels and de-yaws the scan: consecutive
+/// scans then differ only by the (small) wind translation, and a 2D ICP finds it,
+/// plus a small residual yaw that absorbs the IMU error. Without the prior ("plain
+/// ICP") the ICP has to find the yaw as well, from the scans alone, and accumulates
+/// its error. Scans are matched against a keyframe (not the previous scan) so that
+/// drift grows with keyframes, not scans. The odometry has no vertical component;
+/// optionally (estimate_z) the vertical drift is found from the vertical scanner's
+/// near-nadir/near-zenith beams (ground, deck underside).
+///
+/// The odometry sees only what lies in the horizontal scanner's plane: under a
+/// bridge deck that can be one wall direction, or nothing at all in the first
+/// keyframe. With refine_drift (the default) every beam of the sweep, from both
+/// scanners, then joins one estimate of T (drift_refinement.h): the vertical scans see
+/// the deck underside, the piers and the ground all around, so that drift is
+/// corrected in every direction some surface fixes, and the loop closure is measured
+/// in 3D.
 ///
 /// Station frame: origin at the UAV centre at the station's first horizontal scan,
 /// axes those of the IMU's reference (world ENU, gravity-aligned).
@@ -62,6 +70,10 @@ struct AssemblerOptions {
   bool estimate_z{true};              ///< vertical drift from the vertical scanner's nadir/zenith beams
   double z_cone_deg{20.0};            ///< beams within this angle of straight down/up are used for z [deg]
   bool include_horizontal{false};     ///< also put the horizontal scanner's points in the cloud (paper: no)
+  bool refine_drift{true};            ///< all beams of the sweep join the drift estimate (drift_refinement.h)
+  double drift_segment_deg{12.0};     ///< refinement node spacing: this much yaw, in (0, 360] [deg]
+  int drift_iterations{3};            ///< refinement steps (voxels and normals rebuilt between them), >= 1
+  double drift_voxel_m{0.5};          ///< refinement voxel and column edge, > 0 [m]
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "scan") const;
@@ -78,7 +90,10 @@ struct AssemblyStats {
   double mean_icp_iterations{0.0};
   double mean_icp_rms_m{0.0};      ///< mean point-to-line (or point) residual after ICP [m]
   double icp_s{0.0};               ///< wall time of the horizontal ICP [s]
-  double points_s{0.0};            ///< wall time of eq. (1) on all vertical beams [s]
+  double points_s{0.0};            ///< wall time of the z drift and of eq. (1) on all vertical beams [s]
+  double refine_s{0.0};            ///< wall time of the drift refinement [s]
+  std::size_t drift_segments{0};   ///< refinement segments (0: not refined)
+  std::size_t drift_planes{0};     ///< voxel planes of the refinement's last step
 };
 
 /// One station's cloud and trajectory.
@@ -86,14 +101,17 @@ struct StationCloud {
   int station_id{0};
   PointList points;                          ///< station frame [m]
   std::vector<double> pose_times_s;          ///< mid time of each horizontal scan [s]
-  std::vector<Eigen::Isometry3d> poses;      ///< station_T_body at each horizontal scan (IMU R, ICP T)
-  /// Loop closure (paper §III: 10 cm): the first and the last horizontal scan, each
-  /// placed with its estimated pose, are matched by ICP; this is the length of the
-  /// translation that would bring the last onto the first [m]. −1 if < 2 scans or
-  /// if the two scans do not fix both horizontal directions (too few pairs, or the
-  /// least constrained direction has < 10 effective pairs: one flat face in view).
+  std::vector<Eigen::Isometry3d> poses;      ///< station_T_body at each horizontal scan (IMU R; T: odometry, refined)
+  /// Loop closure (paper §III: 10 cm) [m]: the length of the translation that would
+  /// bring the end of the sweep onto its start, each placed with its estimated T.
+  /// With refine_drift: the beams of the last 30° of yaw, both scanners, moved alone
+  /// onto the planes the rest of the sweep saw (3D, point-to-plane; drift_refinement.h).
+  /// Without: the last horizontal scan ICP'd onto the first (2D). −1 if < 2 scans or
+  /// if some direction is not fixed (fewer than 10 effective pairs along it: in 3D,
+  /// e.g. a floor and one wall; in 2D, one flat face in view).
   double loop_closure_m{-1.0};
-  /// Effective point-to-line pairs fixing the least constrained direction of that ICP.
+  /// Effective pairs fixing the least constrained direction of that fit (3D: counted
+  /// at the scanners' full resolution, weighted by their noise).
   double loop_closure_information{0.0};
   AssemblyStats stats;
 };
@@ -141,7 +159,8 @@ class ImuTrack {
 double yawOf(const Eigen::Quaterniond& q);
 
 /// Assembles station `index` of `log`. A station without vertical scans gives an
-/// empty cloud; without horizontal scans, T = 0 throughout. Throws InputError for
+/// empty cloud; without horizontal scans, T has only the vertical drift (and the
+/// refinement's correction, from the vertical scans alone). Throws InputError for
 /// a station without IMU samples, an IMU gap longer than max_imu_gap_s, or scans
 /// outside the IMU's time span.
 StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options = {});
