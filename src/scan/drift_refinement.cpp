@@ -1,12 +1,14 @@
 #include "uavip/scan/drift_refinement.h"
 
 #include "uavip/core/math.h"
+#include "uavip/core/voxel_key.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace uavip::scan {
@@ -31,13 +33,6 @@ constexpr double kMinLoopInformation = 10.0;
 constexpr double kMinDirectionInformation = 10.0;
 
 using Mat3 = Eigen::Matrix3d;
-
-/// Hash key of a cell (21 bits per axis, unsigned arithmetic: no UB on negatives);
-/// a column ignores z.
-std::uint64_t cellKey(const Vec3& p, double inv, bool column) {
-  const auto c = [&](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v * inv))) & 0x1fffffULL; };
-  return (c(p.x()) << 42) | (c(p.y()) << 21) | (column ? 0ULL : c(p.z()));
-}
 
 /// Each point's place in the node chain: δ(t) = (1 − u)·δ_k + u·δ_{k+1}.
 struct NodeWeight {
@@ -72,13 +67,24 @@ struct Cells {
 
 /// Bins p[subset] into voxels (or columns) of edge cell_m.
 Cells binPoints(const std::vector<Vec3>& p, const std::vector<int>& subset, double cell_m, bool column) {
-  const double inv = 1.0 / cell_m;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const int i : subset) {
+    lo = lo.cwiseMin(p[static_cast<std::size_t>(i)]);
+    hi = hi.cwiseMax(p[static_cast<std::size_t>(i)]);
+  }
+  if (subset.empty()) lo = hi = Vec3::Zero();
+  const VoxelKeyer keyer(lo, hi, cell_m, "assembly.drift_voxel_m");
+  // A column is the voxel key with z dropped.
+  const auto cellKey = [&](const Vec3& q) {
+    const auto c = keyer.cell(q);
+    return VoxelKeyer::pack(c[0], c[1], column ? 0 : c[2]);
+  };
   std::unordered_map<std::uint64_t, int> index;
   index.reserve(subset.size() / 4 + 16);
   std::vector<int> cell_of(subset.size());
   std::vector<int> count;
   for (std::size_t j = 0; j < subset.size(); ++j) {
-    const auto [it, added] = index.try_emplace(cellKey(p[static_cast<std::size_t>(subset[j])], inv, column),
+    const auto [it, added] = index.try_emplace(cellKey(p[static_cast<std::size_t>(subset[j])]),
                                                static_cast<int>(count.size()));
     if (added) count.push_back(0);
     cell_of[j] = it->second;
