@@ -136,6 +136,8 @@ struct Polyhedron {
   std::vector<std::array<int, 3>> triangles;
   std::vector<Vec3> normals;    ///< outward unit normal per triangle
   std::vector<double> offsets;  ///< n·x + offset = 0 per triangle
+  std::vector<Vec3> ball_centres;  ///< a ball holding each triangle: its box centre…
+  std::vector<double> ball_radii;  ///< …and the farthest vertex from it, plus slack [m]
 
   /// Orients every triangle outward (the solid is convex: away from the centroid)
   /// and caches its plane.
@@ -145,6 +147,8 @@ struct Polyhedron {
     centre /= static_cast<double>(vertices.size());
     normals.clear();
     offsets.clear();
+    ball_centres.clear();
+    ball_radii.clear();
     for (auto& t : triangles) {
       const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
       Vec3 n = (vertices[static_cast<std::size_t>(t[1])] - a).cross(vertices[static_cast<std::size_t>(t[2])] - a);
@@ -155,6 +159,13 @@ struct Polyhedron {
       n.normalize();
       normals.push_back(n);
       offsets.push_back(-n.dot(a));
+      Aabb box;
+      for (const int v : t) box.extend(vertices[static_cast<std::size_t>(v)]);
+      const Vec3 c = 0.5 * (box.min + box.max);
+      double r = 0.0;
+      for (const int v : t) r = std::max(r, (vertices[static_cast<std::size_t>(v)] - c).norm());
+      ball_centres.push_back(c);
+      ball_radii.push_back(r * (1.0 + 1e-12) + 1e-12);
     }
   }
 
@@ -175,8 +186,16 @@ struct Polyhedron {
       q = b;
       return 0.0;
     }
+    // Two exact prunings before the triangle test. (1) The nearest point q of a convex
+    // solid to a point s outside lies on a triangle whose plane has s strictly on its
+    // outer side (s − q is in the normal cone at q), so a triangle with both ends of
+    // the segment on its inner side cannot hold it. (2) A triangle whose bounding
+    // ball lies at least `best` from the segment cannot improve on `best`.
     double best = kInf;
-    for (const auto& t : triangles) {
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      if (normals[i].dot(a) + offsets[i] <= 0.0 && normals[i].dot(b) + offsets[i] <= 0.0) continue;
+      if (pointSegmentDistance(ball_centres[i], a, b) - ball_radii[i] > best) continue;
+      const auto& t = triangles[i];
       Vec3 c;
       const double d = segmentTriangle(a, b, vertices[static_cast<std::size_t>(t[0])],
                                        vertices[static_cast<std::size_t>(t[1])],
@@ -495,11 +514,14 @@ struct PointIndex {
   /// The segment is cut into pieces of kPieceLength; a piece whose mid-point lies
   /// farther from the cloud's box than the best distance so far plus its half length
   /// cannot hold the minimum and costs no search, so a segment reaching far beyond
-  /// the cloud stays cheap. In a piece of length L with mid-point m, the point
-  /// nearest to m gives an upper bound `best`; a point p nearer to the piece than
-  /// `best` either has its foot inside the piece, and then |p − m|² < best² + L²/4
-  /// (Pythagoras), or at an end e, and then |p − e| < best. Those three balls make
-  /// the minimum exact; near a surface the first holds a disc of radius about L/2,
+  /// the cloud stays cheap. `best` is always a true point–segment distance, so it
+  /// bounds the answer D from above. The nearest point p* has its foot on the
+  /// segment either in some piece of length L and mid-point m, and then
+  /// |p* − m|² = D² + |foot − m|² ≤ best² + L²/4 (Pythagoras; the point nearest to m
+  /// tightens `best` first), or at the segment's end a or b, and then |p* − end| =
+  /// D ≤ best. One ball per piece and one per end of the whole segment make the
+  /// minimum exact (the joints between pieces need no ball: a foot there lies in
+  /// both pieces). Near a surface a piece's ball holds a disc of radius about L/2,
   /// where a ball of radius d(m) + L/2 would hold one of radius √(d·L).
   double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
     double best = kInf;
@@ -528,9 +550,9 @@ struct PointIndex {
       if ((mid - mid.cwiseMax(box.min).cwiseMin(box.max)).norm() - 0.5 * piece >= best) continue;
       consider(nearest(mid), pa, pb);
       for (int i : within(mid, std::sqrt(best * best + 0.25 * piece * piece))) consider(i, pa, pb);
-      for (int i : within(pa, best)) consider(i, pa, pb);
-      for (int i : within(pb, best)) consider(i, pa, pb);
     }
+    for (int i : within(a, best)) consider(i, a, b);
+    for (int i : within(b, best)) consider(i, a, b);
     return best;
   }
 };
