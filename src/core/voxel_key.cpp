@@ -2,6 +2,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/key_sort.h"
 
 #include <algorithm>
 #include <cmath>
@@ -73,12 +74,12 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
   const VoxelKeyer keyer = VoxelKeyer::forPoints(cloud, edge, what);
   // Sorted with x varying fastest, then y, then z: the order of PCL's VoxelGrid,
   // so the stages after it see the points in the order they always did.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(cloud.size());
+  std::vector<KeyedIndex> keyed(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto c = keyer.cell(cloud[i]);
     keyed[i] = {VoxelKeyer::pack(c[2], c[1], c[0]), static_cast<std::uint32_t>(i)};
   }
-  std::sort(keyed.begin(), keyed.end());
+  sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
   PointList out;
   for (std::size_t i = 0; i < keyed.size();) {
     std::size_t j = i;

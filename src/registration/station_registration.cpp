@@ -8,6 +8,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/key_sort.h"
 #include "uavip/core/parallel.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/stopwatch.h"
@@ -42,7 +43,7 @@ using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 /// (key, index) pairs instead of a hash map: 1.5 M points in ~0.2 s instead of ~1 s.
 PointList voxelDownsample(const PointList& points, double leaf) {
   if (leaf <= 0.0) return points;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  std::vector<KeyedIndex> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
     const auto ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff);
@@ -50,7 +51,7 @@ PointList voxelDownsample(const PointList& points, double leaf) {
     const auto iz = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff);
     keyed[i] = {(ix << 42) | (iy << 21) | iz, static_cast<std::uint32_t>(i)};
   }
-  std::sort(keyed.begin(), keyed.end());
+  sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
   PointList out;
   for (std::size_t i = 0; i < keyed.size();) {
     Vec3 sum = Vec3::Zero();
