@@ -408,6 +408,15 @@ ImuTrack::ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, doub
       if (q_[i - 1].coeffs().dot(q_[i].coeffs()) < 0.0) q_[i].coeffs() *= -1.0;
     }
   }
+  // The per-interval part of Eigen's slerp (its dot, acos and sin), once per sample
+  // instead of once per beam.
+  slerp_.resize(q_.size() > 1 ? q_.size() - 1 : 0);
+  for (std::size_t i = 0; i + 1 < q_.size(); ++i) {
+    Slerp& s = slerp_[i];
+    s.dot = q_[i].dot(q_[i + 1]);
+    s.theta = std::acos(std::abs(s.dot));
+    s.sin_theta = std::sin(s.theta);
+  }
 }
 
 Eigen::Quaterniond ImuTrack::at(double t_s) const {
@@ -418,7 +427,16 @@ Eigen::Quaterniond ImuTrack::at(double t_s) const {
   const std::size_t i = j - 1;
   const double dt = t_[j] - t_[i];
   const double u = dt > 0.0 ? (t_s - t_[i]) / dt : 0.0;
-  return q_[i].slerp(u, q_[j]);
+  // Eigen's QuaternionBase::slerp (3.4), term for term, with the interval's cached.
+  const Slerp& s = slerp_[i];
+  double scale0 = 1.0 - u;
+  double scale1 = u;
+  if (std::abs(s.dot) < 1.0 - std::numeric_limits<double>::epsilon()) {
+    scale0 = std::sin((1.0 - u) * s.theta) / s.sin_theta;
+    scale1 = std::sin(u * s.theta) / s.sin_theta;
+  }
+  if (s.dot < 0.0) scale1 = -scale1;
+  return Eigen::Quaterniond(scale0 * q_[i].coeffs() + scale1 * q_[j].coeffs());
 }
 
 namespace {

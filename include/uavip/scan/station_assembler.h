@@ -151,8 +151,15 @@ class ImuTrack {
   double endTime() const { return t_.back(); }
 
  private:
+  /// Slerp terms of the interval [t_i, t_i+1]: q_i·q_i+1, its angle and sine.
+  struct Slerp {
+    double dot{1.0};
+    double theta{0.0};
+    double sin_theta{0.0};
+  };
   std::vector<double> t_;
   std::vector<Eigen::Quaterniond> q_;
+  std::vector<Slerp> slerp_;
 };
 
 /// Yaw (rotation about world z) of an attitude [rad], in (−π, π].
