@@ -65,9 +65,10 @@ int main(int argc, char** argv) {
       uavip::app::AssembleResult a = uavip::app::assemble(s.log, {});
       for (auto& p : a.cloud) p += s.origin_m;  // scenario coordinates, like `uavip run`
       const auto tm = Clock::now();
-      const uavip::preprocess::CloudStats stats = uavip::app::measure(a.cloud, &sc);
+      uavip::app::CloudIndex index;  // the kd-tree is timed with the measurement
+      const uavip::preprocess::CloudStats stats = uavip::app::measure(a.cloud, &sc, &index);
       measure_s.push_back(since(tm));
-      const auto d = uavip::app::detect(a.cloud, sc.config, stats);
+      const auto d = uavip::app::detect(a.cloud, sc.config, stats, {}, index);
       const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
       total_s.push_back(since(t0));
       asm_s.push_back(a.assembly_s);

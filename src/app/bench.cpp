@@ -94,7 +94,9 @@ struct PreparedScenario {
 PreparedScenario prepareScenario(const io::Scenario& sc, int scenario_index, const BenchOptions& options,
                                  BenchResult& result) {
   const PointList raw = sense(sc);
-  const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+  CloudIndex index;
+  const preprocess::CloudStats measured = measure(raw, &sc, &index);
+  const DetectResult d = detect(raw, sc.config, measured, {}, index);
   PreparedScenario out;
   out.config = d.resolved.config;
   std::vector<PointList> stops_by_surface;

@@ -80,11 +80,13 @@ PointList sense(const io::Scenario& scenario) {
   return sim::sampleSurfaces(scenario.world, scenario.sample);
 }
 
-preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario) {
+preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario, CloudIndex* index) {
   for (std::size_t i = 0; i < raw.size(); ++i) {
     if (!raw[i].allFinite()) throw InputError("cloud: point " + std::to_string(i) + " is not finite");
   }
-  preprocess::CloudStats stats = preprocess::measureCloud(raw);
+  CloudIndex tree = raw.size() >= 2 ? std::make_shared<const preprocess::NeighbourIndex>(raw) : nullptr;
+  preprocess::CloudStats stats = preprocess::measureCloud(raw, {}, tree.get());
+  if (index != nullptr) *index = std::move(tree);
   if (scenario != nullptr) {
     stats.lattice = true;
     if (scenario->sensing_mode == "sample" && scenario->sample.spacing_m > 0.0) {
@@ -95,13 +97,13 @@ preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenari
 }
 
 DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
-                    const Progress& progress) {
+                    const Progress& progress, const CloudIndex& index) {
   DetectResult result;
   result.resolved = resolveConfig(config, cloud);
   const io::Config& resolved = result.resolved.config;
   const auto t0 = Clock::now();
   report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
-  PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess);
+  PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = Clock::now();

@@ -201,7 +201,9 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const auto t0 = std::chrono::steady_clock::now();
   if (progress) progress("sensing " + scenario.name + " (" + scenario.sensing_mode + ")");
   const PointList raw = app::sense(scenario);
-  const app::DetectResult d = app::detect(raw, scenario.config, app::measure(raw, &scenario), progress);
+  app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
+  const preprocess::CloudStats measured = app::measure(raw, &scenario, &index);
+  const app::DetectResult d = app::detect(raw, scenario.config, measured, progress, index);
   const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
   // The outputs are staged and renamed together once all of them are written: a run
@@ -236,7 +238,9 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
-  const app::DetectResult d = app::detect(raw, config, app::measure(raw), progress);
+  app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
+  const preprocess::CloudStats measured = app::measure(raw, nullptr, &index);
+  const app::DetectResult d = app::detect(raw, config, measured, progress, index);
   const std::vector<planning::SurfaceMission> no_missions;
   auto rendered = renderViewsAsync(views, d.scene, no_missions, overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
   io::StagedOutputs outputs;

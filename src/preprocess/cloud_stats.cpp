@@ -2,15 +2,15 @@
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
-#include "uavip/core/pcl_cloud.h"
 
 #include <Eigen/Eigenvalues>
-#include <pcl/kdtree/kdtree_flann.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <memory>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace uavip::preprocess {
@@ -26,7 +26,10 @@ double medianOf(const std::vector<double>& v) { return v.empty() ? 0.0 : upperMe
 
 }  // namespace
 
-CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options) {
+CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options, const NeighbourIndex* index) {
+  if (index != nullptr && &index->cloud() != &cloud) {
+    throw std::invalid_argument("measureCloud: the index is over another cloud");
+  }
   CloudStats stats;
   stats.points = cloud.size();
   if (cloud.empty()) return stats;
@@ -36,9 +39,11 @@ CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options
   stats.extent_m = box.max - box.min;
   if (cloud.size() < 2) return stats;
 
-  const Vec3 origin = 0.5 * (box.min + box.max);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(toPclCloud(cloud, origin));
+  std::unique_ptr<NeighbourIndex> own;
+  if (index == nullptr) {
+    own = std::make_unique<NeighbourIndex>(cloud);
+    index = own.get();
+  }
 
   std::vector<std::size_t> sample(cloud.size());
   std::iota(sample.begin(), sample.end(), std::size_t{0});
@@ -52,12 +57,11 @@ CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options
   std::vector<double> nearest, noise, angular;
   nearest.reserve(sample.size());
   noise.reserve(sample.size());
-  pcl::Indices idx;
+  std::vector<int> idx;
   std::vector<float> d2;
   for (const auto i : sample) {
-    const Vec3 q = cloud[i] - origin;
-    const pcl::PointXYZ query(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
-    if (tree.nearestKSearch(query, k + 1, idx, d2) < 2) continue;
+    index->nearest(i, k + 1, idx, d2);
+    if (idx.size() < 2) continue;
     // Nearest distinct neighbour (duplicates and the point itself are at ~0).
     for (std::size_t j = 0; j < idx.size(); ++j) {
       const double d = (cloud[static_cast<std::size_t>(idx[j])] - cloud[i]).norm();

@@ -6,7 +6,6 @@
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
 
-#include <flann/flann.hpp>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -14,7 +13,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -35,7 +36,8 @@ void PreprocessOptions::validate(const std::string& where) const {
   if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
 }
 
-PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads) {
+PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads,
+                                    const NeighbourIndex* index) {
   if (k < 1) {
     throw InputError("removeStatisticalOutliers: k must be >= 1, got " + std::to_string(k));
   }
@@ -43,38 +45,30 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   if (threads < 1) {
     throw InputError("removeStatisticalOutliers: threads must be >= 1, got " + std::to_string(threads));
   }
+  if (index != nullptr && &index->cloud() != &cloud) {
+    throw std::invalid_argument("removeStatisticalOutliers: the index is over another cloud");
+  }
   if (cloud.size() <= static_cast<std::size_t>(k)) return cloud;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (!cloud[i].allFinite()) {
-      throw InputError("removeStatisticalOutliers: point " + std::to_string(i) + " is not finite: " +
-                       formatRawPoint(cloud[i]));
-    }
-  }
-  if (cloud.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-    throw InputError("removeStatisticalOutliers: cloud has " + std::to_string(cloud.size()) +
-                     " points, more than the 2^31 - 1 a kd-tree index holds");
-  }
 
   // The same computation as pcl::StatisticalOutlierRemoval<PointXYZ> (PCL 1.13), on the
-  // same FLANN kd-tree (KDTreeSingleIndex, 15 points per leaf, exact search) that its
-  // pcl::search::KdTree builds, and with the same float/double arithmetic, so the kept
-  // set is identical (tested against PCL's filter). What differs: the float copy goes
-  // straight from the PointList into FLANN (no intermediate PCL cloud), the queries are
-  // batched (no per-query wrapper) and split over `threads` threads. Each point's
-  // statistic depends on its own query only, and the mean and sigma are summed in
-  // index order by one thread, so the result does not depend on the scheduling.
-  const std::size_t n = cloud.size();
-  const Vec3 origin = boundingBox(cloud).min;  // floats near 0 keep millimetres (see toPclCloud)
-  std::vector<float> xyz(3 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 q = cloud[i] - origin;
-    xyz[3 * i] = static_cast<float>(q.x());
-    xyz[3 * i + 1] = static_cast<float>(q.y());
-    xyz[3 * i + 2] = static_cast<float>(q.z());
+  // same FLANN kd-tree (neighbour_index.h) that its pcl::search::KdTree builds, and
+  // with the same float/double arithmetic, so the kept set is identical (tested
+  // against PCL's filter). What differs: the float copy goes straight from the
+  // PointList into FLANN (no intermediate PCL cloud), the tree may be shared with the
+  // cloud's measurement, the queries are batched (no per-query wrapper) and split
+  // over `threads` threads. Each point's statistic depends on its own query only,
+  // and the mean and sigma are summed in index order by one thread, so the result
+  // does not depend on the scheduling.
+  std::unique_ptr<NeighbourIndex> own;
+  if (index == nullptr) {
+    try {
+      own = std::make_unique<NeighbourIndex>(cloud);
+    } catch (const InputError& e) {
+      throw InputError(std::string("removeStatisticalOutliers: ") + e.what());
+    }
+    index = own.get();
   }
-  flann::Index<flann::L2_Simple<float>> index(flann::Matrix<float>(xyz.data(), n, 3),
-                                              flann::KDTreeSingleIndexParams(15));
-  index.buildIndex();
+  const std::size_t n = cloud.size();
 
   // First pass: mean distance of each point to its k nearest neighbours (the query
   // point itself is the first of the k + 1 results).
@@ -84,15 +78,11 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
     constexpr std::size_t kBatch = 2048;
     std::vector<int> nn_indices(kBatch * static_cast<std::size_t>(searcher_k));
     std::vector<float> nn_dists(kBatch * static_cast<std::size_t>(searcher_k));
-    flann::SearchParams params(-1, 0.0f);  // exact, sorted: KdTreeFLANN's nearestKSearch
     for (std::size_t b = begin; b < end; b += kBatch) {
       const std::size_t m = std::min(kBatch, end - b);
-      flann::Matrix<float> queries(xyz.data() + 3 * b, m, 3);
-      flann::Matrix<int> idx(nn_indices.data(), m, static_cast<std::size_t>(searcher_k));
-      flann::Matrix<float> dst(nn_dists.data(), m, static_cast<std::size_t>(searcher_k));
-      index.knnSearch(queries, idx, dst, static_cast<std::size_t>(searcher_k), params);
+      index->nearest(b, m, searcher_k, nn_indices.data(), nn_dists.data());
       for (std::size_t r = 0; r < m; ++r) {
-        const float* row = dst[r];
+        const float* row = nn_dists.data() + r * static_cast<std::size_t>(searcher_k);
         double dist_sum = 0.0;
         for (int j = 1; j < searcher_k; ++j) dist_sum += std::sqrt(static_cast<double>(row[j]));
         distances[b + r] = static_cast<float>(dist_sum / k);
@@ -143,7 +133,7 @@ PointList voxelGrid(const PointList& cloud, double leaf_m) {
 }
 
 PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
-                     PreprocessStats* stats) {
+                     PreprocessStats* stats, const NeighbourIndex* index) {
   options.validate();
   if (cloud.empty()) throw InputError("preprocess: cloud is empty");
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -155,7 +145,7 @@ PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
 
   PointList current = options.remove_outliers
                           ? removeStatisticalOutliers(cloud, options.outlier_k,
-                                                      options.outlier_std_ratio, options.threads)
+                                                      options.outlier_std_ratio, options.threads, index)
                           : cloud;
   const std::size_t after_outliers = current.size();
   if (options.voxelize) current = voxelGrid(current, options.voxel_m);

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,14 +54,21 @@ struct PlanResult {
   StageTimes times;
 };
 
+/// The raw cloud's kd-tree: built by measure(), searched again by detect()'s
+/// outlier removal (preprocess/neighbour_index.h). Refers to the raw cloud.
+using CloudIndex = std::shared_ptr<const preprocess::NeighbourIndex>;
+
 /// Measures the raw cloud (preprocess/cloud_stats.h). With a scenario, its known
 /// sampling is used: mode sample gives the lattice spacing, mode scan a lattice
-/// after the voxel grid.
-preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario = nullptr);
-/// Runs stages 3–5 with the config resolved for `cloud` (app/config.h). Throws
+/// after the voxel grid. `index`, if given, receives the kd-tree built on the way
+/// (null for fewer than 2 points). Throws InputError for a non-finite point.
+preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario = nullptr,
+                               CloudIndex* index = nullptr);
+/// Runs stages 3–5 with the config resolved for `cloud` (app/config.h); `index`
+/// (from measure() on this very `raw`) spares stage 3 building its own. Throws
 /// InputError for an empty cloud or non-finite points.
 DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
-                    const Progress& progress = {});
+                    const Progress& progress = {}, const CloudIndex& index = nullptr);
 
 /// The config resolved for a scene read back from scene.json: with the cloud
 /// numbers it was detected with (scene.measured), else measured on its points.

@@ -5,6 +5,7 @@
 /// 0.5–1 m); app/config.h scales every `auto` parameter with these numbers.
 
 #include "uavip/core/types.h"
+#include "uavip/preprocess/neighbour_index.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -21,8 +22,11 @@ struct CloudStatsOptions {
 /// Measured properties of a cloud (core/types.h).
 using CloudStats = uavip::CloudStats;
 
-/// Measures spacing, extent and noise on a seeded sample (PCL kd-tree). Never
-/// throws for a non-empty finite cloud; fewer than 2 distinct points give spacing 0.
-CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options = {});
+/// Measures spacing, extent and noise on a seeded sample. `index`, if given, is a
+/// kd-tree over this very cloud (built once for this and the outlier removal);
+/// else one is built. Never throws for a non-empty finite cloud; fewer than 2
+/// distinct points give spacing 0. std::invalid_argument for an index over another cloud.
+CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options = {},
+                        const NeighbourIndex* index = nullptr);
 
 }  // namespace uavip::preprocess

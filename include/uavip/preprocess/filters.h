@@ -8,6 +8,7 @@
 /// 130 m building at 5 cm).
 
 #include "uavip/core/types.h"
+#include "uavip/preprocess/neighbour_index.h"
 
 #include <cstddef>
 #include <string>
@@ -39,17 +40,21 @@ struct PreprocessStats {
 /// order, that pcl::StatisticalOutlierRemoval keeps (same FLANN kd-tree, same
 /// arithmetic), with the kNN queries split over `threads` threads; the result does
 /// not depend on `threads`. Clouds with ≤ k points are returned unchanged (the
-/// statistics are meaningless there). Throws InputError for k < 1, std_ratio ≤ 0,
-/// threads < 1 or a non-finite point.
-PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads = 2);
+/// statistics are meaningless there). `index`, if given, is a kd-tree over this very
+/// cloud (built once for this and measureCloud); else one is built. Throws
+/// InputError for k < 1, std_ratio ≤ 0, threads < 1 or a non-finite point, and
+/// std::invalid_argument for an index over another cloud.
+PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads = 2,
+                                    const NeighbourIndex* index = nullptr);
 
 /// Replaces the points of each occupied voxel (edge leaf_m) by their centroid.
 /// Output order is deterministic. Throws InputError when the extent exceeds 2^21
 /// voxels on an axis.
 PointList voxelGrid(const PointList& cloud, double leaf_m);
 
-/// Stage 3 as configured. Throws InputError for an empty cloud or non-finite points.
+/// Stage 3 as configured. `index`: as for removeStatisticalOutliers. Throws
+/// InputError for an empty cloud or non-finite points.
 PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
-                     PreprocessStats* stats = nullptr);
+                     PreprocessStats* stats = nullptr, const NeighbourIndex* index = nullptr);
 
 }  // namespace uavip::preprocess
