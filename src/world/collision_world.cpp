@@ -487,6 +487,7 @@ struct PointIndex {
     cloud->width = static_cast<std::uint32_t>(pts.size());
     cloud->height = 1;
     cloud->is_dense = true;
+    tree.setSortedResults(false);
     tree.setInputCloud(cloud);
   }
 
@@ -496,17 +497,19 @@ struct PointIndex {
   }
 
   /// Indices of the points within `radius` of c (plus the float slack `pad`).
-  std::vector<int> within(const Vec3& c, double radius) const {
-    std::vector<int> idx;
-    std::vector<float> d2;
+  /// (Unsorted: every one is considered.) The buffers are per thread: the queries
+  /// come from the validator's worker threads, many thousands per mission.
+  const std::vector<int>& within(const Vec3& c, double radius) const {
+    thread_local std::vector<int> idx;
+    thread_local std::vector<float> d2;
     tree.radiusSearch(toPcl(c), radius + pad, idx, d2);
     return idx;
   }
 
   /// The cloud point nearest to c (approximately: float kd-tree); -1 if none.
   int nearest(const Vec3& c) const {
-    std::vector<int> idx(1);
-    std::vector<float> d2(1);
+    thread_local std::vector<int> idx(1);
+    thread_local std::vector<float> d2(1);
     return tree.nearestKSearch(toPcl(c), 1, idx, d2) == 1 ? idx[0] : -1;
   }
 
@@ -536,12 +539,14 @@ struct PointIndex {
       }
     };
     // A true distance to start from: the point nearest to the segment's point
-    // closest to the cloud's centre.
+    // closest to the cloud's centre (one piece: its mid-point's nearest does that).
     const Vec3 ab = b - a;
-    const double t = ab.squaredNorm() > 0.0 ? std::clamp((offset - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    consider(nearest(a + t * ab), a, b);
     const double len = ab.norm();
     const int pieces = static_cast<int>(std::clamp(std::ceil(len / kPieceLength), 1.0, 1e9));
+    if (pieces > 1) {
+      const double t = std::clamp((offset - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      consider(nearest(a + t * ab), a, b);
+    }
     for (int k = 0; k < pieces; ++k) {
       const Vec3 pa = a + ab * (static_cast<double>(k) / pieces);
       const Vec3 pb = a + ab * (static_cast<double>(k + 1) / pieces);
