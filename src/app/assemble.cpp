@@ -120,9 +120,15 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
 
   if (world && !world->empty() && !result.cloud.empty()) {
     const std::size_t stride = std::max<std::size_t>(1, result.cloud.size() / kMaxScored);
-    std::vector<double> d;
-    d.reserve(result.cloud.size() / stride + 1);
-    for (std::size_t i = 0; i < result.cloud.size(); i += stride) d.push_back(world->distanceToTruth(result.cloud[i]));
+    // Independent per point: in blocks on every core, summed below in order.
+    std::vector<double> d((result.cloud.size() + stride - 1) / stride);
+    constexpr std::size_t kBlock = 4096;
+    parallelFor((d.size() + kBlock - 1) / kBlock, options.threads,
+                [&](std::size_t b, std::size_t) {
+                  for (std::size_t j = b * kBlock; j < std::min(d.size(), (b + 1) * kBlock); ++j) {
+                    d[j] = world->distanceToTruth(result.cloud[j * stride]);
+                  }
+                });
     double sum = 0.0;
     for (const double v : d) sum += v * v;
     result.rms_to_truth_m = std::sqrt(sum / static_cast<double>(d.size()));
