@@ -167,7 +167,7 @@ planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3&
   }
   const HarnessRun run = runPlannerOnce(name_, grid, start, goal, settings_);
   out.status = run.path_status;
-  out.expansions = run.graph_states;
+  out.graph_states = run.graph_states;
   if (run.solved) {
     out.path = run.path;
     out.cost = run.length_m;

@@ -44,6 +44,7 @@ double imuYaw(const Station& station) {
 
 }  // namespace
 
+// Long (96 lines): stages 1 and 2 and the per-station report that joins both (and the truth, when given); each part is a call, the rest is the report's field copies.
 AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const RawLogTruth* truth,
                         const sim::WorldModel* world, const Progress& progress) {
   options.scan.validate("scan");

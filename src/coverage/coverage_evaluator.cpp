@@ -379,6 +379,7 @@ bool VoxelLineOfSight::occupied(const Vec3& p) const {
   return occupiedIndex(idx[0], idx[1], idx[2]);
 }
 
+// Long (97 lines): one 3D DDA traversal (Amanatides–Woo): its setup and its stepping share per-axis state in the hot loop.
 bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
   require(from.allFinite() && to.allFinite(), "voxel_line_of_sight",
           "clear() needs finite end points");
@@ -488,6 +489,7 @@ void CoverageCriteria::validate(const std::string& where) const {
               ">= 0 and finite (0 = from the camera model)", max_range_m);
 }
 
+// Long (97 lines): input checks, the per-view loop on the worker pool, and the ordered merge of the per-worker tallies that keeps the result thread-independent.
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,

@@ -105,6 +105,7 @@ void CoverageOptions::validate(const std::string& where) const {
                gimbal.pitch_min_deg);
 }
 
+// Long (103 lines): the steps of §II-F in order (surface frame, footprint, steps, rows, gimbal and yaw per stop) on a dozen shared frame variables; pieces would each take most of them.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options) {
   options.validate();
   FlightStrategy fs;

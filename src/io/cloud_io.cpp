@@ -111,6 +111,7 @@ struct PcdHeader {
   std::uint64_t available{0};  ///< bytes from there to the end of the file
 };
 
+// Long (85 lines): one check per PCD header line, in file order, each naming the line and what to do.
 PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
   std::vector<std::string> fields, sizes, types, counts;
   std::optional<std::uint64_t> width, height, points;

@@ -145,6 +145,7 @@ struct Header {
   std::uint32_t evlr_count{0};
 };
 
+// Long (87 lines): one read and one named check per field of the LAS 1.0–1.4 public header block, in file order.
 Header readHeader(LasFile& file, const std::string& path) {
   if (file.size() < 4) fail(path, "not a LAS file (no \"LASF\" signature), give a .las file");
   const std::size_t first =

@@ -35,6 +35,7 @@ class DisjointSets {
 
 }  // namespace
 
+// Long (92 lines): cell keying, the union-find over neighbouring cells and the gather of clusters are passes over the same sorted key array.
 std::vector<std::vector<int>> euclideanClusters(const PointList& points, const std::vector<int>& indices,
                                                 double tolerance_m) {
   requirePositive(tolerance_m, "perception", "cluster tolerance_m");

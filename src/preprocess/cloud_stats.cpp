@@ -26,6 +26,8 @@ double medianOf(const std::vector<double>& v) { return v.empty() ? 0.0 : upperMe
 
 }  // namespace
 
+// Long (83 lines): one neighbour query per sampled point feeds all three statistics (spacing,
+// noise, the one-station test); the robust spreads of the last are computed here for it.
 CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options, const NeighbourIndex* index) {
   if (index != nullptr && &index->cloud() != &cloud) {
     throw std::invalid_argument("measureCloud: the index is over another cloud");

@@ -2,12 +2,9 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
-#include "uavip/core/pcl_cloud.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
-
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,16 +13,9 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 namespace uavip::preprocess {
-namespace {
-
-using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
-
-}  // namespace
 
 void PreprocessOptions::validate(const std::string& where) const {
   if (outlier_k < 1) {
@@ -74,34 +64,27 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   // point itself is the first of the k + 1 results).
   const int searcher_k = k + 1;
   std::vector<float> distances(n);
-  const auto meanDistances = [&](std::size_t begin, std::size_t end) {
-    constexpr std::size_t kBatch = 2048;
-    std::vector<int> nn_indices(kBatch * static_cast<std::size_t>(searcher_k));
-    std::vector<float> nn_dists(kBatch * static_cast<std::size_t>(searcher_k));
-    for (std::size_t b = begin; b < end; b += kBatch) {
-      const std::size_t m = std::min(kBatch, end - b);
-      index->nearest(b, m, searcher_k, nn_indices.data(), nn_dists.data());
-      for (std::size_t r = 0; r < m; ++r) {
-        const float* row = nn_dists.data() + r * static_cast<std::size_t>(searcher_k);
-        double dist_sum = 0.0;
-        for (int j = 1; j < searcher_k; ++j) dist_sum += std::sqrt(static_cast<double>(row[j]));
-        distances[b + r] = static_cast<float>(dist_sum / k);
-      }
+  // Batches of kBatch queries on the worker pool, a scratch row block per worker.
+  constexpr std::size_t kBatch = 2048;
+  const auto row_block = kBatch * static_cast<std::size_t>(searcher_k);
+  const int workers = threads;
+  std::vector<std::vector<int>> nn_indices(static_cast<std::size_t>(workers));
+  std::vector<std::vector<float>> nn_dists(static_cast<std::size_t>(workers));
+  parallelFor((n + kBatch - 1) / kBatch, workers, [&](std::size_t batch, std::size_t worker) {
+    auto& idx = nn_indices[worker];
+    auto& dst = nn_dists[worker];
+    idx.resize(row_block);
+    dst.resize(row_block);
+    const std::size_t b = batch * kBatch;
+    const std::size_t m = std::min(kBatch, n - b);
+    index->nearest(b, m, searcher_k, idx.data(), dst.data());
+    for (std::size_t r = 0; r < m; ++r) {
+      const float* row = dst.data() + r * static_cast<std::size_t>(searcher_k);
+      double dist_sum = 0.0;
+      for (int j = 1; j < searcher_k; ++j) dist_sum += std::sqrt(static_cast<double>(row[j]));
+      distances[b + r] = static_cast<float>(dist_sum / k);
     }
-  };
-  // At least ~1000 queries per thread, so a thread start (tens of µs) stays negligible.
-  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(threads), n / 1024 + 1);
-  std::vector<std::thread> pool;
-  pool.reserve(workers - 1);
-  std::size_t w = 1;
-  try {
-    for (; w < workers; ++w) pool.emplace_back(meanDistances, n * w / workers, n * (w + 1) / workers);
-  } catch (const std::system_error&) {
-    // No more threads available: this thread does the remaining slices too.
-  }
-  meanDistances(0, n / workers);
-  for (; w < workers; ++w) meanDistances(n * w / workers, n * (w + 1) / workers);
-  for (auto& t : pool) t.join();
+  });
 
   // Mean and standard deviation of the statistic, then the threshold mu + d_t * sigma.
   double sum = 0.0;

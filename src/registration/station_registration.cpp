@@ -351,6 +351,7 @@ Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, cons
 }
 
 /// Aligns source onto target (both in world coordinates, source at its guess).
+// Long (87 lines): one robust ICP loop (correspondences, Huber weights, the normal equations, convergence and the information matrix) on shared per-iteration arrays.
 Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals, const PointList& target,
                 const std::vector<Vec3>& target_normals, const RegistrationOptions& o) {
   Alignment a;
@@ -506,6 +507,7 @@ Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool 
   return pose;
 }
 
+// Long (85 lines): the parallel preparation, the sequential placement of stations against those already placed, and the merge, on shared per-station arrays.
 RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options) {
   options.validate();
   const auto t0 = Clock::now();

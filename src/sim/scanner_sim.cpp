@@ -371,6 +371,7 @@ double RayCaster::cast(const Vec3& origin, const Vec3& dir, double max_range_m) 
 
 // ---------------------------------------------------------------- simulation
 
+// Long (106 lines): one pass over the sweep whose per-scan state (station motion, both scanners' noise streams, the IMU clock, progress) is shared; ray casting and motion already live in RayCaster and StationMotion.
 SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, const SimProgress& progress) {
   o.validate();
   const RayCaster caster(world, o.thin_radius_m);

@@ -166,6 +166,10 @@ TEST(OmplPlanners, EveryPlannerSolvesALegAroundAWall) {
     const auto r = planner->plan(w.grid, w.start, w.goal);
     ASSERT_TRUE(r.solved()) << n << ": " << planning::toString(r.status);
     expectValidPath(r.path, w, n);
+    // A sampling planner's graph size is not a count of expanded nodes.
+    const bool grid_search = isDeterministic(n);
+    EXPECT_EQ(r.graph_states > 0u, !grid_search) << n;
+    EXPECT_EQ(r.expansions > 0u, grid_search) << n;
   }
 }
 

@@ -22,7 +22,8 @@ struct PathResult {
   PathStatus status{PathStatus::NoPath};
   PointList path;              ///< start … goal; for grid planners the voxel centres of every step, with the exact start and goal at the ends [m]
   double cost{0.0};            ///< in the planner's own cost units
-  std::size_t expansions{0};   ///< nodes expanded
+  std::size_t expansions{0};   ///< nodes expanded (grid searches; 0 for sampling planners)
+  std::size_t graph_states{0}; ///< states in the planner's graph (OMPL's PlannerData; 0 for grid searches)
   double seconds{0.0};         ///< wall time
   bool solved() const { return status == PathStatus::Solved; }
 };
