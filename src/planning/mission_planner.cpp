@@ -6,6 +6,7 @@
 #include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -286,6 +287,14 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     std::ostringstream os;
     os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
        << " % of the stops, so no waypoints generated";
+    const auto n_obstacle = static_cast<std::size_t>(
+        std::count(m.stop_problems.begin(), m.stop_problems.end(), StopProblem::InObstacleSpace));
+    if (2 * n_obstacle > n_bad) {
+      // Mostly a space too tight for the UAV (a room, a narrow gap): say what to change.
+      os << " (the UAV, inflated by " << std::fixed << std::setprecision(2) << grid.effectiveInflation()
+         << " m, does not fit at the standoff here: try a smaller uav.inflation_radius_m or uav.size_m, "
+            "another coverage.standoff_m, or a larger mission.max_skipped_fraction)";
+    }
     m.status = SurfaceStatus::Blocked;
     m.reason = os.str();
     return finish();

@@ -147,6 +147,7 @@ TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   EXPECT_NE(m.reason.find("2 of 6 stops"), std::string::npos) << m.reason;
   EXPECT_NE(m.reason.find("1 inside the inflated obstacle space"), std::string::npos) << m.reason;
   EXPECT_NE(m.reason.find("1 outside the gimbal"), std::string::npos) << m.reason;
+  EXPECT_EQ(m.reason.find("does not fit"), std::string::npos) << m.reason;  // not mostly a tight space
   EXPECT_STREQ(toString(m.status), "blocked");
 }
 
@@ -190,6 +191,20 @@ TEST(MissionPlanner, EnclosedStopIsUnreachable) {
   const SurfaceMission b = planSurfaceMission(strategy, grid, validator, *planner, strict);
   EXPECT_EQ(b.status, SurfaceStatus::Blocked);
   EXPECT_TRUE(b.waypoints.empty());
+}
+
+TEST(MissionPlanner, MostStopsInsideInflationSayWhatToChange) {
+  const PointList cloud = wall();
+  auto strategy = strategyInFront();
+  for (const std::size_t i : {1u, 2u, 3u}) strategy.stops[i].position.x() = 0.4;  // closer than r to the wall
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  ASSERT_EQ(m.status, SurfaceStatus::Blocked);
+  EXPECT_NE(m.reason.find("3 inside the inflated obstacle space"), std::string::npos) << m.reason;
+  EXPECT_NE(m.reason.find("does not fit at the standoff here: try a smaller uav.inflation_radius_m"), std::string::npos)
+      << m.reason;
 }
 
 TEST(MissionPlanner, StartInObstacleSpaceThrowsAndNoStops) {
