@@ -13,6 +13,7 @@
 #include "uavip/io/views.h"
 #include "planners/registry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <future>
@@ -279,9 +280,15 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     std::cout << "results: " << out << "/mission.json\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
+  const auto unflyable = std::count_if(p.missions.begin(), p.missions.end(),
+                                       [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); });
   for (const auto& m : p.missions) {
     if (!planning::flyable(m.status)) {
-      std::cerr << "uavip: surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
+      std::cerr << "uavip: "
+                << (unflyable > 1 ? std::to_string(unflyable) + " of " + std::to_string(p.missions.size()) +
+                                        " chosen surfaces have no collision-free mission (each one's reason is in mission.json); first: "
+                                  : std::string())
+                << "surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
       return kExitNoMission;
     }
   }
