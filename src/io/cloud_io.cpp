@@ -38,6 +38,7 @@ PointList loadXyz(const std::string& path) {
   PointList out;
   std::string line;
   std::size_t line_no = 0;
+  bool data_seen = false;
   while (std::getline(in, line)) {
     ++line_no;
     const auto first = line.find_first_not_of(" \t\r");
@@ -45,6 +46,14 @@ PointList loadXyz(const std::string& path) {
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     std::string sx, sy, sz;
+    // A header of column names before the first point (CloudCompare writes
+    // "//X,Y,Z", spreadsheets "x,y,z"): its first word starts with a letter or '/'.
+    if (!data_seen && (std::isalpha(static_cast<unsigned char>(line[first])) || line[first] == '/') &&
+        line.find_first_of("0123456789") == std::string::npos) {
+      data_seen = true;
+      continue;
+    }
+    data_seen = true;
     if (!(fields >> sx >> sy >> sz)) {
       throw InputError(path + ":" + std::to_string(line_no) + ": expected 'x y z', got '" + line + "'");
     }
@@ -458,6 +467,10 @@ void CloudReadOptions::validate(const std::string& where) const {
   for (const int c : drop_classes) {
     if (c < 0 || c > 255) throw InputError(where + ": drop_classes holds " + std::to_string(c) + ", a class must be 0..255");
   }
+  if (!(std::isfinite(scale) && scale > 0.0)) {
+    throw InputError(where + ": scale must be > 0 and finite (0.001 for millimetres, 0.3048 for feet), got " +
+                     formatNumber(scale));
+  }
 }
 
 PointList loadCloud(const std::string& path, const CloudReadOptions& options, CloudReadInfo* info) {
@@ -482,14 +495,22 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     }
     points = std::move(las.points);
     if (points.empty()) throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
-  } else if (ext == ".xyz" || ext == ".txt") {
+  } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
     points = fromBlob(readBlob(path, ext), path);
   } else {
-    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt or .las)");
+    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
   }
   if (points.empty()) throw InputError(path + ": the cloud has no points");
+  if (options.scale != 1.0) {
+    for (auto& p : points) p *= options.scale;
+    if (info != nullptr) {
+      info->note += std::string(info->note.empty() ? "" : "; ") + "coordinates scaled by input.scale " +
+                    formatNumber(options.scale) + " to metres";
+      info->origin_m *= options.scale;
+    }
+  }
   return points;
 }
 

@@ -388,6 +388,7 @@ void parseInput(Section s, CloudReadOptions& o) {
       o.drop_classes.push_back(static_cast<int>(v));
     }
   }
+  o.scale = s.number("scale", o.scale);
   s.finish();
 }
 

@@ -110,6 +110,7 @@ class BadInput : public ::testing::Test {
     write("unknown.yaml", "preprocess: {voxel: 0.05}\n");
     write("type.yaml", "preprocess: {voxel_m: abc}\n");
     write("negative.yaml", "preprocess: {voxel_m: -1}\n");
+    write("scale.yaml", "input: {scale: -0.001}\n");
     write("complex.yaml", "? [a, b]\n: 1\n");
     write("reserve.yaml", "flight: {reserve: 1}\n");
     write("home2.yaml", "mission: {home: [1, 2]}\n");
@@ -208,6 +209,7 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"unknown config key", "plan " + scene + " --surface 0 -c $D/unknown.yaml -o $D/prev", 2, "voxel"},
       {"config value of the wrong type", "plan " + scene + " --surface 0 -c $D/type.yaml -o $D/prev", 2, "voxel_m"},
       {"negative voxel", "plan " + scene + " --surface 0 -c $D/negative.yaml -o $D/prev", 2, "voxel_m"},
+      {"negative input.scale", "detect $D/letters.xyz -c $D/scale.yaml -o $D/prev", 2, "scale must be > 0"},
       {"complex YAML key", "plan " + scene + " --surface 0 -c $D/complex.yaml -o $D/prev", 2, "complex.yaml"},
       {"reserve 1", "plan " + scene + " --surface 0 -c $D/reserve.yaml -o $D/prev", 2, "reserve"},
       {"home with two numbers", "plan " + scene + " --surface 0 -c $D/home2.yaml -o $D/prev", 2, "home"},

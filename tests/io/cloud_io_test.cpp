@@ -52,6 +52,32 @@ TEST_F(CloudIo, XyzIsRead) {
   EXPECT_EQ(p[1], Vec3(4.5, 5, 6));
 }
 
+TEST_F(CloudIo, CsvAndHeaderLinesOfColumnNamesAreRead) {
+  const PointList spreadsheet = loadCloud(file("a.csv", "x,y,z\n1,2,3\n4.5,5,6\n"));
+  ASSERT_EQ(spreadsheet.size(), 2u);
+  EXPECT_EQ(spreadsheet[1], Vec3(4.5, 5, 6));
+  const PointList cloudcompare = loadCloud(file("b.txt", "//X,Y,Z,R,G,B\n1,2,3,255,0,0\n"));
+  ASSERT_EQ(cloudcompare.size(), 1u);
+  EXPECT_EQ(cloudcompare[0], Vec3(1, 2, 3));
+  // Only before the first point: a word later is an error with its line.
+  expectError(file("late.csv", "1,2,3\nx,y,z\n"), ":2: not a number");
+}
+
+TEST_F(CloudIo, ScaleConvertsToMetresAndIsNoted) {
+  CloudReadOptions mm;
+  mm.scale = 0.001;
+  CloudReadInfo info;
+  const PointList p = loadCloud(file("mm.xyz", "1000 2500 -300\n"), mm, &info);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NEAR((p[0] - Vec3(1.0, 2.5, -0.3)).norm(), 0.0, 1e-12);
+  EXPECT_NE(info.note.find("input.scale 0.001"), std::string::npos) << info.note;
+  for (const double bad : {0.0, -1.0, std::nan("")}) {
+    CloudReadOptions o;
+    o.scale = bad;
+    EXPECT_THROW(loadCloud(file("ok.xyz", "1 2 3\n"), o), InputError) << bad;
+  }
+}
+
 TEST_F(CloudIo, PcdRoundTripKeepsFloatPrecision) {
   const PointList in = {{0.1, -2.5, 3.25}, {10.0, 20.0, -0.001}};
   const std::string p = (dir_ / "c.pcd").string();

@@ -14,6 +14,10 @@ namespace uavip::io {
 struct CloudReadOptions {
   /// LAS only: ASPRS classes whose points are dropped (e.g. 3, 4, 5 vegetation, 7 noise).
   std::vector<int> drop_classes;
+  /// Every coordinate is multiplied by this to give metres, after a LAS file's own
+  /// unit conversion: 0.001 for a cloud in millimetres, 0.01 in centimetres, 0.3048
+  /// in international feet. 1 = the file is in metres (or a LAS file says its unit).
+  double scale{1.0};
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "input") const;
 };
@@ -24,8 +28,10 @@ struct CloudReadInfo {
   Vec3 origin_m{Vec3::Zero()};        ///< subtracted from the file's coordinates (after unit conversion) [m]
 };
 
-/// Reads a cloud by extension (.pcd, .ply, .xyz, .txt, .las; .laz is refused with
-/// the command that decompresses it). Throws InputError naming the file for a
+/// Reads a cloud by extension (.pcd, .ply, .las; .xyz, .txt and .csv: x y z first on
+/// each line, separated by spaces, tabs or commas, one optional header line of
+/// names such as "x,y,z" or "//X Y Z Intensity"; .laz is refused with the command
+/// that decompresses it), then applies options.scale. Throws InputError naming the file for a
 /// missing or unreadable file, an unknown extension, an empty cloud or a non-finite
 /// point (with its index or line).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
