@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -115,6 +116,21 @@ TEST_F(Cli, BlockedSurfaceMakesPlanExit3) {
   r = uavip("plan " + path("x/scene.json") + " --surface 0 -c " + write("norepair.yaml", "mission: {repair_stops: false}\n") +
             " -o " + path("p"));
   EXPECT_EQ(r.code, 3) << r.out;
+}
+
+TEST_F(Cli, EverySurfaceBlockedIsCountedAndSaysWhatToChange) {
+  ASSERT_EQ(uavip("run " + scenario("single_cube.yaml") + " --no-views -o " + path("c")).code, 0);
+  std::ifstream in(path("c/scene.json"));
+  const std::size_t surfaces = nlohmann::json::parse(in)["surfaces"].size();
+  ASSERT_GT(surfaces, 1u);
+  // A 4 m UAV fits nowhere near a 3 m cube at its standoff.
+  const Result r = uavip("plan " + path("c/scene.json") + " --surface all --no-views -q -c " +
+                         write("huge.yaml", "uav: {size_m: [4, 4, 4]}\n") + " -o " + path("p"));
+  EXPECT_EQ(r.code, 3) << r.out;
+  const std::string count = std::to_string(surfaces) + " of " + std::to_string(surfaces) + " chosen surfaces";
+  EXPECT_NE(r.out.find(count), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("try a smaller uav.inflation_radius_m"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;  // one line
 }
 
 TEST_F(Cli, BadInputIsOneLineAndExit2) {
