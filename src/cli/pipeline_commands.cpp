@@ -289,17 +289,16 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     std::cout << "results: " << out << "/mission.json\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
-  const auto unflyable = std::count_if(p.missions.begin(), p.missions.end(),
-                                       [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); });
-  for (const auto& m : p.missions) {
-    if (!planning::flyable(m.status)) {
-      std::cerr << "uavip: "
-                << (unflyable > 1 ? std::to_string(unflyable) + " of " + std::to_string(p.missions.size()) +
-                                        " chosen surfaces have no collision-free mission (each one's reason is in mission.json); first: "
-                                  : std::string())
-                << "surface " << m.surface_id << " has no collision-free mission: " << m.reason << "\n";
-      return kExitNoMission;
-    }
+  const auto unflyable = [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); };
+  const auto first = std::find_if(p.missions.begin(), p.missions.end(), unflyable);
+  if (first != p.missions.end()) {
+    const auto count = std::count_if(first, p.missions.end(), unflyable);
+    std::cerr << "uavip: "
+              << (count > 1 ? std::to_string(count) + " of " + std::to_string(p.missions.size()) +
+                                  " chosen surfaces have no collision-free mission (each one's reason is in mission.json); first: "
+                            : std::string())
+              << "surface " << first->surface_id << " has no collision-free mission: " << first->reason << "\n";
+    return kExitNoMission;
   }
   if (p.flight.status == planning::FlightPlan::Status::Failed) {
     std::cerr << "uavip: no collision-free flight: " << p.flight.reason << "\n";

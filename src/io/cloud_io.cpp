@@ -38,7 +38,7 @@ PointList loadXyz(const std::string& path) {
   PointList out;
   std::string line;
   std::size_t line_no = 0;
-  bool data_seen = false;
+  bool header_allowed = true;  // until the first line that is not blank or a comment
   while (std::getline(in, line)) {
     ++line_no;
     const auto first = line.find_first_not_of(" \t\r");
@@ -48,12 +48,12 @@ PointList loadXyz(const std::string& path) {
     std::string sx, sy, sz;
     // A header of column names before the first point (CloudCompare writes
     // "//X,Y,Z", spreadsheets "x,y,z"): its first word starts with a letter or '/'.
-    if (!data_seen && (std::isalpha(static_cast<unsigned char>(line[first])) || line[first] == '/') &&
+    if (header_allowed && (std::isalpha(static_cast<unsigned char>(line[first])) || line[first] == '/') &&
         line.find_first_of("0123456789") == std::string::npos) {
-      data_seen = true;
+      header_allowed = false;
       continue;
     }
-    data_seen = true;
+    header_allowed = false;
     if (!(fields >> sx >> sy >> sz)) {
       throw InputError(path + ":" + std::to_string(line_no) + ": expected 'x y z', got '" + line + "'");
     }

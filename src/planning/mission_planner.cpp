@@ -184,10 +184,11 @@ void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const Miss
 }
 
 /// "N of M stops infeasible: …" by cause, empty when every stop is usable; `n_bad`
-/// gets the number of skipped stops.
+/// gets the number of skipped stops, `n_obstacle` those inside the inflated space.
 std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& grid, const MissionOptions& options,
-                            std::size_t& n_bad) {
-  std::size_t n_gimbal = 0, n_obstacle = 0, n_unreachable = 0;
+                            std::size_t& n_bad, std::size_t& n_obstacle) {
+  std::size_t n_gimbal = 0, n_unreachable = 0;
+  n_obstacle = 0;
   for (const auto p : m.stop_problems) {
     n_gimbal += p == StopProblem::GimbalLimit;
     n_obstacle += p == StopProblem::InObstacleSpace;
@@ -280,15 +281,13 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
   }
   const int first_usable = checkStops(m, strategy, grid, options);
   if (options.start || first_usable >= 0) markUnreachable(m, grid, options, first_usable);
-  std::size_t n_bad = 0;
-  const std::string skipped = describeSkipped(m, grid, options, n_bad);
+  std::size_t n_bad = 0, n_obstacle = 0;
+  const std::string skipped = describeSkipped(m, grid, options, n_bad, n_obstacle);
   const std::size_t n_stops = m.strategy.stops.size();
   if (static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(n_stops) || n_bad == n_stops) {
     std::ostringstream os;
     os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
        << " % of the stops, so no waypoints generated";
-    const auto n_obstacle = static_cast<std::size_t>(
-        std::count(m.stop_problems.begin(), m.stop_problems.end(), StopProblem::InObstacleSpace));
     if (2 * n_obstacle > n_bad) {
       // Mostly a space too tight for the UAV (a room, a narrow gap): say what to change.
       os << " (the UAV, inflated by " << std::fixed << std::setprecision(2) << grid.effectiveInflation()

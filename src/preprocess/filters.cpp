@@ -67,10 +67,9 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   // Batches of kBatch queries on the worker pool, a scratch row block per worker.
   constexpr std::size_t kBatch = 2048;
   const auto row_block = kBatch * static_cast<std::size_t>(searcher_k);
-  const int workers = threads;
-  std::vector<std::vector<int>> nn_indices(static_cast<std::size_t>(workers));
-  std::vector<std::vector<float>> nn_dists(static_cast<std::size_t>(workers));
-  parallelFor((n + kBatch - 1) / kBatch, workers, [&](std::size_t batch, std::size_t worker) {
+  std::vector<std::vector<int>> nn_indices(static_cast<std::size_t>(threads));
+  std::vector<std::vector<float>> nn_dists(static_cast<std::size_t>(threads));
+  parallelFor((n + kBatch - 1) / kBatch, threads, [&](std::size_t batch, std::size_t worker) {
     auto& idx = nn_indices[worker];
     auto& dst = nn_dists[worker];
     idx.resize(row_block);
