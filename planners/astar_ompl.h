@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The paper's grid A* (§II-G) as an ompl::base::Planner, so one harness runs it beside
-/// the OMPL planners (issue 4). solve() reads the start and the goal from the problem
+/// the OMPL planners. solve() reads the start and the goal from the problem
 /// definition, runs the A* of planners/astar.h on the grid and adds the path (exact
 /// start, voxel centres, exact goal) with pdef_->addSolutionPath. The search ignores
 /// the termination condition; its budget is AStarOptions::max_expansions.
@@ -21,7 +21,7 @@
 namespace uavip::planners {
 
 /// Grid A* behind the OMPL planner interface. The space must be an R³ space (e.g.
-/// makeGridSpace); the grid must outlive the planner. Name: "AStar" (paper cost) or
+/// makeSpaceInformation); the grid must outlive the planner. Name: "AStar" (paper cost) or
 /// "AStarEuclid".
 class AStarOmplPlanner : public ompl::base::Planner {
  public:

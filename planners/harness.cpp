@@ -11,6 +11,8 @@
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
 #include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/planners/prm/LazyPRM.h>
+#include <ompl/geometric/planners/prm/PRM.h>
 #include <ompl/util/Exception.h>
 
 #include <chrono>
@@ -31,6 +33,33 @@ using Clock = std::chrono::steady_clock;
 
 void setState(ob::ScopedState<>& s, const Vec3& p) {
   for (unsigned int i = 0; i < 3; ++i) s[i] = p[static_cast<int>(i)];
+}
+
+/// Sets run.graph_states and run.graph_motions. With `planner_data`, as OMPL's
+/// benchmark counts them (its PlannerData); otherwise a roadmap (PRM*, LazyPRM*) is
+/// counted directly, milestones and edges: the PlannerData of a roadmap kept over many
+/// legs (50,000 states) takes longer to build than a leg's budget.
+void countGraph(const ob::Planner& planner, const ob::SpaceInformationPtr& si, bool planner_data, HarnessRun& run) {
+  if (!planner_data) {
+    if (const auto* prm = dynamic_cast<const og::PRM*>(&planner)) {
+      run.graph_states = prm->milestoneCount();
+      run.graph_motions = prm->edgeCount();
+      return;
+    }
+    if (const auto* lazy = dynamic_cast<const og::LazyPRM*>(&planner)) {
+      run.graph_states = lazy->milestoneCount();
+      run.graph_motions = lazy->edgeCount();
+      return;
+    }
+  }
+  try {
+    ob::PlannerData data(si);
+    planner.getPlannerData(data);
+    run.graph_states = data.numVertices();
+    run.graph_motions = data.numEdges();
+  } catch (const std::exception&) {
+    // Statistics only: leave them at 0.
+  }
 }
 
 }  // namespace
@@ -70,7 +99,14 @@ HarnessRun runPlannerOnce(const std::string& name, const world::VoxelGrid& grid,
     return run;
   }
 
-  const ob::SpaceInformationPtr si = makeGridSpace(grid);
+  const ob::SpaceInformationPtr si = makeSpaceInformation(grid);
+  return solveQuery(makeOmplPlanner(name, si, grid, settings), si, start, goal, settings, true);
+}
+
+HarnessRun solveQuery(const ob::PlannerPtr& planner, const ob::SpaceInformationPtr& si, const Vec3& start,
+                      const Vec3& goal, const PlannerSettings& settings, bool planner_data) {
+  HarnessRun run;
+  run.ompl_name = planner->getName();
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> s(si);
   ob::ScopedState<> g(si);
@@ -78,7 +114,6 @@ HarnessRun runPlannerOnce(const std::string& name, const world::VoxelGrid& grid,
   setState(g, goal);
   pdef->setStartAndGoalStates(s, g);
   pdef->setOptimizationObjective(std::make_shared<ob::PathLengthOptimizationObjective>(si));
-  const ob::PlannerPtr planner = makeOmplPlanner(name, si, grid, settings);
   planner->setProblemDefinition(pdef);
 
   ob::PlannerStatus status = ob::PlannerStatus::UNKNOWN;
@@ -92,14 +127,7 @@ HarnessRun runPlannerOnce(const std::string& name, const world::VoxelGrid& grid,
   run.time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   run.status = static_cast<ob::PlannerStatus::StatusType>(status);
 
-  try {
-    ob::PlannerData data(si);
-    planner->getPlannerData(data);
-    run.graph_states = data.numVertices();
-    run.graph_motions = data.numEdges();
-  } catch (const std::exception&) {
-    // Statistics only: leave them at 0.
-  }
+  countGraph(*planner, si, planner_data, run);
 
   run.solved = status == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution();
   run.approximate = status == ob::PlannerStatus::APPROXIMATE_SOLUTION;

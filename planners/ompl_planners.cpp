@@ -24,11 +24,11 @@ namespace og = ompl::geometric;
 
 }  // namespace
 
-GridMotionValidator::GridMotionValidator(const ob::SpaceInformationPtr& si, const world::VoxelGrid& grid)
-    : ob::MotionValidator(si), grid_(grid) {}
+FreeSpaceMotionValidator::FreeSpaceMotionValidator(const ob::SpaceInformationPtr& si, const world::FreeSpace& space)
+    : ob::MotionValidator(si), space_(space) {}
 
-bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
-  if (grid_.segmentFree(toVec3(s1), toVec3(s2))) {
+bool FreeSpaceMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
+  if (space_.segmentFree(toVec3(s1), toVec3(s2))) {
     ++valid_;
     return true;
   }
@@ -36,17 +36,17 @@ bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) 
   return false;
 }
 
-bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2,
-                                      std::pair<ob::State*, double>& last_valid) const {
+bool FreeSpaceMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2,
+                                           std::pair<ob::State*, double>& last_valid) const {
   const Vec3 a = toVec3(s1);
   const Vec3 b = toVec3(s2);
-  const double step = 0.25 * grid_.resolution();
+  const double step = 0.25 * space_.resolution();
   const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
   Vec3 prev = a;
   for (int k = 1; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
     const Vec3 p = a + t * (b - a);
-    if (!grid_.segmentFree(prev, p)) {
+    if (!space_.segmentFree(prev, p)) {
       last_valid.second = static_cast<double>(k - 1) / n;
       if (last_valid.first != nullptr) {
         si_->getStateSpace()->interpolate(s1, s2, last_valid.second, last_valid.first);
@@ -60,18 +60,19 @@ bool GridMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2,
   return true;
 }
 
-ob::SpaceInformationPtr makeGridSpace(const world::VoxelGrid& grid) {
+ob::SpaceInformationPtr makeSpaceInformation(const world::FreeSpace& free_space) {
   auto space = std::make_shared<ob::RealVectorStateSpace>(3);
+  const Aabb box = free_space.bounds();
   ob::RealVectorBounds bounds(3);
   for (int i = 0; i < 3; ++i) {
-    bounds.setLow(static_cast<unsigned int>(i), grid.origin()[i]);
-    bounds.setHigh(static_cast<unsigned int>(i), grid.origin()[i] + grid.dims()[static_cast<std::size_t>(i)] * grid.resolution());
+    bounds.setLow(static_cast<unsigned int>(i), box.min[i]);
+    bounds.setHigh(static_cast<unsigned int>(i), box.max[i]);
   }
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  const world::VoxelGrid* g = &grid;
-  si->setStateValidityChecker([g](const ob::State* s) { return g->isFree(toVec3(s)); });
-  si->setMotionValidator(std::make_shared<GridMotionValidator>(si, grid));
+  const world::FreeSpace* f = &free_space;
+  si->setStateValidityChecker([f](const ob::State* s) { return f->isFree(toVec3(s)); });
+  si->setMotionValidator(std::make_shared<FreeSpaceMotionValidator>(si, free_space));
   si->setup();
   return si;
 }
@@ -150,6 +151,15 @@ OmplPlanner::OmplPlanner(std::string name, PlannerSettings settings)
   seedOmpl(settings_.seed);
 }
 
+bool OmplPlanner::bindTo(const world::VoxelGrid& grid) {
+  if (planner_ && space_ == &grid && space_id_ == grid.contentId()) return false;
+  si_ = makeSpaceInformation(grid);
+  planner_ = makeOmplPlanner(name_, si_, grid, settings_);
+  space_ = &grid;
+  space_id_ = grid.contentId();
+  return true;
+}
+
 planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
   const auto t0 = std::chrono::steady_clock::now();
   planning::PathResult out;
@@ -165,7 +175,10 @@ planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3&
     out.cost = (goal - start).norm();
     return finish();
   }
-  const HarnessRun run = runPlannerOnce(name_, grid, start, goal, settings_);
+  // Only a planner that has solved is cleared: OMPL 1.5.2's AITstar::clear() crashes
+  // before its first setup().
+  if (!bindTo(grid)) planner_->clearQuery();
+  const HarnessRun run = solveQuery(planner_, si_, start, goal, settings_, false);
   out.status = run.path_status;
   out.graph_states = run.graph_states;
   if (run.solved) {

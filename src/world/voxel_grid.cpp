@@ -5,6 +5,7 @@
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -90,7 +91,9 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const
 // Long (99 lines): checks, dimensions, occupancy and inflation each run once over the same dense arrays; the inflation's sphere offsets are computed here for that loop.
 VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options) {
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
+  static std::atomic<std::uint64_t> last_id{0};
   VoxelGrid g;
+  g.content_id_ = ++last_id;
   g.reach_cache_ = std::make_shared<ReachCache>();
   g.options_ = options;
   const double res = options.resolution_m;
@@ -205,6 +208,13 @@ Vec3 VoxelGrid::centreOf(const Index3& i) const {
 
 bool VoxelGrid::isOccupied(const Index3& i) const {
   return inBounds(i) && blocked_[linear(i)] == kOccupied;
+}
+
+Aabb VoxelGrid::bounds() const {
+  Aabb box;
+  box.min = origin_;
+  box.max = origin_ + Vec3(dims_[0], dims_[1], dims_[2]) * resolution();
+  return box;
 }
 
 bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 namespace uavip::planners {
@@ -67,6 +68,16 @@ WallWorld wallWorld() {
   PointList cloud;
   addWallX(cloud, 3.0, 1.0, 3.0, 0.0, 2.0, 0.05);
   const PointList extra = {Vec3(0.0, 0.0, 0.0), Vec3(6.0, 4.0, 2.0)};
+  VoxelGrid grid = VoxelGrid::build(cloud, extra, gridOptions());
+  return {cloud, std::move(grid)};
+}
+
+/// wallWorld()'s wall widened to the whole grid, under a higher ceiling: the ways
+/// around its sides, wallWorld()'s shortest, are closed; the way over it is open.
+WallWorld wideWallWorld() {
+  PointList cloud;
+  addWallX(cloud, 3.0, -1.0, 5.0, 0.0, 2.0, 0.05);
+  const PointList extra = {Vec3(0.0, 0.0, 0.0), Vec3(6.0, 4.0, 3.0)};
   VoxelGrid grid = VoxelGrid::build(cloud, extra, gridOptions());
   return {cloud, std::move(grid)};
 }
@@ -136,7 +147,7 @@ TEST(OmplPlanners, RegistryHasEveryRequiredPlanner) {
 
 TEST(OmplPlanners, OmplNamesMatchTheOmplPlannerObjects) {
   const WallWorld w = wallWorld();
-  const auto si = makeGridSpace(w.grid);
+  const auto si = makeSpaceInformation(w.grid);
   for (const auto& n : plannerNames()) {
     EXPECT_EQ(makeOmplPlanner(n, si, w.grid, fastSettings())->getName(), omplName(n)) << n;
   }
@@ -170,6 +181,36 @@ TEST(OmplPlanners, EveryPlannerSolvesALegAroundAWall) {
     const bool grid_search = isDeterministic(n);
     EXPECT_EQ(r.graph_states > 0u, !grid_search) << n;
     EXPECT_EQ(r.expansions > 0u, grid_search) << n;
+  }
+}
+
+TEST(OmplPlanners, OnePlannerPlansLegAfterLegAndStartsAfreshOnANewGrid) {
+  for (const auto& n : omplPlannerNames()) {
+    auto planner = makePlanner(n, fastSettings());
+    std::optional<WallWorld> w;
+    w.emplace(wallWorld());
+    const VoxelGrid* address = &w->grid;
+    const auto there = planner->plan(w->grid, w->start, w->goal);
+    ASSERT_TRUE(there.solved()) << n;
+    expectValidPath(there.path, *w, n + " leg 1");
+    auto back = planner->plan(w->grid, w->goal, w->start);
+    ASSERT_TRUE(back.solved()) << n;
+    std::reverse(back.path.begin(), back.path.end());
+    expectValidPath(back.path, *w, n + " leg 2");
+    // PRM* keeps its roadmap between legs on one grid, and grows it.
+    if (n == "prmstar") {
+      EXPECT_GE(back.graph_states, there.graph_states);
+    }
+
+    // A new grid at the same address, closed where the first grid's shortest ways
+    // went round the wall's sides: a kept roadmap would cross the new wall there.
+    w.reset();
+    w.emplace(wideWallWorld());
+    ASSERT_EQ(&w->grid, address);
+    ASSERT_TRUE(w->grid.isFree(w->start) && w->grid.isFree(w->goal));
+    const auto over = planner->plan(w->grid, w->start, w->goal);
+    ASSERT_TRUE(over.solved()) << n;
+    expectValidPath(over.path, *w, n + " on the new grid");
   }
 }
 
@@ -230,7 +271,7 @@ TEST(OmplPlanners, AStarThroughOmplMatchesAStarSearch) {
     AStarOptions o;
     o.cost = cost;
     o.a3 = 2.0;
-    const auto si = makeGridSpace(w.grid);
+    const auto si = makeSpaceInformation(w.grid);
     auto pdef = std::make_shared<ompl::base::ProblemDefinition>(si);
     ompl::base::ScopedState<> s(si), g(si);
     for (unsigned int i = 0; i < 3; ++i) {
@@ -255,7 +296,7 @@ TEST(OmplPlanners, AStarThroughOmplMatchesAStarSearch) {
 
 TEST(OmplPlanners, MotionValidatorKeepsClearanceAndFindsLastValidState) {
   const WallWorld w = wallWorld();
-  const auto si = makeGridSpace(w.grid);
+  const auto si = makeSpaceInformation(w.grid);
   const auto mv = si->getMotionValidator();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> ux(0.0, 6.0), uy(0.0, 4.0), uz(0.0, 2.0);

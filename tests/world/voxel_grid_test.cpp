@@ -117,6 +117,37 @@ TEST(VoxelGrid, BoundsCoverCloudAndExtraWithPadding) {
   EXPECT_TRUE(g.isBlocked(Index3{0, g.dims()[1], 0}));
 }
 
+TEST(VoxelGrid, AsAFreeSpaceItIsItsBoxAndItsContentHasOneId) {
+  GridOptions o;
+  o.resolution_m = 0.25;
+  o.padding_m = 0.5;
+  const PointList cloud = randomCloud(200, 3.0, 5);
+  const VoxelGrid g = VoxelGrid::build(cloud, {}, o);
+  const FreeSpace& space = g;
+  // The box is the voxels' box; outside it nothing is free.
+  const Aabb box = space.bounds();
+  EXPECT_EQ(box.min, g.origin());
+  EXPECT_EQ(g.indexOf(box.max - Vec3::Constant(1e-9)), (Index3{g.dims()[0] - 1, g.dims()[1] - 1, g.dims()[2] - 1}));
+  EXPECT_FALSE(space.isFree(box.max + Vec3::Constant(1e-9)));
+  EXPECT_FALSE(space.isFree(box.min - Vec3::Constant(1e-9)));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 p = box.min + (box.max - box.min).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 q = box.min + (box.max - box.min).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    EXPECT_EQ(space.isFree(p), g.isFree(g.indexOf(p)));
+    EXPECT_EQ(space.segmentFree(p, q), g.segmentFree(p, q));
+  }
+  EXPECT_EQ(space.resolution(), o.resolution_m);
+  // A copy holds the same voxels, so the same id; a grid built anew gets a new one.
+  const VoxelGrid copy = g;
+  const VoxelGrid again = VoxelGrid::build(cloud, {}, o);
+  EXPECT_NE(g.contentId(), 0u);
+  EXPECT_EQ(copy.contentId(), g.contentId());
+  EXPECT_NE(again.contentId(), g.contentId());
+  EXPECT_EQ(VoxelGrid().contentId(), 0u);
+}
+
 TEST(VoxelGrid, IndexAndCentreRoundTrip) {
   GridOptions o;
   o.resolution_m = 0.3;

@@ -4,6 +4,7 @@
 /// planners/ (the paper's A* first; OMPL planners behind the same interface).
 
 #include "uavip/core/types.h"
+#include "uavip/world/free_space.h"
 #include "uavip/world/voxel_grid.h"
 
 #include <cstddef>
@@ -23,21 +24,24 @@ struct PathResult {
   PointList path;              ///< start … goal; for grid planners the voxel centres of every step, with the exact start and goal at the ends [m]
   double cost{0.0};            ///< in the planner's own cost units
   std::size_t expansions{0};   ///< nodes expanded (grid searches; 0 for sampling planners)
-  std::size_t graph_states{0}; ///< states in the planner's graph (OMPL's PlannerData; 0 for grid searches)
+  std::size_t graph_states{0}; ///< states in the planner's graph after the leg (a PRM roadmap's milestones; 0 for grid searches)
   double seconds{0.0};         ///< wall time
   bool solved() const { return status == PathStatus::Solved; }
 };
 
 /// The check every planner makes before searching: InvalidStart / InvalidGoal when
-/// that end is not finite or not in a free voxel, else Solved (the ends are usable).
-inline PathStatus checkEndpoints(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
-  if (!start.allFinite() || !grid.isFree(start)) return PathStatus::InvalidStart;
-  if (!goal.allFinite() || !grid.isFree(goal)) return PathStatus::InvalidGoal;
+/// that end is not finite or not free, else Solved (the ends are usable).
+inline PathStatus checkEndpoints(const world::FreeSpace& space, const Vec3& start, const Vec3& goal) {
+  if (!start.allFinite() || !space.isFree(start)) return PathStatus::InvalidStart;
+  if (!goal.allFinite() || !space.isFree(goal)) return PathStatus::InvalidGoal;
   return PathStatus::Solved;
 }
 
-/// Plans collision-free paths on a VoxelGrid. plan() is not thread-safe (a planner
-/// may keep scratch memory); use one instance per thread.
+/// Plans collision-free paths on a VoxelGrid. The grid A* searches the grid's
+/// lattice; the OMPL planners see it only as a world::FreeSpace (isFree,
+/// segmentFree, bounds), and keep one OMPL SpaceInformation and planner per grid
+/// (world::FreeSpace::contentId), cleared between legs. plan() is not thread-safe (a
+/// planner keeps scratch memory); use one instance per thread.
 class Planner {
  public:
   virtual ~Planner() = default;

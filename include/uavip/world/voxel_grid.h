@@ -18,6 +18,7 @@
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/types.h"
+#include "uavip/world/free_space.h"
 
 #include <array>
 #include <cstddef>
@@ -47,8 +48,8 @@ struct Index3 {
 };
 
 /// Dense inflated occupancy grid. Immutable after build(); const queries are
-/// thread-safe.
-class VoxelGrid {
+/// thread-safe. The FreeSpace the OMPL planners plan in.
+class VoxelGrid final : public FreeSpace {
  public:
   /// Builds the grid covering the bounds of `cloud` and `extra` (e.g. photo stops)
   /// grown by padding_m. Occupancy comes from an octomap::OcTree filled with the
@@ -64,7 +65,11 @@ class VoxelGrid {
                          const Aabb& region);
 
   const GridOptions& options() const { return options_; }
-  double resolution() const { return options_.resolution_m; }
+  double resolution() const override { return options_.resolution_m; }
+  /// The grid's box: origin to origin + dims·resolution [m].
+  Aabb bounds() const override;
+  /// Set by build() from a process-wide counter; a copy keeps it (same voxels).
+  std::uint64_t contentId() const override { return content_id_; }
   /// Radius used to block voxels around occupied ones: r + √3·res [m].
   double effectiveInflation() const;
   const std::array<int, 3>& dims() const { return dims_; }
@@ -86,10 +91,10 @@ class VoxelGrid {
   bool isBlocked(const Index3& i) const { return !inBounds(i) || blocked_[linear(i)] != 0; }
   bool isFree(const Index3& i) const { return !isBlocked(i); }
   /// True if the voxel holding p is free.
-  bool isFree(const Vec3& p) const { return isFree(indexOf(p)); }
+  bool isFree(const Vec3& p) const override { return isFree(indexOf(p)); }
   /// True if every sample of the segment a→b, spaced ≤ resolution, lies in a free
   /// voxel, and so does every voxel the segment crosses (3D DDA).
-  bool segmentFree(const Vec3& a, const Vec3& b) const;
+  bool segmentFree(const Vec3& a, const Vec3& b) const override;
   /// Linear index of an in-bounds voxel (x fastest, then y, then z).
   std::size_t linear(const Index3& i) const {
     return static_cast<std::size_t>(i.x) +
@@ -120,6 +125,7 @@ class VoxelGrid {
   std::shared_ptr<ReachCache> reach_cache_;
   std::size_t occupied_count_{0};
   std::size_t blocked_count_{0};
+  std::uint64_t content_id_{0};
 };
 
 }  // namespace uavip::world

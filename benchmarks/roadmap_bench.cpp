@@ -1,0 +1,153 @@
+// What an OMPL planner gains from planning leg after leg on one grid (one
+// SpaceInformation and planner per grid, clearQuery() between legs; planners/
+// ompl_planners.h, OmplPlanner) against a fresh space and planner per leg (the
+// harness's runPlannerOnce, as `uavip bench` runs them). Multi-query planners
+// (PRM*, LazyPRM*) keep their roadmap; the others are cleared, so they are the
+// control. Each scenario is sensed and detected once; the legs are sampled between
+// photo stops of different surfaces (app::sampleLegs), the same legs for every
+// planner and mode, planned in order with the same budget per leg.
+// Usage: uavip_roadmap_bench [SCENARIO.yaml ...] [--legs N] [--time S]
+//        (default scenarios/bench_cluttered.yaml scenarios/bridge.yaml, N = 30, S = 0.2)
+// Numbers go in the issue notes and README, never in tests.
+
+#include "uavip/app/bench.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/core/error.h"
+#include "uavip/core/memory.h"
+#include "uavip/coverage/flight_strategy.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/scenario.h"
+
+#include "planners/harness.h"
+#include "planners/registry.h"
+
+#include "bench_util.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using uavip::Vec3;
+using uavip::bench_util::median;
+
+/// One planner's legs in one mode.
+struct ModeRun {
+  std::vector<bool> solved;
+  std::vector<double> length_m;
+  std::vector<double> seconds;
+  std::size_t last_graph_states{0};
+};
+
+/// The legs of a scenario's grid, as `uavip bench` samples them.
+struct Legs {
+  uavip::world::VoxelGrid grid;
+  std::vector<std::pair<Vec3, Vec3>> legs;
+};
+
+Legs prepare(const uavip::io::Scenario& sc, int max_legs) {
+  const auto raw = uavip::app::sense(sc);
+  const auto d = uavip::app::detect(raw, sc.config, uavip::app::measure(raw, &sc));
+  std::vector<uavip::PointList> stops_by_surface;
+  uavip::PointList extra;
+  for (const auto& surface : d.scene.surfaces) {
+    uavip::PointList stops;
+    for (const auto& stop : uavip::coverage::planFlightStrategy(surface, d.resolved.config.coverage).stops) {
+      stops.push_back(stop.position);
+    }
+    extra.insert(extra.end(), stops.begin(), stops.end());
+    stops_by_surface.push_back(std::move(stops));
+  }
+  Legs out;
+  out.grid = uavip::world::VoxelGrid::build(d.scene.cloud, extra, d.resolved.config.gridOptions());
+  out.legs = uavip::app::sampleLegs(out.grid, stops_by_surface, max_legs, 1);
+  return out;
+}
+
+ModeRun runFresh(const std::string& name, const Legs& l, const uavip::planners::PlannerSettings& settings) {
+  ModeRun m;
+  for (const auto& [a, b] : l.legs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = uavip::planners::runPlannerOnce(name, l.grid, a, b, settings);
+    m.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    m.solved.push_back(r.solved);
+    m.length_m.push_back(r.length_m);
+    m.last_graph_states = r.graph_states;
+  }
+  return m;
+}
+
+ModeRun runKept(const std::string& name, const Legs& l, const uavip::planners::PlannerSettings& settings) {
+  ModeRun m;
+  const auto planner = uavip::planners::makePlanner(name, settings);
+  for (const auto& [a, b] : l.legs) {
+    const auto r = planner->plan(l.grid, a, b);
+    m.seconds.push_back(r.seconds);
+    m.solved.push_back(r.solved());
+    m.length_m.push_back(r.cost);
+    m.last_graph_states = r.graph_states;
+  }
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  uavip::keepFreedMemoryForReuse();
+  uavip::io::setPclConsole(false);
+  std::vector<std::string> paths;
+  int max_legs = 30;
+  double time_s = 0.2;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--legs" && i + 1 < argc) {
+      max_legs = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--time" && i + 1 < argc) {
+      time_s = std::atof(argv[++i]);
+    } else {
+      paths.push_back(a);
+    }
+  }
+  if (paths.empty()) paths = {"scenarios/bench_cluttered.yaml", "scenarios/bridge.yaml"};
+  try {
+    uavip::planners::PlannerSettings settings;
+    settings.time_limit_s = time_s;
+    settings.validate("--time");
+    std::printf("| scenario | planner | legs | solved: fresh / kept | length of legs both solved, m: fresh / kept (kept/fresh) "
+                "| median s per leg: fresh / kept | graph states after the last leg: fresh / kept |\n"
+                "|---|---|---|---|---|---|---|\n");
+    for (const auto& path : paths) {
+      const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+      const Legs l = prepare(sc, max_legs);
+      for (const char* name : {"prmstar", "lazyprmstar", "rrtstar"}) {
+        const ModeRun fresh = runFresh(name, l, settings);
+        const ModeRun kept = runKept(name, l, settings);
+        int solved_fresh = 0, solved_kept = 0;
+        double len_fresh = 0.0, len_kept = 0.0;
+        for (std::size_t i = 0; i < l.legs.size(); ++i) {
+          solved_fresh += fresh.solved[i];
+          solved_kept += kept.solved[i];
+          if (fresh.solved[i] && kept.solved[i]) {
+            len_fresh += fresh.length_m[i];
+            len_kept += kept.length_m[i];
+          }
+        }
+        std::printf("| %s | %s | %zu | %d / %d | %.1f / %.1f (%.3f) | %.3f / %.3f | %zu / %zu |\n", sc.name.c_str(), name,
+                    l.legs.size(), solved_fresh, solved_kept, len_fresh, len_kept,
+                    len_fresh > 0.0 ? len_kept / len_fresh : 0.0, median(fresh.seconds), median(kept.seconds),
+                    fresh.last_graph_states, kept.last_graph_states);
+        std::fflush(stdout);
+      }
+    }
+    std::printf("\nbudget %.3f s per leg; legs sampled with seed 1\n", time_s);
+  } catch (const uavip::InputError& e) {
+    std::cerr << "uavip_roadmap_bench: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
