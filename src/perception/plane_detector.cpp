@@ -34,25 +34,9 @@ namespace {
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 using Index = pcl::index_t;
 
-/// Normal orientation (see orientation()): columns in front of / behind the surface
-/// from kOrientNear to kOrientDepth [m], over cells of kOrientCell [m]; a side is
-/// enclosed when that fraction of the surface's cells sees a point on it.
-constexpr double kOrientNear = 0.3;
-constexpr double kOrientDepth = 6.0;
-constexpr double kOrientCell = 0.5;
-constexpr double kEnclosedFraction = 0.9;
-/// The inlier band of a candidate is tightened to this many robust sigmas of the
-/// point-to-plane distances (never wider than the RANSAC threshold, never narrower
-/// than kBandFloor × threshold): points of adjacent faces caught by the 20 cm RANSAC
-/// band stay available to their own surface.
-constexpr double kBandSigmas = 4.0;
-constexpr double kBandFloor = 0.1;
-constexpr int kBandIterations = 3;
-/// Second / largest covariance eigenvalue below which a point set is a line.
+/// Second / largest covariance eigenvalue below which a point set is a line
+/// (numerical, not tuning: PlaneTuning holds those).
 constexpr double kDegenerateRatio = 1e-10;
-/// At most this many points (a seeded random subset of the pool) score RANSAC's
-/// hypotheses; a 2 m² plane at 5 cm spacing (800 of 300 k points) keeps ~160.
-constexpr std::size_t kRansacScoringPoints = 60000;
 
 /// Principal component analysis of cloud[idx] (in double precision).
 struct Pca {
@@ -91,11 +75,12 @@ bool isDegenerate(const Pca& pca) {
 
 
 /// Tightens the RANSAC inliers `candidate` to the points within a robust band
-/// (median ± kBandSigmas · 1.4826 · MAD of the plane distances) around their plane.
+/// (median ± band_sigmas · 1.4826 · MAD of the plane distances, between
+/// band_floor × threshold and threshold) around their plane.
 std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& candidate,
-                              double threshold) {
+                              double threshold, const PlaneTuning& tuning) {
   std::vector<Index> current = candidate;
-  for (int iter = 0; iter < kBandIterations && current.size() >= 3; ++iter) {
+  for (int iter = 0; iter < tuning.band_iterations && current.size() >= 3; ++iter) {
     const Pca pca = computePca(cloud, current);
     std::vector<double> dist(candidate.size());
     for (std::size_t j = 0; j < candidate.size(); ++j) {
@@ -105,7 +90,7 @@ std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& 
     std::vector<double> dev(dist.size());
     for (std::size_t j = 0; j < dist.size(); ++j) dev[j] = std::abs(dist[j] - med);
     const double sigma = 1.4826 * upperMedian(dev);
-    const double band = std::clamp(kBandSigmas * sigma, kBandFloor * threshold, threshold);
+    const double band = std::clamp(tuning.band_sigmas * sigma, tuning.band_floor * threshold, threshold);
     std::vector<Index> next;
     next.reserve(candidate.size());
     for (std::size_t j = 0; j < candidate.size(); ++j) {
@@ -217,15 +202,13 @@ std::vector<std::uint64_t> ownKeys(const PointList& cloud, const std::vector<Ind
 /// leave the cloud's bounds (through its top or sides: below the lowest point is
 /// ground) without crossing a voxel occupied by another part of the cloud — the
 /// outside of a building, the sky above a roof; 0 when the two sides
-/// differ by less than kOpenMargin (a lone wall, the ground with nothing below).
-/// Rays start at up to kOpenSamples inliers, along ±n and 30° off it toward ±u, ±v.
+/// differ by less than open_margin (a lone wall, the ground with nothing below).
+/// Rays start at up to open_samples inliers, along ±n and 30° off it toward ±u, ±v.
 double opennessSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& n, const Vec3& u,
-                    const Vec3& v, const OccupiedVoxels& occupied) {
-  constexpr std::size_t kOpenSamples = 32;
-  constexpr double kOpenMargin = 0.2;
+                    const Vec3& v, const OccupiedVoxels& occupied, const PlaneTuning& tuning) {
   const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
   const double step = 0.5 * occupied.edge();
-  const std::size_t samples = std::min(kOpenSamples, kept.size());
+  const std::size_t samples = std::min(static_cast<std::size_t>(tuning.open_samples), kept.size());
   const double c = 0.8660254037844386, s = 0.5;  // cos, sin of 30°
   int open[2] = {0, 0};
   int cast = 0;
@@ -255,7 +238,7 @@ double opennessSide(const PointList& cloud, const std::vector<Index>& kept, cons
   if (cast == 0) return 0.0;
   const double f = static_cast<double>(open[0]) / cast;
   const double b = static_cast<double>(open[1]) / cast;
-  if (std::abs(f - b) < kOpenMargin) return 0.0;
+  if (std::abs(f - b) < tuning.open_margin) return 0.0;
   return f > b ? 1.0 : -1.0;
 }
 
@@ -264,17 +247,15 @@ double opennessSide(const PointList& cloud, const std::vector<Index>& kept, cons
 /// reach the surface without crossing a voxel occupied by another part of the
 /// cloud, 0 if neither side does. Voxels
 /// holding the surface's own inliers do not block (a grazing ray runs along them),
-/// and a ray ends kSightStop before its target. From behind a closed object a ray
-/// crosses the object's other faces and is blocked.
+/// and a ray ends sight_stop_m before its target; rays longer than sight_range_m
+/// are not cast. From behind a closed object a ray crosses the object's other faces
+/// and is blocked.
 double sightSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid, const Vec3& n,
-                 const std::vector<Vec3>& viewpoints, const OccupiedVoxels& occupied) {
-  constexpr double kSightStop = 0.15;
-  constexpr double kMaxRange = 30.0;  // Hokuyo UTM-30LX
-  constexpr std::size_t kRays = 48;
-  constexpr double kSightFraction = 0.5;
+                 const std::vector<Vec3>& viewpoints, const OccupiedVoxels& occupied, const PlaneTuning& tuning) {
+  const double stop = tuning.sight_stop_m;
   const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
   const double step = 0.5 * occupied.edge();
-  const std::size_t rays = std::min(kRays, kept.size());
+  const std::size_t rays = std::min(static_cast<std::size_t>(tuning.sight_rays), kept.size());
   int front = 0, back = 0, front_cast = 0, back_cast = 0;
   for (const auto& vp : viewpoints) {
     const double side = n.dot(vp - centroid);
@@ -283,10 +264,10 @@ double sightSide(const PointList& cloud, const std::vector<Index>& kept, const V
       const Vec3& target = cloud[static_cast<std::size_t>(kept[r * kept.size() / rays])];
       const Vec3 d = target - vp;
       const double length = d.norm();
-      if (length > kMaxRange || length <= kSightStop) continue;
+      if (length > tuning.sight_range_m || length <= stop) continue;
       (side > 0.0 ? front_cast : back_cast) += 1;
       bool clear = true;
-      for (double t = 0.0; t < length - kSightStop && clear; t += step) {
+      for (double t = 0.0; t < length - stop && clear; t += step) {
         const std::uint64_t k = occupied.key(vp + d * (t / length));
         clear = !occupied.occupied(k) || std::binary_search(own.begin(), own.end(), k);
       }
@@ -297,16 +278,16 @@ double sightSide(const PointList& cloud, const std::vector<Index>& kept, const V
   // only the rays to the face's rim (shared with the faces in front) do.
   const double f = front_cast ? static_cast<double>(front) / front_cast : 0.0;
   const double b = back_cast ? static_cast<double>(back) / back_cast : 0.0;
-  if (std::max(f, b) < kSightFraction || f == b) return 0.0;
+  if (std::max(f, b) < tuning.sight_fraction || f == b) return 0.0;
   return f > b ? 1.0 : -1.0;
 }
 
 /// Sign (+1 / -1) that turns `n` toward free space. For a scanned cloud (occupied
 /// given) the side the stations see it from decides (sightSide). Otherwise, or
 /// when no station sees it: the surface's extent (lo..hi in
-/// (u, v)) is cut into kOrientCell cells; a cell that holds inliers is "enclosed" on
-/// a side when the column in front of it on that side, from kOrientNear to
-/// kOrientDepth, holds a cloud point. A side enclosed over ≥ kEnclosedFraction of the
+/// (u, v)) is cut into orient_cell_m cells; a cell that holds inliers is "enclosed"
+/// on a side when the column in front of it on that side, from orient_near_m to
+/// orient_depth_m, holds a cloud point. A side enclosed over ≥ enclosed_fraction of the
 /// cells is the inside of a closed object (a cube face, a pier face, a deck edge):
 /// the normal points to the other side. When neither or both sides are enclosed
 /// (a lone wall, the ground under a bridge, the underside of a deck), the sensor
@@ -321,20 +302,22 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
     if (std::abs(sv) > 1e-9) return sv > 0.0 ? 1.0 : -1.0;
   }
   if (occupied && !options.viewpoint_known) {
-    const double open = opennessSide(cloud, kept, n, u, v, *occupied);
+    const double open = opennessSide(cloud, kept, n, u, v, *occupied, options.tuning);
     if (open != 0.0) return open;
   }
   if (occupied && options.viewpoints_scanned) {
     std::vector<Vec3> viewpoints = options.extra_viewpoints;
     viewpoints.push_back(options.viewpoint);
-    const double sight = sightSide(cloud, kept, centroid, n, viewpoints, *occupied);
+    const double sight = sightSide(cloud, kept, centroid, n, viewpoints, *occupied, options.tuning);
     if (sight != 0.0) return sight;
   }
-  const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kOrientCell)));
-  const int nv = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kOrientCell)));
+  const PlaneTuning& t = options.tuning;
+  const double cell = t.orient_cell_m;
+  const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / cell)));
+  const int nv = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)));
   const auto cellOf = [&](double pu, double pv) {
-    const int i = std::clamp(static_cast<int>((pu - lo.x()) / kOrientCell), 0, nu - 1);
-    const int j = std::clamp(static_cast<int>((pv - lo.y()) / kOrientCell), 0, nv - 1);
+    const int i = std::clamp(static_cast<int>((pu - lo.x()) / cell), 0, nu - 1);
+    const int j = std::clamp(static_cast<int>((pv - lo.y()) / cell), 0, nv - 1);
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(nu) + static_cast<std::size_t>(i);
   };
   const std::size_t cells = static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv);
@@ -347,7 +330,7 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
   for (const auto& p : cloud) {
     const Vec3 d = p - centroid;
     const double s = n.dot(d);
-    if (std::abs(s) <= kOrientNear || std::abs(s) > kOrientDepth) continue;
+    if (std::abs(s) <= t.orient_near_m || std::abs(s) > t.orient_depth_m) continue;
     const double pu = u.dot(d);
     const double pv = v.dot(d);
     if (pu < lo.x() || pu > hi.x() || pv < lo.y() || pv > hi.y()) continue;
@@ -360,7 +343,7 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
     front += (c & 2) != 0;
     back += (c & 4) != 0;
   }
-  const double limit = kEnclosedFraction * static_cast<double>(surface_cells);
+  const double limit = t.enclosed_fraction * static_cast<double>(surface_cells);
   const bool front_enclosed = static_cast<double>(front) >= limit;
   const bool back_enclosed = static_cast<double>(back) >= limit;
   if (front_enclosed != back_enclosed) return front_enclosed ? -1.0 : 1.0;
@@ -457,26 +440,27 @@ void configureSegmenter(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PclCloud
   seg.setInputCloud(cloud);
 }
 
-/// The line-of-sight grid: for scanned clouds (10 cm voxels), and for clouds with no
-/// known sensor position (openness, open_voxel_m); none when the viewpoint is known.
+/// The line-of-sight grid: for scanned clouds (tuning.sight_voxel_m), and for clouds
+/// with no known sensor position (openness, open_voxel_m); none when the viewpoint is
+/// known.
 std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud, const PlaneDetectionOptions& options) {
-  if (options.viewpoints_scanned) return std::make_unique<OccupiedVoxels>(cloud, 0.1);
+  if (options.viewpoints_scanned) return std::make_unique<OccupiedVoxels>(cloud, options.tuning.sight_voxel_m);
   if (!options.viewpoint_known) return std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
   return nullptr;
 }
 
 /// One RANSAC candidate (paper §II-D): the plane of pcl::SACSegmentation scored on
-/// a random subset of the pool (kRansacScoringPoints; the inlier fraction of every
+/// a random subset of the pool (at most `scoring_points`; the inlier fraction of every
 /// plane is the same in expectation), refined by least squares, then every pool
 /// point within the threshold of it (world frame). Empty when RANSAC finds nothing.
 /// PCL reseeds its sampler with a constant on every segment() call; shuffling the
 /// pool with our seeded generator makes `seed` select the samples.
 std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PointList& cloud,
                                    const std::vector<Index>& pool, const Vec3& origin, double threshold_m,
-                                   std::mt19937& rng) {
+                                   std::size_t scoring_points, std::mt19937& rng) {
   auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
   std::shuffle(shuffled->begin(), shuffled->end(), rng);
-  if (shuffled->size() > kRansacScoringPoints) shuffled->resize(kRansacScoringPoints);
+  if (shuffled->size() > scoring_points) shuffled->resize(scoring_points);
   seg.setIndices(shuffled);
   pcl::PointIndices ransac_inliers;
   pcl::ModelCoefficients coefficients;
@@ -503,6 +487,31 @@ std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, con
 
 }  // namespace
 
+void PlaneTuning::validate(const std::string& where) const {
+  const auto fraction = [&](double v, const char* name) {
+    requireThat(v >= 0.0 && v <= 1.0, where, name, "in [0, 1]", v);
+  };
+  const auto atLeastOne = [&](double v, const char* name) { requireThat(v >= 1.0, where, name, ">= 1", v); };
+  const auto nonNegative = [&](double v, const char* name) {
+    requireThat(std::isfinite(v) && v >= 0.0, where, name, ">= 0", v);
+  };
+  requirePositive(band_sigmas, where, "band_sigmas");
+  fraction(band_floor, "band_floor");
+  atLeastOne(band_iterations, "band_iterations");
+  requireThat(ransac_scoring_points >= 3, where, "ransac_scoring_points", ">= 3", static_cast<double>(ransac_scoring_points));
+  nonNegative(orient_near_m, "orient_near_m");
+  requirePositive(orient_depth_m, where, "orient_depth_m");
+  requirePositive(orient_cell_m, where, "orient_cell_m");
+  fraction(enclosed_fraction, "enclosed_fraction");
+  requirePositive(sight_voxel_m, where, "sight_voxel_m");
+  requirePositive(sight_range_m, where, "sight_range_m");
+  nonNegative(sight_stop_m, "sight_stop_m");
+  atLeastOne(sight_rays, "sight_rays");
+  fraction(sight_fraction, "sight_fraction");
+  atLeastOne(open_samples, "open_samples");
+  fraction(open_margin, "open_margin");
+}
+
 void PlaneDetectionOptions::validate(const std::string& where) const {
   requirePositive(distance_threshold_m, where, "distance_threshold_m");
   if (max_iterations < 1) {
@@ -527,6 +536,7 @@ void PlaneDetectionOptions::validate(const std::string& where) const {
     throw InputError(where + ": max_failures must be >= 1, got " +
                      std::to_string(max_failures));
   }
+  tuning.validate(where + ".tuning");
   if (!viewpoint.allFinite()) {
     std::ostringstream os;
     os << where << ": viewpoint must be finite, got (" << viewpoint.x() << ", " << viewpoint.y()
@@ -567,11 +577,11 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
 
     const std::vector<Index> candidate =
-        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m, rng);
+        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m, options.tuning.ransac_scoring_points, rng);
     if (candidate.empty()) break;
     ++result.stats.candidates;
 
-    const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m);
+    const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m, options.tuning);
     const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
 
     bool accepted = false;

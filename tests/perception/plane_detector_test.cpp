@@ -222,6 +222,19 @@ TEST(PlaneDetector, ScannedCloudFacesTheStationsThatSawIt) {
     ++old_checked;
   }
   EXPECT_EQ(old_checked, 2);
+  // No ray longer than tuning.sight_range_m is cast: at 1 m, shorter than every ray
+  // from the station here, the line of sight decides nothing and the enclosure rule
+  // turns both large planes inward again.
+  o.viewpoints_scanned = true;
+  o.tuning.sight_range_m = 1.0;
+  int short_checked = 0;
+  for (const auto& s : detectPlanes(cloud, o).surfaces) {
+    if (s.area_m2 < 30.0) continue;
+    const double up = std::abs(s.centroid.z()) < 0.1 ? -1.0 : 1.0;
+    EXPECT_LT(angleDeg(s.plane.normal, up * Vec3::UnitZ()), 1.0) << s.centroid.z();
+    ++short_checked;
+  }
+  EXPECT_EQ(short_checked, 2);
 }
 
 TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {
@@ -448,6 +461,15 @@ TEST(PlaneDetector, ValidatesOptions) {
   o = {};
   o.cell_size_m = std::nan("");
   expectField(o, "cell_size_m");
+  o = {};
+  o.tuning.band_floor = 1.5;
+  expectField(o, "tuning: band_floor");
+  o = {};
+  o.tuning.sight_rays = 0;
+  expectField(o, "tuning: sight_rays");
+  o = {};
+  o.tuning.sight_range_m = -30.0;
+  expectField(o, "tuning: sight_range_m");
   o = {};
   o.max_failures = 0;
   expectField(o, "max_failures");

@@ -14,6 +14,46 @@
 
 namespace uavip::perception {
 
+/// uavip's own tuning of stage 4, beyond the paper's parameters (the paper gives
+/// none of these; the defaults were measured on the paper's cases, the bridge and
+/// the real clouds of README). Not read from YAML: change them in code, with a
+/// measurement.
+struct PlaneTuning {
+  /// Inlier band: a candidate's RANSAC inliers are tightened to median ± this many
+  /// robust sigmas (1.4826 · MAD) of their plane distances, so points of an adjacent
+  /// face caught by the 20 cm RANSAC band stay for their own surface.
+  double band_sigmas{4.0};
+  double band_floor{0.1};        ///< the band is never narrower than this fraction of distance_threshold_m
+  int band_iterations{3};        ///< refits of the plane and its band
+  /// At most this many points (a seeded random subset of the pool) score RANSAC's
+  /// hypotheses; a 2 m² plane at 5 cm spacing (800 of 300 k points) keeps ~160.
+  std::size_t ransac_scoring_points{60000};
+  /// Orientation by enclosure: columns from orient_near_m to orient_depth_m in front
+  /// of / behind the surface, over cells of orient_cell_m; a side is enclosed (the
+  /// inside of a closed object) when enclosed_fraction of the cells sees a point in
+  /// its column [m].
+  double orient_near_m{0.3};
+  double orient_depth_m{6.0};
+  double orient_cell_m{0.5};
+  double enclosed_fraction{0.9};
+  /// Line of sight from the scanning stations (viewpoints_scanned): occupancy voxel
+  /// the rays cross [m], longest ray (the Hokuyo UTM-30LX's range) [m], a ray's end
+  /// short of its target [m], rays per surface, and the share of a side's rays that
+  /// must get through.
+  double sight_voxel_m{0.1};
+  double sight_range_m{30.0};
+  double sight_stop_m{0.15};
+  int sight_rays{48};
+  double sight_fraction{0.5};
+  /// Openness (no sensor position): rays from this many inliers per side, and the
+  /// least difference between the sides' open shares that decides.
+  int open_samples{32};
+  double open_margin{0.2};
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where) const;
+};
+
 /// Options of stage 4.
 struct PlaneDetectionOptions {
   double distance_threshold_m{0.2};  ///< RANSAC inlier distance (paper: 20 cm) [m]
@@ -46,6 +86,7 @@ struct PlaneDetectionOptions {
   /// Voxel edge of the openness rays: large enough that a sparse wall blocks them [m].
   double open_voxel_m{0.1};
   std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
+  PlaneTuning tuning;                ///< uavip's own tuning (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "perception") const;
