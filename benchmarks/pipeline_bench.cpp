@@ -5,13 +5,13 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/memory.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
 
 #include "bench_util.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -27,7 +27,6 @@ using uavip::bench_util::peakRssMiB;
 int main(int argc, char** argv) {
   uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages 1-2
   uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
-  using Clock = std::chrono::steady_clock;
   const std::string path = argc > 1 ? argv[1] : "scenarios/single_cube.yaml";
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
   try {
@@ -35,12 +34,12 @@ int main(int argc, char** argv) {
     std::vector<double> sense, pre, perc, cov, grid, planning, total;
     std::size_t raw = 0, clean = 0, surfaces = 0, stops = 0, waypoints = 0, raw_waypoints = 0, voxels = 0;
     for (int i = 0; i < runs; ++i) {
-      const auto t0 = Clock::now();
+      const auto t0 = uavip::SteadyClock::now();
       const uavip::PointList cloud = uavip::app::sense(sc);
-      const double t_sense = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double t_sense = uavip::secondsSince(t0);
       const auto d = uavip::app::detect(cloud, sc.config, uavip::app::measure(cloud, &sc));
       const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
-      total.push_back(std::chrono::duration<double>(Clock::now() - t0).count() - t_sense);
+      total.push_back(uavip::secondsSince(t0) - t_sense);
       sense.push_back(t_sense);
       pre.push_back(d.times.preprocess_s);
       perc.push_back(d.times.perception_s);

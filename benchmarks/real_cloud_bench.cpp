@@ -15,9 +15,9 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/memory.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -26,9 +26,7 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// nx × ny copies of the cloud, side by side along x and y (gap 1 m).
 uavip::PointList tiled(const uavip::PointList& cloud, int nx, int ny) {
@@ -79,17 +77,17 @@ int main(int argc, char** argv) {
       uavip::app::DetectResult d;
       uavip::app::PlanResult p;
       for (int r = 0; r < runs; ++r) {
-        const auto t0 = Clock::now();
+        const auto t0 = uavip::SteadyClock::now();
         d = uavip::app::detect(cloud, config, uavip::app::measure(cloud));
-        detect_s.push_back(since(t0));
+        detect_s.push_back(uavip::secondsSince(t0));
         int largest = -1;
         double area = -1.0;
         for (const auto& s : d.scene.surfaces) {
           if (s.area_m2 > area) area = s.area_m2, largest = s.id;
         }
-        const auto t1 = Clock::now();
+        const auto t1 = uavip::SteadyClock::now();
         if (largest >= 0) p = uavip::app::plan(d.scene, d.resolved.config, {largest});
-        plan_s.push_back(since(t1));
+        plan_s.push_back(uavip::secondsSince(t1));
       }
       const auto& c = *d.scene.measured;
       const auto& pc = d.resolved.config;

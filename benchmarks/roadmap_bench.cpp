@@ -14,6 +14,7 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/memory.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
@@ -23,7 +24,6 @@
 
 #include "bench_util.h"
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -72,9 +72,9 @@ Legs prepare(const uavip::io::Scenario& sc, int max_legs) {
 ModeRun runFresh(const std::string& name, const Legs& l, const uavip::planners::PlannerSettings& settings) {
   ModeRun m;
   for (const auto& [a, b] : l.legs) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = uavip::SteadyClock::now();
     const auto r = uavip::planners::runPlannerOnce(name, l.grid, a, b, settings);
-    m.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    m.seconds.push_back(uavip::secondsSince(t0));
     m.solved.push_back(r.solved);
     m.length_m.push_back(r.length_m);
     m.last_graph_states = r.graph_states;

@@ -3,7 +3,6 @@
 #include "uavip/core/error.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -239,44 +238,35 @@ AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) { options_.
 std::string AStarPlanner::name() const { return options_.cost == AStarCost::Paper ? "astar" : "astar-euclid"; }
 
 planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
-  const auto t0 = std::chrono::steady_clock::now();
-  planning::PathResult out;
-  auto finish = [&]() {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return out;
-  };
-  out.status = planning::checkEndpoints(grid, start, goal);
-  if (out.status != planning::PathStatus::Solved) return finish();
-  const world::Index3 s = grid.indexOf(start);
-  const world::Index3 g = grid.indexOf(goal);
-  if (s == g) {
-    out.status = planning::PathStatus::Solved;
-    out.path = {start, goal};
-    return finish();
-  }
-  const GridSearchResult r = astarSearch(grid, s, g, options_);
-  out.expansions = r.expansions;
-  if (!r.found) {
-    out.status = r.exhausted_budget ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
-    return finish();
-  }
-  out.status = planning::PathStatus::Solved;
-  out.cost = r.cost;
-  // Exact start, centres of the intermediate cells, exact goal. A step between
-  // adjacent free centres keeps the clearance (voxel_grid.h); the exact ends are
-  // joined directly only when the segment crosses free voxels only, otherwise
-  // through their own voxel's centre.
-  const std::size_t n = r.cells.size();
-  const Vec3 first_centre = grid.centreOf(r.cells.front());
-  const Vec3 last_centre = grid.centreOf(r.cells.back());
-  out.path.reserve(n + 2);
-  out.path.push_back(start);
-  const Vec3 after_start = n > 2 ? grid.centreOf(r.cells[1]) : goal;
-  if (start != first_centre && !grid.segmentFree(start, after_start)) out.path.push_back(first_centre);
-  for (std::size_t i = 1; i + 1 < n; ++i) out.path.push_back(grid.centreOf(r.cells[i]));
-  if (goal != last_centre && !grid.segmentFree(out.path.back(), goal)) out.path.push_back(last_centre);
-  out.path.push_back(goal);
-  return finish();
+  return planning::timedPlan(grid, start, goal, [&](planning::PathResult& out) {
+    const world::Index3 s = grid.indexOf(start);
+    const world::Index3 g = grid.indexOf(goal);
+    if (s == g) {
+      out.path = {start, goal};
+      return;
+    }
+    const GridSearchResult r = astarSearch(grid, s, g, options_);
+    out.expansions = r.expansions;
+    if (!r.found) {
+      out.status = r.exhausted_budget ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
+      return;
+    }
+    out.cost = r.cost;
+    // Exact start, centres of the intermediate cells, exact goal. A step between
+    // adjacent free centres keeps the clearance (voxel_grid.h); the exact ends are
+    // joined directly only when the segment crosses free voxels only, otherwise
+    // through their own voxel's centre.
+    const std::size_t n = r.cells.size();
+    const Vec3 first_centre = grid.centreOf(r.cells.front());
+    const Vec3 last_centre = grid.centreOf(r.cells.back());
+    out.path.reserve(n + 2);
+    out.path.push_back(start);
+    const Vec3 after_start = n > 2 ? grid.centreOf(r.cells[1]) : goal;
+    if (start != first_centre && !grid.segmentFree(start, after_start)) out.path.push_back(first_centre);
+    for (std::size_t i = 1; i + 1 < n; ++i) out.path.push_back(grid.centreOf(r.cells[i]));
+    if (goal != last_centre && !grid.segmentFree(out.path.back(), goal)) out.path.push_back(last_centre);
+    out.path.push_back(goal);
+  });
 }
 
 }  // namespace uavip::planners

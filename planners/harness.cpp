@@ -4,6 +4,7 @@
 #include "planners/ompl_planners.h"
 #include "planners/planner_table.h"
 #include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
 
 #include <ompl/base/PlannerData.h>
 #include <ompl/base/PlannerStatus.h>
@@ -15,7 +16,6 @@
 #include <ompl/geometric/planners/prm/PRM.h>
 #include <ompl/util/Exception.h>
 
-#include <chrono>
 #include <exception>
 #include <utility>
 
@@ -29,7 +29,6 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-using Clock = std::chrono::steady_clock;
 
 void setState(ob::ScopedState<>& s, const Vec3& p) {
   for (unsigned int i = 0; i < 3; ++i) s[i] = p[static_cast<int>(i)];
@@ -117,14 +116,14 @@ HarnessRun solveQuery(const ob::PlannerPtr& planner, const ob::SpaceInformationP
   planner->setProblemDefinition(pdef);
 
   ob::PlannerStatus status = ob::PlannerStatus::UNKNOWN;
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   try {
     planner->setup();
     status = planner->solve(settings.time_limit_s);
   } catch (const std::exception&) {
     status = ob::PlannerStatus::CRASH;
   }
-  run.time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  run.time_s = secondsSince(t0);
   run.status = static_cast<ob::PlannerStatus::StatusType>(status);
 
   countGraph(*planner, si, planner_data, run);

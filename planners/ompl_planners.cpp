@@ -5,6 +5,7 @@
 #include "planners/planner_table.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
 
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
@@ -12,7 +13,6 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <mutex>
 
@@ -131,7 +131,7 @@ ob::PlannerPtr makeOmplPlanner(const std::string& name, const ob::SpaceInformati
 }
 
 double simplifyOmplPath(og::PathGeometric& path, const ob::SpaceInformationPtr& si) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   og::PathSimplifier simplifier(si);
   double length = path.length();
   for (int round = 0; round < 5; ++round) {
@@ -141,7 +141,7 @@ double simplifyOmplPath(og::PathGeometric& path, const ob::SpaceInformationPtr& 
     if (!(now < length - 1e-9)) break;
     length = now;
   }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return secondsSince(t0);
 }
 
 OmplPlanner::OmplPlanner(std::string name, PlannerSettings settings)
@@ -161,31 +161,23 @@ bool OmplPlanner::bindTo(const world::VoxelGrid& grid) {
 }
 
 planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
-  const auto t0 = std::chrono::steady_clock::now();
-  planning::PathResult out;
-  auto finish = [&]() {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return out;
-  };
-  out.status = planning::checkEndpoints(grid, start, goal);
-  if (out.status != planning::PathStatus::Solved) return finish();
-  if (grid.segmentFree(start, goal)) {
-    out.status = planning::PathStatus::Solved;
-    out.path = {start, goal};
-    out.cost = (goal - start).norm();
-    return finish();
-  }
-  // Only a planner that has solved is cleared: OMPL 1.5.2's AITstar::clear() crashes
-  // before its first setup().
-  if (!bindTo(grid)) planner_->clearQuery();
-  const HarnessRun run = solveQuery(planner_, si_, start, goal, settings_, false);
-  out.status = run.path_status;
-  out.graph_states = run.graph_states;
-  if (run.solved) {
-    out.path = run.path;
-    out.cost = run.length_m;
-  }
-  return finish();
+  return planning::timedPlan(grid, start, goal, [&](planning::PathResult& out) {
+    if (grid.segmentFree(start, goal)) {
+      out.path = {start, goal};
+      out.cost = (goal - start).norm();
+      return;
+    }
+    // Only a planner that has solved is cleared: OMPL 1.5.2's AITstar::clear() crashes
+    // before its first setup().
+    if (!bindTo(grid)) planner_->clearQuery();
+    const HarnessRun run = solveQuery(planner_, si_, start, goal, settings_, false);
+    out.status = run.path_status;
+    out.graph_states = run.graph_states;
+    if (run.solved) {
+      out.path = run.path;
+      out.cost = run.length_m;
+    }
+  });
 }
 
 }  // namespace uavip::planners

@@ -7,13 +7,11 @@
 #include "uavip/sim/scanner_sim.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace uavip::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 /// The merged cloud is scored on at most this many points (an even subsample).
 constexpr std::size_t kMaxScored = 200000;
 
@@ -29,7 +27,7 @@ std::vector<scan::StationCloud> assembleAll(const RawLog& log, const scan::Assem
   std::vector<scan::StationCloud> clouds(n);
   seconds.assign(n, 0.0);
   parallelFor(n, threads, [&](std::size_t i, std::size_t) {
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     clouds[i] = scan::assembleStation(log, i, options);
     seconds[i] = secondsSince(t0);
   });
@@ -51,14 +49,14 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   options.registration.validate("registration");
   if (log.stations.empty()) throw InputError("assemble: the raw log has no station");
   AssembleResult result;
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
 
   report(progress, "stage 1: assembling " + std::to_string(log.stations.size()) + " stations (eq. (1), IMU, ICP)");
   std::vector<double> seconds;
   const std::vector<scan::StationCloud> clouds = assembleAll(log, options.scan, options.threads, seconds);
   result.assembly_s = secondsSince(t0);
 
-  const auto t1 = Clock::now();
+  const auto t1 = SteadyClock::now();
   report(progress, "stage 2: registering the stations");
   std::vector<registration::StationInput> inputs;
   for (std::size_t i = 0; i < clouds.size(); ++i) {

@@ -10,7 +10,6 @@
 #include "planners/harness.h"
 
 #include <algorithm>
-#include <chrono>
 #include <ctime>
 #include <iomanip>
 #include <limits>
@@ -22,7 +21,6 @@
 namespace uavip::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 void report(const Progress& progress, const std::string& message) {
@@ -178,7 +176,7 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
   result.options = options;
   result.planners = options.planners.empty() ? planners::plannerNames() : options.planners;
   result.start_time = localTime();
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
 
   std::vector<std::vector<BenchRun>> runs_by_scenario;
   double worst_case_s = 0.0;  // if every run took its whole time limit
@@ -200,7 +198,7 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
     settings.simplify = options.simplify;
     settings.seed = options.seed;
     std::vector<BenchRun> runs;
-    const auto tp = Clock::now();
+    const auto tp = SteadyClock::now();
     for (const auto& leg : prepared.legs) {
       for (const auto& name : result.planners) {
         report(progress, "bench: " + sc.name + ": leg " + std::to_string(leg.id) + ", " + name + " x" +

@@ -16,7 +16,6 @@
 #include "planners/registry.h"
 
 #include <algorithm>
-#include <chrono>
 #include <iomanip>
 #include <sstream>
 #include <memory>
@@ -25,7 +24,6 @@
 namespace uavip::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
@@ -101,12 +99,12 @@ DetectResult detect(const PointList& raw, const io::Config& config, const prepro
   DetectResult result;
   result.resolved = resolveConfig(config, cloud);
   const io::Config& resolved = result.resolved.config;
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
   PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
   result.times.preprocess_s = secondsSince(t0);
 
-  const auto t1 = Clock::now();
+  const auto t1 = SteadyClock::now();
   report(progress, "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
   result.scene = perception::buildScene(clean, resolved.perception);
   result.scene.measured = cloud;
@@ -224,7 +222,7 @@ std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::F
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {
   PlanResult result;
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
 
   // Stage 6 first: the grid must also cover every stop.
   std::vector<coverage::FlightStrategy> strategies;
@@ -238,7 +236,7 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   result.times.coverage_s = secondsSince(t0);
   if (surface_ids.empty()) return result;
 
-  const auto t1 = Clock::now();
+  const auto t1 = SteadyClock::now();
   report(progress, "stage 7: inflated voxel grid");
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
   const world::VoxelGrid grid = planningGrid(scene, *world, config, stop_positions);
@@ -248,7 +246,7 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   result.grid_blocked = grid.blockedCount();
   result.times.grid_s = secondsSince(t1);
 
-  const auto t2 = Clock::now();
+  const auto t2 = SteadyClock::now();
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   result.missions = planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
   report(progress, "coverage: what the flown photos image");
@@ -260,7 +258,7 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   }
   result.times.planning_s = secondsSince(t2);
 
-  const auto t3 = Clock::now();
+  const auto t3 = SteadyClock::now();
   report(progress, "flight: order, connecting legs, sorties");
   planning::FlightOptions flight_options = config.flight;
   flight_options.start = config.mission.start;

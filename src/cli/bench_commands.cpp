@@ -1,5 +1,5 @@
 // uavip bench: the paper's A* and OMPL planners on the legs of benchmark scenarios
-// (issue 4; include/uavip/app/bench.h).
+// (include/uavip/app/bench.h).
 
 #include "src/cli/commands.h"
 

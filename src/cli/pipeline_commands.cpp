@@ -5,6 +5,7 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
@@ -14,7 +15,6 @@
 #include "planners/registry.h"
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <future>
 #include <iomanip>
@@ -208,7 +208,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
 
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   if (progress) progress("sensing " + scenario.name + " (" + scenario.sensing_mode + ")");
   const PointList raw = app::sense(scenario);
   app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
@@ -224,7 +224,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
   stageViews(outputs, out, rendered);
   outputs.commit();
-  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double total = secondsSince(t0);
 
   if (!v.quiet) {
     std::cout << "scenario " << scenario.name << " (" << path << ")\n";

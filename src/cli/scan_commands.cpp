@@ -8,6 +8,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/text.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/raw_log_io.h"
@@ -16,7 +17,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -33,14 +33,14 @@ int simulateCommand(const std::string& scenario_path, const std::string& out, co
                      scenario.sensing_mode + "' (mode sample makes a cloud: use `uavip run`)");
   }
   const app::Progress progress = progressPrinter(v);
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   const sim::SimulatedLog sim = sim::simulateScans(scenario.world, scenario.scan, progress);
-  const double sim_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double sim_s = secondsSince(t0);
   if (progress) progress("writing " + out);
-  const auto t1 = std::chrono::steady_clock::now();
+  const auto t1 = SteadyClock::now();
   io::writeRawLog(out, sim.log);
   io::writeRawLogTruth(out, sim.truth, scenario.world, sim.origin_m, scenario_path);
-  const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  const double write_s = secondsSince(t1);
   if (!v.quiet) {
     const auto& o = scenario.scan;
     std::cout << "scenario " << scenario.name << " (" << scenario_path << ")\n";

@@ -220,22 +220,33 @@ FootprintCamera::FootprintCamera(const FootprintCameraOptions& options) : option
   }
 }
 
+namespace {
+
+/// A central camera's projection of `point` from `frame`: the range, the GSD at
+/// focal length `focal_px` (range·1000 / focal_px), and, for a point in front,
+/// in_image = inside(x, y, z) with x = right·d, y = up·d, z = forward·d (d = point −
+/// camera centre) [m].
+template <typename Inside>
+Projection centralProjection(const ViewFrame& frame, const Vec3& point, double focal_px, Inside inside) {
+  const Vec3 d = point - frame.pose.position;
+  Projection pr;
+  pr.range_m = d.norm();
+  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px;
+  const double z = frame.forward.dot(d);
+  if (z > 0.0) pr.in_image = inside(frame.right.dot(d), frame.up.dot(d), z);
+  return pr;
+}
+
+}  // namespace
+
 Projection FootprintCamera::project(const ViewPose& pose, const Vec3& point) const {
   return projectInFrame(makeViewFrame(pose), point);
 }
 
 Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
-  const Vec3 d = point - frame.pose.position;
-  Projection pr;
-  pr.range_m = d.norm();
-  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px_;
-  const double z = frame.forward.dot(d);
-  if (z > 0.0) {
-    const double x = frame.right.dot(d);
-    const double y = frame.up.dot(d);
-    pr.in_image = std::abs(x) <= tan_half_w_ * z && std::abs(y) <= tan_half_h_ * z;
-  }
-  return pr;
+  return centralProjection(frame, point, focal_px_, [this](double x, double y, double z) {
+    return std::abs(x) <= tan_half_w_ * z && std::abs(y) <= tan_half_h_ * z;
+  });
 }
 
 double FootprintCamera::maxRange(double max_gsd_mm_per_px) const {
@@ -268,17 +279,11 @@ Projection PinholeCamera::project(const ViewPose& pose, const Vec3& point) const
 }
 
 Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
-  const Vec3 d = point - frame.pose.position;
-  Projection pr;
-  pr.range_m = d.norm();
-  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px_;
-  const double z = frame.forward.dot(d);
-  if (z > 0.0) {
-    const double u = k_.cx_px + k_.fx_px * frame.right.dot(d) / z;
-    const double v = k_.cy_px - k_.fy_px * frame.up.dot(d) / z;  // image y points down
-    pr.in_image = u >= 0.0 && u <= k_.width_px && v >= 0.0 && v <= k_.height_px;
-  }
-  return pr;
+  return centralProjection(frame, point, focal_px_, [this](double x, double y, double z) {
+    const double u = k_.cx_px + k_.fx_px * x / z;
+    const double v = k_.cy_px - k_.fy_px * y / z;  // image y points down
+    return u >= 0.0 && u <= k_.width_px && v >= 0.0 && v <= k_.height_px;
+  });
 }
 
 double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {

@@ -2,8 +2,6 @@
 
 #include "uavip/core/stopwatch.h"
 
-#include <chrono>
-
 namespace uavip::perception {
 void PerceptionOptions::validate(const std::string& where) const {
   planes.validate(where + ".planes");
@@ -15,11 +13,11 @@ Scene buildScene(const PointList& clean, const PerceptionOptions& options,
   options.validate();
   Scene scene;
 
-  auto start = std::chrono::steady_clock::now();
+  auto start = SteadyClock::now();
   PlaneDetectionResult planes = detectPlanes(clean, options.planes);
   const double planes_seconds = secondsSince(start);
 
-  start = std::chrono::steady_clock::now();
+  start = SteadyClock::now();
   scene.obstacles = clusterObstacles(planes.remaining, options.clusters);
   const double clusters_seconds = secondsSince(start);
 

@@ -3,11 +3,11 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
 #include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -263,12 +263,12 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
 
 SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
                                   const PathValidator& validator, Planner& planner, const MissionOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   SurfaceMission m;
   m.surface_id = strategy.surface_id;
   m.strategy = strategy;
   auto finish = [&]() {
-    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.seconds = secondsSince(t0);
     return m;
   };
   requireFreeStart(grid, validator, options);

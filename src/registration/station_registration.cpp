@@ -26,7 +26,6 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -34,7 +33,6 @@
 namespace uavip::registration {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 
@@ -515,7 +513,7 @@ Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool 
 // Long (85 lines): the parallel preparation, the sequential placement of stations against those already placed, and the merge, on shared per-station arrays.
 RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options) {
   options.validate();
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   RegistrationResult result;
   std::size_t ref = stations.size();
   for (std::size_t i = 0; i < stations.size(); ++i) {
@@ -532,7 +530,7 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
   std::vector<std::vector<Vec3>> station_normals(stations.size());
   std::vector<double> prep_s(stations.size(), 0.0);
   parallelFor(stations.size(), options.threads, [&](std::size_t i, std::size_t) {
-    const auto tp = Clock::now();
+    const auto tp = SteadyClock::now();
     if (stations[i].points.empty()) return;
     downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
     // In the station frame, oriented toward the station (its origin).
@@ -543,7 +541,7 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
   PointList placed;  // down-sampled world points of the stations placed so far
   std::vector<Vec3> placed_normals;  // their normals, oriented toward their station
   for (std::size_t i = 0; i < stations.size(); ++i) {
-    const auto ts = Clock::now();
+    const auto ts = SteadyClock::now();
     const StationInput& in = stations[i];
     StationResult r;
     r.id = in.id;

@@ -21,7 +21,6 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -38,7 +37,6 @@ std::int64_t cellKey(std::int64_t x, std::int64_t y) {
 }
 
 
-using Clock = std::chrono::steady_clock;
 using Vec2 = Eigen::Vector2d;
 /// Correspondences need normals within acos(this) of each other (20°).
 constexpr double kNormalCos = 0.94;
@@ -789,17 +787,17 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
 
   // T: xy from the horizontal odometry, z from the nadir/zenith beams, then (refine_drift)
   // all beams jointly.
-  const auto t_icp = Clock::now();
+  const auto t_icp = SteadyClock::now();
   const Odometry odo = horizontalOdometry(log, st, imu, options, !options.refine_drift, out.stats);
   out.loop_closure_m = odo.loop_closure_m;
   out.loop_closure_information = odo.loop_closure_information;
   TranslationTrack track = odometryTrack(st, odo, {});
   out.stats.icp_s = secondsSince(t_icp);
-  auto t_pts = Clock::now();
+  auto t_pts = SteadyClock::now();
   track = odometryTrack(st, odo, verticalDrift(log, st, imu, track, options));
   out.stats.points_s = secondsSince(t_pts);
   if (options.refine_drift) {
-    const auto t_refine = Clock::now();
+    const auto t_refine = SteadyClock::now();
     const DriftRefinement r = refineTrack(log, st, imu, options, track);
     out.stats.refine_s = secondsSince(t_refine);
     out.stats.drift_segments = r.node_times_s.size() > 1 ? r.node_times_s.size() - 1 : 0;
@@ -818,7 +816,7 @@ StationCloud assembleStation(const RawLog& log, std::size_t index, const Assembl
     pose.translation() = track.at(tm);
     out.poses.push_back(pose);
   }
-  t_pts = Clock::now();
+  t_pts = SteadyClock::now();
   placePoints(log, st, imu, track, options.include_horizontal, out);
   out.stats.points_s += secondsSince(t_pts);
   return out;

@@ -1,4 +1,4 @@
-// uavip bench (issue 4): runs, summaries against counts made here, the OMPL log
+// uavip bench: runs, summaries against counts made here, the OMPL log
 // loaded by ompl_benchmark_statistics into SQLite, leg sampling, the CLI.
 
 #include "uavip/app/bench.h"

@@ -1,4 +1,4 @@
-// The bad-input table (issue 11): hostile and broken inputs to every command, each
+// The bad-input table: hostile and broken inputs to every command, each
 // must give exit 2 (3 where a mission is refused), exactly one line starting
 // "uavip: error:" (or "uavip: " for exit 3) that names the file, key or value, and
 // must leave the previous results in the output folder byte for byte.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// `uavip bench` (issue 4): the paper's grid A* (§II-G) and OMPL planners side by side
+/// `uavip bench`: the paper's grid A* (§II-G) and OMPL planners side by side
 /// on the legs of benchmark scenarios, all through the ompl::base::Planner interface
 /// (planners/harness.h). For each scenario: sense, stages 3–5, stage 6 for every
 /// surface, the inflated grid over the cloud, the stops and the legs; then every leg

@@ -81,7 +81,8 @@ struct PlannerSummary {
   std::size_t invalid{0};            ///< solved runs the validator rejected
 };
 
-/// The target of issue 4 on one scenario: our best configuration (astar or
+/// The planner target on one scenario: the grid A* must plan legs as short as the
+/// best OMPL planner in a tenth of its time. Our best configuration (astar or
 /// astar-euclid) against the best OMPL planner, each chosen by success, then by the
 /// shortest median length; "as short" compares the two medians (1 mm tolerance).
 struct TargetCheck {

@@ -3,6 +3,7 @@
 /// The point-to-point planner interface of stage 7. Implementations live in
 /// planners/ (the paper's A* first; OMPL planners behind the same interface).
 
+#include "uavip/core/stopwatch.h"
 #include "uavip/core/types.h"
 #include "uavip/world/free_space.h"
 #include "uavip/world/voxel_grid.h"
@@ -35,6 +36,19 @@ inline PathStatus checkEndpoints(const world::FreeSpace& space, const Vec3& star
   if (!start.allFinite() || !space.isFree(start)) return PathStatus::InvalidStart;
   if (!goal.allFinite() || !space.isFree(goal)) return PathStatus::InvalidGoal;
   return PathStatus::Solved;
+}
+
+/// The frame of every planner's plan(): checks the ends (checkEndpoints), lets
+/// `search(result)` fill the result when they are usable (its status is Solved on
+/// entry), and times the whole call into result.seconds.
+template <typename Search>
+PathResult timedPlan(const world::FreeSpace& space, const Vec3& start, const Vec3& goal, Search&& search) {
+  const auto t0 = SteadyClock::now();
+  PathResult out;
+  out.status = checkEndpoints(space, start, goal);
+  if (out.status == PathStatus::Solved) search(out);
+  out.seconds = secondsSince(t0);
+  return out;
 }
 
 /// Plans collision-free paths on a VoxelGrid. The grid A* searches the grid's
