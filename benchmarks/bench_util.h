@@ -1,6 +1,9 @@
 #pragma once
 // Small helpers shared by the benchmark programs (header-only; not part of the library).
 
+#include "uavip/core/memory.h"
+#include "uavip/io/cloud_io.h"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -8,6 +11,14 @@
 #include <vector>
 
 namespace uavip::bench_util {
+
+/// What every benchmark does first: keep freed memory for reuse (core/memory.h:
+/// page faults, not work, were 0.3 s of stages 1-2) and silence PCL's console (its
+/// warnings, e.g. a failing ICP variant, would bury the tables).
+inline void prepareProcess() {
+  keepFreedMemoryForReuse();
+  io::setPclConsole(false);
+}
 
 /// Median of the values (the mean of the middle two for an even count; 0 if empty).
 inline double median(std::vector<double> v) {

@@ -9,7 +9,6 @@
 #include "uavip/app/assemble.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
-#include "uavip/core/memory.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
@@ -28,16 +27,13 @@
 
 namespace {
 
-
 using uavip::bench_util::median;
 using uavip::bench_util::peakRssMiB;
-
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages 1-2
-  uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
+  uavip::bench_util::prepareProcess();
   const std::string path = argc > 1 ? argv[1] : "scenarios/bridge.yaml";
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
   try {

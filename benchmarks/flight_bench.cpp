@@ -10,7 +10,6 @@
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
-#include "uavip/core/memory.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
 
@@ -32,8 +31,7 @@ double percentAbove(double value, double bound) { return bound > 0.0 ? 100.0 * (
 }  // namespace
 
 int main(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages 1-2
-  uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
+  uavip::bench_util::prepareProcess();
   std::vector<std::string> paths;
   int runs = 3;
   for (int i = 1; i < argc; ++i) {

@@ -14,7 +14,6 @@
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/geometry.h"
-#include "uavip/core/memory.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
 
@@ -47,8 +46,7 @@ uavip::PointList tiled(const uavip::PointList& cloud, int nx, int ny) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages 1-2
-  uavip::io::setPclConsole(false);  // PCL's own warnings (e.g. a failing ICP variant) would bury the tables
+  uavip::bench_util::prepareProcess();
   std::vector<std::string> files;
   int tile_x = 1, tile_y = 1, runs = 1;
   for (int i = 1; i < argc; ++i) {

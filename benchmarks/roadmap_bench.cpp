@@ -13,7 +13,6 @@
 #include "uavip/app/bench.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
-#include "uavip/core/memory.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
@@ -98,8 +97,7 @@ ModeRun runKept(const std::string& name, const Legs& l, const uavip::planners::P
 }  // namespace
 
 int main(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();
-  uavip::io::setPclConsole(false);
+  uavip::bench_util::prepareProcess();
   std::vector<std::string> paths;
   int max_legs = 30;
   double time_s = 0.2;
