@@ -88,7 +88,7 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const
   return buildWithin(cloud, box.min.array() - options.padding_m, box.max.array() + options.padding_m, options);
 }
 
-// Long (99 lines): checks, dimensions, occupancy and inflation each run once over the same dense arrays; the inflation's sphere offsets are computed here for that loop.
+// Long (101 lines): checks, dimensions, occupancy and inflation each run once over the same dense arrays; the inflation's sphere offsets are computed here for that loop.
 VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options) {
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
   static std::atomic<std::uint64_t> last_id{0};
