@@ -90,15 +90,8 @@ void printDetectSummary(const app::DetectResult& d) {
             << formatFixed(c.extent_m.x(), 1) << " x " << formatFixed(c.extent_m.y(), 1) << " x " << formatFixed(c.extent_m.z(), 1)
             << " m, noise " << formatFixed(c.noise_m, 3) << " m"
             << (c.scanned_from_origin ? ", one scan from the origin (the sensor orients the normals)" : "") << "\n";
-  // A structure kilometres across with metres between points is a file in another
-  // unit (CAD and BIM exports are often in millimetres): say how to convert.
-  constexpr double kImplausibleExtentM = 5000.0;
-  constexpr double kImplausibleSpacingM = 5.0;
-  if (c.extent_m.maxCoeff() > kImplausibleExtentM || c.spacing_m > kImplausibleSpacingM) {
-    std::cout << "warning: a structure " << formatFixed(c.extent_m.maxCoeff(), 0) << " m across with points "
-              << formatFixed(c.spacing_m, 2) << " m apart: if the file is not in metres, set 'input: {scale: 0.001}' "
-              << "(millimetres), 0.01 (centimetres) or 0.3048 (feet) in the config\n";
-  }
+  const std::string unit = preprocess::unitWarning(c);
+  if (!unit.empty()) std::cout << "warning: " << unit << "\n";
   std::cout << "parameters:";
   for (const auto& r : d.resolved.values) {
     std::string key = r.key.substr(r.key.find('.') + 1);

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace uavip::preprocess {
 
@@ -28,5 +29,14 @@ using CloudStats = uavip::CloudStats;
 /// distinct points give spacing 0. std::invalid_argument for an index over another cloud.
 CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options = {},
                         const NeighbourIndex* index = nullptr);
+
+/// Why a measured cloud looks like it is not in metres, as one line naming what fixes
+/// it, or "" when it looks like metres:
+///  - x and y span under 0.1 while z spans over 100 times more: longitude/latitude in
+///    degrees with heights in metres (reproject to a metric CRS first);
+///  - a structure over 5 km across, or points over 5 m apart: millimetres or
+///    centimetres (input.scale 0.001 / 0.01) or feet (0.3048);
+///  - a structure under 1 m across: kilometres (input.scale 1000).
+std::string unitWarning(const CloudStats& stats);
 
 }  // namespace uavip::preprocess
