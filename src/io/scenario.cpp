@@ -376,6 +376,8 @@ void parseRegistration(Section s, registration::RegistrationOptions& o) {
   o.ndt_resolution_m = s.number("ndt_resolution_m", o.ndt_resolution_m);
   o.use_recorded_yaw = s.boolean("use_recorded_yaw", o.use_recorded_yaw);
   o.output_voxel_m = s.number("output_voxel_m", o.output_voxel_m);
+  o.normal_k = s.integer("normal_k", o.normal_k);
+  o.pcl_normal_k = s.integer("pcl_normal_k", o.pcl_normal_k);
   s.finish();
 }
 

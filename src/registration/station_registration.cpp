@@ -66,11 +66,11 @@ PointList voxelDownsample(const PointList& points, double leaf) {
   return out;
 }
 
-NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud) {
+NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud, int k) {
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(cloud);
   ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
-  ne.setKSearch(12);
+  ne.setKSearch(k);
   pcl::PointCloud<pcl::Normal> normals;
   ne.compute(normals);
   auto out = std::make_shared<NormalCloud>();
@@ -159,14 +159,14 @@ class Occupancy {
   std::vector<std::uint8_t> bits_;
 };
 
-/// PCA normals (k = 10) of a cloud, oriented toward `viewpoint` (the station that
-/// saw the points); NaN where undefined.
-std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint) {
+/// PCA normals (k neighbours) of a cloud, oriented toward `viewpoint` (the station
+/// that saw the points); NaN where undefined.
+std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint, int k) {
   const Cloud::Ptr cloud = toPclCloud(points, Vec3::Zero());
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(cloud);
   ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
-  ne.setKSearch(10);
+  ne.setKSearch(k);
   pcl::PointCloud<pcl::Normal> normals;
   ne.compute(normals);
   std::vector<Vec3> out(points.size());
@@ -394,7 +394,7 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
       break;
     }
     case Method::IcpPointToPlane: {
-      const NormalCloud::Ptr sn = withNormals(src), tn = withNormals(tgt);
+      const NormalCloud::Ptr sn = withNormals(src, o.pcl_normal_k), tn = withNormals(tgt, o.pcl_normal_k);
       pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
       icp.setInputSource(sn);
       icp.setInputTarget(tn);
@@ -488,6 +488,8 @@ void RegistrationOptions::validate(const std::string& where) const {
   }
   requirePositive(search_step_m, where, "search_step_m");
   if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
+  requireThat(normal_k >= 3, where, "normal_k", ">= 3", normal_k);
+  requireThat(pcl_normal_k >= 3, where, "pcl_normal_k", ">= 3", pcl_normal_k);
   if (!(output_voxel_m >= 0.0) || !std::isfinite(output_voxel_m)) {
     throw InputError(where + ": output_voxel_m must be >= 0, got " + formatNumber(output_voxel_m));
   }
@@ -534,7 +536,7 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
     if (stations[i].points.empty()) return;
     downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
     // In the station frame, oriented toward the station (its origin).
-    station_normals[i] = normalsOf(downsampled[i], Vec3::Zero());
+    station_normals[i] = normalsOf(downsampled[i], Vec3::Zero(), options.normal_k);
     prep_s[i] = secondsSince(tp);
   });
 

@@ -1,5 +1,6 @@
 #include "uavip/scan/drift_refinement.h"
 
+#include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/voxel_key.h"
 
@@ -13,24 +14,6 @@
 
 namespace uavip::scan {
 namespace {
-
-/// A voxel or column needs this many points to give a plane.
-constexpr int kMinCellPoints = 6;
-/// Planar (voxel) or straight (column): the smallest scatter eigenvalue below this
-/// fraction of the next one.
-constexpr double kFlatRatio = 0.1;
-/// Cells thicker than this (√ smallest scatter eigenvalue) are not planes [m].
-constexpr double kMaxThickness = 0.05;
-/// A plane within this angle of level is level, within it of upright is upright [deg].
-constexpr double kGravityAlignedDeg = 10.0;
-/// A point with this noise counts as one effective pair; noisier ones as (this/σ)² [m].
-constexpr double kUnitSigma = 0.015;
-/// Cauchy scale of a residual, in σ of its point.
-constexpr double kRobustSigmas = 3.0;
-/// Effective pairs the least constrained direction needs for a loop-closure figure.
-constexpr double kMinLoopInformation = 10.0;
-/// A direction the whole sweep fixes with fewer effective pairs is not corrected.
-constexpr double kMinDirectionInformation = 10.0;
 
 using Mat3 = Eigen::Matrix3d;
 
@@ -57,6 +40,7 @@ struct Problem {
   std::vector<int> vertical;     ///< indices of the vertical scanner's points
   std::vector<int> horizontal;   ///< indices of the horizontal scanner's points
   std::size_t nodes{0};
+  DriftTuning tuning;
 };
 
 /// Points binned by cell: order[start[c] .. start[c+1]) are cell c's point indices.
@@ -153,13 +137,14 @@ enum class Surface { None, Level, Upright, Sloped };
 /// Gravity-aligned surfaces are snapped: the IMU's attitude noise tilts a fitted
 /// normal by a degree or two, and a tilted floor normal would turn the floor's large
 /// z information into spurious horizontal forces (or a wall's into vertical ones).
-Surface classifyVoxel(const Scatter& s, Vec3& normal) {
+Surface classifyVoxel(const Scatter& s, const DriftTuning& tuning, Vec3& normal) {
   Eigen::SelfAdjointEigenSolver<Mat3> es;
   es.computeDirect(s.cov);
   const Vec3 ev = es.eigenvalues();
-  if (!(ev(0) >= 0.0) || ev(0) > kMaxThickness * kMaxThickness || !(ev(0) < kFlatRatio * ev(1))) return Surface::None;
+  const double thickness = tuning.max_thickness_m;
+  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1))) return Surface::None;
   normal = es.eigenvectors().col(0);
-  const double snap = kGravityAlignedDeg * kDegToRad;
+  const double snap = tuning.gravity_aligned_deg * kDegToRad;
   if (std::abs(normal.z()) >= std::cos(snap)) {
     normal = Vec3::UnitZ();
     return Surface::Level;
@@ -168,11 +153,12 @@ Surface classifyVoxel(const Scatter& s, Vec3& normal) {
 }
 
 /// The horizontal normal of a column whose points lie on a straight line in xy, or zero.
-Vec3 columnNormal(const Scatter& s) {
+Vec3 columnNormal(const Scatter& s, const DriftTuning& tuning) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es;
   es.computeDirect(s.cov.topLeftCorner<2, 2>());
   const Eigen::Vector2d ev = es.eigenvalues();
-  if (!(ev(0) >= 0.0) || ev(0) > kMaxThickness * kMaxThickness || !(ev(0) < kFlatRatio * ev(1))) return Vec3::Zero();
+  const double thickness = tuning.max_thickness_m;
+  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1))) return Vec3::Zero();
   return Vec3(es.eigenvectors()(0, 0), es.eigenvectors()(1, 0), 0.0);
 }
 
@@ -270,7 +256,7 @@ void addPlane(const Problem& pb, const std::vector<DriftPoint>& pts, const int* 
   for (int j = 0; j < n; ++j) {
     const auto i = static_cast<std::size_t>(idx[j]);
     const double r = normal.dot(pb.p[i] - centroid);
-    const double scale = kRobustSigmas * pts[i].sigma_m;
+    const double scale = pb.tuning.robust_sigmas * pts[i].sigma_m;
     addPoint(stats, pb.nw[i], pb.w[i] / (1.0 + (r / scale) * (r / scale)), r, pb.end[i] != 0);
   }
   accumulate(stats, normal, loop_only, sys);
@@ -293,21 +279,21 @@ System buildSystem(const Problem& pb, const std::vector<DriftPoint>& pts, double
   const Cells vox = binPoints(pb.p, pb.vertical, voxel_m, false);
   for (std::size_t v = 0; v + 1 < vox.start.size(); ++v) {
     const int n = vox.start[v + 1] - vox.start[v];
-    if (n < kMinCellPoints) continue;
+    if (n < pb.tuning.min_cell_points) continue;
     const int* idx = vox.order.data() + vox.start[v];
     const Scatter s = pooledScatter(pb, idx, n, false, sums);
     Vec3 normal;
-    const Surface kind = classifyVoxel(s, normal);
+    const Surface kind = classifyVoxel(s, pb.tuning, normal);
     if (kind == Surface::Upright) upright.insert(upright.end(), idx, idx + n);
     if (kind == Surface::Level || kind == Surface::Sloped) addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
   }
   const Cells cols = binPoints(pb.p, upright, voxel_m, true);
   for (std::size_t c = 0; c + 1 < cols.start.size(); ++c) {
     const int n = cols.start[c + 1] - cols.start[c];
-    if (n < kMinCellPoints) continue;
+    if (n < pb.tuning.min_cell_points) continue;
     const int* idx = cols.order.data() + cols.start[c];
     const Scatter s = pooledScatter(pb, idx, n, true, sums);
-    const Vec3 normal = columnNormal(s);
+    const Vec3 normal = columnNormal(s, pb.tuning);
     if (normal.squaredNorm() > 0.0) addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
   }
   return sys;
@@ -329,8 +315,10 @@ void addSmoothness(const std::vector<Vec3>& delta, double lambda, System& sys) {
 
 /// The fixed parts of every point: odometry position, weight, node weight, window.
 Problem makeProblem(const std::vector<DriftPoint>& points, const TranslationTrack& track,
-                    const std::vector<double>& node_times_s, double loop_start_s) {
+                    const std::vector<double>& node_times_s, double loop_start_s, const DriftTuning& tuning) {
   Problem pb;
+  pb.tuning = tuning;
+  const double unit = tuning.unit_sigma_m;
   pb.nodes = node_times_s.size();
   pb.base.resize(points.size());
   pb.p.resize(points.size());
@@ -339,7 +327,7 @@ Problem makeProblem(const std::vector<DriftPoint>& points, const TranslationTrac
   pb.end.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     pb.base[i] = points[i].offset + track.at(points[i].t_s);
-    pb.w[i] = std::min(1.0, (kUnitSigma / points[i].sigma_m) * (kUnitSigma / points[i].sigma_m));
+    pb.w[i] = std::min(1.0, (unit / points[i].sigma_m) * (unit / points[i].sigma_m));
     pb.nw[i] = nodeWeight(node_times_s, points[i].t_s);
     pb.end[i] = points[i].t_s >= loop_start_s;
     (points[i].horizontal ? pb.horizontal : pb.vertical).push_back(static_cast<int>(i));
@@ -356,13 +344,13 @@ Mat3 sweepInformation(const System& sys, std::size_t nodes) {
 }
 
 /// Removes from every node's step the directions the whole sweep does not observe
-/// (fewer than kMinDirectionInformation effective pairs): there the smoothness prior
+/// (fewer than min_direction_information effective pairs): there the smoothness prior
 /// alone would let the chain, anchored only at its first node, follow the slightest
 /// force (a tilted normal's leak); the odometry is kept instead.
-void freezeUnobserved(const Mat3& information, Eigen::VectorXd& step) {
+void freezeUnobserved(const Mat3& information, double min_information, Eigen::VectorXd& step) {
   const Eigen::SelfAdjointEigenSolver<Mat3> es(information);
   for (int c = 0; c < 3; ++c) {
-    if (es.eigenvalues()(c) >= kMinDirectionInformation) continue;
+    if (es.eigenvalues()(c) >= min_information) continue;
     const Vec3 e = es.eigenvectors().col(c);
     for (Eigen::Index k = 0; k + 2 < step.size(); k += 3) step.segment<3>(k) -= e.dot(step.segment<3>(k)) * e;
   }
@@ -424,6 +412,20 @@ std::vector<double> segmentNodeTimes(const std::vector<double>& times_s, const s
   return nodes;
 }
 
+void DriftTuning::validate(const std::string& where) const {
+  requireThat(min_cell_points >= 3, where, "min_cell_points", ">= 3", min_cell_points);
+  requireThat(flat_ratio > 0.0 && flat_ratio <= 1.0, where, "flat_ratio", "in (0, 1]", flat_ratio);
+  requirePositive(max_thickness_m, where, "max_thickness_m");
+  requireThat(gravity_aligned_deg >= 0.0 && gravity_aligned_deg < 45.0, where, "gravity_aligned_deg", "in [0, 45)",
+              gravity_aligned_deg);
+  requirePositive(unit_sigma_m, where, "unit_sigma_m");
+  requirePositive(robust_sigmas, where, "robust_sigmas");
+  requireThat(std::isfinite(min_loop_information) && min_loop_information >= 0.0, where, "min_loop_information", ">= 0",
+              min_loop_information);
+  requireThat(std::isfinite(min_direction_information) && min_direction_information >= 0.0, where,
+              "min_direction_information", ">= 0", min_direction_information);
+}
+
 DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const TranslationTrack& track,
                             const std::vector<double>& node_times_s, double loop_start_s,
                             const DriftRefinementOptions& options) {
@@ -431,8 +433,10 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
   out.node_times_s = node_times_s;
   out.corrections_m.assign(node_times_s.size(), Vec3::Zero());
   if (node_times_s.size() < 2 || points.empty()) return out;
-  Problem pb = makeProblem(points, track, node_times_s, loop_start_s);
-  const double lambda = (kUnitSigma / options.smoothness_m) * (kUnitSigma / options.smoothness_m);
+  const DriftTuning& tn = options.tuning;
+  tn.validate("drift refinement tuning");
+  Problem pb = makeProblem(points, track, node_times_s, loop_start_s, tn);
+  const double lambda = (tn.unit_sigma_m / options.smoothness_m) * (tn.unit_sigma_m / options.smoothness_m);
   const auto m = static_cast<Eigen::Index>(3 * (pb.nodes - 1));
   for (int it = 0; it < options.iterations; ++it) {
     placePoints(pb, out.corrections_m);
@@ -442,7 +446,7 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
     // δ_0 = 0 (the station frame's origin): solve for nodes 1….
     Eigen::VectorXd step = -sys.h.bottomRightCorner(m, m).ldlt().solve(sys.g.tail(m));
     if (!step.allFinite()) break;
-    freezeUnobserved(observed, step);
+    freezeUnobserved(observed, tn.min_direction_information, step);
     for (std::size_t k = 1; k < pb.nodes; ++k) out.corrections_m[k] += step.segment<3>(static_cast<Eigen::Index>(3 * (k - 1)));
     out.planes = sys.planes;
     out.iterations = it + 1;
@@ -455,7 +459,7 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
   const System fin = buildSystem(pb, points, options.voxel_m, true);
   const Eigen::SelfAdjointEigenSolver<Mat3> es(fin.h_loop);
   out.loop_closure_information = std::max(0.0, es.eigenvalues()(0));
-  if (out.loop_closure_information >= kMinLoopInformation) out.loop_closure_m = fin.h_loop.ldlt().solve(fin.g_loop).norm();
+  if (out.loop_closure_information >= tn.min_loop_information) out.loop_closure_m = fin.h_loop.ldlt().solve(fin.g_loop).norm();
   return out;
 }
 

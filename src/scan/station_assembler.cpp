@@ -38,25 +38,6 @@ std::int64_t cellKey(std::int64_t x, std::int64_t y) {
 
 
 using Vec2 = Eigen::Vector2d;
-/// Correspondences need normals within acos(this) of each other (20°).
-constexpr double kNormalCos = 0.94;
-/// Directions whose (range-scaled) eigenvalue is below this fraction of the largest
-/// are not updated by an ICP step (degenerate: e.g. only one flat face in view).
-constexpr double kDegenerateFraction = 0.02;
-/// Range that scales yaw against translation in the degeneracy test [m].
-constexpr double kTypicalRange = 5.0;
-/// Keyframe points join the reference map only this far from its points [m].
-constexpr double kMapSpacing = 0.03;
-/// ICP needs at least this many pairs; with fewer the scan keeps the previous pose.
-constexpr std::size_t kMinPairs = 30;
-/// Effective pairs the least constrained direction needs for a loop-closure figure.
-constexpr double kMinLoopInformation = 10.0;
-/// Weight of the prior toward the guess, per pair (see icpPointToLine).
-constexpr double kPriorWeight = 1e-3;
-/// Line fit of a scan point: beam-order neighbours ±this many, …
-constexpr int kHalfWindow = 8;
-/// … and a line when the smaller eigenvalue is below this fraction of the larger.
-constexpr double kLineRatio = 0.1;
 
 
 Eigen::Matrix2d rot2(double theta) {
@@ -114,7 +95,10 @@ struct Reference {
   std::vector<Vec2> normals;
 };
 
-Reference makeReference(const Scan2D& scan, double theta, const Vec2& t) {
+/// A scan placed by (theta, t), with the line normal of each point (AssemblerTuning's
+/// line fit; zero where the neighbourhood is not a line).
+Reference makeReference(const Scan2D& scan, double theta, const Vec2& t, const AssemblerTuning& tuning) {
+  const int half = tuning.line_half_window;
   Reference ref;
   const Eigen::Matrix2d r = rot2(theta);
   ref.pts.reserve(scan.pts.size());
@@ -125,10 +109,10 @@ Reference makeReference(const Scan2D& scan, double theta, const Vec2& t) {
     // Line fit (PCA) over beam-order neighbours close to the point.
     const Vec2& c = ref.pts[static_cast<std::size_t>(i)];
     const double range = (scan.pts[static_cast<std::size_t>(i)]).norm();
-    const double reach = 0.2 + 0.02 * range;
+    const double reach = tuning.line_reach_m + tuning.line_reach_per_m * range;
     Vec2 mean = Vec2::Zero();
     int m = 0;
-    for (int j = std::max(0, i - kHalfWindow); j <= std::min(n - 1, i + kHalfWindow); ++j) {
+    for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half); ++j) {
       if ((ref.pts[static_cast<std::size_t>(j)] - c).norm() <= reach) {
         mean += ref.pts[static_cast<std::size_t>(j)];
         ++m;
@@ -137,13 +121,13 @@ Reference makeReference(const Scan2D& scan, double theta, const Vec2& t) {
     if (m < 3) continue;
     mean /= m;
     Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-    for (int j = std::max(0, i - kHalfWindow); j <= std::min(n - 1, i + kHalfWindow); ++j) {
+    for (int j = std::max(0, i - half); j <= std::min(n - 1, i + half); ++j) {
       const Vec2 d = ref.pts[static_cast<std::size_t>(j)] - mean;
       if ((ref.pts[static_cast<std::size_t>(j)] - c).norm() <= reach) cov += d * d.transpose();
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
     // A line: the smaller eigenvalue is much smaller than the larger one.
-    if (es.eigenvalues()(0) > kLineRatio * es.eigenvalues()(1)) continue;
+    if (es.eigenvalues()(0) > tuning.line_ratio * es.eigenvalues()(1)) continue;
     ref.normals[static_cast<std::size_t>(i)] = es.eigenvectors().col(0).normalized();
   }
   return ref;
@@ -168,8 +152,9 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
   IcpResult r;
   r.theta = theta0;
   r.t = t0;
-  const double huber = 0.05;
-  const double tukey = 0.1;
+  const AssemblerTuning& tn = o.tuning;
+  const double huber = tn.huber_m;
+  const double tukey = tn.tukey_m;
   for (int it = 0; it < o.max_iterations; ++it) {
     const Eigen::Matrix2d rot = rot2(r.theta);
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
@@ -186,7 +171,7 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
       // Compatible normals only: a point near a corner may be nearest to the other wall.
       if (!src.normals.empty()) {
         const Vec2& ns = src.normals[i];
-        if (ns.squaredNorm() == 0.0 || std::abs(n.dot(rot * ns)) < kNormalCos) continue;
+        if (ns.squaredNorm() == 0.0 || std::abs(n.dot(rot * ns)) < tn.normal_cos) continue;
       }
       const double e = n.dot(x - ref.pts[static_cast<std::size_t>(j)]);
       const Vec2 drot(-rp.y(), rp.x());  // d(rot·p)/dθ
@@ -194,7 +179,7 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
       // Huber for the first steps (the guess may be centimetres off), then Tukey:
       // pairs across an occlusion edge or a corner get no weight at all.
       double w = std::abs(e) <= huber ? 1.0 : huber / std::abs(e);
-      if (it >= 3) {
+      if (it >= tn.huber_steps) {
         const double u = e / tukey;
         w = std::abs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
       }
@@ -206,12 +191,12 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
     r.iterations = it + 1;
     r.pairs = pairs;
     r.rms = pairs ? std::sqrt(sse / static_cast<double>(pairs)) : 0.0;
-    if (pairs < kMinPairs) break;
+    if (pairs < tn.min_pairs) break;
     r.min_information = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(h.topLeftCorner<2, 2>()).eigenvalues()(0);
     // A weak prior toward the guess (the previous position: the wind is a random
     // walk) keeps directions the scan does not constrain (one flat face seen, or
     // nothing in the field of view) where they were instead of letting them slide.
-    const double lambda = kPriorWeight * static_cast<double>(pairs);
+    const double lambda = tn.prior_weight * static_cast<double>(pairs);
     h(0, 0) += lambda;
     h(1, 1) += lambda;
     h(2, 2) += lambda;
@@ -220,11 +205,11 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
     g(2) += lambda * (r.theta - theta0);
     // Degeneracy-aware step (Zhang et al., ICRA 2016): move only along directions
     // the pairs constrain. θ is scaled by a typical range so the eigenvalues compare.
-    const Eigen::Vector3d scale(1.0, 1.0, 1.0 / kTypicalRange);
+    const Eigen::Vector3d scale(1.0, 1.0, 1.0 / tn.typical_range_m);
     const Eigen::Matrix3d hs = scale.asDiagonal() * h * scale.asDiagonal();
     const Eigen::Vector3d gs = scale.asDiagonal() * g;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(hs);
-    const double floor_ev = kDegenerateFraction * es.eigenvalues().maxCoeff();
+    const double floor_ev = tn.degenerate_fraction * es.eigenvalues().maxCoeff();
     Eigen::Vector3d dxs = Eigen::Vector3d::Zero();
     for (int c = 0; c < 3; ++c) {
       const double ev = es.eigenvalues()(c);
@@ -345,6 +330,39 @@ void AssemblerOptions::validate(const std::string& where) const {
   }
   if (drift_iterations < 1) throw InputError(where + ": drift_iterations must be >= 1, got " + std::to_string(drift_iterations));
   requirePositive(drift_voxel_m, where, "drift_voxel_m");
+  tuning.validate(where + ".tuning");
+}
+
+void AssemblerTuning::validate(const std::string& where) const {
+  const auto atLeast = [&](double v, double lo, const char* name) {
+    requireThat(std::isfinite(v) && v >= lo, where, name, ">= " + formatNumber(lo), v);
+  };
+  const auto fraction = [&](double v, const char* name) {
+    requireThat(v > 0.0 && v <= 1.0, where, name, "in (0, 1]", v);
+  };
+  atLeast(line_half_window, 1, "line_half_window");
+  requirePositive(line_reach_m, where, "line_reach_m");
+  atLeast(line_reach_per_m, 0.0, "line_reach_per_m");
+  fraction(line_ratio, "line_ratio");
+  requirePositive(huber_m, where, "huber_m");
+  requirePositive(tukey_m, where, "tukey_m");
+  atLeast(huber_steps, 0, "huber_steps");
+  fraction(normal_cos, "normal_cos");
+  atLeast(static_cast<double>(min_pairs), 3, "min_pairs");
+  atLeast(prior_weight, 0.0, "prior_weight");
+  requirePositive(typical_range_m, where, "typical_range_m");
+  requireThat(degenerate_fraction >= 0.0 && degenerate_fraction < 1.0, where, "degenerate_fraction", "in [0, 1)",
+              degenerate_fraction);
+  atLeast(map_spacing_m, 0.0, "map_spacing_m");
+  atLeast(min_loop_information, 0.0, "min_loop_information");
+  atLeast(static_cast<double>(drift_beam_stride), 1, "drift_beam_stride");
+  atLeast(static_cast<double>(drift_horizontal_scan_stride), 1, "drift_horizontal_scan_stride");
+  requirePositive(beam_range_sigma_m, where, "beam_range_sigma_m");
+  atLeast(beam_angle_sigma_rad, 0.0, "beam_angle_sigma_rad");
+  atLeast(odometry_smoothing, 0.0, "odometry_smoothing");
+  atLeast(loop_window_deg, 0.0, "loop_window_deg");
+  atLeast(max_drift_segments, 1, "max_drift_segments");
+  drift.validate(where + ".drift");
 }
 
 double yawOf(const Eigen::Quaterniond& q) {
@@ -439,20 +457,6 @@ Eigen::Quaterniond ImuTrack::at(double t_s) const {
 
 namespace {
 
-/// Refinement points: every kDriftBeamStride-th beam of every vertical scan and of
-/// every kDriftHorizontalScanStride-th horizontal scan (~10⁵ points per station).
-constexpr std::size_t kDriftBeamStride = 4;
-constexpr std::size_t kDriftHorizontalScanStride = 2;
-/// Position noise of a beam: range noise [m] and attitude error [rad] (Hokuyo
-/// UTM-30LX: 1–3 cm; Xsens MTi-10: 0.5°, here about its mean).
-constexpr double kBeamRangeSigma = 0.015;
-constexpr double kBeamAngleSigma = 0.005;
-/// Before the refinement the odometry's xy is averaged over ± this fraction of a segment.
-constexpr double kOdometrySmoothing = 0.25;
-/// The loop closure's end window: the last this much of the sweep's yaw [deg].
-constexpr double kLoopWindowDeg = 30.0;
-/// At most this many refinement segments (the normal equations are dense: 3 per node).
-constexpr double kMaxDriftSegments = 120.0;
 
 /// Throws InputError for a scan with a bad time, out of order or outside the IMU's span.
 void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, const std::string& where) {
@@ -479,7 +483,8 @@ void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, cons
 }
 
 /// The horizontal scans as 2D points (IMU-rotated with the prior) with line normals.
-std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu, bool prior) {
+std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu, bool prior,
+                                    const AssemblerTuning& tuning) {
   std::vector<Scan2D> scans(st.horizontal.size());
   for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
     const LaserScan& s = st.horizontal[k];
@@ -492,7 +497,7 @@ std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const 
       const Vec3 p = prior ? Vec3(imu.at(s.beamTime(i)) * b) : b;
       scans[k].pts.emplace_back(p.x(), p.y());
     }
-    scans[k].normals = makeReference(scans[k], 0.0, Vec2::Zero()).normals;
+    scans[k].normals = makeReference(scans[k], 0.0, Vec2::Zero(), tuning).normals;
   }
   return scans;
 }
@@ -515,14 +520,15 @@ void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo, const 
   const std::size_t last = scans.size() - 1;
   Scan2D first_c;
   for (const auto& p : scans[0].pts) first_c.pts.push_back(rot2(odo.theta[0]) * p + odo.trans[0] - odo.trans[last]);
-  Reference lref = makeReference(first_c, 0.0, Vec2::Zero());
+  Reference lref = makeReference(first_c, 0.0, Vec2::Zero(), options.tuning);
   const Grid2D lgrid(lref.pts, options.max_correspondence_m);
   Scan2D last_c;
   for (const auto& p : scans[last].pts) last_c.pts.push_back(rot2(odo.theta[last]) * p);
-  last_c.normals = makeReference(last_c, 0.0, Vec2::Zero()).normals;
+  last_c.normals = makeReference(last_c, 0.0, Vec2::Zero(), options.tuning).normals;
   const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
   odo.loop_closure_information = r.min_information;
-  odo.loop_closure_m = r.pairs >= kMinPairs && r.min_information >= kMinLoopInformation ? r.t.norm() : -1.0;
+  const AssemblerTuning& tn = options.tuning;
+  odo.loop_closure_m = r.pairs >= tn.min_pairs && r.min_information >= tn.min_loop_information ? r.t.norm() : -1.0;
 }
 
 /// T in xy from ICP between horizontal scans and a keyframe map (see the header).
@@ -530,7 +536,7 @@ void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo, const 
 Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu, const AssemblerOptions& options,
                             bool loop_closure, AssemblyStats& stats) {
   const bool prior = options.use_imu_prior;
-  const std::vector<Scan2D> scans = horizontalScans(log, st, imu, prior);
+  const std::vector<Scan2D> scans = horizontalScans(log, st, imu, prior, options.tuning);
   Odometry odo;
   odo.theta.assign(scans.size(), 0.0);
   odo.trans.assign(scans.size(), Vec2::Zero());
@@ -542,7 +548,7 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
   // Plain ICP starts from the IMU heading of the first scan (so both modes share the frame).
   theta[0] = prior ? 0.0 : yawOf(imu.at(st.horizontal[0].t_start_s));
   std::size_t kf = 0;
-  Reference ref = makeReference(scans[0], theta[0], trans[0]);
+  Reference ref = makeReference(scans[0], theta[0], trans[0], options.tuning);
   auto grid = std::make_unique<Grid2D>(ref.pts, options.max_correspondence_m);
   stats.keyframes = 1;
   for (std::size_t k = 1; k < scans.size(); ++k) {
@@ -553,7 +559,7 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
     const IcpResult r = options.icp == IcpMethod::PointToLine2D
                             ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, options.horizontal_stride)
                             : icpPcl(scans[k], ref, th0, t0, options, options.horizontal_stride);
-    const bool ok = r.converged && r.pairs >= kMinPairs && std::isfinite(r.theta) && r.t.allFinite();
+    const bool ok = r.converged && r.pairs >= options.tuning.min_pairs && std::isfinite(r.theta) && r.t.allFinite();
     theta[k] = ok ? r.theta : th0;
     trans[k] = ok ? r.t : t0;
     if (!ok) ++stats.failed_icp;
@@ -567,13 +573,13 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
                (trans[k] - trans[kf]).norm() > options.keyframe_translation_m)) {
       // The reference is a map of all keyframes so far: structure seen earlier in
       // the turn stays matchable (what the scanner sees comes and goes as it yaws).
-      // New points join it only where it has none within kMapSpacing.
+      // New points join it only where it has none within tuning.map_spacing_m.
       kf = k;
-      const Reference add = makeReference(scans[k], theta[k], trans[k]);
+      const Reference add = makeReference(scans[k], theta[k], trans[k], options.tuning);
       for (std::size_t i = 0; i < add.pts.size(); ++i) {
         if (add.normals[i].squaredNorm() == 0.0) continue;
         const int j = grid->nearest(add.pts[i]);
-        if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < kMapSpacing) continue;
+        if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < options.tuning.map_spacing_m) continue;
         ref.pts.push_back(add.pts[i]);
         ref.normals.push_back(add.normals[i]);
       }
@@ -666,33 +672,39 @@ TranslationTrack odometryTrack(const Station& st, const Odometry& odo, const std
 }
 
 /// Position noise of a beam of range ρ: range noise and attitude error [m].
-double beamSigma(double range_m) {
-  return std::sqrt(kBeamRangeSigma * kBeamRangeSigma + range_m * kBeamAngleSigma * range_m * kBeamAngleSigma);
+double beamSigma(double range_m, const AssemblerTuning& tuning) {
+  const double range_sigma = tuning.beam_range_sigma_m;
+  const double angle_sigma = tuning.beam_angle_sigma_rad;
+  return std::sqrt(range_sigma * range_sigma + range_m * angle_sigma * range_m * angle_sigma);
 }
 
-/// Every vertical beam (every kDriftBeamStride-th) and every other horizontal scan's
-/// beams, as refinement points.
-std::vector<DriftPoint> driftPoints(const RawLog& log, const Station& st, const ImuTrack& imu) {
+/// Every vertical beam (every drift_beam_stride-th) and every
+/// drift_horizontal_scan_stride-th horizontal scan's beams, as refinement points.
+std::vector<DriftPoint> driftPoints(const RawLog& log, const Station& st, const ImuTrack& imu,
+                                    const AssemblerTuning& tuning) {
+  const std::size_t beam_stride = tuning.drift_beam_stride;
+  const std::size_t scan_stride_h = tuning.drift_horizontal_scan_stride;
   std::vector<DriftPoint> pts;
   std::size_t beams = 0;
   for (const auto& s : st.vertical) beams += s.ranges_m.size();
-  for (const auto& s : st.horizontal) beams += s.ranges_m.size() / kDriftHorizontalScanStride;
-  pts.reserve(beams / kDriftBeamStride + 1);
+  for (const auto& s : st.horizontal) beams += s.ranges_m.size() / scan_stride_h;
+  pts.reserve(beams / beam_stride + 1);
   auto add = [&](const std::vector<LaserScan>& scans, const Eigen::Isometry3d& mount, bool horizontal, std::size_t scan_stride) {
     for (std::size_t k = 0; k < scans.size(); k += scan_stride) {
       const LaserScan& s = scans[k];
-      for (std::size_t i = k % kDriftBeamStride; i < s.ranges_m.size(); i += kDriftBeamStride) {
+      for (std::size_t i = k % beam_stride; i < s.ranges_m.size(); i += beam_stride) {
         const float r = s.ranges_m[i];
         if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
         const double a = s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad;
         const double t = s.beamTime(i);
         const Vec3 x = horizontal ? horizontalBeam(r, a) : verticalBeam(r, a);
-        pts.push_back({imu.at(t) * (mount * x), t, beamSigma(r), horizontal, static_cast<double>(kDriftBeamStride * scan_stride)});
+        pts.push_back({imu.at(t) * (mount * x), t, beamSigma(r, tuning), horizontal,
+                       static_cast<double>(beam_stride * scan_stride)});
       }
     }
   };
   add(st.vertical, log.body_T_vertical, false, 1);
-  add(st.horizontal, log.body_T_horizontal, true, kDriftHorizontalScanStride);
+  add(st.horizontal, log.body_T_horizontal, true, scan_stride_h);
   return pts;
 }
 
@@ -721,15 +733,17 @@ DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack
   std::vector<double> yaw(track.times_s.size());
   for (std::size_t k = 0; k < yaw.size(); ++k) yaw[k] = yawOf(imu.at(track.times_s[k]));
   const std::vector<double> swept = sweptYawDeg(yaw);
-  const double segment_deg = std::max(options.drift_segment_deg, swept.back() / kMaxDriftSegments);
+  const AssemblerTuning& tn = options.tuning;
+  const double segment_deg = std::max(options.drift_segment_deg, swept.back() / tn.max_drift_segments);
   const std::vector<double> nodes = segmentNodeTimes(track.times_s, swept, segment_deg);
-  const double loop_start_s = timeAtSweptDeg(track.times_s, swept, swept.back() - kLoopWindowDeg);
+  const double loop_start_s = timeAtSweptDeg(track.times_s, swept, swept.back() - tn.loop_window_deg);
   const double segment_s = (nodes.back() - nodes.front()) / static_cast<double>(nodes.size() - 1);
-  smoothTrackXY(track, kOdometrySmoothing * segment_s);
+  smoothTrackXY(track, tn.odometry_smoothing * segment_s);
   DriftRefinementOptions o;
   o.iterations = options.drift_iterations;
   o.voxel_m = options.drift_voxel_m;
-  const DriftRefinement r = refineDrift(driftPoints(log, st, imu), track, nodes, loop_start_s, o);
+  o.tuning = tn.drift;
+  const DriftRefinement r = refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
   for (std::size_t k = 0; k < track.times_s.size(); ++k) track.positions[k] += r.at(track.times_s[k]);
   return r;
 }

@@ -133,6 +133,14 @@ TEST(RegisterStations, EmptyStationsAreKeptButSkipped) {
   RegistrationOptions bad;
   bad.downsample_m = 0.0;
   EXPECT_THROW(bad.validate(), InputError);
+  RegistrationOptions few;
+  few.normal_k = 2;  // a normal needs 3 points
+  try {
+    few.validate("registration");
+    ADD_FAILURE() << "no throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("registration: normal_k must be >= 3"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(methodFromString("sgd"), InputError);
 }
 

@@ -318,6 +318,17 @@ TEST(AssembleStation, PclIcpThatDoesNotConvergeIsCountedAsFailed) {
   EXPECT_GT(none.stats.failed_icp, 0u);
 }
 
+// The tuning reaches the point-to-line ICP: asking for more pairs than a scan has
+// beams fails every scan after the first (each keeps its guess).
+TEST(AssembleStation, TuningMinPairsDecidesWhatAFailedIcpIs) {
+  const sim::SimulatedLog& s = windyLog();
+  EXPECT_EQ(assembleStation(s.log, 0).stats.failed_icp, 0u);
+  AssemblerOptions o;
+  o.tuning.min_pairs = 100000;
+  const StationCloud c = assembleStation(s.log, 0, o);
+  EXPECT_EQ(c.stats.failed_icp, c.stats.horizontal_scans - 1);
+}
+
 TEST(AssembleStation, SkipsInvalidRanges) {
   const sim::WorldModel w = room();
   sim::SimulatedLog s = sim::simulateScans(w, quiet());
@@ -422,6 +433,14 @@ TEST(AssemblerOptions, ValidateNamesTheField) {
   AssemblerOptions voxel;
   voxel.drift_voxel_m = -0.5;
   EXPECT_THROW(voxel.validate(), InputError);
+  AssemblerOptions tuning;
+  tuning.tuning.normal_cos = 1.5;
+  try {
+    tuning.validate("scan");
+    FAIL() << "no throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan.tuning: normal_cos"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(icpMethodFromString("pcl"), IcpMethod::PclPointToPoint);
   EXPECT_THROW(icpMethodFromString("foo"), InputError);
 }

@@ -64,6 +64,8 @@ struct RegistrationOptions {
   bool use_recorded_yaw{false};       ///< rotate each station by recorded_yaw − IMU yaw at its first scan
   double output_voxel_m{0.02};        ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
   int threads{2};                     ///< stations down-sampled and given normals in parallel
+  int normal_k{10};                   ///< neighbours of a point's PCA normal (translation method; its coarse search too)
+  int pcl_normal_k{12};               ///< the same for PCL's point-to-plane ICP (icp_point_to_plane)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "registration") const;

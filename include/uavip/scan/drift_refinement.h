@@ -50,6 +50,7 @@
 #include "uavip/core/types.h"
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace uavip::scan {
@@ -73,11 +74,31 @@ struct DriftPoint {
   double beams{1.0};          ///< raw beams the point stands for (the sampling stride), for the loop closure's information
 };
 
+/// uavip's own tuning of the refinement (AssemblerTuning::drift); the defaults were
+/// measured on the simulated sweeps. Not read from YAML.
+struct DriftTuning {
+  int min_cell_points{6};              ///< a voxel or column needs this many points to give a plane
+  /// Planar (voxel) or straight (column): the smallest scatter eigenvalue below this
+  /// fraction of the next one.
+  double flat_ratio{0.1};
+  double max_thickness_m{0.05};        ///< cells thicker than this (√ smallest scatter eigenvalue) are not planes [m]
+  double gravity_aligned_deg{10.0};    ///< a plane within this angle of level is level, of upright upright [deg]
+  /// A point with this noise counts as one effective pair; noisier ones as (this/σ)² [m].
+  double unit_sigma_m{0.015};
+  double robust_sigmas{3.0};           ///< Cauchy scale of a residual, in σ of its point
+  double min_loop_information{10.0};   ///< effective pairs the least constrained direction needs for a loop-closure figure
+  double min_direction_information{10.0};  ///< a direction the whole sweep fixes with fewer effective pairs is not corrected
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where) const;
+};
+
 /// Options of the refinement (AssemblerOptions::refine_drift and the drift_* fields).
 struct DriftRefinementOptions {
   int iterations{3};           ///< least-squares steps (planes refitted between them), >= 1
   double voxel_m{0.5};         ///< voxel and column edge [m]
   double smoothness_m{0.015};  ///< σ of the correction's change from one node to the next [m]
+  DriftTuning tuning;          ///< uavip's own tuning (above)
 };
 
 /// The correction δ(t) to add to the odometry's T(t), and the loop closure it implies.

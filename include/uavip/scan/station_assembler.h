@@ -35,6 +35,7 @@
 
 #include "uavip/core/raw_log.h"
 #include "uavip/core/types.h"
+#include "uavip/scan/drift_refinement.h"
 
 #include <Eigen/Geometry>
 
@@ -55,6 +56,50 @@ enum class IcpMethod {
 IcpMethod icpMethodFromString(const std::string& name);
 std::string toString(IcpMethod method);
 
+/// uavip's own tuning of stage 1 beyond the paper (which gives none of these); the
+/// defaults were measured on the simulated Hokuyo UTM-30LX + Xsens MTi-10 sweeps.
+/// Not read from YAML: change them in code, with a measurement.
+struct AssemblerTuning {
+  /// Line normals of a horizontal scan: a point's line is fitted (PCA) to its
+  /// beam-order neighbours ± line_half_window that lie within line_reach_m +
+  /// line_reach_per_m × range of it, and is a line when the smaller eigenvalue is
+  /// below line_ratio × the larger.
+  int line_half_window{8};
+  double line_reach_m{0.2};        ///< [m]
+  double line_reach_per_m{0.02};   ///< [m per m of range]
+  double line_ratio{0.1};
+  /// Point-to-line ICP: Huber scale for the first huber_steps steps (the guess may be
+  /// centimetres off), then Tukey: pairs across an occlusion edge or a corner get no
+  /// weight [m].
+  double huber_m{0.05};
+  double tukey_m{0.1};
+  int huber_steps{3};
+  double normal_cos{0.94};          ///< pairs need normals within acos(this) of each other (20°)
+  std::size_t min_pairs{30};        ///< fewer pairs: the scan keeps the previous pose
+  double prior_weight{1e-3};        ///< weight of the prior toward the guess, per pair
+  double typical_range_m{5.0};      ///< scales yaw against translation in the degeneracy test [m]
+  /// Directions whose (range-scaled) eigenvalue is below this fraction of the largest
+  /// are not updated by an ICP step (e.g. only one flat face in view).
+  double degenerate_fraction{0.02};
+  double map_spacing_m{0.03};       ///< keyframe points join the reference map only this far from its points [m]
+  double min_loop_information{10.0};  ///< effective pairs the least constrained direction needs for a loop-closure figure
+  /// Drift refinement points: every drift_beam_stride-th beam of every vertical scan
+  /// and of every drift_horizontal_scan_stride-th horizontal scan (~10⁵ per station).
+  std::size_t drift_beam_stride{4};
+  std::size_t drift_horizontal_scan_stride{2};
+  /// Position noise of a beam: range noise [m] and attitude error [rad] (Hokuyo
+  /// UTM-30LX: 1–3 cm; Xsens MTi-10: 0.5°, here about its mean).
+  double beam_range_sigma_m{0.015};
+  double beam_angle_sigma_rad{0.005};
+  double odometry_smoothing{0.25};  ///< before the refinement, xy is averaged over ± this fraction of a segment
+  double loop_window_deg{30.0};     ///< the loop closure's end window: the last this much of the sweep's yaw [deg]
+  double max_drift_segments{120.0}; ///< at most this many refinement segments (dense normal equations: 3 per node)
+  DriftTuning drift;                ///< the refinement's own (drift_refinement.h)
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where) const;
+};
+
 /// Options of stage 1.
 struct AssemblerOptions {
   bool use_imu_prior{true};           ///< rotate horizontal scans by the IMU before ICP (paper)
@@ -74,6 +119,7 @@ struct AssemblerOptions {
   double drift_segment_deg{12.0};     ///< refinement node spacing: this much yaw, in (0, 360] [deg]
   int drift_iterations{3};            ///< refinement steps (voxels and normals rebuilt between them), >= 1
   double drift_voxel_m{0.5};          ///< refinement voxel and column edge, > 0 [m]
+  AssemblerTuning tuning;             ///< uavip's own tuning (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "scan") const;
