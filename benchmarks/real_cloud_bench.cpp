@@ -25,8 +25,6 @@
 
 namespace {
 
-
-
 /// nx × ny copies of the cloud, side by side along x and y (gap 1 m).
 uavip::PointList tiled(const uavip::PointList& cloud, int nx, int ny) {
   if (nx == 1 && ny == 1) return cloud;

@@ -29,7 +29,6 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-
 void setState(ob::ScopedState<>& s, const Vec3& p) {
   for (unsigned int i = 0; i < 3; ++i) s[i] = p[static_cast<int>(i)];
 }

@@ -24,7 +24,6 @@
 namespace uavip::app {
 namespace {
 
-
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
 }

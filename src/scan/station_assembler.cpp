@@ -36,9 +36,7 @@ std::int64_t cellKey(std::int64_t x, std::int64_t y) {
   return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^ (static_cast<std::uint64_t>(y) & 0xffffffffULL));
 }
 
-
 using Vec2 = Eigen::Vector2d;
-
 
 Eigen::Matrix2d rot2(double theta) {
   Eigen::Matrix2d r;
@@ -272,7 +270,6 @@ Eigen::Quaterniond expMap(const Eigen::Vector3d& v) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(a, v / a));
 }
 
-
 /// A 2D height map (cell → mean z of the first points that fell into it).
 class HeightMap {
  public:
@@ -456,7 +453,6 @@ Eigen::Quaterniond ImuTrack::at(double t_s) const {
 }
 
 namespace {
-
 
 /// Throws InputError for a scan with a bad time, out of order or outside the IMU's span.
 void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, const std::string& where) {

@@ -82,7 +82,7 @@ struct DriftTuning {
   /// fraction of the next one.
   double flat_ratio{0.1};
   double max_thickness_m{0.05};        ///< cells thicker than this (√ smallest scatter eigenvalue) are not planes [m]
-  double gravity_aligned_deg{10.0};    ///< a plane within this angle of level is level, of upright upright [deg]
+  double gravity_aligned_deg{10.0};    ///< within this angle of level a plane is level, of upright upright [deg]
   /// A point with this noise counts as one effective pair; noisier ones as (this/σ)² [m].
   double unit_sigma_m{0.015};
   double robust_sigmas{3.0};           ///< Cauchy scale of a residual, in σ of its point
