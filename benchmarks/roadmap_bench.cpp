@@ -14,7 +14,6 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
-#include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/scenario.h"
 
@@ -52,16 +51,9 @@ struct Legs {
 Legs prepare(const uavip::io::Scenario& sc, int max_legs) {
   const auto raw = uavip::app::sense(sc);
   const auto d = uavip::app::detect(raw, sc.config, uavip::app::measure(raw, &sc));
-  std::vector<uavip::PointList> stops_by_surface;
+  const auto stops_by_surface = uavip::app::stopsBySurface(d.scene, d.resolved.config.coverage);
   uavip::PointList extra;
-  for (const auto& surface : d.scene.surfaces) {
-    uavip::PointList stops;
-    for (const auto& stop : uavip::coverage::planFlightStrategy(surface, d.resolved.config.coverage).stops) {
-      stops.push_back(stop.position);
-    }
-    extra.insert(extra.end(), stops.begin(), stops.end());
-    stops_by_surface.push_back(std::move(stops));
-  }
+  for (const auto& stops : stops_by_surface) extra.insert(extra.end(), stops.begin(), stops.end());
   Legs out;
   out.grid = uavip::world::VoxelGrid::build(d.scene.cloud, extra, d.resolved.config.gridOptions());
   out.legs = uavip::app::sampleLegs(out.grid, stops_by_surface, max_legs, 1);

@@ -43,6 +43,17 @@ bool feasibleOnGrid(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b) 
 
 }  // namespace
 
+std::vector<PointList> stopsBySurface(const Scene& scene, const coverage::CoverageOptions& coverage) {
+  std::vector<PointList> out;
+  out.reserve(scene.surfaces.size());
+  for (const auto& surface : scene.surfaces) {
+    PointList stops;
+    for (const auto& stop : coverage::planFlightStrategy(surface, coverage).stops) stops.push_back(stop.position);
+    out.push_back(std::move(stops));
+  }
+  return out;
+}
+
 std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
                                               const std::vector<PointList>& stops_by_surface, int max_legs,
                                               std::uint32_t seed) {
@@ -97,15 +108,9 @@ PreparedScenario prepareScenario(const io::Scenario& sc, int scenario_index, con
   const DetectResult d = detect(raw, sc.config, measured, {}, index);
   PreparedScenario out;
   out.config = d.resolved.config;
-  std::vector<PointList> stops_by_surface;
+  const std::vector<PointList> stops_by_surface = stopsBySurface(d.scene, out.config.coverage);
   PointList extra;
-  for (const auto& surface : d.scene.surfaces) {
-    const auto strategy = coverage::planFlightStrategy(surface, out.config.coverage);
-    PointList stops;
-    for (const auto& stop : strategy.stops) stops.push_back(stop.position);
-    extra.insert(extra.end(), stops.begin(), stops.end());
-    stops_by_surface.push_back(std::move(stops));
-  }
+  for (const auto& stops : stops_by_surface) extra.insert(extra.end(), stops.begin(), stops.end());
   for (const auto& [a, b] : sc.bench.legs) {
     extra.push_back(a);
     extra.push_back(b);

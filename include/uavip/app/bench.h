@@ -28,6 +28,10 @@ using io::BenchRun;
 using io::PlannerSummary;
 using io::TargetCheck;
 
+/// Each surface's photo-stop positions (stage 6, planFlightStrategy), in scene order
+/// [m]: what sampleLegs draws its legs between.
+std::vector<PointList> stopsBySurface(const Scene& scene, const coverage::CoverageOptions& coverage);
+
 /// The legs of a scenario: its `bench.legs`, or up to `bench.max_legs` legs sampled
 /// deterministically (seeded) between free photo stops of different surfaces whose
 /// straight segment is blocked, keeping only legs the grid allows. `stops_by_surface`
