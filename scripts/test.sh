@@ -13,5 +13,6 @@ BUILD_DIR=${BUILD_DIR:-build}
 # The install test (label install) builds a consumer against the installed tree; it runs
 # in the Release suite only (an instrumented tree needs an instrumented consumer).
 exclude=()
-[ "${UAVIP_SANITIZE:-OFF}" = ON ] && exclude=(-LE install)
+# The heavy tests (label heavy: real clouds, the bridge) run in the Release suite only.
+[ "${UAVIP_SANITIZE:-OFF}" = ON ] && exclude=(-LE 'install|heavy')
 ctest --test-dir "$BUILD_DIR" --output-on-failure -j"$(nproc)" "${exclude[@]}"

@@ -1,5 +1,7 @@
 #include "uavip/app/bench.h"
 
+#include "uavip/core/geometry.h"
+
 #include "uavip/app/bench_stats.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
@@ -119,8 +121,12 @@ PreparedScenario prepareScenario(const io::Scenario& sc, int scenario_index, con
   if (d.scene.cloud.empty() && extra.empty()) {
     throw InputError(sc.path + ": bench: the scenario has no cloud and no legs");
   }
-  out.grid = world::VoxelGrid::build(d.scene.cloud, extra, out.config.gridOptions());
-  out.validator = std::make_unique<planning::PathValidator>(d.scene.cloud, out.config.uav.inflationRadius());
+  // The same safety as a mission: every measured point, kept at the safety clearance.
+  const PointList points = safetyPoints(d.scene);
+  world::GridOptions grid_options = out.config.gridOptions();
+  grid_options.inflation_radius_m = safetyClearance(d.scene, out.config);
+  out.grid = world::VoxelGrid::build(points, extra, grid_options);
+  out.validator = std::make_unique<planning::PathValidator>(points, grid_options.inflation_radius_m);
 
   const std::vector<std::pair<Vec3, Vec3>> legs =
       sc.bench.legs.empty() ? sampleLegs(out.grid, stops_by_surface, sc.bench.max_legs, options.seed) : sc.bench.legs;

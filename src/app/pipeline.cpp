@@ -6,9 +6,11 @@
 #include "uavip/core/geometry.h"
 #include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
+#include "uavip/preprocess/safety_cloud.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/world/collision_world.h"
@@ -17,6 +19,7 @@
 
 #include <algorithm>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <memory>
 #include <thread>
@@ -101,15 +104,26 @@ DetectResult detect(const PointList& raw, const io::Config& config, const prepro
   const auto t0 = SteadyClock::now();
   report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
   PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
+  // Safety keeps every input point, whatever stage 3 dropped or merged.
+  SafetyCloud safety = preprocess::safetyCloud(raw, resolved.safety.cell_m);
+  safety.perception_dropped = result.preprocess.input_points - result.preprocess.after_outliers;
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
   report(progress, "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
   result.scene = perception::buildScene(clean, resolved.perception);
   result.scene.measured = cloud;
+  result.scene.safety = std::move(safety);
   result.times.perception_s = secondsSince(t1);
   result.times.total_s = secondsSince(t0);
   return result;
+}
+
+double safetyClearance(const Scene& scene, const io::Config& config) {
+  const double uav = config.uav.inflationRadius();
+  if (!scene.safety) return uav;
+  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
+  return uav + preprocess::safetyMargin(*scene.safety, spacing, config.safety);
 }
 
 ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config) {
@@ -164,19 +178,20 @@ const Surface& surfaceById(const Scene& scene, int id) {
 /// the solids occupied too, so the planner never flies through space the validator
 /// calls solid.
 world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const io::Config& config,
-                              const PointList& stop_positions) {
+                              const PointList& stop_positions, double clearance_m) {
   Aabb region = boundingBox(stop_positions);
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions();
   if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
-  PointList occupied = scene.cloud;
+  grid_options.inflation_radius_m = clearance_m;
+  PointList occupied = safetyPoints(scene);
   // Solids matter as far as a point can block a voxel of the grid.
   const double reach_m = grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
   Aabb reach = region;
   reach.min.array() -= reach_m;
   reach.max.array() += reach_m;
-  const PointList solids = world.solidSamples(0.5 * grid_options.resolution_m, scene.cloud, &reach);
+  const PointList solids = world.solidSamples(0.5 * grid_options.resolution_m, occupied, &reach);
   occupied.insert(occupied.end(), solids.begin(), solids.end());
   return world::VoxelGrid::build(occupied, {}, grid_options, region);
 }
@@ -216,6 +231,38 @@ std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::F
   return missions;
 }
 
+/// mission.start and mission.home must lie within one battery's reach of the photo
+/// stops: there and back at cruise speed in the usable endurance (planning/flight_planner.h).
+void requireWithinReach(const std::optional<Vec3>& point, const std::string& key, const PointList& stops,
+                        const planning::FlightModel& model) {
+  if (!point || stops.empty()) return;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& s : stops) nearest = std::min(nearest, (s - *point).norm());
+  const double reach = 0.5 * model.usableSeconds() * model.cruise_speed_m_s;
+  if (nearest > reach) {
+    std::ostringstream os;
+    os << key << " " << formatPoint(*point) << " is " << formatFixed(nearest, 0)
+       << " m from the nearest photo stop, beyond one battery's reach (" << formatFixed(reach, 0)
+       << " m there and back at flight.cruise_speed_m_s in the usable flight.endurance_s); give it in the scene's frame, "
+          "near the structure";
+    throw InputError(os.str());
+  }
+}
+
+/// mission.start and mission.home must lie in free space: at least the safety
+/// clearance from every measured point and solid.
+void requireFree(const std::optional<Vec3>& point, const std::string& key, const planning::PathValidator& validator) {
+  if (!point) return;
+  const double clearance = validator.clearance(*point);
+  if (clearance < validator.requiredClearance()) {
+    std::ostringstream os;
+    os << key << " " << formatPoint(*point) << " lies " << formatFixed(clearance, 2)
+       << " m from the structure, inside the " << formatFixed(validator.requiredClearance(), 2)
+       << " m the UAV keeps from every measured point; move it into free space";
+    throw InputError(os.str());
+  }
+}
+
 }  // namespace
 
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
@@ -230,6 +277,8 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
     strategies.push_back(coverage::planFlightStrategy(surfaceById(scene, id), config.coverage));
     for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
   }
+  requireWithinReach(config.mission.start, "mission.start", stop_positions, config.flight.model);
+  requireWithinReach(config.flight.home, "mission.home", stop_positions, config.flight.model);
   if (config.mission.start) stop_positions.push_back(*config.mission.start);
   if (config.flight.home) stop_positions.push_back(*config.flight.home);
   result.times.coverage_s = secondsSince(t0);
@@ -238,8 +287,11 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
   const auto t1 = SteadyClock::now();
   report(progress, "stage 7: inflated voxel grid");
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
-  const world::VoxelGrid grid = planningGrid(scene, *world, config, stop_positions);
-  const planning::PathValidator validator(world, config.uav.inflationRadius());
+  result.clearance_m = safetyClearance(scene, config);
+  const world::VoxelGrid grid = planningGrid(scene, *world, config, stop_positions, result.clearance_m);
+  const planning::PathValidator validator(world, result.clearance_m);
+  requireFree(config.mission.start, "mission.start", validator);
+  requireFree(config.flight.home, "mission.home", validator);
   result.grid_resolution_m = grid.resolution();
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();

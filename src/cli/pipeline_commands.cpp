@@ -8,6 +8,7 @@
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
+#include "uavip/io/file_digest.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scenario.h"
 #include "uavip/io/scene_json.h"
@@ -55,8 +56,14 @@ nlohmann::json metaFor(const io::Config& config, const std::string& source) {
 
 void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
                 const io::CloudReadInfo* read = nullptr) {
+  const double scale = d.resolved.config.input.scale;
+  const std::vector<int>& drop_classes = d.resolved.config.input.drop_classes;
   const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
   outputs.writeWith(pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
+  if (d.scene.safety) {
+    const std::string safety = (fs::path(out) / io::kSafetyCloudFile).string();
+    outputs.writeWith(safety, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.safety->points, safety); });
+  }
   nlohmann::json j = io::sceneToJson(d.scene);
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& r : d.resolved.values) parameters[r.key] = {{"value", r.value}, {"source", r.source}};
@@ -64,6 +71,8 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
   // Stage times [s]: 3 outlier removal + voxel grid, 4-5 planes + obstacle clusters.
   j["timings"] = {{"preprocess_s", d.times.preprocess_s}, {"perception_s", d.times.perception_s}};
   // Recentred input (LAS): add source_offset_m to a point to get the file's coordinates in metres.
+  // How the input was read, so that validate reads it the same way.
+  if (read != nullptr) j["input_read"] = {{"scale", scale}, {"drop_classes", drop_classes}};
   if (read != nullptr && read->origin_m != Vec3::Zero()) {
     j["source_offset_m"] = {read->origin_m.x(), read->origin_m.y(), read->origin_m.z()};
   }
@@ -79,6 +88,9 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
                   {"flight_s", plan.times.flight_s}};
   m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}, {"resolution_m", plan.grid_resolution_m}};
   m["grid_resolution_m"] = plan.grid_resolution_m;
+  // The distance kept from every measured point (app::safetyClearance): the UAV's
+  // inflation radius plus the safety cloud's margin.
+  m["safety_clearance_m"] = plan.clearance_m;
   nlohmann::json doc = io::missionToJson(plan.missions, m);
   doc["flight"] = io::flightToJson(plan.flight, model);
   outputs.write((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
@@ -100,6 +112,12 @@ void printDetectSummary(const app::DetectResult& d) {
   std::cout << "\n";
   std::cout << "cloud: " << d.preprocess.input_points << " points -> " << d.preprocess.after_outliers
             << " after outlier removal -> " << d.preprocess.output_points << " after voxel grid\n";
+  if (d.scene.safety) {
+    const SafetyCloud& sc = *d.scene.safety;
+    std::cout << "safety: every input point kept (" << sc.perception_dropped << " that outlier removal dropped): "
+              << sc.points.size() << " points on a " << formatFixed(sc.cell_m, 3) << " m lattice, within "
+              << formatFixed(sc.margin_m, 3) << " m of each input point\n";
+  }
   std::cout << "surfaces: " << d.scene.surfaces.size() << ", obstacles: " << d.scene.obstacles.size() << "\n";
   for (const auto& s : d.scene.surfaces) {
     std::cout << "  surface " << s.id << ": area " << formatFixed(s.area_m2, 2) << " m2, normal (" << formatFixed(s.plane.normal.x(), 2)
@@ -160,6 +178,38 @@ void printTotals(const app::PlanResult& p) {
   std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, " << stops
             << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1) << " m over the surfaces\n";
   printFlight(p.flight);
+}
+
+/// Exit code of run and plan: 0 when a flight exists, listing (on stderr, unless -q)
+/// the chosen surfaces it leaves out; 3 when nothing chosen can be flown, when the
+/// one chosen surface cannot be, or when the flight failed. An empty flight is never 0.
+int missionExitCode(const app::PlanResult& p, const Verbosity& v) {
+  const auto unflyable = [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); };
+  const auto first = std::find_if(p.missions.begin(), p.missions.end(), unflyable);
+  const auto count = std::count_if(p.missions.begin(), p.missions.end(), unflyable);
+  const bool flight = p.flight.status == planning::FlightPlan::Status::Ok && !p.flight.sorties.empty();
+  const std::string chosen = std::to_string(p.missions.size()) + " chosen surface" + (p.missions.size() == 1 ? "" : "s");
+  if (first != p.missions.end() && (!flight || p.missions.size() == 1)) {
+    std::cerr << "uavip: "
+              << (count > 1 ? std::to_string(count) + " of " + chosen +
+                                  " have no collision-free mission (each one's reason is in mission.json); first: "
+                            : std::string())
+              << "surface " << first->surface_id << " has no collision-free mission: " << first->reason << "\n";
+    return kExitNoMission;
+  }
+  if (!flight) {
+    std::cerr << "uavip: no collision-free flight"
+              << (p.flight.reason.empty() ? std::string(" (nothing to fly)") : ": " + p.flight.reason) << "\n";
+    return kExitNoMission;
+  }
+  if (first != p.missions.end() && !v.quiet) {
+    std::cerr << "uavip: the flight leaves out " << count << " of " << chosen << " (reasons in mission.json):";
+    for (const auto& m : p.missions) {
+      if (unflyable(m)) std::cerr << " " << m.surface_id << " " << planning::toString(m.status);
+    }
+    std::cerr << "\n";
+  }
+  return kExitOk;
 }
 
 io::OverviewOptions overviewOptions(const std::string& name) {
@@ -226,10 +276,14 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     std::cout << "time: " << formatFixed(total, 2) << " s (perception " << formatFixed(d.times.total_s, 2) << " s, grid "
               << formatFixed(p.times.grid_s, 2) << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
-    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
+    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out
+              << "/" << io::kSafetyCloudFile << "\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
-  return kExitOk;
+  // A scenario without surfaces (the single point, the line) has nothing to fly, as
+  // the paper expects: that is a result, not a failure.
+  if (p.missions.empty()) return kExitOk;
+  return missionExitCode(p, v);
 }
 
 int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out, bool views,
@@ -243,7 +297,10 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
   app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
   const preprocess::CloudStats measured = app::measure(raw, nullptr, &index);
-  const app::DetectResult d = app::detect(raw, config, measured, progress, index);
+  app::DetectResult d = app::detect(raw, config, measured, progress, index);
+  // The input file, so that validate can measure a flight against every point of it.
+  d.scene.safety->source = fs::absolute(cloud_path).lexically_normal().string();
+  d.scene.safety->sha256 = io::sha256File(cloud_path);
   const std::vector<planning::SurfaceMission> no_missions;
   auto rendered = renderViewsAsync(views, d.scene, no_missions, overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
   io::StagedOutputs outputs;
@@ -252,7 +309,8 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   outputs.commit();
   if (!v.quiet) {
     printDetectSummary(d);
-    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
+    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out << "/" << io::kSafetyCloudFile
+              << "\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply\n" : "");
   }
   return kExitOk;
@@ -282,22 +340,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     std::cout << "results: " << out << "/mission.json\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
   }
-  const auto unflyable = [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); };
-  const auto first = std::find_if(p.missions.begin(), p.missions.end(), unflyable);
-  if (first != p.missions.end()) {
-    const auto count = std::count_if(first, p.missions.end(), unflyable);
-    std::cerr << "uavip: "
-              << (count > 1 ? std::to_string(count) + " of " + std::to_string(p.missions.size()) +
-                                  " chosen surfaces have no collision-free mission (each one's reason is in mission.json); first: "
-                            : std::string())
-              << "surface " << first->surface_id << " has no collision-free mission: " << first->reason << "\n";
-    return kExitNoMission;
-  }
-  if (p.flight.status == planning::FlightPlan::Status::Failed) {
-    std::cerr << "uavip: no collision-free flight: " << p.flight.reason << "\n";
-    return kExitNoMission;
-  }
-  return kExitOk;
+  return missionExitCode(p, v);
 }
 
 

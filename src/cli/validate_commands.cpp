@@ -6,6 +6,9 @@
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/file_digest.h"
+#include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/path_validator.h"
@@ -39,8 +42,58 @@ std::vector<NamedPath> pathsOf(const io::MissionRecord& mission) {
   return out;
 }
 
+/// The input cloud a mission is checked against point by point: --cloud, else the
+/// file scene.json names when it is still there with the same sha256. `note` says
+/// which, or why none.
+struct InputCloud {
+  std::string path;
+  PointList points;  ///< in the scene's frame [m]; empty when none
+  std::string note;
+};
+
+InputCloud inputCloud(const std::string& scene_path, const Scene& scene, const std::string& cloud_arg) {
+  InputCloud in;
+  std::string path = cloud_arg;
+  if (path.empty()) {
+    if (!scene.safety || scene.safety->source.empty()) {
+      in.note = "no input file recorded in " + scene_path + " (give --cloud FILE to check against every input point)";
+      return in;
+    }
+    path = scene.safety->source;
+    if (!fs::exists(path)) {
+      in.note = "the input " + path + " is no longer there (give --cloud FILE)";
+      return in;
+    }
+    if (io::sha256File(path) != scene.safety->sha256) {
+      in.note = "the input " + path + " changed since detect (sha256 differs; give --cloud FILE to check against it)";
+      return in;
+    }
+  }
+  // Read as detect read it (input options from scene.json), in the scene's frame.
+  const nlohmann::json j = io::JsonReader(scene_path).load();
+  io::CloudReadOptions options;
+  Vec3 scene_offset = Vec3::Zero();
+  if (j.contains("input_read")) {
+    const nlohmann::json& r = j.at("input_read");
+    if (r.contains("scale") && r.at("scale").is_number()) options.scale = r.at("scale").get<double>();
+    if (r.contains("drop_classes") && r.at("drop_classes").is_array())
+      options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
+  }
+  if (j.contains("source_offset_m")) scene_offset = io::JsonReader(scene_path).vec3(j.at("source_offset_m"), "source_offset_m", false);
+  io::CloudReadInfo info;
+  in.points = io::loadCloud(path, options, &info);
+  const Vec3 shift = info.origin_m - scene_offset;  // file coordinates − scene offset
+  if (shift != Vec3::Zero()) {
+    for (auto& p : in.points) p += shift;
+  }
+  in.path = path;
+  in.note = "input " + path + ": " + std::to_string(in.points.size()) + " points" +
+            (cloud_arg.empty() ? " (from scene.json, sha256 checked)" : " (--cloud)");
+  return in;
+}
+
 int validateCommand(const std::string& mission_path, std::string scene_path, double clearance_arg,
-                    bool clearance_given, const Verbosity& v) {
+                    bool clearance_given, const std::string& cloud_arg, const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   const std::vector<NamedPath> paths = pathsOf(mission);
   if (scene_path.empty()) scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
@@ -54,9 +107,15 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   const Scene scene = io::loadScene(scene_path);
 
   const auto t0 = SteadyClock::now();
+  const InputCloud input = inputCloud(scene_path, scene, cloud_arg);
   auto world = std::make_shared<const world::CollisionWorld>(scene);
+  // Without the input file, the safety cloud stands for it: every input point lies
+  // within its margin of a safety point, so the world check keeps that much more.
+  const double margin = input.points.empty() && scene.safety ? scene.safety->margin_m : 0.0;
+  const planning::PathValidator validator(world, clearance + margin);
+  std::unique_ptr<const planning::PathValidator> raw;
+  if (!input.points.empty()) raw = std::make_unique<const planning::PathValidator>(input.points, clearance);
   const double build_s = secondsSince(t0);
-  const planning::PathValidator validator(world, clearance);
 
   const auto t1 = SteadyClock::now();
   int checked = 0, violated = 0;
@@ -69,9 +128,20 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
       continue;
     }
     ++checked;
-    const planning::ValidationResult r = validator.validate(s.waypoints);
+    planning::ValidationResult r = validator.validate(s.waypoints);
+    double required = validator.requiredClearance();
+    if (r.collision_free && raw) {  // then every input point, exactly
+      planning::ValidationResult to_input = raw->validate(s.waypoints);
+      if (!to_input.collision_free) {
+        to_input.violation_object = "input point";
+        r = std::move(to_input);
+        required = clearance;
+      } else {
+        r.min_clearance_m = std::min(r.min_clearance_m, to_input.min_clearance_m);
+      }
+    }
     std::size_t bad = 0;
-    for (const double c : r.segment_clearance_m) bad += c < clearance - 1e-9;
+    for (const double c : r.segment_clearance_m) bad += c < required - 1e-9;
     const std::string min =
         std::isfinite(r.min_clearance_m) ? formatFixed(r.min_clearance_m, 3) + " m" : std::string("unbounded");
     if (r.collision_free) {
@@ -85,7 +155,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
     std::ostringstream msg;
     msg << "segment " << seg << " " << formatPoint(a) << " -> " << formatPoint(b) << " comes "
         << formatFixed(r.segment_clearance_m[seg], 3) << " m from " << r.violation_object << " at "
-        << formatPoint(r.violation_point) << " (required " << formatFixed(clearance, 3) << " m)";
+        << formatPoint(r.violation_point) << " (required " << formatFixed(required, 3) << " m)";
     out << "VIOLATION: " << msg.str() << "; " << bad << " of " << r.segment_clearance_m.size()
         << " segments too close, min clearance " << min << "\n";
     if (first_error.empty()) first_error = s.label + ": " + msg.str();
@@ -96,7 +166,10 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
     std::cout << "mission " << mission_path << " against " << scene_path << " (clearance " << formatFixed(clearance, 3)
               << " m" << (clearance_given ? ", from --clearance" : ", inflation_radius_m of the mission") << ")\n";
     std::cout << "world: " << world->objects().size() << " objects (" << scene.surfaces.size() << " surfaces, "
-              << scene.obstacles.size() << " obstacles, cloud of " << world->cloudSize() << " points)\n";
+              << scene.obstacles.size() << " obstacles, cloud of " << world->cloudSize() << " points)"
+              << (margin > 0.0 ? ", checked at clearance + the safety margin " + formatFixed(margin, 3) + " m" : "")
+              << "\n";
+    std::cout << input.note << "\n";
     std::cout << out.str();
     std::cout << "validated " << checked << " of " << paths.size() << " paths (surfaces and sorties): "
               << (violated == 0 ? std::string("all collision-free") : std::to_string(violated) + " with violations")
@@ -112,7 +185,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
 
 /// Options of validate, kept alive until dispatch.
 struct ValidateArgs {
-  std::string mission, scene;
+  std::string mission, scene, cloud;
   double clearance{0.0};
   CLI::Option* clearance_opt{nullptr};
 };
@@ -129,8 +202,11 @@ void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
   val->add_option("--scene", a->scene, "Scene to check against (default: scene.json next to the mission)");
   a->clearance_opt = val->add_option("--clearance", a->clearance,
                                      "Required clearance [m] (default: the mission's inflation_radius_m)");
+  val->add_option("--cloud", a->cloud,
+                  "Input cloud to measure every path against, point by point (default: the file scene.json names, "
+                  "if unchanged)");
   registry.add(val, [a, &v] {
-    return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0, v);
+    return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0, a->cloud, v);
   });
 }
 

@@ -12,6 +12,12 @@ Aabb boundingBox(const PointList& points) {
   return box;
 }
 
+PointList safetyPoints(const Scene& scene) {
+  PointList out = scene.cloud;
+  if (scene.safety) out.insert(out.end(), scene.safety->points.begin(), scene.safety->points.end());
+  return out;
+}
+
 double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double len2 = ab.squaredNorm();

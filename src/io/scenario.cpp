@@ -172,6 +172,12 @@ void parsePreprocess(Section s, preprocess::PreprocessOptions& o) {
   s.finish();
 }
 
+void parseSafety(Section s, preprocess::SafetyOptions& o) {
+  o.cell_m = s.number("cell_m", o.cell_m);
+  o.sparse_factor = s.number("sparse_factor", o.sparse_factor);
+  s.finish();
+}
+
 void parsePerception(Section s, perception::PerceptionOptions& o) {
   auto& p = o.planes;
   p.distance_threshold_m = s.number("distance_threshold_m", p.distance_threshold_m);
@@ -397,7 +403,7 @@ void parseInput(Section s, CloudReadOptions& o) {
 void parseConfigSections(Section& top, Config& c) {
   if (top.has("input")) parseInput(top.child("input"), c.input);
   for (const char* section : {"input", "preprocess", "perception", "uav", "grid", "camera", "coverage", "planner",
-                              "mission", "flight", "assembly", "registration"}) {
+                              "mission", "flight", "assembly", "registration", "safety"}) {
     const YAML::Node n = top.node()[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
     for (const auto& kv : n) {
@@ -406,6 +412,7 @@ void parseConfigSections(Section& top, Config& c) {
     }
   }
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
+  if (top.has("safety")) parseSafety(top.child("safety"), c.safety);
   if (top.has("perception")) parsePerception(top.child("perception"), c.perception);
   if (top.has("uav")) parseUav(top.child("uav"), c.uav);
   if (top.has("grid")) parseGrid(top.child("grid"), c.grid);
@@ -543,6 +550,7 @@ void Config::validate(const std::string& where) const {
   withFile(where, [&] {
     input.validate("input");
     preprocess.validate("preprocess");
+    safety.validate("safety");
     perception.validate("perception");
     for (int i = 0; i < 3; ++i) requirePositive(uav.size_m[i], "uav", "size_m");
     requirePositive(uav.inflationRadius(), "uav", "inflation_radius_m");

@@ -2,12 +2,14 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/io/json_reader.h"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 
 namespace uavip::io {
 namespace {
@@ -24,6 +26,41 @@ json points(const PointList& pts) {
   return arr;
 }
 
+
+/// A count in [0, 1e12).
+std::size_t count(const JsonReader& r, const json& j, const std::string& field) {
+  const double v = r.number(j, field);
+  if (!(v >= 0.0 && v < 1e12) || v != std::floor(v)) r.fail(field, "must be a count");
+  return static_cast<std::size_t>(v);
+}
+
+/// The `safety` block and its points, read from the file it names beside `path`.
+SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& path) {
+  SafetyCloud sc;
+  const json& file = r.at(js, "file", "safety");
+  if (!file.is_string() || file.get<std::string>().empty() ||
+      std::filesystem::path(file.get<std::string>()).has_parent_path()) {
+    r.fail("safety.file", "must be a file name beside the scene, e.g. cloud_safety.pcd");
+  }
+  const std::size_t points = count(r, r.at(js, "points", "safety"), "safety.points");
+  sc.cell_m = r.number(r.at(js, "cell_m", "safety"), "safety.cell_m", 1e-9, 1e6, "m");
+  sc.margin_m = r.number(r.at(js, "margin_m", "safety"), "safety.margin_m", 0.0, 1e6, "m");
+  sc.input_points = count(r, r.at(js, "input_points", "safety"), "safety.input_points");
+  sc.perception_dropped = count(r, r.at(js, "perception_dropped", "safety"), "safety.perception_dropped");
+  if (js.contains("source") && js.at("source").is_string()) sc.source = js.at("source").get<std::string>();
+  if (js.contains("sha256") && js.at("sha256").is_string()) sc.sha256 = js.at("sha256").get<std::string>();
+  if (points == 0) return sc;
+  const std::string cloud = (std::filesystem::path(path).parent_path() / file.get<std::string>()).string();
+  if (!std::filesystem::exists(cloud)) {
+    throw InputError(path + ": safety.file " + cloud + " is missing; keep it beside scene.json (or run detect again)");
+  }
+  sc.points = loadCloud(cloud);
+  if (sc.points.size() != points) {
+    throw InputError(cloud + ": holds " + std::to_string(sc.points.size()) + " points, " + path + " says safety.points " +
+                     std::to_string(points) + "; run detect again");
+  }
+  return sc;
+}
 
 }  // namespace
 
@@ -65,6 +102,17 @@ json sceneToJson(const Scene& scene) {
                   {"lattice", c.lattice},
                   {"scanned_from_origin", c.scanned_from_origin},
                   {"station_ratio", round4(c.station_ratio)}};
+  }
+  if (scene.safety) {
+    const SafetyCloud& sc = *scene.safety;
+    j["safety"] = {{"file", kSafetyCloudFile},
+                   {"points", sc.points.size()},
+                   {"cell_m", sc.cell_m},
+                   {"margin_m", sc.margin_m},
+                   {"input_points", sc.input_points},
+                   {"perception_dropped", sc.perception_dropped},
+                   {"source", sc.source},
+                   {"sha256", sc.sha256}};
   }
   return j;
 }
@@ -131,6 +179,7 @@ Scene sceneFromJson(const json& j, const std::string& path) {
       m.scanned_from_origin = r.boolean(c.at("scanned_from_origin"), "cloud.scanned_from_origin");
     scene.measured = m;
   }
+  if (j.contains("safety")) scene.safety = readSafety(r, j.at("safety"), path);
   return scene;
 }
 

@@ -661,10 +661,11 @@ void CollisionWorld::build(const Scene& scene) {
       }
     }
   }
-  if (options_.include_cloud && !scene.cloud.empty()) {
-    im.points.build(scene.cloud);
+  const PointList cloud = safetyPoints(scene);
+  if (options_.include_cloud && !cloud.empty()) {
+    im.points.build(cloud);
     im.octree = std::make_shared<octomap::OcTree>(options_.octree_resolution_m);
-    for (const auto& p : scene.cloud) {
+    for (const auto& p : cloud) {
       octomap::OcTreeKey key;
       const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
       if (im.octree->coordToKeyChecked(q, key)) im.octree->updateNode(key, true, true);
@@ -674,7 +675,7 @@ void CollisionWorld::build(const Scene& scene) {
       im.octree_leaves += im.octree->isNodeOccupied(*it) ? 1 : 0;
     }
     geoms.push_back(std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(im.octree)));
-    objects_.push_back({ObjectKind::Cloud, -1, boundingBox(scene.cloud)});
+    objects_.push_back({ObjectKind::Cloud, -1, boundingBox(cloud)});
     im.solids.emplace_back();
   }
 

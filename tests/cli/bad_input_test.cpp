@@ -118,6 +118,8 @@ class BadInput : public ::testing::Test {
     write("planner.yaml", "planner: {name: warp}\n");
     write("start_in.yaml", "mission: {start: [0, 0, 1.5]}\n");  // inside the single_plane wall
     write("home_in.yaml", "mission: {home: [0, 0, 1.5]}\n");
+    write("start_far.yaml", "mission: {start: [100000, 0, 2]}\n");  // 100 km: beyond one battery
+    write("home_far.yaml", "mission: {home: [0, 1e7, 2]}\n");       // 10,000 km
     write("speed0.yaml", "flight: {cruise_speed_m_s: 0}\n");
     write("camera.yaml", "camera: {footprint_m: [0, 1]}\n");
     write("overlap.yaml", "coverage: {overlap_w: 1.5}\n");
@@ -217,6 +219,8 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"unknown planner in config", "plan " + scene + " --surface 0 -c $D/planner.yaml -o $D/prev", 2, "warp"},
       {"start inside the wall", "plan " + scene + " --surface 0 -c $D/start_in.yaml -o $D/prev", 2, "start"},
       {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2, "home"},
+      {"start 100 km away", "plan " + scene + " --surface 0 -c $D/start_far.yaml -o $D/prev", 2, "battery's reach"},
+      {"home 10,000 km away", "plan " + scene + " --surface 0 -c $D/home_far.yaml -o $D/prev", 2, "mission.home"},
       {"cruise speed 0", "plan " + scene + " --surface 0 -c $D/speed0.yaml -o $D/prev", 2, "cruise_speed_m_s"},
       {"zero footprint", "plan " + scene + " --surface 0 -c $D/camera.yaml -o $D/prev", 2, "footprint"},
       {"1 mm footprint: 32 million stops", "plan " + scene + " --surface 0 -c $D/tiny.yaml -o $D/prev", 2, "max_stops"},

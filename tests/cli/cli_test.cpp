@@ -1,6 +1,7 @@
 // The uavip executable as a user runs it: exit codes, one-line errors, outputs.
 
 #include "tests/cli/cli_runner.h"
+#include "uavip/core/geometry.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -108,10 +109,56 @@ TEST_F(Cli, DetectThenPlanOneSurface) {
   expectBadInput("plan " + path("d/scene.json") + " --surface 9 -o " + path("p"), "no surface with id 9");
 }
 
+TEST_F(Cli, TheFlightKeepsClearOfPointsOutlierRemovalDrops) {
+  // A wall (6 × 3 m, 5 cm lattice) and two sparse poles 1.5 m in front of and behind
+  // it, where the photo stops would be: outlier removal drops every pole point, so a
+  // safety map of the cleaned cloud would fly through them.
+  std::ostringstream xyz;
+  for (int i = 0; i <= 120; ++i)
+    for (int j = 0; j <= 60; ++j) xyz << i * 0.05 << " 0 " << 0.5 + j * 0.05 << "\n";
+  uavip::PointList poles;
+  for (const double y : {-1.5, 1.5})
+    for (int k = 0; k <= 10; ++k) poles.emplace_back(3.0, y, 0.5 + 0.3 * k);
+  for (const auto& p : poles) xyz << p.x() << " " << p.y() << " " << p.z() << "\n";
+  const std::string cloud = write("poles.xyz", xyz.str());
+  Result r = uavip("detect " + cloud + " --no-views -o " + path("d"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("(22 that outlier removal dropped)"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(dir_ / "d/cloud_safety.pcd"));
+  r = uavip("plan " + path("d/scene.json") + " --surface 0 --no-views -o " + path("d"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "d/mission.json"));
+  const double inflation = mission["inflation_radius_m"].get<double>();
+  double nearest = 1e9;  // brute force: every sortie segment against every pole point
+  for (const auto& sortie : mission["flight"]["sorties"]) {
+    const auto& w = sortie["waypoints"];
+    for (std::size_t i = 0; i + 1 < w.size(); ++i) {
+      const uavip::Vec3 a(w[i][0], w[i][1], w[i][2]), b(w[i + 1][0], w[i + 1][1], w[i + 1][2]);
+      for (const auto& p : poles) nearest = std::min(nearest, uavip::pointSegmentDistance(p, a, b));
+    }
+  }
+  EXPECT_GE(nearest, inflation) << "the flight passes " << nearest << " m from a pole";
+  // validate re-reads the input named in scene.json (sha256 checked) and measures every point.
+  r = uavip("validate " + path("d/mission.json"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("poles.xyz: 7403 points (from scene.json, sha256 checked)"), std::string::npos) << r.out;
+  // A waypoint moved 0.3 m from a pole point fails.
+  auto moved = mission;
+  moved["surfaces"][0]["waypoints"][1] = {3.0, 1.5, 2.0};
+  moved["surfaces"][0]["waypoints"][2] = {3.0, -1.5, 2.0};
+  std::ofstream(dir_ / "d/moved.json") << moved.dump();
+  r = uavip("validate " + path("d/moved.json") + " --scene " + path("d/scene.json"));
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("VIOLATION"), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, BlockedSurfaceMakesPlanExit3) {
+  // The one chosen surface cannot be flown: exit 3 from run as from plan, with the
+  // scene and the mission written (its reason is there).
   Result r = uavip("run " + scenario("cube_crossed_planes.yaml") + " --surface 0 -o " + path("x"));
-  ASSERT_EQ(r.code, 0) << r.out;  // run: blocked is a result
+  ASSERT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("blocked"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(dir_ / "x/mission.json"));
   // The paper's perpendicular stops only (stop repair would move them, see PaperCases).
   r = uavip("plan " + path("x/scene.json") + " --surface 0 -c " + write("norepair.yaml", "mission: {repair_stops: false}\n") +
             " -o " + path("p"));

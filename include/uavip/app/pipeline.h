@@ -49,6 +49,9 @@ struct PlanResult {
   std::size_t grid_voxels{0};
   double grid_resolution_m{0.0};  ///< voxel edge of the planning grid used [m]
   std::size_t grid_blocked{0};
+  /// Distance kept from every measured point and solid [m]: the UAV's inflation
+  /// radius plus the safety cloud's margin (safetyClearance).
+  double clearance_m{0.0};
   /// One ordered flight over every flyable surface (planning/flight_planner.h).
   planning::FlightPlan flight;
   StageTimes times;
@@ -73,6 +76,12 @@ DetectResult detect(const PointList& raw, const io::Config& config, const prepro
 /// The config resolved for a scene read back from scene.json: with the cloud
 /// numbers it was detected with (scene.measured), else measured on its points.
 ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config);
+/// The distance planning and its validator keep from the scene's points, surfaces and
+/// obstacles [m]: the UAV's inflation radius, plus (when the scene has a safety cloud)
+/// its thinning margin and safety.sparse_factor × the measured spacing
+/// (preprocess/safety_cloud.h). A flight that keeps it from the safety cloud keeps the
+/// inflation radius from every input point.
+double safetyClearance(const Scene& scene, const io::Config& config);
 /// Parses a surface selection: "all", an id, or a list of ids "0,3,5"; throws
 /// InputError naming the valid ids when an id does not exist or is listed twice.
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);

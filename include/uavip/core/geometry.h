@@ -22,6 +22,10 @@ struct Aabb {
 /// Bounding box of a point list (empty box for an empty list).
 Aabb boundingBox(const PointList& points);
 
+/// Every point safety keeps clear of: the clean cloud followed by the safety cloud's
+/// points (every input point, preprocess/safety_cloud.h) when the scene has one.
+PointList safetyPoints(const Scene& scene);
+
 /// Euclidean distance from p to the segment [a, b] [m].
 double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b);
 

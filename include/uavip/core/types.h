@@ -78,6 +78,19 @@ struct CloudStats {
   double station_ratio{0.0};
 };
 
+/// Every measured point, for safety (preprocess/safety_cloud.h): what planning and
+/// validation keep clear of besides the clean cloud. Stage 3 never removes a point
+/// from here; only input options the user sets (LAS classes) do.
+struct SafetyCloud {
+  PointList points;      ///< one input point per occupied cell of edge cell_m [m]
+  double cell_m{0.0};    ///< edge of the thinning lattice [m]
+  double margin_m{0.0};  ///< every input point lies within this of some point here (√3·cell_m) [m]
+  std::size_t input_points{0};        ///< points read from the input
+  std::size_t perception_dropped{0};  ///< input points stage 3's outlier removal dropped (kept here)
+  std::string source;    ///< the input file as given (empty for a simulated scenario)
+  std::string sha256;    ///< of the input file's bytes (empty when no file)
+};
+
 /// Result of perception: what the clean cloud means. Every measured point stays an
 /// obstacle for planning, whether it ended in a surface, a cluster or neither.
 struct Scene {
@@ -87,6 +100,9 @@ struct Scene {
   /// The raw cloud as measured before stage 3 (spacing, extent, noise); its
   /// numbers resolve the `auto` parameters of planning too (app/config.h).
   std::optional<CloudStats> measured;
+  /// Every measured point (absent in scenes written before it): planning and the
+  /// validator keep clear of these too, with its margin added.
+  std::optional<SafetyCloud> safety;
 };
 
 }  // namespace uavip

@@ -11,6 +11,7 @@
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/filters.h"
+#include "uavip/preprocess/safety_cloud.h"
 #include "uavip/registration/station_registration.h"
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
@@ -45,6 +46,8 @@ struct Config {
   /// Stage 2 (paper §II-B), section `registration:`; used with sensing mode `scan` only.
   registration::RegistrationOptions registration;
   preprocess::PreprocessOptions preprocess;
+  /// Safety from every measured point (preprocess/safety_cloud.h), section `safety:`.
+  preprocess::SafetyOptions safety;
   perception::PerceptionOptions perception;
   UavConfig uav;
   world::GridOptions grid;

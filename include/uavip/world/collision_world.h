@@ -10,7 +10,8 @@
 ///    or its oriented bounding box (PCA axes) when the cluster is flat, linear or
 ///    tiny, see WorldOptions::obstacle_min_thickness_m; a cluster wider than
 ///    obstacle_piece_m is cut into pieces of that size, one solid each;
-///  - all clean-cloud points as one fcl::OcTree built from an octomap::OcTree.
+///  - every measured point (the clean cloud and the safety cloud, core/geometry.h
+///    safetyPoints) as one fcl::OcTree built from an octomap::OcTree.
 ///
 /// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
 /// a segment; a capsule contains exactly the points within r of the segment):
