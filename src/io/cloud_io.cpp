@@ -461,7 +461,48 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
   return out;
 }
 
+/// Throws InputError when the cloud spans more than kMaxCloudExtentM on an axis,
+/// naming the point farthest (on one axis) from the per-axis median of the cloud:
+/// a stray point such as 1e308, or a cloud in the wrong unit. `origin` is added back
+/// so that the point is shown as in the file.
+void requirePhysicalExtent(const std::string& path, const PointList& points, const Vec3& lo, const Vec3& hi,
+                           const Vec3& origin) {
+  const Vec3 extent = hi - lo;
+  if (extent.allFinite() && extent.maxCoeff() <= kMaxCloudExtentM) return;
+  Vec3 median;
+  std::vector<double> axis(points.size());
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < points.size(); ++i) axis[i] = points[i][a];
+    std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2), axis.end());
+    median[a] = axis[axis.size() / 2];
+  }
+  std::size_t worst = 0;
+  double worst_d = -1.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double d = (points[i] - median).cwiseAbs().maxCoeff();
+    if (d > worst_d) {
+      worst_d = d;
+      worst = i;
+    }
+  }
+  throw InputError(path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) + " m (more than " +
+                   formatNumber(kMaxCloudExtentM / 1e3) + " km, beyond any structure to inspect); point " +
+                   std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
+                   formatNumber(worst_d, 3) + " m from the median of the others: remove it, or set input.scale if the "
+                   "file is not in metres");
+}
+
 }  // namespace
+
+Vec3 recentringOrigin(const Vec3& lo, const Vec3& hi) {
+  const Vec3 centre = 0.5 * (lo + hi);
+  const bool z_far = std::max(std::abs(lo.z()), std::abs(hi.z())) > kRecentreBeyondM;
+  return Vec3(std::round(centre.x()), std::round(centre.y()), z_far ? std::round(centre.z()) : 0.0);
+}
+
+bool farFromOrigin(const Vec3& lo, const Vec3& hi) {
+  return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) > kRecentreBeyondM;
+}
 
 void CloudReadOptions::validate(const std::string& where) const {
   for (const int c : drop_classes) {
@@ -478,6 +519,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   const std::string ext = lowerExtension(path);
   requireRegularFile(path);
   PointList points;
+  Vec3 origin = Vec3::Zero();  // already subtracted from points (LAS)
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
@@ -493,6 +535,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       info->note = os.str();
       info->origin_m = las.origin_m;
     }
+    origin = las.origin_m;
     points = std::move(las.points);
     if (points.empty()) throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
@@ -505,10 +548,29 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   if (points.empty()) throw InputError(path + ": the cloud has no points");
   if (options.scale != 1.0) {
     for (auto& p : points) p *= options.scale;
+    origin *= options.scale;
     if (info != nullptr) {
       info->note += std::string(info->note.empty() ? "" : "; ") + "coordinates scaled by input.scale " +
                     formatNumber(options.scale) + " to metres";
-      info->origin_m *= options.scale;
+      info->origin_m = origin;
+    }
+  }
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  requirePhysicalExtent(path, points, lo, hi, origin);
+  // A cloud far from the origin (UTM, a national grid): recentred while still in double.
+  if (farFromOrigin(lo, hi)) {
+    const Vec3 shift = recentringOrigin(lo, hi);
+    for (Vec3& p : points) p -= shift;
+    origin += shift;
+    if (info != nullptr) {
+      info->origin_m = origin;
+      info->note += std::string(info->note.empty() ? path + ": " : "; ") + "far from the origin, recentred by (" +
+                    formatNumber(shift.x(), 12) + ", " + formatNumber(shift.y(), 12) + ", " +
+                    formatNumber(shift.z(), 12) + ") m (scene.json source_offset_m adds it back)";
     }
   }
   return points;
