@@ -95,7 +95,7 @@ Vec3 sourceOffset(const ExportArgs& a) {
     throw InputError("--crs " + a.crs + ": " + path + " has no source_offset_m: its cloud lies within " +
                      formatNumber(io::kRecentreBeyondM / 1e3) + " km of its own origin, so it is not in a projected "
                      "CRS; pass --origin LAT,LON,ALT instead");
-  return reader.vec3(scene, "source_offset_m", false);
+  return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
 }
 
 int exportCommand(const ExportArgs& a, const Verbosity& v) {

@@ -476,20 +476,27 @@ void requirePhysicalExtent(const std::string& path, const PointList& points, con
     std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2), axis.end());
     median[a] = axis[axis.size() / 2];
   }
-  std::size_t worst = 0;
+  std::size_t worst = 0, strays = 0;
   double worst_d = -1.0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double d = (points[i] - median).cwiseAbs().maxCoeff();
-    if (d > worst_d) {
+    if (!(d <= 0.5 * kMaxCloudExtentM)) ++strays;
+    if (d > worst_d || std::isnan(d)) {
       worst_d = d;
       worst = i;
     }
   }
-  throw InputError(path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) + " m (more than " +
-                   formatNumber(kMaxCloudExtentM / 1e3) + " km, beyond any structure to inspect); point " +
-                   std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
-                   formatNumber(worst_d, 3) + " m from the median of the others: remove it, or set input.scale if the "
-                   "file is not in metres");
+  const std::string span = path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) + " m (more than " +
+                           formatNumber(kMaxCloudExtentM / 1e3) + " km, beyond any structure to inspect); ";
+  // A few stray points (at most 1 %): named. Most of the cloud: a unit, not a point.
+  if (strays <= std::max<std::size_t>(1, points.size() / 100))
+    throw InputError(span + (strays > 1 ? std::to_string(strays) + " points lie far from the others, the farthest " : "") +
+                     "point " + std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
+                     formatNumber(worst_d, 3) + " m from the cloud's median: remove it");
+  throw InputError(span + std::to_string(strays) + " of " + std::to_string(points.size()) +
+                   " points lie over " + formatNumber(0.5 * kMaxCloudExtentM / 1e3) +
+                   " km from the median: the file is not in metres (set input.scale, e.g. 0.001 for millimetres) "
+                   "or holds more than one site");
 }
 
 }  // namespace

@@ -149,15 +149,15 @@ class BadInput : public ::testing::Test {
     write("mission_1e155.json", std::regex_replace(far_surface, std::regex("WP"), "1e155, 0, 5"));
     // Hostile numbers (issue 21): a stray point at 1e308, a wall scaled by 1e12, a
     // 0.1 mm planning grid, a GSD in the wrong unit, a name with a newline.
-    std::string wall, wall_1e12;
+    std::string wall_xyz, wall_1e12;
     for (int i = 0; i <= 40; ++i) {
       for (int j = 0; j <= 20; ++j) {
-        wall += std::to_string(i * 0.1) + " 0 " + std::to_string(j * 0.1) + "\n";
+        wall_xyz += std::to_string(i * 0.1) + " 0 " + std::to_string(j * 0.1) + "\n";
         wall_1e12 += std::to_string(i * 1e11) + " 0 " + std::to_string(j * 1e11) + "\n";
       }
     }
-    write("wall.xyz", wall);
-    write("far_point.xyz", wall + "1e308 0 0\n");
+    write("wall.xyz", wall_xyz);
+    write("far_point.xyz", wall_xyz + "1e308 0 0\n");
     write("far_point_neg.pcd", pcd("x y z", "8 8 8", "F F F", "3", "3", "ascii", "1 2 3\n-1e308 0 0\n1 2 4\n"));
     write("wall_1e12.xyz", wall_1e12);
     write("scale_1e12.yaml", "input: {scale: 1e12}\n");

@@ -32,17 +32,17 @@ using uavip::cli_test::uavip;
 constexpr double kEast = 500123.37, kNorth = 5400456.81, kHeight = 101.25;
 constexpr double kSide = 3.0, kStep = 0.05;
 
-/// The six faces of a 3 m cube every 5 cm, floating 1 m above the ground height, as
-/// text lines "e<sep>n<sep>h" with millimetres.
+/// A 3 m cube standing on the ground (its top and four sides, every 5 cm; the bottom
+/// is not scanned), as text lines "e<sep>n<sep>h" with millimetres.
 std::string cubeText(char sep) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(3);
   const int n = static_cast<int>(std::lround(kSide / kStep));
-  const double z0 = kHeight + 1.0;
+  const double z0 = kHeight;
   for (int i = 0; i <= n; ++i) {
     for (int j = 0; j <= n; ++j) {
       const double a = i * kStep, b = j * kStep;
-      const double pts[6][3] = {{a, b, 0.0}, {a, b, kSide}, {a, 0.0, b}, {a, kSide, b}, {0.0, a, b}, {kSide, a, b}};
+      const double pts[5][3] = {{a, b, kSide}, {a, 0.0, b}, {a, kSide, b}, {0.0, a, b}, {kSide, a, b}};
       for (const auto& p : pts) os << kEast + p[0] << sep << kNorth + p[1] << sep << z0 + p[2] << "\n";
     }
   }
@@ -87,7 +87,7 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
     EXPECT_DOUBLE_EQ(scene["source_offset_m"][0].get<double>(), off_e);
     EXPECT_DOUBLE_EQ(scene["source_offset_m"][1].get<double>(), off_n);
     EXPECT_DOUBLE_EQ(scene["source_offset_m"][2].get<double>(), 0.0);
-    EXPECT_EQ(scene["surfaces"].size(), 6u) << r.out;
+    EXPECT_EQ(scene["surfaces"].size(), 5u) << r.out;
 
     r = uavip("plan " + out + "/scene.json --surface all -o " + out);
     ASSERT_EQ(r.code, 0) << r.out;

@@ -57,7 +57,8 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// info->origin_m holds the offset (scene.json's source_offset_m). Throws InputError
 /// naming the file for a missing or unreadable file, an unknown extension, an empty
 /// cloud, a non-finite point (with its index or line), or a cloud wider than
-/// kMaxCloudExtentM (naming the point farthest from the cloud's median).
+/// kMaxCloudExtentM (naming the point farthest from the cloud's median when at most
+/// 1 % of the points lie far from it, else pointing at input.scale).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
 
 /// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too
