@@ -538,7 +538,8 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       if (las.dropped > 0) os << " (" << las.dropped << " dropped by class)";
       os << "; unit " << las.unit_name << " (" << las.unit_source << ")";
       if (las.unit_to_m != 1.0 || las.z_unit_to_m != 1.0) os << " converted to metres";
-      os << "; recentred by (" << las.origin_m.x() << ", " << las.origin_m.y() << ", " << las.origin_m.z() << ") m";
+      os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", " << formatNumber(las.origin_m.y(), 12) << ", "
+         << formatNumber(las.origin_m.z(), 12) << ") m";  // every metre of a UTM northing
       info->note = os.str();
       info->origin_m = las.origin_m;
     }
