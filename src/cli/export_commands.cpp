@@ -103,9 +103,9 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
     throw InputError("--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin by a "
                      "WGS84 position of the local origin)");
   if (a.origin.empty() && a.crs.empty())
-    throw InputError("--origin: missing; pass --crs EPSG:CODE, the projected CRS of the cloud's coordinates (e.g. "
-                     "EPSG:32631 for UTM zone 31N), or --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, "
-                     "metres above sea level) of the local frame's origin (0, 0, 0), which is also home");
+    throw InputError("--origin: missing; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, metres above "
+                     "sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs EPSG:CODE, the "
+                     "projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
   io::ExportOptions options;
   if (!a.origin.empty()) options.origin = io::parseOrigin(a.origin);
   if (!a.crs.empty()) options.crs = std::make_shared<const io::CrsTransform>(a.crs);
