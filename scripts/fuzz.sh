@@ -4,11 +4,14 @@
 # (the raw log seeds are written here with printf), then prints the executions per
 # target and in total. A crash, leak or sanitizer report stops with exit 1 and
 # leaves the input in FUZZ_DIR (default build-fuzz).
-# Usage: bash scripts/fuzz.sh [SECONDS]      (SKIP_APT=1 to skip apt-get)
+# Usage: bash scripts/fuzz.sh [SECONDS]      (SKIP_APT=1 to skip apt-get;
+#        FUZZ_TARGETS="cloud json" builds and runs only those, default all four)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET=${1:-60}
 OUT=${FUZZ_DIR:-build-fuzz}
+TARGETS=${FUZZ_TARGETS:-cloud json yaml rawlog}
+wanted() { [[ " $TARGETS " == *" $1 "* ]]; }
 
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()
@@ -52,14 +55,14 @@ build() {  # target, then its sources and libraries
   $CXX "${FLAGS[@]}" "${link[@]}" -o "$OUT/$target"
 }
 
-echo "fuzz: building fuzz_cloud, fuzz_json, fuzz_yaml and fuzz_rawlog in $OUT" >&2
-build fuzz_cloud tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
+echo "fuzz: building fuzz_{${TARGETS// /,}} in $OUT" >&2
+wanted cloud && build fuzz_cloud tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
   src/core/error.cpp -lpcl_io -lpcl_common
-build fuzz_json tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/mission_json_read.cpp \
-  src/io/json_reader.cpp src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp -lGeographicLib
+wanted json && build fuzz_json tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/mission_json_read.cpp \
+  src/io/json_reader.cpp src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp -lGeographicLib -lproj
 # scenario.cpp checks every stage's options (Config::validate: the checks live next to
 # the stages, the planner names next to the planners), so it links most of the library.
-build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp src/io/las_reader.cpp \
+wanted yaml && build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp src/io/las_reader.cpp \
   src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp src/core/parallel.cpp src/core/voxel_key.cpp \
   src/sim/world_model.cpp src/sim/surface_sampler.cpp src/sim/scanner_sim.cpp src/scan/station_assembler.cpp \
   src/registration/station_registration.cpp src/preprocess/filters.cpp src/perception/scene_builder.cpp \
@@ -70,10 +73,11 @@ build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp
   planners/astar_ompl.cpp planners/ompl_planners.cpp planners/harness.cpp \
   -lyaml-cpp -lpcl_io -lpcl_common -lpcl_kdtree -lpcl_search -lpcl_filters -lpcl_features -lpcl_segmentation \
   -lpcl_surface -lqhull_r -llz4 -lfcl -loctomap -loctomath -lompl
-build fuzz_rawlog tests/fuzz/fuzz_rawlog.cpp src/io/raw_log_io.cpp src/io/json_reader.cpp src/io/atomic_file.cpp \
+wanted rawlog && build fuzz_rawlog tests/fuzz/fuzz_rawlog.cpp src/io/raw_log_io.cpp src/io/json_reader.cpp src/io/atomic_file.cpp \
   src/core/error.cpp src/core/geometry.cpp src/sim/world_model.cpp
 
-# Seeds: the first byte picks the reader (fuzz_cloud: 0 pcd, 1 ply, 2 xyz, 3 las;
+# Seeds: the first byte picks the reader (fuzz_cloud: 0 pcd, 1 ply, 2 xyz, 3 csv, 4 txt,
+# 5 las, + 8 for input.scale 0.001;
 # fuzz_json: 0 scene, 1-2 mission surfaces, 3 mission sorties; fuzz_yaml: 0 scenario,
 # 1 config). fuzz_rawlog has no selector byte: its input is log.json, the vertical,
 # horizontal and IMU CSV files of station 0, separated by "@@@@".
@@ -84,7 +88,14 @@ printf 'VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n4 5 6\n' | seed cloud 1 ascii.ply
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40' | seed cloud 1 binary.ply
 printf '1 2 3\n4 5 6\n7,8,9\n' | seed cloud 2 a.xyz
-head -c 4096 tests/data/autzen_trim.las | seed cloud 3 autzen.las
+# Georeferenced text clouds (UTM 31N): recentred by the readers.
+printf '500000.25 5400000.5 12.0\n500010.75 5400003.0 14.5\n500004 5400010 30\n' | seed cloud 2 utm.xyz
+printf 'x,y,z\n500000.25,5400000.5,12.0\n500010.75,5400003.0,14.5\n' | seed cloud 3 utm.csv
+printf '//X Y Z Intensity\n834003.5 815000.25 20.9997 12\n834010 815004 25 14\n' | seed cloud 4 hk.txt
+printf '1 2 3\n4 5 6\n1e308 0 0\n' | seed cloud 2 far_point.xyz
+printf '500000250 5400000500 12000\n500010750 5400003000 14500\n' | seed cloud 10 utm_mm.xyz
+printf 'VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n500000.125 5400000.5 12.25\n500001 5400002 13\n' | seed cloud 0 utm.pcd
+head -c 4096 tests/data/autzen_trim.las | seed cloud 5 autzen.las
 [ -f "$OUT/last_mission.json" ] || true
 printf '{"surfaces": [{"id": 0, "normal": [0,0,1], "offset": 0, "area_m2": 1, "centroid": [0,0,0], "axis_u": [1,0,0], "boundary": [[0,0,0],[1,0,0],[1,1,0]], "points": [[0,0,0]]}], "obstacles": [], "cloud": {"points": 1}}' | seed json 0 scene.json
 m='{"inflation_radius_m": 0.6, "surfaces": [{"surface_id": 0, "status": "ok", "reason": "", "stops": [{"position": [0,0,1], "yaw_deg": 0, "gimbal_pitch_deg": 0, "problem": "none"}], "waypoints": [[0,0,1],[1,0,1]]}], "flight": {"status": "ok", "sorties": [{"waypoints": [[1,0,1],[0,0,1],[1,0,1]], "stops": [{"surface_id": 0, "stop": 0, "waypoint": 1}]}]}}'
@@ -138,7 +149,7 @@ rawlog "$(station 0 0,0,0)" > "$OUT/corpus_rawlog/one_station.log"
 rawlog "$(station 0 0,0,0)" "$(station 1 4.5,-0.2,0.01)" > "$OUT/corpus_rawlog/two_stations.log"
 
 total=0
-for t in cloud json yaml rawlog; do
+for t in $TARGETS; do
   log="$OUT/fuzz_$t.log"
   echo "fuzz: running fuzz_$t for $SECONDS_PER_TARGET s" >&2
   if ! "$OUT/fuzz_$t" "$OUT/corpus_$t" -max_total_time="$SECONDS_PER_TARGET" -print_final_stats=1 \

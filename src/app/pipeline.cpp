@@ -185,6 +185,7 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   world::GridOptions grid_options = config.gridOptions();
   if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   grid_options.inflation_radius_m = clearance_m;
+  world::VoxelGrid::requireFits(region, grid_options);  // before the solids are sampled at the resolution
   PointList occupied = safetyPoints(scene);
   // Solids matter as far as a point can block a voxel of the grid.
   const double reach_m = grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;

@@ -6,6 +6,8 @@
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/json_reader.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/path_validator.h"
@@ -30,7 +32,7 @@ constexpr double kMaxDistanceFromOriginM = 50e3;
 
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
-  std::string mission, format, origin, out, surface, autopilot{"px4"}, scene;
+  std::string mission, format, origin, crs, out, surface, autopilot{"px4"}, scene;
   int sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0};
 };
@@ -80,12 +82,33 @@ void checkAgainstScene(const std::vector<io::Flight>& flights, const io::Mission
   }
 }
 
+/// --crs: scene.json's source_offset_m, the cloud's file coordinates of the local
+/// origin. A scene without one (a cloud within 10 km of its own origin) cannot be
+/// placed by a CRS.
+Vec3 sourceOffset(const ExportArgs& a) {
+  const std::string path = sceneFor(a);
+  if (!fs::is_regular_file(path))
+    throw InputError("--crs: " + path + " not found; the scene gives the cloud's offset in its CRS: pass --scene OUT/scene.json");
+  const io::JsonReader reader(path);
+  const nlohmann::json scene = reader.load();
+  if (!scene.is_object() || !scene.contains("source_offset_m"))
+    throw InputError("--crs " + a.crs + ": " + path + " has no source_offset_m: its cloud lies within " +
+                     formatNumber(io::kRecentreBeyondM / 1e3) + " km of its own origin, so it is not in a projected "
+                     "CRS; pass --origin LAT,LON,ALT instead");
+  return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
+}
+
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
-  if (a.origin.empty())
+  if (!a.origin.empty() && !a.crs.empty())
+    throw InputError("--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin by a "
+                     "WGS84 position of the local origin)");
+  if (a.origin.empty() && a.crs.empty())
     throw InputError("--origin: missing; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, metres above "
-                     "sea level) of the local frame's origin (0, 0, 0), which is also home");
+                     "sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs EPSG:CODE, the "
+                     "projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
   io::ExportOptions options;
-  options.origin = io::parseOrigin(a.origin);
+  if (!a.origin.empty()) options.origin = io::parseOrigin(a.origin);
+  if (!a.crs.empty()) options.crs = std::make_shared<const io::CrsTransform>(a.crs);
   options.autopilot = io::parseAutopilot(a.autopilot);
   options.hold_s = a.hold_s;
   options.acceptance_m = a.acceptance_m;
@@ -108,19 +131,28 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
     } else {
       flights = {io::flightFromMission(mission, a.mission, a.surface)};
     }
-    requireNearOrigin(flights, a.mission);
+    if (!options.crs) requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
     checkAgainstScene(flights, mission, a);
   } catch (const io::NoMissionError& e) {
-    std::cerr << "uavip: " << e.what() << "\n";
+    std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
     return kExitNoMission;
+  }
+  if (options.crs) {
+    options.source_offset_m = sourceOffset(a);
+    // Home: the ordered flight's (every sortie starts there), else the path's first waypoint.
+    options.home_m = mission.flight && !mission.flight->sorties.empty() && !mission.flight->sorties[0].waypoints.empty()
+                         ? mission.flight->sorties[0].waypoints.front()
+                     : !flights.empty() && !flights.front().waypoints.empty() ? flights.front().waypoints.front().enu
+                                                                              : Vec3::Zero();
   }
   double min_up = 0.0;
   for (const auto& f : flights) {
-    for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z());
+    for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z() - options.home_m.z());
   }
   if (min_up < 0.0 && !v.quiet) {
     std::cerr << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2) << -min_up
-              << " m below the origin (home); check that the origin's altitude is that of the ground or lower\n";
+              << (options.crs ? " m below home; QGroundControl altitudes are relative to home: take off there\n"
+                              : " m below the origin (home); check that the origin's altitude is that of the ground or lower\n");
   }
 
   // Several sorties: one file each, OUT with _sortieN before the extension.
@@ -139,6 +171,15 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   for (std::size_t i = 0; i < flights.size(); ++i) outputs.write(paths[i], io::exportFlight(flights[i], format, options));
   outputs.commit();
   if (!v.quiet) {
+    if (options.crs) {
+      const io::GeoPoint home = io::homeGeo(options);
+      std::cout << "georeferenced by " << options.crs->name() << " (" << a.crs << ") with the scene's source_offset_m ("
+                << formatFixed(options.source_offset_m.x(), 3) << ", " << formatFixed(options.source_offset_m.y(), 3)
+                << ", " << formatFixed(options.source_offset_m.z(), 3) << ") m; home " << formatPoint(options.home_m)
+                << " local = " << formatFixed(home.lat_deg, 8) << ", " << formatFixed(home.lon_deg, 8) << ", "
+                << formatFixed(home.alt_m, 2) << " m (the cloud's height datum); waypoint altitudes are relative to "
+                   "home, as QGroundControl expects\n";
+    }
     for (std::size_t i = 0; i < flights.size(); ++i) {
       const io::Flight& f = flights[i];
       std::string ids;
@@ -160,11 +201,14 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   const Verbosity& v = registry.verbosity();
   auto* ex = cli.add_subcommand(
       "export",
-      "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 about --origin; "
-      "headings are compass (0 = north, clockwise) = 90 - ENU yaw");
+      "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 about --origin, or by the cloud's CRS (--crs); "
+      "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home");
   ex->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
   ex->add_option("--format", a->format, "qgc-plan, wpl or csv")->required();
   ex->add_option("--origin", a->origin, "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
+  ex->add_option("--crs", a->crs,
+                 "The cloud's projected CRS (e.g. EPSG:32631, UTM 31N): waypoint + the scene's source_offset_m -> WGS84 "
+                 "by PROJ; home is the flight's first waypoint. Instead of --origin");
   ex->add_option("-o,--out", a->out, "Output file")->required();
   ex->add_option("--surface", a->surface,
                  "Surface id (its own path), or 'all' (the ordered flight's sorties, one file each when several); "

@@ -5,6 +5,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/memory.h"
+#include "uavip/core/text.h"
 #include "uavip/io/cloud_io.h"
 
 #include <unistd.h>
@@ -74,15 +75,15 @@ int main(int argc, char** argv) {
       const std::string word = argv[i];
       if (word.empty() || word[0] == '-') continue;
       if (names.count(word) == 0) {
-        std::cerr << "uavip: error: unknown command '" << word.substr(0, 60) << "'; the commands are " << commands
+        std::cerr << "uavip: error: unknown command '" << uavip::escapeControl(word.substr(0, 60)) << "'; the commands are " << commands
                   << " (uavip --help)\n";
         return kExitBadInput;
       }
       break;
     }
     std::string what = e.what();
-    for (char& c : what) c = c == '\n' ? ' ' : c;
-    std::cerr << "uavip: error: " << what << " (uavip --help, or uavip COMMAND --help)\n";
+    for (char& c : what) c = c == '\n' ? ' ' : c;  // CLI11's own line breaks
+    std::cerr << "uavip: error: " << uavip::escapeControl(what) << " (uavip --help, or uavip COMMAND --help)\n";
     return kExitBadInput;
   }
 
@@ -91,14 +92,14 @@ int main(int argc, char** argv) {
     uavip::io::setPclConsole(v.verbose);
     return registry.dispatch();
   } catch (const uavip::InputError& e) {
-    std::cerr << "uavip: error: " << e.what() << "\n";
+    std::cerr << "uavip: error: " << uavip::escapeControl(e.what()) << "\n";  // a file name may hold a newline
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "uavip: error: out of memory: the input is too large for this machine's memory; down-sample the "
                  "cloud, raise preprocess.voxel_m or grid.resolution_m, or plan fewer surfaces\n";
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "uavip: internal error: " << e.what() << "\n";
+    std::cerr << "uavip: internal error: " << uavip::escapeControl(e.what()) << "\n";
     return 1;
   }
 }

@@ -3,10 +3,17 @@
 #include <algorithm>
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
+
+#include <cmath>
 
 namespace uavip::coverage {
 
+double Camera::maxStandoff() const { return max_range_m > 0.0 ? max_range_m : kMaxStandoffWithoutRangeM; }
+
 void Camera::validate(const std::string& where) const {
+  if (!(std::isfinite(max_range_m) && max_range_m >= 0.0))
+    throw InputError(where + ": max_range_m must be > 0 (or left out), got " + formatNumber(max_range_m));
   if (!from_sensor) {
     requirePositive(footprint_w_m, where, "footprint_w_m");
     requirePositive(footprint_h_m, where, "footprint_h_m");
@@ -18,6 +25,15 @@ void Camera::validate(const std::string& where) const {
   requirePositive(static_cast<double>(image_w_px), where, "image_w_px");
   requirePositive(static_cast<double>(image_h_px), where, "image_h_px");
   requirePositive(gsd_mm_per_px, where, "gsd_mm_per_px");
+  // The standoff of solveCamera: the GSD is met on both axes.
+  const double standoff_m = std::min(image_w_px * gsd_mm_per_px * focal_mm / sensor_w_mm,
+                                     image_h_px * gsd_mm_per_px * focal_mm / sensor_h_mm) / 1000.0;
+  if (!(standoff_m <= maxStandoff()))
+    throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) + " puts the camera " +
+                     formatNumber(standoff_m, 4) + " m from the surface, beyond " +
+                     (max_range_m > 0.0 ? "its max_range_m " + formatNumber(max_range_m)
+                                        : formatNumber(kMaxStandoffWithoutRangeM) + " m (no max_range_m given)") +
+                     "; give the GSD in mm per pixel (e.g. 2), or set camera.max_range_m");
 }
 
 CameraGeometry solveCamera(const Camera& camera, double standoff_m) {

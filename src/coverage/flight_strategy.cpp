@@ -9,6 +9,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/text.h"
 
 // Conventions of the photo stops (paper §II-F, 2-DOF mount: yaw by the UAV, pitch by
 // a gimbal without roll).
@@ -95,6 +96,11 @@ void CoverageOptions::validate(const std::string& where) const {
   requireThat(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
   requireThat(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
   requirePositive(standoff_m, where, "standoff_m");
+  if (!camera.from_sensor && standoff_m > camera.maxStandoff())
+    throw InputError(where + ": standoff_m " + formatNumber(standoff_m) + " is beyond " +
+                     (camera.max_range_m > 0.0 ? "camera.max_range_m " + formatNumber(camera.max_range_m)
+                                               : formatNumber(kMaxStandoffWithoutRangeM) + " m (no camera.max_range_m given)") +
+                     "; fly closer, or set camera.max_range_m");
   requireThat(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
   requireThat(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
                "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);

@@ -461,7 +461,55 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
   return out;
 }
 
+/// Throws InputError when the cloud spans more than kMaxCloudExtentM on an axis,
+/// naming the point farthest (on one axis) from the per-axis median of the cloud:
+/// a stray point such as 1e308, or a cloud in the wrong unit. `origin` is added back
+/// so that the point is shown as in the file.
+void requirePhysicalExtent(const std::string& path, const PointList& points, const Vec3& lo, const Vec3& hi,
+                           const Vec3& origin) {
+  const Vec3 extent = hi - lo;
+  if (extent.allFinite() && extent.maxCoeff() <= kMaxCloudExtentM) return;
+  Vec3 median;
+  std::vector<double> axis(points.size());
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < points.size(); ++i) axis[i] = points[i][a];
+    std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2), axis.end());
+    median[a] = axis[axis.size() / 2];
+  }
+  std::size_t worst = 0, strays = 0;
+  double worst_d = -1.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double d = (points[i] - median).cwiseAbs().maxCoeff();
+    if (!(d <= 0.5 * kMaxCloudExtentM)) ++strays;
+    if (d > worst_d || std::isnan(d)) {
+      worst_d = d;
+      worst = i;
+    }
+  }
+  const std::string span = path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) + " m (more than " +
+                           formatNumber(kMaxCloudExtentM / 1e3) + " km, beyond any structure to inspect); ";
+  // A few stray points (at most 1 %): named. Most of the cloud: a unit, not a point.
+  if (strays <= std::max<std::size_t>(1, points.size() / 100))
+    throw InputError(span + (strays > 1 ? std::to_string(strays) + " points lie far from the others, the farthest " : "") +
+                     "point " + std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
+                     formatNumber(worst_d, 3) + " m from the cloud's median: remove it");
+  throw InputError(span + std::to_string(strays) + " of " + std::to_string(points.size()) +
+                   " points lie over " + formatNumber(0.5 * kMaxCloudExtentM / 1e3) +
+                   " km from the median: the file is not in metres (set input.scale, e.g. 0.001 for millimetres) "
+                   "or holds more than one site");
+}
+
 }  // namespace
+
+Vec3 recentringOrigin(const Vec3& lo, const Vec3& hi) {
+  const Vec3 centre = 0.5 * (lo + hi);
+  const bool z_far = std::max(std::abs(lo.z()), std::abs(hi.z())) > kRecentreBeyondM;
+  return Vec3(std::round(centre.x()), std::round(centre.y()), z_far ? std::round(centre.z()) : 0.0);
+}
+
+bool farFromOrigin(const Vec3& lo, const Vec3& hi) {
+  return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) > kRecentreBeyondM;
+}
 
 void CloudReadOptions::validate(const std::string& where) const {
   for (const int c : drop_classes) {
@@ -478,6 +526,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   const std::string ext = lowerExtension(path);
   requireRegularFile(path);
   PointList points;
+  Vec3 origin = Vec3::Zero();  // already subtracted from points (LAS)
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
@@ -489,10 +538,12 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       if (las.dropped > 0) os << " (" << las.dropped << " dropped by class)";
       os << "; unit " << las.unit_name << " (" << las.unit_source << ")";
       if (las.unit_to_m != 1.0 || las.z_unit_to_m != 1.0) os << " converted to metres";
-      os << "; recentred by (" << las.origin_m.x() << ", " << las.origin_m.y() << ", " << las.origin_m.z() << ") m";
+      os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", " << formatNumber(las.origin_m.y(), 12) << ", "
+         << formatNumber(las.origin_m.z(), 12) << ") m";  // every metre of a UTM northing
       info->note = os.str();
       info->origin_m = las.origin_m;
     }
+    origin = las.origin_m;
     points = std::move(las.points);
     if (points.empty()) throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
@@ -505,10 +556,29 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   if (points.empty()) throw InputError(path + ": the cloud has no points");
   if (options.scale != 1.0) {
     for (auto& p : points) p *= options.scale;
+    origin *= options.scale;
     if (info != nullptr) {
       info->note += std::string(info->note.empty() ? "" : "; ") + "coordinates scaled by input.scale " +
                     formatNumber(options.scale) + " to metres";
-      info->origin_m *= options.scale;
+      info->origin_m = origin;
+    }
+  }
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  requirePhysicalExtent(path, points, lo, hi, origin);
+  // A cloud far from the origin (UTM, a national grid): recentred while still in double.
+  if (farFromOrigin(lo, hi)) {
+    const Vec3 shift = recentringOrigin(lo, hi);
+    for (Vec3& p : points) p -= shift;
+    origin += shift;
+    if (info != nullptr) {
+      info->origin_m = origin;
+      info->note += std::string(info->note.empty() ? path + ": " : "; ") + "far from the origin, recentred by (" +
+                    formatNumber(shift.x(), 12) + ", " + formatNumber(shift.y(), 12) + ", " +
+                    formatNumber(shift.z(), 12) + ") m (scene.json source_offset_m adds it back)";
     }
   }
   return points;

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
 
 namespace uavip::io {
 namespace {
@@ -674,22 +675,23 @@ LasCloud readLas(const std::string& path, const LasOptions& options) {
   resolveUnits(readProjection(file, h, path), path, cloud);
   readPoints(file, h, options, cloud);
 
-  // Origin: centre of the header bounds in metres, rounded; the points' own bounds if
-  // the header's are unusable.
+  // Origin: centre of the header bounds in metres, rounded (io::recentringOrigin, the
+  // rule of every reader); the points' own bounds if the header's are unusable.
   const bool header_bounds = std::isfinite(h.min[0]) && std::isfinite(h.max[0]) &&
                              std::isfinite(h.min[1]) && std::isfinite(h.max[1]) &&
                              h.min[0] <= h.max[0] && h.min[1] <= h.max[1];
   if (header_bounds) {
-    cloud.origin_m = Vec3(std::round(0.5 * (h.min[0] + h.max[0]) * cloud.unit_to_m),
-                          std::round(0.5 * (h.min[1] + h.max[1]) * cloud.unit_to_m), 0.0);
+    const bool z_bounds = std::isfinite(h.min[2]) && std::isfinite(h.max[2]);  // else z is kept
+    const Vec3 lo(h.min[0] * cloud.unit_to_m, h.min[1] * cloud.unit_to_m, z_bounds ? h.min[2] * cloud.z_unit_to_m : 0.0);
+    const Vec3 hi(h.max[0] * cloud.unit_to_m, h.max[1] * cloud.unit_to_m, z_bounds ? h.max[2] * cloud.z_unit_to_m : 0.0);
+    cloud.origin_m = recentringOrigin(lo, hi);
   } else if (!cloud.points.empty()) {
     Vec3 lo = cloud.points.front(), hi = cloud.points.front();
     for (const Vec3& p : cloud.points) {
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-    cloud.origin_m =
-        Vec3(std::round(0.5 * (lo.x() + hi.x())), std::round(0.5 * (lo.y() + hi.y())), 0.0);
+    cloud.origin_m = recentringOrigin(lo, hi);
   }
   for (Vec3& p : cloud.points) p -= cloud.origin_m;
   return cloud;

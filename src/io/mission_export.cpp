@@ -5,6 +5,7 @@
 #include "uavip/io/mission_json.h"
 
 #include <GeographicLib/LocalCartesian.hpp>
+#include <proj.h>
 
 #include <cerrno>
 #include <cmath>
@@ -128,6 +129,101 @@ GeoPoint enuToGeodetic(const GeoOrigin& origin, const Vec3& enu) {
   return g;
 }
 
+struct CrsTransform::Impl {
+  PJ_CONTEXT* ctx{nullptr};
+  PJ* to_wgs84{nullptr};
+  double unit_to_m{1.0};
+  std::string name;
+  std::string text;
+  ~Impl() {
+    if (to_wgs84 != nullptr) proj_destroy(to_wgs84);
+    if (ctx != nullptr) proj_context_destroy(ctx);
+  }
+};
+
+CrsTransform::CrsTransform(const std::string& crs, const std::string& where) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.text = crs;
+  m.ctx = proj_context_create();
+  if (m.ctx == nullptr) throw InputError(where + ": PROJ could not start (no memory?)");
+  proj_log_level(m.ctx, PJ_LOG_NONE);  // errors are ours, on one line
+  const std::string shown = "'" + crs.substr(0, 80) + (crs.size() > 80 ? "…" : "") + "'";
+  const auto why = [&] { return std::string(proj_context_errno_string(m.ctx, proj_context_errno(m.ctx))); };
+  // The PJ objects are destroyed on every path: a small owner.
+  struct Owned {
+    PJ* p;
+    ~Owned() {
+      if (p != nullptr) proj_destroy(p);
+    }
+  };
+  Owned source{proj_create(m.ctx, crs.c_str())};
+  if (source.p == nullptr || !proj_is_crs(source.p))
+    throw InputError(where + ": PROJ does not know the CRS " + shown + (source.p == nullptr ? " (" + why() + ")" : "") +
+                     "; give the cloud's projected CRS, e.g. EPSG:32631 (WGS 84 / UTM zone 31N)");
+  Owned horizontal{proj_get_type(source.p) == PJ_TYPE_COMPOUND_CRS ? proj_crs_get_sub_crs(m.ctx, source.p, 0) : nullptr};
+  PJ* h = horizontal.p != nullptr ? horizontal.p : source.p;
+  if (proj_get_type(h) != PJ_TYPE_PROJECTED_CRS)
+    throw InputError(where + ": " + shown + " is not a projected CRS (a geographic CRS gives degrees, the cloud is in "
+                     "metres); give its projected CRS, e.g. the UTM zone (EPSG:326NN north, 327NN south)");
+  const char* name = proj_get_name(h);
+  m.name = name != nullptr ? name : crs;
+  Owned cs{proj_crs_get_coordinate_system(m.ctx, h)};
+  double factor = 1.0;
+  if (cs.p == nullptr || !proj_cs_get_axis_info(m.ctx, cs.p, 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr, nullptr) ||
+      !(factor > 0.0 && std::isfinite(factor)))
+    throw InputError(where + ": " + shown + " has no linear unit PROJ can read");
+  m.unit_to_m = factor;
+  Owned op{proj_create_crs_to_crs(m.ctx, crs.c_str(), "EPSG:4326", nullptr)};
+  if (op.p == nullptr)
+    throw InputError(where + ": PROJ finds no transformation from " + shown + " to WGS84 (" + why() + ")");
+  m.to_wgs84 = proj_normalize_for_visualization(m.ctx, op.p);  // east, north in; longitude, latitude out
+  if (m.to_wgs84 == nullptr) throw InputError(where + ": PROJ cannot order the axes of " + shown + " (" + why() + ")");
+}
+
+CrsTransform::~CrsTransform() = default;
+
+GeoPoint CrsTransform::toWgs84(double east_m, double north_m) const {
+  const Impl& m = *impl_;
+  PJ_COORD c = proj_coord(east_m / m.unit_to_m, north_m / m.unit_to_m, 0.0, 0.0);
+  proj_errno_reset(m.to_wgs84);
+  const PJ_COORD g = proj_trans(m.to_wgs84, PJ_FWD, c);
+  GeoPoint out;
+  out.lon_deg = g.lp.lam;
+  out.lat_deg = g.lp.phi;
+  if (!(std::isfinite(out.lat_deg) && std::isfinite(out.lon_deg) && std::abs(out.lat_deg) <= 90.0 &&
+        std::abs(out.lon_deg) <= 180.0 && out.lat_deg != HUGE_VAL))
+    throw InputError("--crs: the point (" + formatFixed(east_m, 3) + ", " + formatFixed(north_m, 3) + ") m of " + m.name +
+                     " has no WGS84 position (PROJ: " + proj_context_errno_string(m.ctx, proj_errno(m.to_wgs84)) +
+                     "); is " + m.text + " the cloud's CRS?");
+  return out;
+}
+
+const std::string& CrsTransform::name() const { return impl_->name; }
+
+double CrsTransform::unitToMetres() const { return impl_->unit_to_m; }
+
+GeoPoint waypointGeo(const ExportOptions& options, const Vec3& enu) {
+  if (options.crs) {
+    const Vec3 p = enu + options.source_offset_m;
+    GeoPoint g = options.crs->toWgs84(p.x(), p.y());
+    g.alt_m = enu.z() - options.home_m.z();
+    return g;
+  }
+  GeoPoint g = enuToGeodetic(options.origin, enu);
+  g.alt_m -= options.origin.alt_m;
+  return g;
+}
+
+GeoPoint homeGeo(const ExportOptions& options) {
+  if (options.crs) {
+    const Vec3 p = options.home_m + options.source_offset_m;
+    GeoPoint g = options.crs->toWgs84(p.x(), p.y());
+    g.alt_m = p.z();
+    return g;
+  }
+  return {options.origin.lat_deg, options.origin.lon_deg, options.origin.alt_m};
+}
+
 double headingFromYaw(double yaw_enu_deg) {
   double h = std::fmod(90.0 - yaw_enu_deg, 360.0);
   if (h < 0.0) h += 360.0;
@@ -242,12 +338,10 @@ std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::
 }
 
 std::vector<MissionItem> missionItems(const Flight& flight, const ExportOptions& options) {
-  const GeographicLib::LocalCartesian lc(options.origin.lat_deg, options.origin.lon_deg, options.origin.alt_m);
   std::vector<MissionItem> items;
   int photo = 0;
   for (const auto& w : flight.waypoints) {
-    double lat = 0.0, lon = 0.0, h = 0.0;
-    lc.Reverse(w.enu.x(), w.enu.y(), w.enu.z(), lat, lon, h);
+    const GeoPoint g = waypointGeo(options, w.enu);
     const double heading = headingFromYaw(w.yaw_deg);
     if (w.isStop()) {
       if (options.autopilot == Autopilot::ArduPilot)
@@ -257,8 +351,8 @@ std::vector<MissionItem> missionItems(const Flight& flight, const ExportOptions&
     }
     items.push_back({kCmdWaypoint,
                      kFrameGlobalRelativeAlt,
-                     {w.isStop() ? options.hold_s : 0.0, options.acceptance_m, 0.0, heading, lat, lon,
-                      h - options.origin.alt_m}});
+                     {w.isStop() ? options.hold_s : 0.0, options.acceptance_m, 0.0, heading, g.lat_deg, g.lon_deg,
+                      g.alt_m}});
     if (w.isStop())
       items.push_back({kCmdImageStartCapture, kFrameMission, {0.0, 0.0, 1.0, static_cast<double>(++photo), 0.0, 0.0, 0.0}});
   }
@@ -276,7 +370,7 @@ json toQgcPlan(const Flight& flight, const ExportOptions& options) {
                      {"autoContinue", true},
                      {"doJumpId", ++jump}});
   }
-  const auto& o = options.origin;
+  const GeoPoint o = homeGeo(options);
   return {{"fileType", "Plan"},
           {"version", 1},
           {"groundStation", "QGroundControl"},
@@ -293,7 +387,7 @@ json toQgcPlan(const Flight& flight, const ExportOptions& options) {
 }
 
 std::string toWpl(const Flight& flight, const ExportOptions& options) {
-  const auto& o = options.origin;
+  const GeoPoint o = homeGeo(options);
   std::ostringstream os;
   os << "QGC WPL 110\n";
   os << "0\t1\t" << kFrameGlobal << "\t" << kCmdWaypoint << "\t0\t0\t0\t0\t" << formatNumber(o.lat_deg, 12) << "\t" << formatNumber(o.lon_deg, 12)
@@ -308,17 +402,15 @@ std::string toWpl(const Flight& flight, const ExportOptions& options) {
 }
 
 std::string toCsv(const Flight& flight, const ExportOptions& options) {
-  const GeographicLib::LocalCartesian lc(options.origin.lat_deg, options.origin.lon_deg, options.origin.alt_m);
   std::ostringstream os;
   os << "index,surface_id,stop_index,is_stop,east_m,north_m,up_m,lat_deg,lon_deg,alt_rel_home_m,yaw_enu_deg,"
         "heading_deg,gimbal_pitch_deg\n";
   for (std::size_t i = 0; i < flight.waypoints.size(); ++i) {
     const auto& w = flight.waypoints[i];
-    double lat = 0.0, lon = 0.0, h = 0.0;
-    lc.Reverse(w.enu.x(), w.enu.y(), w.enu.z(), lat, lon, h);
+    const GeoPoint g = waypointGeo(options, w.enu);
     os << i << "," << w.surface_id << "," << w.stop_index << "," << (w.isStop() ? 1 : 0) << "," << formatFixed(w.enu.x(), 4)
-       << "," << formatFixed(w.enu.y(), 4) << "," << formatFixed(w.enu.z(), 4) << "," << formatFixed(lat, 9) << "," << formatFixed(lon, 9) << ","
-       << formatFixed(h - options.origin.alt_m, 4) << "," << formatFixed(w.yaw_deg, 4) << "," << formatFixed(headingFromYaw(w.yaw_deg), 4)
+       << "," << formatFixed(w.enu.y(), 4) << "," << formatFixed(w.enu.z(), 4) << "," << formatFixed(g.lat_deg, 9) << "," << formatFixed(g.lon_deg, 9) << ","
+       << formatFixed(g.alt_m, 4) << "," << formatFixed(w.yaw_deg, 4) << "," << formatFixed(headingFromYaw(w.yaw_deg), 4)
        << "," << formatFixed(w.gimbal_pitch_deg, 4) << "\n";
   }
   return os.str();

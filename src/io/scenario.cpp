@@ -231,6 +231,7 @@ void parseCamera(Section s, coverage::Camera& c) {
     c.image_h_px = static_cast<int>(px[1]);
     c.gsd_mm_per_px = s.number("gsd_mm_per_px");
   }
+  c.max_range_m = s.number("max_range_m", c.max_range_m);
   s.finish();
 }
 

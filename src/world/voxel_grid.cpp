@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -44,7 +45,47 @@ std::vector<Index3> sphereOffsets(double radius_vox) {
   return out;
 }
 
+/// Bytes per voxel: the blocked state (1) and the component label (4, on first use).
+constexpr double kBytesPerVoxel = 5.0;
+
+/// The dense grid over [lo, hi] at options.resolution_m: its origin (on a multiple of
+/// the resolution) and dims; returns the voxel count. Throws InputError, before
+/// anything is allocated, when the count exceeds options.max_voxels, naming the
+/// count, the memory it would take and grid.resolution_m, the key to change.
+double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec3& origin, std::array<int, 3>& dims) {
+  const double res = options.resolution_m;
+  double count = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double o = std::floor(lo[a] / res) * res;
+    origin[a] = o;
+    const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
+    count *= n;
+    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2)) count = std::numeric_limits<double>::infinity();
+    dims[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
+  }
+  if (!(count <= static_cast<double>(options.max_voxels))) {
+    const Vec3 extent = hi - lo;
+    // The finest resolution whose grid fits max_voxels.
+    const double fits = std::cbrt(extent.x() * extent.y() * extent.z() / static_cast<double>(options.max_voxels));
+    std::ostringstream os;
+    os << "grid: " << dims[0] << " x " << dims[1] << " x " << dims[2] << " = " << std::setprecision(3) << count
+       << " voxels (" << count * kBytesPerVoxel / 1e9 << " GB) exceeds max_voxels = " << options.max_voxels
+       << " (extent " << extent.x() << " x " << extent.y() << " x " << extent.z() << " m at resolution_m = " << res
+       << "); set grid.resolution_m >= " << std::ceil(fits * 1000.0) / 1000.0
+       << " (or leave it out: auto), reduce padding_m or crop the cloud, or raise max_voxels";
+    throw InputError(os.str());
+  }
+  return count;
+}
+
 }  // namespace
+
+void VoxelGrid::requireFits(const Aabb& region, const GridOptions& options) {
+  options.validate("grid");
+  Vec3 origin;
+  std::array<int, 3> dims{};
+  gridShape(region.min.array() - options.padding_m, region.max.array() + options.padding_m, options, origin, dims);
+}
 
 void GridOptions::validate(const std::string& where) const {
   requirePositive(resolution_m, where, "resolution_m");
@@ -100,23 +141,7 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
 
   // The origin sits on a multiple of the resolution so that OctoMap's leaves (whose
   // boundaries are multiples of the resolution) coincide with the dense voxels.
-  double count = 1.0;
-  for (int a = 0; a < 3; ++a) {
-    const double o = std::floor(lo[a] / res) * res;
-    g.origin_[a] = o;
-    const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
-    count *= n;
-    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2)) count = std::numeric_limits<double>::infinity();
-    g.dims_[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
-  }
-  if (!(count <= static_cast<double>(options.max_voxels))) {
-    std::ostringstream os;
-    os << "grid: " << g.dims_[0] << " x " << g.dims_[1] << " x " << g.dims_[2] << " = " << count
-       << " voxels exceeds max_voxels = " << options.max_voxels << " (extent "
-       << (hi - lo).transpose() << " m at resolution_m = " << res
-       << "); increase resolution_m, reduce padding_m or crop the cloud, or raise max_voxels";
-    throw InputError(os.str());
-  }
+  const double count = gridShape(lo, hi, options, g.origin_, g.dims_);
   g.blocked_.assign(static_cast<std::size_t>(count), kFree);
 
   auto markRange = [&g](const Vec3& a, const Vec3& b) {

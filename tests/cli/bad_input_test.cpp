@@ -149,6 +149,25 @@ class BadInput : public ::testing::Test {
         "[{\"position\": [60000, 0, 5], \"yaw_deg\": 0, \"gimbal_pitch_deg\": 0}], \"waypoints\": [[60000, 0, 5], [WP]]}]}";
     write("mission_far.json", std::regex_replace(far_surface, std::regex("WP"), "60001, 0, 5"));
     write("mission_1e155.json", std::regex_replace(far_surface, std::regex("WP"), "1e155, 0, 5"));
+    // Hostile numbers (issue 21): a stray point at 1e308, a wall scaled by 1e12, a
+    // 0.1 mm planning grid, a GSD in the wrong unit, a name with a newline.
+    std::string wall_xyz, wall_1e12;
+    for (int i = 0; i <= 40; ++i) {
+      for (int j = 0; j <= 20; ++j) {
+        wall_xyz += std::to_string(i * 0.1) + " 0 " + std::to_string(j * 0.1) + "\n";
+        wall_1e12 += std::to_string(i * 1e11) + " 0 " + std::to_string(j * 1e11) + "\n";
+      }
+    }
+    write("wall.xyz", wall_xyz);
+    write("far_point.xyz", wall_xyz + "1e308 0 0\n");
+    write("far_point_neg.pcd", pcd("x y z", "8 8 8", "F F F", "3", "3", "ascii", "1 2 3\n-1e308 0 0\n1 2 4\n"));
+    write("wall_1e12.xyz", wall_1e12);
+    write("scale_1e12.yaml", "input: {scale: 1e12}\n");
+    write("res_1e-4.yaml", "grid: {resolution_m: 1e-4}\n");
+    write("gsd_1e6.yaml", "camera: {sensor_mm: [13.2, 8.8], focal_mm: 8.8, image_px: [5472, 3648], gsd_mm_per_px: 1e6}\n");
+    write("range.yaml", "camera: {footprint_m: [0.6, 0.4], max_range_m: 10}\ncoverage: {standoff_m: 20}\n");
+    write("standoff_2km.yaml", "coverage: {standoff_m: 2000}\n");
+    write("two\nlines.xyz", "1 2\n");
     // Scans folder with a file an output could overwrite.
     write("scans/cloud.pcd", "keep");
   }
@@ -277,6 +296,18 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
        "60.0 km from the origin"},
       {"validate negative clearance", "validate " + mission + " --clearance -1", 2, "--clearance"},
       {"validate a mission without surfaces", "validate $D/mission_nosurf.json --scene " + scene, 2, "surfaces"},
+      // Hostile numbers (issue 21).
+      {"a point at 1e308", "detect $D/far_point.xyz -o $D/prev", 2, "point 861 (1e+308, 0, 0)"},
+      {"a point at -1e308 in a double PCD", "detect $D/far_point_neg.pcd -o $D/prev", 2, "point 1 (-1e+308, 0, 0)"},
+      {"a wall scaled by 1e12", "detect $D/wall_1e12.xyz -o $D/prev", 2, "spans 4e+12 m"},
+      {"input.scale 1e12", "detect $D/wall.xyz -c $D/scale_1e12.yaml -o $D/prev", 2, "spans 4e+12 m"},
+      {"grid.resolution_m 1e-4", "plan " + scene + " --surface 0 -c $D/res_1e-4.yaml -o $D/prev", 2, "grid.resolution_m >="},
+      {"GSD 1e6 mm/px: a 3,648 km standoff", "plan " + scene + " --surface 0 -c $D/gsd_1e6.yaml -o $D/prev", 2,
+       "3.648e+06 m from the surface"},
+      {"standoff beyond max_range_m", "plan " + scene + " --surface 0 -c $D/range.yaml -o $D/prev", 2, "max_range_m 10"},
+      {"standoff 2 km without max_range_m", "plan " + scene + " --surface 0 -c $D/standoff_2km.yaml -o $D/prev", 2,
+       "standoff_m 2000"},
+      {"a newline in a file name", "detect '$D/two\nlines.xyz' -o $D/prev", 2, "two\\nlines.xyz"},
       // Command line.
       {"unknown command", "fly", 2, "fly"},
       {"unknown option", "run --warp 9", 2, "--warp"},

@@ -1,5 +1,6 @@
 // Tests of core/geometry.h against brute force and known shapes.
 #include "uavip/core/geometry.h"
+#include "uavip/core/text.h"
 
 #include <gtest/gtest.h>
 
@@ -98,6 +99,18 @@ TEST(Geometry, AllFinite) {
   EXPECT_TRUE(allFinite({Vec3(1, 2, 3), Vec3(-1e300, 0, 0)}));
   EXPECT_FALSE(allFinite({Vec3(1, 2, 3), Vec3(0, std::numeric_limits<double>::quiet_NaN(), 0)}));
   EXPECT_FALSE(allFinite({Vec3(0, 0, std::numeric_limits<double>::infinity())}));
+}
+
+TEST(Text, ControlCharactersAreEscapedOnOneLine) {
+  EXPECT_EQ(escapeControl("two\nlines.xyz"), "two\\nlines.xyz");
+  std::string raw = "a\tb\rc";
+  raw += '\x01';
+  raw += 'd';
+  raw += '\x7f';
+  raw += '\0';
+  raw += 'e';
+  EXPECT_EQ(escapeControl(raw), "a\\tb\\rc\\x01d\\x7f\\x00e");
+  EXPECT_EQ(escapeControl("gr\xc3\xbcn \xe2\x88\x9e.pcd"), "gr\xc3\xbcn \xe2\x88\x9e.pcd");  // UTF-8 is kept
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "uavip/core/error.h"
+#include "uavip/coverage/flight_strategy.h"
 
 namespace uavip::coverage {
 namespace {
@@ -116,6 +117,36 @@ TEST(Camera, ValidateNamesTheField) {
   Camera ignored = good;
   ignored.footprint_w_m = 0.0;
   EXPECT_EQ(errorOf(ignored), "");
+}
+
+TEST(Camera, AStandoffBeyondTheCamerasRangeIsRefused) {
+  // The camera: 5472 px × 1e6 mm/px × 8.8 mm / 13.2 mm = 3,648 km away.
+  Camera far = sensorCamera(13.2, 8.8, 8.8, 5472, 3648, 1e6);
+  try {
+    far.validate("camera");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("3.648e+06 m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("max_range_m"), std::string::npos) << e.what();
+  }
+  // 2 mm/px: 7.296 m, within 1 km; within a given max_range_m of 8 m, not of 7 m.
+  Camera near = sensorCamera(13.2, 8.8, 8.8, 5472, 3648, 2.0);
+  EXPECT_NO_THROW(near.validate());
+  near.max_range_m = 8.0;
+  EXPECT_NO_THROW(near.validate());
+  near.max_range_m = 7.0;
+  EXPECT_THROW(near.validate(), InputError);
+  near.max_range_m = -1.0;
+  EXPECT_THROW(near.validate(), InputError);
+  // A direct footprint: the standoff of the coverage options is checked.
+  CoverageOptions o;
+  o.standoff_m = 1500.0;
+  EXPECT_THROW(o.validate("coverage"), InputError);
+  o.camera.max_range_m = 2000.0;
+  EXPECT_NO_THROW(o.validate("coverage"));
+  o.camera.max_range_m = 10.0;
+  o.standoff_m = 20.0;
+  EXPECT_THROW(o.validate("coverage"), InputError);
 }
 
 }  // namespace

@@ -7,8 +7,12 @@
 #include <pcl/point_types.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
+#include <sstream>
+#include <utility>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -95,10 +99,13 @@ TEST_F(CloudIo, DoubleAndIntegerFieldsAreReadAsNumbers) {
     return "VERSION .7\nFIELDS x y z\nSIZE " + size + "\nTYPE " + type +
            "\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n" + data;
   };
-  const PointList d = loadCloud(file("d.pcd", pcd("8 8 8", "F F F", "500000.125 4000000.5 12.25\n-1.5 2 3\n")));
+  CloudReadInfo info;
+  const PointList d =
+      loadCloud(file("d.pcd", pcd("8 8 8", "F F F", "500000.125 4000000.5 12.25\n500003.5 4000002 3\n")), {}, &info);
   ASSERT_EQ(d.size(), 2u);
-  EXPECT_DOUBLE_EQ(d[0].x(), 500000.125);
-  EXPECT_DOUBLE_EQ(d[0].y(), 4000000.5);
+  EXPECT_EQ(info.origin_m, Vec3(500002.0, 4000001.0, 0.0));  // recentred: the box's centre, rounded
+  EXPECT_DOUBLE_EQ(d[0].x() + info.origin_m.x(), 500000.125);
+  EXPECT_DOUBLE_EQ(d[0].y() + info.origin_m.y(), 4000000.5);
   EXPECT_DOUBLE_EQ(d[1].z(), 3.0);
   const PointList i = loadCloud(file("i.pcd", pcd("4 4 2", "I I U", "-7 8 9\n1 2 3\n")));
   ASSERT_EQ(i.size(), 2u);
@@ -107,7 +114,80 @@ TEST_F(CloudIo, DoubleAndIntegerFieldsAreReadAsNumbers) {
   const PointList ply = loadCloud(file("d.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\n"
                                                 "property double y\nproperty double z\nend_header\n1.25 -2.5 700000.75\n"));
   ASSERT_EQ(ply.size(), 1u);
-  EXPECT_DOUBLE_EQ(ply[0].z(), 700000.75);
+  EXPECT_DOUBLE_EQ(ply[0].z(), -0.25);  // z far from the origin too: recentred by its rounded value 700001
+}
+
+/// The origin the readers promise (cloud_io.h), computed from the points here.
+Vec3 expectedOrigin(const PointList& file_points) {
+  Vec3 lo = file_points.front(), hi = lo;
+  for (const auto& p : file_points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec3 c = 0.5 * (lo + hi);
+  return {std::round(c.x()), std::round(c.y()), std::max(std::abs(lo.z()), std::abs(hi.z())) > 1e4 ? std::round(c.z()) : 0.0};
+}
+
+TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
+  // UTM 31N coordinates with millimetres: recentring must keep every digit.
+  const PointList utm = {{500123.371, 5400456.812, 101.25}, {500126.374, 5400459.813, 104.5}, {500124.001, 5400457.5, 102.0}};
+  std::string xyz, csv = "x,y,z\n";
+  for (const auto& p : utm) {
+    std::ostringstream l;
+    l << std::setprecision(12) << p.x() << " " << p.y() << " " << p.z() << "\n";
+    xyz += l.str();
+    std::string c = l.str();
+    std::replace(c.begin(), c.end(), ' ', ',');
+    csv += c;
+  }
+  const std::string pcd = "VERSION .7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+                          "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n" + xyz;
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                          "property double z\nend_header\n" + xyz;
+  const Vec3 origin = expectedOrigin(utm);
+  EXPECT_EQ(origin, Vec3(500125.0, 5400458.0, 0.0));
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"u.xyz", xyz}, {"u.txt", xyz}, {"u.csv", csv}, {"u.pcd", pcd}, {"u.ply", ply}}) {
+    CloudReadInfo info;
+    const PointList p = loadCloud(file(name, text), {}, &info);
+    ASSERT_EQ(p.size(), utm.size()) << name;
+    EXPECT_EQ(info.origin_m, origin) << name;
+    EXPECT_NE(info.note.find("recentred by (500125, 5400458, 0) m"), std::string::npos) << name << ": " << info.note;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      EXPECT_LT(p[i].head<2>().norm(), 10.0) << name;  // x, y recentred; z kept
+      EXPECT_NEAR((p[i] + info.origin_m - utm[i]).norm(), 0.0, 1e-9) << name << " point " << i;
+    }
+  }
+  // input.scale first, then the recentring, in metres: a cloud in millimetres.
+  CloudReadOptions mm;
+  mm.scale = 0.001;
+  CloudReadInfo info;
+  const PointList p = loadCloud(file("mm.xyz", "500123371 5400456812 101250\n500126374 5400459813 104500\n"), mm, &info);
+  EXPECT_EQ(info.origin_m, Vec3(500125.0, 5400458.0, 0.0));
+  EXPECT_NEAR((p[0] + info.origin_m - utm[0]).norm(), 0.0, 1e-6);
+  // A cloud near its origin is left where it is.
+  CloudReadInfo local;
+  const PointList q = loadCloud(file("local.xyz", "9999 -9999 5\n9990 -9990 3\n"), {}, &local);
+  EXPECT_EQ(local.origin_m, Vec3::Zero());
+  EXPECT_EQ(q[0], Vec3(9999, -9999, 5));
+  EXPECT_TRUE(local.note.empty()) << local.note;
+}
+
+TEST_F(CloudIo, ACloudBeyondPhysicalSenseNamesItsStrayPoint) {
+  // One point at 1e308 among a wall's: the cloud cannot be recentred into any frame.
+  std::string wall;
+  for (int i = 0; i < 20; ++i) wall += std::to_string(i * 0.1) + " 0 " + std::to_string(i * 0.05) + "\n";
+  expectError(file("far.xyz", wall + "1e308 0 0\n" + wall), "point 20 (1e+308, 0, 0)");
+  expectError(file("far_neg.csv", "x,y,z\n" + wall + "0 -1e308 0\n"), "point 20 (0, -1e+308, 0)");
+  // A wall in the wrong unit (or scaled by 1e12): 4e12 m across is no structure.
+  std::string huge;
+  for (int i = 0; i <= 40; ++i) huge += std::to_string(i * 1e11) + " 0 " + std::to_string((i % 7) * 1e11) + "\n";
+  expectError(file("huge.xyz", huge), "spans 4e+12 m");
+  CloudReadOptions scale;
+  scale.scale = 1e12;
+  EXPECT_THROW(loadCloud(file("scaled.xyz", wall), scale), InputError);
+  // 90 km across is a large site, still read.
+  EXPECT_NO_THROW(loadCloud(file("wide.xyz", "0 0 0\n90000 0 0\n")));
 }
 
 TEST_F(CloudIo, OrganizedFrameSkipsItsMissingReturns) {

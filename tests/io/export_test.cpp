@@ -4,11 +4,13 @@
 #include "uavip/core/error.h"
 #include "uavip/io/mission_export.h"
 
+#include <GeographicLib/UTMUPS.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ namespace {
 
 using nlohmann::json;
 namespace io = uavip::io;
+using uavip::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kLat0 = 47.0, kLon0 = 8.0, kAlt0 = 500.0;
@@ -123,6 +126,54 @@ TEST(Geo, OriginParsing) {
       EXPECT_NE(std::string(e.what()).find("--origin"), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(Geo, CrsTransformMatchesGeographicLibsUtm) {
+  // PROJ (EPSG:32631, EPSG:32733) against GeographicLib's own UTM (Krüger series).
+  const struct {
+    const char* crs;
+    int zone;
+    bool north;
+    double e, n;
+  } cases[] = {{"EPSG:32631", 31, true, 500123.37, 5400456.81},
+               {"EPSG:32631", 31, true, 312345.5, 6712345.25},
+               {"EPSG:32733", 33, false, 654321.0, 7654321.0}};
+  for (const auto& c : cases) {
+    const io::CrsTransform t(c.crs);
+    const io::GeoPoint g = t.toWgs84(c.e, c.n);
+    double lat = 0.0, lon = 0.0;
+    GeographicLib::UTMUPS::Reverse(c.zone, c.north, c.e, c.n, lat, lon);
+    EXPECT_NEAR(g.lat_deg, lat, 1e-9) << c.crs;  // 1e-9 deg ≈ 0.1 mm
+    EXPECT_NEAR(g.lon_deg, lon, 1e-9) << c.crs;
+  }
+  EXPECT_EQ(io::CrsTransform("EPSG:32631").name(), "WGS 84 / UTM zone 31N");
+  // A CRS in US survey feet: metres in, divided by its unit before PROJ.
+  EXPECT_NEAR(io::CrsTransform("EPSG:2263").unitToMetres(), 1200.0 / 3937.0, 1e-12);
+  for (const std::string bad : {"EPSG:4326", "EPSG:99999", "no crs", ""}) {
+    try {
+      io::CrsTransform t(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const uavip::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--crs"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Geo, WaypointsByCrsAreRelativeToHome) {
+  io::ExportOptions o;
+  o.crs = std::make_shared<const io::CrsTransform>("EPSG:32631");
+  o.source_offset_m = Vec3(500125.0, 5400458.0, 0.0);
+  o.home_m = Vec3(-3.0, 2.0, 101.5);
+  const io::GeoPoint w = io::waypointGeo(o, Vec3(1.0, -2.0, 110.0));
+  double lat = 0.0, lon = 0.0;
+  GeographicLib::UTMUPS::Reverse(31, true, 500126.0, 5400456.0, lat, lon);
+  EXPECT_NEAR(w.lat_deg, lat, 1e-9);
+  EXPECT_NEAR(w.lon_deg, lon, 1e-9);
+  EXPECT_DOUBLE_EQ(w.alt_m, 8.5);  // relative to home
+  const io::GeoPoint h = io::homeGeo(o);
+  EXPECT_DOUBLE_EQ(h.alt_m, 101.5);  // in the cloud's height datum
+  GeographicLib::UTMUPS::Reverse(31, true, 500122.0, 5400460.0, lat, lon);
+  EXPECT_NEAR(h.lat_deg, lat, 1e-9);
 }
 
 TEST(Flight, SelectionOfSurfaces) {

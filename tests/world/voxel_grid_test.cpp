@@ -193,6 +193,25 @@ TEST(VoxelGrid, MaxVoxelsGuardThrows) {
   EXPECT_NO_THROW(VoxelGrid::build({Vec3(0, 0, 0), Vec3(10, 10, 10)}, {}, o));
 }
 
+TEST(VoxelGrid, RequireFitsRefusesBeforeAllocatingAndNamesTheResolutionThatFits) {
+  GridOptions o;
+  o.resolution_m = 1e-4;  // a 10 m region: 1e15 voxels, 5e6 GB
+  o.padding_m = 0.0;
+  const Aabb region{Vec3(0, 0, 0), Vec3(10, 10, 10)};
+  try {
+    VoxelGrid::requireFits(region, o);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("GB"), std::string::npos) << what;
+    // cbrt(1000 m³ / 6e7 voxels) = 0.0255 m, rounded up to whole millimetres.
+    EXPECT_NE(what.find("grid.resolution_m >= 0.026"), std::string::npos) << what;
+  }
+  o.resolution_m = 0.026;
+  EXPECT_NO_THROW(VoxelGrid::requireFits(region, o));
+  EXPECT_NO_THROW(VoxelGrid::build({Vec3(0, 0, 0), Vec3(10, 10, 10)}, {}, o, region));
+}
+
 TEST(VoxelGrid, BadOptionsThrow) {
   GridOptions o;
   o.resolution_m = 0.0;

@@ -36,4 +36,30 @@ inline std::string formatRawPoint(const Vec3& p) {
   return "(" + formatNumber(p.x()) + ", " + formatNumber(p.y()) + ", " + formatNumber(p.z()) + ")";
 }
 
+/// `text` with every control character (bytes 0x00-0x1F and 0x7F) written as an
+/// escape (\n, \r, \t, else \xNN), so that a message naming a file whose name holds
+/// a newline stays one line. Other bytes (UTF-8 included) are kept.
+inline std::string escapeControl(const std::string& text) {
+  static const char* const kHex = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c != 0x7f) {
+      out += ch;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 0xf];
+    }
+  }
+  return out;
+}
+
 }  // namespace uavip

@@ -21,10 +21,20 @@ struct Camera {
   int image_w_px{0};          ///< Iw [px]
   int image_h_px{0};          ///< Ih [px]
   double gsd_mm_per_px{0.0};  ///< required GSD, met on both axes [mm/px]
+  /// Farthest distance the camera works at (YAML camera.max_range_m) [m]; 0 = not
+  /// given, then kMaxStandoffWithoutRangeM bounds the standoff.
+  double max_range_m{0.0};
 
-  /// Throws InputError naming the bad field (prefix `where`).
+  /// Throws InputError naming the bad field (prefix `where`), including a sensor
+  /// camera whose standoff (solveCamera) exceeds maxStandoff().
   void validate(const std::string& where = "camera") const;
+  /// The farthest standoff flown: max_range_m, else kMaxStandoffWithoutRangeM [m].
+  double maxStandoff() const;
 };
+
+/// Farthest standoff of a camera without max_range_m [m]: beyond 1 km no inspection
+/// photo is taken (a GSD typed in the wrong unit gives thousands of km).
+constexpr double kMaxStandoffWithoutRangeM = 1000.0;
 
 /// What the camera gives at the chosen standoff.
 struct CameraGeometry {

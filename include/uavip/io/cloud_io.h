@@ -28,12 +28,37 @@ struct CloudReadInfo {
   Vec3 origin_m{Vec3::Zero()};        ///< subtracted from the file's coordinates (after unit conversion) [m]
 };
 
+/// A cloud whose bounding box reaches farther than this from the file's origin, on
+/// any axis, is recentred by every reader (LAS always recentres x and y) [m]. A float
+/// keeps 1 mm at 10 km, and OctoMap's keys reach ±6.5 km at 0.2 m voxels.
+constexpr double kRecentreBeyondM = 1.0e4;
+
+/// A cloud wider than this on any axis is refused (exit 2) [m]: no structure a UAV
+/// inspects is 100 km across; such a cloud holds a stray point (e.g. 1e308) or is in
+/// the wrong unit.
+constexpr double kMaxCloudExtentM = 1.0e5;
+
+/// The origin a reader subtracts from a cloud whose bounding box (file coordinates,
+/// metres) is [lo, hi]: x and y the box's centre rounded to whole metres; z 0 (the
+/// elevations are kept) unless the z range lies beyond kRecentreBeyondM, then its
+/// rounded centre too. The one rule of the LAS, PCD, PLY and text readers.
+Vec3 recentringOrigin(const Vec3& lo, const Vec3& hi);
+
+/// True when the box [lo, hi] reaches beyond kRecentreBeyondM of the origin on any axis:
+/// the PCD, PLY and text readers recentre such a cloud (recentringOrigin).
+bool farFromOrigin(const Vec3& lo, const Vec3& hi);
+
 /// Reads a cloud by extension (.pcd, .ply, .las; .xyz, .txt and .csv: x y z first on
 /// each line, separated by spaces, tabs or commas, one optional header line of
 /// names such as "x,y,z" or "//X Y Z Intensity"; .laz is refused with the command
-/// that decompresses it), then applies options.scale. Throws InputError naming the file for a
-/// missing or unreadable file, an unknown extension, an empty cloud or a non-finite
-/// point (with its index or line).
+/// that decompresses it), then applies options.scale. Every coordinate is read as a
+/// double; a cloud far from the origin (farFromOrigin; a LAS file always) is recentred
+/// by recentringOrigin before anything becomes float, said in info->note, and
+/// info->origin_m holds the offset (scene.json's source_offset_m). Throws InputError
+/// naming the file for a missing or unreadable file, an unknown extension, an empty
+/// cloud, a non-finite point (with its index or line), or a cloud wider than
+/// kMaxCloudExtentM (naming the point farthest from the cloud's median when at most
+/// 1 % of the points lie far from it, else pointing at input.scale).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
 
 /// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too

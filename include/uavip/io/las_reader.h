@@ -49,7 +49,8 @@ struct LasCloud {
   std::vector<std::uint8_t> classification;
   /// Subtracted from every point [m, in the file's CRS]: x, y = centre of the header
   /// bounds (or of the points, if the header bounds are not finite or min > max)
-  /// rounded to whole metres; z = 0 (elevations kept).
+  /// rounded to whole metres; z = 0 (elevations kept) unless the z bounds lie beyond
+  /// 10 km (io::recentringOrigin, the rule of every cloud reader).
   Vec3 origin_m{Vec3::Zero()};
   double unit_to_m{1.0};  ///< metres per file unit of x and y [m]
   std::string unit_name{

@@ -7,10 +7,17 @@
 ///  - QGC WPL 110 text (12 tab-separated fields, line 0 = home),
 ///  - CSV with local ENU and geographic columns.
 ///
-/// Geography: local ENU (x east, y north, z up) → WGS84 with GeographicLib's
-/// LocalCartesian(lat0, lon0, h0).Reverse(E, N, U). Altitudes of mission items are
-/// relative to home (MAV_FRAME_GLOBAL_RELATIVE_ALT = 3): alt = h − h0, where home
-/// is the origin.
+/// Geography, one of two ways:
+///  - `--origin LAT,LON,ALT`: local ENU (x east, y north, z up) → WGS84 with
+///    GeographicLib's LocalCartesian(lat0, lon0, h0).Reverse(E, N, U). Altitudes of
+///    mission items are relative to home (MAV_FRAME_GLOBAL_RELATIVE_ALT = 3):
+///    alt = h − h0, where home is the origin.
+///  - `--crs EPSG:…`: the cloud's own projected CRS. A local point plus scene.json's
+///    source_offset_m is a point of the CRS, which PROJ transforms to WGS84
+///    latitude and longitude. Home is the flight's first waypoint (the ordered
+///    flight's home); altitudes stay relative to it (alt = z − z_home), as QGC
+///    expects, and the home position's altitude is z_home + the offset's z, in the
+///    vertical datum of the cloud's z.
 ///
 /// Headings: mission.json gives yaw counter-clockwise from +x (east), the ENU
 /// convention of the planner; QGC and MAVLink use a compass heading, clockwise from
@@ -40,6 +47,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -67,6 +75,34 @@ GeoOrigin parseOrigin(const std::string& text, const std::string& where = "--ori
 /// Local ENU [m] relative to `origin` → WGS84 (GeographicLib LocalCartesian).
 GeoPoint enuToGeodetic(const GeoOrigin& origin, const Vec3& enu);
 
+/// The projected coordinate reference system (CRS) of a cloud's file coordinates,
+/// transformed to WGS84 latitude and longitude by PROJ (`export --crs`). Not
+/// thread-safe (one PROJ context per object).
+class CrsTransform {
+ public:
+  /// `crs`: what PROJ reads, e.g. "EPSG:32631" (WGS 84 / UTM zone 31N), a WKT or a
+  /// PROJ string. Throws InputError "<where>: …" naming the text when PROJ does not
+  /// know it, or when it is not a projected CRS (a geographic CRS is in degrees, a
+  /// cloud in metres).
+  explicit CrsTransform(const std::string& crs, const std::string& where = "--crs");
+  ~CrsTransform();
+  CrsTransform(const CrsTransform&) = delete;
+  CrsTransform& operator=(const CrsTransform&) = delete;
+
+  /// WGS84 latitude and longitude [deg] of the point (east, north) [m] of the CRS
+  /// (divided by the CRS's own unit, e.g. a US survey foot, before PROJ). Throws
+  /// InputError naming the point when PROJ cannot transform it.
+  GeoPoint toWgs84(double east_m, double north_m) const;
+  /// The CRS's name as PROJ gives it (e.g. "WGS 84 / UTM zone 31N").
+  const std::string& name() const;
+  /// Metres per unit of the CRS's first axis.
+  double unitToMetres() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Compass heading [deg, 0 = north, clockwise, in [0, 360)] of an ENU yaw [deg,
 /// counter-clockwise from east]: 90 − yaw, wrapped.
 double headingFromYaw(double yaw_enu_deg);
@@ -81,9 +117,17 @@ enum class Autopilot { Px4, ArduPilot };
 /// Parses "px4" or "ardupilot"; throws InputError naming the value.
 Autopilot parseAutopilot(const std::string& text);
 
-/// Options of the export.
+/// Options of the export. Where the local frame lies: `origin` (--origin: the local
+/// (0, 0, 0) is home at that WGS84 position), or, when `crs` is set (--crs), the
+/// local point p is the CRS point p + source_offset_m and home is `home_m`.
 struct ExportOptions {
   GeoOrigin origin;
+  /// --crs: the cloud's CRS; null for --origin.
+  std::shared_ptr<const CrsTransform> crs;
+  /// --crs: scene.json's source_offset_m, added to every local point [m].
+  Vec3 source_offset_m{Vec3::Zero()};
+  /// --crs: home in the local frame (the flight's first waypoint) [m]; altitudes are relative to its z.
+  Vec3 home_m{Vec3::Zero()};
   Autopilot autopilot{Autopilot::Px4};
   double hold_s{1.0};          ///< hover time at a photo stop before the photo [s]
   double acceptance_m{0.3};    ///< waypoint acceptance radius [m]
@@ -91,6 +135,13 @@ struct ExportOptions {
   /// Throws InputError naming the bad field.
   void validate() const;
 };
+
+/// Where a local point [m] lies: WGS84 latitude and longitude, and alt_m its altitude
+/// relative to home (−origin.alt_m with --origin; − home_m.z with --crs) [m].
+GeoPoint waypointGeo(const ExportOptions& options, const Vec3& enu);
+/// Home: WGS84 latitude, longitude and altitude above the datum of the cloud's z
+/// (--crs: home_m.z + source_offset_m.z) or --origin's altitude [m].
+GeoPoint homeGeo(const ExportOptions& options);
 
 /// One waypoint of the flight, in flight order.
 struct FlightWaypoint {

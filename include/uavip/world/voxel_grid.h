@@ -64,6 +64,12 @@ class VoxelGrid final : public FreeSpace {
   static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options,
                          const Aabb& region);
 
+  /// Throws the InputError build(…, region) would throw for a grid over max_voxels
+  /// (naming the voxels, their memory and grid.resolution_m), before anything is
+  /// allocated: a caller that samples at the grid's resolution first (the solids of
+  /// app::plan) calls it before that sampling.
+  static void requireFits(const Aabb& region, const GridOptions& options);
+
   const GridOptions& options() const { return options_; }
   double resolution() const override { return options_.resolution_m; }
   /// The grid's box: origin to origin + dims·resolution [m].

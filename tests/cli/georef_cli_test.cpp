@@ -1,0 +1,176 @@
+// Georeferenced clouds through the whole command line: a cube written in UTM zone
+// 31N coordinates (x ≈ 5e5, y ≈ 5.4e6 m) as .xyz and as .csv with a header line is
+// recentred by the reader, detected, planned, validated and exported with defaults;
+// with --crs EPSG:32631 every waypoint lands where GeographicLib's own UTM
+// conversion (an independent implementation of the same projection) puts it.
+
+#include "tests/cli/cli_runner.h"
+
+#include <GeographicLib/UTMUPS.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using uavip::cli_test::Result;
+using uavip::cli_test::slurp;
+using uavip::cli_test::uavip;
+
+// The cube's corner in UTM 31N [m]: east, north, and a ground height of 101.25 m.
+constexpr double kEast = 500123.37, kNorth = 5400456.81, kHeight = 101.25;
+constexpr double kSide = 3.0, kStep = 0.05;
+
+/// A 3 m cube standing on the ground (its top and four sides, every 5 cm; the bottom
+/// is not scanned), as text lines "e<sep>n<sep>h" with millimetres.
+std::string cubeText(char sep) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(3);
+  const int n = static_cast<int>(std::lround(kSide / kStep));
+  const double z0 = kHeight;
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= n; ++j) {
+      const double a = i * kStep, b = j * kStep;
+      const double pts[5][3] = {{a, b, kSide}, {a, 0.0, b}, {a, kSide, b}, {0.0, a, b}, {kSide, a, b}};
+      for (const auto& p : pts) os << kEast + p[0] << sep << kNorth + p[1] << sep << z0 + p[2] << "\n";
+    }
+  }
+  return os.str();
+}
+
+/// Splits a CSV line.
+std::vector<std::string> fields(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+  return out;
+}
+
+class GeorefCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("uavip_georef_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLongitude) {
+  // The offset the readers pick (io::recentringOrigin), computed here from the box:
+  // x, y the rounded centre, z kept (101 m is near the origin).
+  const double off_e = std::round(kEast + 0.5 * kSide), off_n = std::round(kNorth + 0.5 * kSide);
+  for (const std::string name : {"cube.xyz", "cube.csv"}) {
+    SCOPED_TRACE(name);
+    const bool csv = name == "cube.csv";
+    std::ofstream(path(name)) << (csv ? "easting,northing,height\n" : "") << cubeText(csv ? ',' : ' ');
+    const std::string out = path(name + "_out");
+
+    Result r = uavip("detect " + path(name) + " -o " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("recentred by"), std::string::npos) << r.out;
+    const auto scene = nlohmann::json::parse(slurp(fs::path(out) / "scene.json"));
+    ASSERT_TRUE(scene.contains("source_offset_m")) << r.out;
+    EXPECT_DOUBLE_EQ(scene["source_offset_m"][0].get<double>(), off_e);
+    EXPECT_DOUBLE_EQ(scene["source_offset_m"][1].get<double>(), off_n);
+    EXPECT_DOUBLE_EQ(scene["source_offset_m"][2].get<double>(), 0.0);
+    EXPECT_EQ(scene["surfaces"].size(), 5u) << r.out;
+
+    r = uavip("plan " + out + "/scene.json --surface all -o " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    r = uavip("validate " + out + "/mission.json");
+    ASSERT_EQ(r.code, 0) << r.out;
+
+    // --origin still works on such a scene (local metres about the given point).
+    r = uavip("export " + out + "/mission.json --surface all --format csv --origin 48.75,3.0,150 -o " + path("o.csv"));
+    ASSERT_EQ(r.code, 0) << r.out;
+
+    r = uavip("export " + out + "/mission.json --surface all --sortie 1 --format csv --crs EPSG:32631 -o " + path("g.csv"));
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("relative to home"), std::string::npos) << r.out;
+    const auto mission = nlohmann::json::parse(slurp(fs::path(out) / "mission.json"));
+    ASSERT_EQ(mission["flight"]["status"], "ok");
+    const auto& home = mission["flight"]["sorties"][0]["waypoints"][0];
+    const double home_z = home[2].get<double>();
+
+    std::istringstream rows(slurp(path("g.csv")));
+    std::string line;
+    std::getline(rows, line);
+    const std::vector<std::string> header = fields(line);
+    const auto column = [&](const std::string& c) {
+      return static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin());
+    };
+    const std::size_t ce = column("east_m"), cn = column("north_m"), cu = column("up_m"), clat = column("lat_deg"),
+                      clon = column("lon_deg"), calt = column("alt_rel_home_m");
+    ASSERT_LT(calt, header.size()) << line;
+    int checked = 0;
+    while (std::getline(rows, line)) {
+      const std::vector<std::string> f = fields(line);
+      ASSERT_EQ(f.size(), header.size()) << line;
+      // GeographicLib: UTM zone 31, northern hemisphere, of the file's coordinates.
+      double lat = 0.0, lon = 0.0;
+      GeographicLib::UTMUPS::Reverse(31, true, std::stod(f[ce]) + off_e, std::stod(f[cn]) + off_n, lat, lon);
+      EXPECT_NEAR(std::stod(f[clat]), lat, 1e-8) << line;  // 1e-8 deg ≈ 1 mm
+      EXPECT_NEAR(std::stod(f[clon]), lon, 1e-8) << line;
+      EXPECT_NEAR(std::stod(f[calt]), std::stod(f[cu]) - home_z, 1e-3) << line;
+      EXPECT_GT(lat, 48.7);  // the cube lies at about 48.75 N, 3.0 E
+      EXPECT_LT(lat, 48.8);
+      EXPECT_NEAR(lon, 3.0, 0.05);
+      ++checked;
+    }
+    EXPECT_GT(checked, 10);
+
+    // The .plan's home is the flight's home, at its height in the cloud's datum.
+    r = uavip("export " + out + "/mission.json --surface all --sortie 1 --format qgc-plan --crs EPSG:32631 -o " +
+              path("g.plan"));
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto plan = nlohmann::json::parse(slurp(path("g.plan")));
+    double lat = 0.0, lon = 0.0;
+    GeographicLib::UTMUPS::Reverse(31, true, home[0].get<double>() + off_e, home[1].get<double>() + off_n, lat, lon);
+    EXPECT_NEAR(plan["mission"]["plannedHomePosition"][0].get<double>(), lat, 1e-8);
+    EXPECT_NEAR(plan["mission"]["plannedHomePosition"][1].get<double>(), lon, 1e-8);
+    EXPECT_NEAR(plan["mission"]["plannedHomePosition"][2].get<double>(), home_z, 1e-6);
+  }
+}
+
+TEST_F(GeorefCli, CrsMistakesAreOneLineAndExit2) {
+  std::ofstream(path("cube.xyz")) << cubeText(' ');
+  ASSERT_EQ(uavip("detect " + path("cube.xyz") + " -o " + path("d")).code, 0);
+  ASSERT_EQ(uavip("plan " + path("d/scene.json") + " --surface 0 -o " + path("d")).code, 0);
+  const std::string exp = "export " + path("d/mission.json") + " --surface 0 --format wpl -o " + path("x.wpl") + " ";
+  const struct {
+    std::string args, fragment;
+  } cases[] = {
+      {"--crs EPSG:32631 --origin 48,3,100", "choose one"},
+      {"--crs EPSG:99999", "EPSG:99999"},
+      {"--crs EPSG:4326", "not a projected CRS"},
+      {"--crs 'not a crs'", "not a crs"},
+  };
+  for (const auto& c : cases) {
+    const Result r = uavip(exp + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.fragment), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << c.args << "\n" << r.out;
+  }
+  EXPECT_FALSE(fs::exists(path("x.wpl")));
+  // A scene near its own origin has no offset: --crs cannot place it.
+  ASSERT_EQ(uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " + path("local")).code, 0);
+  const Result r = uavip("export " + path("local/mission.json") + " --format wpl --crs EPSG:32631 -o " + path("x.wpl"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("source_offset_m"), std::string::npos) << r.out;
+}
+
+}  // namespace
