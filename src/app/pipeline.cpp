@@ -183,8 +183,8 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions();
+  grid_options.inflation_radius_m = clearance_m;  // the UAV's radius and the safety margin
   if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
-  grid_options.inflation_radius_m = clearance_m;
   world::VoxelGrid::requireFits(region, grid_options);  // before the solids are sampled at the resolution
   PointList occupied = safetyPoints(scene);
   // Solids matter as far as a point can block a voxel of the grid.

@@ -535,7 +535,11 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       std::ostringstream os;
       os << path << ": LAS " << las.version_major << "." << las.version_minor << " point format " << las.point_format
          << ", " << las.points_in_file << " points";
-      if (las.dropped > 0) os << " (" << las.dropped << " dropped by class)";
+      if (!options.drop_classes.empty()) {
+        os << " (" << las.dropped << " dropped: input.drop_classes";
+        for (const int c : options.drop_classes) os << " " << c;
+        os << (options.drop_classes == std::vector<int>{7, 18} ? ", the classes LAS flags as noise" : "") << ")";
+      }
       os << "; unit " << las.unit_name << " (" << las.unit_source << ")";
       if (las.unit_to_m != 1.0 || las.z_unit_to_m != 1.0) os << " converted to metres";
       os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", " << formatNumber(las.origin_m.y(), 12) << ", "

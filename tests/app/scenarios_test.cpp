@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 
@@ -122,7 +124,17 @@ TEST(PaperCases, SinglePlaneIsDetectedCoveredAndFlownSafely) {
   // every footprint-grid cell over the plane has a stop: the true wall is covered
   // (1 cm inset: the detected boundary is a convex hull of noisy samples)
   EXPECT_TRUE(footprintsCover(truth, m, 0.0025));
-  for (const auto& stop : m.strategy.stops) EXPECT_NEAR(truth.distance(stop.position), 1.5, 0.05);
+  // Every stop the safety map leaves in place is at the standoff. The sensor's
+  // outliers (1 %, uniform within 1 m of the wall) stay in the safety cloud: a stop
+  // too close to one is moved by repair, farther or tilted, and still sees its photo.
+  std::size_t in_place = 0;
+  for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
+    const bool moved = std::find(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(k)) != m.moved_stops.end();
+    if (moved) continue;
+    ++in_place;
+    EXPECT_NEAR(truth.distance(m.strategy.stops[k].position), 1.5, 0.05);
+  }
+  EXPECT_GT(in_place, m.strategy.stops.size() / 2);
   EXPECT_GE(m.waypoints.size(), m.strategy.stops.size());
   EXPECT_GE(m.raw_waypoint_count, m.waypoints.size());
   expectSafe(o);

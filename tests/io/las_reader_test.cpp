@@ -1,4 +1,5 @@
 #include "uavip/io/las_reader.h"
+#include "uavip/io/cloud_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -417,6 +418,21 @@ TEST_F(LasReader, DropClasses) {
   EXPECT_NEAR(c.points[1].z(), 0.03, 1e-12);
   o.drop_classes = {300};
   expectError(write("drop.las", s), "drop_classes", o);
+}
+
+TEST_F(LasReader, LoadCloudDropsOnlyTheNoiseClassesByDefaultAndSaysSo) {
+  LasSpec s;
+  s.minor = 4;
+  s.format = 6;
+  s.points = {{0, 0, 0, 2}, {1, 1, 1, 7}, {2, 2, 2, 18}, {3, 3, 3, 1}, {4, 4, 4, 5}};
+  const std::string file = write("noise.las", s);
+  io::CloudReadInfo info;
+  EXPECT_EQ(io::loadCloud(file, {}, &info).size(), 3u);  // 7 and 18 dropped; vegetation (5) kept
+  EXPECT_NE(info.note.find("2 dropped: input.drop_classes 7 18, the classes LAS flags as noise"), std::string::npos)
+      << info.note;
+  io::CloudReadOptions keep;
+  keep.drop_classes.clear();
+  EXPECT_EQ(io::loadCloud(file, keep, &info).size(), 5u);
 }
 
 TEST_F(LasReader, WrongHeaderSizeIsRejected) {

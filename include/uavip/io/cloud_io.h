@@ -12,8 +12,11 @@ namespace uavip::io {
 
 /// How a cloud file is read (YAML section `input:`).
 struct CloudReadOptions {
-  /// LAS only: ASPRS classes whose points are dropped (e.g. 3, 4, 5 vegetation, 7 noise).
-  std::vector<int> drop_classes;
+  /// LAS only: ASPRS classes whose points are dropped. Default: the ones the file
+  /// itself flags as noise, 7 (low point) and 18 (high noise), said on the read line;
+  /// `[]` keeps every point, `[3, 4, 5, 7, 18]` drops vegetation too. Nothing else
+  /// removes a measured point from safety (preprocess/safety_cloud.h).
+  std::vector<int> drop_classes{7, 18};
   /// Every coordinate is multiplied by this to give metres, after a LAS file's own
   /// unit conversion: 0.001 for a cloud in millimetres, 0.01 in centimetres, 0.3048
   /// in international feet. 1 = the file is in metres (or a LAS file says its unit).
