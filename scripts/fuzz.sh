@@ -93,6 +93,7 @@ printf '500000.25 5400000.5 12.0\n500010.75 5400003.0 14.5\n500004 5400010 30\n'
 printf 'x,y,z\n500000.25,5400000.5,12.0\n500010.75,5400003.0,14.5\n' | seed cloud 3 utm.csv
 printf '//X Y Z Intensity\n834003.5 815000.25 20.9997 12\n834010 815004 25 14\n' | seed cloud 4 hk.txt
 printf '1 2 3\n4 5 6\n1e308 0 0\n' | seed cloud 2 far_point.xyz
+printf '\n1e308 0 0\n' | seed cloud 2 lone_point.xyz  # found by fuzz_cloud: recentred to -inf
 printf '500000250 5400000500 12000\n500010750 5400003000 14500\n' | seed cloud 10 utm_mm.xyz
 printf 'VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n500000.125 5400000.5 12.25\n500001 5400002 13\n' | seed cloud 0 utm.pcd
 head -c 4096 tests/data/autzen_trim.las | seed cloud 5 autzen.las

@@ -468,7 +468,17 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
 void requirePhysicalExtent(const std::string& path, const PointList& points, const Vec3& lo, const Vec3& hi,
                            const Vec3& origin) {
   const Vec3 extent = hi - lo;
-  if (extent.allFinite() && extent.maxCoeff() <= kMaxCloudExtentM) return;
+  if (extent.allFinite() && extent.maxCoeff() <= kMaxCloudExtentM) {
+    // Narrow, but maybe far: a lone point at 1e308, a georeferenced file in millimetres.
+    if (std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) > kMaxCoordinateM) {
+      std::size_t i = 0;
+      while (i + 1 < points.size() && !(points[i].cwiseAbs().maxCoeff() > kMaxCoordinateM)) ++i;
+      throw InputError(path + ": point " + std::to_string(i) + " " + formatRawPoint(points[i] + origin) +
+                       " lies beyond " + formatNumber(kMaxCoordinateM / 1e3) + " km of the file's origin, on no map of "
+                       "the earth: remove it, or set input.scale if the file is not in metres");
+    }
+    return;
+  }
   Vec3 median;
   std::vector<double> axis(points.size());
   for (int a = 0; a < 3; ++a) {
@@ -502,7 +512,7 @@ void requirePhysicalExtent(const std::string& path, const PointList& points, con
 }  // namespace
 
 Vec3 recentringOrigin(const Vec3& lo, const Vec3& hi) {
-  const Vec3 centre = 0.5 * (lo + hi);
+  const Vec3 centre = lo + 0.5 * (hi - lo);  // lo + hi could overflow
   const bool z_far = std::max(std::abs(lo.z()), std::abs(hi.z())) > kRecentreBeyondM;
   return Vec3(std::round(centre.x()), std::round(centre.y()), z_far ? std::round(centre.z()) : 0.0);
 }

@@ -186,6 +186,9 @@ TEST_F(CloudIo, ACloudBeyondPhysicalSenseNamesItsStrayPoint) {
   CloudReadOptions scale;
   scale.scale = 1e12;
   EXPECT_THROW(loadCloud(file("scaled.xyz", wall), scale), InputError);
+  // A lone point at 1e308 (found by fuzz_cloud): no extent, but on no map of the earth.
+  expectError(file("lone.xyz", "\n1e308 0 0\n"), "point 0 (1e+308, 0, 0) lies beyond 100000 km");
+  expectError(file("lone_mm.xyz", wall + "0 2e8 0\n"), "point 20 (0, 2e+08, 0)");
   // 90 km across is a large site, still read.
   EXPECT_NO_THROW(loadCloud(file("wide.xyz", "0 0 0\n90000 0 0\n")));
 }

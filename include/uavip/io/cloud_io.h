@@ -41,6 +41,11 @@ constexpr double kRecentreBeyondM = 1.0e4;
 /// the wrong unit.
 constexpr double kMaxCloudExtentM = 1.0e5;
 
+/// A coordinate beyond this is refused (exit 2) [m]: 100,000 km, more than twice the
+/// earth's circumference, so no CRS on earth gives it (a lone point at 1e308 would
+/// otherwise be "recentred").
+constexpr double kMaxCoordinateM = 1.0e8;
+
 /// The origin a reader subtracts from a cloud whose bounding box (file coordinates,
 /// metres) is [lo, hi]: x and y the box's centre rounded to whole metres; z 0 (the
 /// elevations are kept) unless the z range lies beyond kRecentreBeyondM, then its
@@ -59,7 +64,8 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// by recentringOrigin before anything becomes float, said in info->note, and
 /// info->origin_m holds the offset (scene.json's source_offset_m). Throws InputError
 /// naming the file for a missing or unreadable file, an unknown extension, an empty
-/// cloud, a non-finite point (with its index or line), or a cloud wider than
+/// cloud, a non-finite point (with its index or line), a coordinate beyond
+/// kMaxCoordinateM (naming the point), or a cloud wider than
 /// kMaxCloudExtentM (naming the point farthest from the cloud's median when at most
 /// 1 % of the points lie far from it, else pointing at input.scale).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
