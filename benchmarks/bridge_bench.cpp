@@ -4,7 +4,7 @@
 // runs), peak memory and the accuracy against the truth; then stage 1 with and
 // without the IMU prior (the paper's customisation) and with PCL's ICP.
 // Usage: uavip_bridge_bench [SCENARIO.yaml] [RUNS]   (default scenarios/bridge.yaml, 3)
-// Numbers go in the issue notes and README, never in tests.
+// Numbers go in benchmarks/README.md, never in tests.
 
 #include "uavip/app/assemble.h"
 #include "uavip/app/pipeline.h"

@@ -6,7 +6,7 @@
 // sensed and detected once, then planned RUNS times (median times).
 // Usage: uavip_flight_bench [SCENARIO.yaml ...] [--runs R]
 //        (default scenarios/single_cube.yaml scenarios/bridge.yaml, R = 3)
-// Numbers go in the issue notes and README, never in tests.
+// Numbers go in benchmarks/README.md, never in tests.
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"

@@ -1,6 +1,6 @@
 // Per-stage wall time (median of N runs) and peak memory of the pipeline on a
 // scenario. Usage: uavip_pipeline_bench [SCENARIO.yaml] [RUNS]
-// Prints a Markdown table; numbers go in README.md and the issue notes, never in tests.
+// Prints a Markdown table; numbers go in benchmarks/README.md, never in tests.
 
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"

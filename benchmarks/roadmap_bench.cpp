@@ -8,7 +8,7 @@
 // planner and mode, planned in order with the same budget per leg.
 // Usage: uavip_roadmap_bench [SCENARIO.yaml ...] [--legs N] [--time S]
 //        (default scenarios/bench_cluttered.yaml scenarios/bridge.yaml, N = 30, S = 0.2)
-// Numbers go in the issue notes and README, never in tests.
+// Numbers go in benchmarks/README.md, never in tests.
 
 #include "uavip/app/bench.h"
 #include "uavip/app/pipeline.h"

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// OMPL geometric planners on R³ (ARCHITECTURE.md, planners/). The state space is
+/// OMPL geometric planners on R³ (docs/ARCHITECTURE.md, planners/). The state space is
 /// ompl::base::RealVectorStateSpace(3) bounded by the world::FreeSpace's box; a state
 /// is valid iff FreeSpace::isFree(point) (on the grid, the same test as the paper's
 /// A*, §II-G), and a motion is valid iff FreeSpace::segmentFree(a, b): on the grid the

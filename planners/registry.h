@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Planners by name (ARCHITECTURE.md, planners/).
+/// Planners by name (docs/ARCHITECTURE.md, planners/).
 
 #include "planners/astar.h"
 #include "uavip/planning/planner.h"

@@ -1,5 +1,5 @@
 // uavip command line: parses, dispatches to the subcommand files, and turns errors
-// into one line and an exit code (ARCHITECTURE.md, "CLI"; src/cli/commands.h).
+// into one line and an exit code (docs/ARCHITECTURE.md, "CLI contract"; src/cli/commands.h).
 
 #include "src/cli/commands.h"
 

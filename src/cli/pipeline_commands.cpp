@@ -1,4 +1,4 @@
-// uavip run | detect | plan: the pipeline of ARCHITECTURE.md from the command line.
+// uavip run | detect | plan: the pipeline of docs/ARCHITECTURE.md from the command line.
 
 #include "src/cli/commands.h"
 

@@ -1,5 +1,5 @@
 // uavip validate: re-checks the waypoints of a mission.json against its scene.json
-// with the collision world and path validator (ARCHITECTURE.md, "Planning").
+// with the collision world and path validator (docs/ARCHITECTURE.md, "Safety").
 
 #include "src/cli/commands.h"
 

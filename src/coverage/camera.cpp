@@ -46,7 +46,7 @@ CameraGeometry solveCamera(const Camera& camera, double standoff_m) {
     g.standoff_m = standoff_m;
     return g;
   }
-  // QGroundControl CameraCalc on both axes (formats.md), GSD in mm/px:
+  // QGroundControl CameraCalc on both axes (docs/formats.md), GSD in mm/px:
   // D [mm] = I·GSD·f/S; take the nearer so the required GSD is met on both axes.
   const double iw = static_cast<double>(camera.image_w_px);
   const double ih = static_cast<double>(camera.image_h_px);

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The whole flow of ARCHITECTURE.md as callable steps: sense (sim) → stage 3
+/// The whole flow of docs/ARCHITECTURE.md as callable steps: sense (sim) → stage 3
 /// (preprocess) → stages 4–5 (perception) → grid (world) → stage 6 (coverage) →
 /// stage 7 (planning), with per-stage wall times. The CLI and the benchmark call
 /// these; nothing here prints.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Value types shared by every pipeline stage (ARCHITECTURE.md, "Core types").
+/// Value types shared by every pipeline stage (docs/ARCHITECTURE.md, "Modules").
 /// World frame: ENU metres, z up.
 
 #include <Eigen/Core>

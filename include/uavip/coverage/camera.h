@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Camera model of the flight strategy (paper §II-F; formulas of QGroundControl's
-/// CameraCalc, ../shared/reference/formats.md): footprint given directly, or from
+/// CameraCalc, docs/formats.md): footprint given directly, or from
 /// sensor size, focal length, image size and a required ground sample distance.
 
 #include <string>

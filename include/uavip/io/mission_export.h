@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// `uavip export`: a mission.json (local ENU metres) as a file a ground station
-/// flies (ARCHITECTURE.md, "CLI"; facts in ../shared/reference/formats.md):
+/// flies (docs/ARCHITECTURE.md, "CLI contract"; facts in docs/formats.md):
 ///  - QGroundControl `.plan` (JSON) with flat SimpleItems only (MAVSDK cannot read
 ///    complex items),
 ///  - QGC WPL 110 text (12 tab-separated fields, line 0 = home),

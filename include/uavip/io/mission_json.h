@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// OUT/mission.json (ARCHITECTURE.md): surfaces[] {surface_id, status, reason,
+/// OUT/mission.json (docs/ARCHITECTURE.md): surfaces[] {surface_id, status, reason,
 /// stops[] {position, target, yaw_deg, gimbal_pitch_deg, problem}, waypoints,
 /// raw_waypoint_count, path_length_m, validation, timings}, flight {…}.
 /// This file owns the format: the planner's results are written here, and

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// OUT/scene.json (ARCHITECTURE.md): surfaces[] {id, normal, offset, area_m2,
+/// OUT/scene.json (docs/ARCHITECTURE.md): surfaces[] {id, normal, offset, area_m2,
 /// density_area_m2, centroid, axis_u, boundary, points}, obstacles[] {id, points,
 /// aabb}. The union of all points is the clean cloud. `safety` {file, points,
 /// cell_m, margin_m, input_points, perception_dropped, source, sha256} names the

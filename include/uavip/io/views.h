@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Views that people open (ARCHITECTURE.md, "Outputs"; ../shared/reference/formats.md):
+/// Views that people open (docs/ARCHITECTURE.md, "CLI contract"; docs/formats.md, "Views"):
 ///  - OUT/scene.ply: ASCII PLY point cloud. Vertex properties x y z (float, ENU m),
 ///    red green blue (uchar; MeshLab and CloudCompare show them), kind (uchar: 0 =
 ///    point of no surface or obstacle, 1 = surface point, 2 = obstacle point, 3 =

@@ -12,7 +12,7 @@
 /// is. On a 5 cm cloud with a 0.3 m tolerance a radius search returns ~100 points
 /// per query; here most cell pairs are decided without looking at a point.
 /// Measured on the bridge (stage 4, 22 candidate planes on 295 k points): see
-/// README, Performance.
+/// docs/architecture_notes.md, perception.
 
 #include "uavip/core/types.h"
 

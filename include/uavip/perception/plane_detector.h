@@ -16,7 +16,7 @@ namespace uavip::perception {
 
 /// uavip's own tuning of stage 4, beyond the paper's parameters (the paper gives
 /// none of these; the defaults were measured on the paper's cases, the bridge and
-/// the real clouds of README). Not read from YAML: change them in code, with a
+/// the real clouds of benchmarks/README.md). Not read from YAML: change them in code, with a
 /// measurement.
 struct PlaneTuning {
   /// Inlier band: a candidate's RANSAC inliers are tightened to median ± this many

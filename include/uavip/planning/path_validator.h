@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Independent check of every waypoint path (ARCHITECTURE.md, "Planning"; not the
+/// Independent check of every waypoint path (docs/ARCHITECTURE.md, "Planning"; not the
 /// grid): for each segment the UAV is swept as a capsule of radius r (the required
 /// clearance) against the world::CollisionWorld — surface slabs, obstacle boxes and
 /// the measured points — and the segment is collision-free when the capsule touches

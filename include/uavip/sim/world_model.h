@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Ground-truth synthetic worlds built from primitives (ARCHITECTURE.md, `sim/`):
+/// Ground-truth synthetic worlds built from primitives (docs/ARCHITECTURE.md, `sim`):
 /// point, line, plane (rectangle), box, crossed planes. Every primitive is stored as
 /// the rectangles, segments and points it consists of, so every stage can be scored
 /// against the truth. Clutter (trees, grass, paper §III-B bridge) is made of small

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The collision world of ARCHITECTURE.md ("world/"): what the UAV must not touch,
+/// The collision world of docs/ARCHITECTURE.md ("world"): what the UAV must not touch,
 /// as FCL 0.7 collision objects in one broadphase manager
 /// (fcl::DynamicAABBTreeCollisionManager):
 ///  - every Surface (paper §II-D) as a thin convex slab: its boundary polygon on the

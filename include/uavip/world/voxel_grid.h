@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The planning world of the paper's stage 7 (§II-G): occupancy of the clean cloud
+/// The planning world of the paper's stage 7 (§II-G): occupancy of the measured points
 /// (OctoMap OcTree at the grid resolution), copied into a dense voxel grid, then
 /// every free voxel within the inflation sphere of an occupied one is marked
 /// blocked, so the UAV can be treated as a particle moving between voxel centres.
