@@ -227,7 +227,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
               << formatFixed(p.times.grid_s, 2) << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
     std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
   }
   return kExitOk;
 }
@@ -253,7 +253,7 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   if (!v.quiet) {
     printDetectSummary(d);
     std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/mission.html\n" : "");
   }
   return kExitOk;
 }
@@ -280,7 +280,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     printPlanSummary(p);
     printTotals(p);
     std::cout << "results: " << out << "/mission.json\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
   }
   const auto unflyable = [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); };
   const auto first = std::find_if(p.missions.begin(), p.missions.end(), unflyable);
@@ -319,7 +319,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();
   const Verbosity& v = registry.verbosity();
   const std::string planner_help = "Point-to-point planner (" + plannerList() + "); default: the file's";
-  const std::string views_help = "Skip overview.png, scene.ply and path.obj (the views are drawn on a second thread)";
+  const std::string views_help = "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second thread)";
 
   auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
