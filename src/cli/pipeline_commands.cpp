@@ -19,6 +19,7 @@
 #include <future>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -162,8 +163,10 @@ void printTotals(const app::PlanResult& p) {
   printFlight(p.flight);
 }
 
-io::OverviewOptions overviewOptions(const std::string& name) {
+io::OverviewOptions overviewOptions(const std::string& name,
+                                    double clearance_m = std::numeric_limits<double>::quiet_NaN()) {
   io::OverviewOptions o;
+  o.clearance_m = clearance_m;  // mission.html colours the path by clearance against it
   o.title = name.empty() ? "uavip mission overview" : name + ": uavip mission overview";
   return o;
 }
@@ -211,7 +214,8 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
-  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
+  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
+                                   &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
   writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
@@ -271,7 +275,9 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   const io::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
   auto rendered = renderViewsAsync(views, scene, p.missions,
-                                   overviewOptions(fs::path(scene_path).parent_path().filename().string()), &p.flight);
+                                   overviewOptions(fs::path(scene_path).parent_path().filename().string(),
+                                                   resolved.uav.inflationRadius()),
+                                   &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
   stageViews(outputs, out, rendered);

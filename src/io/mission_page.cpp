@@ -193,6 +193,8 @@ struct PagePath {
 void MissionPageOptions::validate() const {
   if (max_cloud_points < 1)
     throw InputError("mission page: max_cloud_points is 0; give at least 1 point to draw");
+  if (!std::isnan(clearance_m) && !(clearance_m > 0.0 && std::isfinite(clearance_m)))
+    throw InputError("mission page: clearance_m " + std::to_string(clearance_m) + " must be a positive number of metres");
   if (max_path_samples < 2)
     throw InputError("mission page: max_path_samples is " + std::to_string(max_path_samples) + "; give at least 2");
 }
@@ -441,7 +443,9 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
                {"box_min", vec(q.min)},
                {"box_size", vec(q.size)},
                {"spacing_m", spacing},
-               {"inflation_radius_m", std::isfinite(rec.inflation_radius_m) ? json(rec.inflation_radius_m) : json(nullptr)},
+               {"inflation_radius_m", std::isfinite(options.clearance_m)       ? json(options.clearance_m)
+                                      : std::isfinite(rec.inflation_radius_m) ? json(rec.inflation_radius_m)
+                                                                              : json(nullptr)},
                {"colors",
                 {{"other", hex(render::Color{0.78, 0.78, 0.78})}, {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
                {"cloud",

@@ -508,7 +508,13 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
   std::future<std::string> html;
   auto page = [&] {
     MissionPageOptions page_options;
+    // "name: uavip mission overview" -> "name: uavip mission", as `uavip view` names it.
+    const std::string suffix = " overview";
     page_options.title = options.title;
+    if (page_options.title.size() > suffix.size() &&
+        page_options.title.compare(page_options.title.size() - suffix.size(), suffix.size(), suffix) == 0)
+      page_options.title.resize(page_options.title.size() - suffix.size());
+    page_options.clearance_m = options.clearance_m;
     const bool scene_only = missions.empty() && flight == nullptr;
     return scene_only ? missionPage(scene, nullptr, page_options) : missionPage(scene, missions, flight, page_options);
   };

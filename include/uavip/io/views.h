@@ -24,6 +24,7 @@
 #include "uavip/render/figure.h"
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,8 @@ struct OverviewOptions {
   int width_px{1900};
   int height_px{1100};
   std::size_t max_cloud_points{60000};  ///< cloud points drawn per view (evenly subsampled above this)
+  /// The mission's required clearance [m], for mission.html's path colouring (NaN: 1 m).
+  double clearance_m{std::numeric_limits<double>::quiet_NaN()};
 };
 
 /// The overview figure (encode it with png() or svg()).
