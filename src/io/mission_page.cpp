@@ -240,7 +240,8 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
       const json& f = mission->at("flight");
       for (const char* k : {"length_m", "duration_s"})
         if (f.contains(k) && f.at(k).is_number()) flight_extra[k] = f.at(k);
-      if (f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3) flight_extra["home"] = f.at("home");
+      const bool ok = f.contains("status") && f.at("status") == "ok";
+      if (ok && f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3) flight_extra["home"] = f.at("home");
       if (f.contains("home_source") && f.at("home_source").is_string()) flight_extra["home_source"] = f.at("home_source");
     }
   }

@@ -128,12 +128,13 @@
       addToLayer(names[k], obj);
     }
     // The point spacing: measured, else from the surfaces' area per point.
-    spacing = D.spacing_m;
-    if (!(spacing > 0)) {
-      var v = D.surfaces.filter(function (s) { return s.points > 0; })
-        .map(function (s) { return Math.sqrt(s.area_m2 / s.points); }).sort(function (a, b) { return a - b; });
-      spacing = v.length ? v[v.length >> 1] : diag / 1000;
-    }
+    // The spacing of the drawn points: the larger of the measured one and the surfaces'
+    // area per point (median), times the square root of the decimation stride.
+    var v = D.surfaces.filter(function (s) { return s.points > 0; })
+      .map(function (s) { return Math.sqrt(s.area_m2 / s.points); }).sort(function (a, b) { return a - b; });
+    spacing = Math.max(D.spacing_m || 0, v.length ? v[v.length >> 1] : 0);
+    if (!(spacing > 0)) spacing = diag / 1000;
+    spacing *= Math.sqrt(c.stride || 1);
   }
 
   // ---- surface boundaries and their labels
@@ -292,7 +293,11 @@
     var l = document.createElement('label'), b = document.createElement('input');
     b.type = 'checkbox';
     b.checked = true;
-    b.addEventListener('change', function () { setLayer(name, b.checked); if (name === 'flight') syncPaths(); requestDraw(); });
+    b.addEventListener('change', function () {
+      setLayer(name, b.checked);
+      if (name === 'flight' || /^path\d+$/.test(name)) syncPaths();
+      requestDraw();
+    });
     l.appendChild(b);
     if (swatch) {
       var s = document.createElement('span');
@@ -370,8 +375,7 @@
       '<div style="width:200px;display:flex;justify-content:space-between"><span>' + fmt(r, 2) + ' m</span><span>' +
       fmt(2 * r, 2) + '</span><span>\u2265 ' + fmt(3 * r, 2) + ' m</span></div>' +
       '<div><span class="sw" style="background:rgb(200,0,200)"></span>closer than ' + fmt(r, 2) + ' m' +
-      (D.inflation_radius_m > 0 ? ' (the inflation radius)' : '') + '</div>' +
-      (D.summary_min_clearance !== undefined ? '' : '');
+      (D.inflation_radius_m > 0 ? ' (the inflation radius)' : '') + '</div>';
   }
 
   // ---- views
@@ -384,7 +388,7 @@
     camera.updateMatrixWorld();
     var inv = new THREE.Matrix4().getInverse(camera.matrixWorld), minU = Infinity, maxU = -Infinity, minV = Infinity, maxV = -Infinity;
     corners().forEach(function (c) {
-      var q = c.clone().sub(controls.target).add(controls.target).applyMatrix4(inv);
+      var q = c.clone().applyMatrix4(inv);
       minU = Math.min(minU, q.x); maxU = Math.max(maxU, q.x); minV = Math.min(minV, q.y); maxV = Math.max(maxV, q.y);
     });
     // Centre the box on screen, then zoom so that it fills 90 % of the view.
@@ -408,12 +412,21 @@
     fitZoom();
     controls.update();
   }
-  function applyHash() {
+  function hashParams() {
     var h = {};
     location.hash.replace(/^#/, '').split('&').forEach(function (kv) {
       var i = kv.indexOf('=');
       if (i > 0) h[decodeURIComponent(kv.slice(0, i))] = decodeURIComponent(kv.slice(i + 1));
     });
+    return h;
+  }
+  function applyHash() {
+    var h = hashParams();
+    // canvas=WxH fixes the drawing's size in CSS pixels (screenshots and tests: the same
+    // picture whatever the window).
+    var m = /^(\d+)x(\d+)$/.exec(h.canvas || '');
+    fixedSize = m ? [Math.max(+m[1], 1), Math.max(+m[2], 1)] : null;
+    resize();
     if (h.path === 'sortie' || h.path === 'clearance') {
       pathMode = h.path;
       var r = document.getElementById('mode-' + h.path);
@@ -442,22 +455,26 @@
     pending = true;
     requestAnimationFrame(function () { pending = false; draw(); });
   }
-  function pxPerMetre() { return viewEl.clientHeight * camera.zoom / (camera.top - camera.bottom); }
+  var fixedSize = null;
+  function canvasSize() {
+    return fixedSize || [Math.max(viewEl.clientWidth, 1), Math.max(viewEl.clientHeight, 1)];
+  }
+  function pxPerMetre() { return canvasSize()[1] * camera.zoom / (camera.top - camera.bottom); }
   function resize() {
-    var w = Math.max(viewEl.clientWidth, 1), h = Math.max(viewEl.clientHeight, 1), a = w / h, half = diag;
+    var wh = canvasSize(), w = wh[0], h = wh[1], a = w / h, half = diag;
     renderer.setSize(w, h);
     camera.left = -half * a; camera.right = half * a; camera.top = half; camera.bottom = -half;
     camera.updateProjectionMatrix();
   }
   function draw() {
     var ppm = pxPerMetre();
-    var size = Math.min(Math.max(1.3 * spacing * ppm, 1.5), 6);
+    var size = Math.min(Math.max(1.5 * spacing * ppm, 1.5), 8);
     cloudSets.forEach(function (c) { c.obj.material.size = size; });
     renderer.render(scene, camera);
     overlays(ppm);
   }
   function overlays(ppm) {
-    var w = viewEl.clientWidth, h = viewEl.clientHeight, v = new THREE.Vector3();
+    var wh = canvasSize(), w = wh[0], h = wh[1], v = new THREE.Vector3();
     labelItems.forEach(function (l) {
       v.copy(l.p).project(camera);
       var show = l.on && Math.abs(v.z) <= 1 && Math.abs(v.x) <= 1.05 && Math.abs(v.y) <= 1.05;
