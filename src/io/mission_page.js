@@ -46,10 +46,10 @@
   var pathObjs = [];         // {label, color, samples, clearance, line, arrows, entries}
   var labelItems = [];       // {el, p (THREE.Vector3), layer}
   var pathMode = 'clearance';
-  var diag = 1, spacing = 0.05, frustumLen = 1;
+  var diag = 1, spacing = 0.05, baseSpacing = 0.05, frustumLen = 1;
   var picked = [];           // shift-clicked cloud points
   var pickObj = null, measureObj = null;
-  var currentView = 'orbit';
+  var currentView = 'orbit', userMoved = false;
 
   function main() {
     D = JSON.parse(document.getElementById('uavip-data').textContent);
@@ -80,7 +80,12 @@
     buildHome();
     buildUi();
     resize();
-    window.addEventListener('resize', function () { resize(); requestDraw(); });
+    controls.addEventListener('start', function () { userMoved = true; });
+    window.addEventListener('resize', function () {
+      resize();
+      if (!userMoved) setView(currentView);  // a window resized before any drag: fit again
+      requestDraw();
+    });
     window.addEventListener('hashchange', function () { applyHash(); requestDraw(); });
     renderer.domElement.addEventListener('pointerdown', onDown);
     renderer.domElement.addEventListener('pointerup', onUp);
@@ -105,28 +110,43 @@
   function pointMaterial() {
     return new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: THREE.VertexColors });
   }
+  var kDrawnPoints = 60000, cloudStride = 1, allPoints = false;
+  function setAllPoints(on) {
+    allPoints = on;
+    cloudSets.forEach(function (c) { c.obj.geometry.setDrawRange(0, on ? c.n : c.prefix); });
+  }
+  function drawnPoints() { return cloudSets.reduce(function (a, c) { return a + (allPoints ? c.n : c.prefix); }, 0); }
   function buildCloud() {
     var c = D.cloud, all = positions(c.pos), cls = bytes(c.cls), sid = u16(c.sid);
     var surfCol = D.surfaces.map(function (s) { return rgb(s.color); });
     var other = rgb(D.colors.other), obst = rgb(D.colors.obstacle);
     var names = ['cloud-other', 'cloud-surfaces', 'cloud-obstacles'];
+    // Points in interleaved order (every K-th first, then the next offset, ...), so the
+    // first 1/K of each class is an even subsample: the page draws that prefix (about
+    // kDrawnPoints points, what a software renderer draws in a frame) unless the user
+    // asks for every point.
+    cloudStride = Math.max(1, Math.ceil(c.n / kDrawnPoints));
     for (var k = 0; k < 3; k++) {
       var n = c.by_class[k];
-      var pos = new Float32Array(3 * n), col = new Uint8Array(3 * n), j = 0;
-      for (var i = 0; i < c.n; i++) {
-        if (cls[i] !== k) continue;
-        pos[3 * j] = all[3 * i]; pos[3 * j + 1] = all[3 * i + 1]; pos[3 * j + 2] = all[3 * i + 2];
-        var rgbv = k === 0 ? other : k === 2 ? obst : (surfCol[sid[i]] || other);
-        col[3 * j] = rgbv[0]; col[3 * j + 1] = rgbv[1]; col[3 * j + 2] = rgbv[2];
-        j++;
+      var pos = new Float32Array(3 * n), col = new Uint8Array(3 * n), j = 0, prefix = 0;
+      for (var r = 0; r < cloudStride; r++) {
+        for (var i = r; i < c.n; i += cloudStride) {
+          if (cls[i] !== k) continue;
+          pos[3 * j] = all[3 * i]; pos[3 * j + 1] = all[3 * i + 1]; pos[3 * j + 2] = all[3 * i + 2];
+          var rgbv = k === 0 ? other : k === 2 ? obst : (surfCol[sid[i]] || other);
+          col[3 * j] = rgbv[0]; col[3 * j + 1] = rgbv[1]; col[3 * j + 2] = rgbv[2];
+          j++;
+        }
+        if (r === 0) prefix = j;
       }
       var g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
       g.setAttribute('color', new THREE.BufferAttribute(col, 3, true));
       var obj = new THREE.Points(g, pointMaterial());
-      cloudSets.push({ name: names[k], pos: pos, obj: obj });
+      cloudSets.push({ name: names[k], pos: pos, obj: obj, n: n, prefix: prefix });
       addToLayer(names[k], obj);
     }
+    setAllPoints(false);
     // The point spacing: measured, else from the surfaces' area per point.
     // The spacing of the drawn points: the larger of the measured one and the surfaces'
     // area per point (median), times the square root of the decimation stride.
@@ -135,6 +155,7 @@
     spacing = Math.max(D.spacing_m || 0, v.length ? v[v.length >> 1] : 0);
     if (!(spacing > 0)) spacing = diag / 1000;
     spacing *= Math.sqrt(c.stride || 1);
+    baseSpacing = spacing;
   }
 
   // ---- surface boundaries and their labels
@@ -319,6 +340,15 @@
     checkbox(L, 'cloud-surfaces', 'cloud: surface points (' + D.cloud.by_class[1] + ')');
     checkbox(L, 'cloud-obstacles', 'cloud: obstacle points (' + D.cloud.by_class[2] + ')');
     checkbox(L, 'cloud-other', 'cloud: other points (' + D.cloud.by_class[0] + ')');
+    if (cloudStride > 1) {
+      var l = document.createElement('label'), b = document.createElement('input');
+      b.type = 'checkbox';
+      b.id = 'allpoints';
+      b.addEventListener('change', function () { setAllPoints(b.checked); requestDraw(); });
+      l.appendChild(b);
+      l.appendChild(document.createTextNode('every cloud point (' + D.cloud.n + '; ' + drawnPoints() + ' drawn otherwise)'));
+      L.appendChild(l);
+    }
     checkbox(L, 'boundaries', 'surface boundaries');
     checkbox(L, 'labels', 'surface ids and status');
     checkbox(L, 'photos', 'photos (' + D.stops.n + ' frusta)');
@@ -427,6 +457,11 @@
     var m = /^(\d+)x(\d+)$/.exec(h.canvas || '');
     fixedSize = m ? [Math.max(+m[1], 1), Math.max(+m[2], 1)] : null;
     resize();
+    if (h.points === 'all' || h.points === 'some') {
+      setAllPoints(h.points === 'all');
+      var ap = document.getElementById('allpoints');
+      if (ap) ap.checked = allPoints;
+    }
     if (h.path === 'sortie' || h.path === 'clearance') {
       pathMode = h.path;
       var r = document.getElementById('mode-' + h.path);
@@ -468,7 +503,8 @@
   }
   function draw() {
     var ppm = pxPerMetre();
-    var size = Math.min(Math.max(1.5 * spacing * ppm, 1.5), 8);
+    var sp = baseSpacing * (allPoints ? 1 : Math.sqrt(cloudStride));
+    var size = Math.min(Math.max(1.5 * sp * ppm, 1.5), 8);
     cloudSets.forEach(function (c) { c.obj.material.size = size; });
     renderer.render(scene, camera);
     overlays(ppm);
@@ -504,6 +540,7 @@
     s.setAttribute('data-matrix', m.elements.map(function (x) { return x.toPrecision(9); }).join(' '));
     s.setAttribute('data-canvas', [r.left, r.top, r.width, r.height].join(' '));
     s.setAttribute('data-path-mode', pathMode);
+    s.setAttribute('data-points-drawn', drawnPoints());
   }
 
   // ---- picking: a click on a frustum shows the photo; shift-click two cloud points
@@ -554,7 +591,8 @@
     var best = null, bestD = 8 * 8, bestZ = Infinity;
     cloudSets.forEach(function (c) {
       if (!c.obj.visible) return;
-      for (var i = 0; i < c.pos.length; i += 3) {
+      var end = 3 * (allPoints ? c.n : c.prefix);
+      for (var i = 0; i < end; i += 3) {
         var s = screenOf(c.pos[i], c.pos[i + 1], c.pos[i + 2], v, w, h);
         var dd = (s[0] - x) * (s[0] - x) + (s[1] - y) * (s[1] - y);
         if (dd < bestD - 1 || (dd < bestD + 1 && s[2] < bestZ)) { bestD = dd; bestZ = s[2]; best = [c.pos[i], c.pos[i + 1], c.pos[i + 2]]; }

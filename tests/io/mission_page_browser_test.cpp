@@ -255,7 +255,7 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   ASSERT_EQ(run_.code, 0) << run_.out;
   if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it): no browser test";
   const fs::path page = out() / "mission.html";
-  const std::string hash = "#view=top&layers=cloud,flight&path=sortie&canvas=900x600";
+  const std::string hash = "#view=top&layers=cloud,flight&path=sortie&points=all&canvas=900x600";
   const std::string dom = browse(page, hash, "--dump-dom");
   ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
   EXPECT_EQ(stateAttribute(dom, "data-view"), "top");
