@@ -406,8 +406,9 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   // ---- the summary line and the counts
   const std::size_t sorties = flown ? rec.flight->sorties.size() : 0;
   std::ostringstream line;
-  line << scene.cloud.size() << " cloud points (" << drawn << " drawn), " << scene.surfaces.size() << " surfaces, "
-       << scene.obstacles.size() << " obstacle clusters";
+  line << scene.cloud.size() << " cloud points"
+       << (drawn < scene.cloud.size() ? " (" + std::to_string(drawn) + " in the page)" : std::string()) << ", " << scene.surfaces.size()
+       << " surfaces, " << scene.obstacles.size() << " obstacle clusters";
   if (mission != nullptr) {
     std::size_t ok = 0;
     for (const auto& s : rec.surfaces) ok += s.flyable();

@@ -346,7 +346,8 @@
       b.id = 'allpoints';
       b.addEventListener('change', function () { setAllPoints(b.checked); requestDraw(); });
       l.appendChild(b);
-      l.appendChild(document.createTextNode('every cloud point (' + D.cloud.n + '; ' + drawnPoints() + ' drawn otherwise)'));
+      l.appendChild(document.createTextNode('all ' + D.cloud.n + ' points (else ' + drawnPoints() + ')'));
+      l.title = 'draws every stored cloud point; slower on a software renderer';
       L.appendChild(l);
     }
     checkbox(L, 'boundaries', 'surface boundaries');

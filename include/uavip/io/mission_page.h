@@ -13,10 +13,14 @@
 /// (bridge: 1.5 mm a step over 100 m) and inlined as base64, never as JSON numbers.
 /// A JSON block `<script type="application/json" id="uavip-summary">` holds the counts
 /// (photos, waypoints, sorties, …) for tests and tools.
-/// The page sets document.title to "ready" once drawn (or to "error: …"); the URL hash
-/// chooses the view and the layers: `#view=top|front|side|orbit`, `layers=cloud,flight`
-/// (comma list of cloud, boundaries, labels, photos, flight, home, order),
-/// `path=sortie|clearance` (the path's colouring).
+/// The page draws an even subsample of about 60,000 of the stored cloud points (what
+/// a software renderer draws in a frame; all of them on request). It sets
+/// document.title to "ready" once drawn (or to "error: …") and publishes its camera in
+/// the data-* attributes of #uavip-state (data-matrix: projection × view, column-major,
+/// of positions minus data-origin; data-canvas; data-frame-ms; data-ready-ms). The URL
+/// hash chooses: `view=top|front|side|orbit`, `layers=cloud,flight` (the layers shown, of
+/// cloud, boundaries, labels, photos, flight, home, order), `path=sortie|clearance` (the
+/// path's colouring), `points=all`, `canvas=WxH` (a fixed drawing size in CSS pixels).
 /// Deterministic: the same scene and mission give the same bytes.
 
 #include "uavip/core/types.h"
