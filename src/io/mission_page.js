@@ -110,7 +110,7 @@
   function pointMaterial() {
     return new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: THREE.VertexColors });
   }
-  var kDrawnPoints = 60000, cloudStride = 1, allPoints = false;
+  var kDrawnPoints = 40000, cloudStride = 1, allPoints = false;
   function setAllPoints(on) {
     allPoints = on;
     cloudSets.forEach(function (c) { c.obj.geometry.setDrawRange(0, on ? c.n : c.prefix); });
@@ -202,7 +202,10 @@
       if (m.camera && m.camera.spacing_m) m.camera.spacing_m.forEach(function (v) { if (v > 0) minSpacing = Math.min(minSpacing, v); });
     });
     frustumLen = Math.min(Math.max(isFinite(minSpacing) ? 0.4 * minSpacing : diag / 60, diag / 400), diag / 40);
-    var pos = new Float32Array(S.n * 8 * 2 * 3), col = new Uint8Array(S.n * 8 * 2 * 3), o = 0;
+    // Four edges from the camera to the corners, and the rim unless there are many
+    // (the rim doubles the vertices a frame draws).
+    var rim = S.n <= 3000, edges = rim ? 8 : 4;
+    var pos = new Float32Array(S.n * edges * 2 * 3), col = new Uint8Array(S.n * edges * 2 * 3), o = 0;
     var a = new THREE.Vector3(), d = new THREE.Vector3(), r = new THREE.Vector3(), u = new THREE.Vector3();
     var corners = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
     function put(v, c) { pos[o] = v.x; pos[o + 1] = v.y; pos[o + 2] = v.z; col[o] = c[0]; col[o + 1] = c[1]; col[o + 2] = c[2]; o += 3; }
@@ -224,7 +227,7 @@
           .addScaledVector(r, (k === 1 || k === 2) ? w : -w).addScaledVector(u, k >= 2 ? h : -h);
       }
       for (k = 0; k < 4; k++) { put(a, c); put(corners[k], c); }
-      for (k = 0; k < 4; k++) { put(corners[k], c); put(corners[(k + 1) % 4], c); }
+      if (rim) for (k = 0; k < 4; k++) { put(corners[k], c); put(corners[(k + 1) % 4], c); }
     }
     var g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
@@ -505,7 +508,8 @@
   function draw() {
     var ppm = pxPerMetre();
     var sp = baseSpacing * (allPoints ? 1 : Math.sqrt(cloudStride));
-    var size = Math.min(Math.max(1.5 * sp * ppm, 1.5), 8);
+    // 1.2 spacings wide, within [1.5, 4] px: a software renderer pays for every pixel.
+    var size = Math.min(Math.max(1.2 * sp * ppm, 1.5), 4);
     cloudSets.forEach(function (c) { c.obj.material.size = size; });
     renderer.render(scene, camera);
     overlays(ppm);

@@ -13,7 +13,7 @@
 /// (bridge: 1.5 mm a step over 100 m) and inlined as base64, never as JSON numbers.
 /// A JSON block `<script type="application/json" id="uavip-summary">` holds the counts
 /// (photos, waypoints, sorties, …) for tests and tools.
-/// The page draws an even subsample of about 60,000 of the stored cloud points (what
+/// The page draws an even subsample of about 40,000 of the stored cloud points (what
 /// a software renderer draws in a frame; all of them on request). It sets
 /// document.title to "ready" once drawn (or to "error: …") and publishes its camera in
 /// the data-* attributes of #uavip-state (data-matrix: projection × view, column-major,
