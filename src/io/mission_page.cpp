@@ -162,10 +162,11 @@ double numberOr(const json& j, const char* key, double fallback) {
 /// The nearest cloud point's distance for many query points [m].
 class Clearance {
  public:
-  Clearance(const PointList& cloud, const Vec3& origin) : origin_(origin) {
-    tree_.setInputCloud(toPclCloud(cloud, origin));
+  Clearance(const PointList& cloud, const Vec3& origin) : origin_(origin), empty_(cloud.empty()) {
+    if (!empty_) tree_.setInputCloud(toPclCloud(cloud, origin));
   }
   double at(const Vec3& p) const {
+    if (empty_) return std::numeric_limits<double>::infinity();
     const Vec3 q = p - origin_;
     pcl::PointXYZ s(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
     std::vector<int> idx(1);
@@ -176,6 +177,7 @@ class Clearance {
 
  private:
   Vec3 origin_;
+  bool empty_;
   pcl::KdTreeFLANN<pcl::PointXYZ> tree_;
 };
 
@@ -208,7 +210,6 @@ const std::string& embeddedThreeJs() {
 std::string missionPage(const Scene& scene, const json* mission, const MissionPageOptions& options,
                         const std::string& mission_path) {
   options.validate();
-  if (scene.cloud.empty()) throw InputError("mission page: the scene has 0 points; nothing to draw");
 
   // ---- the recorded mission (strict), and what the page shows beyond MissionRecord
   MissionRecord rec;
@@ -282,6 +283,7 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     for (const auto& w : p.waypoints) box.extend(w);
   for (const auto& s : scene.surfaces)
     for (const auto& b : s.boundary) box.extend(b);
+  if (box.empty()) box = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};  // nothing to draw: an empty page
   Quantiser q;
   q.min = box.min;
   q.size = (box.max - box.min).cwiseMax(Vec3::Constant(1e-3));

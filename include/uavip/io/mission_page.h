@@ -50,7 +50,8 @@ struct MissionPageOptions {
 
 /// The page for a scene and a recorded mission: `mission` is a mission.json document
 /// (io/mission_json.h), read strictly by missionFromJson (errors name `mission_path`),
-/// or null for the scene alone (detect). Throws InputError for a scene without points.
+/// or null for the scene alone (detect). A scene without points gives a page without a
+/// cloud (run on a scene where nothing was detected); `uavip view` refuses such a scene.
 std::string missionPage(const Scene& scene, const nlohmann::json* mission, const MissionPageOptions& options = {},
                         const std::string& mission_path = "mission.json");
 
