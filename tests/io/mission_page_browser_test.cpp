@@ -64,9 +64,10 @@ std::string capture(const std::string& cmd) {
   return out;
 }
 
-/// Chromium's path, or "" when it is not installed.
+/// Chromium's path (UAVIP_CHROMIUM, else Debian's), or "" when it is not installed.
 std::string chromium() {
-  if (const char* env = std::getenv("UAVIP_CHROMIUM"); env != nullptr && *env != '\0') return env;
+  if (const char* env = std::getenv("UAVIP_CHROMIUM"); env != nullptr && *env != '\0')
+    return ::access(env, X_OK) == 0 ? env : "";
   for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
     if (::access(p, X_OK) == 0) return p;
   return "";
@@ -253,7 +254,7 @@ struct Projection {
 
 TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it): no browser test";
+  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
   const fs::path page = out() / "mission.html";
   const std::string hash = "#view=top&layers=cloud,flight&path=sortie&points=all&canvas=900x600";
   const std::string dom = browse(page, hash, "--dump-dom");
@@ -380,7 +381,7 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
 
 TEST_F(MissionPageCli, ChromiumOpensEveryView) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it): no browser test";
+  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
   for (const char* view : {"orbit", "front", "side"}) {
     const std::string dom = browse(out() / "mission.html", std::string("#view=") + view, "--dump-dom");
     EXPECT_NE(dom.find("<title>ready</title>"), std::string::npos) << view << ": " << dom.substr(0, 300);

@@ -220,7 +220,7 @@ TEST(Views, OverviewHasTheSizeAndShowsTheMission) {
   EXPECT_GT(near(full, render::kRed, views), 5u);           // the infeasible stop's cross
 }
 
-TEST(Views, WriteViewsWritesThreeFilesAtomically) {
+TEST(Views, WriteViewsWritesItsFourFilesAtomically) {
   const Fixture f;
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("uavip_views_" + std::to_string(::getpid()));
