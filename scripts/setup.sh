@@ -9,7 +9,8 @@ PACKAGES=(cmake make g++ pkg-config
   libompl-dev libfcl-dev libccd-dev liboctomap-dev libpcl-dev libeigen3-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev
   libcairo2-dev libfontconfig-dev fonts-dejavu-core libgeographiclib-dev libssl-dev libproj-dev proj-data
-  ompl-demos sqlite3)  # ompl_benchmark_statistics and sqlite3: uavip bench logs -> Planner Arena DB (tests)
+  ompl-demos sqlite3  # ompl_benchmark_statistics and sqlite3: uavip bench logs -> Planner Arena DB (tests)
+  libjs-three)  # three.js r111, compiled into uavip for OUT/mission.html (build only)
 
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()

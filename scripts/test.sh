@@ -9,6 +9,15 @@ if [ "${UAVIP_SANITIZE:-OFF}" = ON ]; then
   export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 fi
 bash scripts/setup.sh
+# The mission page's browser test (tests/io/mission_page_browser_test.cpp) opens the page
+# in Debian's headless chromium: installed here for the tests only (not by demo.sh).
+if [ "${SKIP_APT:-0}" != 1 ] && ! dpkg-query -W -f='${Status}' chromium 2>/dev/null | grep -q 'install ok installed'; then
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  echo "test: installing chromium" >&2
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends chromium
+fi
 BUILD_DIR=${BUILD_DIR:-build}
 # The install test (label install) builds a consumer against the installed tree; it runs
 # in the Release suite only (an instrumented tree needs an instrumented consumer).

@@ -61,4 +61,7 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry);
 /// simulate (and assemble, stages 1-2) (scan_commands.cpp).
 void addScanCommands(CLI::App& cli, CommandRegistry& registry);
 
+/// view: the 3D mission page (view_commands.cpp).
+void addViewCommands(CLI::App& cli, CommandRegistry& registry);
+
 }  // namespace uavip::cli

@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   addBenchCommands(cli, registry);
   addExportCommands(cli, registry);
   addScanCommands(cli, registry);
+  addViewCommands(cli, registry);
 
   try {
     cli.parse(argc, argv);

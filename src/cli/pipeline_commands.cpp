@@ -20,6 +20,7 @@
 #include <future>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -212,8 +213,10 @@ int missionExitCode(const app::PlanResult& p, const Verbosity& v) {
   return kExitOk;
 }
 
-io::OverviewOptions overviewOptions(const std::string& name) {
+io::OverviewOptions overviewOptions(const std::string& name,
+                                    double clearance_m = std::numeric_limits<double>::quiet_NaN()) {
   io::OverviewOptions o;
+  o.clearance_m = clearance_m;  // mission.html colours the path by clearance against it
   o.title = name.empty() ? "uavip mission overview" : name + ": uavip mission overview";
   return o;
 }
@@ -261,7 +264,8 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
-  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name), &p.flight);
+  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
+                                   &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
   writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
@@ -278,7 +282,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     printTotals(p);
     std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out
               << "/" << io::kSafetyCloudFile << "\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
   }
   // A scenario without surfaces (the single point, the line) has nothing to fly, as
   // the paper expects: that is a result, not a failure.
@@ -311,7 +315,7 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
     printDetectSummary(d);
     std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out << "/" << io::kSafetyCloudFile
               << "\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/mission.html\n" : "");
   }
   return kExitOk;
 }
@@ -329,7 +333,9 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   const io::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
   auto rendered = renderViewsAsync(views, scene, p.missions,
-                                   overviewOptions(fs::path(scene_path).parent_path().filename().string()), &p.flight);
+                                   overviewOptions(fs::path(scene_path).parent_path().filename().string(),
+                                                   resolved.uav.inflationRadius()),
+                                   &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
   stageViews(outputs, out, rendered);
@@ -338,7 +344,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     printPlanSummary(p);
     printTotals(p);
     std::cout << "results: " << out << "/mission.json\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
   }
   return missionExitCode(p, v);
 }
@@ -362,7 +368,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();
   const Verbosity& v = registry.verbosity();
   const std::string planner_help = "Point-to-point planner (" + plannerList() + "); default: the file's";
-  const std::string views_help = "Skip overview.png, scene.ply and path.obj (the views are drawn on a second thread)";
+  const std::string views_help = "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second thread)";
 
   auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");

@@ -3,6 +3,7 @@
 #include "uavip/core/geometry.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/mission_page.h"
 
 #include <algorithm>
 #include <array>
@@ -503,8 +504,27 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
   } catch (const std::system_error&) {
     ply = std::async(std::launch::deferred, [&] { return sceneToPly(scene, missions); });
   }
+  // The 3D page (io/mission_page.h) on a third; detect's scene alone has no mission.
+  std::future<std::string> html;
+  auto page = [&] {
+    MissionPageOptions page_options;
+    // "name: uavip mission overview" -> "name: uavip mission", as `uavip view` names it.
+    const std::string suffix = " overview";
+    page_options.title = options.title;
+    if (page_options.title.size() > suffix.size() &&
+        page_options.title.compare(page_options.title.size() - suffix.size(), suffix.size(), suffix) == 0)
+      page_options.title.resize(page_options.title.size() - suffix.size());
+    page_options.clearance_m = options.clearance_m;
+    const bool scene_only = missions.empty() && flight == nullptr;
+    return scene_only ? missionPage(scene, nullptr, page_options) : missionPage(scene, missions, flight, page_options);
+  };
+  try {
+    html = std::async(std::launch::async, page);
+  } catch (const std::system_error&) {
+    html = std::async(std::launch::deferred, page);
+  }
   std::string png = overviewFigure(scene, missions, options, flight).png();
-  return {ply.get(), pathsToObj(missions, flight), std::move(png)};
+  return {ply.get(), pathsToObj(missions, flight), std::move(png), html.get()};
 }
 
 void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views) {
@@ -512,6 +532,7 @@ void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFi
   outputs.write((fs::path(out_dir) / "scene.ply").string(), views.ply);
   outputs.write((fs::path(out_dir) / "path.obj").string(), views.obj);
   outputs.write((fs::path(out_dir) / "overview.png").string(), views.png);
+  outputs.write((fs::path(out_dir) / "mission.html").string(), views.html);
 }
 
 void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,

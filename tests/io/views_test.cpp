@@ -220,7 +220,7 @@ TEST(Views, OverviewHasTheSizeAndShowsTheMission) {
   EXPECT_GT(near(full, render::kRed, views), 5u);           // the infeasible stop's cross
 }
 
-TEST(Views, WriteViewsWritesThreeFilesAtomically) {
+TEST(Views, WriteViewsWritesItsFourFilesAtomically) {
   const Fixture f;
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("uavip_views_" + std::to_string(::getpid()));
@@ -233,7 +233,7 @@ TEST(Views, WriteViewsWritesThreeFilesAtomically) {
   io::writeViews(outputs, dir.string(), f.scene, f.missions, o);
   EXPECT_FALSE(fs::exists(dir / "overview.png"));  // staged until the command commits
   outputs.commit();
-  for (const char* name : {"scene.ply", "path.obj", "overview.png"}) {
+  for (const char* name : {"scene.ply", "path.obj", "overview.png", "mission.html"}) {
     EXPECT_TRUE(fs::exists(dir / name)) << name;
     EXPECT_GT(fs::file_size(dir / name), 100u) << name;
   }
@@ -242,7 +242,7 @@ TEST(Views, WriteViewsWritesThreeFilesAtomically) {
     ++files;
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
   }
-  EXPECT_EQ(files, 3u);
+  EXPECT_EQ(files, 4u);
   fs::remove_all(dir);
 }
 

@@ -14,6 +14,7 @@
 ///  - OUT/overview.png: top, front and side views (equal scale, scale bar) of the
 ///    cloud, surface boundaries, photo footprints, stops and paths, with a legend
 ///    and a line per surface; drawn with the render module.
+///  - OUT/mission.html: the mission in 3D in one self-contained page (io/mission_page.h).
 /// Everything is deterministic for the same scene and missions.
 
 #include "uavip/io/atomic_file.h"
@@ -23,6 +24,7 @@
 #include "uavip/render/figure.h"
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,6 +54,8 @@ struct OverviewOptions {
   int width_px{1900};
   int height_px{1100};
   std::size_t max_cloud_points{60000};  ///< cloud points drawn per view (evenly subsampled above this)
+  /// The mission's required clearance [m], for mission.html's path colouring (NaN: 1 m).
+  double clearance_m{std::numeric_limits<double>::quiet_NaN()};
 };
 
 /// The overview figure (encode it with png() or svg()).
@@ -60,22 +64,23 @@ struct OverviewOptions {
 render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                               const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
-/// The three views as file contents.
+/// The views as file contents.
 struct ViewFiles {
   std::string ply;  ///< scene.ply
   std::string obj;  ///< path.obj
   std::string png;  ///< overview.png
+  std::string html;  ///< mission.html, the 3D page (io/mission_page.h)
 };
 
-/// Renders the three views. Reads its arguments only, so it may run on a thread of
+/// Renders the four views. Reads its arguments only, so it may run on a thread of
 /// its own while the caller writes the scene and the mission.
 ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                       const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
-/// Stages rendered views as out_dir/scene.ply, path.obj and overview.png.
+/// Stages rendered views as out_dir/scene.ply, path.obj, overview.png and mission.html.
 void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
 
-/// Stages out_dir/scene.ply, out_dir/path.obj and out_dir/overview.png in `outputs`
+/// Stages out_dir/scene.ply, out_dir/path.obj, out_dir/overview.png and out_dir/mission.html in `outputs`
 /// (io/atomic_file.h: written when the command commits its outputs). Throws
 /// InputError naming a file that cannot be written.
 void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,

@@ -1,0 +1,393 @@
+// The mission page as a user gets it: `uavip run` on the bundled scenario writes
+// OUT/mission.html, whose embedded counts equal mission.json's; `uavip view` writes
+// the same page and rejects bad input with one line and exit 2; and Debian's headless
+// Chromium draws it: the title turns "ready", and a screenshot from the top shows the
+// cloud's and the path's colours where the scene and the mission put them.
+// Without chromium the browser tests are skipped, naming why.
+
+#include "tests/cli/cli_runner.h"
+
+#include "uavip/io/scene_json.h"
+#include "uavip/io/views.h"
+
+#include <cairo.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace io = uavip::io;
+using uavip::Vec3;
+using uavip::cli_test::Result;
+using uavip::cli_test::slurp;
+using uavip::cli_test::uavip;
+
+nlohmann::json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+/// The text of <script type="application/json" id="ID"> in a page.
+nlohmann::json block(const std::string& html, const std::string& id) {
+  const std::string open = "<script type=\"application/json\" id=\"" + id + "\">";
+  const auto a = html.find(open);
+  if (a == std::string::npos) return nullptr;
+  const auto b = html.find("</script>", a);
+  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+/// Runs a shell command; its stdout (stderr is dropped: Chromium logs GPU and D-Bus
+/// noise there).
+std::string capture(const std::string& cmd) {
+  std::string out;
+  FILE* pipe = ::popen((cmd + " 2>/dev/null").c_str(), "r");
+  if (!pipe) return out;
+  std::array<char, 8192> buf{};
+  std::size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  ::pclose(pipe);
+  return out;
+}
+
+/// Chromium's path (UAVIP_CHROMIUM, else Debian's), or "" when it is not installed.
+std::string chromium() {
+  if (const char* env = std::getenv("UAVIP_CHROMIUM"); env != nullptr && *env != '\0')
+    return ::access(env, X_OK) == 0 ? env : "";
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (::access(p, X_OK) == 0) return p;
+  return "";
+}
+
+class MissionPageCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("uavip_page_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const std::string scenario = std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_cube.yaml";
+    run_ = uavip("run " + scenario + " -q -o " + (dir_ / "single_cube").string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path out() { return dir_ / "single_cube"; }
+
+  /// Headless Chromium on `page` + `hash` with WebGL on SwiftShader; `mode` is
+  /// --dump-dom or --screenshot=FILE.
+  static std::string browse(const fs::path& page, const std::string& hash, const std::string& mode) {
+    const fs::path profile = dir_ / "profile";
+    return capture(chromium() +
+                   " --headless --no-sandbox --use-gl=swiftshader --enable-unsafe-swiftshader --hide-scrollbars"
+                   " --no-first-run --disable-extensions --mute-audio --window-size=1200,800"
+                   " --virtual-time-budget=30000 --user-data-dir=" + profile.string() + " " + mode + " 'file://" +
+                   page.string() + hash + "'");
+  }
+
+  static inline fs::path dir_;
+  static inline Result run_;
+};
+
+TEST_F(MissionPageCli, RunWritesThePageWithTheMissionsNumbers) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  const std::string html = slurp(out() / "mission.html");
+  ASSERT_FALSE(html.empty());
+  const nlohmann::json page = block(html, "uavip-summary");
+  ASSERT_TRUE(page.is_object());
+  const nlohmann::json mission = readJson(out() / "mission.json");
+  std::size_t photos = 0, waypoints = 0, flight_waypoints = 0;
+  for (const auto& s : mission["surfaces"]) {
+    photos += s["stops"].size();
+    waypoints += s["waypoints"].size();
+  }
+  for (const auto& s : mission["flight"]["sorties"]) flight_waypoints += s["waypoints"].size();
+  EXPECT_GT(photos, 0u);
+  EXPECT_EQ(page["photos"].get<std::size_t>(), photos);
+  EXPECT_EQ(page["waypoints"].get<std::size_t>(), waypoints);
+  EXPECT_EQ(page["sorties"].get<std::size_t>(), mission["flight"]["sorties"].size());
+  EXPECT_EQ(page["sorties"].get<std::size_t>(), mission["flight"]["sortie_count"].get<std::size_t>());
+  EXPECT_EQ(page["flight_waypoints"].get<std::size_t>(), flight_waypoints);
+  EXPECT_EQ(page["surfaces_planned"].get<std::size_t>(), mission["surfaces"].size());
+  const uavip::Scene scene = io::loadScene((out() / "scene.json").string());
+  EXPECT_EQ(page["scene_surfaces"].get<std::size_t>(), scene.surfaces.size());
+}
+
+TEST_F(MissionPageCli, ViewWritesTheSamePage) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  const fs::path copy = dir_ / "view" / "single_cube";
+  fs::create_directories(copy);
+  for (const char* f : {"mission.json", "scene.json"}) fs::copy_file(out() / f, copy / f, fs::copy_options::overwrite_existing);
+  const Result r = uavip("view " + (copy / "mission.json").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("mission.html"), std::string::npos) << r.out;
+  // The same counts as run's page (the cloud itself comes back from scene.json in
+  // another order and rounded to 0.1 mm, so the bytes differ).
+  const std::string from_run = slurp(out() / "mission.html"), from_view = slurp(copy / "mission.html");
+  EXPECT_EQ(block(from_view, "uavip-summary"), block(from_run, "uavip-summary"));
+  const nlohmann::json run_data = block(from_run, "uavip-data"), view_data = block(from_view, "uavip-data");
+  EXPECT_EQ(view_data["title"], run_data["title"]);
+  EXPECT_EQ(view_data["summary_line"], run_data["summary_line"]);
+  EXPECT_EQ(view_data["inflation_radius_m"], run_data["inflation_radius_m"]);
+  ASSERT_EQ(view_data["paths"].size(), run_data["paths"].size());
+  for (std::size_t k = 0; k < run_data["paths"].size(); ++k)
+    EXPECT_EQ(view_data["paths"][k]["waypoints"], run_data["paths"][k]["waypoints"]) << "sortie " << k + 1;
+  // Deterministic: the same files make the same bytes.
+  const Result again = uavip("view -q " + (copy / "mission.json").string() + " -o " + (dir_ / "again.html").string());
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_TRUE(slurp(dir_ / "again.html") == from_view) << "two views of the same mission differ";
+  const Result o = uavip("view " + (copy / "mission.json").string() + " -o " + (dir_ / "other.html").string());
+  ASSERT_EQ(o.code, 0) << o.out;
+  EXPECT_TRUE(fs::exists(dir_ / "other.html"));
+}
+
+TEST_F(MissionPageCli, ViewBadInputIsOneLineAndExit2) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  const fs::path lone = dir_ / "lone";
+  fs::create_directories(lone);
+  fs::copy_file(out() / "mission.json", lone / "mission.json", fs::copy_options::overwrite_existing);
+  Result r = uavip("view " + (lone / "mission.json").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("scene.json"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(lone / "mission.html"));
+
+  std::ofstream(lone / "scene.json") << R"({"surfaces": [], "obstacles": []})";
+  r = uavip("view " + (lone / "mission.json").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("no points"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(lone / "mission.html"));
+}
+
+TEST_F(MissionPageCli, NoViewsWritesNoPage) {
+  const fs::path o = dir_ / "noviews";
+  const Result r = uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_cube.yaml -q --no-views -o " + o.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(o / "mission.json"));
+  EXPECT_FALSE(fs::exists(o / "mission.html"));
+}
+
+// ---- in the browser
+
+/// A decoded screenshot: 0xRRGGBB per pixel.
+struct Image {
+  int w{0}, h{0};
+  std::vector<std::uint32_t> px;
+  std::uint32_t at(int x, int y) const { return px[static_cast<std::size_t>(y) * w + x] & 0xffffff; }
+};
+
+Image readPng(const fs::path& p) {
+  Image img;
+  cairo_surface_t* s = cairo_image_surface_create_from_png(p.c_str());
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    cairo_surface_flush(s);
+    img.w = cairo_image_surface_get_width(s);
+    img.h = cairo_image_surface_get_height(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    img.px.resize(static_cast<std::size_t>(img.w) * img.h);
+    for (int y = 0; y < img.h; ++y)
+      for (int x = 0; x < img.w; ++x)
+        img.px[static_cast<std::size_t>(y) * img.w + x] = reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
+  }
+  cairo_surface_destroy(s);
+  return img;
+}
+
+std::uint32_t rgb(const uavip::render::Color& c) {
+  return (static_cast<std::uint32_t>(c.red8()) << 16) | (static_cast<std::uint32_t>(c.green8()) << 8) | c.blue8();
+}
+
+bool near(std::uint32_t a, std::uint32_t b, int tol = 8) {
+  for (int s = 0; s <= 16; s += 8)
+    if (std::abs(static_cast<int>((a >> s) & 255) - static_cast<int>((b >> s) & 255)) > tol) return false;
+  return true;
+}
+
+/// The attribute `name` of the element with id uavip-state in a dumped DOM.
+std::string stateAttribute(const std::string& dom, const std::string& name) {
+  const auto at = dom.find("id=\"uavip-state\"");
+  if (at == std::string::npos) return "";
+  const auto start = dom.rfind('<', at);
+  const auto end = dom.find('>', at);
+  const std::string tag = dom.substr(start, end - start);
+  const auto a = tag.find(name + "=\"");
+  if (a == std::string::npos) return "";
+  const auto b = tag.find('"', a + name.size() + 2);
+  return tag.substr(a + name.size() + 2, b - a - name.size() - 2);
+}
+
+std::vector<double> numbers(const std::string& s) {
+  std::vector<double> v;
+  std::istringstream in(s);
+  double x = 0.0;
+  while (in >> x) v.push_back(x);
+  return v;
+}
+
+/// World → screenshot pixels with the page's camera (data-matrix, data-origin, data-canvas).
+struct Projection {
+  std::vector<double> m, origin, canvas;
+  bool valid() const { return m.size() == 16 && origin.size() == 3 && canvas.size() == 4; }
+  /// x, y [px] and NDC depth (smaller is nearer).
+  std::array<double, 3> operator()(const Vec3& p) const {
+    const double q[4] = {p.x() - origin[0], p.y() - origin[1], p.z() - origin[2], 1.0};
+    double c[4] = {0, 0, 0, 0};
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) c[r] += m[static_cast<std::size_t>(k * 4 + r)] * q[k];  // column-major
+    return {canvas[0] + (c[0] / c[3] + 1.0) / 2.0 * canvas[2], canvas[1] + (1.0 - c[1] / c[3]) / 2.0 * canvas[3],
+            c[2] / c[3]};
+  }
+};
+
+TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
+  const fs::path page = out() / "mission.html";
+  const std::string hash = "#view=top&layers=cloud,flight&path=sortie&points=all&canvas=900x600";
+  const std::string dom = browse(page, hash, "--dump-dom");
+  ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
+  EXPECT_EQ(stateAttribute(dom, "data-view"), "top");
+  EXPECT_EQ(stateAttribute(dom, "data-path-mode"), "sortie");
+  const Projection proj{numbers(stateAttribute(dom, "data-matrix")), numbers(stateAttribute(dom, "data-origin")),
+                        numbers(stateAttribute(dom, "data-canvas"))};
+  ASSERT_TRUE(proj.valid()) << dom.substr(0, 400);
+
+  const fs::path png = dir_ / "top.png";
+  browse(page, hash, "--screenshot=" + png.string());
+  const Image img = readPng(png);
+  ASSERT_GT(img.w, 0) << "no screenshot at " << png;
+
+  // The cloud as the page draws it: every stride-th point in its class colour; the
+  // nearest point wins a pixel (a z-buffer of the points' centres).
+  const uavip::Scene scene = io::loadScene((out() / "scene.json").string());
+  const nlohmann::json data = block(slurp(page), "uavip-data");
+  const std::size_t stride = data["cloud"]["stride"].get<std::size_t>();
+  std::map<std::array<double, 3>, std::uint32_t> colour;
+  for (const auto& s : scene.surfaces)
+    for (const auto& p : s.inliers) colour[{p.x(), p.y(), p.z()}] = rgb(io::surfaceColor(s.id));
+  for (const auto& o : scene.obstacles)
+    for (const auto& p : o.points) colour[{p.x(), p.y(), p.z()}] = rgb(io::kObstacleColor);
+  std::vector<double> depth(img.px.size(), 2.0);
+  std::vector<std::uint32_t> expected(img.px.size(), 0xffffffff);
+  for (std::size_t i = 0; i < scene.cloud.size(); i += stride) {
+    const Vec3& p = scene.cloud[i];
+    const auto s = proj(p);
+    const auto c = colour.find({p.x(), p.y(), p.z()});
+    const std::uint32_t col = c == colour.end() ? rgb(io::kCloudColor) : c->second;
+    // The page draws each point as a square about 1.5 point spacings wide: splat it
+    // over 7 × 7 px (gaps between points then do not count as cloud-free).
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) {
+        const int x = static_cast<int>(std::floor(s[0])) + dx, y = static_cast<int>(std::floor(s[1])) + dy;
+        if (x < 0 || y < 0 || x >= img.w || y >= img.h) continue;
+        const std::size_t k = static_cast<std::size_t>(y) * img.w + x;
+        if (s[2] < depth[k]) {
+          depth[k] = s[2];
+          expected[k] = col;
+        }
+      }
+  }
+  // The flight's samples on screen, to leave the cloud test the pixels the path covers.
+  const nlohmann::json mission = readJson(out() / "mission.json");
+  std::vector<std::uint8_t> near_path(img.px.size(), 0);
+  std::vector<std::uint32_t> sortie_colour;
+  for (std::size_t k = 0; k < mission["flight"]["sorties"].size(); ++k) {
+    sortie_colour.push_back(rgb(uavip::render::palette(static_cast<int>(k)).mix(uavip::render::kBlack, 0.35)));
+    const auto& w = mission["flight"]["sorties"][k]["waypoints"];
+    for (std::size_t j = 0; j + 1 < w.size(); ++j) {
+      const Vec3 a(w[j][0].get<double>(), w[j][1].get<double>(), w[j][2].get<double>());
+      const Vec3 b(w[j + 1][0].get<double>(), w[j + 1][1].get<double>(), w[j + 1][2].get<double>());
+      for (int t = 0; t <= 200; ++t) {
+        const auto s = proj(a + (b - a) * (t / 200.0));
+        for (int dy = -3; dy <= 3; ++dy)
+          for (int dx = -3; dx <= 3; ++dx) {
+            const int x = static_cast<int>(s[0]) + dx, y = static_cast<int>(s[1]) + dy;
+            if (x >= 0 && y >= 0 && x < img.w && y < img.h) near_path[static_cast<std::size_t>(y) * img.w + x] = 1;
+          }
+      }
+    }
+  }
+  // Cloud: pixels inside a patch of one expected colour (5 × 5), away from the path and
+  // from the canvas's corners (scale bar, north arrow, status line).
+  int checked = 0, matched = 0;
+  const int margin = 80;
+  for (int y = static_cast<int>(proj.canvas[1]) + margin; y < img.h - margin; y += 3) {
+    for (int x = static_cast<int>(proj.canvas[0]) + margin; x < img.w - margin; x += 3) {
+      const std::uint32_t c = expected[static_cast<std::size_t>(y) * img.w + x];
+      if (c == 0xffffffff) continue;
+      bool uniform = true;
+      for (int dy = -2; dy <= 2 && uniform; ++dy)
+        for (int dx = -2; dx <= 2 && uniform; ++dx) {
+          const std::size_t k = static_cast<std::size_t>(y + dy) * img.w + (x + dx);
+          uniform = expected[k] == c && !near_path[k];
+        }
+      if (!uniform) continue;
+      // Points are squares of at most 4 px, so gaps of a pixel or two may show between
+      // them: the colour must be within 2 px.
+      ++checked;
+      bool hit = false;
+      for (int dy = -2; dy <= 2 && !hit; ++dy)
+        for (int dx = -2; dx <= 2 && !hit; ++dx) hit = near(img.at(x + dx, y + dy), c);
+      matched += hit;
+    }
+  }
+  ASSERT_GE(checked, 50) << "too few cloud pixels to check";
+  std::cout << "cloud: " << matched << " of " << checked << " pixels in the scene's colours\n";
+  EXPECT_GE(matched, 0.9 * checked) << matched << " of " << checked << " cloud pixels in the scene's colours";
+
+  // Path: at the middle of every segment longer than 8 px on screen, a sortie colour
+  // within 2 px.
+  int segments = 0, found = 0;
+  std::vector<int> own(sortie_colour.size(), 0);
+  for (std::size_t k = 0; k < mission["flight"]["sorties"].size(); ++k) {
+    const auto& w = mission["flight"]["sorties"][k]["waypoints"];
+    for (std::size_t j = 0; j + 1 < w.size(); ++j) {
+      const Vec3 a(w[j][0].get<double>(), w[j][1].get<double>(), w[j][2].get<double>());
+      const Vec3 b(w[j + 1][0].get<double>(), w[j + 1][1].get<double>(), w[j + 1][2].get<double>());
+      const auto sa = proj(a), sb = proj(b), sm = proj((a + b) / 2.0);
+      if (std::hypot(sa[0] - sb[0], sa[1] - sb[1]) < 8.0) continue;
+      const int x0 = static_cast<int>(std::lround(sm[0])), y0 = static_cast<int>(std::lround(sm[1]));
+      if (x0 < 2 || y0 < 2 || x0 >= img.w - 2 || y0 >= img.h - 2) continue;
+      ++segments;
+      bool any = false, mine = false;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const std::uint32_t c = img.at(x0 + dx, y0 + dy);
+          for (const auto sc : sortie_colour) any = any || near(c, sc);
+          mine = mine || near(c, sortie_colour[k]);
+        }
+      found += any;
+      own[k] += mine;
+    }
+  }
+  ASSERT_GE(segments, 4) << "too few path segments on screen";
+  std::cout << "path: " << found << " of " << segments << " segments in a sortie's colour\n";
+  EXPECT_GE(found, 0.9 * segments) << found << " of " << segments << " path segments show a sortie's colour";
+  for (std::size_t k = 0; k < own.size(); ++k) EXPECT_GT(own[k], 0) << "sortie " << k + 1 << "'s colour is nowhere";
+}
+
+TEST_F(MissionPageCli, ChromiumOpensEveryView) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
+  for (const char* view : {"orbit", "front", "side"}) {
+    const std::string dom = browse(out() / "mission.html", std::string("#view=") + view, "--dump-dom");
+    EXPECT_NE(dom.find("<title>ready</title>"), std::string::npos) << view << ": " << dom.substr(0, 300);
+    EXPECT_EQ(stateAttribute(dom, "data-view"), view);
+    EXPECT_FALSE(stateAttribute(dom, "data-frame-ms").empty()) << view;
+  }
+}
+
+}  // namespace
