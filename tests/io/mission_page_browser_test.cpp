@@ -128,7 +128,8 @@ TEST_F(MissionPageCli, ViewWritesTheSamePage) {
   ASSERT_EQ(run_.code, 0) << run_.out;
   const fs::path copy = dir_ / "view" / "single_cube";
   fs::create_directories(copy);
-  for (const char* f : {"mission.json", "scene.json"}) fs::copy_file(out() / f, copy / f, fs::copy_options::overwrite_existing);
+  for (const char* f : {"mission.json", "scene.json", "cloud_safety.pcd"})
+    fs::copy_file(out() / f, copy / f, fs::copy_options::overwrite_existing);
   const Result r = uavip("view " + (copy / "mission.json").string());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("mission.html"), std::string::npos) << r.out;
