@@ -59,13 +59,15 @@ echo "fuzz: building fuzz_{${TARGETS// /,}} in $OUT" >&2
 wanted cloud && build fuzz_cloud tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
   src/core/error.cpp -lpcl_io -lpcl_common
 wanted json && build fuzz_json tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/mission_json_read.cpp \
-  src/io/json_reader.cpp src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp -lGeographicLib -lproj
+  src/io/json_reader.cpp src/io/atomic_file.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/core/error.cpp \
+  src/core/geometry.cpp -lGeographicLib -lproj -lpcl_io -lpcl_common
 # scenario.cpp checks every stage's options (Config::validate: the checks live next to
 # the stages, the planner names next to the planners), so it links most of the library.
 wanted yaml && build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp src/io/las_reader.cpp \
   src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp src/core/parallel.cpp src/core/voxel_key.cpp \
   src/sim/world_model.cpp src/sim/surface_sampler.cpp src/sim/scanner_sim.cpp src/scan/station_assembler.cpp \
-  src/registration/station_registration.cpp src/preprocess/filters.cpp src/perception/scene_builder.cpp \
+  src/registration/station_registration.cpp src/preprocess/filters.cpp src/preprocess/safety_cloud.cpp \
+  src/core/key_sort.cpp src/perception/scene_builder.cpp \
   src/perception/plane_detector.cpp src/perception/obstacle_clusterer.cpp src/perception/euclidean_clusters.cpp \
   src/coverage/camera.cpp src/coverage/flight_strategy.cpp src/world/voxel_grid.cpp src/world/collision_world.cpp \
   src/planning/mission_planner.cpp src/planning/flight_planner.cpp src/planning/path_validator.cpp \
