@@ -67,7 +67,7 @@ wanted yaml && build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/
   src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp src/core/parallel.cpp src/core/voxel_key.cpp \
   src/sim/world_model.cpp src/sim/surface_sampler.cpp src/sim/scanner_sim.cpp src/scan/station_assembler.cpp \
   src/registration/station_registration.cpp src/preprocess/filters.cpp src/preprocess/safety_cloud.cpp \
-  src/core/key_sort.cpp src/perception/scene_builder.cpp \
+  src/core/key_sort.cpp src/preprocess/neighbour_index.cpp src/scan/drift_refinement.cpp src/perception/scene_builder.cpp \
   src/perception/plane_detector.cpp src/perception/obstacle_clusterer.cpp src/perception/euclidean_clusters.cpp \
   src/coverage/camera.cpp src/coverage/flight_strategy.cpp src/world/voxel_grid.cpp src/world/collision_world.cpp \
   src/planning/mission_planner.cpp src/planning/flight_planner.cpp src/planning/path_validator.cpp \
