@@ -51,7 +51,8 @@ struct InputCloud {
   std::string note;
 };
 
-InputCloud inputCloud(const std::string& scene_path, const Scene& scene, const std::string& cloud_arg) {
+InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, const Scene& scene,
+                      const std::string& cloud_arg) {
   InputCloud in;
   std::string path = cloud_arg;
   if (path.empty()) {
@@ -70,7 +71,6 @@ InputCloud inputCloud(const std::string& scene_path, const Scene& scene, const s
     }
   }
   // Read as detect read it (input options from scene.json), in the scene's frame.
-  const nlohmann::json j = io::JsonReader(scene_path).load();
   io::CloudReadOptions options;
   Vec3 scene_offset = Vec3::Zero();
   if (j.contains("input_read")) {
@@ -104,10 +104,11 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   } else if (std::isnan(clearance)) {
     throw InputError(mission_path + ": inflation_radius_m is missing; give the clearance with --clearance");
   }
-  const Scene scene = io::loadScene(scene_path);
+  const nlohmann::json scene_json = io::JsonReader(scene_path).load();  // parsed once
+  const Scene scene = io::sceneFromJson(scene_json, scene_path);
 
   const auto t0 = SteadyClock::now();
-  const InputCloud input = inputCloud(scene_path, scene, cloud_arg);
+  const InputCloud input = inputCloud(scene_path, scene_json, scene, cloud_arg);
   auto world = std::make_shared<const world::CollisionWorld>(scene);
   // Without the input file, the safety cloud stands for it: every input point lies
   // within its margin of a safety point, so the world check keeps that much more.
