@@ -1,6 +1,7 @@
 #include "uavip/app/pipeline.h"
 
 #include "uavip/app/assemble.h"
+#include "plan_steps.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -171,12 +172,8 @@ const Surface& surfaceById(const Scene& scene, int id) {
   return *it;
 }
 
-/// The planning grid (stage 7, paper §II-G) over the stops' neighbourhood
-/// (kLocalMarginM around them), not the whole site: on a large site one surface's
-/// grid stays small and fine. The validator sweeps the UAV against every surface
-/// slab, obstacle solid and measured point (world/collision_world.h); the grid marks
-/// the solids occupied too, so the planner never flies through space the validator
-/// calls solid.
+}  // namespace
+
 world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const io::Config& config,
                               const PointList& stop_positions, double clearance_m) {
   Aabb region = boundingBox(stop_positions);
@@ -196,6 +193,8 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   occupied.insert(occupied.end(), solids.begin(), solids.end());
   return world::VoxelGrid::build(occupied, {}, grid_options, region);
 }
+
+namespace {
 
 /// Stage 7 for every surface. Surfaces are independent: with a deterministic
 /// planner they are spread over the cores, one planner per worker (`planner` is the
@@ -232,8 +231,8 @@ std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::F
   return missions;
 }
 
-/// mission.start and mission.home must lie within one battery's reach of the photo
-/// stops: there and back at cruise speed in the usable endurance (planning/flight_planner.h).
+}  // namespace
+
 void requireWithinReach(const std::optional<Vec3>& point, const std::string& key, const PointList& stops,
                         const planning::FlightModel& model) {
   if (!point || stops.empty()) return;
@@ -250,8 +249,6 @@ void requireWithinReach(const std::optional<Vec3>& point, const std::string& key
   }
 }
 
-/// mission.start and mission.home must lie in free space: at least the safety
-/// clearance from every measured point and solid.
 void requireFree(const std::optional<Vec3>& point, const std::string& key, const planning::PathValidator& validator) {
   if (!point) return;
   const double clearance = validator.clearance(*point);
@@ -263,8 +260,6 @@ void requireFree(const std::optional<Vec3>& point, const std::string& key, const
     throw InputError(os.str());
   }
 }
-
-}  // namespace
 
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {

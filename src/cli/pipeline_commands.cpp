@@ -92,6 +92,23 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
   // The distance kept from every measured point (app::safetyClearance): the UAV's
   // inflation radius plus the safety cloud's margin.
   m["safety_clearance_m"] = plan.clearance_m;
+  if (plan.structure) {
+    const app::StructureSummary& st = *plan.structure;
+    // Structure coverage: rule (a) FC-Planner's pixel rule, rule (b) ours (docs/ARCHITECTURE.md).
+    m["structure"] = {{"surface_id", st.surface_id},
+                      {"points", st.points},
+                      {"ground_points", st.ground_points},
+                      {"seeds", st.seeds},
+                      {"candidates", st.candidates},
+                      {"free_candidates", st.free_candidates},
+                      {"imageable_points", st.imageable},
+                      {"photos", st.photos},
+                      {"standoff_m", st.standoff_m},
+                      {"visible_range_m", st.visible_range_m},
+                      {"coverage_rule_a", st.rule_a},
+                      {"coverage_rule_b", st.rule_b}};
+    m["timings"]["select_s"] = st.select_s;
+  }
   nlohmann::json doc = io::missionToJson(plan.missions, m);
   doc["flight"] = io::flightToJson(plan.flight, model);
   outputs.write((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
@@ -131,8 +148,15 @@ void printDetectSummary(const app::DetectResult& d) {
 }
 
 void printPlanSummary(const app::PlanResult& p) {
+  if (p.structure) {
+    const app::StructureSummary& st = *p.structure;
+    std::cout << "structure: " << st.points << " points (" << st.ground_points << " ground left out), "
+              << st.free_candidates << " of " << st.candidates << " candidate views free, " << st.photos
+              << " photos at " << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
+              << formatFixed(100.0 * st.rule_a, 1) << " %, rule (b) " << formatFixed(100.0 * st.rule_b, 1) << " %\n";
+  }
   for (const auto& m : p.missions) {
-    std::cout << "  surface " << m.surface_id << ": " << planning::toString(m.status) << ", "
+    std::cout << "  " << (m.kind == "structure" ? "structure " : "surface ") << m.surface_id << ": " << planning::toString(m.status) << ", "
               << m.strategy.stops.size() << " stops";
     if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
     if (m.coverage.evaluated) std::cout << ", coverage " << formatFixed(100.0 * m.coverage.fraction, 1) << " %";
@@ -238,7 +262,7 @@ void stageViews(io::StagedOutputs& outputs, const std::string& out, std::future<
   if (views.valid()) io::stageViews(outputs, out, views.get());
 }
 
-int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
+int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface, bool surface_given,
                const std::string& planner, bool views, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
@@ -260,8 +284,10 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
   const preprocess::CloudStats measured = app::measure(raw, &scenario, &index);
   const app::DetectResult d = app::detect(raw, scenario.config, measured, progress, index);
-  const std::vector<int> ids = app::selectSurfaces(d.scene, surface);
-  const app::PlanResult p = app::plan(d.scene, d.resolved.config, ids, progress);
+  const bool structure = d.resolved.config.coverage.mode == "structure";
+  if (structure && surface_given) throw InputError("--surface: the scenario's coverage.mode is structure, which covers the whole structure; leave out --surface");
+  const app::PlanResult p = structure ? app::planStructure(d.scene, d.resolved.config, progress)
+                                      : app::plan(d.scene, d.resolved.config, app::selectSurfaces(d.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
   auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
@@ -288,6 +314,17 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   // the paper expects: that is a result, not a failure.
   if (p.missions.empty()) return kExitOk;
   return missionExitCode(p, v);
+}
+
+/// --cover: "" (planes by --surface) or "structure"; exit 2 for anything else or both.
+bool structureCover(const std::string& cover, bool surface_given) {
+  if (cover.empty()) {
+    if (!surface_given) throw InputError("plan: give --surface (an id, a list '0,3,5' or 'all') or --cover structure");
+    return false;
+  }
+  if (cover != "structure") throw InputError("--cover: '" + cover + "' is not a coverage mode; use --cover structure");
+  if (surface_given) throw InputError("--cover structure covers the whole structure; leave out --surface (or drop --cover)");
+  return true;
 }
 
 int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out, bool views,
@@ -321,17 +358,20 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
 }
 
 int planCommand(const std::string& scene_path, const std::string& config_path, const std::string& surface,
-                const std::string& planner, const std::string& out, bool views, const Verbosity& v) {
+                const std::string& cover, const std::string& planner, const std::string& out, bool views,
+                const Verbosity& v) {
+  const bool structure = structureCover(cover, !surface.empty());
   io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
   if (!planner.empty()) {
     config.planner = planner;
     config.validate("--planner");
   }
   const Scene scene = io::loadScene(scene_path);
-  const std::vector<int> ids = app::selectSurfaces(scene, surface);
+  const std::vector<int> ids = structure ? std::vector<int>{} : app::selectSurfaces(scene, surface);
   io::ensureDirectory(out);
   const io::Config resolved = app::resolveForScene(scene, config).config;
-  const app::PlanResult p = app::plan(scene, resolved, ids, progressPrinter(v));
+  const app::PlanResult p = structure ? app::planStructure(scene, resolved, progressPrinter(v))
+                                      : app::plan(scene, resolved, ids, progressPrinter(v));
   auto rendered = renderViewsAsync(views, scene, p.missions,
                                    overviewOptions(fs::path(scene_path).parent_path().filename().string(),
                                                    resolved.uav.inflationRadius()),
@@ -358,7 +398,7 @@ std::string plannerList() {
 
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
-  std::string scenario, out, surface{"all"}, planner, cloud, config, scene;
+  std::string scenario, out, surface, planner, cloud, config, scene, cover;
   bool no_views{false};
 };
 
@@ -373,10 +413,13 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
-  run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'")->capture_default_str();
+  run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
   run->add_option("--planner", a->planner, planner_help);
   run->add_flag("--no-views", a->no_views, views_help);
-  registry.add(run, [a, &v] { return runCommand(a->scenario, a->out, a->surface, a->planner, !a->no_views, v); });
+  registry.add(run, [a, &v] {
+    return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface, !a->surface.empty(), a->planner,
+                      !a->no_views, v);
+  });
 
   auto* det = cli.add_subcommand("detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
   det->footer(
@@ -404,14 +447,28 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
       "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it off.\n"
       "Coverage: the share of the surface's points that some flown photo images (in the photo,\n"
       "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a surface\n"
-      "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.");
+      "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.\n"
+      "\n"
+      "--cover structure: photos of the whole structure in one flight, not plane by plane. The\n"
+      "structure is every point of the clean cloud except the ground (horizontal surfaces at the\n"
+      "site's lowest level spanning a quarter of its footprint, and every point below\n"
+      "coverage.ground_z_m). Candidate views at the viewing distance (coverage.standoff_m, else the\n"
+      "camera's GSD) along each seed point's normal, tilted 35 deg up and down, free by the UAV's\n"
+      "clearance from every input point; chosen by set cover until coverage.structure_target (0.99)\n"
+      "of what can be seen, then pruned. Camera: 'camera: {fx: 417, fy: 461, cx: 320, cy: 240,\n"
+      "image_px: [640, 480], max_range_m: 11}' (a pinhole), or the footprint/sensor keys.\n"
+      "Coverage: rule (a) FC-Planner's pixel rule; rule (b) GSD and range <= 1.25 x the viewing\n"
+      "distance, <= 75 deg incidence, clear line of sight.");
   pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
-  pl->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'")->required();
+  pl->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'");
+  pl->add_option("--cover", a->cover, "'structure': cover the whole structure (instead of --surface)");
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
   pl->add_option("-o,--out", a->out, "Output directory")->required();
   pl->add_flag("--no-views", a->no_views, views_help);
-  registry.add(pl, [a, &v] { return planCommand(a->scene, a->config, a->surface, a->planner, a->out, !a->no_views, v); });
+  registry.add(pl, [a, &v] {
+    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->out, !a->no_views, v);
+  });
 }
 
 }  // namespace uavip::cli

@@ -14,6 +14,22 @@ double Camera::maxStandoff() const { return max_range_m > 0.0 ? max_range_m : kM
 void Camera::validate(const std::string& where) const {
   if (!(std::isfinite(max_range_m) && max_range_m >= 0.0))
     throw InputError(where + ": max_range_m must be > 0 (or left out), got " + formatNumber(max_range_m));
+  if (pinhole) {
+    requirePositive(fx_px, where, "fx");
+    requirePositive(fy_px, where, "fy");
+    requirePositive(static_cast<double>(image_w_px), where, "image_px[0]");
+    requirePositive(static_cast<double>(image_h_px), where, "image_px[1]");
+    if (!(cx_px >= 0.0 && cx_px <= image_w_px))
+      throw InputError(where + ": cx " + formatNumber(cx_px) + " px lies outside the image width " + std::to_string(image_w_px));
+    if (!(cy_px >= 0.0 && cy_px <= image_h_px))
+      throw InputError(where + ": cy " + formatNumber(cy_px) + " px lies outside the image height " + std::to_string(image_h_px));
+    if (!(std::isfinite(gsd_mm_per_px) && gsd_mm_per_px >= 0.0))
+      throw InputError(where + ": gsd_mm_per_px must be > 0 (or left out), got " + formatNumber(gsd_mm_per_px));
+    if (!(gsd_mm_per_px * std::min(fx_px, fy_px) / 1000.0 <= maxStandoff()))
+      throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) + " puts the camera beyond " +
+                       formatNumber(maxStandoff()) + " m; give the GSD in mm per pixel, or set camera.max_range_m");
+    return;
+  }
   if (!from_sensor) {
     requirePositive(footprint_w_m, where, "footprint_w_m");
     requirePositive(footprint_h_m, where, "footprint_h_m");
@@ -39,6 +55,16 @@ void Camera::validate(const std::string& where) const {
 CameraGeometry solveCamera(const Camera& camera, double standoff_m) {
   camera.validate();
   CameraGeometry g;
+  if (camera.pinhole) {
+    const double f = std::min(camera.fx_px, camera.fy_px);
+    g.standoff_m = camera.gsd_mm_per_px > 0.0 ? camera.gsd_mm_per_px * f / 1000.0 : standoff_m;
+    requirePositive(g.standoff_m, "camera", "standoff_m");
+    g.footprint_w_m = g.standoff_m * camera.image_w_px / camera.fx_px;
+    g.footprint_h_m = g.standoff_m * camera.image_h_px / camera.fy_px;
+    g.gsd_w_mm = g.standoff_m * 1000.0 / camera.fx_px;
+    g.gsd_h_mm = g.standoff_m * 1000.0 / camera.fy_px;
+    return g;
+  }
   if (!camera.from_sensor) {
     requirePositive(standoff_m, "camera", "standoff_m");
     g.footprint_w_m = camera.footprint_w_m;

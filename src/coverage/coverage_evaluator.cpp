@@ -2,16 +2,14 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 
 namespace uavip::coverage {
 
@@ -26,8 +24,6 @@ constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
 constexpr double kMaxBricks = 67108864.0;
 /// Cells per axis of the evaluator's point grid are capped at this.
 constexpr double kMaxGridCells = 1.0e6;
-/// Views a worker takes at a time.
-constexpr std::size_t kViewChunk = 4;
 
 void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
   requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
@@ -125,54 +121,61 @@ PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_norma
   return g;
 }
 
-/// Per-thread counters, summed at the end.
-struct WorkerTally {
-  std::vector<int> views_per_point;  ///< indexed like the input points
+/// What one view's visit counted (statistics).
+struct ViewTally {
   std::size_t pairs_in_range{0};
   std::size_t los_queries{0};
 };
 
-/// Tests every point within `range_limit` of one view (criteria 1–5, cheap first).
-void evaluateView(const PointGrid& g, const ViewPose& view, const CameraModel& camera,
-                  double range_limit, double cos_max_incidence, double max_gsd,
-                  const LineOfSight* los, WorkerTally& tally) {
+/// The criteria of one evaluation, prepared once.
+struct VisitRule {
+  double range_limit{0.0};
+  double cos_max_incidence{0.0};
+  double max_gsd{0.0};
+  bool two_sided{false};
+  const LineOfSight* los{nullptr};
+};
+
+/// Calls on_imaged(input index) for every point within rule.range_limit of one view
+/// that the view images (criteria 1–5, cheap first), in the grid's cell order.
+template <typename OnImaged>
+void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& camera, const VisitRule& rule,
+               ViewTally& tally, OnImaged&& on_imaged) {
   const ViewFrame frame = makeViewFrame(view);
   const Vec3& c = view.position;
   // Cell box holding every point within range_limit of c (clamped doubles: ±inf safe).
   std::int64_t lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     const double top = static_cast<double>(g.dims[a] - 1);
-    const double l = std::floor((c[a] - range_limit - g.origin[a]) / g.cell);
-    const double h = std::floor((c[a] + range_limit - g.origin[a]) / g.cell);
+    const double l = std::floor((c[a] - rule.range_limit - g.origin[a]) / g.cell);
+    const double h = std::floor((c[a] + rule.range_limit - g.origin[a]) / g.cell);
     if (l > top || h < 0.0) return;
     lo[a] = static_cast<std::int64_t>(std::max(0.0, l));
     hi[a] = static_cast<std::int64_t>(std::min(top, h));
   }
-  const double r2_max = range_limit * range_limit;  // +inf stays +inf
+  const double r2_max = rule.range_limit * rule.range_limit;  // +inf stays +inf
   for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
     for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
-      const std::uint64_t k_first = g.key(lo[0], y, z);
+      auto it = std::lower_bound(g.keys.begin(), g.keys.end(), g.key(lo[0], y, z));
       const std::uint64_t k_last = g.key(hi[0], y, z);
-      auto it = std::lower_bound(g.keys.begin(), g.keys.end(), k_first);
       for (; it != g.keys.end() && *it <= k_last; ++it) {
         const std::size_t cell = static_cast<std::size_t>(it - g.keys.begin());
         for (std::size_t j = g.begin[cell]; j < g.begin[cell + 1]; ++j) {
-          const Vec3& p = g.pos[j];
-          const Vec3 d = p - c;
+          const Vec3 d = g.pos[j] - c;
           const double r2 = d.squaredNorm();
           if (r2 > r2_max || r2 <= 0.0) continue;
           ++tally.pairs_in_range;
-          const double r = std::sqrt(r2);
-          // cos(incidence) = n·(c − p)/r.
-          if (-g.nrm[j].dot(d) < cos_max_incidence * r) continue;
-          const Projection pr = camera.projectInFrame(frame, p);
+          // cos(incidence) = n·(c − p)/r; a two-sided normal faces either way.
+          const double facing = -g.nrm[j].dot(d);
+          if ((rule.two_sided ? std::abs(facing) : facing) < rule.cos_max_incidence * std::sqrt(r2)) continue;
+          const Projection pr = camera.projectInFrame(frame, g.pos[j]);
           if (!pr.in_image) continue;
-          if (max_gsd > 0.0 && !(pr.gsd_mm_per_px <= max_gsd)) continue;
-          if (los != nullptr) {
+          if (rule.max_gsd > 0.0 && !(pr.gsd_mm_per_px <= rule.max_gsd)) continue;
+          if (rule.los != nullptr) {
             ++tally.los_queries;
-            if (!los->clear(c, p)) continue;
+            if (!rule.los->clear(c, g.pos[j])) continue;
           }
-          ++tally.views_per_point[g.index[j]];
+          on_imaged(g.index[j]);
         }
       }
     }
@@ -494,12 +497,14 @@ void CoverageCriteria::validate(const std::string& where) const {
               ">= 0 and finite (0 = from the camera model)", max_range_m);
 }
 
-// Long (97 lines): input checks, the per-view loop on the worker pool, and the ordered merge of the per-worker tallies that keeps the result thread-independent.
-CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
-                                const std::vector<ViewPose>& views, const CameraModel& camera,
-                                const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads) {
-  const std::string where = "evaluateCoverage";
+namespace {
+
+/// Checks the inputs of an evaluation and prepares its grid and rule; `grid` stays
+/// empty when there is nothing to evaluate.
+VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& normals,
+                            const std::vector<ViewPose>& views, const CameraModel& camera,
+                            const CoverageCriteria& criteria, const LineOfSight* los, int threads,
+                            const std::string& where, PointGrid& grid) {
   criteria.validate(where + ".criteria");
   requireThat(threads >= 1, where, "threads", ">= 1", threads);
   const std::size_t n = points.size();
@@ -523,63 +528,72 @@ CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>
     require(p.position.allFinite() && std::isfinite(p.yaw_deg) && std::isfinite(p.pitch_deg), where,
             "view " + std::to_string(v) + " is not finite");
   }
-  const double range_limit = criteria.max_range_m > 0.0
-                                 ? criteria.max_range_m
-                                 : camera.maxRange(criteria.max_gsd_mm_per_px);
-  requireThat(range_limit > 0.0, where, "the range limit (criteria or camera model)", "> 0",
-              range_limit);
-
-  CoverageResult res;
-  res.points = n;
-  res.range_limit_m = range_limit;
-  res.views_per_point.assign(n, 0);
-  if (n > 0 && !views.empty()) {
-    const PointGrid grid = buildGrid(points, unit_normals, range_limit);
-    const double cos_max = criteria.max_incidence_deg >= 180.0 ? -1.0
+  VisitRule rule;
+  rule.range_limit = criteria.max_range_m > 0.0 ? criteria.max_range_m
+                                                 : camera.maxRange(criteria.max_gsd_mm_per_px);
+  requireThat(rule.range_limit > 0.0, where, "the range limit (criteria or camera model)", "> 0",
+              rule.range_limit);
+  rule.cos_max_incidence = criteria.max_incidence_deg >= 180.0 ? -1.0
                            : criteria.max_incidence_deg == 90.0
                                ? 0.0
                                : std::cos(criteria.max_incidence_deg * kDegToRad);
+  rule.max_gsd = criteria.max_gsd_mm_per_px;
+  rule.two_sided = criteria.two_sided_normals;
+  rule.los = los;
+  if (n > 0 && !views.empty()) grid = buildGrid(points, unit_normals, rule.range_limit);
+  return rule;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, const std::vector<Vec3>& normals,
+                                                     const std::vector<ViewPose>& views,
+                                                     const CameraModel& camera,
+                                                     const CoverageCriteria& criteria,
+                                                     const LineOfSight* los, int threads) {
+  require(points.size() < std::numeric_limits<std::uint32_t>::max(), "imagedByView",
+          "more than 2^32 - 1 points");
+  PointGrid grid;
+  const VisitRule rule =
+      prepareEvaluation(points, normals, views, camera, criteria, los, threads, "imagedByView", grid);
+  std::vector<std::vector<std::uint32_t>> imaged(views.size());
+  if (grid.pos.empty()) return imaged;
+  parallelFor(views.size(), threads, [&](std::size_t v, std::size_t) {
+    ViewTally tally;
+    auto& list = imaged[v];
+    visitView(grid, views[v], camera, rule, tally,
+              [&list](std::size_t i) { list.push_back(static_cast<std::uint32_t>(i)); });
+    std::sort(list.begin(), list.end());
+  });
+  return imaged;
+}
+
+CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
+                                const std::vector<ViewPose>& views, const CameraModel& camera,
+                                const CoverageCriteria& criteria, const LineOfSight* los,
+                                int threads) {
+  PointGrid grid;
+  const VisitRule rule =
+      prepareEvaluation(points, normals, views, camera, criteria, los, threads, "evaluateCoverage", grid);
+  const std::size_t n = points.size();
+  CoverageResult res;
+  res.points = n;
+  res.range_limit_m = rule.range_limit;
+  res.views_per_point.assign(n, 0);
+  if (!grid.pos.empty()) {
+    // Each worker counts into its own tally; the sums do not depend on the split.
     const std::size_t workers = std::min(static_cast<std::size_t>(threads), views.size());
-    std::vector<WorkerTally> tallies(workers);
-    std::vector<std::exception_ptr> errors(workers);
-    std::atomic<std::size_t> next{0};
-    std::atomic<bool> failed{false};
-    auto work = [&](std::size_t t) {
-      try {
-        WorkerTally& tally = tallies[t];
-        tally.views_per_point.assign(n, 0);
-        while (!failed.load(std::memory_order_relaxed)) {
-          const std::size_t b = next.fetch_add(kViewChunk);
-          if (b >= views.size()) break;
-          const std::size_t e = std::min(b + kViewChunk, views.size());
-          for (std::size_t v = b; v < e; ++v) {
-            evaluateView(grid, views[v], camera, range_limit, cos_max, criteria.max_gsd_mm_per_px,
-                         los, tally);
-          }
-        }
-      } catch (...) {
-        errors[t] = std::current_exception();
-        failed = true;
-      }
-    };
-    std::vector<std::thread> pool;
-    pool.reserve(workers - 1);
-    try {
-      for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work, t);
-    } catch (...) {
-      failed = true;
-      for (auto& th : pool) th.join();
-      throw;
-    }
-    work(0);
-    for (auto& th : pool) th.join();
-    for (const auto& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
-    for (const WorkerTally& tally : tallies) {
-      for (std::size_t i = 0; i < n; ++i) res.views_per_point[i] += tally.views_per_point[i];
-      res.pairs_in_range += tally.pairs_in_range;
-      res.los_queries += tally.los_queries;
+    std::vector<std::vector<int>> counts(workers);
+    std::vector<ViewTally> tallies(workers);
+    parallelFor(views.size(), static_cast<int>(workers), [&](std::size_t v, std::size_t worker) {
+      auto& count = counts[worker];
+      if (count.empty()) count.assign(n, 0);
+      visitView(grid, views[v], camera, rule, tallies[worker], [&count](std::size_t i) { ++count[i]; });
+    });
+    for (std::size_t t = 0; t < workers; ++t) {
+      for (std::size_t i = 0; i < counts[t].size(); ++i) res.views_per_point[i] += counts[t][i];
+      res.pairs_in_range += tallies[t].pairs_in_range;
+      res.los_queries += tallies[t].los_queries;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {

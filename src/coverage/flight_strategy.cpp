@@ -102,6 +102,11 @@ void CoverageOptions::validate(const std::string& where) const {
                                                : formatNumber(kMaxStandoffWithoutRangeM) + " m (no camera.max_range_m given)") +
                      "; fly closer, or set camera.max_range_m");
   requireThat(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
+  if (mode != "surfaces" && mode != "structure")
+    throw InputError(where + ": mode '" + mode + "' is not a coverage mode; use surfaces or structure");
+  if (ground_z_m) requireThat(std::isfinite(*ground_z_m), where, "ground_z_m", "finite", *ground_z_m);
+  requireThat(structure_target > 0.0 && structure_target <= 1.0, where, "structure_target", "in (0, 1]",
+              structure_target);
   requireThat(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
                "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
   requireThat(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,

@@ -45,6 +45,7 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
   for (const auto& p : m.waypoints) waypoints.push_back(vec(p));
   const auto& cam = m.strategy.camera;
   return {{"surface_id", m.surface_id},
+          {"kind", m.kind},
           {"status", planning::toString(m.status)},
           {"reason", m.reason},
           {"camera",

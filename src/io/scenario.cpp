@@ -210,7 +210,29 @@ void parseGrid(Section s, world::GridOptions& o) {
   s.finish();
 }
 
+/// Pinhole keys (fx, fy, cx, cy with image_px); the other camera models' keys conflict.
+void parsePinhole(Section& s, coverage::Camera& c) {
+  for (const char* other : {"footprint_m", "sensor_mm", "focal_mm"}) {
+    if (s.has(other)) s.fail(other, "conflicts with fx/fy (a pinhole camera); describe the camera one way only");
+  }
+  c.pinhole = true;
+  c.fx_px = s.number("fx");
+  c.fy_px = s.number("fy");
+  const auto px = s.numbers("image_px", 2, 2);
+  if (px[0] != std::floor(px[0]) || px[1] != std::floor(px[1]) || px[0] > 1e6 || px[1] > 1e6 || px[0] < 1 || px[1] < 1) {
+    s.fail("image_px", "must be two whole positive pixel counts");
+  }
+  c.image_w_px = static_cast<int>(px[0]);
+  c.image_h_px = static_cast<int>(px[1]);
+  c.cx_px = s.number("cx", 0.5 * px[0]);
+  c.cy_px = s.number("cy", 0.5 * px[1]);
+  c.gsd_mm_per_px = s.number("gsd_mm_per_px", 0.0);
+  c.max_range_m = s.number("max_range_m", c.max_range_m);
+  s.finish();
+}
+
 void parseCamera(Section s, coverage::Camera& c) {
+  if (s.has("fx") || s.has("fy") || s.has("cx") || s.has("cy")) return parsePinhole(s, c);
   if (s.has("footprint_m")) {
     const auto f = s.numbers("footprint_m", 2, 2);
     c.footprint_w_m = f[0];
@@ -247,6 +269,11 @@ void parseCoverage(Section s, coverage::CoverageOptions& o) {
   }
   o.standoff_m = s.number("standoff_m", o.standoff_m);
   o.max_stops = s.number("max_stops", o.max_stops);
+  o.mode = s.text("mode", o.mode);
+  if (o.mode != "surfaces" && o.mode != "structure")
+    s.fail("mode", "'" + o.mode + "' is not a coverage mode; use surfaces (plane by plane) or structure (the whole structure)");
+  if (s.has("ground_z_m")) o.ground_z_m = s.number("ground_z_m");
+  o.structure_target = s.number("structure_target", o.structure_target);
   if (s.has("gimbal_pitch_deg")) {
     const auto v = s.numbers("gimbal_pitch_deg", 2, 2);
     o.gimbal.pitch_min_deg = v[0];

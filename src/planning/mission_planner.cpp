@@ -232,7 +232,13 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
   m.raw_path.push_back(points.front());
   m.waypoints.push_back(points.front());
   for (std::size_t k = 0; k + 1 < points.size(); ++k) {
-    const PathResult r = planner.plan(grid, points[k], points[k + 1]);
+    PathResult r;
+    if (options.direct_legs && grid.segmentFree(points[k], points[k + 1])) {
+      r.status = PathStatus::Solved;
+      r.path = {points[k], points[k + 1]};
+    } else {
+      r = planner.plan(grid, points[k], points[k + 1]);
+    }
     Leg leg;
     leg.from_stop = ids[k];
     leg.to_stop = ids[k + 1];

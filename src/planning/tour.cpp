@@ -544,3 +544,105 @@ double tourLowerBound(const std::vector<TourCluster>& clusters, const PointCost&
 }
 
 }  // namespace uavip::planning
+
+namespace uavip::planning {
+
+namespace {
+
+/// Cost between path positions: node 0 is the start, node k the point order[k − 1].
+struct PathCost {
+  const std::vector<double>& m;  ///< (n + 1)² row-major, node 0 = start
+  std::size_t stride;
+  double operator()(int a, int b) const { return m[static_cast<std::size_t>(a) * stride + static_cast<std::size_t>(b)]; }
+};
+
+/// Nearest neighbour from the start (ties to the lower index); nodes 1..n.
+std::vector<int> nearestNeighbourOrder(const PathCost& c, int n) {
+  std::vector<int> order;
+  std::vector<char> used(static_cast<std::size_t>(n) + 1, 0);
+  int at = 0;
+  for (int k = 0; k < n; ++k) {
+    int best = -1;
+    for (int i = 1; i <= n; ++i) {
+      if (!used[static_cast<std::size_t>(i)] && (best < 0 || c(at, i) < c(at, best))) best = i;
+    }
+    used[static_cast<std::size_t>(best)] = 1;
+    order.push_back(best);
+    at = best;
+  }
+  return order;
+}
+
+/// One pass of 2-opt over the open path 0, o[0], o[1], …: reversing positions i..j
+/// replaces edges (i−1, i) and (j, j+1) by (i−1, j) and (i, j+1) (no edge after the
+/// last node). True when some move shortened the path.
+bool twoOptPass(const PathCost& c, std::vector<int>& o) {
+  const std::size_t n = o.size();
+  const auto at = [&](std::size_t k) { return k == 0 ? 0 : o[k - 1]; };  // position k, 0 = start
+  bool improved = false;
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = i + 1; j <= n; ++j) {
+      const double before = c(at(i - 1), at(i)) + (j < n ? c(at(j), at(j + 1)) : 0.0);
+      const double after = c(at(i - 1), at(j)) + (j < n ? c(at(i), at(j + 1)) : 0.0);
+      if (after < before - 1e-9) {
+        std::reverse(o.begin() + static_cast<std::ptrdiff_t>(i - 1), o.begin() + static_cast<std::ptrdiff_t>(j));
+        improved = true;
+      }
+    }
+  }
+  return improved;
+}
+
+/// One pass of Or-opt: each node moved to the position where it costs least.
+bool orOptPass(const PathCost& c, std::vector<int>& o) {
+  bool improved = false;
+  for (std::size_t k = 0; k < o.size(); ++k) {
+    const int self = o[k];
+    const int prev = k == 0 ? 0 : o[k - 1];
+    const double saved = c(prev, self) + (k + 1 < o.size() ? c(self, o[k + 1]) - c(prev, o[k + 1]) : 0.0);
+    std::vector<int> rest(o);
+    rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
+    double best = saved - 1e-9;
+    std::size_t best_pos = k;
+    for (std::size_t q = 0; q <= rest.size(); ++q) {
+      if (q == k) continue;
+      const int a = q == 0 ? 0 : rest[q - 1];
+      const double added = c(a, self) + (q < rest.size() ? c(self, rest[q]) - c(a, rest[q]) : 0.0);
+      if (added < best) {
+        best = added;
+        best_pos = q;
+      }
+    }
+    if (best_pos != k) {
+      rest.insert(rest.begin() + static_cast<std::ptrdiff_t>(best_pos), self);
+      o = std::move(rest);
+      improved = true;
+    }
+  }
+  return improved;
+}
+
+}  // namespace
+
+std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost, int max_passes) {
+  const std::size_t n = points.size();
+  std::vector<double> m((n + 1) * (n + 1), 0.0);
+  const auto node = [&](std::size_t i) -> const Vec3& { return i == 0 ? start : points[i - 1]; };
+  for (std::size_t a = 0; a <= n; ++a) {
+    for (std::size_t b = a + 1; b <= n; ++b) {
+      const double d = cost ? cost(static_cast<int>(a) - 1, static_cast<int>(b) - 1) : (node(a) - node(b)).norm();
+      m[a * (n + 1) + b] = m[b * (n + 1) + a] = d;
+    }
+  }
+  const PathCost c{m, n + 1};
+  std::vector<int> order = nearestNeighbourOrder(c, static_cast<int>(n));
+  for (int pass = 0; pass < max_passes; ++pass) {
+    const bool a = twoOptPass(c, order);
+    const bool b = orOptPass(c, order);
+    if (!a && !b) break;
+  }
+  for (auto& o : order) --o;  // nodes → point indices
+  return order;
+}
+
+}  // namespace uavip::planning

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,23 @@ struct DetectResult {
   StageTimes times;
 };
 
+/// What structure coverage (planStructure) found and reached.
+struct StructureSummary {
+  int surface_id{0};               ///< id of its entry in missions (above the scene's ids)
+  std::size_t points{0};           ///< structure points (the clean cloud without the ground)
+  std::size_t ground_points{0};    ///< points of the clean cloud taken as ground
+  std::size_t seeds{0};            ///< seed points of the candidates
+  std::size_t candidates{0};       ///< candidate poses
+  std::size_t free_candidates{0};  ///< free, reachable and within the gimbal limits
+  std::size_t imageable{0};        ///< structure points some free candidate images
+  std::size_t photos{0};           ///< photos chosen
+  double standoff_m{0.0};          ///< viewing distance [m]
+  double visible_range_m{0.0};     ///< rule (a)'s range [m]
+  double rule_a{0.0};              ///< FC-Planner's pixel rule at the flown stops [0, 1]
+  double rule_b{0.0};              ///< our rule (GSD, incidence ≤ 75°, line of sight) [0, 1]
+  double select_s{0.0};            ///< wall time of the view selection [s]
+};
+
 /// Stages 6–7 for the chosen surfaces.
 struct PlanResult {
   std::vector<planning::SurfaceMission> missions;
@@ -55,6 +73,7 @@ struct PlanResult {
   /// One ordered flight over every flyable surface (planning/flight_planner.h).
   planning::FlightPlan flight;
   StageTimes times;
+  std::optional<StructureSummary> structure;  ///< set by planStructure
 };
 
 /// The raw cloud's kd-tree: built by measure(), searched again by detect()'s
@@ -89,6 +108,16 @@ std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection
 /// Runs stages 6–7 for the given surface ids (each must exist).
 PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress = {});
+
+/// Structure coverage (coverage/structure_views.h): photos of every part of the
+/// structure in one flight, as one mission of kind "structure" whose id is above the
+/// scene's surface ids. The structure is the clean cloud without the ground: the
+/// horizontal surfaces at the site's lowest level that span at least a quarter of
+/// its footprint, and every point below coverage.ground_z_m when set. Viewing
+/// distance: coverage.standoff_m when set, else the one the camera's GSD implies.
+/// Throws InputError for a bad camera or a viewing distance inside the clearance.
+/// A structure with no free viewpoint gives a mission with status blocked.
+PlanResult planStructure(const Scene& scene, const io::Config& config, const Progress& progress = {});
 
 /// Senses the scenario's world: mode `sample` samples its surfaces; mode `scan`
 /// simulates the raw scans and runs stages 1–2 on them (app/assemble.h, senseScans),

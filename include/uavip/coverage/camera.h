@@ -15,12 +15,20 @@ struct Camera {
   double footprint_h_m{0.4};  ///< photo height on the surface (image y axis) [m]
 
   bool from_sensor{false};
+  /// A pinhole camera (YAML fx, fy, cx, cy, image_px): intrinsics in pixels. Its
+  /// standoff is the one its gsd_mm_per_px implies (D = GSD·min(fx, fy)/1000), else
+  /// the standoff asked for; footprint D·Iw/fx × D·Ih/fy.
+  bool pinhole{false};
+  double fx_px{0.0};          ///< focal length along the image width [px]
+  double fy_px{0.0};          ///< focal length along the image height [px]
+  double cx_px{0.0};          ///< principal point [px], in [0, Iw]
+  double cy_px{0.0};          ///< principal point [px], in [0, Ih]
   double sensor_w_mm{0.0};    ///< Sw [mm]
   double sensor_h_mm{0.0};    ///< Sh [mm]
   double focal_mm{0.0};       ///< f [mm]
   int image_w_px{0};          ///< Iw [px]
   int image_h_px{0};          ///< Ih [px]
-  double gsd_mm_per_px{0.0};  ///< required GSD, met on both axes [mm/px]
+  double gsd_mm_per_px{0.0};  ///< required GSD, met on both axes [mm/px] (pinhole: 0 = none)
   /// Farthest distance the camera works at (YAML camera.max_range_m) [m]; 0 = not
   /// given, then kMaxStandoffWithoutRangeM bounds the standoff.
   double max_range_m{0.0};

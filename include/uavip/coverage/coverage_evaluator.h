@@ -231,6 +231,10 @@ struct CoverageCriteria {
   /// [deg]; 90 accepts every point facing the camera, 180 disables the test.
   double max_incidence_deg{60.0};
   double max_range_m{0.0};  ///< 0 = from the camera model (CameraModel::maxRange) [m]
+  /// True when a normal's sign is unknown (normals estimated from a cloud): the
+  /// incidence test then takes the angle to whichever side faces the camera, and
+  /// only the line of sight tells the sides of a solid apart.
+  bool two_sided_normals{false};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "coverage_criteria") const;
@@ -252,14 +256,22 @@ struct CoverageResult {
 /// inside the image, range ≤ R, GSD ≤ max, incidence ≤ max (normals[i] oriented toward
 /// free space; `normals` holds one normal per point or one normal for all, any
 /// non-zero length), line of sight clear (`los` may be null = no occlusion test).
-/// The views are split over `threads` std::threads with per-thread counters summed at
-/// the end: the result does not depend on the thread count. An exception in a worker
-/// is rethrown here. Throws InputError for non-finite points, views or normals, a
+/// The views are split over `threads` workers (core/parallel.h) with per-worker
+/// counters summed at the end: the result does not depend on the thread count. Throws InputError for non-finite points, views or normals, a
 /// zero normal, a normal count other than points.size() or 1, invalid criteria or
 /// threads < 1.
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
                                 int threads = 2);
+
+/// The same test, view by view: for each view, the indices of the points it images
+/// (ascending). What a view selection scores its candidates with. Same checks and
+/// exceptions as evaluateCoverage.
+std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, const std::vector<Vec3>& normals,
+                                                     const std::vector<ViewPose>& views,
+                                                     const CameraModel& camera,
+                                                     const CoverageCriteria& criteria,
+                                                     const LineOfSight* los, int threads = 2);
 
 }  // namespace uavip::coverage

@@ -9,6 +9,7 @@
 #include "uavip/core/types.h"
 #include "uavip/coverage/camera.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,15 @@ struct CoverageOptions {
   /// Most photo stops one surface may get (the footprint grid's cells, counted
   /// before any stop is made); a tiny footprint on a large surface is refused.
   double max_stops{200000};
+  /// "surfaces": the paper's rows plane by plane (§II-F); "structure": one view
+  /// selection over the whole structure (structure_views.h).
+  std::string mode{"surfaces"};
+  /// Structure mode: points below this height are ground, not structure, and no
+  /// photo is taken below it plus the UAV's clearance [m]; unset = the level
+  /// surfaces at the site's lowest level only.
+  std::optional<double> ground_z_m;
+  /// Structure mode: share of the imageable structure points the photos must image, (0, 1].
+  double structure_target{0.99};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "coverage") const;

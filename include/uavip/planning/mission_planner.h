@@ -53,6 +53,9 @@ struct MissionOptions {
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
   coverage::GimbalLimits gimbal;     ///< pitch limits a repaired stop must respect (the camera's)
+  /// Fly a leg straight when its segment crosses free voxels only, and ask the
+  /// planner only for the others (structure coverage: most legs are short hops).
+  bool direct_legs{false};
 };
 
 /// A planned leg between two consecutive path points.
@@ -68,6 +71,9 @@ struct Leg {
 /// The mission of one surface.
 struct SurfaceMission {
   int surface_id{0};
+  /// "plane": a detected surface's rows (§II-F); "structure": the photos of the
+  /// whole structure (coverage/structure_views.h).
+  std::string kind{"plane"};
   SurfaceStatus status{SurfaceStatus::NoStops};
   std::string reason;                     ///< one sentence; empty when ok
   coverage::FlightStrategy strategy;

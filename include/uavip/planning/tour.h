@@ -14,6 +14,8 @@
 /// ids at most once: results are kept in a cache that lives for that call, of
 /// O(P²) doubles for P distinct point ids.
 
+#include "uavip/core/types.h"
+
 #include <functional>
 #include <vector>
 
@@ -105,5 +107,19 @@ Tour heuristicTour(const std::vector<TourCluster>& clusters, const PointCost& co
 /// from cluster i to j costs at least d(i, j) — true of tourCost by construction, and
 /// of a real flight when the callback never overestimates the flown legs.
 double tourLowerBound(const std::vector<TourCluster>& clusters, const PointCost& cost);
+
+}  // namespace uavip::planning
+
+namespace uavip::planning {
+
+/// Order of a set of points flown as one open path from `start` (not returning):
+/// nearest neighbour from start, then 2-opt (reverse a stretch) and Or-opt (move one
+/// point elsewhere) until no move shortens the path or `max_passes`. Costs:
+/// `cost(i, j)` for point indices, −1 = the start, taken as symmetric and asked once
+/// per pair (empty = straight-line lengths). Returns a permutation of
+/// 0..points.size()−1. Deterministic. O(n²) memory and per pass; meant for a few
+/// thousand photo stops.
+std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost = {},
+                               int max_passes = 50);
 
 }  // namespace uavip::planning

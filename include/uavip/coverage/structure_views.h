@@ -1,0 +1,74 @@
+#pragma once
+/// \file
+/// Structure coverage (docs/ARCHITECTURE.md, "Structure coverage"): one view
+/// selection over every point of a structure, planes, curved, thin and small parts
+/// alike, instead of the paper's plane-by-plane rows (§II-F).
+///
+/// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
+/// each seed with (two-sided) normal n, a camera is put at the viewing distance D
+/// along ±n, and along ±n tilted up and down by each of `tilts_deg`, looking at the
+/// seed. A candidate is kept when it is free (the caller's test: clear of every
+/// measured point by the UAV's clearance, in the free space reachable from home) and
+/// its pitch lies within the gimbal limits.
+///
+/// Scoring: what each candidate images of the structure points by the coverage
+/// evaluator's rule (coverage_evaluator.h: in the image, range, GSD, incidence with
+/// two-sided normals, line of sight through the voxels).
+///
+/// Choice: greedy set cover (lazy gains, ties to the lower candidate index) until
+/// `target_coverage` of the points some candidate images are imaged; then, in
+/// reverse order of choice, every photo whose points are all imaged by another chosen
+/// photo is removed. Deterministic for any thread count.
+
+#include "uavip/core/types.h"
+#include "uavip/coverage/coverage_evaluator.h"
+#include "uavip/coverage/flight_strategy.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace uavip::coverage {
+
+/// Options of the view selection.
+struct StructureViewOptions {
+  double standoff_m{0.0};                   ///< viewing distance D from a seed [m] (> 0)
+  std::vector<double> tilts_deg{35.0};      ///< extra tilts of ±n up and down [deg], each in (0, 90)
+  double seed_spacing_m{0.0};               ///< seed cell edge [m]; 0 = D / 3
+  double target_coverage{0.99};             ///< of the imageable points, in (0, 1]
+  GimbalLimits gimbal;                      ///< a candidate's pitch must lie within
+  CoverageCriteria criteria;                ///< what "imaged" means (two_sided_normals is forced)
+  int threads{2};                           ///< workers for scoring
+
+  /// Throws InputError naming the bad field (prefix `where`).
+  void validate(const std::string& where = "structure_views") const;
+};
+
+/// True when a camera may stand at this point [m].
+using ViewpointFree = std::function<bool(const Vec3&)>;
+
+/// The chosen photos and what they image.
+struct StructureViews {
+  std::vector<ViewPose> views;  ///< in order of choice
+  std::vector<Vec3> targets;    ///< the seed each view looks at [m]
+  std::size_t seeds{0};         ///< seed points
+  std::size_t candidates{0};    ///< candidate poses made
+  std::size_t free_candidates{0};  ///< of which free and within the gimbal limits
+  std::size_t points{0};        ///< structure points
+  std::size_t imageable{0};     ///< points some free candidate images
+  std::size_t covered{0};       ///< points the chosen views image
+};
+
+/// Selects the photos of a structure (see the file comment). `normals` holds one
+/// (two-sided) normal per point. Throws InputError for invalid options, a normal
+/// count other than points.size(), or non-finite input.
+StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
+                                    const CameraModel& camera, const LineOfSight* los,
+                                    const ViewpointFree& is_free, const StructureViewOptions& options);
+
+/// The pose at `position` looking at `target`: yaw = atan2 of the horizontal
+/// direction (0 when looking straight up or down), pitch = its elevation [deg].
+ViewPose lookAt(const Vec3& position, const Vec3& target);
+
+}  // namespace uavip::coverage

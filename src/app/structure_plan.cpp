@@ -1,0 +1,294 @@
+/// \file
+/// app::planStructure (app/pipeline.h): structure coverage over the whole cloud.
+
+#include "uavip/app/pipeline.h"
+
+#include "plan_steps.h"
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/core/voxel_key.h"
+#include "uavip/coverage/coverage_evaluator.h"
+#include "uavip/coverage/pixel_coverage.h"
+#include "uavip/coverage/structure_views.h"
+#include "uavip/planning/tour.h"
+#include "uavip/preprocess/normals.h"
+#include "planners/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+namespace uavip::app {
+namespace {
+
+constexpr double kMaxIncidenceDeg = 75.0;  ///< rule (b) and the view selection
+constexpr double kRangeAllowance = 1.25;   ///< photos count up to 1.25 × the viewing distance
+/// The view selection scores at most this many structure points (a voxel grid thins more).
+constexpr std::size_t kMaxScoredPoints = 40000;
+constexpr int kNormalNeighbours = 12;
+
+void report(const Progress& progress, const std::string& message) {
+  if (progress) progress(message);
+}
+
+/// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
+/// structure points; `ground` counts the others.
+PointList structurePoints(const Scene& scene, const io::Config& config, std::size_t& ground) {
+  const Aabb box = boundingBox(scene.cloud);
+  const double footprint = (box.max.x() - box.min.x()) * (box.max.y() - box.min.y());
+  const double band = config.perception.planes.distance_threshold_m;
+  std::vector<const Surface*> level;
+  for (const auto& s : scene.surfaces) {
+    if (std::abs(s.plane.normal.z()) >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
+        s.area_m2 >= 0.25 * footprint)
+      level.push_back(&s);
+  }
+  PointList out;
+  ground = 0;
+  for (const auto& p : scene.cloud) {
+    bool is_ground = config.coverage.ground_z_m && p.z() < *config.coverage.ground_z_m;
+    for (const Surface* s : level) is_ground = is_ground || std::abs(s->plane.signedDistance(p)) <= band;
+    if (is_ground) {
+      ++ground;
+    } else {
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+/// At most kMaxScoredPoints points: a voxel grid of growing edge.
+PointList thinForScoring(const PointList& points, double spacing_m) {
+  if (points.size() <= kMaxScoredPoints) return points;
+  double edge = std::max(spacing_m, 0.05);
+  PointList thin = points;
+  while (thin.size() > kMaxScoredPoints) {
+    edge *= 1.25;
+    thin = voxelDownsample(points, edge, "structure scoring voxel");
+  }
+  return thin;
+}
+
+/// The camera as a pinhole (a footprint camera gets the footprint's field of view
+/// over 1000 px of width).
+coverage::PinholeIntrinsics structureIntrinsics(const coverage::Camera& c, double standoff_m) {
+  coverage::PinholeIntrinsics k;
+  if (c.pinhole) {
+    k.width_px = c.image_w_px;
+    k.height_px = c.image_h_px;
+    k.fx_px = c.fx_px;
+    k.fy_px = c.fy_px;
+    k.cx_px = c.cx_px;
+    k.cy_px = c.cy_px;
+  } else if (c.from_sensor) {
+    k.width_px = c.image_w_px;
+    k.height_px = c.image_h_px;
+    k.fx_px = c.focal_mm * c.image_w_px / c.sensor_w_mm;
+    k.fy_px = c.focal_mm * c.image_h_px / c.sensor_h_mm;
+    k.cx_px = 0.5 * k.width_px;
+    k.cy_px = 0.5 * k.height_px;
+  } else {
+    k.width_px = 1000;
+    k.height_px = std::max(1, static_cast<int>(std::lround(1000.0 * c.footprint_h_m / c.footprint_w_m)));
+    k.fx_px = k.fy_px = 1000.0 * standoff_m / c.footprint_w_m;
+    k.cx_px = 0.5 * k.width_px;
+    k.cy_px = 0.5 * k.height_px;
+  }
+  return k;
+}
+
+/// coverage.standoff_m when set, else what the camera's GSD implies.
+double viewingDistance(const io::Config& config) {
+  if (config.isSet("coverage.standoff_m")) return config.coverage.standoff_m;
+  return coverage::solveCamera(config.coverage.camera, config.coverage.standoff_m).standoff_m;
+}
+
+/// Rule (b): in the image, GSD and range within kRangeAllowance × the viewing
+/// distance (and camera.max_range_m), incidence ≤ kMaxIncidenceDeg on two-sided
+/// normals; the line of sight is given separately.
+coverage::CoverageCriteria ruleB(const coverage::PinholeIntrinsics& k, const coverage::Camera& c, double standoff_m) {
+  coverage::CoverageCriteria criteria;
+  criteria.max_incidence_deg = kMaxIncidenceDeg;
+  criteria.max_range_m = kRangeAllowance * standoff_m;
+  if (c.max_range_m > 0.0) criteria.max_range_m = std::min(criteria.max_range_m, c.max_range_m);
+  criteria.max_gsd_mm_per_px = kRangeAllowance * standoff_m * 1000.0 / std::min(k.fx_px, k.fy_px);
+  criteria.two_sided_normals = true;
+  return criteria;
+}
+
+/// The flight strategy of the chosen photos, in flight order from `start`.
+/// A hop whose straight segment is blocked on the grid costs this many times its
+/// length when ordering: the planner's detour around the structure is longer.
+constexpr double kBlockedHopFactor = 3.0;
+
+coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views, const Vec3& start, int id,
+                                           const coverage::PinholeIntrinsics& k, double standoff_m,
+                                           const world::VoxelGrid& grid) {
+  coverage::FlightStrategy s;
+  s.surface_id = id;
+  s.camera.standoff_m = standoff_m;
+  s.camera.footprint_w_m = standoff_m * k.width_px / k.fx_px;
+  s.camera.footprint_h_m = standoff_m * k.height_px / k.fy_px;
+  s.camera.gsd_w_mm = standoff_m * 1000.0 / k.fx_px;
+  s.camera.gsd_h_mm = standoff_m * 1000.0 / k.fy_px;
+  PointList positions;
+  for (const auto& v : views.views) positions.push_back(v.position);
+  const auto at = [&](int i) -> const Vec3& { return i < 0 ? start : positions[static_cast<std::size_t>(i)]; };
+  const std::vector<int> order = planning::orderOpenPath(start, positions, [&](int a, int b) {
+    const double d = (at(a) - at(b)).norm();
+    return grid.segmentFree(at(a), at(b)) ? d : kBlockedHopFactor * d;
+  });
+  s.cols = static_cast<int>(order.size());
+  s.rows = 1;
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    const auto i = static_cast<std::size_t>(order[n]);
+    coverage::Stop stop;
+    stop.index = static_cast<int>(n);
+    stop.surface_id = id;
+    stop.col = static_cast<int>(n);
+    stop.position = views.views[i].position;
+    stop.target = views.targets[i];
+    stop.yaw_deg = views.views[i].yaw_deg;
+    stop.gimbal_pitch_deg = views.views[i].pitch_deg;
+    s.stops.push_back(stop);
+  }
+  return s;
+}
+
+}  // namespace
+
+PlanResult planStructure(const Scene& scene, const io::Config& config, const Progress& progress) {
+  PlanResult result;
+  StructureSummary summary;
+  const auto t0 = SteadyClock::now();
+  const double standoff = viewingDistance(config);
+  result.clearance_m = safetyClearance(scene, config);
+  if (!(standoff > result.clearance_m)) {
+    throw InputError("coverage.standoff_m: viewing distance " + formatFixed(standoff, 2) + " m is inside the " +
+                     formatFixed(result.clearance_m, 2) +
+                     " m the UAV keeps from every measured point; fly farther (coverage.standoff_m) or use a "
+                     "smaller uav.inflation_radius_m");
+  }
+  summary.standoff_m = standoff;
+  const PointList structure = structurePoints(scene, config, summary.ground_points);
+  if (structure.empty()) {
+    throw InputError("structure coverage: all " + std::to_string(scene.cloud.size()) +
+                     " points of the scene are ground (level surfaces at its lowest level, or below "
+                     "coverage.ground_z_m); nothing to photograph");
+  }
+  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
+  const PointList points = thinForScoring(structure, spacing);
+  summary.points = points.size();
+  report(progress, "structure: normals of " + std::to_string(points.size()) + " points");
+  const std::vector<Vec3> normals = preprocess::estimateNormals(points, points, kNormalNeighbours);
+
+  // The grid holds every viewpoint: the structure's box grown by the viewing distance.
+  Aabb box = boundingBox(points);
+  box.min.array() -= standoff;
+  box.max.array() += standoff;
+  PointList corners = {box.min, box.max};
+  if (config.mission.start) corners.push_back(*config.mission.start);
+  if (config.flight.home) corners.push_back(*config.flight.home);
+  report(progress, "structure: inflated voxel grid");
+  const auto world = std::make_shared<const world::CollisionWorld>(scene);
+  const world::VoxelGrid grid = planningGrid(scene, *world, config, corners, result.clearance_m);
+  const planning::PathValidator validator(world, result.clearance_m);
+  requireFree(config.mission.start, "mission.start", validator);
+  requireFree(config.flight.home, "mission.home", validator);
+  result.grid_resolution_m = grid.resolution();
+  result.grid_voxels = grid.voxelCount();
+  result.grid_blocked = grid.blockedCount();
+  result.times.grid_s = secondsSince(t0);
+
+  // Viewpoints: free, in the free space reachable from home (or from the grid's top
+  // corner, outside the structure), above the ground.
+  const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
+  const auto dims = grid.dims();
+  const std::int32_t outside =
+      home ? grid.component(grid.indexOf(*home)) : grid.component({dims[0] - 1, dims[1] - 1, dims[2] - 1});
+  const std::optional<double> floor_z =
+      config.coverage.ground_z_m ? std::optional<double>(*config.coverage.ground_z_m + result.clearance_m) : std::nullopt;
+  const coverage::ViewpointFree is_free = [&](const Vec3& p) {
+    const world::Index3 i = grid.indexOf(p);
+    return grid.inBounds(i) && outside != 0 && grid.component(i) == outside && (!floor_z || p.z() >= *floor_z);
+  };
+  const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
+  const coverage::PinholeCamera camera(intrinsics);
+  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
+  coverage::StructureViewOptions options;
+  options.standoff_m = standoff;
+  options.target_coverage = config.coverage.structure_target;
+  options.gimbal = config.coverage.gimbal;
+  options.criteria = ruleB(intrinsics, config.coverage.camera, standoff);
+  options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const auto t1 = SteadyClock::now();
+  report(progress, "structure: choosing photos");
+  const coverage::StructureViews views = selectStructureViews(points, normals, camera, &sight, is_free, options);
+  summary.select_s = secondsSince(t1);
+  summary.seeds = views.seeds;
+  summary.candidates = views.candidates;
+  summary.free_candidates = views.free_candidates;
+  summary.imageable = views.imageable;
+  summary.photos = views.views.size();
+  result.times.coverage_s = secondsSince(t0);
+
+  const auto t2 = SteadyClock::now();
+  int id = 0;
+  for (const auto& s : scene.surfaces) id = std::max(id, s.id + 1);
+  summary.surface_id = id;
+  Vec3 start = home ? *home : Vec3::Zero();
+  if (!home && !views.views.empty()) {
+    start = views.views.front().position;
+    for (const auto& v : views.views)
+      if (v.position.z() < start.z()) start = v.position;
+  }
+  const coverage::FlightStrategy strategy = structureStrategy(views, start, id, intrinsics, standoff, grid);
+  report(progress, "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
+  const auto planner = planners::makePlanner(config.planner, config.planner_settings);
+  planning::MissionOptions mission_options = config.mission;
+  mission_options.gimbal = config.coverage.gimbal;
+  mission_options.direct_legs = true;
+  planning::SurfaceMission mission = planning::planSurfaceMission(strategy, grid, validator, *planner, mission_options);
+  mission.kind = "structure";
+  if (strategy.stops.empty()) {
+    mission.reason = "no free viewpoint: no camera pose " + formatFixed(standoff, 2) +
+                     " m from the structure is clear of every measured point by " + formatFixed(result.clearance_m, 2) +
+                     " m and reachable from outside";
+  }
+  std::vector<coverage::ViewPose> flown;
+  for (std::size_t k = 0; k < mission.strategy.stops.size(); ++k) {
+    if (mission.stop_problems[k] != planning::StopProblem::None || !planning::flyable(mission.status)) continue;
+    const auto& s = mission.strategy.stops[k];
+    flown.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
+  }
+  const coverage::CoverageResult b =
+      coverage::evaluateCoverage(points, normals, flown, camera, options.criteria, &sight, options.threads);
+  summary.visible_range_m = config.coverage.camera.max_range_m > 0.0 ? config.coverage.camera.max_range_m
+                                                                      : kRangeAllowance * standoff;
+  summary.rule_a = coverage::evaluatePixelCoverage(points, flown, intrinsics, summary.visible_range_m, options.threads).fraction;
+  summary.rule_b = b.fraction;
+  mission.coverage.evaluated = true;
+  mission.coverage.fraction = b.fraction;
+  mission.coverage.points = b.points;
+  mission.coverage.uncovered = b.uncovered.size();
+  for (const auto i : b.uncovered) mission.coverage.uncovered_points.push_back(points[i]);
+  result.missions.push_back(std::move(mission));
+  result.times.planning_s = secondsSince(t2);
+
+  const auto t3 = SteadyClock::now();
+  report(progress, "flight: connecting legs, sorties");
+  planning::FlightOptions flight_options = config.flight;
+  flight_options.start = config.mission.start;
+  flight_options.simplify = config.mission.simplify;
+  result.flight = planning::planFlight(result.missions, grid, validator, *planner, flight_options);
+  result.times.flight_s = secondsSince(t3);
+  result.times.total_s = secondsSince(t0);
+  result.structure = summary;
+  return result;
+}
+
+}  // namespace uavip::app
