@@ -108,16 +108,38 @@ double viewingDistance(const io::Config& config) {
 }
 
 /// Rule (b): in the image, GSD and range within kRangeAllowance × the viewing
-/// distance (and camera.max_range_m), incidence ≤ kMaxIncidenceDeg on two-sided
-/// normals; the line of sight is given separately.
+/// distance (and camera.max_range_m), incidence ≤ kMaxIncidenceDeg (normals oriented
+/// by orientNormals); the line of sight is given separately.
 coverage::CoverageCriteria ruleB(const coverage::PinholeIntrinsics& k, const coverage::Camera& c, double standoff_m) {
   coverage::CoverageCriteria criteria;
   criteria.max_incidence_deg = kMaxIncidenceDeg;
   criteria.max_range_m = kRangeAllowance * standoff_m;
   if (c.max_range_m > 0.0) criteria.max_range_m = std::min(criteria.max_range_m, c.max_range_m);
   criteria.max_gsd_mm_per_px = kRangeAllowance * standoff_m * 1000.0 / std::min(k.fx_px, k.fy_px);
-  criteria.two_sided_normals = true;
   return criteria;
+}
+
+/// Orients each normal toward the free space the UAV can reach: a side is open when
+/// the voxels from 2 voxels to `probe_m` along it hold no point and its end is
+/// reachable; one open side orients the normal, both or none leave it two-sided.
+std::vector<char> orientNormals(const PointList& points, std::vector<Vec3>& normals,
+                                const coverage::VoxelLineOfSight& sight, const coverage::ViewpointFree& reachable,
+                                double probe_m) {
+  std::vector<char> two_sided(points.size(), 1);
+  const double step = 0.5 * sight.voxelSize();
+  const auto open = [&](const Vec3& p, const Vec3& n) {
+    for (double t = 2.0 * sight.voxelSize(); t < probe_m; t += step)
+      if (sight.occupied(p + t * n)) return false;
+    return reachable(p + probe_m * n);
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool plus = open(points[i], normals[i]);
+    const bool minus = open(points[i], -normals[i]);
+    if (plus == minus) continue;
+    two_sided[i] = 0;
+    if (minus) normals[i] = -normals[i];
+  }
+  return two_sided;
 }
 
 /// The flight strategy of the chosen photos, in flight order from `start`.
@@ -184,7 +206,7 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
   const PointList points = thinForScoring(structure, spacing);
   summary.points = points.size();
   report(progress, "structure: normals of " + std::to_string(points.size()) + " points");
-  const std::vector<Vec3> normals = preprocess::estimateNormals(points, points, kNormalNeighbours);
+  std::vector<Vec3> normals = preprocess::estimateNormals(points, points, kNormalNeighbours);
 
   // The grid holds every viewpoint: the structure's box grown by the viewing distance.
   Aabb box = boundingBox(points);
@@ -219,6 +241,8 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
   const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera camera(intrinsics);
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
+  const std::vector<char> two_sided =
+      orientNormals(points, normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
   coverage::StructureViewOptions options;
   options.standoff_m = standoff;
   options.target_coverage = config.coverage.structure_target;
@@ -227,7 +251,7 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
   options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto t1 = SteadyClock::now();
   report(progress, "structure: choosing photos");
-  const coverage::StructureViews views = selectStructureViews(points, normals, camera, &sight, is_free, options);
+  const coverage::StructureViews views = selectStructureViews(points, normals, two_sided, camera, &sight, is_free, options);
   summary.select_s = secondsSince(t1);
   summary.seeds = views.seeds;
   summary.candidates = views.candidates;
@@ -266,7 +290,7 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
     flown.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
   }
   const coverage::CoverageResult b =
-      coverage::evaluateCoverage(points, normals, flown, camera, options.criteria, &sight, options.threads);
+      coverage::evaluateCoverage(points, normals, flown, camera, options.criteria, &sight, options.threads, &two_sided);
   summary.visible_range_m = config.coverage.camera.max_range_m > 0.0 ? config.coverage.camera.max_range_m
                                                                       : kRangeAllowance * standoff;
   summary.rule_a = coverage::evaluatePixelCoverage(points, flown, intrinsics, summary.visible_range_m, options.threads).fraction;

@@ -70,6 +70,7 @@ struct PointGrid {
   std::vector<std::size_t> begin;   ///< keys.size() + 1 offsets into the arrays below
   std::vector<Vec3> pos;            ///< points in cell order [m]
   std::vector<Vec3> nrm;            ///< their unit normals
+  std::vector<char> both;           ///< 1 where the normal is two-sided
   std::vector<std::size_t> index;   ///< their indices in the input
 
   std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -78,7 +79,7 @@ struct PointGrid {
 };
 
 PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_normals,
-                    double range_limit) {
+                    const std::vector<char>* two_sided, double range_limit) {
   PointGrid g;
   Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
   for (const auto& p : points) {
@@ -115,6 +116,7 @@ PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_norma
     }
     g.pos.push_back(points[i]);
     g.nrm.push_back(unit_normals.size() == 1 ? unit_normals[0] : unit_normals[i]);
+    g.both.push_back(two_sided != nullptr && (*two_sided)[i] != 0);
     g.index.push_back(i);
   }
   g.begin.push_back(n);
@@ -167,7 +169,8 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
           ++tally.pairs_in_range;
           // cos(incidence) = n·(c − p)/r; a two-sided normal faces either way.
           const double facing = -g.nrm[j].dot(d);
-          if ((rule.two_sided ? std::abs(facing) : facing) < rule.cos_max_incidence * std::sqrt(r2)) continue;
+          if ((rule.two_sided || g.both[j] ? std::abs(facing) : facing) < rule.cos_max_incidence * std::sqrt(r2))
+            continue;
           const Projection pr = camera.projectInFrame(frame, g.pos[j]);
           if (!pr.in_image) continue;
           if (rule.max_gsd > 0.0 && !(pr.gsd_mm_per_px <= rule.max_gsd)) continue;
@@ -504,7 +507,7 @@ namespace {
 VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& normals,
                             const std::vector<ViewPose>& views, const CameraModel& camera,
                             const CoverageCriteria& criteria, const LineOfSight* los, int threads,
-                            const std::string& where, PointGrid& grid) {
+                            const std::vector<char>* two_sided, const std::string& where, PointGrid& grid) {
   criteria.validate(where + ".criteria");
   requireThat(threads >= 1, where, "threads", ">= 1", threads);
   const std::size_t n = points.size();
@@ -515,6 +518,11 @@ VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& no
     require(normals.size() == n || normals.size() == 1, where,
             "normals must hold one normal per point (" + std::to_string(n) +
                 ") or one for all, got " + std::to_string(normals.size()));
+  }
+  if (two_sided != nullptr) {
+    require(two_sided->size() == n, where,
+            "two-sided flags must hold one flag per point (" + std::to_string(n) + "), got " +
+                std::to_string(two_sided->size()));
   }
   std::vector<Vec3> unit_normals(n > 0 ? normals.size() : 0);
   for (std::size_t i = 0; i < unit_normals.size(); ++i) {
@@ -540,7 +548,7 @@ VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& no
   rule.max_gsd = criteria.max_gsd_mm_per_px;
   rule.two_sided = criteria.two_sided_normals;
   rule.los = los;
-  if (n > 0 && !views.empty()) grid = buildGrid(points, unit_normals, rule.range_limit);
+  if (n > 0 && !views.empty()) grid = buildGrid(points, unit_normals, two_sided, rule.range_limit);
   return rule;
 }
 
@@ -550,12 +558,13 @@ std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, co
                                                      const std::vector<ViewPose>& views,
                                                      const CameraModel& camera,
                                                      const CoverageCriteria& criteria,
-                                                     const LineOfSight* los, int threads) {
+                                                     const LineOfSight* los, int threads,
+                                                     const std::vector<char>* two_sided) {
   require(points.size() < std::numeric_limits<std::uint32_t>::max(), "imagedByView",
           "more than 2^32 - 1 points");
   PointGrid grid;
   const VisitRule rule =
-      prepareEvaluation(points, normals, views, camera, criteria, los, threads, "imagedByView", grid);
+      prepareEvaluation(points, normals, views, camera, criteria, los, threads, two_sided, "imagedByView", grid);
   std::vector<std::vector<std::uint32_t>> imaged(views.size());
   if (grid.pos.empty()) return imaged;
   parallelFor(views.size(), threads, [&](std::size_t v, std::size_t) {
@@ -571,10 +580,10 @@ std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, co
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads) {
+                                int threads, const std::vector<char>* two_sided) {
   PointGrid grid;
   const VisitRule rule =
-      prepareEvaluation(points, normals, views, camera, criteria, los, threads, "evaluateCoverage", grid);
+      prepareEvaluation(points, normals, views, camera, criteria, los, threads, two_sided, "evaluateCoverage", grid);
   const std::size_t n = points.size();
   CoverageResult res;
   res.points = n;

@@ -20,14 +20,16 @@ struct Candidate {
   Vec3 target;
 };
 
-/// Viewing directions at a seed with two-sided normal n: ±n, and ±n tilted toward
-/// +z and −z by each tilt (about the horizontal axis n × z; about x when n is vertical).
-std::vector<Vec3> viewingDirections(const Vec3& n, const std::vector<double>& tilts_deg) {
+/// Viewing directions at a seed with normal n: n (and −n when two-sided), each also
+/// tilted toward +z and −z by each tilt (about the horizontal axis n × z; about x when
+/// n is vertical).
+std::vector<Vec3> viewingDirections(const Vec3& n, bool two_sided, const std::vector<double>& tilts_deg) {
   Vec3 up = Vec3::UnitZ() - n.z() * n;  // the part of +z across n
   if (up.norm() < 1e-6) up = Vec3::UnitX() - n.x() * n;
   up.normalize();
   std::vector<Vec3> dirs;
   for (const double sign : {1.0, -1.0}) {
+    if (sign < 0.0 && !two_sided) break;
     const Vec3 m = sign * n;
     dirs.push_back(m);
     for (const double tilt : tilts_deg) {
@@ -42,7 +44,8 @@ std::vector<Vec3> viewingDirections(const Vec3& n, const std::vector<double>& ti
 /// Seeds: one point per seed cell (the centroid of the cell's points), with the
 /// normal of the structure point nearest to it.
 std::vector<Candidate> makeCandidates(const PointList& points, const std::vector<Vec3>& normals,
-                                      const StructureViewOptions& o, std::size_t& seeds) {
+                                      const std::vector<char>& two_sided, const StructureViewOptions& o,
+                                      std::size_t& seeds) {
   const double spacing = o.seed_spacing_m > 0.0 ? o.seed_spacing_m : o.standoff_m / 3.0;
   const VoxelKeyer keyer = VoxelKeyer::forPoints(points, spacing, "structure seed spacing");
   // Per cell, the point nearest to the cell's centroid stands for it (its own normal).
@@ -63,7 +66,8 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
     }
     ++seeds;
     const Vec3& p = points[best];
-    for (const Vec3& dir : viewingDirections(normals[best], o.tilts_deg)) {
+    const bool both = !two_sided.empty() && two_sided[best] != 0;
+    for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
       const Vec3 c = p + o.standoff_m * dir;
       out.push_back({lookAt(c, p), p});
     }
@@ -144,16 +148,20 @@ ViewPose lookAt(const Vec3& position, const Vec3& target) {
 }
 
 StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
-                                    const CameraModel& camera, const LineOfSight* los,
-                                    const ViewpointFree& is_free, const StructureViewOptions& options) {
+                                    const std::vector<char>& two_sided, const CameraModel& camera,
+                                    const LineOfSight* los, const ViewpointFree& is_free,
+                                    const StructureViewOptions& options) {
   options.validate();
   require(normals.size() == points.size(), "structure_views",
           "one normal per point: " + std::to_string(points.size()) + " points, " + std::to_string(normals.size()) +
               " normals");
+  require(two_sided.empty() || two_sided.size() == points.size(), "structure_views",
+          "one two-sided flag per point or none: " + std::to_string(points.size()) + " points, " +
+              std::to_string(two_sided.size()) + " flags");
   StructureViews out;
   out.points = points.size();
   if (points.empty()) return out;
-  const std::vector<Candidate> all = makeCandidates(points, normals, options, out.seeds);
+  const std::vector<Candidate> all = makeCandidates(points, normals, two_sided, options, out.seeds);
   out.candidates = all.size();
   std::vector<Candidate> usable;
   for (const auto& c : all) {
@@ -165,9 +173,8 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   out.free_candidates = usable.size();
   std::vector<ViewPose> poses;
   for (const auto& c : usable) poses.push_back(c.pose);
-  CoverageCriteria criteria = options.criteria;
-  criteria.two_sided_normals = true;
-  const auto sets = imagedByView(points, normals, poses, camera, criteria, los, options.threads);
+  const auto sets = imagedByView(points, normals, poses, camera, options.criteria, los, options.threads,
+                                 two_sided.empty() ? nullptr : &two_sided);
   std::vector<char> seen(points.size(), 0);
   for (const auto& s : sets)
     for (const auto p : s) seen[p] = 1;

@@ -256,6 +256,8 @@ struct CoverageResult {
 /// inside the image, range ≤ R, GSD ≤ max, incidence ≤ max (normals[i] oriented toward
 /// free space; `normals` holds one normal per point or one normal for all, any
 /// non-zero length), line of sight clear (`los` may be null = no occlusion test).
+/// `two_sided`, if given, holds one flag per point: 1 where that point's normal is
+/// two-sided (as two_sided_normals, for that point only).
 /// The views are split over `threads` workers (core/parallel.h) with per-worker
 /// counters summed at the end: the result does not depend on the thread count. Throws InputError for non-finite points, views or normals, a
 /// zero normal, a normal count other than points.size() or 1, invalid criteria or
@@ -263,7 +265,7 @@ struct CoverageResult {
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads = 2);
+                                int threads = 2, const std::vector<char>* two_sided = nullptr);
 
 /// The same test, view by view: for each view, the indices of the points it images
 /// (ascending). What a view selection scores its candidates with. Same checks and
@@ -272,6 +274,7 @@ std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, co
                                                      const std::vector<ViewPose>& views,
                                                      const CameraModel& camera,
                                                      const CoverageCriteria& criteria,
-                                                     const LineOfSight* los, int threads = 2);
+                                                     const LineOfSight* los, int threads = 2,
+                                                     const std::vector<char>* two_sided = nullptr);
 
 }  // namespace uavip::coverage

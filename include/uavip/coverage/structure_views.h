@@ -4,16 +4,20 @@
 /// selection over every point of a structure, planes, curved, thin and small parts
 /// alike, instead of the paper's plane-by-plane rows (§II-F).
 ///
+/// Normals: oriented toward the free space the camera can reach; where both sides
+/// can be reached (a thin wall, a panel) or neither is known, the point's flag in
+/// `two_sided` is 1 and either side may face the camera.
+///
 /// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
-/// each seed with (two-sided) normal n, a camera is put at the viewing distance D
-/// along ±n, and along ±n tilted up and down by each of `tilts_deg`, looking at the
-/// seed. A candidate is kept when it is free (the caller's test: clear of every
+/// each seed with normal n, a camera is put at the viewing distance D along n (and
+/// −n when two-sided), and along those tilted up and down by each of `tilts_deg`,
+/// looking at the seed. A candidate is kept when it is free (the caller's test: clear of every
 /// measured point by the UAV's clearance, in the free space reachable from home) and
 /// its pitch lies within the gimbal limits.
 ///
 /// Scoring: what each candidate images of the structure points by the coverage
-/// evaluator's rule (coverage_evaluator.h: in the image, range, GSD, incidence with
-/// two-sided normals, line of sight through the voxels).
+/// evaluator's rule (coverage_evaluator.h: in the image, range, GSD, incidence,
+/// line of sight through the voxels).
 ///
 /// Choice: greedy set cover (lazy gains, ties to the lower candidate index) until
 /// `target_coverage` of the points some candidate images are imaged; then, in
@@ -38,7 +42,7 @@ struct StructureViewOptions {
   double seed_spacing_m{0.0};               ///< seed cell edge [m]; 0 = D / 3
   double target_coverage{0.99};             ///< of the imageable points, in (0, 1]
   GimbalLimits gimbal;                      ///< a candidate's pitch must lie within
-  CoverageCriteria criteria;                ///< what "imaged" means (two_sided_normals is forced)
+  CoverageCriteria criteria;                ///< what "imaged" means
   int threads{2};                           ///< workers for scoring
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -61,9 +65,11 @@ struct StructureViews {
 };
 
 /// Selects the photos of a structure (see the file comment). `normals` holds one
-/// (two-sided) normal per point. Throws InputError for invalid options, a normal
-/// count other than points.size(), or non-finite input.
+/// normal per point, `two_sided` one flag per point or nothing (every normal
+/// one-sided). Throws InputError for invalid options, a normal or flag count other
+/// than points.size(), or non-finite input.
 StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
+                                    const std::vector<char>& two_sided,
                                     const CameraModel& camera, const LineOfSight* los,
                                     const ViewpointFree& is_free, const StructureViewOptions& options);
 
