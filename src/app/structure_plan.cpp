@@ -43,7 +43,7 @@ PointList structurePoints(const Scene& scene, const io::Config& config, std::siz
   const double band = config.perception.planes.distance_threshold_m;
   std::vector<const Surface*> level;
   for (const auto& s : scene.surfaces) {
-    if (std::abs(s.plane.normal.z()) >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
+    if (s.plane.normal.z() >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
         s.area_m2 >= 0.25 * footprint)
       level.push_back(&s);
   }
@@ -245,6 +245,11 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
       orientNormals(points, normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
   coverage::StructureViewOptions options;
   options.standoff_m = standoff;
+  options.distance_factors = {1.0, config.mission.max_standoff_factor};
+  options.tilts_deg = {20.0, 45.0};
+  // Seeds closer than half the photo's smaller side: a narrow camera leaves no gaps.
+  options.seed_spacing_m = std::min(standoff / 3.0, 0.5 * standoff * std::min(intrinsics.width_px / intrinsics.fx_px,
+                                                                             intrinsics.height_px / intrinsics.fy_px));
   options.target_coverage = config.coverage.structure_target;
   options.gimbal = config.coverage.gimbal;
   options.criteria = ruleB(intrinsics, config.coverage.camera, standoff);

@@ -67,9 +67,11 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
     ++seeds;
     const Vec3& p = points[best];
     const bool both = !two_sided.empty() && two_sided[best] != 0;
-    for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
-      const Vec3 c = p + o.standoff_m * dir;
-      out.push_back({lookAt(c, p), p});
+    for (const double factor : o.distance_factors) {
+      for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
+        const Vec3 c = p + factor * o.standoff_m * dir;
+        out.push_back({lookAt(c, p), p});
+      }
     }
     b = e;
   }
@@ -129,6 +131,9 @@ std::vector<std::size_t> pruneRedundant(const std::vector<std::vector<std::uint3
 
 void StructureViewOptions::validate(const std::string& where) const {
   requireThat(std::isfinite(standoff_m) && standoff_m > 0.0, where, "standoff_m", "> 0 and finite", standoff_m);
+  require(!distance_factors.empty(), where, "distance_factors: give at least one (1 = the standoff)");
+  for (const double f : distance_factors)
+    requireThat(std::isfinite(f) && f >= 1.0 && f <= 3.0, where, "distance_factors", "in [1, 3]", f);
   for (const double t : tilts_deg) requireThat(std::isfinite(t) && t > 0.0 && t < 90.0, where, "tilts_deg", "in (0, 90)", t);
   requireThat(std::isfinite(seed_spacing_m) && seed_spacing_m >= 0.0, where, "seed_spacing_m", ">= 0 (0 = standoff / 3)",
               seed_spacing_m);

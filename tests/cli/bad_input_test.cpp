@@ -116,6 +116,12 @@ class BadInput : public ::testing::Test {
     write("home2.yaml", "mission: {home: [1, 2]}\n");
     write("syntax.yaml", "preprocess: {voxel_m: [1, 2\n");
     write("planner.yaml", "planner: {name: warp}\n");
+    // Structure coverage: impossible cameras, conflicting keys, a standoff inside the clearance.
+    write("fx0.yaml", "camera: {fx: 0, fy: 400, image_px: [640, 480]}\n");
+    write("image_neg.yaml", "camera: {fx: 400, fy: 400, image_px: [-640, 480]}\n");
+    write("fx_focal.yaml", "camera: {fx: 400, fy: 400, image_px: [640, 480], focal_mm: 8.8}\n");
+    write("standoff_in.yaml", "coverage: {standoff_m: 0.5}\nuav: {inflation_radius_m: 0.6}\n");
+    write("mode.yaml", "coverage: {mode: everything}\n");
     write("start_in.yaml", "mission: {start: [0, 0, 1.5]}\n");  // inside the single_plane wall
     write("home_in.yaml", "mission: {home: [0, 0, 1.5]}\n");
     write("start_far.yaml", "mission: {start: [100000, 0, 2]}\n");  // 100 km: beyond one battery
@@ -236,6 +242,15 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"home with two numbers", "plan " + scene + " --surface 0 -c $D/home2.yaml -o $D/prev", 2, "home"},
       {"YAML syntax error", "plan " + scene + " --surface 0 -c $D/syntax.yaml -o $D/prev", 2, "syntax.yaml"},
       {"unknown planner in config", "plan " + scene + " --surface 0 -c $D/planner.yaml -o $D/prev", 2, "warp"},
+      {"--cover with --surface", "plan " + scene + " --cover structure --surface 0 -o $D/prev", 2, "--surface"},
+      {"--cover unknown", "plan " + scene + " --cover roof -o $D/prev", 2, "roof"},
+      {"plan with neither --surface nor --cover", "plan " + scene + " -o $D/prev", 2, "--cover structure"},
+      {"pinhole with zero focal length", "plan " + scene + " --cover structure -c $D/fx0.yaml -o $D/prev", 2, "fx"},
+      {"pinhole with a negative image", "plan " + scene + " --cover structure -c $D/image_neg.yaml -o $D/prev", 2, "image_px"},
+      {"pinhole and sensor keys", "plan " + scene + " --cover structure -c $D/fx_focal.yaml -o $D/prev", 2, "focal_mm"},
+      {"viewing distance inside the clearance", "plan " + scene + " --cover structure -c $D/standoff_in.yaml -o $D/prev", 2,
+       "standoff_m"},
+      {"unknown coverage mode", "plan " + scene + " --cover structure -c $D/mode.yaml -o $D/prev", 2, "everything"},
       {"start inside the wall", "plan " + scene + " --surface 0 -c $D/start_in.yaml -o $D/prev", 2, "start"},
       {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2, "home"},
       {"start 100 km away", "plan " + scene + " --surface 0 -c $D/start_far.yaml -o $D/prev", 2, "battery's reach"},

@@ -9,9 +9,9 @@
 /// `two_sided` is 1 and either side may face the camera.
 ///
 /// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
-/// each seed with normal n, a camera is put at the viewing distance D along n (and
-/// −n when two-sided), and along those tilted up and down by each of `tilts_deg`,
-/// looking at the seed. A candidate is kept when it is free (the caller's test: clear of every
+/// each seed with normal n, a camera is put at the viewing distance D (and each
+/// further `distance_factors` × D) along n (and −n when two-sided), and along those
+/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is kept when it is free (the caller's test: clear of every
 /// measured point by the UAV's clearance, in the free space reachable from home) and
 /// its pitch lies within the gimbal limits.
 ///
@@ -39,6 +39,9 @@ namespace uavip::coverage {
 struct StructureViewOptions {
   double standoff_m{0.0};                   ///< viewing distance D from a seed [m] (> 0)
   std::vector<double> tilts_deg{35.0};      ///< extra tilts of ±n up and down [deg], each in (0, 90)
+  /// Candidates at these multiples of standoff_m, each ≥ 1 (farther ones stand in
+  /// where the nearer one is not free: a pocket, a measured outlier).
+  std::vector<double> distance_factors{1.0};
   double seed_spacing_m{0.0};               ///< seed cell edge [m]; 0 = D / 3
   double target_coverage{0.99};             ///< of the imageable points, in (0, 1]
   GimbalLimits gimbal;                      ///< a candidate's pitch must lie within
