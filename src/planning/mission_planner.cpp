@@ -14,38 +14,6 @@
 
 namespace uavip::planning {
 
-const char* toString(PathStatus status) {
-  switch (status) {
-    case PathStatus::Solved: return "solved";
-    case PathStatus::NoPath: return "no_path";
-    case PathStatus::Timeout: return "timeout";
-    case PathStatus::InvalidStart: return "invalid_start";
-    case PathStatus::InvalidGoal: return "invalid_goal";
-  }
-  return "unknown";
-}
-
-const char* toString(SurfaceStatus status) {
-  switch (status) {
-    case SurfaceStatus::Ok: return "ok";
-    case SurfaceStatus::Partial: return "partial";
-    case SurfaceStatus::Blocked: return "blocked";
-    case SurfaceStatus::NoStops: return "no_stops";
-    case SurfaceStatus::Failed: return "failed";
-  }
-  return "unknown";
-}
-
-const char* toString(StopProblem problem) {
-  switch (problem) {
-    case StopProblem::None: return "none";
-    case StopProblem::GimbalLimit: return "gimbal_limit";
-    case StopProblem::InObstacleSpace: return "in_obstacle_space";
-    case StopProblem::Unreachable: return "unreachable";
-  }
-  return "unknown";
-}
-
 namespace {
 
 std::string legName(const Leg& leg) {
