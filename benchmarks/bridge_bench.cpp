@@ -11,7 +11,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
 
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   const std::string path = argc > 1 ? argv[1] : "scenarios/bridge.yaml";
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
   try {
-    const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+    const uavip::app::Scenario sc = uavip::app::loadScenario(path);
     if (sc.sensing_mode != "scan") throw uavip::InputError(path + ": sensing.mode must be scan");
     const auto ts = uavip::SteadyClock::now();
     const uavip::sim::SimulatedLog s = uavip::sim::simulateScans(sc.world, sc.scan);

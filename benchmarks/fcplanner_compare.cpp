@@ -20,7 +20,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/io/scene_json.h"
 
 #include <nlohmann/json.hpp>
@@ -63,18 +63,19 @@ const std::vector<Peer> kPeers = {
 };
 
 /// Their settings as a uavip config: pinhole 640 × 480, drone radius 0.3 m, gimbal
-/// −85° to +70°, one sortie (no battery limit), home at their start.
-io::Config peerConfig(const Peer& p, bool with_start, double target) {
+/// −85° to +70°, no photo overlap asked (their coverage rule has none), one sortie
+/// (no battery limit), home at their start.
+app::Config peerConfig(const Peer& p, bool with_start, double target) {
   std::ostringstream y;
   y << "camera: {fx: 417.0467, fy: 461.0951, cx: 320, cy: 240, image_px: [640, 480], max_range_m: "
     << p.visible_range_m << "}\n"
     << "coverage: {mode: structure, standoff_m: " << p.standoff_m << ", gimbal_pitch_deg: [-85, 70]"
-    << ", structure_target: " << target
+    << ", structure_target: " << target << ", overlap: 0"
     << (p.ground_z_m ? ", ground_z_m: " + std::to_string(*p.ground_z_m) : std::string()) << "}\n"
     << "uav: {inflation_radius_m: 0.3}\n"
     << "flight: {endurance_s: 1000000}\n";
   if (with_start) y << "mission: {start: [" << p.start.x() << ", " << p.start.y() << ", " << p.start.z() << "]}\n";
-  return io::parseConfig(y.str(), "(FC-Planner settings for " + p.name + ")");
+  return app::parseConfig(y.str(), "(FC-Planner settings for " + p.name + ")");
 }
 
 struct Run {
@@ -83,7 +84,7 @@ struct Run {
   double seconds{0.0};
 };
 
-Run runChain(const PointList& raw, const io::Config& config) {
+Run runChain(const PointList& raw, const app::Config& config) {
   Run r;
   const auto t0 = SteadyClock::now();
   app::CloudIndex index;
@@ -194,7 +195,7 @@ int main(int argc, char** argv) {
       // Their start, unless it lies inside the clearance (the pipe's (0, 0, 0) is 0.07 m
       // from a pipe): then home is the lowest photo stop, and the note says so.
       std::string home_note = "their start";
-      io::Config config = peerConfig(p, true, target);
+      app::Config config = peerConfig(p, true, target);
       Run first;
       const auto wall0 = SteadyClock::now();
       try {

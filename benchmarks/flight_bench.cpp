@@ -11,7 +11,7 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include "bench_util.h"
 
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
                 "connecting legs solved / by id / bound m | optimal | legs planned | order s | validation s | flight step s | "
                 "sorties | duration min |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const auto& path : paths) {
-      const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+      const uavip::app::Scenario sc = uavip::app::loadScenario(path);
       const auto raw = uavip::app::sense(sc);
       const auto d = uavip::app::detect(raw, sc.config, uavip::app::measure(raw, &sc));
       const auto ids = uavip::app::selectSurfaces(d.scene, "all");

@@ -24,16 +24,17 @@ from stages 4-5. The process wall time (load, measuring, writing, views) is show
 (Debian's python3, /usr/bin/python3: a pyenv or venv python3 does not see python3-open3d.)
 With no cloud: the bridge (scenarios/bridge.yaml) simulated with `uavip simulate` and
 assembled with `uavip assemble` into ~/.cache/uavip-peer-open3d/bridge.pcd (once).
-Open3D runs on one OpenMP thread (seed 42: repeatable findings) unless OMP_NUM_THREADS is set.
+Open3D runs on as many OpenMP threads as the machine has cores (uavip uses them too: equal
+cores) unless OMP_NUM_THREADS is set; OMP_NUM_THREADS=1 makes its seeded findings repeatable.
 Needs Debian 12's python3-open3d (0.16) and python3-numpy; skips (exit 0) without Open3D.
 """
 import argparse, ctypes, json, os, re, selectors, shutil, statistics, subprocess, sys, tempfile, time
 from pathlib import Path
 
 UAVIP_ENV = dict(os.environ)  # uavip runs with the caller's environment
-# Open3D 0.16's segment_plane draws its RANSAC samples in OpenMP threads: only one thread
-# makes the seeded result repeatable. OMP_NUM_THREADS=2 in the environment overrides it.
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+# Equal cores: Open3D gets every core uavip may use. Its segment_plane draws its RANSAC
+# samples in OpenMP threads, so only OMP_NUM_THREADS=1 makes the seeded result repeatable.
+os.environ.setdefault("OMP_NUM_THREADS", str(os.cpu_count() or 1))
 try:
     import numpy as np
     import open3d as o3d

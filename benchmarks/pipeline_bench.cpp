@@ -6,7 +6,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include "bench_util.h"
 
@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   const std::string path = argc > 1 ? argv[1] : "scenarios/single_cube.yaml";
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
   try {
-    const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+    const uavip::app::Scenario sc = uavip::app::loadScenario(path);
     std::vector<double> sense, pre, perc, cov, grid, planning, total;
     std::size_t raw = 0, clean = 0, surfaces = 0, stops = 0, waypoints = 0, raw_waypoints = 0, voxels = 0;
     for (int i = 0; i < runs; ++i) {

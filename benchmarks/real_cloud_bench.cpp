@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   try {
     for (const auto& file : files) {
       const uavip::PointList cloud = tiled(uavip::io::loadCloud(file), tile_x, tile_y);
-      const uavip::io::Config config = uavip::io::parseConfig("", "(defaults)");
+      const uavip::app::Config config = uavip::app::parseConfig("", "(defaults)");
       std::vector<double> detect_s, plan_s;
       uavip::app::DetectResult d;
       uavip::app::PlanResult p;

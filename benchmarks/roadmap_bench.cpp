@@ -15,7 +15,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include "planners/harness.h"
 #include "planners/registry.h"
@@ -48,7 +48,7 @@ struct Legs {
   std::vector<std::pair<Vec3, Vec3>> legs;
 };
 
-Legs prepare(const uavip::io::Scenario& sc, int max_legs) {
+Legs prepare(const uavip::app::Scenario& sc, int max_legs) {
   const auto raw = uavip::app::sense(sc);
   const auto d = uavip::app::detect(raw, sc.config, uavip::app::measure(raw, &sc));
   const auto stops_by_surface = uavip::app::stopsBySurface(d.scene, d.resolved.config.coverage);
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
                 "| median s per leg: fresh / kept | graph states after the last leg: fresh / kept |\n"
                 "|---|---|---|---|---|---|---|\n");
     for (const auto& path : paths) {
-      const uavip::io::Scenario sc = uavip::io::loadScenario(path);
+      const uavip::app::Scenario sc = uavip::app::loadScenario(path);
       const Legs l = prepare(sc, max_legs);
       for (const char* name : {"prmstar", "lazyprmstar", "rrtstar"}) {
         const ModeRun fresh = runFresh(name, l, settings);

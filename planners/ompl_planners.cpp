@@ -8,19 +8,55 @@
 #include "uavip/core/stopwatch.h"
 
 #include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/planners/fmt/FMT.h>
+#include <ompl/geometric/planners/informedtrees/ABITstar.h>
+#include <ompl/geometric/planners/informedtrees/AITstar.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
+#include <ompl/geometric/planners/prm/LazyPRMstar.h>
+#include <ompl/geometric/planners/prm/PRMstar.h>
+#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <mutex>
+#include <stdexcept>
 
 namespace uavip::planners {
 namespace {
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
+
+template <class P>
+ob::PlannerPtr make(const ob::SpaceInformationPtr& si) {
+  return std::make_shared<P>(si);
+}
+
+/// Builds the sampling planner of the table row named `ompl_name` (planner_table.h).
+ob::PlannerPtr makeSampling(const std::string& ompl_name, const ob::SpaceInformationPtr& si) {
+  using Factory = ob::PlannerPtr (*)(const ob::SpaceInformationPtr&);
+  static const std::map<std::string, Factory> factories{
+      {"RRTConnect", &make<og::RRTConnect>},
+      {"RRTstar", &make<og::RRTstar>},
+      {"InformedRRTstar", &make<og::InformedRRTstar>},
+      {"BITstar", &make<og::BITstar>},
+      {"ABITstar", &make<og::ABITstar>},
+      {"AITstar", &make<og::AITstar>},
+      {"PRMstar", &make<og::PRMstar>},
+      {"LazyPRMstar", &make<og::LazyPRMstar>},
+      {"FMT", &make<og::FMT>},
+  };
+  const auto it = factories.find(ompl_name);
+  if (it == factories.end()) throw std::logic_error("planner table: no OMPL factory for " + ompl_name);
+  return it->second(si);
+}
 
 }  // namespace
 
@@ -120,7 +156,7 @@ ob::PlannerPtr makeOmplPlanner(const std::string& name, const ob::SpaceInformati
   ob::PlannerPtr p;
   const PlannerInfo& row = *findPlanner(name);  // omplName accepted the name
   if (row.isSampling()) {
-    p = row.make(si);
+    p = makeSampling(row.ompl_name, si);
   } else {  // astar, astar-euclid: uavip's A* behind OMPL's interface
     AStarOptions o = settings.astar;
     o.cost = name == "astar" ? AStarCost::Paper : AStarCost::Euclidean;

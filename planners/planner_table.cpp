@@ -1,43 +1,28 @@
+// The planner table and the registry's lookups that read only it (registry.h:
+// PlannerSettings::validate, plannerNames, requireKnownPlanner, isDeterministic):
+// no OMPL here, so validating a config links no planner.
 #include "planners/planner_table.h"
 
-#include <ompl/geometric/planners/fmt/FMT.h>
-#include <ompl/geometric/planners/informedtrees/ABITstar.h>
-#include <ompl/geometric/planners/informedtrees/AITstar.h>
-#include <ompl/geometric/planners/informedtrees/BITstar.h>
-#include <ompl/geometric/planners/prm/LazyPRMstar.h>
-#include <ompl/geometric/planners/prm/PRMstar.h>
-#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
-#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include "planners/registry.h"
+#include "uavip/core/error.h"
 
-#include <memory>
+#include <algorithm>
 
 namespace uavip::planners {
-namespace {
-
-namespace ob = ompl::base;
-namespace og = ompl::geometric;
-
-template <class P>
-ob::PlannerPtr make(const ob::SpaceInformationPtr& si) {
-  return std::make_shared<P>(si);
-}
-
-}  // namespace
 
 const std::vector<PlannerInfo>& plannerTable() {
   static const std::vector<PlannerInfo> table{
-      {"astar", "AStar", nullptr},
-      {"astar-euclid", "AStarEuclid", nullptr},
-      {"rrtconnect", "RRTConnect", &make<og::RRTConnect>},
-      {"rrtstar", "RRTstar", &make<og::RRTstar>},
-      {"informed-rrtstar", "InformedRRTstar", &make<og::InformedRRTstar>},
-      {"bitstar", "BITstar", &make<og::BITstar>},
-      {"abitstar", "ABITstar", &make<og::ABITstar>},
-      {"aitstar", "AITstar", &make<og::AITstar>},
-      {"prmstar", "PRMstar", &make<og::PRMstar>},
-      {"lazyprmstar", "LazyPRMstar", &make<og::LazyPRMstar>},
-      {"fmtstar", "FMT", &make<og::FMT>},
+      {"astar", "AStar", false},
+      {"astar-euclid", "AStarEuclid", false},
+      {"rrtconnect", "RRTConnect", true},
+      {"rrtstar", "RRTstar", true},
+      {"informed-rrtstar", "InformedRRTstar", true},
+      {"bitstar", "BITstar", true},
+      {"abitstar", "ABITstar", true},
+      {"aitstar", "AITstar", true},
+      {"prmstar", "PRMstar", true},
+      {"lazyprmstar", "LazyPRMstar", true},
+      {"fmtstar", "FMT", true},
   };
   return table;
 }
@@ -47,6 +32,30 @@ const PlannerInfo* findPlanner(const std::string& name) {
     if (p.name == name) return &p;
   }
   return nullptr;
+}
+
+void PlannerSettings::validate(const std::string& where) const {
+  astar.validate(where);
+  requirePositive(time_limit_s, where, "time_limit_s");
+}
+
+std::vector<std::string> plannerNames() {
+  std::vector<std::string> names;
+  for (const auto& p : plannerTable()) names.push_back(p.name);
+  return names;
+}
+
+void requireKnownPlanner(const std::string& name) {
+  const std::vector<std::string> names = plannerNames();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string valid;
+  for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
+  throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
+}
+
+bool isDeterministic(const std::string& name) {
+  const PlannerInfo* row = findPlanner(name);
+  return row != nullptr && !row->isSampling();
 }
 
 }  // namespace uavip::planners

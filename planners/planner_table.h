@@ -1,11 +1,10 @@
 #pragma once
 /// \file
-/// The one table of planners: registry name, OMPL class name and factory. The
-/// registry's names, the harness's OMPL names, the OMPL factory, the bench and the
-/// help text all read it; adding a planner is one row here. Private to planners/.
-
-#include <ompl/base/Planner.h>
-#include <ompl/base/SpaceInformation.h>
+/// The one table of planners: registry name and OMPL class name. The registry's
+/// names, the harness's OMPL names, the bench and the help text all read it; it
+/// includes no OMPL header, so reading a config links no planner. Adding a planner
+/// is one row here and, for an OMPL planner, its factory in ompl_planners.cpp
+/// (tests/planners checks that every sampling row builds). Private to planners/.
 
 #include <string>
 #include <vector>
@@ -16,10 +15,10 @@ namespace uavip::planners {
 struct PlannerInfo {
   std::string name;       ///< registry name, e.g. "rrtconnect" (config `planner`, --planner)
   std::string ompl_name;  ///< OMPL's class name, e.g. "RRTConnect" (the bench log's geometric_<ompl_name>)
-  /// Builds the OMPL planner on `si`; empty for uavip's own A* (astar, astar-euclid),
-  /// which the registry builds on the grid itself.
-  ompl::base::PlannerPtr (*make)(const ompl::base::SpaceInformationPtr& si);
-  bool isSampling() const { return make != nullptr; }
+  /// An OMPL sampling planner (built by ompl_planners.cpp from ompl_name); false for
+  /// uavip's own A* (astar, astar-euclid), which the registry builds on the grid itself.
+  bool sampling{false};
+  bool isSampling() const { return sampling; }
 };
 
 /// Every planner, in the order of the registry (the A*s first).

@@ -1,37 +1,11 @@
 #include "planners/registry.h"
 
 #include "planners/ompl_planners.h"
-#include "planners/planner_table.h"
-#include "uavip/core/error.h"
-
-#include <algorithm>
-
 
 namespace uavip::planners {
 
-void PlannerSettings::validate(const std::string& where) const {
-  astar.validate(where);
-  requirePositive(time_limit_s, where, "time_limit_s");
-}
-
-std::vector<std::string> plannerNames() {
-  std::vector<std::string> names;
-  for (const auto& p : plannerTable()) names.push_back(p.name);
-  return names;
-}
-
-void requireKnownPlanner(const std::string& name) {
-  const std::vector<std::string> names = plannerNames();
-  if (std::find(names.begin(), names.end(), name) != names.end()) return;
-  std::string valid;
-  for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
-  throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
-}
-
-bool isDeterministic(const std::string& name) {
-  const PlannerInfo* row = findPlanner(name);
-  return row != nullptr && !row->isSampling();
-}
+// PlannerSettings::validate, plannerNames, requireKnownPlanner and isDeterministic
+// read only the table: planner_table.cpp.
 
 std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings) {
   settings.validate("planner");

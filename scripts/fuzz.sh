@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of tests/fuzz with clang 14 under ASan + UBSan and runs
-# each for SECONDS (default 60) on seed corpora made from tests/data and scenarios/
-# (the raw log seeds are written here with printf), then prints the executions per
-# target and in total. A crash, leak or sanitizer report stops with exit 1 and
-# leaves the input in FUZZ_DIR (default build-fuzz).
+# Builds the libFuzzer targets of tests/fuzz with clang 14 under ASan + UBSan (CMake
+# with -DUAVIP_FUZZ=ON in FUZZ_DIR) and runs each for SECONDS (default 60) on seed
+# corpora made from tests/data and scenarios/ (the raw log seeds are written here with
+# printf), then prints the executions per target and in total. A crash, leak or
+# sanitizer report stops with exit 1 and leaves the input in FUZZ_DIR (default build-fuzz).
 # Usage: bash scripts/fuzz.sh [SECONDS]      (SKIP_APT=1 to skip apt-get;
 #        FUZZ_TARGETS="cloud json" builds and runs only those, default all four)
 set -euo pipefail
@@ -11,12 +11,13 @@ cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET=${1:-60}
 OUT=${FUZZ_DIR:-build-fuzz}
 TARGETS=${FUZZ_TARGETS:-cloud json yaml rawlog}
-wanted() { [[ " $TARGETS " == *" $1 "* ]]; }
 
+# clang and its libFuzzer runtime; the libraries the project configures with.
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()
-  for p in clang-14 libclang-rt-14-dev libpcl-dev libeigen3-dev nlohmann-json3-dev libgeographiclib-dev \
-      libyaml-cpp-dev libompl-dev libfcl-dev liboctomap-dev; do
+  for p in clang-14 libclang-rt-14-dev cmake make pkg-config libpcl-dev libeigen3-dev nlohmann-json3-dev \
+      libgeographiclib-dev libyaml-cpp-dev libompl-dev libfcl-dev libccd-dev liboctomap-dev libcli11-dev \
+      libcairo2-dev libfontconfig-dev libssl-dev libproj-dev libjs-three; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then
@@ -27,56 +28,13 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
   fi
 fi
 
-mkdir -p "$OUT"
-CXX=clang++-14
-FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-  -Iinclude -I. -isystem /usr/include/eigen3 -isystem "$(ls -d /usr/include/pcl-1.* | tail -1)"
-  -isystem "$(ls -d /usr/include/ompl-1.* | tail -1)")
-
-# Every source is compiled once per run into $OUT/obj and linked into each target that
-# lists it; a target lists what its linker demands.
-mkdir -p "$OUT/obj"
-declare -A compiled=()
-build() {  # target, then its sources and libraries
-  local target=$1 arg obj link=()
-  shift
-  for arg in "$@"; do
-    case $arg in
-      *.cpp)
-        obj="$OUT/obj/${arg//\//_}.o"
-        if [ -z "${compiled[$arg]:-}" ]; then
-          $CXX "${FLAGS[@]}" -c "$arg" -o "$obj"
-          compiled[$arg]=1
-        fi
-        link+=("$obj") ;;
-      *) link+=("$arg") ;;
-    esac
-  done
-  $CXX "${FLAGS[@]}" "${link[@]}" -o "$OUT/$target"
-}
-
+# The targets and what they link are CMake's (option UAVIP_FUZZ, cmake/fuzz.cmake).
 echo "fuzz: building fuzz_{${TARGETS// /,}} in $OUT" >&2
-wanted cloud && build fuzz_cloud tests/fuzz/fuzz_cloud.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/io/atomic_file.cpp \
-  src/core/error.cpp -lpcl_io -lpcl_common
-wanted json && build fuzz_json tests/fuzz/fuzz_json.cpp src/io/scene_json.cpp src/io/mission_export.cpp src/io/mission_json_read.cpp \
-  src/io/json_reader.cpp src/io/atomic_file.cpp src/io/cloud_io.cpp src/io/las_reader.cpp src/core/error.cpp \
-  src/core/geometry.cpp -lGeographicLib -lproj -lpcl_io -lpcl_common
-# scenario.cpp checks every stage's options (Config::validate: the checks live next to
-# the stages, the planner names next to the planners), so it links most of the library.
-wanted yaml && build fuzz_yaml tests/fuzz/fuzz_yaml.cpp src/io/scenario.cpp src/io/cloud_io.cpp src/io/las_reader.cpp \
-  src/io/atomic_file.cpp src/core/error.cpp src/core/geometry.cpp src/core/parallel.cpp src/core/voxel_key.cpp \
-  src/sim/world_model.cpp src/sim/surface_sampler.cpp src/sim/scanner_sim.cpp src/scan/station_assembler.cpp \
-  src/registration/station_registration.cpp src/preprocess/filters.cpp src/preprocess/safety_cloud.cpp \
-  src/core/key_sort.cpp src/preprocess/neighbour_index.cpp src/scan/drift_refinement.cpp src/perception/scene_builder.cpp \
-  src/perception/plane_detector.cpp src/perception/obstacle_clusterer.cpp src/perception/euclidean_clusters.cpp \
-  src/coverage/camera.cpp src/coverage/flight_strategy.cpp src/world/voxel_grid.cpp src/world/collision_world.cpp \
-  src/planning/mission_planner.cpp src/planning/flight_planner.cpp src/planning/path_validator.cpp \
-  src/planning/path_simplifier.cpp src/planning/tour.cpp planners/planner_table.cpp planners/registry.cpp planners/astar.cpp \
-  planners/astar_ompl.cpp planners/ompl_planners.cpp planners/harness.cpp \
-  -lyaml-cpp -lpcl_io -lpcl_common -lpcl_kdtree -lpcl_search -lpcl_filters -lpcl_features -lpcl_segmentation \
-  -lpcl_surface -lqhull_r -llz4 -lfcl -loctomap -loctomath -lompl
-wanted rawlog && build fuzz_rawlog tests/fuzz/fuzz_rawlog.cpp src/io/raw_log_io.cpp src/io/json_reader.cpp src/io/atomic_file.cpp \
-  src/core/error.cpp src/core/geometry.cpp src/sim/world_model.cpp
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$OUT" -DCMAKE_BUILD_TYPE=Debug -DUAVIP_FUZZ=ON \
+  -DUAVIP_BUILD_TESTS=OFF -DUAVIP_BUILD_BENCHMARKS=OFF >/dev/null
+targets=()
+for t in $TARGETS; do targets+=(--target "fuzz_$t"); done
+cmake --build "$OUT" -j"$(nproc)" "${targets[@]}"
 
 # Seeds: the first byte picks the reader (fuzz_cloud: 0 pcd, 1 ply, 2 xyz, 3 csv, 4 txt,
 # 5 las, + 8 for input.scale 0.001;

@@ -140,7 +140,7 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   return result;
 }
 
-AssembleResult senseScans(const io::Scenario& scenario, const Progress& progress) {
+AssembleResult senseScans(const app::Scenario& scenario, const Progress& progress) {
   if (scenario.sensing_mode != "scan") {
     throw InputError(scenario.path + ": sensing.mode must be 'scan' for raw scans, got '" + scenario.sensing_mode + "'");
   }

@@ -96,13 +96,13 @@ struct PreparedScenario {
   world::VoxelGrid grid;
   std::unique_ptr<planning::PathValidator> validator;
   std::vector<BenchLeg> legs;
-  io::Config config;
+  app::Config config;
 };
 
 /// Sense, stages 3–5, stage 6 for every surface, the inflated grid over the cloud,
 /// the stops and the legs (explicit, or sampled between stops); the legs are
 /// appended to result.legs with global ids.
-PreparedScenario prepareScenario(const io::Scenario& sc, int scenario_index, const BenchOptions& options,
+PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index, const BenchOptions& options,
                                  BenchResult& result) {
   const PointList raw = sense(sc);
   CloudIndex index;
@@ -179,7 +179,7 @@ BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const Prepared
 
 }  // namespace
 
-BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOptions& options,
+BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOptions& options,
                      const Progress& progress) {
   options.validate();
   if (scenarios.empty()) throw InputError("bench: give at least one scenario");
@@ -192,7 +192,7 @@ BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOpti
   std::vector<std::vector<BenchRun>> runs_by_scenario;
   double worst_case_s = 0.0;  // if every run took its whole time limit
   for (std::size_t si = 0; si < scenarios.size(); ++si) {
-    const io::Scenario& sc = scenarios[si];
+    const app::Scenario& sc = scenarios[si];
     result.scenarios.push_back(sc.name);
     report(progress, "bench: " + sc.name + ": sensing, detection, coverage");
     const PreparedScenario prepared = prepareScenario(sc, static_cast<int>(si), options, result);

@@ -10,9 +10,9 @@
 namespace uavip::app {
 namespace {
 
-using io::BenchRun;
-using io::PlannerSummary;
-using io::TargetCheck;
+using app::BenchRun;
+using app::PlannerSummary;
+using app::TargetCheck;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 

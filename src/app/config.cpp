@@ -31,10 +31,10 @@ double autoGridResolution(const Vec3& extent_m, const world::GridOptions& grid) 
   return mm(std::max(0.2, std::cbrt(span.x() * span.y() * span.z() / budget)));
 }
 
-ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudStats& stats) {
+ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudStats& stats) {
   ResolvedConfig r;
   r.config = config;
-  io::Config& c = r.config;
+  app::Config& c = r.config;
   const double spacing = stats.spacing_m > 0.0 ? stats.spacing_m : 0.05;
   const double noise = std::max(stats.noise_m, 0.0);
 

@@ -40,7 +40,7 @@ constexpr double kLocalMarginM = 6.0;
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
 /// Below mission.min_coverage an `ok` surface becomes `partial`, stating the fraction.
 void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const coverage::LineOfSight& sight,
-                     const io::Config& config) {
+                     const app::Config& config) {
   constexpr double kMaxIncidenceDeg = 75.0;
   if (!planning::flyable(m.status) || surface.inliers.empty()) return;
   std::vector<coverage::ViewPose> views;
@@ -75,13 +75,13 @@ void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const 
 
 }  // namespace
 
-PointList sense(const io::Scenario& scenario) {
+PointList sense(const app::Scenario& scenario) {
   // Mode scan: simulate the raw scans, then stages 1-2 (app/assemble.h).
   if (scenario.sensing_mode == "scan") return senseScans(scenario).cloud;
   return sim::sampleSurfaces(scenario.world, scenario.sample);
 }
 
-preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario, CloudIndex* index) {
+preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenario, CloudIndex* index) {
   for (std::size_t i = 0; i < raw.size(); ++i) {
     if (!raw[i].allFinite()) throw InputError("cloud: point " + std::to_string(i) + " is not finite");
   }
@@ -97,11 +97,11 @@ preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenari
   return stats;
 }
 
-DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
+DetectResult detect(const PointList& raw, const app::Config& config, const preprocess::CloudStats& cloud,
                     const Progress& progress, const CloudIndex& index) {
   DetectResult result;
   result.resolved = resolveConfig(config, cloud);
-  const io::Config& resolved = result.resolved.config;
+  const app::Config& resolved = result.resolved.config;
   const auto t0 = SteadyClock::now();
   report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
   PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
@@ -120,14 +120,14 @@ DetectResult detect(const PointList& raw, const io::Config& config, const prepro
   return result;
 }
 
-double safetyClearance(const Scene& scene, const io::Config& config) {
+double safetyClearance(const Scene& scene, const app::Config& config) {
   const double uav = config.uav.inflationRadius();
   if (!scene.safety) return uav;
   const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
   return uav + preprocess::safetyMargin(*scene.safety, spacing, config.safety);
 }
 
-ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config) {
+ResolvedConfig resolveForScene(const Scene& scene, const app::Config& config) {
   return resolveConfig(config, scene.measured ? *scene.measured : preprocess::measureCloud(scene.cloud));
 }
 
@@ -174,7 +174,7 @@ const Surface& surfaceById(const Scene& scene, int id) {
 
 }  // namespace
 
-world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const io::Config& config,
+world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const app::Config& config,
                               const PointList& stop_positions, double clearance_m) {
   Aabb region = boundingBox(stop_positions);
   region.min.array() -= kLocalMarginM;
@@ -203,7 +203,7 @@ namespace {
 std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::FlightStrategy>& strategies,
                                                    const std::vector<int>& surface_ids, const world::VoxelGrid& grid,
                                                    const planning::PathValidator& validator, planning::Planner& planner,
-                                                   const io::Config& config, const Progress& progress) {
+                                                   const app::Config& config, const Progress& progress) {
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
   const int threads = planners::isDeterministic(config.planner)
@@ -261,7 +261,7 @@ void requireFree(const std::optional<Vec3>& point, const std::string& key, const
   }
 }
 
-PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
+PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {
   PlanResult result;
   const auto t0 = SteadyClock::now();

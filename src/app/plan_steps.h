@@ -3,7 +3,7 @@
 /// Steps shared by app::plan (surfaces) and app::planStructure (the whole
 /// structure); private to src/app.
 
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
@@ -20,7 +20,7 @@ namespace uavip::app {
 /// measured point (world/collision_world.h); the grid marks the solids occupied too,
 /// so the planner never flies through space the validator calls solid. Inflated by
 /// `clearance_m` [m].
-world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const io::Config& config,
+world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const app::Config& config,
                               const PointList& stop_positions, double clearance_m);
 
 /// mission.start and mission.home must lie within one battery's reach of the photo

@@ -37,7 +37,7 @@ void report(const Progress& progress, const std::string& message) {
 
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
 /// structure points; `ground` counts the others.
-PointList structurePoints(const Scene& scene, const io::Config& config, std::size_t& ground) {
+PointList structurePoints(const Scene& scene, const app::Config& config, std::size_t& ground) {
   const Aabb box = boundingBox(scene.cloud);
   const double footprint = (box.max.x() - box.min.x()) * (box.max.y() - box.min.y());
   const double band = config.perception.planes.distance_threshold_m;
@@ -101,8 +101,20 @@ coverage::PinholeIntrinsics structureIntrinsics(const coverage::Camera& c, doubl
   return k;
 }
 
+/// The central part of the image a photo is chosen for: coverage.overlap cropped
+/// off (half on each side), so neighbouring photos overlap and leave no sliver
+/// between the points they were chosen for.
+coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double overlap_w, double overlap_h) {
+  const double crop_w = std::floor(0.5 * overlap_w * k.width_px), crop_h = std::floor(0.5 * overlap_h * k.height_px);
+  k.width_px -= static_cast<int>(2.0 * crop_w);
+  k.height_px -= static_cast<int>(2.0 * crop_h);
+  k.cx_px -= crop_w;
+  k.cy_px -= crop_h;
+  return k;
+}
+
 /// coverage.standoff_m when set, else what the camera's GSD implies.
-double viewingDistance(const io::Config& config) {
+double viewingDistance(const app::Config& config) {
   if (config.isSet("coverage.standoff_m")) return config.coverage.standoff_m;
   return coverage::solveCamera(config.coverage.camera, config.coverage.standoff_m).standoff_m;
 }
@@ -143,9 +155,11 @@ std::vector<char> orientNormals(const PointList& points, std::vector<Vec3>& norm
 }
 
 /// The flight strategy of the chosen photos, in flight order from `start`.
-/// A hop whose straight segment is blocked on the grid costs this many times its
-/// length when ordering: the planner's detour around the structure is longer.
+/// Ordering cost of a hop that neither a straight segment nor a one-point detour
+/// flies: this many times its length plus kBlockedHopExtraM, so that the order avoids
+/// it wherever it can (the planner's way around a building is long and slow to find).
 constexpr double kBlockedHopFactor = 3.0;
+constexpr double kBlockedHopExtraM = 50.0;
 
 coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views, const Vec3& start, int id,
                                            const coverage::PinholeIntrinsics& k, double standoff_m,
@@ -161,8 +175,8 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
   for (const auto& v : views.views) positions.push_back(v.position);
   const auto at = [&](int i) -> const Vec3& { return i < 0 ? start : positions[static_cast<std::size_t>(i)]; };
   const std::vector<int> order = planning::orderOpenPath(start, positions, [&](int a, int b) {
-    const double d = (at(a) - at(b)).norm();
-    return grid.segmentFree(at(a), at(b)) ? d : kBlockedHopFactor * d;
+    const PointList hop = planning::straightOrDetour(grid, at(a), at(b));
+    return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM : polylineLength(hop);
   });
   s.cols = static_cast<int>(order.size());
   s.rows = 1;
@@ -183,7 +197,7 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
 
 }  // namespace
 
-PlanResult planStructure(const Scene& scene, const io::Config& config, const Progress& progress) {
+PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
   PlanResult result;
   StructureSummary summary;
   const auto t0 = SteadyClock::now();
@@ -240,6 +254,8 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
   };
   const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera camera(intrinsics);
+  const coverage::PinholeCamera scoring_camera(
+      cropForOverlap(intrinsics, config.coverage.overlap_w, config.coverage.overlap_h));
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
   const std::vector<char> two_sided =
       orientNormals(points, normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
@@ -256,7 +272,7 @@ PlanResult planStructure(const Scene& scene, const io::Config& config, const Pro
   options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto t1 = SteadyClock::now();
   report(progress, "structure: choosing photos");
-  const coverage::StructureViews views = selectStructureViews(points, normals, two_sided, camera, &sight, is_free, options);
+  const coverage::StructureViews views = selectStructureViews(points, normals, two_sided, scoring_camera, &sight, is_free, options);
   summary.select_s = secondsSince(t1);
   summary.seeds = views.seeds;
   summary.candidates = views.candidates;

@@ -6,7 +6,7 @@
 #include "uavip/app/bench.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "planners/harness.h"
 #include "planners/registry.h"
 
@@ -62,7 +62,7 @@ std::string sibling(const std::string& log, const std::string& ext) {
 }
 
 int benchCommand(const BenchArgs& a, const Verbosity& v) {
-  io::BenchOptions options;
+  app::BenchOptions options;
   if (!a.planners.empty()) options.planners = splitList(a.planners);
   options.runs = a.runs;
   options.max_total_s = a.max_total_s;
@@ -76,23 +76,23 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
     std::cerr << "uavip: warning: OMPL was already seeded; --seed " << options.seed << " has no effect\n";
   }
   io::requireDistinctOutputs(a.scenarios, {a.out, sibling(a.out, ".csv"), sibling(a.out, ".md"), sibling(a.out, ".png")});
-  std::vector<io::Scenario> scenarios;
-  for (const auto& path : a.scenarios) scenarios.push_back(io::loadScenario(path));
+  std::vector<app::Scenario> scenarios;
+  for (const auto& path : a.scenarios) scenarios.push_back(app::loadScenario(path));
   const fs::path parent = fs::path(a.out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());
 
-  const io::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
+  const app::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
   std::string name = "uavip_bench";
   for (const auto& s : r.scenarios) name += "_" + s;
   io::StagedOutputs outputs;  // the log, CSV, table and plot are written together
-  outputs.write(a.out, io::benchLog(r, name, hostName()));
+  outputs.write(a.out, app::benchLog(r, name, hostName()));
   const std::string csv = sibling(a.out, ".csv");
   const std::string md = sibling(a.out, ".md");
-  outputs.write(csv, io::benchCsv(r));
-  const std::string markdown = io::benchMarkdown(r);
+  outputs.write(csv, app::benchCsv(r));
+  const std::string markdown = app::benchMarkdown(r);
   outputs.write(md, markdown);
   const std::string png = sibling(a.out, ".png");
-  outputs.write(png, io::benchPlot(r).png());
+  outputs.write(png, app::benchPlot(r).png());
   outputs.commit();
   if (!v.quiet) {
     std::cout << markdown;

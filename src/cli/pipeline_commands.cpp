@@ -10,9 +10,9 @@
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/mission_json.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/io/scene_json.h"
-#include "uavip/io/views.h"
+#include "uavip/view/views.h"
 #include "planners/registry.h"
 
 #include <algorithm>
@@ -36,7 +36,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json metaFor(const io::Config& config, const std::string& source) {
+nlohmann::json metaFor(const app::Config& config, const std::string& source) {
   const auto& cam = config.coverage.camera;
   nlohmann::json camera = cam.from_sensor
                               ? nlohmann::json{{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
@@ -237,9 +237,9 @@ int missionExitCode(const app::PlanResult& p, const Verbosity& v) {
   return kExitOk;
 }
 
-io::OverviewOptions overviewOptions(const std::string& name,
+view::OverviewOptions overviewOptions(const std::string& name,
                                     double clearance_m = std::numeric_limits<double>::quiet_NaN()) {
-  io::OverviewOptions o;
+  view::OverviewOptions o;
   o.clearance_m = clearance_m;  // mission.html colours the path by clearance against it
   o.title = name.empty() ? "uavip mission overview" : name + ": uavip mission overview";
   return o;
@@ -248,18 +248,18 @@ io::OverviewOptions overviewOptions(const std::string& name,
 /// The views rendered on a thread of their own while the scene and the mission are
 /// written; none with --no-views. The arguments must outlive the future (declare it
 /// after them: its destructor waits for the thread).
-std::future<io::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
+std::future<view::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
                                             const std::vector<planning::SurfaceMission>& missions,
-                                            const io::OverviewOptions& options, const planning::FlightPlan* flight) {
+                                            const view::OverviewOptions& options, const planning::FlightPlan* flight) {
   if (!views) return {};
   return std::async(std::launch::async, [&scene, &missions, options, flight] {
-    return io::renderViews(scene, missions, options, flight);
+    return view::renderViews(scene, missions, options, flight);
   });
 }
 
 /// Stages the views once rendered (nothing with --no-views).
-void stageViews(io::StagedOutputs& outputs, const std::string& out, std::future<io::ViewFiles>& views) {
-  if (views.valid()) io::stageViews(outputs, out, views.get());
+void stageViews(io::StagedOutputs& outputs, const std::string& out, std::future<view::ViewFiles>& views) {
+  if (views.valid()) view::stageViews(outputs, out, views.get());
 }
 
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface, bool surface_given,
@@ -269,7 +269,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
     if (!v.quiet) std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
   }
-  io::Scenario scenario = io::loadScenario(path);
+  app::Scenario scenario = app::loadScenario(path);
   if (!planner.empty()) {
     scenario.config.planner = planner;
     scenario.config.validate("--planner");
@@ -329,7 +329,7 @@ bool structureCover(const std::string& cover, bool surface_given) {
 
 int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out, bool views,
                   const Verbosity& v) {
-  const io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
+  const app::Config config = config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
   io::CloudReadInfo read;
   const PointList raw = io::loadCloud(cloud_path, config.input, &read);
   if (!v.quiet && !read.note.empty()) std::cout << read.note << "\n";
@@ -361,7 +361,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
                 const std::string& cover, const std::string& planner, const std::string& out, bool views,
                 const Verbosity& v) {
   const bool structure = structureCover(cover, !surface.empty());
-  io::Config config = config_path.empty() ? io::parseConfig("", "(defaults)") : io::loadConfig(config_path);
+  app::Config config = config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
   if (!planner.empty()) {
     config.planner = planner;
     config.validate("--planner");
@@ -369,7 +369,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   const Scene scene = io::loadScene(scene_path);
   const std::vector<int> ids = structure ? std::vector<int>{} : app::selectSurfaces(scene, surface);
   io::ensureDirectory(out);
-  const io::Config resolved = app::resolveForScene(scene, config).config;
+  const app::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = structure ? app::planStructure(scene, resolved, progressPrinter(v))
                                       : app::plan(scene, resolved, ids, progressPrinter(v));
   auto rendered = renderViewsAsync(views, scene, p.missions,

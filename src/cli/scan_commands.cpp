@@ -12,7 +12,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/raw_log_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/sim/scanner_sim.h"
 
 #include <nlohmann/json.hpp>
@@ -27,7 +27,7 @@ namespace uavip::cli {
 namespace {
 
 int simulateCommand(const std::string& scenario_path, const std::string& out, const Verbosity& v) {
-  const io::Scenario scenario = io::loadScenario(scenario_path);
+  const app::Scenario scenario = app::loadScenario(scenario_path);
   if (scenario.sensing_mode != "scan") {
     throw InputError(scenario_path + ": sensing.mode must be 'scan' to simulate raw scans, got '" +
                      scenario.sensing_mode + "' (mode sample makes a cloud: use `uavip run`)");
@@ -117,7 +117,7 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
                     const std::string& method, const Verbosity& v) {
   app::AssembleOptions options;
   if (!config_path.empty()) {
-    const io::Config config = io::loadConfigOrScenario(config_path);
+    const app::Config config = app::loadConfigOrScenario(config_path);
     options.scan = config.assembly;
     options.registration = config.registration;
   }

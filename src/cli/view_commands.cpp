@@ -1,4 +1,4 @@
-// uavip view: the 3D mission page (io/mission_page.h) for a mission.json and the
+// uavip view: the 3D mission page (view/mission_page.h) for a mission.json and the
 // scene.json beside it, found as `uavip validate` finds it.
 
 #include "src/cli/commands.h"
@@ -6,7 +6,7 @@
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/json_reader.h"
-#include "uavip/io/mission_page.h"
+#include "uavip/view/mission_page.h"
 #include "uavip/io/scene_json.h"
 
 #include <filesystem>
@@ -27,10 +27,10 @@ int viewCommand(const std::string& mission_path, std::string scene_path, std::st
                      " does not exist; give the scene.json the mission was planned on with --scene");
   const Scene scene = io::loadScene(scene_path);
   io::requireDistinctOutputs({mission_path, scene_path}, {out});
-  io::MissionPageOptions options;
+  view::MissionPageOptions options;
   options.title = fs::path(mission_path).parent_path().filename().string();
   options.title = (options.title.empty() ? std::string() : options.title + ": ") + "uavip mission";
-  const std::string page = io::missionPage(scene, &mission, options, mission_path);
+  const std::string page = view::missionPage(scene, &mission, options, mission_path);
   io::writeFileAtomic(out, page);
   if (!v.quiet) std::cout << "view: " << out << " (" << (page.size() + 512 * 1024) / (1024 * 1024) << " MB)\n";
   return kExitOk;

@@ -17,38 +17,6 @@
 
 namespace uavip::planning {
 
-const char* toString(FlightPlan::Status status) {
-  switch (status) {
-    case FlightPlan::Status::Ok: return "ok";
-    case FlightPlan::Status::Empty: return "empty";
-    case FlightPlan::Status::Failed: return "failed";
-  }
-  return "unknown";
-}
-
-double FlightModel::segmentSeconds(const Vec3& a, const Vec3& b) const {
-  const Vec3 d = b - a;
-  const double horizontal = std::hypot(d.x(), d.y()) / cruise_speed_m_s;
-  const double vertical = d.z() >= 0.0 ? d.z() / climb_speed_m_s : -d.z() / descent_speed_m_s;
-  return std::max(horizontal, vertical);
-}
-
-double FlightModel::pathSeconds(const PointList& path) const {
-  double t = 0.0;
-  for (std::size_t i = 1; i < path.size(); ++i) t += segmentSeconds(path[i - 1], path[i]);
-  return t;
-}
-
-void FlightModel::validate(const std::string& where) const {
-  requirePositive(cruise_speed_m_s, where, "cruise_speed_m_s");
-  requirePositive(climb_speed_m_s, where, "climb_speed_m_s");
-  requirePositive(descent_speed_m_s, where, "descent_speed_m_s");
-  require(std::isfinite(hover_s) && hover_s >= 0.0, where, "hover_s must be >= 0 s");
-  require(std::isfinite(settle_s) && settle_s >= 0.0, where, "settle_s must be >= 0 s");
-  requirePositive(endurance_s, where, "endurance_s");
-  require(reserve >= 0.0 && reserve < 1.0, where, "reserve must be in [0, 1) (a share of endurance_s)");
-}
-
 namespace {
 
 /// Cost of a leg no planner could find [m]: keeps the solver away from it.

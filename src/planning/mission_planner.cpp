@@ -7,44 +7,14 @@
 #include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace uavip::planning {
-
-const char* toString(PathStatus status) {
-  switch (status) {
-    case PathStatus::Solved: return "solved";
-    case PathStatus::NoPath: return "no_path";
-    case PathStatus::Timeout: return "timeout";
-    case PathStatus::InvalidStart: return "invalid_start";
-    case PathStatus::InvalidGoal: return "invalid_goal";
-  }
-  return "unknown";
-}
-
-const char* toString(SurfaceStatus status) {
-  switch (status) {
-    case SurfaceStatus::Ok: return "ok";
-    case SurfaceStatus::Partial: return "partial";
-    case SurfaceStatus::Blocked: return "blocked";
-    case SurfaceStatus::NoStops: return "no_stops";
-    case SurfaceStatus::Failed: return "failed";
-  }
-  return "unknown";
-}
-
-const char* toString(StopProblem problem) {
-  switch (problem) {
-    case StopProblem::None: return "none";
-    case StopProblem::GimbalLimit: return "gimbal_limit";
-    case StopProblem::InObstacleSpace: return "in_obstacle_space";
-    case StopProblem::Unreachable: return "unreachable";
-  }
-  return "unknown";
-}
 
 namespace {
 
@@ -213,6 +183,34 @@ std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& gri
   return os.str();
 }
 
+}  // namespace
+
+PointList straightOrDetour(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b) {
+  if (grid.segmentFree(a, b)) return {a, b};
+  const Vec3 d = b - a;
+  const double length = d.norm();
+  if (!(length > 0.0)) return {};
+  Vec3 side = d.cross(Vec3(Vec3::UnitZ()));
+  side = side.norm() > 1e-9 * length ? side.normalized() : Vec3::UnitX();
+  const Vec3 up = side.cross(d).normalized();
+  PointList best;
+  double best_length = std::numeric_limits<double>::infinity();
+  for (const double f : {0.25, 0.5, 1.0}) {
+    for (const Vec3& u : {up, Vec3(-up), side, Vec3(-side)}) {
+      const Vec3 m = 0.5 * (a + b) + f * length * u;
+      const double l = (m - a).norm() + (b - m).norm();
+      if (l < best_length && grid.isFree(m) && grid.segmentFree(a, m) && grid.segmentFree(m, b)) {
+        best = {a, m, b};
+        best_length = l;
+      }
+    }
+    if (!best.empty()) return best;  // the nearest offset that works
+  }
+  return best;
+}
+
+namespace {
+
 /// Legs start → stop 0 (if given), then usable stop → next usable stop, each planned
 /// on the grid; fills m.legs, m.raw_path and m.waypoints. On a failed leg: status
 /// Failed with its reason, no waypoints, and false.
@@ -233,9 +231,10 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
   m.waypoints.push_back(points.front());
   for (std::size_t k = 0; k + 1 < points.size(); ++k) {
     PathResult r;
-    if (options.direct_legs && grid.segmentFree(points[k], points[k + 1])) {
+    PointList direct = options.direct_legs ? straightOrDetour(grid, points[k], points[k + 1]) : PointList{};
+    if (!direct.empty()) {
       r.status = PathStatus::Solved;
-      r.path = {points[k], points[k + 1]};
+      r.path = std::move(direct);
     } else {
       r = planner.plan(grid, points[k], points[k + 1]);
     }

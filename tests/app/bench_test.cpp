@@ -5,7 +5,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "planners/harness.h"
 
 #include <gtest/gtest.h>
@@ -73,7 +73,7 @@ BenchOptions smallOptions() {
 
 /// One benchmark shared by the tests (it is the slow part).
 const BenchResult& sharedResult() {
-  static const BenchResult r = runBench({io::parseScenario(kScenario, "bench_test.yaml")}, smallOptions());
+  static const BenchResult r = runBench({app::parseScenario(kScenario, "bench_test.yaml")}, smallOptions());
   return r;
 }
 
@@ -209,12 +209,12 @@ TEST(Bench, BadOptionsAndBenchSectionsAreRejected) {
   o.time_limit_s = 0.0;
   EXPECT_THROW(o.validate(), InputError);
   const std::string base = "name: x\nworld: [{type: point, at: [0, 0, 0]}]\nsensing: {mode: sample}\n";
-  EXPECT_EQ(io::parseScenario(base + "bench: {legs: [[[0, 0, 1], [1, 2, 3]]]}\n", "x.yaml").bench.legs.size(), 1u);
-  EXPECT_THROW(io::parseScenario(base + "bench: {legs: [[[0, 0, 1]]]}\n", "x.yaml"), InputError);
-  EXPECT_THROW(io::parseScenario(base + "bench: {legs: [[[0, 0], [1, 2, 3]]]}\n", "x.yaml"), InputError);
-  EXPECT_THROW(io::parseScenario(base + "bench: {max_legs: 0}\n", "x.yaml"), InputError);
-  EXPECT_THROW(io::parseScenario(base + "bench: {leg: []}\n", "x.yaml"), InputError);
-  EXPECT_THROW(io::parseScenario(base + "planner: {time_limit_s: -1}\n", "x.yaml"), InputError);
+  EXPECT_EQ(app::parseScenario(base + "bench: {legs: [[[0, 0, 1], [1, 2, 3]]]}\n", "x.yaml").bench.legs.size(), 1u);
+  EXPECT_THROW(app::parseScenario(base + "bench: {legs: [[[0, 0, 1]]]}\n", "x.yaml"), InputError);
+  EXPECT_THROW(app::parseScenario(base + "bench: {legs: [[[0, 0], [1, 2, 3]]]}\n", "x.yaml"), InputError);
+  EXPECT_THROW(app::parseScenario(base + "bench: {max_legs: 0}\n", "x.yaml"), InputError);
+  EXPECT_THROW(app::parseScenario(base + "bench: {leg: []}\n", "x.yaml"), InputError);
+  EXPECT_THROW(app::parseScenario(base + "planner: {time_limit_s: -1}\n", "x.yaml"), InputError);
 }
 
 TEST(Bench, CommandLineWritesLogCsvMarkdownAndPlot) {

@@ -3,7 +3,7 @@
 // values set in the YAML always winning.
 
 #include "uavip/app/config.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/preprocess/cloud_stats.h"
 
 #include <gtest/gtest.h>
@@ -53,7 +53,7 @@ TEST(CloudStats, DuplicatesDoNotMakeTheSpacingZero) {
 
 TEST(ResolveConfig, DenseScanGivesThePapersValues) {
   CloudStats stats = preprocess::measureCloud(lattice(10.0, 10.0, 0.02, 0.002));
-  const ResolvedConfig r = resolveConfig(io::parseConfig("", "cfg"), stats);
+  const ResolvedConfig r = resolveConfig(app::parseConfig("", "cfg"), stats);
   EXPECT_DOUBLE_EQ(r.config.preprocess.voxel_m, 0.05);
   EXPECT_DOUBLE_EQ(r.config.perception.planes.distance_threshold_m, 0.2);
   EXPECT_EQ(r.config.perception.planes.max_iterations, 200);
@@ -67,7 +67,7 @@ TEST(ResolveConfig, DenseScanGivesThePapersValues) {
 
 TEST(ResolveConfig, SparseCloudScalesWithItsSpacing) {
   CloudStats stats = preprocess::measureCloud(lattice(40.0, 40.0, 0.5, 0.01));
-  const ResolvedConfig r = resolveConfig(io::parseConfig("", "cfg"), stats);
+  const ResolvedConfig r = resolveConfig(app::parseConfig("", "cfg"), stats);
   const double s = stats.spacing_m;
   EXPECT_NEAR(r.config.preprocess.voxel_m, s, 0.001);
   EXPECT_NEAR(r.config.perception.planes.cluster_tolerance_m, 3.0 * s, 0.005);  // voxel rounded up to mm
@@ -79,7 +79,7 @@ TEST(ResolveConfig, SparseCloudScalesWithItsSpacing) {
 
 TEST(ResolveConfig, ValuesSetInTheFileWin) {
   CloudStats stats = preprocess::measureCloud(lattice(40.0, 40.0, 0.5, 0.01));
-  const io::Config c = io::parseConfig(
+  const app::Config c = app::parseConfig(
       "preprocess: {voxel_m: 0.07}\nperception: {distance_threshold_m: 0.15, obstacle_tolerance_m: 0.4}\n", "cfg");
   const ResolvedConfig r = resolveConfig(c, stats);
   EXPECT_DOUBLE_EQ(r.config.preprocess.voxel_m, 0.07);
@@ -96,10 +96,10 @@ TEST(ResolveConfig, ValuesSetInTheFileWin) {
 
 TEST(ResolveConfig, LargeStructureWithoutACameraGetsAnInspectionCamera) {
   CloudStats stats = preprocess::measureCloud(lattice(60.0, 10.0, 0.5, 0.0));
-  const ResolvedConfig big = resolveConfig(io::parseConfig("", "cfg"), stats);
+  const ResolvedConfig big = resolveConfig(app::parseConfig("", "cfg"), stats);
   EXPECT_TRUE(big.config.coverage.camera.from_sensor);
   EXPECT_DOUBLE_EQ(big.config.coverage.camera.gsd_mm_per_px, 2.0);
-  const ResolvedConfig own = resolveConfig(io::parseConfig("camera: {footprint_m: [1.0, 0.8]}\n", "cfg"), stats);
+  const ResolvedConfig own = resolveConfig(app::parseConfig("camera: {footprint_m: [1.0, 0.8]}\n", "cfg"), stats);
   EXPECT_FALSE(own.config.coverage.camera.from_sensor);
   EXPECT_DOUBLE_EQ(own.config.coverage.camera.footprint_w_m, 1.0);
 }
@@ -108,7 +108,7 @@ TEST(ResolveConfig, SiteGridStaysWithinTheMemoryGuard) {
   CloudStats stats;
   stats.spacing_m = 0.5;
   stats.extent_m = Vec3(1000.0, 1000.0, 60.0);  // a 1 km tile
-  const ResolvedConfig r = resolveConfig(io::parseConfig("", "cfg"), stats);
+  const ResolvedConfig r = resolveConfig(app::parseConfig("", "cfg"), stats);
   const Vec3 span = stats.extent_m + Vec3::Constant(2.0 * r.config.grid.padding_m);
   const double voxels = span.prod() / std::pow(r.config.grid.resolution_m, 3);
   EXPECT_LE(voxels, static_cast<double>(r.config.grid.max_voxels) / 4.0 * 1.01);

@@ -21,7 +21,7 @@ namespace {
 const std::string kData = std::string(UAVIP_SOURCE_DIR) + "/tests/data/";
 
 DetectResult detectWithDefaults(const PointList& raw) {
-  return detect(raw, io::parseConfig("", "(defaults)"), measure(raw));
+  return detect(raw, app::parseConfig("", "(defaults)"), measure(raw));
 }
 
 TEST(RealData, MarinaBaySandsFacadesFaceOutAndLevelSurfacesFaceUp) {

@@ -8,7 +8,7 @@
 #include "uavip/app/pipeline.h"
 #include "uavip/core/geometry.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
@@ -71,13 +71,13 @@ struct Flown {
   double inflation_m{0.0};
 };
 
-Flown flyAll(const Scene& scene, const io::Config& config) {
-  const io::Config resolved = resolveForScene(scene, config).config;
+Flown flyAll(const Scene& scene, const app::Config& config) {
+  const app::Config resolved = resolveForScene(scene, config).config;
   return {plan(scene, resolved, selectSurfaces(scene, "all")), resolved.uav.inflationRadius()};
 }
 
 /// The flight over every surface of a cloud file detected with defaults.
-Flown flyCloud(const PointList& raw, const io::Config& config) {
+Flown flyCloud(const PointList& raw, const app::Config& config) {
   const DetectResult d = detect(raw, config, measure(raw));
   return flyAll(d.scene, config);
 }
@@ -103,7 +103,7 @@ void PrintTo(const RealCase& c, std::ostream* os) { *os << c.file << (c.config.e
 class RealCloud : public ::testing::TestWithParam<RealCase> {};
 
 TEST_P(RealCloud, TheFlightKeepsTheInflationRadiusFromEveryInputPoint) {
-  const io::Config config = io::parseConfig(GetParam().config, "(test config)");
+  const app::Config config = app::parseConfig(GetParam().config, "(test config)");
   const PointList raw = io::loadCloud(kData + GetParam().file, config.input);
   expectClear(GetParam().file, flyCloud(raw, config), raw);
 }
@@ -124,7 +124,7 @@ class DenserCloud : public ::testing::TestWithParam<std::pair<std::string, std::
 // A sparse cloud samples its surfaces every few decimetres; the true surface lies
 // between the points. The same model's denser cloud shows where it is.
 TEST_P(DenserCloud, AFlightPlannedOnTheSparseCloudKeepsClearOfTheDenseOne) {
-  const io::Config defaults = io::parseConfig("", "(defaults)");
+  const app::Config defaults = app::parseConfig("", "(defaults)");
   const PointList sparse = io::loadCloud(kData + GetParam().first);
   const PointList dense = io::loadCloud(kData + GetParam().second);
   expectClear(GetParam().first + " vs " + GetParam().second, flyCloud(sparse, defaults), dense);
@@ -141,10 +141,10 @@ class ScenarioCloud : public ::testing::TestWithParam<std::string> {};
 // The paper's hypothetical cases and the bridge: the sensed cloud (before stage 3)
 // is the input.
 TEST_P(ScenarioCloud, TheFlightKeepsTheInflationRadiusFromEverySensedPoint) {
-  const io::Scenario scenario = io::loadScenario(kScenarios + GetParam() + ".yaml");
+  const app::Scenario scenario = app::loadScenario(kScenarios + GetParam() + ".yaml");
   const PointList raw = sense(scenario);
   const DetectResult d = detect(raw, scenario.config, measure(raw, &scenario));
-  const io::Config resolved = d.resolved.config;
+  const app::Config resolved = d.resolved.config;
   const Flown f{plan(d.scene, resolved, selectSurfaces(d.scene, "all")), resolved.uav.inflationRadius()};
   if (d.scene.surfaces.empty() || GetParam() == "cube_crossed_planes") {
     // Nothing to fly (the point, the line) or nothing flyable (the crossed planes, as the paper says).

@@ -6,7 +6,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/io/cloud_io.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include <gtest/gtest.h>
 
@@ -19,13 +19,13 @@ namespace uavip::app {
 namespace {
 
 struct Outcome {
-  io::Scenario scenario;
+  app::Scenario scenario;
   DetectResult detected;
   PlanResult planned;
 };
 
 Outcome runScenario(const std::string& file) {
-  Outcome o{io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + file), {}, {}};
+  Outcome o{app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + file), {}, {}};
   const PointList raw = sense(o.scenario);
   o.detected = detect(raw, o.scenario.config, measure(raw, &o.scenario));
   o.planned = plan(o.detected.scene, o.detected.resolved.config, selectSurfaces(o.detected.scene, "all"));
@@ -163,7 +163,7 @@ TEST(PaperCases, CrossedPlanesWithStopRepairFlyOnlyValidatedPaths) {
   // Beyond the paper: repair moves the stops that sit in the inflated space to
   // tilted or farther poses that still see their photo centre. Whatever it makes
   // flyable must pass the FCL validator, and every moved stop must be free.
-  io::Scenario sc = io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/cube_crossed_planes.yaml");
+  app::Scenario sc = app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/cube_crossed_planes.yaml");
   sc.config.mission.repair_stops = true;
   const PointList raw = sense(sc);
   const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
@@ -183,7 +183,7 @@ TEST(RealDataCases, WallOnTheGroundIsFlownAfterStopRepair) {
   // The wall's lowest rows sit in the ground's inflated space. The wall is found by
   // its vertical normal; coverage is checked by the evaluator against the wall's
   // own points, and the flown path against every measured point by brute force.
-  io::Scenario sc = io::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_on_ground.yaml");
+  app::Scenario sc = app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_on_ground.yaml");
   for (const bool repair : {false, true}) {
     SCOPED_TRACE(repair ? "with repair" : "without repair");
     sc.config.mission.repair_stops = repair;
@@ -232,7 +232,7 @@ TEST(PaperCases, CrossedPlanesBlockEverySurface) {
 TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
   for (const auto& entry : std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
-    const io::Scenario sc = io::loadScenario(entry.path().string());
+    const app::Scenario sc = app::loadScenario(entry.path().string());
     if (!sc.expect.surfaces && !sc.expect.status && !sc.expect.min_surface_area_m2) continue;
     SCOPED_TRACE(entry.path().filename().string());
     const Outcome o = runScenario(entry.path().filename().string());
@@ -269,7 +269,7 @@ TEST(PaperCases, SurfaceSelectionNamesValidIds) {
 }
 
 TEST(RealData, RoomScanGivesHorizontalAndVerticalSurfaces) {
-  io::Config config = io::parseConfig("preprocess: {voxel_m: 0.05}\nperception: {min_area_m2: 2.0}\n", "cfg");
+  app::Config config = app::parseConfig("preprocess: {voxel_m: 0.05}\nperception: {min_area_m2: 2.0}\n", "cfg");
   const PointList raw = io::loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
   const DetectResult d = detect(raw, config, measure(raw));
   ASSERT_GE(d.scene.surfaces.size(), 3u);

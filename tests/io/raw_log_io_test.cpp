@@ -12,7 +12,6 @@
 #include <sstream>
 
 #include "uavip/core/error.h"
-#include "uavip/io/scenario.h"
 #include "uavip/sim/scanner_sim.h"
 
 namespace uavip::io {
@@ -277,61 +276,6 @@ TEST_F(RawLogIo, MissingStationFile) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("station_0_imu.csv"), std::string::npos) << e.what();
   }
-}
-
-TEST(Scenario, ScanModeIsParsedStrictly) {
-  const std::string base = R"(
-name: s
-world:
-  - {type: box, min: [0, 0, 0], max: [1, 1, 1]}
-  - {type: tree, name: t, at: [5, 5, 0], crown_boxes: 4, seed: 3}
-  - {type: grass, name: g, center: [-3, 0, 0], size_m: [2, 1], tufts: 5}
-sensing:
-  mode: scan
-  stations: [[3, 0, 0.5], [-3, 2, 0.5]]
-  yaw_rate_deg_s: 45
-  range_noise_m: 0.02
-  imu_rate_hz: 2000
-  imu_error_deg: 0.4
-  wind_step_m: 0.001
-  gps_sigma_m: 0.3
-  seed: 9
-)";
-  const Scenario s = parseScenario(base, "s.yaml");
-  EXPECT_EQ(s.sensing_mode, "scan");
-  ASSERT_EQ(s.scan.stations.size(), 2u);
-  EXPECT_EQ(s.scan.stations[1], Vec3(-3, 2, 0.5));
-  EXPECT_DOUBLE_EQ(s.scan.yaw_rate_deg_s, 45.0);
-  EXPECT_DOUBLE_EQ(s.scan.scanner.range_noise_m, 0.02);
-  EXPECT_DOUBLE_EQ(s.scan.imu_rate_hz, 2000.0);
-  EXPECT_DOUBLE_EQ(s.scan.imu_error_deg, 0.4);
-  EXPECT_DOUBLE_EQ(s.scan.wind_step_m, 0.001);
-  EXPECT_DOUBLE_EQ(s.scan.gps_sigma_m, 0.3);
-  EXPECT_EQ(s.scan.seed, 9u);
-  EXPECT_EQ(s.world.rects().size(), 6u + 6u * 5u + 6u * 5u);  // box, tree (trunk + 4), grass (5)
-  // Stages 3-7 run in scenario coordinates: the stations are the viewpoints as given,
-  // and they scanned the cloud (stage 4 orients normals by their line of sight).
-  EXPECT_EQ(s.config.perception.planes.viewpoint, s.scan.stations[0]);
-  ASSERT_EQ(s.config.perception.planes.extra_viewpoints.size(), 2u);
-  EXPECT_EQ(s.config.perception.planes.extra_viewpoints[1], Vec3(-3, 2, 0.5));
-  EXPECT_TRUE(s.config.perception.planes.viewpoints_scanned);
-
-  auto expectError = [](const std::string& text, const std::string& fragment) {
-    try {
-      parseScenario(text, "s.yaml");
-      ADD_FAILURE() << "expected an error with " << fragment;
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      EXPECT_EQ(msg.find('\n'), std::string::npos);
-      EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
-    }
-  };
-  expectError(base + "  spacing_m: 0.05\n", "sensing.spacing_m is not a known key");
-  expectError(base + "  yaw_rat_deg_s: 3\n", "yaw_rat_deg_s");
-  expectError(std::regex_replace(base, std::regex("stations: .*"), "stations: [[1, 2]]"), "sensing.stations[0]");
-  expectError(std::regex_replace(base, std::regex("imu_rate_hz: 2000"), "imu_rate_hz: -5"), "imu_rate_hz");
-  expectError(std::regex_replace(base, std::regex("tufts: 5"), "tufts: 0"), "tufts");
-  expectError(std::regex_replace(base, std::regex("mode: scan"), "mode: lidar"), "supported: sample, scan");
 }
 
 }  // namespace

@@ -82,7 +82,7 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options = {}, 
 /// Sensing mode `scan` for `uavip run`: simulate the scenario's raw scans
 /// (sim::simulateScans), assemble them, and return the merged cloud shifted back
 /// into scenario coordinates, with the scenario's `assembly:` and `registration:`
-/// options (io::Config). The report is scored against the scenario's world.
-AssembleResult senseScans(const io::Scenario& scenario, const Progress& progress = {});
+/// options (app::Config). The report is scored against the scenario's world.
+AssembleResult senseScans(const app::Scenario& scenario, const Progress& progress = {});
 
 }  // namespace uavip::app

@@ -6,11 +6,11 @@
 /// surface, the inflated grid over the cloud, the stops and the legs; then every leg
 /// with every planner `runs` times, then the statistics (app/bench_stats.h). The
 /// records and their four report formats (OMPL log, CSV, Markdown, plot) are owned
-/// by io/bench_report.h. Nothing here prints.
+/// by app/bench_report.h. Nothing here prints.
 
 #include "uavip/app/pipeline.h"
-#include "uavip/io/bench_report.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/bench_report.h"
+#include "uavip/app/scenario.h"
 #include "planners/registry.h"
 
 #include <cstddef>
@@ -20,13 +20,13 @@
 
 namespace uavip::app {
 
-// The records and report writers live in io/bench_report.h (their one owner).
-using io::BenchLeg;
-using io::BenchOptions;
-using io::BenchResult;
-using io::BenchRun;
-using io::PlannerSummary;
-using io::TargetCheck;
+// The records and report writers live in app/bench_report.h (their one owner).
+using app::BenchLeg;
+using app::BenchOptions;
+using app::BenchResult;
+using app::BenchRun;
+using app::PlannerSummary;
+using app::TargetCheck;
 
 /// Each surface's photo-stop positions (stage 6, planFlightStrategy), in scene order
 /// [m]: what sampleLegs draws its legs between.
@@ -41,7 +41,7 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
                                               int max_legs, std::uint32_t seed);
 
 /// Runs the benchmark. Throws InputError for bad options or scenarios.
-BenchResult runBench(const std::vector<io::Scenario>& scenarios, const BenchOptions& options,
+BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOptions& options,
                      const Progress& progress = {});
 
 }  // namespace uavip::app

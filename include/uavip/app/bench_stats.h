@@ -2,9 +2,9 @@
 /// \file
 /// Statistics of `uavip bench` runs: per-planner summaries (success, medians, ratios
 /// to the best planner and to the paper's A* leg by leg) and the issue-4 target check.
-/// Pure functions of the runs; app/bench.h calls them, io/bench_report.h writes them.
+/// Pure functions of the runs; app/bench.h calls them, app/bench_report.h writes them.
 
-#include "uavip/io/bench_report.h"
+#include "uavip/app/bench_report.h"
 
 #include <optional>
 #include <string>
@@ -15,12 +15,12 @@ namespace uavip::app {
 /// One summary per planner of `planners` (in that order) over `runs`, labelled
 /// `scenario`. Lengths and times are those of solved runs; ratios are medians over
 /// legs of per-leg median lengths (nan when no leg is comparable).
-std::vector<io::PlannerSummary> summarise(const std::string& scenario, const std::vector<io::BenchRun>& runs,
+std::vector<app::PlannerSummary> summarise(const std::string& scenario, const std::vector<app::BenchRun>& runs,
                                           const std::vector<std::string>& planners);
 
 /// Our best A* against the best OMPL planner on one scenario; nullopt unless both
 /// sides solved at least one run.
-std::optional<io::TargetCheck> checkTarget(const std::string& scenario, const std::vector<io::BenchRun>& runs,
-                                           const std::vector<io::PlannerSummary>& summary);
+std::optional<app::TargetCheck> checkTarget(const std::string& scenario, const std::vector<app::BenchRun>& runs,
+                                           const std::vector<app::PlannerSummary>& summary);
 
 }  // namespace uavip::app

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Where every parameter is resolved. A config (io/scenario.h: the YAML's sections
+/// Where every parameter is resolved. A config (app/scenario.h: the YAML's sections
 /// with the paper's values as defaults) says which keys the user set; every other
 /// key marked `auto` below follows the measured cloud (preprocess/cloud_stats.h).
 /// A value set in the YAML always wins. On a dense scan (spacing ≤ 5 cm, noise
@@ -35,7 +35,7 @@
 /// Derived, never set directly: the area cell from the sensing spacing of a
 /// synthetic scenario (a lattice), grid inflation from the UAV.
 
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/preprocess/cloud_stats.h"
 
 #include <string>
@@ -52,7 +52,7 @@ struct ResolvedValue {
 
 /// The config every stage runs with, and how each auto value was chosen.
 struct ResolvedConfig {
-  io::Config config;
+  app::Config config;
   std::vector<ResolvedValue> values;
 };
 
@@ -62,6 +62,6 @@ double autoGridResolution(const Vec3& extent_m, const world::GridOptions& grid);
 
 /// Applies the rules above to every auto key the user did not set; validates the
 /// result (InputError naming the key). Pure: the same inputs give the same config.
-ResolvedConfig resolveConfig(const io::Config& config, const preprocess::CloudStats& stats);
+ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudStats& stats);
 
 }  // namespace uavip::app

@@ -6,7 +6,7 @@
 /// these; nothing here prints.
 
 #include "uavip/app/config.h"
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 #include "uavip/preprocess/cloud_stats.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
@@ -84,29 +84,29 @@ using CloudIndex = std::shared_ptr<const preprocess::NeighbourIndex>;
 /// sampling is used: mode sample gives the lattice spacing, mode scan a lattice
 /// after the voxel grid. `index`, if given, receives the kd-tree built on the way
 /// (null for fewer than 2 points). Throws InputError for a non-finite point.
-preprocess::CloudStats measure(const PointList& raw, const io::Scenario* scenario = nullptr,
+preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenario = nullptr,
                                CloudIndex* index = nullptr);
 /// Runs stages 3–5 with the config resolved for `cloud` (app/config.h); `index`
 /// (from measure() on this very `raw`) spares stage 3 building its own. Throws
 /// InputError for an empty cloud or non-finite points.
-DetectResult detect(const PointList& raw, const io::Config& config, const preprocess::CloudStats& cloud,
+DetectResult detect(const PointList& raw, const app::Config& config, const preprocess::CloudStats& cloud,
                     const Progress& progress = {}, const CloudIndex& index = nullptr);
 
 /// The config resolved for a scene read back from scene.json: with the cloud
 /// numbers it was detected with (scene.measured), else measured on its points.
-ResolvedConfig resolveForScene(const Scene& scene, const io::Config& config);
+ResolvedConfig resolveForScene(const Scene& scene, const app::Config& config);
 /// The distance planning and its validator keep from the scene's points, surfaces and
 /// obstacles [m]: the UAV's inflation radius, plus (when the scene has a safety cloud)
 /// its thinning margin and safety.sparse_factor × the measured spacing
 /// (preprocess/safety_cloud.h). A flight that keeps it from the safety cloud keeps the
 /// inflation radius from every input point.
-double safetyClearance(const Scene& scene, const io::Config& config);
+double safetyClearance(const Scene& scene, const app::Config& config);
 /// Parses a surface selection: "all", an id, or a list of ids "0,3,5"; throws
 /// InputError naming the valid ids when an id does not exist or is listed twice.
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);
 
 /// Runs stages 6–7 for the given surface ids (each must exist).
-PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<int>& surface_ids,
+PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress = {});
 
 /// Structure coverage (coverage/structure_views.h): photos of every part of the
@@ -117,11 +117,11 @@ PlanResult plan(const Scene& scene, const io::Config& config, const std::vector<
 /// distance: coverage.standoff_m when set, else the one the camera's GSD implies.
 /// Throws InputError for a bad camera or a viewing distance inside the clearance.
 /// A structure with no free viewpoint gives a mission with status blocked.
-PlanResult planStructure(const Scene& scene, const io::Config& config, const Progress& progress = {});
+PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress = {});
 
 /// Senses the scenario's world: mode `sample` samples its surfaces; mode `scan`
 /// simulates the raw scans and runs stages 1–2 on them (app/assemble.h, senseScans),
 /// returning the merged cloud in scenario coordinates.
-PointList sense(const io::Scenario& scenario);
+PointList sense(const app::Scenario& scenario);
 
 }  // namespace uavip::app

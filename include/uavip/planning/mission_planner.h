@@ -53,8 +53,9 @@ struct MissionOptions {
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
   coverage::GimbalLimits gimbal;     ///< pitch limits a repaired stop must respect (the camera's)
-  /// Fly a leg straight when its segment crosses free voxels only, and ask the
-  /// planner only for the others (structure coverage: most legs are short hops).
+  /// Fly a leg straight when its segment crosses free voxels only, or through one
+  /// point beside its midpoint when both halves do, and ask the planner only for the
+  /// others (structure coverage: most legs are short hops).
   bool direct_legs{false};
 };
 
@@ -97,6 +98,12 @@ struct SurfaceMission {
   ValidationResult validation;
   double seconds{0.0};                    ///< wall time of stage 7 for this surface
 };
+
+/// A leg of one or two straight segments on free voxels: the direct segment, else a
+/// detour through one point beside the midpoint (up, down or to either side, offset
+/// by ¼, ½ or 1 × the leg's length; the nearest offset that works, the shorter
+/// direction). Empty when none is free: then a planner must search.
+PointList straightOrDetour(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b);
 
 /// Plans the mission of one surface with the given strategy. Stops in the inflated
 /// obstacle space, outside the gimbal limits, or not 26-connected to the first

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// A small 2D drawing module on Cairo, shared by the mission overview picture
-/// (io/views.h) and the benchmark plots. It knows nothing of missions or scenes.
+/// (view/views.h) and the benchmark plots. It knows nothing of missions or scenes.
 ///
 /// Model (retained mode): a Figure is a canvas of width × height pixels holding
 /// Panels and free text. A Panel is a rectangle of the canvas with a data frame

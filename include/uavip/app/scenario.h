@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::app {
 
 /// The UAV (paper §III: 0.6 × 0.6 × 0.4 m).
 struct UavConfig {
@@ -40,7 +40,7 @@ struct UavConfig {
 /// config of `uavip detect`, `uavip plan` and `uavip assemble`).
 struct Config {
   /// How `uavip detect` reads the cloud file, section `input:`.
-  CloudReadOptions input;
+  io::CloudReadOptions input;
   /// Stage 1 (paper §II-A), section `assembly:`; used with sensing mode `scan` only.
   scan::AssemblerOptions assembly;
   /// Stage 2 (paper §II-B), section `registration:`; used with sensing mode `scan` only.
@@ -112,4 +112,4 @@ Config parseConfig(const std::string& yaml_text, const std::string& path);
 /// `world` key: its config part) or a config file. Throws InputError on any problem.
 Config loadConfigOrScenario(const std::string& path);
 
-}  // namespace uavip::io
+}  // namespace uavip::app

@@ -1,8 +1,8 @@
-// The mission page (io/mission_page.h) on a hand-made scene and mission: the counts it
+// The mission page (view/mission_page.h) on a hand-made scene and mission: the counts it
 // embeds, the quantised positions decoded back against the inputs, the scripts kept
 // whole, determinism and bad input.
 
-#include "uavip/io/mission_page.h"
+#include "uavip/view/mission_page.h"
 
 #include "uavip/core/error.h"
 #include "uavip/io/mission_json.h"
@@ -17,7 +17,7 @@
 
 namespace {
 
-namespace io = uavip::io;
+namespace view = uavip::view;
 namespace planning = uavip::planning;
 using uavip::Vec3;
 
@@ -132,7 +132,7 @@ std::vector<Vec3> decodePositions(const nlohmann::json& data, const std::string&
 
 TEST(MissionPage, EmbedsTheMissionCounts) {
   const Fixture f;
-  const std::string html = io::missionPage(f.scene, f.missions, &f.flight);
+  const std::string html = view::missionPage(f.scene, f.missions, &f.flight);
   const nlohmann::json summary = block(html, "uavip-summary");
   ASSERT_TRUE(summary.is_object());
   EXPECT_EQ(summary["photos"], 3);  // every stop, flown or not
@@ -150,7 +150,7 @@ TEST(MissionPage, EmbedsTheMissionCounts) {
 
 TEST(MissionPage, QuantisedPositionsDecodeToTheInputs) {
   const Fixture f;
-  const std::string html = io::missionPage(f.scene, f.missions, &f.flight);
+  const std::string html = view::missionPage(f.scene, f.missions, &f.flight);
   const nlohmann::json data = block(html, "uavip-data");
   ASSERT_TRUE(data.is_object());
   const auto cloud = decodePositions(data, data["cloud"]["pos"].get<std::string>());
@@ -178,20 +178,20 @@ TEST(MissionPage, QuantisedPositionsDecodeToTheInputs) {
 TEST(MissionPage, ScriptsStayWholeAndOutputIsDeterministic) {
   Fixture f;
   f.scene.surfaces[0].id = 0;
-  io::MissionPageOptions o;
+  view::MissionPageOptions o;
   o.title = "a </script><b> title";
-  const std::string html = io::missionPage(f.scene, f.missions, &f.flight, o);
+  const std::string html = view::missionPage(f.scene, f.missions, &f.flight, o);
   // Four script elements: summary, data, three.js, the page; a title cannot close one.
   std::size_t closes = 0;
   for (auto at = html.find("</script>"); at != std::string::npos; at = html.find("</script>", at + 1)) ++closes;
   EXPECT_EQ(closes, 4u);
   EXPECT_NE(html.find("<title>a &lt;/script&gt;&lt;b&gt; title</title>"), std::string::npos);
-  EXPECT_EQ(html, io::missionPage(f.scene, f.missions, &f.flight, o));
+  EXPECT_EQ(html, view::missionPage(f.scene, f.missions, &f.flight, o));
 }
 
 TEST(MissionPage, SceneAloneHasNoFlight) {
   const Fixture f;
-  const std::string html = io::missionPage(f.scene, nullptr);
+  const std::string html = view::missionPage(f.scene, nullptr);
   const nlohmann::json summary = block(html, "uavip-summary");
   EXPECT_EQ(summary["photos"], 0);
   EXPECT_EQ(summary["sorties"], 0);
@@ -200,15 +200,15 @@ TEST(MissionPage, SceneAloneHasNoFlight) {
 
 TEST(MissionPage, DecimatesTheCloudEvenly) {
   const Fixture f;
-  io::MissionPageOptions o;
+  view::MissionPageOptions o;
   o.max_cloud_points = 30;
-  const nlohmann::json summary = block(io::missionPage(f.scene, f.missions, &f.flight, o), "uavip-summary");
+  const nlohmann::json summary = block(view::missionPage(f.scene, f.missions, &f.flight, o), "uavip-summary");
   EXPECT_EQ(summary["cloud_points_drawn"], 30);  // every 3rd of 89
 }
 
 TEST(MissionPage, EmptySceneGivesAnEmptyPage) {
   const uavip::Scene empty;
-  const std::string html = io::missionPage(empty, nullptr);
+  const std::string html = view::missionPage(empty, nullptr);
   const nlohmann::json summary = block(html, "uavip-summary");
   EXPECT_EQ(summary["cloud_points"], 0);
   EXPECT_EQ(summary["photos"], 0);
@@ -218,12 +218,12 @@ TEST(MissionPage, BadInputIsNamed) {
   const Fixture g;
   nlohmann::json bad = {{"surfaces", "none"}};
   try {
-    (void)io::missionPage(g.scene, &bad, {}, "x/mission.json");
+    (void)view::missionPage(g.scene, &bad, {}, "x/mission.json");
     FAIL() << "no error for a mission without surfaces";
   } catch (const uavip::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("x/mission.json"), std::string::npos) << e.what();
   }
-  io::MissionPageOptions o;
+  view::MissionPageOptions o;
   o.max_cloud_points = 0;
   EXPECT_THROW(o.validate(), uavip::InputError);
 }

@@ -1,9 +1,9 @@
-#include "uavip/io/views.h"
+#include "uavip/view/views.h"
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
-#include "uavip/io/mission_page.h"
+#include "uavip/view/mission_page.h"
 
 #include <algorithm>
 #include <array>
@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::view {
 namespace {
 
 using render::Color;
@@ -504,7 +504,7 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
   } catch (const std::system_error&) {
     ply = std::async(std::launch::deferred, [&] { return sceneToPly(scene, missions); });
   }
-  // The 3D page (io/mission_page.h) on a third; detect's scene alone has no mission.
+  // The 3D page (view/mission_page.h) on a third; detect's scene alone has no mission.
   std::future<std::string> html;
   auto page = [&] {
     MissionPageOptions page_options;
@@ -527,7 +527,7 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
   return {ply.get(), pathsToObj(missions, flight), std::move(png), html.get()};
 }
 
-void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views) {
+void stageViews(io::StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views) {
   namespace fs = std::filesystem;
   outputs.write((fs::path(out_dir) / "scene.ply").string(), views.ply);
   outputs.write((fs::path(out_dir) / "path.obj").string(), views.obj);
@@ -535,10 +535,10 @@ void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFi
   outputs.write((fs::path(out_dir) / "mission.html").string(), views.html);
 }
 
-void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
+void writeViews(io::StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
                 const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options,
                 const planning::FlightPlan* flight) {
   stageViews(outputs, out_dir, renderViews(scene, missions, options, flight));
 }
 
-}  // namespace uavip::io
+}  // namespace uavip::view

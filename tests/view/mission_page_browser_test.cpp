@@ -8,7 +8,7 @@
 #include "tests/cli/cli_runner.h"
 
 #include "uavip/io/scene_json.h"
-#include "uavip/io/views.h"
+#include "uavip/view/views.h"
 
 #include <cairo.h>
 #include <gtest/gtest.h>
@@ -32,6 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace io = uavip::io;
+namespace view = uavip::view;
 using uavip::Vec3;
 using uavip::cli_test::Result;
 using uavip::cli_test::slurp;
@@ -278,16 +279,16 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   const std::size_t stride = data["cloud"]["stride"].get<std::size_t>();
   std::map<std::array<double, 3>, std::uint32_t> colour;
   for (const auto& s : scene.surfaces)
-    for (const auto& p : s.inliers) colour[{p.x(), p.y(), p.z()}] = rgb(io::surfaceColor(s.id));
+    for (const auto& p : s.inliers) colour[{p.x(), p.y(), p.z()}] = rgb(view::surfaceColor(s.id));
   for (const auto& o : scene.obstacles)
-    for (const auto& p : o.points) colour[{p.x(), p.y(), p.z()}] = rgb(io::kObstacleColor);
+    for (const auto& p : o.points) colour[{p.x(), p.y(), p.z()}] = rgb(view::kObstacleColor);
   std::vector<double> depth(img.px.size(), 2.0);
   std::vector<std::uint32_t> expected(img.px.size(), 0xffffffff);
   for (std::size_t i = 0; i < scene.cloud.size(); i += stride) {
     const Vec3& p = scene.cloud[i];
     const auto s = proj(p);
     const auto c = colour.find({p.x(), p.y(), p.z()});
-    const std::uint32_t col = c == colour.end() ? rgb(io::kCloudColor) : c->second;
+    const std::uint32_t col = c == colour.end() ? rgb(view::kCloudColor) : c->second;
     // The page draws each point as a square about 1.5 point spacings wide: splat it
     // over 7 × 7 px (gaps between points then do not count as cloud-free).
     for (int dy = -3; dy <= 3; ++dy)

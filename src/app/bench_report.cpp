@@ -1,4 +1,4 @@
-#include "uavip/io/bench_report.h"
+#include "uavip/app/bench_report.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
@@ -16,7 +16,7 @@
 #define UAVIP_VERSION "dev"
 #endif
 
-namespace uavip::io {
+namespace uavip::app {
 namespace {
 
 /// A report cell: the number with 10 significant digits, blank when missing (nan/inf:
@@ -193,4 +193,4 @@ render::Figure benchPlot(const BenchResult& result) {
   return render::plot(series, o);
 }
 
-}  // namespace uavip::io
+}  // namespace uavip::app

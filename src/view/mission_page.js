@@ -1,4 +1,4 @@
-// uavip mission page (io/mission_page.h): draws the data block #uavip-data with
+// uavip mission page (view/mission_page.h): draws the data block #uavip-data with
 // three.js r111. Local ENU metres, z up; positions arrive quantised to 16 bits per
 // axis over the box (box_min, box_size) and are drawn relative to the box centre.
 // Sets document.title to "ready" once drawn, or to "error: ..." (tests read it).

@@ -1,8 +1,8 @@
-// OUT/mission.html: the mission as one self-contained 3D page (io/mission_page.h).
-// The page's script is src/io/mission_page.js; both it and three.js are compiled
+// OUT/mission.html: the mission as one self-contained 3D page (view/mission_page.h).
+// The page's script is src/view/mission_page.js; both it and three.js are compiled
 // into the binary (CMake generates uavip_page_assets.cpp from the files).
 
-#include "uavip/io/mission_page.h"
+#include "uavip/view/mission_page.h"
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::view {
 
 // Generated at build time (cmake/embed_text.cmake): NUL-terminated texts.
 namespace page_assets {
@@ -212,12 +212,12 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   options.validate();
 
   // ---- the recorded mission (strict), and what the page shows beyond MissionRecord
-  MissionRecord rec;
+  io::MissionRecord rec;
   std::vector<std::vector<StopExtra>> stop_extra;
   std::vector<json> surface_extra;
   json flight_extra = json::object();
   if (mission != nullptr) {
-    rec = missionFromJson(*mission, mission_path);
+    rec = io::missionFromJson(*mission, mission_path);
     const json& surfaces = mission->at("surfaces");
     for (std::size_t i = 0; i < rec.surfaces.size(); ++i) {
       const json& sj = surfaces[i];
@@ -320,7 +320,7 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     const Surface& s = scene.surfaces[i];
     Bytes b;
     for (const auto& p : s.boundary) q.put(b, p);
-    const SurfaceRecord* r = rec.surface(s.id);
+    const io::SurfaceRecord* r = rec.surface(s.id);
     json e = {{"id", s.id},
               {"color", hex(render::palette(s.id))},
               {"status", r != nullptr ? r->status : std::string("not planned")},
@@ -339,7 +339,7 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   std::size_t photos = 0, photos_flown = 0, waypoints = 0;
   json missions = json::array();
   for (std::size_t i = 0; i < rec.surfaces.size(); ++i) {
-    const SurfaceRecord& s = rec.surfaces[i];
+    const io::SurfaceRecord& s = rec.surfaces[i];
     waypoints += s.waypoints.size();
     json m = surface_extra[i];
     m["surface_id"] = s.surface_id;
@@ -350,7 +350,7 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     m["waypoints"] = s.waypoints.size();
     missions.push_back(m);
     for (std::size_t k = 0; k < s.stops.size(); ++k) {
-      const StopRecord& st = s.stops[k];
+      const io::StopRecord& st = s.stops[k];
       q.put(stop_pos, st.position);
       q.put(stop_tgt, stop_extra[i][k].has_target ? stop_extra[i][k].target : st.position);
       stop_ang.f32(st.yaw_deg);
@@ -534,9 +534,9 @@ label{display:block;white-space:nowrap}
 
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                         const planning::FlightPlan* flight, const MissionPageOptions& options) {
-  json doc = missionToJson(missions, json::object());
-  if (flight != nullptr) doc["flight"] = flightToJson(*flight, planning::FlightModel{});
+  json doc = io::missionToJson(missions, json::object());
+  if (flight != nullptr) doc["flight"] = io::flightToJson(*flight, planning::FlightModel{});
   return missionPage(scene, &doc, options, "mission");
 }
 
-}  // namespace uavip::io
+}  // namespace uavip::view

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::app {
 
 /// Options of a benchmark.
 struct BenchOptions {
@@ -126,4 +126,4 @@ std::string benchMarkdown(const BenchResult& result);
 /// shortest solved run of the same leg, one series per planner (solved runs only).
 render::Figure benchPlot(const BenchResult& result);
 
-}  // namespace uavip::io
+}  // namespace uavip::app

@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::view {
 
 /// Options of the mission page.
 struct MissionPageOptions {
@@ -64,4 +64,4 @@ std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceM
 /// examples/js/controls/OrbitControls.js), for tests.
 const std::string& embeddedThreeJs();
 
-}  // namespace uavip::io
+}  // namespace uavip::view

@@ -1,4 +1,4 @@
-#include "uavip/io/scenario.h"
+#include "uavip/app/scenario.h"
 
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-namespace uavip::io {
+namespace uavip::app {
 namespace {
 
 /// A YAML mapping read strictly: every key must be consumed, types are checked, and
@@ -416,7 +416,7 @@ void parseRegistration(Section s, registration::RegistrationOptions& o) {
 }
 
 /// Reads the config sections present in `top` (unknown keys are left to the caller).
-void parseInput(Section s, CloudReadOptions& o) {
+void parseInput(Section s, io::CloudReadOptions& o) {
   if (s.has("drop_classes")) {
     o.drop_classes.clear();
     for (const double v : s.numbers("drop_classes", 0, 256)) {
@@ -611,10 +611,10 @@ Config parseConfig(const std::string& yaml_text, const std::string& path) {
   return c;
 }
 
-Config loadConfig(const std::string& path) { return parseConfig(readFile(path), path); }
+Config loadConfig(const std::string& path) { return parseConfig(io::readFile(path), path); }
 
 Config loadConfigOrScenario(const std::string& path) {
-  const std::string text = readFile(path);
+  const std::string text = io::readFile(path);
   const YAML::Node root = parseYaml(text, path);
   if (root.IsMap() && root["world"].IsDefined()) return parseScenario(text, path).config;
   return parseConfig(text, path);
@@ -687,6 +687,6 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   return sc;
 }
 
-Scenario loadScenario(const std::string& path) { return parseScenario(readFile(path), path); }
+Scenario loadScenario(const std::string& path) { return parseScenario(io::readFile(path), path); }
 
-}  // namespace uavip::io
+}  // namespace uavip::app

@@ -1,7 +1,7 @@
 // Views: the PLY and OBJ parsed back and counted against a hand-made scene and
 // mission; the overview picture decoded and checked for size and content.
 
-#include "uavip/io/views.h"
+#include "uavip/view/views.h"
 #include "uavip/render/figure.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +18,7 @@
 namespace {
 
 namespace io = uavip::io;
+namespace view = uavip::view;
 namespace render = uavip::render;
 namespace planning = uavip::planning;
 using uavip::Vec3;
@@ -86,7 +87,7 @@ std::vector<std::string> lines(const std::string& text) {
 
 TEST(Views, PlyHeaderCountsAndColours) {
   const Fixture f;
-  const auto ls = lines(io::sceneToPly(f.scene, f.missions));
+  const auto ls = lines(view::sceneToPly(f.scene, f.missions));
   ASSERT_GT(ls.size(), 3u);
   EXPECT_EQ(ls[0], "ply");
   EXPECT_EQ(ls[1], "format ascii 1.0");
@@ -107,7 +108,7 @@ TEST(Views, PlyHeaderCountsAndColours) {
   EXPECT_EQ(props[4], "property uchar green");
   EXPECT_EQ(props[5], "property uchar blue");
 
-  const render::Color wall = io::surfaceColor(0);
+  const render::Color wall = view::surfaceColor(0);
   std::map<int, int> kinds;
   int wall_coloured = 0, obstacle_coloured = 0;
   for (std::size_t i = end + 1; i < ls.size(); ++i) {
@@ -123,7 +124,7 @@ TEST(Views, PlyHeaderCountsAndColours) {
     }
     if (kind == 2) {
       EXPECT_DOUBLE_EQ(x, 4.0);
-      obstacle_coloured += r == io::kObstacleColor.red8() && g == io::kObstacleColor.green8();
+      obstacle_coloured += r == view::kObstacleColor.red8() && g == view::kObstacleColor.green8();
     }
     if (kind == 0) {
       EXPECT_DOUBLE_EQ(x, -2.0);
@@ -139,7 +140,7 @@ TEST(Views, PlyHeaderCountsAndColours) {
 
 TEST(Views, ObjHasOnePolylinePerFlownSurface) {
   const Fixture f;
-  const auto ls = lines(io::pathsToObj(f.missions));
+  const auto ls = lines(view::pathsToObj(f.missions));
   int v = 0, l = 0;
   std::string line;
   for (const auto& s : ls) {
@@ -156,7 +157,7 @@ TEST(Views, ObjHasOnePolylinePerFlownSurface) {
   auto two = f.missions;
   two[1] = two[0];
   two[1].surface_id = 3;
-  const auto ls2 = lines(io::pathsToObj(two));
+  const auto ls2 = lines(view::pathsToObj(two));
   EXPECT_EQ(ls2.back(), "l 4 5 6");
 }
 
@@ -167,7 +168,7 @@ TEST(Views, ObjHasOnePolylinePerSortieOfTheFlight) {
   flight.sorties.resize(2);
   flight.sorties[0].waypoints = {{0, 0, 1}, {1, 0, 1}, {0, 0, 1}};
   flight.sorties[1].waypoints = {{0, 0, 1}, {0, 2, 1}, {0, 2, 2}, {0, 0, 1}};
-  const auto ls = lines(io::pathsToObj(f.missions, &flight));
+  const auto ls = lines(view::pathsToObj(f.missions, &flight));
   std::vector<std::string> objects, polylines;
   for (const auto& s : ls) {
     if (s.rfind("o ", 0) == 0) objects.push_back(s);
@@ -177,7 +178,7 @@ TEST(Views, ObjHasOnePolylinePerSortieOfTheFlight) {
   EXPECT_EQ(polylines, (std::vector<std::string>{"l 1 2 3", "l 4 5 6 7"}));
   // A failed flight: the surfaces' own paths.
   flight.status = planning::FlightPlan::Status::Failed;
-  EXPECT_EQ(io::pathsToObj(f.missions, &flight), io::pathsToObj(f.missions));
+  EXPECT_EQ(view::pathsToObj(f.missions, &flight), view::pathsToObj(f.missions));
 }
 
 /// Pixels with a clear colour (not white, grey or black) left of column x_max.
@@ -203,20 +204,20 @@ std::size_t near(const render::Raster& r, const render::Color& want, int x_max) 
 
 TEST(Views, OverviewHasTheSizeAndShowsTheMission) {
   const Fixture f;
-  io::OverviewOptions o;
+  view::OverviewOptions o;
   o.width_px = 1000;
   o.height_px = 620;
-  const render::Raster full = render::decodePng(io::overviewFigure(f.scene, f.missions, o).png());
+  const render::Raster full = render::decodePng(view::overviewFigure(f.scene, f.missions, o).png());
   EXPECT_EQ(full.width, 1000);
   EXPECT_EQ(full.height, 620);
   uavip::Scene empty;
-  const render::Raster bare = render::decodePng(io::overviewFigure(empty, {}, o).png());
+  const render::Raster bare = render::decodePng(view::overviewFigure(empty, {}, o).png());
   // The views (left of the legend column, which starts at 78 % of the width) are
   // grey axes when empty and show the coloured wall, stops and path with a scene.
   const int views = static_cast<int>(0.75 * o.width_px);
   EXPECT_EQ(colourful(bare, views), 0u);
   EXPECT_GT(colourful(full, views), 300u);
-  EXPECT_GT(near(full, io::surfaceColor(0), views), 10u);  // stops in the wall's colour
+  EXPECT_GT(near(full, view::surfaceColor(0), views), 10u);  // stops in the wall's colour
   EXPECT_GT(near(full, render::kRed, views), 5u);           // the infeasible stop's cross
 }
 
@@ -226,11 +227,11 @@ TEST(Views, WriteViewsWritesItsFourFilesAtomically) {
   const fs::path dir = fs::temp_directory_path() / ("uavip_views_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  io::OverviewOptions o;
+  view::OverviewOptions o;
   o.width_px = 800;
   o.height_px = 500;
   io::StagedOutputs outputs;
-  io::writeViews(outputs, dir.string(), f.scene, f.missions, o);
+  view::writeViews(outputs, dir.string(), f.scene, f.missions, o);
   EXPECT_FALSE(fs::exists(dir / "overview.png"));  // staged until the command commits
   outputs.commit();
   for (const char* name : {"scene.ply", "path.obj", "overview.png", "mission.html"}) {

@@ -14,7 +14,7 @@
 ///  - OUT/overview.png: top, front and side views (equal scale, scale bar) of the
 ///    cloud, surface boundaries, photo footprints, stops and paths, with a legend
 ///    and a line per surface; drawn with the render module.
-///  - OUT/mission.html: the mission in 3D in one self-contained page (io/mission_page.h).
+///  - OUT/mission.html: the mission in 3D in one self-contained page (view/mission_page.h).
 /// Everything is deterministic for the same scene and missions.
 
 #include "uavip/io/atomic_file.h"
@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace uavip::io {
+namespace uavip::view {
 
 /// Colour of surface `id` in every view (render::palette(id)).
 render::Color surfaceColor(int id);
@@ -69,7 +69,7 @@ struct ViewFiles {
   std::string ply;  ///< scene.ply
   std::string obj;  ///< path.obj
   std::string png;  ///< overview.png
-  std::string html;  ///< mission.html, the 3D page (io/mission_page.h)
+  std::string html;  ///< mission.html, the 3D page (view/mission_page.h)
 };
 
 /// Renders the four views. Reads its arguments only, so it may run on a thread of
@@ -78,13 +78,13 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
                       const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
 /// Stages rendered views as out_dir/scene.ply, path.obj, overview.png and mission.html.
-void stageViews(StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
+void stageViews(io::StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
 
 /// Stages out_dir/scene.ply, out_dir/path.obj, out_dir/overview.png and out_dir/mission.html in `outputs`
 /// (io/atomic_file.h: written when the command commits its outputs). Throws
 /// InputError naming a file that cannot be written.
-void writeViews(StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
+void writeViews(io::StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
                 const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options = {},
                 const planning::FlightPlan* flight = nullptr);
 
-}  // namespace uavip::io
+}  // namespace uavip::view
