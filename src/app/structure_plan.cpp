@@ -36,16 +36,20 @@ void report(const Progress& progress, const std::string& message) {
 }
 
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
-/// structure points; `ground` counts the others.
-PointList structurePoints(const Scene& scene, const app::Config& config, std::size_t& ground) {
+/// structure points; `ground` counts the others, `ground_z` gets the height of the
+/// highest ground surface found (none: unset).
+PointList structurePoints(const Scene& scene, const app::Config& config, std::size_t& ground,
+                          std::optional<double>& ground_z) {
   const Aabb box = boundingBox(scene.cloud);
   const double footprint = (box.max.x() - box.min.x()) * (box.max.y() - box.min.y());
   const double band = config.perception.planes.distance_threshold_m;
   std::vector<const Surface*> level;
   for (const auto& s : scene.surfaces) {
     if (s.plane.normal.z() >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
-        s.area_m2 >= 0.25 * footprint)
+        s.area_m2 >= 0.25 * footprint) {
       level.push_back(&s);
+      ground_z = std::max(ground_z.value_or(s.centroid.z()), s.centroid.z());
+    }
   }
   PointList out;
   ground = 0;
@@ -210,7 +214,8 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
                      "smaller uav.inflation_radius_m");
   }
   summary.standoff_m = standoff;
-  const PointList structure = structurePoints(scene, config, summary.ground_points);
+  std::optional<double> ground_z = config.coverage.ground_z_m;
+  const PointList structure = structurePoints(scene, config, summary.ground_points, ground_z);
   if (structure.empty()) {
     throw InputError("structure coverage: all " + std::to_string(scene.cloud.size()) +
                      " points of the scene are ground (level surfaces at its lowest level, or below "
@@ -246,8 +251,9 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   const auto dims = grid.dims();
   const std::int32_t outside =
       home ? grid.component(grid.indexOf(*home)) : grid.component({dims[0] - 1, dims[1] - 1, dims[2] - 1});
+  // No photo below the ground (coverage.ground_z_m, else the ground surface found).
   const std::optional<double> floor_z =
-      config.coverage.ground_z_m ? std::optional<double>(*config.coverage.ground_z_m + result.clearance_m) : std::nullopt;
+      ground_z ? std::optional<double>(*ground_z + result.clearance_m) : std::nullopt;
   const coverage::ViewpointFree is_free = [&](const Vec3& p) {
     const world::Index3 i = grid.indexOf(p);
     return grid.inBounds(i) && outside != 0 && grid.component(i) == outside && (!floor_z || p.z() >= *floor_z);

@@ -119,5 +119,39 @@ TEST(StructureCoverage, TankOnTheGroundLeavesTheGroundOutAndCoversTheShell) {
   EXPECT_GE(flightClearance(p.flight, raw), 0.3);
 }
 
+TEST(StructureCoverage, SolarPanelsBelowTheAreaThresholdArePhotographed) {
+  Scenario sc = loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/solar_field.yaml");
+  const PointList raw = sense(sc);
+  const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
+  // Plane by plane there is nothing to inspect: the one surface is the ground.
+  ASSERT_EQ(d.scene.surfaces.size(), 1u);
+  EXPECT_GT(d.scene.surfaces[0].plane.normal.z(), 0.99);
+  ASSERT_EQ(d.resolved.config.coverage.mode, "structure");
+  const PlanResult p = planStructure(d.scene, d.resolved.config);
+  ASSERT_TRUE(p.structure);
+  ASSERT_EQ(p.flight.status, planning::FlightPlan::Status::Ok) << p.flight.reason;
+  PointList truth;  // the panels' tops, every 2 cm
+  for (const auto& r : sc.world.rects()) {
+    if (r.name.rfind("panel_", 0) != 0) continue;
+    for (double a = 0.0; a <= 1.0 + 1e-9; a += 0.015)
+      for (double b = 0.0; b <= 1.0 + 1e-9; b += 0.02) truth.push_back(r.corner + a * r.edge_u + b * r.edge_v);
+  }
+  ASSERT_GT(truth.size(), 10000u);
+  coverage::PinholeIntrinsics k;  // the 1.2 x 0.8 m footprint at the standoff, over 1000 px
+  k.width_px = 1000;
+  k.height_px = 667;
+  k.fx_px = k.fy_px = 1000.0 * p.structure->standoff_m / 1.2;
+  k.cx_px = 500.0;
+  k.cy_px = 333.5;
+  const double a = coverage::evaluatePixelCoverage(truth, flownViews(p), k, p.structure->visible_range_m).fraction;
+  std::cout << "solar field: " << p.structure->photos << " photos, rule (a) on the panels " << a << ", rule (b) "
+            << p.structure->rule_b << "\n";
+  EXPECT_GE(a, 0.99);
+  EXPECT_GE(p.structure->rule_b, 0.95);
+  for (const auto& sortie : p.flight.sorties)
+    for (const auto& w : sortie.waypoints) EXPECT_GT(w.z(), 0.0) << "never below the ground";
+  EXPECT_GE(flightClearance(p.flight, raw), d.resolved.config.uav.inflationRadius());
+}
+
 }  // namespace
 }  // namespace uavip::app
