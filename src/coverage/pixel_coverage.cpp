@@ -3,6 +3,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/parallel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -12,23 +13,24 @@ namespace uavip::coverage {
 
 namespace {
 
-/// One worker's z-buffer: per pixel the nearest range and its point, reset after
-/// each view through the list of touched pixels.
-struct ZBuffer {
-  std::vector<float> range;
-  std::vector<std::uint32_t> point;
-  std::vector<std::uint32_t> touched;
+/// One view's hits (pixel, squared range, point), kept by a worker between views.
+struct Hit {
+  std::uint64_t pixel;
+  double range2;
+  std::uint32_t point;
+  bool operator<(const Hit& o) const {
+    return pixel != o.pixel ? pixel < o.pixel : range2 != o.range2 ? range2 < o.range2 : point < o.point;
+  }
 };
 
+/// Marks the nearest point of every pixel of one view: the view's hits sorted by
+/// pixel then range (no image-sized buffer: a 20 MP camera costs what it sees).
 void projectView(const PointList& points, const ViewPose& view, const PinholeIntrinsics& k, double range_m,
-                 ZBuffer& z, std::vector<char>& covered) {
+                 std::vector<Hit>& hits, std::vector<char>& covered) {
   const ViewFrame f = makeViewFrame(view);
   const double r2_max = range_m * range_m;
-  const int w = k.width_px, h = k.height_px;
-  if (z.range.empty()) {
-    z.range.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), std::numeric_limits<float>::infinity());
-    z.point.assign(z.range.size(), 0);
-  }
+  const double w = k.width_px, h = k.height_px;
+  hits.clear();
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3 d = points[i] - view.position;
     const double r2 = d.squaredNorm();
@@ -38,19 +40,13 @@ void projectView(const PointList& points, const ViewPose& view, const PinholeInt
     const double u = k.cx_px + k.fx_px * f.right.dot(d) / depth;
     const double v = k.cy_px - k.fy_px * f.up.dot(d) / depth;
     if (!(u >= 0.0 && u < w && v >= 0.0 && v < h)) continue;
-    const std::size_t pixel = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u);
-    const float r = static_cast<float>(r2);
-    if (std::isinf(z.range[pixel])) z.touched.push_back(static_cast<std::uint32_t>(pixel));
-    if (r < z.range[pixel]) {
-      z.range[pixel] = r;
-      z.point[pixel] = static_cast<std::uint32_t>(i);
-    }
+    const auto pixel = static_cast<std::uint64_t>(v) * static_cast<std::uint64_t>(k.width_px) + static_cast<std::uint64_t>(u);
+    hits.push_back({pixel, r2, static_cast<std::uint32_t>(i)});
   }
-  for (const auto pixel : z.touched) {
-    covered[z.point[pixel]] = 1;
-    z.range[pixel] = std::numeric_limits<float>::infinity();
+  std::sort(hits.begin(), hits.end());
+  for (std::size_t j = 0; j < hits.size(); ++j) {
+    if (j == 0 || hits[j].pixel != hits[j - 1].pixel) covered[hits[j].point] = 1;
   }
-  z.touched.clear();
 }
 
 }  // namespace
@@ -70,7 +66,7 @@ PixelCoverageResult evaluatePixelCoverage(const PointList& points, const std::ve
   PixelCoverageResult result;
   result.points = points.size();
   const std::size_t workers = std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(std::max(threads, 1)), views.size()));
-  std::vector<ZBuffer> buffers(workers);
+  std::vector<std::vector<Hit>> buffers(workers);
   std::vector<std::vector<char>> covered(workers, std::vector<char>(points.size(), 0));
   parallelFor(views.size(), static_cast<int>(workers), [&](std::size_t v, std::size_t worker) {
     projectView(points, views[v], camera, visible_range_m, buffers[worker], covered[worker]);
