@@ -12,12 +12,10 @@ SECONDS_PER_TARGET=${1:-60}
 OUT=${FUZZ_DIR:-build-fuzz}
 TARGETS=${FUZZ_TARGETS:-cloud json yaml rawlog}
 
-# clang and its libFuzzer runtime; the libraries the project configures with.
+# clang and its libFuzzer runtime, and what the project configures with (packages.txt).
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()
-  for p in clang-14 libclang-rt-14-dev cmake make pkg-config libpcl-dev libeigen3-dev nlohmann-json3-dev \
-      libgeographiclib-dev libyaml-cpp-dev libompl-dev libfcl-dev libccd-dev liboctomap-dev libcli11-dev \
-      libcairo2-dev libfontconfig-dev libssl-dev libproj-dev libjs-three; do
+  for p in clang-14 libclang-rt-14-dev $(sed -e 's/#.*//' scripts/packages.txt); do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then

@@ -1,16 +1,13 @@
 #!/usr/bin/env bash
-# Installs what uavip needs on Debian 12 (as root, or with sudo), then configures and
-# builds. Environment: BUILD_DIR (default build), BUILD_TYPE (Release), BUILD_TARGET (default: all),
-# UAVIP_SANITIZE=ON for AddressSanitizer + UBSan, SKIP_APT=1 to skip apt-get.
+# Installs what uavip needs on Debian 12 (scripts/packages.txt; as root, or with sudo),
+# then configures and builds. Environment: BUILD_DIR (default build), BUILD_TYPE
+# (Release), BUILD_TARGET (default: all), UAVIP_SANITIZE=ON for AddressSanitizer +
+# UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, SKIP_APT=1 to skip apt-get.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(cmake make g++ pkg-config
-  libompl-dev libfcl-dev libccd-dev liboctomap-dev libpcl-dev libeigen3-dev
-  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libgtest-dev
-  libcairo2-dev libfontconfig-dev fonts-dejavu-core libgeographiclib-dev libssl-dev libproj-dev proj-data
-  ompl-demos sqlite3  # ompl_benchmark_statistics and sqlite3: uavip bench logs -> Planner Arena DB (tests)
-  libjs-three)  # three.js r111, compiled into uavip for OUT/mission.html (build only)
+# The one package list (CMakeLists.txt reads it too for the Debian package).
+mapfile -t PACKAGES < <(sed -e 's/#.*//' -e 's/[[:space:]]//g' -e '/^$/d' scripts/packages.txt)
 
 if [ "${SKIP_APT:-0}" != 1 ]; then
   missing=()
@@ -28,7 +25,7 @@ fi
 
 BUILD_DIR=${BUILD_DIR:-build}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
-  -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" >/dev/null
+  -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" -DUAVIP_WERROR="${UAVIP_WERROR:-OFF}" >/dev/null
 # BUILD_TARGET (e.g. uavip) builds only that target and what it needs.
 echo "setup: building ${BUILD_TARGET:-everything} in $BUILD_DIR" >&2
 cmake --build "$BUILD_DIR" -j"$(nproc)" ${BUILD_TARGET:+--target "$BUILD_TARGET"}

@@ -33,7 +33,10 @@ void BenchOptions::validate() const {
   for (const auto& p : planners) {
     if (std::find(names.begin(), names.end(), p) == names.end()) {
       std::string valid;
-      for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
+      for (const auto& n : names) {
+        if (!valid.empty()) valid += ", ";
+        valid += n;
+      }
       throw InputError("--planners: unknown planner '" + p + "'; valid names: " + valid);
     }
   }

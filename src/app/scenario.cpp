@@ -16,8 +16,8 @@ namespace {
 /// every message names the file and the key path.
 class Section {
  public:
-  Section(YAML::Node node, std::string file, std::string path)
-      : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {
+  Section(const YAML::Node& node, std::string file, std::string path)
+      : node_(node), file_(std::move(file)), path_(std::move(path)) {
     if (!node_.IsMap()) fail("", "must be a mapping (key: value)");
   }
 

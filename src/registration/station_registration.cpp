@@ -1,8 +1,10 @@
 // GCC 12 reports false positives (-Warray-bounds, -Wmaybe-uninitialized) inside the
 // Eigen/SSE code that PCL's registration templates instantiate here (set before any
 // include: the warnings are attributed to the Eigen headers).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Warray-bounds"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "uavip/registration/station_registration.h"
 

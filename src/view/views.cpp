@@ -62,7 +62,8 @@ std::vector<Vec2> project(const PointList& pts, const View& view, std::size_t st
 std::string facing(const Vec3& n) {
   static const std::array<const char*, 6> kNames{"east", "west", "north", "south", "up", "down"};
   for (int a = 0; a < 3; ++a) {
-    if (std::abs(n[a]) > 0.95) return std::string("faces ") + kNames[static_cast<std::size_t>(2 * a + (n[a] < 0.0))];
+    const std::size_t which = 2 * static_cast<std::size_t>(a) + (n[a] < 0.0 ? 1 : 0);
+    if (std::abs(n[a]) > 0.95) return std::string("faces ") + kNames[which];
   }
   return "normal (" + formatFixed(n.x(), 2) + ", " + formatFixed(n.y(), 2) + ", " + formatFixed(n.z(), 2) + ")";
 }
@@ -279,6 +280,7 @@ std::vector<const Surface*> surfacesFarToNear(const Scene& scene, const View& vi
 std::vector<const planning::SurfaceMission*> missionsFarToNear(const std::vector<planning::SurfaceMission>& missions,
                                                                const View& view) {
   std::vector<const planning::SurfaceMission*> order;
+  order.reserve(missions.size());
   for (const auto& m : missions) order.push_back(&m);
   auto mission_depth = [&](const planning::SurfaceMission* m) {
     Vec3 c = Vec3::Zero();
