@@ -124,7 +124,7 @@ double pathToLastPhoto(const planning::FlightPlan& f) {
 /// Minimum distance from every sortie segment to every input point [m], the segments
 /// sampled every 2 cm (the nearest point by a kd-tree).
 double minClearance(const planning::FlightPlan& f, const PointList& raw) {
-  const Vec3 origin = raw.front();
+  const Vec3& origin = raw.front();
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(toPclCloud(raw, origin));
   double best = std::numeric_limits<double>::infinity();
@@ -154,6 +154,63 @@ std::string fixed(double v, int digits) {
   char b[32];
   std::snprintf(b, sizeof b, "%.*f", digits, v);
   return b;
+}
+
+/// One scene: the chain (median of 3), the scores, the scene and mission files; appends
+/// its row to `results` and `md`.
+void runScene(const Peer& p, const std::string& data, const std::string& out, double target,
+              nlohmann::json& results, std::ostringstream& md) {
+  std::cerr << "fcplanner_compare: " << p.name << "\n";
+  const PointList raw = io::loadCloud((fs::path(data) / p.cloud).string());
+  const PointList dense = io::loadCloud((fs::path(data) / p.dense).string());
+  // Their start, unless it lies inside the clearance (the pipe's (0, 0, 0) is 0.07 m
+  // from a pipe): then home is the lowest photo stop, and the note says so.
+  std::string home_note = "their start";
+  app::Config config = peerConfig(p, true, target);
+  Run first;
+  const auto wall0 = SteadyClock::now();
+  try {
+    first = runChain(raw, config);
+  } catch (const InputError& e) {
+    home_note = std::string("lowest photo stop (their start is not free: ") + e.what() + ")";
+    config = peerConfig(p, false, target);
+    first = runChain(raw, config);
+  }
+  const double wall = secondsSince(wall0);
+  std::vector<double> times = {first.seconds};
+  for (int k = 0; k < 2; ++k) times.push_back(runChain(raw, config).seconds);
+  const double compute = bench_util::median(times);
+  const auto& plan = first.plan;
+  const auto views = flownViews(plan);
+  coverage::PinholeIntrinsics k;  // FC-Planner's camera (the defaults)
+  const double rule_a = coverage::evaluatePixelCoverage(dense, views, k, p.visible_range_m).fraction;
+  const double path = pathToLastPhoto(plan.flight);
+  const double clearance = minClearance(plan.flight, raw);
+  const double rule_b = plan.structure ? plan.structure->rule_b : 0.0;
+  const fs::path dir = fs::path(out) / p.name;
+  fs::create_directories(dir);
+  io::writeFileAtomic((dir / "scene.json").string(), io::sceneToJson(first.detect.scene).dump(1) + "\n");
+  nlohmann::json mission = io::missionToJson(plan.missions, {{"scene", p.name}});
+  mission["flight"] = io::flightToJson(plan.flight, config.flight.model);
+  io::writeFileAtomic((dir / "mission.json").string(), mission.dump(1) + "\n");
+  results.push_back({{"scene", p.name},
+                     {"photos", views.size()},
+                     {"path_m", path},
+                     {"coverage_rule_a", rule_a},
+                     {"coverage_rule_b", rule_b},
+                     {"compute_s", compute},
+                     {"compute_runs_s", times},
+                     {"wall_s", wall},
+                     {"min_clearance_m", clearance},
+                     {"flight_status", planning::toString(plan.flight.status)},
+                     {"home", home_note},
+                     {"fcplanner", {{"views", p.fc_views}, {"path_m", p.fc_path_m}, {"coverage", p.fc_coverage}, {"time_s", p.fc_time_s}}},
+                     {"sip", {{"views", p.sip_views}, {"path_m", p.sip_path_m}, {"coverage", p.sip_coverage}, {"time_s", p.sip_time_s}}}});
+  md << "| " << p.name << " | " << views.size() << " (" << p.fc_views << " / " << p.sip_views << ") | " << fixed(path, 1)
+     << " (" << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1) << ") | " << pct(rule_a) << " ("
+     << pct(p.fc_coverage) << " / " << pct(p.sip_coverage) << ") | " << pct(rule_b) << " | " << fixed(compute, 2)
+     << " (" << fixed(p.fc_time_s, 2) << " / " << fixed(p.sip_time_s, 1) << ") | " << fixed(wall, 2) << " | "
+     << fixed(clearance, 3) << " |\n";
 }
 
 }  // namespace
@@ -188,59 +245,7 @@ int main(int argc, char** argv) {
     md << "| scene | photos (FC / SIP) | path home → last photo [m] (FC / SIP) | coverage rule (a) (FC / SIP) | rule (b) "
           "| compute [s] (FC / SIP) | wall [s] | min distance to every input point [m] |\n"
           "|---|---|---|---|---|---|---|---|\n";
-    for (const Peer& p : kPeers) {
-      std::cerr << "fcplanner_compare: " << p.name << "\n";
-      const PointList raw = io::loadCloud((fs::path(data) / p.cloud).string());
-      const PointList dense = io::loadCloud((fs::path(data) / p.dense).string());
-      // Their start, unless it lies inside the clearance (the pipe's (0, 0, 0) is 0.07 m
-      // from a pipe): then home is the lowest photo stop, and the note says so.
-      std::string home_note = "their start";
-      app::Config config = peerConfig(p, true, target);
-      Run first;
-      const auto wall0 = SteadyClock::now();
-      try {
-        first = runChain(raw, config);
-      } catch (const InputError& e) {
-        home_note = std::string("lowest photo stop (their start is not free: ") + e.what() + ")";
-        config = peerConfig(p, false, target);
-        first = runChain(raw, config);
-      }
-      const double wall = secondsSince(wall0);
-      std::vector<double> times = {first.seconds};
-      for (int k = 0; k < 2; ++k) times.push_back(runChain(raw, config).seconds);
-      const double compute = bench_util::median(times);
-      const auto& plan = first.plan;
-      const auto views = flownViews(plan);
-      coverage::PinholeIntrinsics k;  // FC-Planner's camera (the defaults)
-      const double rule_a = coverage::evaluatePixelCoverage(dense, views, k, p.visible_range_m).fraction;
-      const double path = pathToLastPhoto(plan.flight);
-      const double clearance = minClearance(plan.flight, raw);
-      const double rule_b = plan.structure ? plan.structure->rule_b : 0.0;
-      const fs::path dir = fs::path(out) / p.name;
-      fs::create_directories(dir);
-      io::writeFileAtomic((dir / "scene.json").string(), io::sceneToJson(first.detect.scene).dump(1) + "\n");
-      nlohmann::json mission = io::missionToJson(plan.missions, {{"scene", p.name}});
-      mission["flight"] = io::flightToJson(plan.flight, config.flight.model);
-      io::writeFileAtomic((dir / "mission.json").string(), mission.dump(1) + "\n");
-      results.push_back({{"scene", p.name},
-                         {"photos", views.size()},
-                         {"path_m", path},
-                         {"coverage_rule_a", rule_a},
-                         {"coverage_rule_b", rule_b},
-                         {"compute_s", compute},
-                         {"compute_runs_s", times},
-                         {"wall_s", wall},
-                         {"min_clearance_m", clearance},
-                         {"flight_status", planning::toString(plan.flight.status)},
-                         {"home", home_note},
-                         {"fcplanner", {{"views", p.fc_views}, {"path_m", p.fc_path_m}, {"coverage", p.fc_coverage}, {"time_s", p.fc_time_s}}},
-                         {"sip", {{"views", p.sip_views}, {"path_m", p.sip_path_m}, {"coverage", p.sip_coverage}, {"time_s", p.sip_time_s}}}});
-      md << "| " << p.name << " | " << views.size() << " (" << p.fc_views << " / " << p.sip_views << ") | " << fixed(path, 1)
-         << " (" << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1) << ") | " << pct(rule_a) << " ("
-         << pct(p.fc_coverage) << " / " << pct(p.sip_coverage) << ") | " << pct(rule_b) << " | " << fixed(compute, 2)
-         << " (" << fixed(p.fc_time_s, 2) << " / " << fixed(p.sip_time_s, 1) << ") | " << fixed(wall, 2) << " | "
-         << fixed(clearance, 3) << " |\n";
-    }
+    for (const Peer& p : kPeers) runScene(p, data, out, target, results, md);
     io::writeFileAtomic((fs::path(out) / "results.json").string(), results.dump(1) + "\n");
     io::writeFileAtomic((fs::path(out) / "results.md").string(), md.str());
     std::cout << md.str();

@@ -199,86 +199,156 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
   return s;
 }
 
-}  // namespace
-
-PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
-  PlanResult result;
-  StructureSummary summary;
-  const auto t0 = SteadyClock::now();
+/// The viewing distance, which must lie beyond the clearance (InputError).
+double checkedStandoff(const app::Config& config, double clearance_m) {
   const double standoff = viewingDistance(config);
-  result.clearance_m = safetyClearance(scene, config);
-  if (!(standoff > result.clearance_m)) {
+  if (!(standoff > clearance_m)) {
     throw InputError("coverage.standoff_m: viewing distance " + formatFixed(standoff, 2) + " m is inside the " +
-                     formatFixed(result.clearance_m, 2) +
+                     formatFixed(clearance_m, 2) +
                      " m the UAV keeps from every measured point; fly farther (coverage.standoff_m) or use a "
                      "smaller uav.inflation_radius_m");
   }
-  summary.standoff_m = standoff;
-  std::optional<double> ground_z = config.coverage.ground_z_m;
-  const PointList structure = structurePoints(scene, config, summary.ground_points, ground_z);
+  return standoff;
+}
+
+/// The structure's points as scored, their normals (oriented later), the ground height.
+struct StructurePoints {
+  PointList points;
+  std::vector<Vec3> normals;
+  std::vector<char> two_sided;
+  std::optional<double> ground_z;
+};
+
+StructurePoints prepareStructure(const Scene& scene, const app::Config& config, StructureSummary& summary,
+                                 const Progress& progress) {
+  StructurePoints s;
+  s.ground_z = config.coverage.ground_z_m;
+  const PointList structure = structurePoints(scene, config, summary.ground_points, s.ground_z);
   if (structure.empty()) {
     throw InputError("structure coverage: all " + std::to_string(scene.cloud.size()) +
                      " points of the scene are ground (level surfaces at its lowest level, or below "
                      "coverage.ground_z_m); nothing to photograph");
   }
-  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
-  const PointList points = thinForScoring(structure, spacing);
-  summary.points = points.size();
-  report(progress, "structure: normals of " + std::to_string(points.size()) + " points");
-  std::vector<Vec3> normals = preprocess::estimateNormals(points, points, kNormalNeighbours);
+  s.points = thinForScoring(structure, scene.measured ? scene.measured->spacing_m : 0.0);
+  summary.points = s.points.size();
+  report(progress, "structure: normals of " + std::to_string(s.points.size()) + " points");
+  s.normals = preprocess::estimateNormals(s.points, s.points, kNormalNeighbours);
+  return s;
+}
 
-  // The grid holds every viewpoint: the structure's box grown by the viewing distance.
+/// The planning grid over the structure's box grown by the viewing distance (and
+/// mission.start / mission.home), with the validator; both must be free.
+world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config, const PointList& points,
+                               double standoff, PlanResult& result,
+                               std::unique_ptr<planning::PathValidator>& validator) {
   Aabb box = boundingBox(points);
   box.min.array() -= standoff;
   box.max.array() += standoff;
   PointList corners = {box.min, box.max};
   if (config.mission.start) corners.push_back(*config.mission.start);
   if (config.flight.home) corners.push_back(*config.flight.home);
-  report(progress, "structure: inflated voxel grid");
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
-  const world::VoxelGrid grid = planningGrid(scene, *world, config, corners, result.clearance_m);
-  const planning::PathValidator validator(world, result.clearance_m);
-  requireFree(config.mission.start, "mission.start", validator);
-  requireFree(config.flight.home, "mission.home", validator);
+  world::VoxelGrid grid = planningGrid(scene, *world, config, corners, result.clearance_m);
+  validator = std::make_unique<planning::PathValidator>(world, result.clearance_m);
+  requireFree(config.mission.start, "mission.start", *validator);
+  requireFree(config.flight.home, "mission.home", *validator);
   result.grid_resolution_m = grid.resolution();
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();
-  result.times.grid_s = secondsSince(t0);
+  return grid;
+}
 
-  // Viewpoints: free, in the free space reachable from home (or from the grid's top
-  // corner, outside the structure), above the ground.
-  const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
+/// Where a photo may be taken: a free voxel in the free space reachable from home (or
+/// from the grid's top corner, outside the structure), above the ground + clearance.
+coverage::ViewpointFree viewpointTest(const world::VoxelGrid& grid, const std::optional<Vec3>& home,
+                                      const std::optional<double>& ground_z, double clearance_m) {
   const auto dims = grid.dims();
   const std::int32_t outside =
       home ? grid.component(grid.indexOf(*home)) : grid.component({dims[0] - 1, dims[1] - 1, dims[2] - 1});
-  // No photo below the ground (coverage.ground_z_m, else the ground surface found).
-  const std::optional<double> floor_z =
-      ground_z ? std::optional<double>(*ground_z + result.clearance_m) : std::nullopt;
-  const coverage::ViewpointFree is_free = [&](const Vec3& p) {
+  const std::optional<double> floor_z = ground_z ? std::optional<double>(*ground_z + clearance_m) : std::nullopt;
+  return [&grid, outside, floor_z](const Vec3& p) {
     const world::Index3 i = grid.indexOf(p);
     return grid.inBounds(i) && outside != 0 && grid.component(i) == outside && (!floor_z || p.z() >= *floor_z);
   };
-  const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
-  const coverage::PinholeCamera camera(intrinsics);
-  const coverage::PinholeCamera scoring_camera(
-      cropForOverlap(intrinsics, config.coverage.overlap_w, config.coverage.overlap_h));
-  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  const std::vector<char> two_sided =
-      orientNormals(points, normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
+}
+
+/// The view selection's options for this config and camera.
+coverage::StructureViewOptions viewOptions(const app::Config& config, const coverage::PinholeIntrinsics& k,
+                                           double standoff) {
   coverage::StructureViewOptions options;
   options.standoff_m = standoff;
   options.distance_factors = {1.0, config.mission.max_standoff_factor};
   options.tilts_deg = {20.0, 45.0};
   // Seeds closer than half the photo's smaller side: a narrow camera leaves no gaps.
-  options.seed_spacing_m = std::min(standoff / 3.0, 0.5 * standoff * std::min(intrinsics.width_px / intrinsics.fx_px,
-                                                                             intrinsics.height_px / intrinsics.fy_px));
+  options.seed_spacing_m =
+      std::min(standoff / 3.0, 0.5 * standoff * std::min(k.width_px / k.fx_px, k.height_px / k.fy_px));
   options.target_coverage = config.coverage.structure_target;
   options.gimbal = config.coverage.gimbal;
-  options.criteria = ruleB(intrinsics, config.coverage.camera, standoff);
+  options.criteria = ruleB(k, config.coverage.camera, standoff);
   options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return options;
+}
+
+/// The lowest photo when no home is given: where the open path starts.
+Vec3 pathStart(const std::optional<Vec3>& home, const coverage::StructureViews& views) {
+  if (home) return *home;
+  Vec3 start = Vec3::Zero();
+  for (std::size_t k = 0; k < views.views.size(); ++k)
+    if (k == 0 || views.views[k].position.z() < start.z()) start = views.views[k].position;
+  return start;
+}
+
+/// Both coverage rules at the flown stops, into the mission and the summary.
+void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s, const coverage::PinholeIntrinsics& k,
+                const coverage::StructureViewOptions& options, const coverage::LineOfSight& sight,
+                const app::Config& config, StructureSummary& summary) {
+  std::vector<coverage::ViewPose> flown;
+  for (std::size_t i = 0; i < mission.strategy.stops.size(); ++i) {
+    if (mission.stop_problems[i] != planning::StopProblem::None || !planning::flyable(mission.status)) continue;
+    const auto& stop = mission.strategy.stops[i];
+    flown.push_back({stop.position, stop.yaw_deg, stop.gimbal_pitch_deg});
+  }
+  const coverage::PinholeCamera camera(k);
+  const coverage::CoverageResult b = coverage::evaluateCoverage(s.points, s.normals, flown, camera, options.criteria,
+                                                                &sight, options.threads, &s.two_sided);
+  summary.visible_range_m = config.coverage.camera.max_range_m > 0.0 ? config.coverage.camera.max_range_m
+                                                                      : kRangeAllowance * summary.standoff_m;
+  summary.rule_a = coverage::evaluatePixelCoverage(s.points, flown, k, summary.visible_range_m, options.threads).fraction;
+  summary.rule_b = b.fraction;
+  mission.coverage.evaluated = true;
+  mission.coverage.fraction = b.fraction;
+  mission.coverage.points = b.points;
+  mission.coverage.uncovered = b.uncovered.size();
+  for (const auto i : b.uncovered) mission.coverage.uncovered_points.push_back(s.points[i]);
+}
+
+}  // namespace
+
+PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
+  PlanResult result;
+  StructureSummary summary;
+  const auto t0 = SteadyClock::now();
+  result.clearance_m = safetyClearance(scene, config);
+  summary.standoff_m = checkedStandoff(config, result.clearance_m);
+  const double standoff = summary.standoff_m;
+  StructurePoints s = prepareStructure(scene, config, summary, progress);
+  report(progress, "structure: inflated voxel grid");
+  std::unique_ptr<planning::PathValidator> validator;
+  const world::VoxelGrid grid = structureGrid(scene, config, s.points, standoff, result, validator);
+  result.times.grid_s = secondsSince(t0);
+
+  const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
+  const coverage::ViewpointFree is_free = viewpointTest(grid, home, s.ground_z, result.clearance_m);
+  const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
+  const coverage::PinholeCamera scoring_camera(
+      cropForOverlap(intrinsics, config.coverage.overlap_w, config.coverage.overlap_h));
+  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
+  s.two_sided = orientNormals(s.points, s.normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
+  const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
   const auto t1 = SteadyClock::now();
   report(progress, "structure: choosing photos");
-  const coverage::StructureViews views = selectStructureViews(points, normals, two_sided, scoring_camera, &sight, is_free, options);
+  const coverage::StructureViews views =
+      selectStructureViews(s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
   summary.select_s = secondsSince(t1);
   summary.seeds = views.seeds;
   summary.candidates = views.candidates;
@@ -288,45 +358,22 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   result.times.coverage_s = secondsSince(t0);
 
   const auto t2 = SteadyClock::now();
-  int id = 0;
-  for (const auto& s : scene.surfaces) id = std::max(id, s.id + 1);
-  summary.surface_id = id;
-  Vec3 start = home ? *home : Vec3::Zero();
-  if (!home && !views.views.empty()) {
-    start = views.views.front().position;
-    for (const auto& v : views.views)
-      if (v.position.z() < start.z()) start = v.position;
-  }
-  const coverage::FlightStrategy strategy = structureStrategy(views, start, id, intrinsics, standoff, grid);
+  for (const auto& surface : scene.surfaces) summary.surface_id = std::max(summary.surface_id, surface.id + 1);
+  const coverage::FlightStrategy strategy =
+      structureStrategy(views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
   report(progress, "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
   mission_options.direct_legs = true;
-  planning::SurfaceMission mission = planning::planSurfaceMission(strategy, grid, validator, *planner, mission_options);
+  planning::SurfaceMission mission = planning::planSurfaceMission(strategy, grid, *validator, *planner, mission_options);
   mission.kind = "structure";
   if (strategy.stops.empty()) {
     mission.reason = "no free viewpoint: no camera pose " + formatFixed(standoff, 2) +
                      " m from the structure is clear of every measured point by " + formatFixed(result.clearance_m, 2) +
                      " m and reachable from outside";
   }
-  std::vector<coverage::ViewPose> flown;
-  for (std::size_t k = 0; k < mission.strategy.stops.size(); ++k) {
-    if (mission.stop_problems[k] != planning::StopProblem::None || !planning::flyable(mission.status)) continue;
-    const auto& s = mission.strategy.stops[k];
-    flown.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
-  }
-  const coverage::CoverageResult b =
-      coverage::evaluateCoverage(points, normals, flown, camera, options.criteria, &sight, options.threads, &two_sided);
-  summary.visible_range_m = config.coverage.camera.max_range_m > 0.0 ? config.coverage.camera.max_range_m
-                                                                      : kRangeAllowance * standoff;
-  summary.rule_a = coverage::evaluatePixelCoverage(points, flown, intrinsics, summary.visible_range_m, options.threads).fraction;
-  summary.rule_b = b.fraction;
-  mission.coverage.evaluated = true;
-  mission.coverage.fraction = b.fraction;
-  mission.coverage.points = b.points;
-  mission.coverage.uncovered = b.uncovered.size();
-  for (const auto i : b.uncovered) mission.coverage.uncovered_points.push_back(points[i]);
+  scoreFlown(mission, s, intrinsics, options, sight, config, summary);
   result.missions.push_back(std::move(mission));
   result.times.planning_s = secondsSince(t2);
 
@@ -335,7 +382,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   planning::FlightOptions flight_options = config.flight;
   flight_options.start = config.mission.start;
   flight_options.simplify = config.mission.simplify;
-  result.flight = planning::planFlight(result.missions, grid, validator, *planner, flight_options);
+  result.flight = planning::planFlight(result.missions, grid, *validator, *planner, flight_options);
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);
   result.structure = summary;

@@ -116,7 +116,7 @@ PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_norma
     }
     g.pos.push_back(points[i]);
     g.nrm.push_back(unit_normals.size() == 1 ? unit_normals[0] : unit_normals[i]);
-    g.both.push_back(two_sided != nullptr && (*two_sided)[i] != 0);
+    g.both.push_back(two_sided != nullptr && (*two_sided)[i] != 0 ? 1 : 0);
     g.index.push_back(i);
   }
   g.begin.push_back(n);

@@ -73,7 +73,8 @@ PixelCoverageResult evaluatePixelCoverage(const PointList& points, const std::ve
   });
   result.flags.assign(points.size(), 0);
   for (const auto& c : covered)
-    for (std::size_t i = 0; i < c.size(); ++i) result.flags[i] |= c[i];
+    for (std::size_t i = 0; i < c.size(); ++i)
+      if (c[i] != 0) result.flags[i] = 1;
   for (const char c : result.flags) result.covered += c != 0;
   result.fraction = points.empty() ? 1.0 : static_cast<double>(result.covered) / static_cast<double>(points.size());
   return result;

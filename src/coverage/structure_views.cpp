@@ -177,6 +177,7 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   }
   out.free_candidates = usable.size();
   std::vector<ViewPose> poses;
+  poses.reserve(usable.size());
   for (const auto& c : usable) poses.push_back(c.pose);
   const auto sets = imagedByView(points, normals, poses, camera, options.criteria, los, options.threads,
                                  two_sided.empty() ? nullptr : &two_sided);

@@ -16,7 +16,7 @@ std::vector<Vec3> estimateNormals(const PointList& queries, const PointList& sur
   std::vector<Vec3> normals(queries.size(), Vec3::UnitZ());
   if (queries.empty()) return normals;
   if (surface.empty()) throw InputError("normals: no surface points to estimate " + std::to_string(queries.size()) + " normals from");
-  const Vec3 origin = surface.front();  // float precision near the cloud
+  const Vec3& origin = surface.front();  // float precision near the cloud
   const auto surface_cloud = toPclCloud(surface, origin);
   const auto query_cloud = toPclCloud(queries, origin);
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;

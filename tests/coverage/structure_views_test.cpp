@@ -39,7 +39,7 @@ long pixelOf(const ViewPose& v, const PinholeIntrinsics& k, const Vec3& p) {
   const double px = k.cx_px + k.fx_px * r.dot(d) / z;
   const double py = k.cy_px + k.fy_px * (-u.dot(d)) / z;
   if (px < 0.0 || px >= k.width_px || py < 0.0 || py >= k.height_px) return -1;
-  return static_cast<long>(std::floor(py)) * k.width_px + static_cast<long>(std::floor(px));
+  return static_cast<long>(std::floor(py)) * static_cast<long>(k.width_px) + static_cast<long>(std::floor(px));
 }
 
 TEST(PixelCoverage, MatchesBruteForceOverEveryPixel) {
@@ -58,7 +58,7 @@ TEST(PixelCoverage, MatchesBruteForceOverEveryPixel) {
   const double range = 10.0;
   std::vector<char> expected(pts.size(), 0);
   for (const auto& v : views) {
-    for (long pixel = 0; pixel < k.width_px * k.height_px; ++pixel) {
+    for (long pixel = 0; pixel < static_cast<long>(k.width_px) * k.height_px; ++pixel) {
       long best = -1;
       double best_r = std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < pts.size(); ++i) {
