@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +108,37 @@ TEST_F(Cli, DetectThenPlanOneSurface) {
   const auto mission = nlohmann::json::parse(slurp(dir_ / "p/mission.json"));
   EXPECT_EQ(mission["surfaces"][0]["status"], "ok");
   expectBadInput("plan " + path("d/scene.json") + " --surface 9 -o " + path("p"), "no surface with id 9");
+}
+
+TEST_F(Cli, CoverStructureFlowsIntoValidateAndExport) {
+  // A 2 m pole (curved: no plane of 2 m2) as an .xyz file: plane by plane nothing to fly.
+  std::ostringstream xyz;
+  for (int k = 0; k <= 40; ++k)
+    for (int j = 0; j < 32; ++j)
+      xyz << 0.25 * std::cos(j * 0.19635) << " " << 0.25 * std::sin(j * 0.19635) << " " << 1.0 + k * 0.05 << "\n";
+  const std::string cloud = write("pole.xyz", xyz.str());
+  Result r = uavip("detect " + cloud + " -o " + path("d"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string config = write("cam.yaml", "camera: {fx: 417, fy: 461, image_px: [640, 480]}\n"
+                                               "coverage: {standoff_m: 2.5}\nuav: {inflation_radius_m: 0.3}\n");
+  r = uavip("plan " + path("d/scene.json") + " --cover structure -c " + config + " -o " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("rule (a)"), std::string::npos) << r.out;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "p/mission.json"));
+  const auto scene = nlohmann::json::parse(slurp(dir_ / "d/scene.json"));
+  ASSERT_EQ(mission["surfaces"].size(), 1u);
+  const auto& s = mission["surfaces"][0];
+  EXPECT_EQ(s["kind"], "structure");
+  EXPECT_EQ(s["surface_id"].get<int>(), static_cast<int>(scene["surfaces"].size()));  // above the scene's ids
+  EXPECT_GT(s["stop_count"].get<int>(), 3);
+  EXPECT_GE(mission["structure"]["coverage_rule_a"].get<double>(), 0.95);
+  for (const auto& st : mission["flight"]["sorties"][0]["stops"]) EXPECT_EQ(st["surface_id"], s["surface_id"]);
+  r = uavip("validate " + path("p/mission.json") + " --scene " + path("d/scene.json"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  r = uavip("export " + path("p/mission.json") + " --scene " + path("d/scene.json") +
+            " --surface all --format csv --origin 47.3977,8.5456,488 -o " + path("p/pole.csv"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(path("p/pole.csv")));
 }
 
 TEST_F(Cli, TheFlightKeepsClearOfPointsOutlierRemovalDrops) {
