@@ -2,14 +2,16 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
-#include "uavip/core/parallel.h"
 
 namespace uavip::coverage {
 
@@ -492,12 +494,14 @@ void CoverageCriteria::validate(const std::string& where) const {
               ">= 0 and finite (0 = from the camera model)", max_range_m);
 }
 
-namespace {
-
-/// The checks of evaluateCoverage's inputs; returns the normals scaled to unit length
-/// (one per point or one for all; none without points). Throws naming the bad input.
-std::vector<Vec3> checkedUnitNormals(const PointList& points, const std::vector<Vec3>& normals,
-                                     const std::vector<ViewPose>& views, const std::string& where) {
+// Long (97 lines): input checks, the per-view loop on the worker pool, and the ordered merge of the per-worker tallies that keeps the result thread-independent.
+CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
+                                const std::vector<ViewPose>& views, const CameraModel& camera,
+                                const CoverageCriteria& criteria, const LineOfSight* los,
+                                int threads) {
+  const std::string where = "evaluateCoverage";
+  criteria.validate(where + ".criteria");
+  requireThat(threads >= 1, where, "threads", ">= 1", threads);
   const std::size_t n = points.size();
   for (std::size_t i = 0; i < n; ++i) {
     require(points[i].allFinite(), where, "point " + std::to_string(i) + " is not finite");
@@ -519,61 +523,64 @@ std::vector<Vec3> checkedUnitNormals(const PointList& points, const std::vector<
     require(p.position.allFinite() && std::isfinite(p.yaw_deg) && std::isfinite(p.pitch_deg), where,
             "view " + std::to_string(v) + " is not finite");
   }
-  return unit_normals;
-}
-
-/// Tests every view against the grid's points on the worker pool (core/parallel.h), in
-/// chunks of kViewChunk views, and adds the per-worker tallies to `res` in worker
-/// order: they are counts, so the result does not depend on the threads.
-void tallyViews(const PointGrid& grid, const std::vector<ViewPose>& views, const CameraModel& camera,
-                const CoverageCriteria& criteria, double range_limit, const LineOfSight* los,
-                int threads, CoverageResult& res) {
-  const double cos_max = criteria.max_incidence_deg >= 180.0 ? -1.0
-                         : criteria.max_incidence_deg == 90.0
-                             ? 0.0
-                             : std::cos(criteria.max_incidence_deg * kDegToRad);
-  const std::size_t chunks = (views.size() + kViewChunk - 1) / kViewChunk;
-  const std::size_t workers = std::min(static_cast<std::size_t>(threads), chunks);
-  std::vector<WorkerTally> tallies(workers);
-  for (WorkerTally& tally : tallies) tally.views_per_point.assign(res.points, 0);
-  parallelFor(chunks, static_cast<int>(workers), [&](std::size_t chunk, std::size_t worker) {
-    const std::size_t end = std::min((chunk + 1) * kViewChunk, views.size());
-    for (std::size_t v = chunk * kViewChunk; v < end; ++v) {
-      evaluateView(grid, views[v], camera, range_limit, cos_max, criteria.max_gsd_mm_per_px, los,
-                   tallies[worker]);
-    }
-  });
-  for (const WorkerTally& tally : tallies) {
-    for (std::size_t i = 0; i < res.points; ++i) res.views_per_point[i] += tally.views_per_point[i];
-    res.pairs_in_range += tally.pairs_in_range;
-    res.los_queries += tally.los_queries;
-  }
-}
-
-}  // namespace
-
-CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
-                                const std::vector<ViewPose>& views, const CameraModel& camera,
-                                const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads) {
-  const std::string where = "evaluateCoverage";
-  criteria.validate(where + ".criteria");
-  requireThat(threads >= 1, where, "threads", ">= 1", threads);
-  const std::vector<Vec3> unit_normals = checkedUnitNormals(points, normals, views, where);
   const double range_limit = criteria.max_range_m > 0.0
                                  ? criteria.max_range_m
                                  : camera.maxRange(criteria.max_gsd_mm_per_px);
   requireThat(range_limit > 0.0, where, "the range limit (criteria or camera model)", "> 0",
               range_limit);
 
-  const std::size_t n = points.size();
   CoverageResult res;
   res.points = n;
   res.range_limit_m = range_limit;
   res.views_per_point.assign(n, 0);
   if (n > 0 && !views.empty()) {
-    tallyViews(buildGrid(points, unit_normals, range_limit), views, camera, criteria, range_limit, los,
-               threads, res);
+    const PointGrid grid = buildGrid(points, unit_normals, range_limit);
+    const double cos_max = criteria.max_incidence_deg >= 180.0 ? -1.0
+                           : criteria.max_incidence_deg == 90.0
+                               ? 0.0
+                               : std::cos(criteria.max_incidence_deg * kDegToRad);
+    const std::size_t workers = std::min(static_cast<std::size_t>(threads), views.size());
+    std::vector<WorkerTally> tallies(workers);
+    std::vector<std::exception_ptr> errors(workers);
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    auto work = [&](std::size_t t) {
+      try {
+        WorkerTally& tally = tallies[t];
+        tally.views_per_point.assign(n, 0);
+        while (!failed.load(std::memory_order_relaxed)) {
+          const std::size_t b = next.fetch_add(kViewChunk);
+          if (b >= views.size()) break;
+          const std::size_t e = std::min(b + kViewChunk, views.size());
+          for (std::size_t v = b; v < e; ++v) {
+            evaluateView(grid, views[v], camera, range_limit, cos_max, criteria.max_gsd_mm_per_px,
+                         los, tally);
+          }
+        }
+      } catch (...) {
+        errors[t] = std::current_exception();
+        failed = true;
+      }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(workers - 1);
+    try {
+      for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work, t);
+    } catch (...) {
+      failed = true;
+      for (auto& th : pool) th.join();
+      throw;
+    }
+    work(0);
+    for (auto& th : pool) th.join();
+    for (const auto& e : errors) {
+      if (e) std::rethrow_exception(e);
+    }
+    for (const WorkerTally& tally : tallies) {
+      for (std::size_t i = 0; i < n; ++i) res.views_per_point[i] += tally.views_per_point[i];
+      res.pairs_in_range += tally.pairs_in_range;
+      res.los_queries += tally.los_queries;
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (res.views_per_point[i] > 0) {
