@@ -120,16 +120,21 @@ struct PcdHeader {
   std::uint64_t available{0};  ///< bytes from there to the end of the file
 };
 
-// Long (85 lines): one check per PCD header line, in file order, each naming the line and what to do.
-PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
+/// The key lines of a PCD header as written, before any check of their values.
+struct PcdHeaderLines {
   std::vector<std::string> fields, sizes, types, counts;
   std::optional<std::uint64_t> width, height, points;
   std::string data, version;
+};
+
+/// Reads the header's key lines up to DATA: each must be one of the PCD keys, once.
+PcdHeaderLines readPcdHeaderLines(const std::string& path, std::istream& in) {
+  PcdHeaderLines h;
   std::string line;
   std::set<std::string> seen;
   static const std::set<std::string> kKeys{"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT",
                                            "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-  for (int lines = 0; lines < 64 && data.empty() && std::getline(in, line); ++lines) {
+  for (int lines = 0; lines < 64 && h.data.empty() && std::getline(in, line); ++lines) {
     std::vector<std::string> w = words(line);
     if (w.empty() || w[0][0] == '#') continue;
     const std::string key = w[0];
@@ -140,68 +145,83 @@ PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_
       throw InputError(path + ": not a PCD file, or a damaged one: header line " + std::to_string(lines + 1) +
                        " is not a PCD key (VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA)");
     if (!seen.insert(key).second) throw InputError(path + ": PCD header has " + key + " twice");
-    if (key == "VERSION") version = w.empty() ? "?" : w[0];
-    if (key == "FIELDS") fields = w;
-    if (key == "SIZE") sizes = w;
-    if (key == "TYPE") types = w;
-    if (key == "COUNT") counts = w;
+    if (key == "VERSION") h.version = w.empty() ? "?" : w[0];
+    if (key == "FIELDS") h.fields = w;
+    if (key == "SIZE") h.sizes = w;
+    if (key == "TYPE") h.types = w;
+    if (key == "COUNT") h.counts = w;
     if ((key == "WIDTH" || key == "HEIGHT" || key == "POINTS") && w.size() != 1)
       throw InputError(path + ": " + key + " must hold one number");
-    if (key == "WIDTH") width = headerCount(path, "WIDTH", w[0]);
-    if (key == "HEIGHT") height = headerCount(path, "HEIGHT", w[0]);
-    if (key == "POINTS") points = headerCount(path, "POINTS", w[0]);
-    if (key == "DATA") data = w.empty() ? "?" : w[0];
+    if (key == "WIDTH") h.width = headerCount(path, "WIDTH", w[0]);
+    if (key == "HEIGHT") h.height = headerCount(path, "HEIGHT", w[0]);
+    if (key == "POINTS") h.points = headerCount(path, "POINTS", w[0]);
+    if (key == "DATA") h.data = w.empty() ? "?" : w[0];
   }
-  // PCL's reader dereferences a missing VERSION (found by tests/fuzz/fuzz_cloud).
-  if (version != "0.7" && version != ".7" && version != "0.6" && version != ".6")
-    throw InputError(path + ": PCD header needs VERSION 0.7 (or 0.6) before FIELDS, got '" + version.substr(0, 20) + "'");
-  const std::set<std::string> names(fields.begin(), fields.end());
-  if (!names.count("x") || !names.count("y") || !names.count("z") || !points || data.empty())
-    throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
-  if (!width || !height) throw InputError(path + ": PCD header needs WIDTH and HEIGHT");
-  if (sizes.size() != fields.size() || types.size() != fields.size() || (!counts.empty() && counts.size() != fields.size()))
-    throw InputError(path + ": SIZE, TYPE and COUNT must give one value per field of FIELDS");
-  PcdHeader header;
+  return h;
+}
+
+/// Checks SIZE, TYPE and COUNT of every field into `header` (sizes, counts, types);
+/// returns the bytes of one point.
+std::uint64_t checkPcdFields(const std::string& path, const PcdHeaderLines& h, PcdHeader& header) {
   std::uint64_t step = 0;
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    const std::string& size = sizes[i];
-    const std::string& type = types[i];
+  for (std::size_t i = 0; i < h.fields.size(); ++i) {
+    const std::string& size = h.sizes[i];
+    const std::string& type = h.types[i];
     if (size != "1" && size != "2" && size != "4" && size != "8")
-      throw InputError(path + ": SIZE of field " + fields[i] + " must be 1, 2, 4 or 8 bytes, got '" + size + "'");
+      throw InputError(path + ": SIZE of field " + h.fields[i] + " must be 1, 2, 4 or 8 bytes, got '" + size + "'");
     if (type != "F" && type != "I" && type != "U")
-      throw InputError(path + ": TYPE of field " + fields[i] + " must be F, I or U, got '" + type + "'");
+      throw InputError(path + ": TYPE of field " + h.fields[i] + " must be F, I or U, got '" + type + "'");
     if (type == "F" && size != "4" && size != "8")
-      throw InputError(path + ": field " + fields[i] + " is a float of " + size + " bytes; PCD floats have 4 or 8");
-    const std::uint64_t count = counts.empty() ? 1 : headerCount(path, "COUNT", counts[i]);
-    if (count == 0 || count > 1'000'000) throw InputError(path + ": COUNT of field " + fields[i] + " must be 1..1000000");
+      throw InputError(path + ": field " + h.fields[i] + " is a float of " + size + " bytes; PCD floats have 4 or 8");
+    const std::uint64_t count = h.counts.empty() ? 1 : headerCount(path, "COUNT", h.counts[i]);
+    if (count == 0 || count > 1'000'000) throw InputError(path + ": COUNT of field " + h.fields[i] + " must be 1..1000000");
     step += count * std::stoull(size);
     header.sizes.push_back(std::stoull(size));
     header.counts.push_back(count);
     header.types.push_back(type[0]);
   }
-  const std::uint64_t w = width.value_or(*points), h = height.value_or(1);
-  if (h != 0 && w > UINT64_MAX / h) throw InputError(path + ": WIDTH x HEIGHT overflows");
-  if (w * h != *points)
-    throw InputError(path + ": WIDTH x HEIGHT (" + std::to_string(w) + " x " + std::to_string(h) + ") differs from POINTS " +
-                     std::to_string(*points));
+  return step;
+}
+
+/// One check per PCD header line, in file order, each naming the line and what to do.
+PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
+  const PcdHeaderLines h = readPcdHeaderLines(path, in);
+  // PCL's reader dereferences a missing VERSION (found by tests/fuzz/fuzz_cloud).
+  if (h.version != "0.7" && h.version != ".7" && h.version != "0.6" && h.version != ".6")
+    throw InputError(path + ": PCD header needs VERSION 0.7 (or 0.6) before FIELDS, got '" + h.version.substr(0, 20) + "'");
+  const std::set<std::string> names(h.fields.begin(), h.fields.end());
+  if (!names.count("x") || !names.count("y") || !names.count("z") || !h.points || h.data.empty())
+    throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
+  if (!h.width || !h.height) throw InputError(path + ": PCD header needs WIDTH and HEIGHT");
+  if (h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
+      (!h.counts.empty() && h.counts.size() != h.fields.size()))
+    throw InputError(path + ": SIZE, TYPE and COUNT must give one value per field of FIELDS");
+  PcdHeader header;
+  const std::uint64_t step = checkPcdFields(path, h, header);
+  const std::uint64_t points = *h.points;
+  const std::uint64_t w = h.width.value_or(points), ht = h.height.value_or(1);
+  if (ht != 0 && w > UINT64_MAX / ht) throw InputError(path + ": WIDTH x HEIGHT overflows");
+  if (w * ht != points)
+    throw InputError(path + ": WIDTH x HEIGHT (" + std::to_string(w) + " x " + std::to_string(ht) + ") differs from POINTS " +
+                     std::to_string(points));
   const std::streamoff at = in.tellg();
   const std::uint64_t available = at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
-  if (data == "binary") {
-    checkPayload(path, *points, step, available, "binary");
-  } else if (data == "ascii") {
-    checkPayload(path, *points, 2 * fields.size(), available + 1, "ascii, a digit and a separator per value");
-  } else if (data == "binary_compressed") {
+  if (h.data == "binary") {
+    checkPayload(path, points, step, available, "binary");
+  } else if (h.data == "ascii") {
+    checkPayload(path, points, 2 * h.fields.size(), available + 1, "ascii, a digit and a separator per value");
+  } else if (h.data == "binary_compressed") {
     // LZF expands at most about 100 times; beyond that the header cannot be right.
-    checkPayload(path, *points, std::max<std::uint64_t>(1, step / 100), available, "compressed");
+    checkPayload(path, points, std::max<std::uint64_t>(1, step / 100), available, "compressed");
   } else {
-    throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + data + "'");
+    throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + h.data + "'");
   }
-  header.fields = fields;
+  header.fields = h.fields;
   header.width = w;
-  header.height = h;
-  header.points = *points;
+  header.height = ht;
+  header.points = points;
   header.step = step;
-  header.data = data;
+  header.data = h.data;
   header.body = static_cast<std::uint64_t>(at);
   header.available = available;
   return header;

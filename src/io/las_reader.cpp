@@ -146,19 +146,10 @@ struct Header {
   std::uint32_t evlr_count{0};
 };
 
-// Long (87 lines): one read and one named check per field of the LAS 1.0–1.4 public header block, in file order.
-Header readHeader(LasFile& file, const std::string& path) {
-  if (file.size() < 4) fail(path, "not a LAS file (no \"LASF\" signature), give a .las file");
-  const std::size_t first =
-      static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kHeaderSize14));
-  const std::vector<unsigned char> b = file.readAt(0, first);
-  if (std::memcmp(b.data(), "LASF", 4) != 0)
-    fail(path, "not a LAS file (no \"LASF\" signature), give a .las file");
-  if (first < kHeaderSize12)
-    fail(path, "file is " + str(file.size()) + " bytes, shorter than a LAS header (227 bytes), " +
-                   kDamaged);
-
-  Header h;
+/// Version and header size (bytes 24, 25, 94): LAS 1.0–1.4, a header as long as its
+/// version needs and no longer than the file.
+void readVersion(const std::vector<unsigned char>& b, std::uint64_t file_size, const std::string& path,
+                 Header& h) {
   h.major = b[24];
   h.minor = b[25];
   const std::string version = str(h.major) + "." + str(h.minor);
@@ -173,10 +164,14 @@ Header readHeader(LasFile& file, const std::string& path) {
   if (h.header_size < required)
     fail(path, "header size " + str(h.header_size) + " bytes is smaller than the " + str(required) +
                    " bytes LAS " + version + " requires, " + kDamaged);
-  if (h.header_size > file.size())
+  if (h.header_size > file_size)
     fail(path, "header size " + str(h.header_size) + " bytes exceeds the file size " +
-                   str(file.size()) + " bytes, " + kDamaged);
+                   str(file_size) + " bytes, " + kDamaged);
+}
 
+/// Point data format and record length (bytes 104–106): no LASzip bit, a known
+/// format, records long enough for it.
+void readPointFormat(const std::vector<unsigned char>& b, const std::string& path, Header& h) {
   const unsigned format_byte = b[104];
   if ((format_byte & 0xC0u) != 0)
     fail(path, "point data format byte " + str(format_byte) +
@@ -191,12 +186,17 @@ Header readHeader(LasFile& file, const std::string& path) {
   if (h.record_length < needed)
     fail(path, "point record length " + str(h.record_length) + " bytes is shorter than the " +
                    str(needed) + " bytes point format " + str(h.format) + " needs, " + kDamaged);
+}
 
+/// Where the points start and how many there are (bytes 96–107; 1.4: 235–254),
+/// within the file and this reader's limit.
+void readPointCount(const std::vector<unsigned char>& b, std::uint64_t file_size, const std::string& path,
+                    Header& h) {
   h.offset_to_points = u32(b.data() + 96);
   h.vlr_count = u32(b.data() + 100);
-  if (h.offset_to_points < h.header_size || h.offset_to_points > file.size())
+  if (h.offset_to_points < h.header_size || h.offset_to_points > file_size)
     fail(path, "offset to the point data " + str(h.offset_to_points) + " lies outside bytes " +
-                   str(h.header_size) + ".." + str(file.size()) + ", " + kDamaged);
+                   str(h.header_size) + ".." + str(file_size) + ", " + kDamaged);
 
   const std::uint64_t legacy_count = u32(b.data() + 107);
   h.count = legacy_count;
@@ -208,17 +208,20 @@ Header readHeader(LasFile& file, const std::string& path) {
   }
   if (h.count == 0)
     fail(path, "contains no points (point count 0 in the header), give a file with points");
-  const std::uint64_t room = (file.size() - h.offset_to_points) / h.record_length;
+  const std::uint64_t room = (file_size - h.offset_to_points) / h.record_length;
   if (h.count > room)
     fail(path, "header says " + str(h.count) + " points of " + str(h.record_length) +
                    " bytes from byte " + str(h.offset_to_points) + ", but the file (" +
-                   str(file.size()) + " bytes) has room for " + str(room) +
+                   str(file_size) + " bytes) has room for " + str(room) +
                    ": it is truncated or its header is damaged; re-export or re-download it");
   if (h.count > kMaxPoints)
     fail(path, str(h.count) +
                    " points are more than this reader takes (2^31), split the file first, e.g. "
                    "`pdal split --capacity 100000000 x.las part.las` or `lastile`");
+}
 
+/// Scale, offset and bounds of each axis (bytes 131–226): finite, scales non-zero.
+void readAxes(const std::vector<unsigned char>& b, const std::string& path, Header& h) {
   const char* axis[3] = {"x", "y", "z"};
   for (std::size_t k = 0; k < 3; ++k) {
     h.scale[k] = f64(b.data() + 131 + 8 * k);
@@ -232,6 +235,26 @@ Header readHeader(LasFile& file, const std::string& path) {
       fail(path,
            std::string(axis[k]) + " offset " + str(h.offset[k]) + " must be finite, " + kDamaged);
   }
+}
+
+/// One read and one named check per field of the LAS 1.0–1.4 public header block, in
+/// file order.
+Header readHeader(LasFile& file, const std::string& path) {
+  if (file.size() < 4) fail(path, "not a LAS file (no \"LASF\" signature), give a .las file");
+  const std::size_t first =
+      static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kHeaderSize14));
+  const std::vector<unsigned char> b = file.readAt(0, first);
+  if (std::memcmp(b.data(), "LASF", 4) != 0)
+    fail(path, "not a LAS file (no \"LASF\" signature), give a .las file");
+  if (first < kHeaderSize12)
+    fail(path, "file is " + str(file.size()) + " bytes, shorter than a LAS header (227 bytes), " +
+                   kDamaged);
+
+  Header h;
+  readVersion(b, file.size(), path, h);
+  readPointFormat(b, path, h);
+  readPointCount(b, file.size(), path, h);
+  readAxes(b, path, h);
   return h;
 }
 
