@@ -1,14 +1,14 @@
 #pragma once
 // Small helpers shared by the benchmark programs (header-only; not part of the library).
 
-#include "uavip/core/memory.h"
-#include "uavip/io/cloud_io.h"
-
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cstddef>
 #include <vector>
+
+#include "uavip/core/memory.h"
+#include "uavip/io/cloud_io.h"
 
 namespace uavip::bench_util {
 

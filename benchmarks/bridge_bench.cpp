@@ -1,21 +1,9 @@
-// The bridge pipeline from raw scans (target: stages 1-7 under 3 s): simulate once (excluded), then per
-// run: stage 1 assembly, stage 2 registration, stage 3 preprocess, stages 4-5
-// perception, grid, stages 6-7 planning, with wall time per stage (median of N
-// runs), peak memory and the accuracy against the truth; then stage 1 with and
-// without the IMU prior (the paper's customisation) and with PCL's ICP.
-// Usage: uavip_bridge_bench [SCENARIO.yaml] [RUNS]   (default scenarios/bridge.yaml, 3)
-// Numbers go in benchmarks/README.md, never in tests.
-
-#include "uavip/app/assemble.h"
-#include "uavip/app/pipeline.h"
-#include "uavip/core/error.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-#include "uavip/scan/station_assembler.h"
-#include "uavip/sim/scanner_sim.h"
-
-#include "bench_util.h"
+// The bridge pipeline from raw scans (target: stages 1-7 under 3 s): simulate once (excluded), then
+// per run: stage 1 assembly, stage 2 registration, stage 3 preprocess, stages 4-5 perception, grid,
+// stages 6-7 planning, with wall time per stage (median of N runs), peak memory and the accuracy
+// against the truth; then stage 1 with and without the IMU prior (the paper's customisation) and
+// with PCL's ICP. Usage: uavip_bridge_bench [SCENARIO.yaml] [RUNS]   (default
+// scenarios/bridge.yaml, 3) Numbers go in benchmarks/README.md, never in tests.
 
 #include <algorithm>
 #include <cmath>
@@ -24,6 +12,16 @@
 #include <iostream>
 #include <string>
 #include <vector>
+
+#include "bench_util.h"
+#include "uavip/app/assemble.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/scan/station_assembler.h"
+#include "uavip/sim/scanner_sim.h"
 
 namespace {
 
@@ -47,10 +45,12 @@ int main(int argc, char** argv) {
       r.corner -= s.origin_m;
       world.addPlane(r);
     }
-    for (const auto& seg : sc.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
+    for (const auto& seg : sc.world.segments())
+      world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
     for (const auto& p : sc.world.points()) world.addPoint(p.name, p.p - s.origin_m);
 
-    std::vector<double> asm_s, reg_s, measure_s, pre_s, perc_s, grid_s, cov_s, plan_s, flight_s, total_s;
+    std::vector<double> asm_s, reg_s, measure_s, pre_s, perc_s, grid_s, cov_s, plan_s, flight_s,
+        total_s;
     std::size_t clean = 0, surfaces = 0, stops = 0, waypoints = 0;
     for (int i = 0; i < runs; ++i) {
       // Timed without the truth: scoring the cloud and the drift against the
@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
       const uavip::preprocess::CloudStats stats = uavip::app::measure(a.cloud, &sc, &index);
       measure_s.push_back(uavip::secondsSince(tm));
       const auto d = uavip::app::detect(a.cloud, sc.config, stats, {}, index);
-      const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
+      const auto p =
+          uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
       total_s.push_back(uavip::secondsSince(t0));
       asm_s.push_back(a.assembly_s);
       reg_s.push_back(a.registration_s);
@@ -82,48 +83,65 @@ int main(int argc, char** argv) {
       }
     }
     const uavip::app::AssembleResult last = uavip::app::assemble(s.log, {}, &s.truth, &world);
-    std::printf("scenario %s, %d runs (median wall time), peak RSS %.1f MiB, simulation %.2f s (excluded)\n",
-                sc.name.c_str(), runs, peakRssMiB(), sim_s);
-    std::printf("raw points %zu -> merged %zu -> clean %zu; %zu surfaces; %zu stops, %zu waypoints\n\n",
-                last.station_points, last.cloud.size(), clean, surfaces, stops, waypoints);
+    std::printf(
+        "scenario %s, %d runs (median wall time), peak RSS %.1f MiB, simulation %.2f s "
+        "(excluded)\n",
+        sc.name.c_str(), runs, peakRssMiB(), sim_s);
+    std::printf(
+        "raw points %zu -> merged %zu -> clean %zu; %zu surfaces; %zu stops, %zu waypoints\n\n",
+        last.station_points, last.cloud.size(), clean, surfaces, stops, waypoints);
     std::printf("| stage | median s |\n|---|---|\n");
-    std::printf("| 1 assembly | %.3f |\n| 2 registration | %.3f |\n| cloud measurement (auto parameters) | %.3f |\n"
-                "| 3 preprocess | %.3f |\n",
-                median(asm_s), median(reg_s), median(measure_s), median(pre_s));
-    std::printf("| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n| 7 grid | %.3f |\n| 7 planning | %.3f |\n"
-                "| 7 flight (order, legs, sorties, validation) | %.3f |\n",
-                median(perc_s), median(cov_s), median(grid_s), median(plan_s), median(flight_s));
+    std::printf(
+        "| 1 assembly | %.3f |\n| 2 registration | %.3f |\n| cloud measurement (auto parameters) | "
+        "%.3f |\n"
+        "| 3 preprocess | %.3f |\n",
+        median(asm_s), median(reg_s), median(measure_s), median(pre_s));
+    std::printf(
+        "| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n| 7 grid | %.3f |\n| 7 planning | %.3f "
+        "|\n"
+        "| 7 flight (order, legs, sorties, validation) | %.3f |\n",
+        median(perc_s), median(cov_s), median(grid_s), median(plan_s), median(flight_s));
     std::printf("| total (1-7, wall time of the whole run) | %.3f |\n\n", median(total_s));
 
-    std::printf("| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded pos err cm | "
-                "registered pos err cm | stage 2 pairs fixing the weakest direction |\n|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| station | loop closure cm | drift max cm (true) | drift error max / rms cm | recorded "
+        "pos err cm | "
+        "registered pos err cm | stage 2 pairs fixing the weakest direction "
+        "|\n|---|---|---|---|---|---|---|\n");
     for (const auto& st : last.stations) {
       char closure[32] = "n/a (unobservable)";
-      if (st.loop_closure_m >= 0.0) std::snprintf(closure, sizeof closure, "%.1f", 100 * st.loop_closure_m);
-      std::printf("| %d | %s | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f | %.0f along (%.2f, %.2f, %.2f)%s |\n", st.id, closure,
-                  100 * st.drift_max_m, 100 * st.true_drift_max_m.value_or(-0.01),
-                  100 * st.drift_error_max_m.value_or(-0.01), 100 * st.drift_error_rms_m.value_or(-0.01),
-                  100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01),
-                  st.registration_information.x(), st.weakest_direction.x(), st.weakest_direction.y(),
-                  st.weakest_direction.z(), st.position_observed ? "" : " (unobserved: GPS)");
+      if (st.loop_closure_m >= 0.0)
+        std::snprintf(closure, sizeof closure, "%.1f", 100 * st.loop_closure_m);
+      std::printf(
+          "| %d | %s | %.1f (%.1f) | %.1f / %.1f | %.1f | %.1f | %.0f along (%.2f, %.2f, %.2f)%s "
+          "|\n",
+          st.id, closure, 100 * st.drift_max_m, 100 * st.true_drift_max_m.value_or(-0.01),
+          100 * st.drift_error_max_m.value_or(-0.01), 100 * st.drift_error_rms_m.value_or(-0.01),
+          100 * st.initial_pose_error_m.value_or(-0.01), 100 * st.pose_error_m.value_or(-0.01),
+          st.registration_information.x(), st.weakest_direction.x(), st.weakest_direction.y(),
+          st.weakest_direction.z(), st.position_observed ? "" : " (unobserved: GPS)");
     }
     if (last.rms_to_truth_m) {
-      std::printf("\nmerged cloud to the true surfaces: RMS %.2f cm, 95 %% %.2f cm (%zu points scored)\n",
-                  100 * *last.rms_to_truth_m, 100 * last.p95_to_truth_m.value_or(0.0), last.scored_points);
+      std::printf(
+          "\nmerged cloud to the true surfaces: RMS %.2f cm, 95 %% %.2f cm (%zu points scored)\n",
+          100 * *last.rms_to_truth_m, 100 * last.p95_to_truth_m.value_or(0.0), last.scored_points);
     }
 
     // Stage 1 variants: the paper's IMU prior vs plain ICP, point-to-line vs PCL.
-    std::printf("\n| stage 1 variant | ICP s (all stations) | mean iterations | drift error max / rms cm (worst station) |\n"
-                "|---|---|---|---|\n");
+    std::printf(
+        "\n| stage 1 variant | ICP s (all stations) | mean iterations | drift error max / rms cm "
+        "(worst station) |\n"
+        "|---|---|---|---|\n");
     struct Variant {
       const char* name;
       bool prior;
       uavip::scan::IcpMethod icp;
     };
-    const Variant variants[] = {{"IMU prior + point-to-line (default)", true, uavip::scan::IcpMethod::PointToLine2D},
-                                {"plain point-to-line (no IMU prior)", false, uavip::scan::IcpMethod::PointToLine2D},
-                                {"IMU prior + PCL ICP", true, uavip::scan::IcpMethod::PclPointToPoint},
-                                {"plain PCL ICP", false, uavip::scan::IcpMethod::PclPointToPoint}};
+    const Variant variants[] = {
+        {"IMU prior + point-to-line (default)", true, uavip::scan::IcpMethod::PointToLine2D},
+        {"plain point-to-line (no IMU prior)", false, uavip::scan::IcpMethod::PointToLine2D},
+        {"IMU prior + PCL ICP", true, uavip::scan::IcpMethod::PclPointToPoint},
+        {"plain PCL ICP", false, uavip::scan::IcpMethod::PclPointToPoint}};
     for (const auto& v : variants) {
       uavip::scan::AssemblerOptions o;
       o.use_imu_prior = v.prior;
@@ -136,14 +154,19 @@ int main(int argc, char** argv) {
         const auto& tp = s.truth.stations[i].horizontal_poses;
         double e_max = 0.0, e_sum = 0.0;
         for (std::size_t k = 0; k < c.poses.size() && k < tp.size(); ++k) {
-          const double e = (c.poses[k].translation() - (tp[k].translation() - tp[0].translation())).head<2>().norm();
+          const double e = (c.poses[k].translation() - (tp[k].translation() - tp[0].translation()))
+                               .head<2>()
+                               .norm();
           e_max = std::max(e_max, e);
           e_sum += e * e;
         }
         worst = std::max(worst, e_max);
-        worst_rms = std::max(worst_rms, std::sqrt(e_sum / static_cast<double>(std::max<std::size_t>(1, c.poses.size()))));
+        worst_rms = std::max(
+            worst_rms,
+            std::sqrt(e_sum / static_cast<double>(std::max<std::size_t>(1, c.poses.size()))));
       }
-      std::printf("| %s | %.3f | %.1f | %.1f / %.1f (xy) |\n", v.name, icp, iters, 100 * worst, 100 * worst_rms);
+      std::printf("| %s | %.3f | %.1f | %.1f / %.1f (xy) |\n", v.name, icp, iters, 100 * worst,
+                  100 * worst_rms);
     }
   } catch (const uavip::InputError& e) {
     std::cerr << "uavip_bridge_bench: error: " << e.what() << "\n";

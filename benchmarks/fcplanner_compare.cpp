@@ -9,9 +9,21 @@
 // OUT/<scene>/mission.json, OUT/results.json and OUT/results.md.
 // DATA_DIR defaults to ../shared/data/real from the repository root.
 
-#include "bench_util.h"
+#include <pcl/kdtree/kdtree_flann.h>
 
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
 #include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/pcl_cloud.h"
@@ -20,20 +32,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
-#include "uavip/app/scenario.h"
 #include "uavip/io/scene_json.h"
-
-#include <nlohmann/json.hpp>
-#include <pcl/kdtree/kdtree_flann.h>
-
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
-#include <limits>
-#include <sstream>
-#include <string>
-#include <vector>
 
 namespace fs = std::filesystem;
 using namespace uavip;
@@ -54,12 +53,51 @@ struct Peer {
 };
 
 const std::vector<Peer> kPeers = {
-    {"MBS", "fcplanner_MBS.pcd", "fcplanner_MBSmore.pcd", 11.0, 8.0, {0, 20, -13}, -10.5, 0.95, 1396.2, 0.940, 185,
-     131.5, 1635.5, 0.685, 1770},
-    {"christ", "fcplanner_christ.pcd", "fcplanner_christmore.pcd", 8.0, 6.0, {10, 0, 0}, -7.4, 0.51, 530.4, 0.997, 111,
-     62.1, 700.5, 0.859, 787},
-    {"pipe", "fcplanner_pipe.pcd", "fcplanner_pipe.pcd", 11.0, 8.0, {0, 0, 0}, std::nullopt, 1.61, 1440.4, 0.975, 210,
-     235.0, 2754.1, 0.692, 3078},
+    {"MBS",
+     "fcplanner_MBS.pcd",
+     "fcplanner_MBSmore.pcd",
+     11.0,
+     8.0,
+     {0, 20, -13},
+     -10.5,
+     0.95,
+     1396.2,
+     0.940,
+     185,
+     131.5,
+     1635.5,
+     0.685,
+     1770},
+    {"christ",
+     "fcplanner_christ.pcd",
+     "fcplanner_christmore.pcd",
+     8.0,
+     6.0,
+     {10, 0, 0},
+     -7.4,
+     0.51,
+     530.4,
+     0.997,
+     111,
+     62.1,
+     700.5,
+     0.859,
+     787},
+    {"pipe",
+     "fcplanner_pipe.pcd",
+     "fcplanner_pipe.pcd",
+     11.0,
+     8.0,
+     {0, 0, 0},
+     std::nullopt,
+     1.61,
+     1440.4,
+     0.975,
+     210,
+     235.0,
+     2754.1,
+     0.692,
+     3078},
 };
 
 /// Their settings as a uavip config: pinhole 640 × 480, drone radius 0.3 m, gimbal
@@ -74,7 +112,9 @@ app::Config peerConfig(const Peer& p, bool with_start, double target) {
     << (p.ground_z_m ? ", ground_z_m: " + std::to_string(*p.ground_z_m) : std::string()) << "}\n"
     << "uav: {inflation_radius_m: 0.3}\n"
     << "flight: {endurance_s: 1000000}\n";
-  if (with_start) y << "mission: {start: [" << p.start.x() << ", " << p.start.y() << ", " << p.start.z() << "]}\n";
+  if (with_start)
+    y << "mission: {start: [" << p.start.x() << ", " << p.start.y() << ", " << p.start.z()
+      << "]}\n";
   return app::parseConfig(y.str(), "(FC-Planner settings for " + p.name + ")");
 }
 
@@ -136,8 +176,10 @@ double minClearance(const planning::FlightPlan& f, const PointList& raw) {
       const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.02)));
       for (int k = 0; k <= steps; ++k) {
         const Vec3 q = a + (b - a) * (static_cast<double>(k) / steps);
-        pcl::PointXYZ p(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
-        if (tree.nearestKSearch(p, 1, idx, d2) == 1) best = std::min(best, std::sqrt(static_cast<double>(d2[0])));
+        pcl::PointXYZ p(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                        static_cast<float>(q.z()));
+        if (tree.nearestKSearch(p, 1, idx, d2) == 1)
+          best = std::min(best, std::sqrt(static_cast<double>(d2[0])));
       }
     }
   }
@@ -183,13 +225,15 @@ void runScene(const Peer& p, const std::string& data, const std::string& out, do
   const auto& plan = first.plan;
   const auto views = flownViews(plan);
   coverage::PinholeIntrinsics k;  // FC-Planner's camera (the defaults)
-  const double rule_a = coverage::evaluatePixelCoverage(dense, views, k, p.visible_range_m).fraction;
+  const double rule_a =
+      coverage::evaluatePixelCoverage(dense, views, k, p.visible_range_m).fraction;
   const double path = pathToLastPhoto(plan.flight);
   const double clearance = minClearance(plan.flight, raw);
   const double rule_b = plan.structure ? plan.structure->rule_b : 0.0;
   const fs::path dir = fs::path(out) / p.name;
   fs::create_directories(dir);
-  io::writeFileAtomic((dir / "scene.json").string(), io::sceneToJson(first.detect.scene).dump(1) + "\n");
+  io::writeFileAtomic((dir / "scene.json").string(),
+                      io::sceneToJson(first.detect.scene).dump(1) + "\n");
   nlohmann::json mission = io::missionToJson(plan.missions, {{"scene", p.name}});
   mission["flight"] = io::flightToJson(plan.flight, config.flight.model);
   io::writeFileAtomic((dir / "mission.json").string(), mission.dump(1) + "\n");
@@ -204,13 +248,22 @@ void runScene(const Peer& p, const std::string& data, const std::string& out, do
                      {"min_clearance_m", clearance},
                      {"flight_status", planning::toString(plan.flight.status)},
                      {"home", home_note},
-                     {"fcplanner", {{"views", p.fc_views}, {"path_m", p.fc_path_m}, {"coverage", p.fc_coverage}, {"time_s", p.fc_time_s}}},
-                     {"sip", {{"views", p.sip_views}, {"path_m", p.sip_path_m}, {"coverage", p.sip_coverage}, {"time_s", p.sip_time_s}}}});
-  md << "| " << p.name << " | " << views.size() << " (" << p.fc_views << " / " << p.sip_views << ") | " << fixed(path, 1)
-     << " (" << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1) << ") | " << pct(rule_a) << " ("
-     << pct(p.fc_coverage) << " / " << pct(p.sip_coverage) << ") | " << pct(rule_b) << " | " << fixed(compute, 2)
-     << " (" << fixed(p.fc_time_s, 2) << " / " << fixed(p.sip_time_s, 1) << ") | " << fixed(wall, 2) << " | "
-     << fixed(clearance, 3) << " |\n";
+                     {"fcplanner",
+                      {{"views", p.fc_views},
+                       {"path_m", p.fc_path_m},
+                       {"coverage", p.fc_coverage},
+                       {"time_s", p.fc_time_s}}},
+                     {"sip",
+                      {{"views", p.sip_views},
+                       {"path_m", p.sip_path_m},
+                       {"coverage", p.sip_coverage},
+                       {"time_s", p.sip_time_s}}}});
+  md << "| " << p.name << " | " << views.size() << " (" << p.fc_views << " / " << p.sip_views
+     << ") | " << fixed(path, 1) << " (" << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1)
+     << ") | " << pct(rule_a) << " (" << pct(p.fc_coverage) << " / " << pct(p.sip_coverage)
+     << ") | " << pct(rule_b) << " | " << fixed(compute, 2) << " (" << fixed(p.fc_time_s, 2)
+     << " / " << fixed(p.sip_time_s, 1) << ") | " << fixed(wall, 2) << " | " << fixed(clearance, 3)
+     << " |\n";
 }
 
 }  // namespace
@@ -228,7 +281,8 @@ int main(int argc, char** argv) {
     } else if (a == "-h" || a == "--help") {
       std::cout << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T]\n"
                    "  --target T: coverage.structure_target (default 0.99)\n"
-                   "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default ../shared/data/real)\n";
+                   "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
+                   "../shared/data/real)\n";
       return 0;
     } else {
       data = a;
@@ -242,7 +296,8 @@ int main(int argc, char** argv) {
     fs::create_directories(out);
     nlohmann::json results = nlohmann::json::array();
     std::ostringstream md;
-    md << "| scene | photos (FC / SIP) | path home → last photo [m] (FC / SIP) | coverage rule (a) (FC / SIP) | rule (b) "
+    md << "| scene | photos (FC / SIP) | path home → last photo [m] (FC / SIP) | coverage rule (a) "
+          "(FC / SIP) | rule (b) "
           "| compute [s] (FC / SIP) | wall [s] | min distance to every input point [m] |\n"
           "|---|---|---|---|---|---|---|---|\n";
     for (const Peer& p : kPeers) runScene(p, data, out, target, results, md);

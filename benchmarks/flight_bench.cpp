@@ -8,25 +8,26 @@
 //        (default scenarios/single_cube.yaml scenarios/bridge.yaml, R = 3)
 // Numbers go in benchmarks/README.md, never in tests.
 
-#include "uavip/app/pipeline.h"
-#include "uavip/core/error.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-
-#include "bench_util.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
+
 namespace {
 
 using uavip::bench_util::median;
 using uavip::bench_util::peakRssMiB;
 
-double percentAbove(double value, double bound) { return bound > 0.0 ? 100.0 * (value / bound - 1.0) : 0.0; }
+double percentAbove(double value, double bound) {
+  return bound > 0.0 ? 100.0 * (value / bound - 1.0) : 0.0;
+}
 
 }  // namespace
 
@@ -44,9 +45,13 @@ int main(int argc, char** argv) {
   }
   if (paths.empty()) paths = {"scenarios/single_cube.yaml", "scenarios/bridge.yaml"};
   try {
-    std::printf("| scenario | surfaces flown | stops | tour m (solved) | by id m | lower bound m | solved above bound | "
-                "connecting legs solved / by id / bound m | optimal | legs planned | order s | validation s | flight step s | "
-                "sorties | duration min |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| scenario | surfaces flown | stops | tour m (solved) | by id m | lower bound m | solved "
+        "above bound | "
+        "connecting legs solved / by id / bound m | optimal | legs planned | order s | validation "
+        "s | flight step s | "
+        "sorties | duration min "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const auto& path : paths) {
       const uavip::app::Scenario sc = uavip::app::loadScenario(path);
       const auto raw = uavip::app::sense(sc);
@@ -67,17 +72,21 @@ int main(int argc, char** argv) {
         for (const auto& s : f.sorties) stops += s.stops.size();
       }
       if (f.status != uavip::planning::FlightPlan::Status::Ok) {
-        std::printf("| %s | flight %s: %s |\n", sc.name.c_str(), uavip::planning::toString(f.status), f.reason.c_str());
+        std::printf("| %s | flight %s: %s |\n", sc.name.c_str(),
+                    uavip::planning::toString(f.status), f.reason.c_str());
         continue;
       }
       const double inner = f.inner_length_m;
-      std::printf("| %s | %zu | %zu | %.1f | %.1f | %.1f | %.1f %% | %.1f / %.1f / %.1f (%.1f %% above) | %s | %zu | "
-                  "%.3f | %.3f | %.3f | %zu | %.1f |\n",
-                  sc.name.c_str(), f.order.size(), stops, f.tour_length_m, f.naive_length_m, f.lower_bound_m,
-                  percentAbove(f.tour_length_m, f.lower_bound_m), f.tour_length_m - inner, f.naive_length_m - inner,
-                  f.lower_bound_m - inner, percentAbove(f.tour_length_m - inner, f.lower_bound_m - inner),
-                  f.exact_order ? "yes" : "no", f.planned_legs, median(order_s), median(validate_s), median(flight_s), f.sorties.size(),
-                  f.duration_s / 60.0);
+      std::printf(
+          "| %s | %zu | %zu | %.1f | %.1f | %.1f | %.1f %% | %.1f / %.1f / %.1f (%.1f %% above) | "
+          "%s | %zu | "
+          "%.3f | %.3f | %.3f | %zu | %.1f |\n",
+          sc.name.c_str(), f.order.size(), stops, f.tour_length_m, f.naive_length_m,
+          f.lower_bound_m, percentAbove(f.tour_length_m, f.lower_bound_m), f.tour_length_m - inner,
+          f.naive_length_m - inner, f.lower_bound_m - inner,
+          percentAbove(f.tour_length_m - inner, f.lower_bound_m - inner),
+          f.exact_order ? "yes" : "no", f.planned_legs, median(order_s), median(validate_s),
+          median(flight_s), f.sorties.size(), f.duration_s / 60.0);
     }
     std::printf("\npeak RSS %.1f MiB; %d runs per scenario (median times)\n", peakRssMiB(), runs);
   } catch (const uavip::InputError& e) {

@@ -2,19 +2,18 @@
 // scenario. Usage: uavip_pipeline_bench [SCENARIO.yaml] [RUNS]
 // Prints a Markdown table; numbers go in benchmarks/README.md, never in tests.
 
-#include "uavip/app/pipeline.h"
-#include "uavip/core/error.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-
-#include "bench_util.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
+
+#include "bench_util.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/io/cloud_io.h"
 
 namespace {
 
@@ -30,13 +29,15 @@ int main(int argc, char** argv) {
   try {
     const uavip::app::Scenario sc = uavip::app::loadScenario(path);
     std::vector<double> sense, pre, perc, cov, grid, planning, total;
-    std::size_t raw = 0, clean = 0, surfaces = 0, stops = 0, waypoints = 0, raw_waypoints = 0, voxels = 0;
+    std::size_t raw = 0, clean = 0, surfaces = 0, stops = 0, waypoints = 0, raw_waypoints = 0,
+                voxels = 0;
     for (int i = 0; i < runs; ++i) {
       const auto t0 = uavip::SteadyClock::now();
       const uavip::PointList cloud = uavip::app::sense(sc);
       const double t_sense = uavip::secondsSince(t0);
       const auto d = uavip::app::detect(cloud, sc.config, uavip::app::measure(cloud, &sc));
-      const auto p = uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
+      const auto p =
+          uavip::app::plan(d.scene, d.resolved.config, uavip::app::selectSurfaces(d.scene, "all"));
       total.push_back(uavip::secondsSince(t0) - t_sense);
       sense.push_back(t_sense);
       pre.push_back(d.times.preprocess_s);
@@ -55,15 +56,19 @@ int main(int argc, char** argv) {
         raw_waypoints += m.raw_waypoint_count;
       }
     }
-    std::printf("scenario %s, %d runs (median wall time), peak RSS %.1f MiB\n", sc.name.c_str(), runs, peakRssMiB());
-    std::printf("points %zu raw -> %zu clean; %zu surfaces; grid %zu voxels; %zu stops, %zu waypoints (%zu voxel steps)\n\n",
-                raw, clean, surfaces, voxels, stops, waypoints, raw_waypoints);
+    std::printf("scenario %s, %d runs (median wall time), peak RSS %.1f MiB\n", sc.name.c_str(),
+                runs, peakRssMiB());
+    std::printf(
+        "points %zu raw -> %zu clean; %zu surfaces; grid %zu voxels; %zu stops, %zu waypoints (%zu "
+        "voxel steps)\n\n",
+        raw, clean, surfaces, voxels, stops, waypoints, raw_waypoints);
     std::printf("| stage | median s |\n|---|---|\n");
     std::printf("| sense (sim, excluded from total) | %.3f |\n", median(sense));
-    std::printf("| 3 preprocess | %.3f |\n| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n", median(pre), median(perc),
-                median(cov));
-    std::printf("| 7 grid + validator index | %.3f |\n| 7 planning | %.3f |\n| total (3-7) | %.3f |\n", median(grid),
-                median(planning), median(total));
+    std::printf("| 3 preprocess | %.3f |\n| 4-5 perception | %.3f |\n| 6 coverage | %.3f |\n",
+                median(pre), median(perc), median(cov));
+    std::printf(
+        "| 7 grid + validator index | %.3f |\n| 7 planning | %.3f |\n| total (3-7) | %.3f |\n",
+        median(grid), median(planning), median(total));
   } catch (const uavip::InputError& e) {
     std::cerr << "uavip_pipeline_bench: error: " << e.what() << "\n";
     return 2;

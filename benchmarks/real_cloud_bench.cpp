@@ -10,18 +10,17 @@
 // the memory bound of large sites is measured on real point patterns. Prints the
 // median of R runs and the peak resident memory of the process.
 
-#include "bench_util.h"
-
-#include "uavip/app/pipeline.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/cloud_io.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
 #include <vector>
+
+#include "bench_util.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/io/cloud_io.h"
 
 namespace {
 
@@ -59,11 +58,14 @@ int main(int argc, char** argv) {
     }
   }
   if (files.empty() || tile_x < 1 || tile_y < 1) {
-    std::fprintf(stderr, "usage: uavip_real_cloud_bench CLOUD [CLOUD...] [--tile NX NY] [--runs R]\n");
+    std::fprintf(stderr,
+                 "usage: uavip_real_cloud_bench CLOUD [CLOUD...] [--tile NX NY] [--runs R]\n");
     return 2;
   }
-  std::printf("| cloud | points | spacing m | extent m | voxel m | band m | tol m | grid m | surfaces | obstacles | "
-              "largest m2 | stops | coverage %% | status | detect s | plan s | peak RSS MiB |\n");
+  std::printf(
+      "| cloud | points | spacing m | extent m | voxel m | band m | tol m | grid m | surfaces | "
+      "obstacles | "
+      "largest m2 | stops | coverage %% | status | detect s | plan s | peak RSS MiB |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   try {
     for (const auto& file : files) {
@@ -90,16 +92,19 @@ int main(int argc, char** argv) {
       const uavip::planning::SurfaceMission* m = p.missions.empty() ? nullptr : &p.missions.front();
       double largest_area = 0.0;
       for (const auto& s : d.scene.surfaces) largest_area = std::max(largest_area, s.area_m2);
-      std::printf("| %s%s | %zu | %.3f | %.0f × %.0f × %.0f | %.3f | %.3f | %.2f | %.3f | %zu | %zu | %.0f | %zu | %.1f | %s | "
-                  "%.2f | %.2f | %.0f |\n",
-                  file.substr(file.find_last_of('/') + 1).c_str(),
-                  tile_x * tile_y > 1 ? (" ×" + std::to_string(tile_x * tile_y)).c_str() : "", c.points, c.spacing_m,
-                  c.extent_m.x(), c.extent_m.y(), c.extent_m.z(), pc.preprocess.voxel_m,
-                  pc.perception.planes.distance_threshold_m, pc.perception.clusters.tolerance_m, p.grid_resolution_m,
-                  d.scene.surfaces.size(), d.scene.obstacles.size(), largest_area,
-                  m ? m->strategy.stops.size() : std::size_t{0}, m && m->coverage.evaluated ? 100.0 * m->coverage.fraction : 0.0,
-                  m ? uavip::planning::toString(m->status) : "-", uavip::bench_util::median(detect_s),
-                  uavip::bench_util::median(plan_s), uavip::bench_util::peakRssMiB());
+      std::printf(
+          "| %s%s | %zu | %.3f | %.0f × %.0f × %.0f | %.3f | %.3f | %.2f | %.3f | %zu | %zu | %.0f "
+          "| %zu | %.1f | %s | "
+          "%.2f | %.2f | %.0f |\n",
+          file.substr(file.find_last_of('/') + 1).c_str(),
+          tile_x * tile_y > 1 ? (" ×" + std::to_string(tile_x * tile_y)).c_str() : "", c.points,
+          c.spacing_m, c.extent_m.x(), c.extent_m.y(), c.extent_m.z(), pc.preprocess.voxel_m,
+          pc.perception.planes.distance_threshold_m, pc.perception.clusters.tolerance_m,
+          p.grid_resolution_m, d.scene.surfaces.size(), d.scene.obstacles.size(), largest_area,
+          m ? m->strategy.stops.size() : std::size_t{0},
+          m && m->coverage.evaluated ? 100.0 * m->coverage.fraction : 0.0,
+          m ? uavip::planning::toString(m->status) : "-", uavip::bench_util::median(detect_s),
+          uavip::bench_util::median(plan_s), uavip::bench_util::peakRssMiB());
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {

@@ -10,24 +10,22 @@
 //        (default scenarios/bench_cluttered.yaml scenarios/bridge.yaml, N = 30, S = 0.2)
 // Numbers go in benchmarks/README.md, never in tests.
 
-#include "uavip/app/bench.h"
-#include "uavip/app/pipeline.h"
-#include "uavip/core/error.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-
-#include "planners/harness.h"
-#include "planners/registry.h"
-
-#include "bench_util.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "bench_util.h"
+#include "planners/harness.h"
+#include "planners/registry.h"
+#include "uavip/app/bench.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/io/cloud_io.h"
 
 namespace {
 
@@ -60,7 +58,8 @@ Legs prepare(const uavip::app::Scenario& sc, int max_legs) {
   return out;
 }
 
-ModeRun runFresh(const std::string& name, const Legs& l, const uavip::planners::PlannerSettings& settings) {
+ModeRun runFresh(const std::string& name, const Legs& l,
+                 const uavip::planners::PlannerSettings& settings) {
   ModeRun m;
   for (const auto& [a, b] : l.legs) {
     const auto t0 = uavip::SteadyClock::now();
@@ -73,7 +72,8 @@ ModeRun runFresh(const std::string& name, const Legs& l, const uavip::planners::
   return m;
 }
 
-ModeRun runKept(const std::string& name, const Legs& l, const uavip::planners::PlannerSettings& settings) {
+ModeRun runKept(const std::string& name, const Legs& l,
+                const uavip::planners::PlannerSettings& settings) {
   ModeRun m;
   const auto planner = uavip::planners::makePlanner(name, settings);
   for (const auto& [a, b] : l.legs) {
@@ -108,9 +108,11 @@ int main(int argc, char** argv) {
     uavip::planners::PlannerSettings settings;
     settings.time_limit_s = time_s;
     settings.validate("--time");
-    std::printf("| scenario | planner | legs | solved: fresh / kept | length of legs both solved, m: fresh / kept (kept/fresh) "
-                "| median s per leg: fresh / kept | graph states after the last leg: fresh / kept |\n"
-                "|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| scenario | planner | legs | solved: fresh / kept | length of legs both solved, m: fresh "
+        "/ kept (kept/fresh) "
+        "| median s per leg: fresh / kept | graph states after the last leg: fresh / kept |\n"
+        "|---|---|---|---|---|---|---|\n");
     for (const auto& path : paths) {
       const uavip::app::Scenario sc = uavip::app::loadScenario(path);
       const Legs l = prepare(sc, max_legs);
@@ -127,10 +129,10 @@ int main(int argc, char** argv) {
             len_kept += kept.length_m[i];
           }
         }
-        std::printf("| %s | %s | %zu | %d / %d | %.1f / %.1f (%.3f) | %.3f / %.3f | %zu / %zu |\n", sc.name.c_str(), name,
-                    l.legs.size(), solved_fresh, solved_kept, len_fresh, len_kept,
-                    len_fresh > 0.0 ? len_kept / len_fresh : 0.0, median(fresh.seconds), median(kept.seconds),
-                    fresh.last_graph_states, kept.last_graph_states);
+        std::printf("| %s | %s | %zu | %d / %d | %.1f / %.1f (%.3f) | %.3f / %.3f | %zu / %zu |\n",
+                    sc.name.c_str(), name, l.legs.size(), solved_fresh, solved_kept, len_fresh,
+                    len_kept, len_fresh > 0.0 ? len_kept / len_fresh : 0.0, median(fresh.seconds),
+                    median(kept.seconds), fresh.last_graph_states, kept.last_graph_states);
         std::fflush(stdout);
       }
     }

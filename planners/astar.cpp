@@ -1,16 +1,16 @@
 #include "planners/astar.h"
 
-#include "uavip/core/error.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <new>
 #include <limits>
+#include <new>
 #include <queue>
 #include <sstream>
 #include <unordered_map>
+
+#include "uavip/core/error.h"
 
 namespace uavip::planners {
 
@@ -233,11 +233,16 @@ GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& 
   return search(hash, grid, start, goal, options);
 }
 
-AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) { options_.validate("planner"); }
+AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) {
+  options_.validate("planner");
+}
 
-std::string AStarPlanner::name() const { return options_.cost == AStarCost::Paper ? "astar" : "astar-euclid"; }
+std::string AStarPlanner::name() const {
+  return options_.cost == AStarCost::Paper ? "astar" : "astar-euclid";
+}
 
-planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
+planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start,
+                                        const Vec3& goal) {
   return planning::timedPlan(grid, start, goal, [&](planning::PathResult& out) {
     const world::Index3 s = grid.indexOf(start);
     const world::Index3 g = grid.indexOf(goal);
@@ -248,7 +253,8 @@ planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3
     const GridSearchResult r = astarSearch(grid, s, g, options_);
     out.expansions = r.expansions;
     if (!r.found) {
-      out.status = r.exhausted_budget ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
+      out.status =
+          r.exhausted_budget ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
       return;
     }
     out.cost = r.cost;
@@ -262,9 +268,11 @@ planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3
     out.path.reserve(n + 2);
     out.path.push_back(start);
     const Vec3 after_start = n > 2 ? grid.centreOf(r.cells[1]) : goal;
-    if (start != first_centre && !grid.segmentFree(start, after_start)) out.path.push_back(first_centre);
+    if (start != first_centre && !grid.segmentFree(start, after_start))
+      out.path.push_back(first_centre);
     for (std::size_t i = 1; i + 1 < n; ++i) out.path.push_back(grid.centreOf(r.cells[i]));
-    if (goal != last_centre && !grid.segmentFree(out.path.back(), goal)) out.path.push_back(last_centre);
+    if (goal != last_centre && !grid.segmentFree(out.path.back(), goal))
+      out.path.push_back(last_centre);
     out.path.push_back(goal);
   });
 }

@@ -7,12 +7,12 @@
 /// space. The Euclidean mode uses √(a1α² + a2β² + a3γ²) with the weighted Euclidean
 /// distance as heuristic (admissible and consistent).
 
-#include "uavip/planning/planner.h"
-#include "uavip/world/voxel_grid.h"
-
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "uavip/planning/planner.h"
+#include "uavip/world/voxel_grid.h"
 
 namespace uavip::planners {
 
@@ -22,9 +22,9 @@ enum class AStarCost { Paper, Euclidean };
 /// Options of the A*.
 struct AStarOptions {
   AStarCost cost{AStarCost::Paper};
-  double a1{1.0};  ///< weight of x moves
-  double a2{1.0};  ///< weight of y moves
-  double a3{1.0};  ///< weight of z moves
+  double a1{1.0};                 ///< weight of x moves
+  double a2{1.0};                 ///< weight of y moves
+  double a3{1.0};                 ///< weight of z moves
   std::size_t max_expansions{0};  ///< 0 = unlimited; otherwise status Timeout when exceeded
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -53,7 +53,8 @@ class AStarPlanner : public planning::Planner {
  public:
   explicit AStarPlanner(AStarOptions options);
   std::string name() const override;
-  planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) override;
+  planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start,
+                            const Vec3& goal) override;
 
  private:
   AStarOptions options_;

@@ -1,12 +1,12 @@
 #include "planners/astar_ompl.h"
 
-#include "planners/ompl_planners.h"
-
 #include <ompl/base/PlannerData.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/goals/GoalSampleableRegion.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathGeometric.h>
+
+#include "planners/ompl_planners.h"
 
 namespace uavip::planners {
 namespace {
@@ -87,7 +87,8 @@ void AStarOmplPlanner::getPlannerData(ob::PlannerData& data) const {
   data.addStartVertex(ob::PlannerDataVertex(path_->getState(0)));
   if (n > 1) data.addGoalVertex(ob::PlannerDataVertex(path_->getState(n - 1)));
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    data.addEdge(ob::PlannerDataVertex(path_->getState(i)), ob::PlannerDataVertex(path_->getState(i + 1)));
+    data.addEdge(ob::PlannerDataVertex(path_->getState(i)),
+                 ob::PlannerDataVertex(path_->getState(i + 1)));
   }
 }
 

@@ -9,14 +9,14 @@
 /// TIMEOUT (expansion budget exhausted), ABORT (the grid search exhausted the free
 /// space: no path exists on the grid).
 
-#include "planners/astar.h"
-#include "uavip/planning/planner.h"
-#include "uavip/world/voxel_grid.h"
-
 #include <ompl/base/Planner.h>
 #include <ompl/geometric/PathGeometric.h>
 
 #include <memory>
+
+#include "planners/astar.h"
+#include "uavip/planning/planner.h"
+#include "uavip/world/voxel_grid.h"
 
 namespace uavip::planners {
 
@@ -25,7 +25,8 @@ namespace uavip::planners {
 /// "AStarEuclid".
 class AStarOmplPlanner : public ompl::base::Planner {
  public:
-  AStarOmplPlanner(const ompl::base::SpaceInformationPtr& si, const world::VoxelGrid& grid, AStarOptions options);
+  AStarOmplPlanner(const ompl::base::SpaceInformationPtr& si, const world::VoxelGrid& grid,
+                   AStarOptions options);
 
   using ompl::base::Planner::solve;  // solve(seconds) too
   ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
@@ -40,7 +41,8 @@ class AStarOmplPlanner : public ompl::base::Planner {
   const world::VoxelGrid& grid_;
   AStarPlanner astar_;
   planning::PathResult last_;
-  std::shared_ptr<ompl::geometric::PathGeometric> path_;  ///< last solution (owns the states of getPlannerData)
+  std::shared_ptr<ompl::geometric::PathGeometric>
+      path_;  ///< last solution (owns the states of getPlannerData)
 };
 
 }  // namespace uavip::planners

@@ -1,11 +1,5 @@
 #include "planners/harness.h"
 
-#include "planners/astar_ompl.h"
-#include "planners/ompl_planners.h"
-#include "planners/planner_table.h"
-#include "uavip/core/error.h"
-#include "uavip/core/stopwatch.h"
-
 #include <ompl/base/PlannerData.h>
 #include <ompl/base/PlannerStatus.h>
 #include <ompl/base/ProblemDefinition.h>
@@ -18,6 +12,12 @@
 
 #include <exception>
 #include <utility>
+
+#include "planners/astar_ompl.h"
+#include "planners/ompl_planners.h"
+#include "planners/planner_table.h"
+#include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
 
 #ifndef UAVIP_OMPL_VERSION
 #define UAVIP_OMPL_VERSION "unknown"
@@ -37,7 +37,8 @@ void setState(ob::ScopedState<>& s, const Vec3& p) {
 /// benchmark counts them (its PlannerData); otherwise a roadmap (PRM*, LazyPRM*) is
 /// counted directly, milestones and edges: the PlannerData of a roadmap kept over many
 /// legs (50,000 states) takes longer to build than a leg's budget.
-void countGraph(const ob::Planner& planner, const ob::SpaceInformationPtr& si, bool planner_data, HarnessRun& run) {
+void countGraph(const ob::Planner& planner, const ob::SpaceInformationPtr& si, bool planner_data,
+                HarnessRun& run) {
   if (!planner_data) {
     if (const auto* prm = dynamic_cast<const og::PRM*>(&planner)) {
       run.graph_states = prm->milestoneCount();
@@ -101,8 +102,9 @@ HarnessRun runPlannerOnce(const std::string& name, const world::VoxelGrid& grid,
   return solveQuery(makeOmplPlanner(name, si, grid, settings), si, start, goal, settings, true);
 }
 
-HarnessRun solveQuery(const ob::PlannerPtr& planner, const ob::SpaceInformationPtr& si, const Vec3& start,
-                      const Vec3& goal, const PlannerSettings& settings, bool planner_data) {
+HarnessRun solveQuery(const ob::PlannerPtr& planner, const ob::SpaceInformationPtr& si,
+                      const Vec3& start, const Vec3& goal, const PlannerSettings& settings,
+                      bool planner_data) {
   HarnessRun run;
   run.ompl_name = planner->getName();
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
@@ -139,7 +141,8 @@ HarnessRun solveQuery(const ob::PlannerPtr& planner, const ob::SpaceInformationP
     run.length_m = path.length();
   } else if (const auto* astar = dynamic_cast<const AStarOmplPlanner*>(planner.get())) {
     run.path_status = astar->lastResult().status;
-  } else if (status == ob::PlannerStatus::TIMEOUT || status == ob::PlannerStatus::APPROXIMATE_SOLUTION) {
+  } else if (status == ob::PlannerStatus::TIMEOUT ||
+             status == ob::PlannerStatus::APPROXIMATE_SOLUTION) {
     run.path_status = planning::PathStatus::Timeout;
   } else {
     run.path_status = planning::PathStatus::NoPath;

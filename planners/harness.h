@@ -4,29 +4,29 @@
 /// planner (the grid A* included), without exposing OMPL types: the benchmark
 /// (uavip bench, app/bench.h) uses it so every planner runs in the same harness.
 
-#include "planners/registry.h"
-#include "uavip/core/types.h"
-#include "uavip/planning/planner.h"
-#include "uavip/world/voxel_grid.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "planners/registry.h"
+#include "uavip/core/types.h"
+#include "uavip/planning/planner.h"
+#include "uavip/world/voxel_grid.h"
+
 namespace uavip::planners {
 
 /// Measurements of one run, in OMPL's benchmark terms.
 struct HarnessRun {
-  std::string ompl_name;       ///< OMPL planner name, e.g. "RRTConnect", "AStar"
-  int status{0};               ///< index into plannerStatusNames()
+  std::string ompl_name;  ///< OMPL planner name, e.g. "RRTConnect", "AStar"
+  int status{0};          ///< index into plannerStatusNames()
   planning::PathStatus path_status{planning::PathStatus::NoPath};
-  bool solved{false};          ///< exact solution
-  bool approximate{false};     ///< OMPL returned an approximate solution only
-  double time_s{0.0};          ///< solve() wall time [s]
-  double simplify_time_s{0.0}; ///< simplification wall time [s] (0 without)
-  PointList raw_path;          ///< the planner's path (empty unless solved) [m]
-  PointList path;              ///< simplified path (or raw_path without simplification) [m]
+  bool solved{false};           ///< exact solution
+  bool approximate{false};      ///< OMPL returned an approximate solution only
+  double time_s{0.0};           ///< solve() wall time [s]
+  double simplify_time_s{0.0};  ///< simplification wall time [s] (0 without)
+  PointList raw_path;           ///< the planner's path (empty unless solved) [m]
+  PointList path;               ///< simplified path (or raw_path without simplification) [m]
   double raw_length_m{0.0};
   double length_m{0.0};
   std::size_t graph_states{0};

@@ -1,13 +1,7 @@
 #include "planners/ompl_planners.h"
 
-#include "planners/astar_ompl.h"
-#include "planners/harness.h"
-#include "planners/planner_table.h"
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/stopwatch.h"
-
 #include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/planners/fmt/FMT.h>
 #include <ompl/geometric/planners/informedtrees/ABITstar.h>
 #include <ompl/geometric/planners/informedtrees/AITstar.h>
@@ -17,7 +11,6 @@
 #include <ompl/geometric/planners/rrt/InformedRRTstar.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
-#include <ompl/geometric/PathSimplifier.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
@@ -27,6 +20,13 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+
+#include "planners/astar_ompl.h"
+#include "planners/harness.h"
+#include "planners/planner_table.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
 
 namespace uavip::planners {
 namespace {
@@ -54,13 +54,15 @@ ob::PlannerPtr makeSampling(const std::string& ompl_name, const ob::SpaceInforma
       {"FMT", &make<og::FMT>},
   };
   const auto it = factories.find(ompl_name);
-  if (it == factories.end()) throw std::logic_error("planner table: no OMPL factory for " + ompl_name);
+  if (it == factories.end())
+    throw std::logic_error("planner table: no OMPL factory for " + ompl_name);
   return it->second(si);
 }
 
 }  // namespace
 
-FreeSpaceMotionValidator::FreeSpaceMotionValidator(const ob::SpaceInformationPtr& si, const world::FreeSpace& space)
+FreeSpaceMotionValidator::FreeSpaceMotionValidator(const ob::SpaceInformationPtr& si,
+                                                   const world::FreeSpace& space)
     : ob::MotionValidator(si), space_(space) {}
 
 bool FreeSpaceMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
@@ -196,7 +198,8 @@ bool OmplPlanner::bindTo(const world::VoxelGrid& grid) {
   return true;
 }
 
-planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) {
+planning::PathResult OmplPlanner::plan(const world::VoxelGrid& grid, const Vec3& start,
+                                       const Vec3& goal) {
   return planning::timedPlan(grid, start, goal, [&](planning::PathResult& out) {
     if (grid.segmentFree(start, goal)) {
       out.path = {start, goal};

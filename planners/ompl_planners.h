@@ -18,14 +18,6 @@
 /// cannot re-seed once sampling has started). Runs are reproducible only as far as a
 /// time budget allows: an anytime planner's number of iterations depends on speed.
 
-#include "planners/astar.h"
-#include "planners/harness.h"
-#include "planners/registry.h"
-#include "uavip/core/types.h"
-#include "uavip/planning/planner.h"
-#include "uavip/world/free_space.h"
-#include "uavip/world/voxel_grid.h"
-
 #include <ompl/base/MotionValidator.h>
 #include <ompl/base/Planner.h>
 #include <ompl/base/SpaceInformation.h>
@@ -36,13 +28,22 @@
 #include <utility>
 #include <vector>
 
+#include "planners/astar.h"
+#include "planners/harness.h"
+#include "planners/registry.h"
+#include "uavip/core/types.h"
+#include "uavip/planning/planner.h"
+#include "uavip/world/free_space.h"
+#include "uavip/world/voxel_grid.h"
+
 namespace uavip::planners {
 
 /// Motion validity: a → b is valid iff FreeSpace::segmentFree(a, b). Keeps a
 /// reference to the space, which must outlive it.
 class FreeSpaceMotionValidator : public ompl::base::MotionValidator {
  public:
-  FreeSpaceMotionValidator(const ompl::base::SpaceInformationPtr& si, const world::FreeSpace& space);
+  FreeSpaceMotionValidator(const ompl::base::SpaceInformationPtr& si,
+                           const world::FreeSpace& space);
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2) const override;
   /// Also reports the last valid state and its fraction of a → b (found along
   /// sub-segments no longer than a quarter of the space's resolution).
@@ -69,13 +70,16 @@ bool isOmplPlanner(const std::string& name);
 
 /// The ompl::base::Planner for any registry name, the grid A* (AStarOmplPlanner) too.
 /// Seeds OMPL first (seedOmpl(settings.seed)). Throws InputError for an unknown name.
-ompl::base::PlannerPtr makeOmplPlanner(const std::string& name, const ompl::base::SpaceInformationPtr& si,
-                                       const world::VoxelGrid& grid, const PlannerSettings& settings);
+ompl::base::PlannerPtr makeOmplPlanner(const std::string& name,
+                                       const ompl::base::SpaceInformationPtr& si,
+                                       const world::VoxelGrid& grid,
+                                       const PlannerSettings& settings);
 
 /// PathSimplifier::reduceVertices then shortcutPath, repeated while the length drops
 /// (at most 5 rounds; no B-spline smoothing), through the space's motion validator.
 /// Returns the wall time [s].
-double simplifyOmplPath(ompl::geometric::PathGeometric& path, const ompl::base::SpaceInformationPtr& si);
+double simplifyOmplPath(ompl::geometric::PathGeometric& path,
+                        const ompl::base::SpaceInformationPtr& si);
 
 /// Solves one query start → goal with an existing planner on `si`: a new problem
 /// definition (path-length objective), budget settings.time_limit_s, simplified when
@@ -83,8 +87,9 @@ double simplifyOmplPath(ompl::geometric::PathGeometric& path, const ompl::base::
 /// this with a fresh space and planner. The graph is counted from OMPL's PlannerData
 /// (as OMPL's benchmark does) with `planner_data`; without, a PRM roadmap is counted
 /// directly (milestones, edges), which stays cheap when it grows over many legs.
-HarnessRun solveQuery(const ompl::base::PlannerPtr& planner, const ompl::base::SpaceInformationPtr& si,
-                      const Vec3& start, const Vec3& goal, const PlannerSettings& settings, bool planner_data);
+HarnessRun solveQuery(const ompl::base::PlannerPtr& planner,
+                      const ompl::base::SpaceInformationPtr& si, const Vec3& start,
+                      const Vec3& goal, const PlannerSettings& settings, bool planner_data);
 
 /// planning::Planner adapter for an OMPL sampling planner, as OMPL's own tools use
 /// one: one SpaceInformation and one planner per grid (same address and
@@ -101,7 +106,8 @@ class OmplPlanner : public planning::Planner {
   /// `name` must be one of omplPlannerNames(); throws InputError otherwise.
   OmplPlanner(std::string name, PlannerSettings settings);
   std::string name() const override { return name_; }
-  planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start, const Vec3& goal) override;
+  planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start,
+                            const Vec3& goal) override;
 
  private:
   /// Makes the space and the planner for `grid` unless they are for it already;

@@ -3,10 +3,10 @@
 // no OMPL here, so validating a config links no planner.
 #include "planners/planner_table.h"
 
+#include <algorithm>
+
 #include "planners/registry.h"
 #include "uavip/core/error.h"
-
-#include <algorithm>
 
 namespace uavip::planners {
 

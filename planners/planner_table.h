@@ -13,8 +13,9 @@ namespace uavip::planners {
 
 /// One planner.
 struct PlannerInfo {
-  std::string name;       ///< registry name, e.g. "rrtconnect" (config `planner`, --planner)
-  std::string ompl_name;  ///< OMPL's class name, e.g. "RRTConnect" (the bench log's geometric_<ompl_name>)
+  std::string name;  ///< registry name, e.g. "rrtconnect" (config `planner`, --planner)
+  std::string
+      ompl_name;  ///< OMPL's class name, e.g. "RRTConnect" (the bench log's geometric_<ompl_name>)
   /// An OMPL sampling planner (built by ompl_planners.cpp from ompl_name); false for
   /// uavip's own A* (astar, astar-euclid), which the registry builds on the grid itself.
   bool sampling{false};

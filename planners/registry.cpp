@@ -7,7 +7,8 @@ namespace uavip::planners {
 // PlannerSettings::validate, plannerNames, requireKnownPlanner and isDeterministic
 // read only the table: planner_table.cpp.
 
-std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings) {
+std::unique_ptr<planning::Planner> makePlanner(const std::string& name,
+                                               const PlannerSettings& settings) {
   settings.validate("planner");
   requireKnownPlanner(name);
   if (isOmplPlanner(name)) return std::make_unique<OmplPlanner>(name, settings);

@@ -2,13 +2,13 @@
 /// \file
 /// Planners by name (docs/ARCHITECTURE.md, planners/).
 
-#include "planners/astar.h"
-#include "uavip/planning/planner.h"
-
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "planners/astar.h"
+#include "uavip/planning/planner.h"
 
 namespace uavip::planners {
 
@@ -43,6 +43,7 @@ void requireKnownPlanner(const std::string& name);
 bool isDeterministic(const std::string& name);
 
 /// Creates the planner `name`; throws InputError listing the valid names otherwise.
-std::unique_ptr<planning::Planner> makePlanner(const std::string& name, const PlannerSettings& settings);
+std::unique_ptr<planning::Planner> makePlanner(const std::string& name,
+                                               const PlannerSettings& settings);
 
 }  // namespace uavip::planners

@@ -1,13 +1,13 @@
 #include "uavip/app/assemble.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/sim/scanner_sim.h"
-
-#include <algorithm>
-#include <cmath>
 
 namespace uavip::app {
 namespace {
@@ -15,13 +15,13 @@ namespace {
 /// The merged cloud is scored on at most this many points (an even subsample).
 constexpr std::size_t kMaxScored = 200000;
 
-
 void report(const Progress& progress, const std::string& message) {
   if (progress) progress(message);
 }
 
 /// Stage 1 on every station, `threads` at a time (each station is independent).
-std::vector<scan::StationCloud> assembleAll(const RawLog& log, const scan::AssemblerOptions& options, int threads,
+std::vector<scan::StationCloud> assembleAll(const RawLog& log,
+                                            const scan::AssemblerOptions& options, int threads,
                                             std::vector<double>& seconds) {
   const std::size_t n = log.stations.size();
   std::vector<scan::StationCloud> clouds(n);
@@ -42,7 +42,8 @@ double imuYaw(const Station& station) {
 
 }  // namespace
 
-// Long (96 lines): stages 1 and 2 and the per-station report that joins both (and the truth, when given); each part is a call, the rest is the report's field copies.
+// Long (96 lines): stages 1 and 2 and the per-station report that joins both (and the truth, when
+// given); each part is a call, the rest is the report's field copies.
 AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const RawLogTruth* truth,
                         const sim::WorldModel* world, const Progress& progress) {
   options.scan.validate("scan");
@@ -51,9 +52,11 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   AssembleResult result;
   const auto t0 = SteadyClock::now();
 
-  report(progress, "stage 1: assembling " + std::to_string(log.stations.size()) + " stations (eq. (1), IMU, ICP)");
+  report(progress, "stage 1: assembling " + std::to_string(log.stations.size()) +
+                       " stations (eq. (1), IMU, ICP)");
   std::vector<double> seconds;
-  const std::vector<scan::StationCloud> clouds = assembleAll(log, options.scan, options.threads, seconds);
+  const std::vector<scan::StationCloud> clouds =
+      assembleAll(log, options.scan, options.threads, seconds);
   result.assembly_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
@@ -62,12 +65,14 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   for (std::size_t i = 0; i < clouds.size(); ++i) {
     const Eigen::Isometry3d initial =
         options.registration.use_recorded_yaw
-            ? registration::initialStationPose(log, i, true, imuYaw(log.stations[i]), imuYaw(log.stations.front()))
+            ? registration::initialStationPose(log, i, true, imuYaw(log.stations[i]),
+                                               imuYaw(log.stations.front()))
             : registration::initialStationPose(log, i);
     inputs.push_back({clouds[i].station_id, clouds[i].points, initial});
     result.station_points += clouds[i].points.size();
   }
-  registration::RegistrationResult reg = registration::registerStations(inputs, options.registration);
+  registration::RegistrationResult reg =
+      registration::registerStations(inputs, options.registration);
   result.registration_s = secondsSince(t1);
   result.cloud = std::move(reg.merged);
 
@@ -89,7 +94,8 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
     s.registration_rms_m = r.fitness_rms_m;
     s.registration_information = r.information;
     s.weakest_direction = r.weakest_direction;
-    s.position_observed = r.iterations == 0 || r.information(0) >= registration::kMinInformationPairs;
+    s.position_observed =
+        r.iterations == 0 || r.information(0) >= registration::kMinInformationPairs;
     s.assembly_s = seconds[i];
     s.registration_s = r.time_s;
     if (truth && i < truth->stations.size() && !truth->stations[i].horizontal_poses.empty()) {
@@ -122,16 +128,16 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
     // Independent per point: in blocks on every core, summed below in order.
     std::vector<double> d((result.cloud.size() + stride - 1) / stride);
     constexpr std::size_t kBlock = 4096;
-    parallelFor((d.size() + kBlock - 1) / kBlock, options.threads,
-                [&](std::size_t b, std::size_t) {
-                  for (std::size_t j = b * kBlock; j < std::min(d.size(), (b + 1) * kBlock); ++j) {
-                    d[j] = world->distanceToTruth(result.cloud[j * stride]);
-                  }
-                });
+    parallelFor((d.size() + kBlock - 1) / kBlock, options.threads, [&](std::size_t b, std::size_t) {
+      for (std::size_t j = b * kBlock; j < std::min(d.size(), (b + 1) * kBlock); ++j) {
+        d[j] = world->distanceToTruth(result.cloud[j * stride]);
+      }
+    });
     double sum = 0.0;
     for (const double v : d) sum += v * v;
     result.rms_to_truth_m = std::sqrt(sum / static_cast<double>(d.size()));
-    const auto p95 = d.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(d.size() - 1));
+    const auto p95 =
+        d.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(d.size() - 1));
     std::nth_element(d.begin(), p95, d.end());
     result.p95_to_truth_m = *p95;
     result.scored_points = d.size();
@@ -142,7 +148,8 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
 
 AssembleResult senseScans(const app::Scenario& scenario, const Progress& progress) {
   if (scenario.sensing_mode != "scan") {
-    throw InputError(scenario.path + ": sensing.mode must be 'scan' for raw scans, got '" + scenario.sensing_mode + "'");
+    throw InputError(scenario.path + ": sensing.mode must be 'scan' for raw scans, got '" +
+                     scenario.sensing_mode + "'");
   }
   report(progress, "simulating the two 2D scanners and the IMU");
   const sim::SimulatedLog s = sim::simulateScans(scenario.world, scenario.scan, progress);
@@ -152,7 +159,8 @@ AssembleResult senseScans(const app::Scenario& scenario, const Progress& progres
     r.corner -= s.origin_m;
     world.addPlane(r);
   }
-  for (const auto& seg : scenario.world.segments()) world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
+  for (const auto& seg : scenario.world.segments())
+    world.addLine(seg.name, seg.a - s.origin_m, seg.b - s.origin_m);
   for (const auto& p : scenario.world.points()) world.addPoint(p.name, p.p - s.origin_m);
   AssembleOptions options;
   options.scan = scenario.config.assembly;

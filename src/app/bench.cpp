@@ -1,16 +1,5 @@
 #include "uavip/app/bench.h"
 
-#include "uavip/core/geometry.h"
-
-#include "uavip/app/bench_stats.h"
-#include "uavip/core/error.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/core/text.h"
-#include "uavip/coverage/flight_strategy.h"
-#include "uavip/planning/path_validator.h"
-#include "uavip/world/voxel_grid.h"
-#include "planners/harness.h"
-
 #include <algorithm>
 #include <ctime>
 #include <iomanip>
@@ -19,6 +8,16 @@
 #include <random>
 #include <set>
 #include <sstream>
+
+#include "planners/harness.h"
+#include "uavip/app/bench_stats.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/coverage/flight_strategy.h"
+#include "uavip/planning/path_validator.h"
+#include "uavip/world/voxel_grid.h"
 
 namespace uavip::app {
 namespace {
@@ -45,20 +44,22 @@ bool feasibleOnGrid(const world::VoxelGrid& grid, const Vec3& a, const Vec3& b) 
 
 }  // namespace
 
-std::vector<PointList> stopsBySurface(const Scene& scene, const coverage::CoverageOptions& coverage) {
+std::vector<PointList> stopsBySurface(const Scene& scene,
+                                      const coverage::CoverageOptions& coverage) {
   std::vector<PointList> out;
   out.reserve(scene.surfaces.size());
   for (const auto& surface : scene.surfaces) {
     PointList stops;
-    for (const auto& stop : coverage::planFlightStrategy(surface, coverage).stops) stops.push_back(stop.position);
+    for (const auto& stop : coverage::planFlightStrategy(surface, coverage).stops)
+      stops.push_back(stop.position);
     out.push_back(std::move(stops));
   }
   return out;
 }
 
 std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
-                                              const std::vector<PointList>& stops_by_surface, int max_legs,
-                                              std::uint32_t seed) {
+                                              const std::vector<PointList>& stops_by_surface,
+                                              int max_legs, std::uint32_t seed) {
   struct Stop {
     std::size_t surface;
     Vec3 p;
@@ -69,7 +70,8 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
       if (grid.isFree(p)) stops.push_back({s, p});
   std::vector<std::pair<Vec3, Vec3>> legs;
   if (stops.size() < 2 || max_legs < 1) return legs;
-  const bool one_surface = std::all_of(stops.begin(), stops.end(), [&](const Stop& s) { return s.surface == stops[0].surface; });
+  const bool one_surface = std::all_of(
+      stops.begin(), stops.end(), [&](const Stop& s) { return s.surface == stops[0].surface; });
 
   std::mt19937 rng(seed);
   std::set<std::pair<std::size_t, std::size_t>> used;
@@ -102,8 +104,8 @@ struct PreparedScenario {
 /// Sense, stages 3–5, stage 6 for every surface, the inflated grid over the cloud,
 /// the stops and the legs (explicit, or sampled between stops); the legs are
 /// appended to result.legs with global ids.
-PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index, const BenchOptions& options,
-                                 BenchResult& result) {
+PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index,
+                                 const BenchOptions& options, BenchResult& result) {
   const PointList raw = sense(sc);
   CloudIndex index;
   const preprocess::CloudStats measured = measure(raw, &sc, &index);
@@ -126,12 +128,16 @@ PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index, co
   world::GridOptions grid_options = out.config.gridOptions();
   grid_options.inflation_radius_m = safetyClearance(d.scene, out.config);
   out.grid = world::VoxelGrid::build(points, extra, grid_options);
-  out.validator = std::make_unique<planning::PathValidator>(points, grid_options.inflation_radius_m);
+  out.validator =
+      std::make_unique<planning::PathValidator>(points, grid_options.inflation_radius_m);
 
   const std::vector<std::pair<Vec3, Vec3>> legs =
-      sc.bench.legs.empty() ? sampleLegs(out.grid, stops_by_surface, sc.bench.max_legs, options.seed) : sc.bench.legs;
+      sc.bench.legs.empty()
+          ? sampleLegs(out.grid, stops_by_surface, sc.bench.max_legs, options.seed)
+          : sc.bench.legs;
   if (legs.empty()) {
-    throw InputError(sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
+    throw InputError(
+        sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
   }
   for (const auto& [a, b] : legs) {
     BenchLeg leg;
@@ -151,7 +157,8 @@ PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index, co
 /// One run of `planner` on `leg` through the OMPL harness, its final path validated.
 BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const PreparedScenario& prepared,
                  const planners::PlannerSettings& settings) {
-  const planners::HarnessRun h = planners::runPlannerOnce(planner, prepared.grid, leg.start, leg.goal, settings);
+  const planners::HarnessRun h =
+      planners::runPlannerOnce(planner, prepared.grid, leg.start, leg.goal, settings);
   BenchRun r;
   r.leg = leg.id;
   r.scenario = leg.scenario;
@@ -197,12 +204,16 @@ BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOpt
     report(progress, "bench: " + sc.name + ": sensing, detection, coverage");
     const PreparedScenario prepared = prepareScenario(sc, static_cast<int>(si), options, result);
 
-    worst_case_s += static_cast<double>(prepared.legs.size() * result.planners.size()) * options.runs * options.time_limit_s;
+    worst_case_s += static_cast<double>(prepared.legs.size() * result.planners.size()) *
+                    options.runs * options.time_limit_s;
     if (worst_case_s > options.max_total_s)
-      throw InputError("bench: " + std::to_string(result.legs.size()) + " legs x " + std::to_string(result.planners.size()) +
-                       " planners x " + std::to_string(options.runs) + " runs x " + formatNumber(options.time_limit_s) +
-                       " s may take " + formatFixed(worst_case_s / 3600.0, 1) + " h, more than --max-total " +
-                       formatNumber(options.max_total_s) + " s; lower --runs, --time-limit or the legs, or raise --max-total");
+      throw InputError("bench: " + std::to_string(result.legs.size()) + " legs x " +
+                       std::to_string(result.planners.size()) + " planners x " +
+                       std::to_string(options.runs) + " runs x " +
+                       formatNumber(options.time_limit_s) + " s may take " +
+                       formatFixed(worst_case_s / 3600.0, 1) + " h, more than --max-total " +
+                       formatNumber(options.max_total_s) +
+                       " s; lower --runs, --time-limit or the legs, or raise --max-total");
 
     planners::PlannerSettings settings = prepared.config.planner_settings;
     settings.time_limit_s = options.time_limit_s;
@@ -212,9 +223,10 @@ BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOpt
     const auto tp = SteadyClock::now();
     for (const auto& leg : prepared.legs) {
       for (const auto& name : result.planners) {
-        report(progress, "bench: " + sc.name + ": leg " + std::to_string(leg.id) + ", " + name + " x" +
-                             std::to_string(options.runs));
-        for (int k = 0; k < options.runs; ++k) runs.push_back(runOnce(name, leg, prepared, settings));
+        report(progress, "bench: " + sc.name + ": leg " + std::to_string(leg.id) + ", " + name +
+                             " x" + std::to_string(options.runs));
+        for (int k = 0; k < options.runs; ++k)
+          runs.push_back(runOnce(name, leg, prepared, settings));
       }
     }
     result.planning_s += secondsSince(tp);

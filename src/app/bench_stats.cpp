@@ -1,11 +1,11 @@
 #include "uavip/app/bench_stats.h"
 
-#include "uavip/core/math.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+
+#include "uavip/core/math.h"
 
 namespace uavip::app {
 namespace {
@@ -48,7 +48,8 @@ double legRatio(const LegMedians& m, const std::string& a, const std::string& b)
 
 }  // namespace
 
-std::vector<PlannerSummary> summarise(const std::string& scenario, const std::vector<BenchRun>& runs,
+std::vector<PlannerSummary> summarise(const std::string& scenario,
+                                      const std::vector<BenchRun>& runs,
                                       const std::vector<std::string>& planners) {
   const LegMedians m = legMedians(runs);
   // Best planner per leg: the shortest leg median.
@@ -76,7 +77,8 @@ std::vector<PlannerSummary> summarise(const std::string& scenario, const std::ve
       waypoints.push_back(static_cast<double>(r.waypoints));
       if (!(s.min_clearance_m <= r.min_clearance_m)) s.min_clearance_m = r.min_clearance_m;
     }
-    s.success_pct = s.runs > 0 ? 100.0 * static_cast<double>(s.solved) / static_cast<double>(s.runs) : 0.0;
+    s.success_pct =
+        s.runs > 0 ? 100.0 * static_cast<double>(s.solved) / static_cast<double>(s.runs) : 0.0;
     s.median_time_s = median(times);
     s.median_length_m = median(lengths);
     s.median_waypoints = median(waypoints);
@@ -91,13 +93,16 @@ std::vector<PlannerSummary> summarise(const std::string& scenario, const std::ve
     out.push_back(s);
   }
   for (auto& s : out) {
-    const auto a = std::find_if(out.begin(), out.end(), [](const PlannerSummary& p) { return p.planner == "astar"; });
-    if (a != out.end() && a->median_time_s > 0.0) s.time_ratio_to_astar = s.median_time_s / a->median_time_s;
+    const auto a = std::find_if(out.begin(), out.end(),
+                                [](const PlannerSummary& p) { return p.planner == "astar"; });
+    if (a != out.end() && a->median_time_s > 0.0)
+      s.time_ratio_to_astar = s.median_time_s / a->median_time_s;
   }
   return out;
 }
 
-std::optional<TargetCheck> checkTarget(const std::string& scenario, const std::vector<BenchRun>& runs,
+std::optional<TargetCheck> checkTarget(const std::string& scenario,
+                                       const std::vector<BenchRun>& runs,
                                        const std::vector<PlannerSummary>& summary) {
   // The best of each side: highest success, then shortest median length.
   auto better = [](const PlannerSummary* cur, const PlannerSummary& cand) {

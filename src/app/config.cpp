@@ -14,7 +14,8 @@ constexpr double kLargeStructureM = 20.0;
 double mm(double metres) { return std::ceil(metres * 1000.0 - 1e-6) / 1000.0; }
 
 /// Records `key`: the file's value when set, else `auto_value` with its rule.
-void resolve(ResolvedConfig& r, const std::string& key, double& field, double auto_value, const std::string& rule) {
+void resolve(ResolvedConfig& r, const std::string& key, double& field, double auto_value,
+             const std::string& rule) {
   if (r.config.isSet(key)) {
     r.values.push_back({key, field, "set"});
     return;
@@ -38,18 +39,20 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   const double spacing = stats.spacing_m > 0.0 ? stats.spacing_m : 0.05;
   const double noise = std::max(stats.noise_m, 0.0);
 
-  resolve(r, "preprocess.voxel_m", c.preprocess.voxel_m, mm(std::max(0.05, spacing)), "max(0.05, spacing)");
+  resolve(r, "preprocess.voxel_m", c.preprocess.voxel_m, mm(std::max(0.05, spacing)),
+          "max(0.05, spacing)");
   const double s_eff = c.preprocess.voxelize ? std::max(spacing, c.preprocess.voxel_m) : spacing;
 
   auto& planes = c.perception.planes;
   resolve(r, "perception.distance_threshold_m", planes.distance_threshold_m,
           mm(std::max({0.2, 4.0 * noise, 0.5 * s_eff})), "max(0.2, 4 noise, spacing'/2)");
-  resolve(r, "perception.plane_cluster_tolerance_m", planes.cluster_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)),
-          "max(0.3, 3 spacing')");
-  resolve(r, "perception.obstacle_tolerance_m", c.perception.clusters.tolerance_m, mm(std::max(0.3, 3.0 * s_eff)),
-          "max(0.3, 3 spacing')");
+  resolve(r, "perception.plane_cluster_tolerance_m", planes.cluster_tolerance_m,
+          mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
+  resolve(r, "perception.obstacle_tolerance_m", c.perception.clusters.tolerance_m,
+          mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
   // After a voxel grid coarser than the spacing, the points form a lattice too.
-  const bool lattice = stats.lattice || (c.preprocess.voxelize && c.preprocess.voxel_m >= 1.5 * spacing);
+  const bool lattice =
+      stats.lattice || (c.preprocess.voxelize && c.preprocess.voxel_m >= 1.5 * spacing);
   resolve(r, "perception.area_cell_m", planes.cell_size_m, mm(lattice ? 2.0 * s_eff : 3.0 * s_eff),
           lattice ? "2 spacing' (lattice)" : "3 spacing' (irregular sampling)");
   // A scenario knows its sensor; a cloud file knows none unless the config gives one.
@@ -61,18 +64,21 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     planes.viewpoint = Vec3::Zero();
     planes.single_station = true;
   }
-  resolve(r, "perception.open_voxel_m", planes.open_voxel_m, mm(std::max(0.1, 2.0 * s_eff)), "max(0.1, 2 spacing')");
+  resolve(r, "perception.open_voxel_m", planes.open_voxel_m, mm(std::max(0.1, 2.0 * s_eff)),
+          "max(0.1, 2 spacing')");
   double min_inliers = planes.min_inliers;
   resolve(r, "perception.min_inliers", min_inliers, 30.0, "30");
   planes.min_inliers = static_cast<int>(min_inliers);
-  r.values.push_back({"perception.min_area_m2", planes.min_area_m2, c.isSet("perception.min_area_m2") ? "set" : "default (paper)"});
+  r.values.push_back({"perception.min_area_m2", planes.min_area_m2,
+                      c.isSet("perception.min_area_m2") ? "set" : "default (paper)"});
 
   // Camera: the paper's 0.6 × 0.4 m footprint at 1.5 m suits its small cases; a
   // building or bridge (largest extent > 20 m) with no camera in the config gets a
   // 1-inch 20 MP inspection camera at 2 mm/px (7.3 m standoff, 10.9 × 7.3 m photos).
-  const bool camera_set = std::any_of(c.set_keys.begin(), c.set_keys.end(), [](const std::string& k) {
-    return k.rfind("camera.", 0) == 0 || k == "coverage.standoff_m";
-  });
+  const bool camera_set =
+      std::any_of(c.set_keys.begin(), c.set_keys.end(), [](const std::string& k) {
+        return k.rfind("camera.", 0) == 0 || k == "coverage.standoff_m";
+      });
   // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
   if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
     auto& cam = c.coverage.camera;
@@ -83,9 +89,11 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     cam.image_w_px = 5472;
     cam.image_h_px = 3648;
     cam.gsd_mm_per_px = 2.0;
-    r.values.push_back({"camera.gsd_mm_per_px", cam.gsd_mm_per_px, "auto: 1-inch 20 MP camera (structure > 20 m)"});
+    r.values.push_back({"camera.gsd_mm_per_px", cam.gsd_mm_per_px,
+                        "auto: 1-inch 20 MP camera (structure > 20 m)"});
   } else {
-    r.values.push_back({"coverage.standoff_m", c.coverage.standoff_m, camera_set ? "set" : "default (paper)"});
+    r.values.push_back(
+        {"coverage.standoff_m", c.coverage.standoff_m, camera_set ? "set" : "default (paper)"});
   }
 
   // The planning grid of the whole site (app::plan applies the rule again to the

@@ -1,8 +1,15 @@
 #include "uavip/app/pipeline.h"
 
-#include "uavip/app/assemble.h"
-#include "plan_steps.h"
+#include <algorithm>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <thread>
 
+#include "plan_steps.h"
+#include "planners/registry.h"
+#include "uavip/app/assemble.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/parallel.h"
@@ -11,19 +18,11 @@
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/perception/scene_builder.h"
-#include "uavip/preprocess/safety_cloud.h"
 #include "uavip/planning/path_validator.h"
+#include "uavip/preprocess/safety_cloud.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/world/collision_world.h"
 #include "uavip/world/voxel_grid.h"
-#include "planners/registry.h"
-
-#include <algorithm>
-#include <iomanip>
-#include <limits>
-#include <sstream>
-#include <memory>
-#include <thread>
 
 namespace uavip::app {
 namespace {
@@ -39,8 +38,8 @@ constexpr double kLocalMarginM = 6.0;
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
 /// Below mission.min_coverage an `ok` surface becomes `partial`, stating the fraction.
-void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const coverage::LineOfSight& sight,
-                     const app::Config& config) {
+void measureCoverage(planning::SurfaceMission& m, const Surface& surface,
+                     const coverage::LineOfSight& sight, const app::Config& config) {
   constexpr double kMaxIncidenceDeg = 75.0;
   if (!planning::flyable(m.status) || surface.inliers.empty()) return;
   std::vector<coverage::ViewPose> views;
@@ -56,8 +55,8 @@ void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const 
   const coverage::FootprintCamera camera(camera_options);
   coverage::CoverageCriteria criteria;
   criteria.max_incidence_deg = kMaxIncidenceDeg;
-  const coverage::CoverageResult r =
-      coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, views, camera, criteria, &sight);
+  const coverage::CoverageResult r = coverage::evaluateCoverage(
+      surface.inliers, {surface.plane.normal}, views, camera, criteria, &sight);
   m.coverage.evaluated = true;
   m.coverage.fraction = r.fraction;
   m.coverage.points = r.points;
@@ -65,8 +64,9 @@ void measureCoverage(planning::SurfaceMission& m, const Surface& surface, const 
   for (const auto i : r.uncovered) m.coverage.uncovered_points.push_back(surface.inliers[i]);
   if (r.fraction < config.mission.min_coverage) {
     std::ostringstream os;
-    os << "coverage " << std::fixed << std::setprecision(1) << 100.0 * r.fraction << " % of the surface's points ("
-       << r.uncovered.size() << " not imaged) is below mission.min_coverage " << 100.0 * config.mission.min_coverage
+    os << "coverage " << std::fixed << std::setprecision(1) << 100.0 * r.fraction
+       << " % of the surface's points (" << r.uncovered.size()
+       << " not imaged) is below mission.min_coverage " << 100.0 * config.mission.min_coverage
        << " %";
     m.status = planning::SurfaceStatus::Partial;
     m.reason = m.reason.empty() ? os.str() : m.reason + "; " + os.str();
@@ -81,11 +81,14 @@ PointList sense(const app::Scenario& scenario) {
   return sim::sampleSurfaces(scenario.world, scenario.sample);
 }
 
-preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenario, CloudIndex* index) {
+preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenario,
+                               CloudIndex* index) {
   for (std::size_t i = 0; i < raw.size(); ++i) {
-    if (!raw[i].allFinite()) throw InputError("cloud: point " + std::to_string(i) + " is not finite");
+    if (!raw[i].allFinite())
+      throw InputError("cloud: point " + std::to_string(i) + " is not finite");
   }
-  CloudIndex tree = raw.size() >= 2 ? std::make_shared<const preprocess::NeighbourIndex>(raw) : nullptr;
+  CloudIndex tree =
+      raw.size() >= 2 ? std::make_shared<const preprocess::NeighbourIndex>(raw) : nullptr;
   preprocess::CloudStats stats = preprocess::measureCloud(raw, {}, tree.get());
   if (index != nullptr) *index = std::move(tree);
   if (scenario != nullptr) {
@@ -97,21 +100,25 @@ preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenar
   return stats;
 }
 
-DetectResult detect(const PointList& raw, const app::Config& config, const preprocess::CloudStats& cloud,
-                    const Progress& progress, const CloudIndex& index) {
+DetectResult detect(const PointList& raw, const app::Config& config,
+                    const preprocess::CloudStats& cloud, const Progress& progress,
+                    const CloudIndex& index) {
   DetectResult result;
   result.resolved = resolveConfig(config, cloud);
   const app::Config& resolved = result.resolved.config;
   const auto t0 = SteadyClock::now();
-  report(progress, "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
-  PointList clean = preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
+  report(progress,
+         "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
+  PointList clean =
+      preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
   // Safety keeps every input point, whatever stage 3 dropped or merged.
   SafetyCloud safety = preprocess::safetyCloud(raw, resolved.safety.cell_m);
   safety.perception_dropped = result.preprocess.input_points - result.preprocess.after_outliers;
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
-  report(progress, "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
+  report(progress,
+         "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
   result.scene = perception::buildScene(clean, resolved.perception);
   result.scene.measured = cloud;
   result.scene.safety = std::move(safety);
@@ -128,7 +135,8 @@ double safetyClearance(const Scene& scene, const app::Config& config) {
 }
 
 ResolvedConfig resolveForScene(const Scene& scene, const app::Config& config) {
-  return resolveConfig(config, scene.measured ? *scene.measured : preprocess::measureCloud(scene.cloud));
+  return resolveConfig(config,
+                       scene.measured ? *scene.measured : preprocess::measureCloud(scene.cloud));
 }
 
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection) {
@@ -149,17 +157,22 @@ std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection
       id = std::stoi(item, &used);
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
-      throw InputError("--surface: '" + selection + "' is not a surface id, a list of ids like 0,3,5, or 'all' (valid ids: " +
-                       valid + ")");
+      throw InputError(
+          "--surface: '" + selection +
+          "' is not a surface id, a list of ids like 0,3,5, or 'all' (valid ids: " + valid + ")");
     }
     const bool exists = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                     [id](const Surface& s) { return s.id == id; });
-    if (!exists) throw InputError("--surface: no surface with id " + item + " (valid ids: " + valid + ")");
+    if (!exists)
+      throw InputError("--surface: no surface with id " + item + " (valid ids: " + valid + ")");
     if (std::find(ids.begin(), ids.end(), id) != ids.end())
       throw InputError("--surface: surface " + item + " is listed twice in '" + selection + "'");
     ids.push_back(id);
   }
-  if (ids.empty()) throw InputError("--surface: empty; give a surface id, a list like 0,3,5, or 'all' (valid ids: " + valid + ")");
+  if (ids.empty())
+    throw InputError(
+        "--surface: empty; give a surface id, a list like 0,3,5, or 'all' (valid ids: " + valid +
+        ")");
   return ids;
 }
 
@@ -167,25 +180,31 @@ namespace {
 
 /// The surface with this id (the selection was validated against the scene).
 const Surface& surfaceById(const Scene& scene, int id) {
-  const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(), [id](const Surface& s) { return s.id == id; });
-  if (it == scene.surfaces.end()) throw InputError("--surface: no surface with id " + std::to_string(id));
+  const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                               [id](const Surface& s) { return s.id == id; });
+  if (it == scene.surfaces.end())
+    throw InputError("--surface: no surface with id " + std::to_string(id));
   return *it;
 }
 
 }  // namespace
 
-world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const app::Config& config,
-                              const PointList& stop_positions, double clearance_m) {
+world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world,
+                              const app::Config& config, const PointList& stop_positions,
+                              double clearance_m) {
   Aabb region = boundingBox(stop_positions);
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions();
   grid_options.inflation_radius_m = clearance_m;  // the UAV's radius and the safety margin
-  if (!config.isSet("grid.resolution_m")) grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
-  world::VoxelGrid::requireFits(region, grid_options);  // before the solids are sampled at the resolution
+  if (!config.isSet("grid.resolution_m"))
+    grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
+  world::VoxelGrid::requireFits(region,
+                                grid_options);  // before the solids are sampled at the resolution
   PointList occupied = safetyPoints(scene);
   // Solids matter as far as a point can block a voxel of the grid.
-  const double reach_m = grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
+  const double reach_m =
+      grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
   Aabb reach = region;
   reach.min.array() -= reach_m;
   reach.max.array() += reach_m;
@@ -200,10 +219,10 @@ namespace {
 /// planner they are spread over the cores, one planner per worker (`planner` is the
 /// caller's, for worker 0), each mission written to its own slot; OMPL's planners
 /// plan them in order (one random stream).
-std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::FlightStrategy>& strategies,
-                                                   const std::vector<int>& surface_ids, const world::VoxelGrid& grid,
-                                                   const planning::PathValidator& validator, planning::Planner& planner,
-                                                   const app::Config& config, const Progress& progress) {
+std::vector<planning::SurfaceMission> planMissions(
+    const std::vector<coverage::FlightStrategy>& strategies, const std::vector<int>& surface_ids,
+    const world::VoxelGrid& grid, const planning::PathValidator& validator,
+    planning::Planner& planner, const app::Config& config, const Progress& progress) {
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
   const int threads = planners::isDeterministic(config.planner)
@@ -212,29 +231,32 @@ std::vector<planning::SurfaceMission> planMissions(const std::vector<coverage::F
   if (threads > 1) {
     std::size_t stops = 0;
     for (const auto& s : strategies) stops += s.stops.size();
-    report(progress, "stage 7: " + std::to_string(strategies.size()) + " surfaces, " + std::to_string(stops) +
-                         " stops, on " + std::to_string(threads) + " threads");
+    report(progress, "stage 7: " + std::to_string(strategies.size()) + " surfaces, " +
+                         std::to_string(stops) + " stops, on " + std::to_string(threads) +
+                         " threads");
   }
-  std::vector<std::unique_ptr<planning::Planner>> worker_planners(static_cast<std::size_t>(threads));
+  std::vector<std::unique_ptr<planning::Planner>> worker_planners(
+      static_cast<std::size_t>(threads));
   std::vector<planning::SurfaceMission> missions(strategies.size());
   parallelFor(strategies.size(), threads, [&](std::size_t i, std::size_t worker) {
     auto& own = worker_planners[worker];
     if (worker > 0 && !own) own = planners::makePlanner(config.planner, config.planner_settings);
     planning::Planner& mine = worker == 0 ? planner : *own;
     if (threads == 1) {
-      report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" + std::to_string(i + 1) + "/" +
-                           std::to_string(strategies.size()) + "), " + std::to_string(strategies[i].stops.size()) +
-                           " stops");
+      report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
+                           std::to_string(i + 1) + "/" + std::to_string(strategies.size()) + "), " +
+                           std::to_string(strategies[i].stops.size()) + " stops");
     }
-    missions[i] = planning::planSurfaceMission(strategies[i], grid, validator, mine, mission_options);
+    missions[i] =
+        planning::planSurfaceMission(strategies[i], grid, validator, mine, mission_options);
   });
   return missions;
 }
 
 }  // namespace
 
-void requireWithinReach(const std::optional<Vec3>& point, const std::string& key, const PointList& stops,
-                        const planning::FlightModel& model) {
+void requireWithinReach(const std::optional<Vec3>& point, const std::string& key,
+                        const PointList& stops, const planning::FlightModel& model) {
   if (!point || stops.empty()) return;
   double nearest = std::numeric_limits<double>::infinity();
   for (const auto& s : stops) nearest = std::min(nearest, (s - *point).norm());
@@ -243,13 +265,15 @@ void requireWithinReach(const std::optional<Vec3>& point, const std::string& key
     std::ostringstream os;
     os << key << " " << formatPoint(*point) << " is " << formatFixed(nearest, 0)
        << " m from the nearest photo stop, beyond one battery's reach (" << formatFixed(reach, 0)
-       << " m there and back at flight.cruise_speed_m_s in the usable flight.endurance_s); give it in the scene's frame, "
+       << " m there and back at flight.cruise_speed_m_s in the usable flight.endurance_s); give it "
+          "in the scene's frame, "
           "near the structure";
     throw InputError(os.str());
   }
 }
 
-void requireFree(const std::optional<Vec3>& point, const std::string& key, const planning::PathValidator& validator) {
+void requireFree(const std::optional<Vec3>& point, const std::string& key,
+                 const planning::PathValidator& validator) {
   if (!point) return;
   const double clearance = validator.clearance(*point);
   if (clearance < validator.requiredClearance()) {
@@ -284,7 +308,8 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   report(progress, "stage 7: inflated voxel grid");
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
   result.clearance_m = safetyClearance(scene, config);
-  const world::VoxelGrid grid = planningGrid(scene, *world, config, stop_positions, result.clearance_m);
+  const world::VoxelGrid grid =
+      planningGrid(scene, *world, config, stop_positions, result.clearance_m);
   const planning::PathValidator validator(world, result.clearance_m);
   requireFree(config.mission.start, "mission.start", validator);
   requireFree(config.flight.home, "mission.home", validator);
@@ -295,7 +320,8 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
 
   const auto t2 = SteadyClock::now();
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
-  result.missions = planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
+  result.missions =
+      planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
   report(progress, "coverage: what the flown photos image");
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).

@@ -3,14 +3,14 @@
 /// Steps shared by app::plan (surfaces) and app::planStructure (the whole
 /// structure); private to src/app.
 
+#include <optional>
+#include <string>
+
 #include "uavip/app/scenario.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
 #include "uavip/world/voxel_grid.h"
-
-#include <optional>
-#include <string>
 
 namespace uavip::app {
 
@@ -20,16 +20,18 @@ namespace uavip::app {
 /// measured point (world/collision_world.h); the grid marks the solids occupied too,
 /// so the planner never flies through space the validator calls solid. Inflated by
 /// `clearance_m` [m].
-world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world, const app::Config& config,
-                              const PointList& stop_positions, double clearance_m);
+world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world,
+                              const app::Config& config, const PointList& stop_positions,
+                              double clearance_m);
 
 /// mission.start and mission.home must lie within one battery's reach of the photo
 /// stops: there and back at cruise speed in the usable endurance. Throws InputError.
-void requireWithinReach(const std::optional<Vec3>& point, const std::string& key, const PointList& stops,
-                        const planning::FlightModel& model);
+void requireWithinReach(const std::optional<Vec3>& point, const std::string& key,
+                        const PointList& stops, const planning::FlightModel& model);
 
 /// mission.start and mission.home must lie in free space: at least the safety
 /// clearance from every measured point and solid. Throws InputError.
-void requireFree(const std::optional<Vec3>& point, const std::string& key, const planning::PathValidator& validator);
+void requireFree(const std::optional<Vec3>& point, const std::string& key,
+                 const planning::PathValidator& validator);
 
 }  // namespace uavip::app

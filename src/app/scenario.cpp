@@ -1,13 +1,13 @@
 #include "uavip/app/scenario.h"
 
-#include "uavip/core/error.h"
-#include "uavip/io/atomic_file.h"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <set>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
 
 namespace uavip::app {
 namespace {
@@ -44,7 +44,9 @@ class Section {
     if (!std::isfinite(v)) fail(key, "must be finite, got " + dump(n));
     return v;
   }
-  double number(const std::string& key, double fallback) { return has(key) ? number(key) : fallback; }
+  double number(const std::string& key, double fallback) {
+    return has(key) ? number(key) : fallback;
+  }
 
   int integer(const std::string& key, int fallback) {
     if (!has(key)) return fallback;
@@ -76,7 +78,8 @@ class Section {
     return has(key) ? text(key) : fallback;
   }
 
-  std::vector<double> numbers(const std::string& key, std::size_t min_count, std::size_t max_count) {
+  std::vector<double> numbers(const std::string& key, std::size_t min_count,
+                              std::size_t max_count) {
     const YAML::Node n = get(key);
     if (!n.IsSequence() || n.size() < min_count || n.size() > max_count) {
       std::ostringstream os;
@@ -100,7 +103,9 @@ class Section {
     const auto v = numbers(key, 3, 3);
     return {v[0], v[1], v[2]};
   }
-  Vec3 vec3(const std::string& key, const Vec3& fallback) { return has(key) ? vec3(key) : fallback; }
+  Vec3 vec3(const std::string& key, const Vec3& fallback) {
+    return has(key) ? vec3(key) : fallback;
+  }
 
   /// A list of [x, y, z] points.
   PointList vec3List(const std::string& key) {
@@ -109,7 +114,8 @@ class Section {
     PointList out;
     for (std::size_t i = 0; i < n.size(); ++i) {
       Vec3 v;
-      if (!n[i].IsSequence() || n[i].size() != 3) fail(key, "must be a list of [x, y, z], item " + std::to_string(i) + " is not");
+      if (!n[i].IsSequence() || n[i].size() != 3)
+        fail(key, "must be a list of [x, y, z], item " + std::to_string(i) + " is not");
       for (int k = 0; k < 3; ++k) {
         if (!YAML::convert<double>::decode(n[i][k], v[k]) || !std::isfinite(v[k])) {
           fail(key, "item " + std::to_string(i) + " must hold finite numbers");
@@ -127,10 +133,13 @@ class Section {
   void finish() const {
     std::set<std::string> seen;
     for (const auto& kv : node_) {
-      if (!kv.first.IsScalar()) fail("", "has a key that is not a plain name (line " + std::to_string(kv.first.Mark().line + 1) + ")");
+      if (!kv.first.IsScalar())
+        fail("", "has a key that is not a plain name (line " +
+                     std::to_string(kv.first.Mark().line + 1) + ")");
       const std::string key = kv.first.as<std::string>();
       if (!seen.insert(key).second) {
-        fail(key, "is given twice (line " + std::to_string(kv.first.Mark().line + 1) + "); keep one");
+        fail(key,
+             "is given twice (line " + std::to_string(kv.first.Mark().line + 1) + "); keep one");
       }
       if (!known_.count(key)) {
         std::string valid;
@@ -213,13 +222,15 @@ void parseGrid(Section s, world::GridOptions& o) {
 /// Pinhole keys (fx, fy, cx, cy with image_px); the other camera models' keys conflict.
 void parsePinhole(Section& s, coverage::Camera& c) {
   for (const char* other : {"footprint_m", "sensor_mm", "focal_mm"}) {
-    if (s.has(other)) s.fail(other, "conflicts with fx/fy (a pinhole camera); describe the camera one way only");
+    if (s.has(other))
+      s.fail(other, "conflicts with fx/fy (a pinhole camera); describe the camera one way only");
   }
   c.pinhole = true;
   c.fx_px = s.number("fx");
   c.fy_px = s.number("fy");
   const auto px = s.numbers("image_px", 2, 2);
-  if (px[0] != std::floor(px[0]) || px[1] != std::floor(px[1]) || px[0] > 1e6 || px[1] > 1e6 || px[0] < 1 || px[1] < 1) {
+  if (px[0] != std::floor(px[0]) || px[1] != std::floor(px[1]) || px[0] > 1e6 || px[1] > 1e6 ||
+      px[0] < 1 || px[1] < 1) {
     s.fail("image_px", "must be two whole positive pixel counts");
   }
   c.image_w_px = static_cast<int>(px[0]);
@@ -271,7 +282,9 @@ void parseCoverage(Section s, coverage::CoverageOptions& o) {
   o.max_stops = s.number("max_stops", o.max_stops);
   o.mode = s.text("mode", o.mode);
   if (o.mode != "surfaces" && o.mode != "structure")
-    s.fail("mode", "'" + o.mode + "' is not a coverage mode; use surfaces (plane by plane) or structure (the whole structure)");
+    s.fail("mode", "'" + o.mode +
+                       "' is not a coverage mode; use surfaces (plane by plane) or structure (the "
+                       "whole structure)");
   if (s.has("ground_z_m")) o.ground_z_m = s.number("ground_z_m");
   o.structure_target = s.number("structure_target", o.structure_target);
   if (s.has("gimbal_pitch_deg")) {
@@ -297,7 +310,8 @@ void parsePlanner(Section s, Config& c) {
     a.a3 = w[2];
   }
   const int budget = s.integer("max_expansions", static_cast<int>(a.max_expansions));
-  if (budget < 0) s.fail("max_expansions", "must be >= 0 (0 = unlimited), got " + std::to_string(budget));
+  if (budget < 0)
+    s.fail("max_expansions", "must be >= 0 (0 = unlimited), got " + std::to_string(budget));
   a.max_expansions = static_cast<std::size_t>(budget);
   s.finish();
 }
@@ -309,7 +323,8 @@ void parseBench(Section s, BenchSpec& b) {
     for (std::size_t i = 0; i < legs.size(); ++i) {
       const std::string key = "legs[" + std::to_string(i) + "]";
       const YAML::Node leg = legs[i];
-      if (!leg.IsSequence() || leg.size() != 2) s.fail(key, "must be a pair [[x, y, z], [x, y, z]]");
+      if (!leg.IsSequence() || leg.size() != 2)
+        s.fail(key, "must be a pair [[x, y, z], [x, y, z]]");
       Vec3 ends[2];
       for (std::size_t e = 0; e < 2; ++e) {
         const YAML::Node p = leg[e];
@@ -334,7 +349,8 @@ void parseMission(Section s, planning::MissionOptions& o, planning::FlightOption
   o.simplify = s.boolean("simplify", o.simplify);
   o.max_skipped_fraction = s.number("max_skipped_fraction", o.max_skipped_fraction);
   if (o.max_skipped_fraction < 0.0 || o.max_skipped_fraction > 1.0) {
-    s.fail("max_skipped_fraction", "must be in [0, 1], got " + std::to_string(o.max_skipped_fraction));
+    s.fail("max_skipped_fraction",
+           "must be in [0, 1], got " + std::to_string(o.max_skipped_fraction));
   }
   if (s.has("start")) o.start = s.vec3("start");
   if (s.has("home")) flight.home = s.vec3("home");
@@ -345,7 +361,8 @@ void parseMission(Section s, planning::MissionOptions& o, planning::FlightOption
   }
   o.max_standoff_factor = s.number("max_standoff_factor", o.max_standoff_factor);
   if (!(o.max_standoff_factor >= 1.0 && o.max_standoff_factor <= 3.0)) {
-    s.fail("max_standoff_factor", "must be in [1, 3] (× the standoff), got " + std::to_string(o.max_standoff_factor));
+    s.fail("max_standoff_factor",
+           "must be in [1, 3] (× the standoff), got " + std::to_string(o.max_standoff_factor));
   }
   s.finish();
 }
@@ -400,7 +417,8 @@ void parseAssembly(Section s, scan::AssemblerOptions& o) {
 
 /// Stage 2 (registration/station_registration.h); mode scan only.
 void parseRegistration(Section s, registration::RegistrationOptions& o) {
-  o.method = named(s, "method", o.method, [](const std::string& n) { return registration::methodFromString(n); });
+  o.method = named(s, "method", o.method,
+                   [](const std::string& n) { return registration::methodFromString(n); });
   o.overlap_margin_m = s.number("overlap_margin_m", o.overlap_margin_m);
   o.search_radius_m = s.number("search_radius_m", o.search_radius_m);
   o.search_step_m = s.number("search_step_m", o.search_step_m);
@@ -420,7 +438,8 @@ void parseInput(Section s, io::CloudReadOptions& o) {
   if (s.has("drop_classes")) {
     o.drop_classes.clear();
     for (const double v : s.numbers("drop_classes", 0, 256)) {
-      if (v != std::floor(v) || v < 0 || v > 255) s.fail("drop_classes", "must hold ASPRS class codes 0..255");
+      if (v != std::floor(v) || v < 0 || v > 255)
+        s.fail("drop_classes", "must hold ASPRS class codes 0..255");
       o.drop_classes.push_back(static_cast<int>(v));
     }
   }
@@ -430,13 +449,15 @@ void parseInput(Section s, io::CloudReadOptions& o) {
 
 void parseConfigSections(Section& top, Config& c) {
   if (top.has("input")) parseInput(top.child("input"), c.input);
-  for (const char* section : {"input", "preprocess", "perception", "uav", "grid", "camera", "coverage", "planner",
-                              "mission", "flight", "assembly", "registration", "safety"}) {
+  for (const char* section :
+       {"input", "preprocess", "perception", "uav", "grid", "camera", "coverage", "planner",
+        "mission", "flight", "assembly", "registration", "safety"}) {
     const YAML::Node n = top.node()[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
     for (const auto& kv : n) {
       // A key that is not a plain name is refused, naming its line, when the section is read.
-      if (kv.first.IsScalar()) c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
+      if (kv.first.IsScalar())
+        c.set_keys.insert(std::string(section) + "." + kv.first.as<std::string>());
     }
   }
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
@@ -547,7 +568,9 @@ void parseWorldItem(Section s, sim::WorldModel& world, std::size_t index) {
     o.seed = seedOf(s, static_cast<std::uint32_t>(index + 1));
     world.addGrass(name, s.vec3("center"), o);
   } else {
-    s.fail("type", "'" + type + "' is not a primitive (point, line, plane, box, crossed_planes, tree, grass)");
+    s.fail(
+        "type",
+        "'" + type + "' is not a primitive (point, line, plane, box, crossed_planes, tree, grass)");
   }
   s.finish();
 }
@@ -556,7 +579,8 @@ YAML::Node parseYaml(const std::string& text, const std::string& path) {
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+    throw InputError(path + ": not valid YAML (line " + std::to_string(e.mark.line + 1) +
+                     "): " + e.msg);
   }
 }
 
@@ -624,7 +648,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   Scenario sc;
   sc.path = path;
   const YAML::Node root = parseYaml(yaml_text, path);
-  if (!root.IsMap()) throw InputError(path + ": a scenario must be a YAML mapping with name, world, sensing");
+  if (!root.IsMap())
+    throw InputError(path + ": a scenario must be a YAML mapping with name, world, sensing");
   Section top(root, path, "");
   sc.name = top.text("name");
   sc.description = top.text("description", "");
@@ -632,7 +657,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
   withFile(path, [&] {
     const YAML::Node world = root["world"];
     top.has("world");
-    if (!world.IsDefined() || !world.IsSequence()) top.fail("world", "must be a list of primitives");
+    if (!world.IsDefined() || !world.IsSequence())
+      top.fail("world", "must be a list of primitives");
     for (std::size_t i = 0; i < world.size(); ++i) {
       parseWorldItem(Section(world[i], path, "world[" + std::to_string(i) + "]"), sc.world, i);
     }
@@ -648,7 +674,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
       // cloud back from the raw log's frame), so the stations are viewpoints as given.
       // They scanned the cloud: stage 4 orients each normal toward the side they see.
       sc.config.perception.planes.viewpoint = sc.scan.stations.front();
-      if (sensing.has("viewpoint")) sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
+      if (sensing.has("viewpoint"))
+        sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
       sc.config.perception.planes.extra_viewpoints = sc.scan.stations;
       sc.config.perception.planes.viewpoints_scanned = true;
       sensing.finish();
@@ -661,8 +688,10 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
       const int seed = sensing.integer("seed", static_cast<int>(sc.sample.seed));
       if (seed < 0) sensing.fail("seed", "must be >= 0, got " + std::to_string(seed));
       sc.sample.seed = static_cast<std::uint32_t>(seed);
-      if (sensing.has("viewpoint")) sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
-      if (sensing.has("viewpoints")) sc.config.perception.planes.extra_viewpoints = sensing.vec3List("viewpoints");
+      if (sensing.has("viewpoint"))
+        sc.config.perception.planes.viewpoint = sensing.vec3("viewpoint");
+      if (sensing.has("viewpoints"))
+        sc.config.perception.planes.extra_viewpoints = sensing.vec3List("viewpoints");
       sensing.finish();
       sc.sample.validate("sensing");
     }
@@ -677,7 +706,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
       Section e = top.child("expect");
       if (e.has("surfaces")) sc.expect.surfaces = e.integer("surfaces", 0);
       if (e.has("status")) sc.expect.status = e.text("status");
-      if (e.has("min_surface_area_m2")) sc.expect.min_surface_area_m2 = e.number("min_surface_area_m2");
+      if (e.has("min_surface_area_m2"))
+        sc.expect.min_surface_area_m2 = e.number("min_surface_area_m2");
       e.finish();
     }
   });

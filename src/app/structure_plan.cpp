@@ -1,10 +1,14 @@
 /// \file
 /// app::planStructure (app/pipeline.h): structure coverage over the whole cloud.
 
-#include "uavip/app/pipeline.h"
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <thread>
 
 #include "plan_steps.h"
-
+#include "planners/registry.h"
+#include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/stopwatch.h"
@@ -15,12 +19,6 @@
 #include "uavip/coverage/structure_views.h"
 #include "uavip/planning/tour.h"
 #include "uavip/preprocess/normals.h"
-#include "planners/registry.h"
-
-#include <algorithm>
-#include <cmath>
-#include <memory>
-#include <thread>
 
 namespace uavip::app {
 namespace {
@@ -55,7 +53,8 @@ PointList structurePoints(const Scene& scene, const app::Config& config, std::si
   ground = 0;
   for (const auto& p : scene.cloud) {
     bool is_ground = config.coverage.ground_z_m && p.z() < *config.coverage.ground_z_m;
-    for (const Surface* s : level) is_ground = is_ground || std::abs(s->plane.signedDistance(p)) <= band;
+    for (const Surface* s : level)
+      is_ground = is_ground || std::abs(s->plane.signedDistance(p)) <= band;
     if (is_ground) {
       ++ground;
     } else {
@@ -97,7 +96,8 @@ coverage::PinholeIntrinsics structureIntrinsics(const coverage::Camera& c, doubl
     k.cy_px = 0.5 * k.height_px;
   } else {
     k.width_px = 1000;
-    k.height_px = std::max(1, static_cast<int>(std::lround(1000.0 * c.footprint_h_m / c.footprint_w_m)));
+    k.height_px =
+        std::max(1, static_cast<int>(std::lround(1000.0 * c.footprint_h_m / c.footprint_w_m)));
     k.fx_px = k.fy_px = 1000.0 * standoff_m / c.footprint_w_m;
     k.cx_px = 0.5 * k.width_px;
     k.cy_px = 0.5 * k.height_px;
@@ -108,8 +108,10 @@ coverage::PinholeIntrinsics structureIntrinsics(const coverage::Camera& c, doubl
 /// The central part of the image a photo is chosen for: coverage.overlap cropped
 /// off (half on each side), so neighbouring photos overlap and leave no sliver
 /// between the points they were chosen for.
-coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double overlap_w, double overlap_h) {
-  const double crop_w = std::floor(0.5 * overlap_w * k.width_px), crop_h = std::floor(0.5 * overlap_h * k.height_px);
+coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double overlap_w,
+                                           double overlap_h) {
+  const double crop_w = std::floor(0.5 * overlap_w * k.width_px),
+               crop_h = std::floor(0.5 * overlap_h * k.height_px);
   k.width_px -= static_cast<int>(2.0 * crop_w);
   k.height_px -= static_cast<int>(2.0 * crop_h);
   k.cx_px -= crop_w;
@@ -126,7 +128,8 @@ double viewingDistance(const app::Config& config) {
 /// Rule (b): in the image, GSD and range within kRangeAllowance × the viewing
 /// distance (and camera.max_range_m), incidence ≤ kMaxIncidenceDeg (normals oriented
 /// by orientNormals); the line of sight is given separately.
-coverage::CoverageCriteria ruleB(const coverage::PinholeIntrinsics& k, const coverage::Camera& c, double standoff_m) {
+coverage::CoverageCriteria ruleB(const coverage::PinholeIntrinsics& k, const coverage::Camera& c,
+                                 double standoff_m) {
   coverage::CoverageCriteria criteria;
   criteria.max_incidence_deg = kMaxIncidenceDeg;
   criteria.max_range_m = kRangeAllowance * standoff_m;
@@ -139,8 +142,8 @@ coverage::CoverageCriteria ruleB(const coverage::PinholeIntrinsics& k, const cov
 /// the voxels from 2 voxels to `probe_m` along it hold no point and its end is
 /// reachable; one open side orients the normal, both or none leave it two-sided.
 std::vector<char> orientNormals(const PointList& points, std::vector<Vec3>& normals,
-                                const coverage::VoxelLineOfSight& sight, const coverage::ViewpointFree& reachable,
-                                double probe_m) {
+                                const coverage::VoxelLineOfSight& sight,
+                                const coverage::ViewpointFree& reachable, double probe_m) {
   std::vector<char> two_sided(points.size(), 1);
   const double step = 0.5 * sight.voxelSize();
   const auto open = [&](const Vec3& p, const Vec3& n) {
@@ -165,9 +168,9 @@ std::vector<char> orientNormals(const PointList& points, std::vector<Vec3>& norm
 constexpr double kBlockedHopFactor = 3.0;
 constexpr double kBlockedHopExtraM = 50.0;
 
-coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views, const Vec3& start, int id,
-                                           const coverage::PinholeIntrinsics& k, double standoff_m,
-                                           const world::VoxelGrid& grid) {
+coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views, const Vec3& start,
+                                           int id, const coverage::PinholeIntrinsics& k,
+                                           double standoff_m, const world::VoxelGrid& grid) {
   coverage::FlightStrategy s;
   s.surface_id = id;
   s.camera.standoff_m = standoff_m;
@@ -177,10 +180,13 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
   s.camera.gsd_h_mm = standoff_m * 1000.0 / k.fy_px;
   PointList positions;
   for (const auto& v : views.views) positions.push_back(v.position);
-  const auto at = [&](int i) -> const Vec3& { return i < 0 ? start : positions[static_cast<std::size_t>(i)]; };
+  const auto at = [&](int i) -> const Vec3& {
+    return i < 0 ? start : positions[static_cast<std::size_t>(i)];
+  };
   const std::vector<int> order = planning::orderOpenPath(start, positions, [&](int a, int b) {
     const PointList hop = planning::straightOrDetour(grid, at(a), at(b));
-    return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM : polylineLength(hop);
+    return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
+                       : polylineLength(hop);
   });
   s.cols = static_cast<int>(order.size());
   s.rows = 1;
@@ -203,10 +209,11 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
 double checkedStandoff(const app::Config& config, double clearance_m) {
   const double standoff = viewingDistance(config);
   if (!(standoff > clearance_m)) {
-    throw InputError("coverage.standoff_m: viewing distance " + formatFixed(standoff, 2) + " m is inside the " +
-                     formatFixed(clearance_m, 2) +
-                     " m the UAV keeps from every measured point; fly farther (coverage.standoff_m) or use a "
-                     "smaller uav.inflation_radius_m");
+    throw InputError(
+        "coverage.standoff_m: viewing distance " + formatFixed(standoff, 2) + " m is inside the " +
+        formatFixed(clearance_m, 2) +
+        " m the UAV keeps from every measured point; fly farther (coverage.standoff_m) or use a "
+        "smaller uav.inflation_radius_m");
   }
   return standoff;
 }
@@ -219,15 +226,16 @@ struct StructurePoints {
   std::optional<double> ground_z;
 };
 
-StructurePoints prepareStructure(const Scene& scene, const app::Config& config, StructureSummary& summary,
-                                 const Progress& progress) {
+StructurePoints prepareStructure(const Scene& scene, const app::Config& config,
+                                 StructureSummary& summary, const Progress& progress) {
   StructurePoints s;
   s.ground_z = config.coverage.ground_z_m;
   const PointList structure = structurePoints(scene, config, summary.ground_points, s.ground_z);
   if (structure.empty()) {
-    throw InputError("structure coverage: all " + std::to_string(scene.cloud.size()) +
-                     " points of the scene are ground (level surfaces at its lowest level, or below "
-                     "coverage.ground_z_m); nothing to photograph");
+    throw InputError(
+        "structure coverage: all " + std::to_string(scene.cloud.size()) +
+        " points of the scene are ground (level surfaces at its lowest level, or below "
+        "coverage.ground_z_m); nothing to photograph");
   }
   s.points = thinForScoring(structure, scene.measured ? scene.measured->spacing_m : 0.0);
   summary.points = s.points.size();
@@ -238,8 +246,8 @@ StructurePoints prepareStructure(const Scene& scene, const app::Config& config, 
 
 /// The planning grid over the structure's box grown by the viewing distance (and
 /// mission.start / mission.home), with the validator; both must be free.
-world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config, const PointList& points,
-                               double standoff, PlanResult& result,
+world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
+                               const PointList& points, double standoff, PlanResult& result,
                                std::unique_ptr<planning::PathValidator>& validator) {
   Aabb box = boundingBox(points);
   box.min.array() -= standoff;
@@ -263,25 +271,27 @@ world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config, co
 coverage::ViewpointFree viewpointTest(const world::VoxelGrid& grid, const std::optional<Vec3>& home,
                                       const std::optional<double>& ground_z, double clearance_m) {
   const auto dims = grid.dims();
-  const std::int32_t outside =
-      home ? grid.component(grid.indexOf(*home)) : grid.component({dims[0] - 1, dims[1] - 1, dims[2] - 1});
-  const std::optional<double> floor_z = ground_z ? std::optional<double>(*ground_z + clearance_m) : std::nullopt;
+  const std::int32_t outside = home ? grid.component(grid.indexOf(*home))
+                                    : grid.component({dims[0] - 1, dims[1] - 1, dims[2] - 1});
+  const std::optional<double> floor_z =
+      ground_z ? std::optional<double>(*ground_z + clearance_m) : std::nullopt;
   return [&grid, outside, floor_z](const Vec3& p) {
     const world::Index3 i = grid.indexOf(p);
-    return grid.inBounds(i) && outside != 0 && grid.component(i) == outside && (!floor_z || p.z() >= *floor_z);
+    return grid.inBounds(i) && outside != 0 && grid.component(i) == outside &&
+           (!floor_z || p.z() >= *floor_z);
   };
 }
 
 /// The view selection's options for this config and camera.
-coverage::StructureViewOptions viewOptions(const app::Config& config, const coverage::PinholeIntrinsics& k,
-                                           double standoff) {
+coverage::StructureViewOptions viewOptions(const app::Config& config,
+                                           const coverage::PinholeIntrinsics& k, double standoff) {
   coverage::StructureViewOptions options;
   options.standoff_m = standoff;
   options.distance_factors = {1.0, config.mission.max_standoff_factor};
   options.tilts_deg = {20.0, 45.0};
   // Seeds closer than half the photo's smaller side: a narrow camera leaves no gaps.
-  options.seed_spacing_m =
-      std::min(standoff / 3.0, 0.5 * standoff * std::min(k.width_px / k.fx_px, k.height_px / k.fy_px));
+  options.seed_spacing_m = std::min(
+      standoff / 3.0, 0.5 * standoff * std::min(k.width_px / k.fx_px, k.height_px / k.fy_px));
   options.target_coverage = config.coverage.structure_target;
   options.gimbal = config.coverage.gimbal;
   options.criteria = ruleB(k, config.coverage.camera, standoff);
@@ -299,21 +309,27 @@ Vec3 pathStart(const std::optional<Vec3>& home, const coverage::StructureViews& 
 }
 
 /// Both coverage rules at the flown stops, into the mission and the summary.
-void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s, const coverage::PinholeIntrinsics& k,
-                const coverage::StructureViewOptions& options, const coverage::LineOfSight& sight,
-                const app::Config& config, StructureSummary& summary) {
+void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
+                const coverage::PinholeIntrinsics& k, const coverage::StructureViewOptions& options,
+                const coverage::LineOfSight& sight, const app::Config& config,
+                StructureSummary& summary) {
   std::vector<coverage::ViewPose> flown;
   for (std::size_t i = 0; i < mission.strategy.stops.size(); ++i) {
-    if (mission.stop_problems[i] != planning::StopProblem::None || !planning::flyable(mission.status)) continue;
+    if (mission.stop_problems[i] != planning::StopProblem::None ||
+        !planning::flyable(mission.status))
+      continue;
     const auto& stop = mission.strategy.stops[i];
     flown.push_back({stop.position, stop.yaw_deg, stop.gimbal_pitch_deg});
   }
   const coverage::PinholeCamera camera(k);
-  const coverage::CoverageResult b = coverage::evaluateCoverage(s.points, s.normals, flown, camera, options.criteria,
-                                                                &sight, options.threads, &s.two_sided);
-  summary.visible_range_m = config.coverage.camera.max_range_m > 0.0 ? config.coverage.camera.max_range_m
-                                                                      : kRangeAllowance * summary.standoff_m;
-  summary.rule_a = coverage::evaluatePixelCoverage(s.points, flown, k, summary.visible_range_m, options.threads).fraction;
+  const coverage::CoverageResult b = coverage::evaluateCoverage(
+      s.points, s.normals, flown, camera, options.criteria, &sight, options.threads, &s.two_sided);
+  summary.visible_range_m = config.coverage.camera.max_range_m > 0.0
+                                ? config.coverage.camera.max_range_m
+                                : kRangeAllowance * summary.standoff_m;
+  summary.rule_a =
+      coverage::evaluatePixelCoverage(s.points, flown, k, summary.visible_range_m, options.threads)
+          .fraction;
   summary.rule_b = b.fraction;
   mission.coverage.evaluated = true;
   mission.coverage.fraction = b.fraction;
@@ -339,16 +355,18 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
 
   const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
   const coverage::ViewpointFree is_free = viewpointTest(grid, home, s.ground_z, result.clearance_m);
-  const coverage::PinholeIntrinsics intrinsics = structureIntrinsics(config.coverage.camera, standoff);
+  const coverage::PinholeIntrinsics intrinsics =
+      structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera scoring_camera(
       cropForOverlap(intrinsics, config.coverage.overlap_w, config.coverage.overlap_h));
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  s.two_sided = orientNormals(s.points, s.normals, sight, is_free, result.clearance_m + 2.0 * grid.resolution());
+  s.two_sided = orientNormals(s.points, s.normals, sight, is_free,
+                              result.clearance_m + 2.0 * grid.resolution());
   const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
   const auto t1 = SteadyClock::now();
   report(progress, "structure: choosing photos");
-  const coverage::StructureViews views =
-      selectStructureViews(s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
+  const coverage::StructureViews views = selectStructureViews(
+      s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
   summary.select_s = secondsSince(t1);
   summary.seeds = views.seeds;
   summary.candidates = views.candidates;
@@ -358,20 +376,23 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   result.times.coverage_s = secondsSince(t0);
 
   const auto t2 = SteadyClock::now();
-  for (const auto& surface : scene.surfaces) summary.surface_id = std::max(summary.surface_id, surface.id + 1);
-  const coverage::FlightStrategy strategy =
-      structureStrategy(views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
-  report(progress, "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
+  for (const auto& surface : scene.surfaces)
+    summary.surface_id = std::max(summary.surface_id, surface.id + 1);
+  const coverage::FlightStrategy strategy = structureStrategy(
+      views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
+  report(progress,
+         "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   planning::MissionOptions mission_options = config.mission;
   mission_options.gimbal = config.coverage.gimbal;
   mission_options.direct_legs = true;
-  planning::SurfaceMission mission = planning::planSurfaceMission(strategy, grid, *validator, *planner, mission_options);
+  planning::SurfaceMission mission =
+      planning::planSurfaceMission(strategy, grid, *validator, *planner, mission_options);
   mission.kind = "structure";
   if (strategy.stops.empty()) {
     mission.reason = "no free viewpoint: no camera pose " + formatFixed(standoff, 2) +
-                     " m from the structure is clear of every measured point by " + formatFixed(result.clearance_m, 2) +
-                     " m and reachable from outside";
+                     " m from the structure is clear of every measured point by " +
+                     formatFixed(result.clearance_m, 2) + " m and reachable from outside";
   }
   scoreFlown(mission, s, intrinsics, options, sight, config, summary);
   result.missions.push_back(std::move(mission));

@@ -1,15 +1,6 @@
 // uavip bench: the paper's A* and OMPL planners on the legs of benchmark scenarios
 // (include/uavip/app/bench.h).
 
-#include "src/cli/commands.h"
-
-#include "uavip/app/bench.h"
-#include "uavip/core/error.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/app/scenario.h"
-#include "planners/harness.h"
-#include "planners/registry.h"
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -17,6 +8,14 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+
+#include "planners/harness.h"
+#include "planners/registry.h"
+#include "src/cli/commands.h"
+#include "uavip/app/bench.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
 
 namespace uavip::cli {
 namespace {
@@ -73,9 +72,11 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   if (a.out.empty()) throw InputError("-o: give the log file, e.g. results.log");
   // Before any scenario is read: reading one may create (and so seed) a planner.
   if (!planners::seedOmpl(options.seed)) {
-    std::cerr << "uavip: warning: OMPL was already seeded; --seed " << options.seed << " has no effect\n";
+    std::cerr << "uavip: warning: OMPL was already seeded; --seed " << options.seed
+              << " has no effect\n";
   }
-  io::requireDistinctOutputs(a.scenarios, {a.out, sibling(a.out, ".csv"), sibling(a.out, ".md"), sibling(a.out, ".png")});
+  io::requireDistinctOutputs(
+      a.scenarios, {a.out, sibling(a.out, ".csv"), sibling(a.out, ".md"), sibling(a.out, ".png")});
   std::vector<app::Scenario> scenarios;
   for (const auto& path : a.scenarios) scenarios.push_back(app::loadScenario(path));
   const fs::path parent = fs::path(a.out).parent_path();
@@ -96,8 +97,8 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   outputs.commit();
   if (!v.quiet) {
     std::cout << markdown;
-    std::cout << "\nresults: " << a.out << " (ompl_benchmark_statistics " << a.out << " -d results.db), " << csv
-              << ", " << md << ", " << png << "\n";
+    std::cout << "\nresults: " << a.out << " (ompl_benchmark_statistics " << a.out
+              << " -d results.db), " << csv << ", " << md << ", " << png << "\n";
   }
   return kExitOk;
 }
@@ -110,19 +111,27 @@ void addBenchCommands(CLI::App& cli, CommandRegistry& registry) {
   std::string names;
   for (const auto& n : planners::plannerNames()) names += (names.empty() ? "" : ", ") + n;
 
-  auto* b = cli.add_subcommand("bench", "Benchmark the grid A* and OMPL planners on the legs of scenarios; "
-                                        "writes an OMPL benchmark log, a CSV, a Markdown summary and a plot (PNG)");
-  b->add_option("scenarios", a->scenarios, "Scenario YAML files (legs from their bench: section, or sampled)")
+  auto* b = cli.add_subcommand(
+      "bench",
+      "Benchmark the grid A* and OMPL planners on the legs of scenarios; "
+      "writes an OMPL benchmark log, a CSV, a Markdown summary and a plot (PNG)");
+  b->add_option("scenarios", a->scenarios,
+                "Scenario YAML files (legs from their bench: section, or sampled)")
       ->required();
-  b->add_option("--planners", a->planners, "Comma-separated planners (" + names + "); default: all");
+  b->add_option("--planners", a->planners,
+                "Comma-separated planners (" + names + "); default: all");
   b->add_option("--runs", a->runs, "Runs per planner and leg")->capture_default_str();
-  b->add_option("--time-limit", a->time_limit_s, "Budget per run of an OMPL planner [s]")->capture_default_str();
-  b->add_option("--max-total", a->max_total_s,
-                "Refuse a bench whose worst case (legs x planners x runs x time limit) exceeds this [s]")
+  b->add_option("--time-limit", a->time_limit_s, "Budget per run of an OMPL planner [s]")
       ->capture_default_str();
-  b->add_option("--seed", a->seed, "Seed of OMPL's RNG and of the leg sampling")->capture_default_str();
+  b->add_option(
+       "--max-total", a->max_total_s,
+       "Refuse a bench whose worst case (legs x planners x runs x time limit) exceeds this [s]")
+      ->capture_default_str();
+  b->add_option("--seed", a->seed, "Seed of OMPL's RNG and of the leg sampling")
+      ->capture_default_str();
   b->add_flag("--no-simplify", a->no_simplify, "Keep the planners' raw paths (no PathSimplifier)");
-  b->add_option("-o,--out", a->out, "Benchmark log; the .csv, .md and .png go next to it")->capture_default_str();
+  b->add_option("-o,--out", a->out, "Benchmark log; the .csv, .md and .png go next to it")
+      ->capture_default_str();
   registry.add(b, [a, &v] { return benchCommand(*a, v); });
 }
 

@@ -5,14 +5,13 @@
 /// dispatches. Exit codes: 0 done (a blocked surface is a result), 2 bad input or
 /// usage, 3 no collision-free mission for the chosen surface.
 
-#include "uavip/app/pipeline.h"
-
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "uavip/app/pipeline.h"
 
 namespace uavip::cli {
 
@@ -36,7 +35,9 @@ class CommandRegistry {
  public:
   explicit CommandRegistry(const Verbosity& verbosity) : verbosity_(verbosity) {}
   /// Registers `action` for `sub`; it returns the process exit code.
-  void add(CLI::App* sub, std::function<int()> action) { commands_.emplace_back(sub, std::move(action)); }
+  void add(CLI::App* sub, std::function<int()> action) {
+    commands_.emplace_back(sub, std::move(action));
+  }
   const Verbosity& verbosity() const { return verbosity_; }
   /// Runs the parsed subcommand's action (kExitBadInput if none was parsed).
   int dispatch() const;

@@ -1,8 +1,15 @@
 // uavip export: a mission.json as a QGroundControl .plan, a QGC WPL 110 file or a
 // CSV (io/mission_export.h has the item layout and the heading convention).
 
-#include "src/cli/commands.h"
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
 
+#include "src/cli/commands.h"
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
@@ -12,14 +19,6 @@
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
-
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <iomanip>
-#include <iostream>
-#include <memory>
-#include <sstream>
 
 namespace uavip::cli {
 namespace {
@@ -48,24 +47,30 @@ void requireNearOrigin(const std::vector<io::Flight>& flights, const std::string
   for (const auto& f : flights) {
     for (const auto& w : f.waypoints) {
       if (w.enu.norm() > kMaxDistanceFromOriginM)
-        throw InputError(mission + ": waypoint " + formatPoint(w.enu) + " lies " + formatFixed(w.enu.norm() / 1e3, 1) +
+        throw InputError(mission + ": waypoint " + formatPoint(w.enu) + " lies " +
+                         formatFixed(w.enu.norm() / 1e3, 1) +
                          " km from the origin; export converts flights within " +
-                         formatNumber(kMaxDistanceFromOriginM / 1e3) + " km of --origin (local metres about it)");
+                         formatNumber(kMaxDistanceFromOriginM / 1e3) +
+                         " km of --origin (local metres about it)");
     }
   }
 }
 
 /// Every exported path is checked again against the scene with the FCL validator:
 /// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
-void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission, const ExportArgs& a) {
+void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission,
+                       const ExportArgs& a) {
   const std::string scene_path = sceneFor(a);
   if (!fs::is_regular_file(scene_path))
-    throw InputError("--scene: " + scene_path + " not found; export checks every leg against the scene the mission " +
+    throw InputError("--scene: " + scene_path +
+                     " not found; export checks every leg against the scene the mission " +
                      "was planned in: pass --scene OUT/scene.json");
   if (std::isnan(mission.inflation_radius_m))
-    throw InputError(a.mission + ": inflation_radius_m is missing (not a mission.json of uavip run or plan)");
+    throw InputError(a.mission +
+                     ": inflation_radius_m is missing (not a mission.json of uavip run or plan)");
   const Scene scene = io::loadScene(scene_path);
-  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene), mission.inflation_radius_m);
+  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene),
+                                          mission.inflation_radius_m);
   for (const auto& f : flights) {
     PointList path;
     for (const auto& w : f.waypoints) path.push_back(w.enu);
@@ -73,11 +78,12 @@ void checkAgainstScene(const std::vector<io::Flight>& flights, const io::Mission
     if (v.collision_free) continue;
     std::ostringstream os;
     os << std::fixed << std::setprecision(3) << a.mission << ": "
-       << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) : "surface " + std::to_string(f.surface_ids.front()))
+       << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie)
+                        : "surface " + std::to_string(f.surface_ids.front()))
        << ", segment " << v.first_violation_segment << " comes "
        << v.segment_clearance_m[static_cast<std::size_t>(v.first_violation_segment)] << " m from "
-       << v.violation_object << " of " << scene_path << " (required " << validator.requiredClearance()
-       << " m); not exported: re-run uavip plan";
+       << v.violation_object << " of " << scene_path << " (required "
+       << validator.requiredClearance() << " m); not exported: re-run uavip plan";
     throw io::NoMissionError(os.str());
   }
 }
@@ -88,24 +94,33 @@ void checkAgainstScene(const std::vector<io::Flight>& flights, const io::Mission
 Vec3 sourceOffset(const ExportArgs& a) {
   const std::string path = sceneFor(a);
   if (!fs::is_regular_file(path))
-    throw InputError("--crs: " + path + " not found; the scene gives the cloud's offset in its CRS: pass --scene OUT/scene.json");
+    throw InputError(
+        "--crs: " + path +
+        " not found; the scene gives the cloud's offset in its CRS: pass --scene OUT/scene.json");
   const io::JsonReader reader(path);
   const nlohmann::json scene = reader.load();
   if (!scene.is_object() || !scene.contains("source_offset_m"))
-    throw InputError("--crs " + a.crs + ": " + path + " has no source_offset_m: its cloud lies within " +
-                     formatNumber(io::kRecentreBeyondM / 1e3) + " km of its own origin, so it is not in a projected "
+    throw InputError("--crs " + a.crs + ": " + path +
+                     " has no source_offset_m: its cloud lies within " +
+                     formatNumber(io::kRecentreBeyondM / 1e3) +
+                     " km of its own origin, so it is not in a projected "
                      "CRS; pass --origin LAT,LON,ALT instead");
   return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
 }
 
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
   if (!a.origin.empty() && !a.crs.empty())
-    throw InputError("--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin by a "
-                     "WGS84 position of the local origin)");
+    throw InputError(
+        "--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin "
+        "by a "
+        "WGS84 position of the local origin)");
   if (a.origin.empty() && a.crs.empty())
-    throw InputError("--origin: missing; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, metres above "
-                     "sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs EPSG:CODE, the "
-                     "projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
+    throw InputError(
+        "--origin: missing; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, "
+        "metres above "
+        "sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs EPSG:CODE, "
+        "the "
+        "projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
   io::ExportOptions options;
   if (!a.origin.empty()) options.origin = io::parseOrigin(a.origin);
   if (!a.crs.empty()) options.crs = std::make_shared<const io::CrsTransform>(a.crs);
@@ -122,16 +137,19 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   try {
     if (a.surface == "all" || a.sortie != 0) {
       if (!a.surface.empty() && a.surface != "all")
-        throw InputError("--sortie: sorties belong to the flight over all surfaces; drop --surface " + a.surface);
+        throw InputError(
+            "--sortie: sorties belong to the flight over all surfaces; drop --surface " +
+            a.surface);
       flights = io::sortiesFromMission(mission, a.mission);
       if (a.sortie < 0 || a.sortie > static_cast<int>(flights.size()))
-        throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission + " has " +
-                         std::to_string(flights.size()) + " sortie(s), numbered from 1");
+        throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission +
+                         " has " + std::to_string(flights.size()) + " sortie(s), numbered from 1");
       if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
     } else {
       flights = {io::flightFromMission(mission, a.mission, a.surface)};
     }
-    if (!options.crs) requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
+    if (!options.crs)
+      requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
     checkAgainstScene(flights, mission, a);
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
@@ -140,19 +158,25 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   if (options.crs) {
     options.source_offset_m = sourceOffset(a);
     // Home: the ordered flight's (every sortie starts there), else the path's first waypoint.
-    options.home_m = mission.flight && !mission.flight->sorties.empty() && !mission.flight->sorties[0].waypoints.empty()
+    options.home_m = mission.flight && !mission.flight->sorties.empty() &&
+                             !mission.flight->sorties[0].waypoints.empty()
                          ? mission.flight->sorties[0].waypoints.front()
-                     : !flights.empty() && !flights.front().waypoints.empty() ? flights.front().waypoints.front().enu
-                                                                              : Vec3::Zero();
+                     : !flights.empty() && !flights.front().waypoints.empty()
+                         ? flights.front().waypoints.front().enu
+                         : Vec3::Zero();
   }
   double min_up = 0.0;
   for (const auto& f : flights) {
     for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z() - options.home_m.z());
   }
   if (min_up < 0.0 && !v.quiet) {
-    std::cerr << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2) << -min_up
-              << (options.crs ? " m below home; QGroundControl altitudes are relative to home: take off there\n"
-                              : " m below the origin (home); check that the origin's altitude is that of the ground or lower\n");
+    std::cerr
+        << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2)
+        << -min_up
+        << (options.crs
+                ? " m below home; QGroundControl altitudes are relative to home: take off there\n"
+                : " m below the origin (home); check that the origin's altitude is that of the "
+                  "ground or lower\n");
   }
 
   // Several sorties: one file each, OUT with _sortieN before the extension.
@@ -162,32 +186,42 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
       paths.push_back(a.out);
     } else {
       const fs::path out(a.out);
-      paths.push_back((out.parent_path() / (out.stem().string() + "_sortie" + std::to_string(f.sortie) +
-                                            out.extension().string())).string());
+      paths.push_back((out.parent_path() / (out.stem().string() + "_sortie" +
+                                            std::to_string(f.sortie) + out.extension().string()))
+                          .string());
     }
   }
   io::requireDistinctOutputs({a.mission, sceneFor(a)}, paths);
   io::StagedOutputs outputs;  // every sortie's file, or none
-  for (std::size_t i = 0; i < flights.size(); ++i) outputs.write(paths[i], io::exportFlight(flights[i], format, options));
+  for (std::size_t i = 0; i < flights.size(); ++i)
+    outputs.write(paths[i], io::exportFlight(flights[i], format, options));
   outputs.commit();
   if (!v.quiet) {
     if (options.crs) {
       const io::GeoPoint home = io::homeGeo(options);
-      std::cout << "georeferenced by " << options.crs->name() << " (" << a.crs << ") with the scene's source_offset_m ("
-                << formatFixed(options.source_offset_m.x(), 3) << ", " << formatFixed(options.source_offset_m.y(), 3)
-                << ", " << formatFixed(options.source_offset_m.z(), 3) << ") m; home " << formatPoint(options.home_m)
-                << " local = " << formatFixed(home.lat_deg, 8) << ", " << formatFixed(home.lon_deg, 8) << ", "
-                << formatFixed(home.alt_m, 2) << " m (the cloud's height datum); waypoint altitudes are relative to "
+      std::cout << "georeferenced by " << options.crs->name() << " (" << a.crs
+                << ") with the scene's source_offset_m ("
+                << formatFixed(options.source_offset_m.x(), 3) << ", "
+                << formatFixed(options.source_offset_m.y(), 3) << ", "
+                << formatFixed(options.source_offset_m.z(), 3) << ") m; home "
+                << formatPoint(options.home_m) << " local = " << formatFixed(home.lat_deg, 8)
+                << ", " << formatFixed(home.lon_deg, 8) << ", " << formatFixed(home.alt_m, 2)
+                << " m (the cloud's height datum); waypoint altitudes are relative to "
                    "home, as QGroundControl expects\n";
     }
     for (std::size_t i = 0; i < flights.size(); ++i) {
       const io::Flight& f = flights[i];
       std::string ids;
       for (int id : f.surface_ids) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
-      const std::size_t items = format == io::ExportFormat::Csv ? f.waypoints.size() : io::missionItems(f, options).size();
-      std::cout << "exported " << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) + " (surfaces " : "surface ")
-                << ids << (f.sortie > 0 ? ")" : "") << ": " << f.waypoints.size() << " waypoints, " << f.stopCount()
-                << " photo stops, " << items << (format == io::ExportFormat::Csv ? " rows" : " mission items")
+      const std::size_t items = format == io::ExportFormat::Csv
+                                    ? f.waypoints.size()
+                                    : io::missionItems(f, options).size();
+      std::cout << "exported "
+                << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) + " (surfaces "
+                                 : "surface ")
+                << ids << (f.sortie > 0 ? ")" : "") << ": " << f.waypoints.size() << " waypoints, "
+                << f.stopCount() << " photo stops, " << items
+                << (format == io::ExportFormat::Csv ? " rows" : " mission items")
                 << ", validated against the scene -> " << paths[i] << "\n";
     }
   }
@@ -201,26 +235,34 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   const Verbosity& v = registry.verbosity();
   auto* ex = cli.add_subcommand(
       "export",
-      "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 about --origin, or by the cloud's CRS (--crs); "
+      "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 "
+      "about --origin, or by the cloud's CRS (--crs); "
       "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home");
   ex->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
   ex->add_option("--format", a->format, "qgc-plan, wpl or csv")->required();
-  ex->add_option("--origin", a->origin, "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
+  ex->add_option("--origin", a->origin,
+                 "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
   ex->add_option("--crs", a->crs,
-                 "The cloud's projected CRS (e.g. EPSG:32631, UTM 31N): waypoint + the scene's source_offset_m -> WGS84 "
+                 "The cloud's projected CRS (e.g. EPSG:32631, UTM 31N): waypoint + the scene's "
+                 "source_offset_m -> WGS84 "
                  "by PROJ; home is the flight's first waypoint. Instead of --origin");
   ex->add_option("-o,--out", a->out, "Output file")->required();
   ex->add_option("--surface", a->surface,
-                 "Surface id (its own path), or 'all' (the ordered flight's sorties, one file each when several); "
+                 "Surface id (its own path), or 'all' (the ordered flight's sorties, one file each "
+                 "when several); "
                  "default: the only surface with a mission");
   ex->add_option("--sortie", a->sortie, "Only this sortie of the ordered flight (from 1)");
-  ex->add_option("--scene", a->scene, "scene.json the mission was planned in (default: beside the mission); every "
-                                      "exported leg is checked against it");
-  ex->add_option("--autopilot", a->autopilot, "px4 (heading in NAV_WAYPOINT) or ardupilot (adds CONDITION_YAW)")
+  ex->add_option("--scene", a->scene,
+                 "scene.json the mission was planned in (default: beside the mission); every "
+                 "exported leg is checked against it");
+  ex->add_option("--autopilot", a->autopilot,
+                 "px4 (heading in NAV_WAYPOINT) or ardupilot (adds CONDITION_YAW)")
       ->capture_default_str();
   ex->add_option("--hold", a->hold_s, "Hover time at each photo stop [s]")->capture_default_str();
-  ex->add_option("--acceptance", a->acceptance_m, "Waypoint acceptance radius [m]")->capture_default_str();
-  ex->add_option("--speed", a->speed_m_s, "Flight speed (hoverSpeed of the .plan) [m/s]")->capture_default_str();
+  ex->add_option("--acceptance", a->acceptance_m, "Waypoint acceptance radius [m]")
+      ->capture_default_str();
+  ex->add_option("--speed", a->speed_m_s, "Flight speed (hoverSpeed of the .plan) [m/s]")
+      ->capture_default_str();
   registry.add(ex, [a, &v] { return exportCommand(*a, v); });
 }
 

@@ -1,19 +1,18 @@
 // uavip command line: parses, dispatches to the subcommand files, and turns errors
 // into one line and an exit code (docs/ARCHITECTURE.md, "CLI contract"; src/cli/commands.h).
 
-#include "src/cli/commands.h"
-
-#include "uavip/core/error.h"
-#include "uavip/core/memory.h"
-#include "uavip/core/text.h"
-#include "uavip/io/cloud_io.h"
-
 #include <unistd.h>
 
 #include <iostream>
 #include <new>
 #include <set>
 #include <string>
+
+#include "src/cli/commands.h"
+#include "uavip/core/error.h"
+#include "uavip/core/memory.h"
+#include "uavip/core/text.h"
+#include "uavip/io/cloud_io.h"
 
 #ifndef UAVIP_VERSION
 #define UAVIP_VERSION "dev"
@@ -38,12 +37,14 @@ int CommandRegistry::dispatch() const {
 }  // namespace uavip::cli
 
 int main(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages 1-2
+  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages
+                                     // 1-2
   using namespace uavip::cli;
-  CLI::App cli{"uavip " UAVIP_VERSION
-               ": laser scans of a structure -> a collision-free UAV inspection mission\n"
-               "(Phung et al., 'Automatic Interpretation of Unordered Point Cloud Data for UAV Navigation\n"
-               "in Construction'). Exit codes: 0 done, 2 bad input, 3 no mission for the chosen surface."};
+  CLI::App cli{
+      "uavip " UAVIP_VERSION
+      ": laser scans of a structure -> a collision-free UAV inspection mission\n"
+      "(Phung et al., 'Automatic Interpretation of Unordered Point Cloud Data for UAV Navigation\n"
+      "in Construction'). Exit codes: 0 done, 2 bad input, 3 no mission for the chosen surface."};
   cli.set_version_flag("--version", "uavip " UAVIP_VERSION);
   cli.require_subcommand(1);
   cli.fallthrough();  // -q/-v also after the subcommand
@@ -76,15 +77,16 @@ int main(int argc, char** argv) {
       const std::string word = argv[i];
       if (word.empty() || word[0] == '-') continue;
       if (names.count(word) == 0) {
-        std::cerr << "uavip: error: unknown command '" << uavip::escapeControl(word.substr(0, 60)) << "'; the commands are " << commands
-                  << " (uavip --help)\n";
+        std::cerr << "uavip: error: unknown command '" << uavip::escapeControl(word.substr(0, 60))
+                  << "'; the commands are " << commands << " (uavip --help)\n";
         return kExitBadInput;
       }
       break;
     }
     std::string what = e.what();
     for (char& c : what) c = c == '\n' ? ' ' : c;  // CLI11's own line breaks
-    std::cerr << "uavip: error: " << uavip::escapeControl(what) << " (uavip --help, or uavip COMMAND --help)\n";
+    std::cerr << "uavip: error: " << uavip::escapeControl(what)
+              << " (uavip --help, or uavip COMMAND --help)\n";
     return kExitBadInput;
   }
 
@@ -93,10 +95,12 @@ int main(int argc, char** argv) {
     uavip::io::setPclConsole(v.verbose);
     return registry.dispatch();
   } catch (const uavip::InputError& e) {
-    std::cerr << "uavip: error: " << uavip::escapeControl(e.what()) << "\n";  // a file name may hold a newline
+    std::cerr << "uavip: error: " << uavip::escapeControl(e.what())
+              << "\n";  // a file name may hold a newline
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "uavip: error: out of memory: the input is too large for this machine's memory; down-sample the "
+    std::cerr << "uavip: error: out of memory: the input is too large for this machine's memory; "
+                 "down-sample the "
                  "cloud, raise preprocess.voxel_m or grid.resolution_m, or plan fewer surfaces\n";
     return kExitBadInput;
   } catch (const std::exception& e) {

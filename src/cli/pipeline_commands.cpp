@@ -1,20 +1,5 @@
 // uavip run | detect | plan: the pipeline of docs/ARCHITECTURE.md from the command line.
 
-#include "src/cli/commands.h"
-
-#include "uavip/app/pipeline.h"
-#include "uavip/core/error.h"
-#include "uavip/core/text.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/io/file_digest.h"
-#include "uavip/io/mission_json.h"
-#include "uavip/app/scenario.h"
-#include "uavip/io/scene_json.h"
-#include "uavip/view/views.h"
-#include "planners/registry.h"
-
 #include <algorithm>
 #include <filesystem>
 #include <future>
@@ -23,6 +8,20 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+
+#include "planners/registry.h"
+#include "src/cli/commands.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/file_digest.h"
+#include "uavip/io/mission_json.h"
+#include "uavip/io/scene_json.h"
+#include "uavip/view/views.h"
 
 #ifndef UAVIP_VERSION
 #define UAVIP_VERSION "dev"
@@ -38,17 +37,18 @@ namespace fs = std::filesystem;
 
 nlohmann::json metaFor(const app::Config& config, const std::string& source) {
   const auto& cam = config.coverage.camera;
-  nlohmann::json camera = cam.from_sensor
-                              ? nlohmann::json{{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
-                                               {"focal_mm", cam.focal_mm},
-                                               {"image_px", {cam.image_w_px, cam.image_h_px}},
-                                               {"gsd_mm_per_px", cam.gsd_mm_per_px}}
-                              : nlohmann::json{{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
+  nlohmann::json camera =
+      cam.from_sensor ? nlohmann::json{{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
+                                       {"focal_mm", cam.focal_mm},
+                                       {"image_px", {cam.image_w_px, cam.image_h_px}},
+                                       {"gsd_mm_per_px", cam.gsd_mm_per_px}}
+                      : nlohmann::json{{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
   return {{"uavip_version", UAVIP_VERSION},
           {"source", source},
           {"planner", config.planner},
           {"cost_weights",
-           {config.planner_settings.astar.a1, config.planner_settings.astar.a2, config.planner_settings.astar.a3}},
+           {config.planner_settings.astar.a1, config.planner_settings.astar.a2,
+            config.planner_settings.astar.a3}},
           {"inflation_radius_m", config.uav.inflationRadius()},
           {"grid_resolution_m", config.grid.resolution_m},
           {"overlap", {config.coverage.overlap_w, config.coverage.overlap_h}},
@@ -60,14 +60,18 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
   const double scale = d.resolved.config.input.scale;
   const std::vector<int>& drop_classes = d.resolved.config.input.drop_classes;
   const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
-  outputs.writeWith(pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
+  outputs.writeWith(
+      pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
   if (d.scene.safety) {
     const std::string safety = (fs::path(out) / io::kSafetyCloudFile).string();
-    outputs.writeWith(safety, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.safety->points, safety); });
+    outputs.writeWith(safety, [&](const std::string& tmp) {
+      io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
+    });
   }
   nlohmann::json j = io::sceneToJson(d.scene);
   nlohmann::json parameters = nlohmann::json::object();
-  for (const auto& r : d.resolved.values) parameters[r.key] = {{"value", r.value}, {"source", r.source}};
+  for (const auto& r : d.resolved.values)
+    parameters[r.key] = {{"value", r.value}, {"source", r.source}};
   j["parameters"] = parameters;
   // Stage times [s]: 3 outlier removal + voxel grid, 4-5 planes + obstacle clusters.
   j["timings"] = {{"preprocess_s", d.times.preprocess_s}, {"perception_s", d.times.perception_s}};
@@ -87,7 +91,9 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
                   {"grid_s", plan.times.grid_s},
                   {"planning_s", plan.times.planning_s},
                   {"flight_s", plan.times.flight_s}};
-  m["grid"] = {{"voxels", plan.grid_voxels}, {"blocked", plan.grid_blocked}, {"resolution_m", plan.grid_resolution_m}};
+  m["grid"] = {{"voxels", plan.grid_voxels},
+               {"blocked", plan.grid_blocked},
+               {"resolution_m", plan.grid_resolution_m}};
   m["grid_resolution_m"] = plan.grid_resolution_m;
   // The distance kept from every measured point (app::safetyClearance): the UAV's
   // inflation radius plus the safety cloud's margin.
@@ -95,18 +101,12 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
   if (plan.structure) {
     const app::StructureSummary& st = *plan.structure;
     // Structure coverage: rule (a) FC-Planner's pixel rule, rule (b) ours (docs/ARCHITECTURE.md).
-    m["structure"] = {{"surface_id", st.surface_id},
-                      {"points", st.points},
-                      {"ground_points", st.ground_points},
-                      {"seeds", st.seeds},
-                      {"candidates", st.candidates},
-                      {"free_candidates", st.free_candidates},
-                      {"imageable_points", st.imageable},
-                      {"photos", st.photos},
-                      {"standoff_m", st.standoff_m},
-                      {"visible_range_m", st.visible_range_m},
-                      {"coverage_rule_a", st.rule_a},
-                      {"coverage_rule_b", st.rule_b}};
+    m["structure"] = {{"surface_id", st.surface_id},       {"points", st.points},
+                      {"ground_points", st.ground_points}, {"seeds", st.seeds},
+                      {"candidates", st.candidates},       {"free_candidates", st.free_candidates},
+                      {"imageable_points", st.imageable},  {"photos", st.photos},
+                      {"standoff_m", st.standoff_m},       {"visible_range_m", st.visible_range_m},
+                      {"coverage_rule_a", st.rule_a},      {"coverage_rule_b", st.rule_b}};
     m["timings"]["select_s"] = st.select_s;
   }
   nlohmann::json doc = io::missionToJson(plan.missions, m);
@@ -116,10 +116,14 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
 
 void printDetectSummary(const app::DetectResult& d) {
   const CloudStats& c = *d.scene.measured;  // set by app::detect
-  std::cout << "measured: " << c.points << " points, spacing " << formatFixed(c.spacing_m, 3) << " m, extent "
-            << formatFixed(c.extent_m.x(), 1) << " x " << formatFixed(c.extent_m.y(), 1) << " x " << formatFixed(c.extent_m.z(), 1)
+  std::cout << "measured: " << c.points << " points, spacing " << formatFixed(c.spacing_m, 3)
+            << " m, extent " << formatFixed(c.extent_m.x(), 1) << " x "
+            << formatFixed(c.extent_m.y(), 1) << " x " << formatFixed(c.extent_m.z(), 1)
             << " m, noise " << formatFixed(c.noise_m, 3) << " m"
-            << (c.scanned_from_origin ? ", one scan from the origin (the sensor orients the normals)" : "") << "\n";
+            << (c.scanned_from_origin
+                    ? ", one scan from the origin (the sensor orients the normals)"
+                    : "")
+            << "\n";
   const std::string unit = preprocess::unitWarning(c);
   if (!unit.empty()) std::cout << "warning: " << unit << "\n";
   std::cout << "parameters:";
@@ -128,41 +132,50 @@ void printDetectSummary(const app::DetectResult& d) {
     std::cout << " " << key << " " << r.value << (r.source == "set" ? " (set)" : "");
   }
   std::cout << "\n";
-  std::cout << "cloud: " << d.preprocess.input_points << " points -> " << d.preprocess.after_outliers
-            << " after outlier removal -> " << d.preprocess.output_points << " after voxel grid\n";
+  std::cout << "cloud: " << d.preprocess.input_points << " points -> "
+            << d.preprocess.after_outliers << " after outlier removal -> "
+            << d.preprocess.output_points << " after voxel grid\n";
   if (d.scene.safety) {
     const SafetyCloud& sc = *d.scene.safety;
-    std::cout << "safety: every input point kept (" << sc.perception_dropped << " that outlier removal dropped): "
-              << sc.points.size() << " points on a " << formatFixed(sc.cell_m, 3) << " m lattice, within "
-              << formatFixed(sc.margin_m, 3) << " m of each input point\n";
+    std::cout << "safety: every input point kept (" << sc.perception_dropped
+              << " that outlier removal dropped): " << sc.points.size() << " points on a "
+              << formatFixed(sc.cell_m, 3) << " m lattice, within " << formatFixed(sc.margin_m, 3)
+              << " m of each input point\n";
   }
-  std::cout << "surfaces: " << d.scene.surfaces.size() << ", obstacles: " << d.scene.obstacles.size() << "\n";
+  std::cout << "surfaces: " << d.scene.surfaces.size()
+            << ", obstacles: " << d.scene.obstacles.size() << "\n";
   for (const auto& s : d.scene.surfaces) {
-    std::cout << "  surface " << s.id << ": area " << formatFixed(s.area_m2, 2) << " m2, normal (" << formatFixed(s.plane.normal.x(), 2)
-              << ", " << formatFixed(s.plane.normal.y(), 2) << ", " << formatFixed(s.plane.normal.z(), 2) << "), "
-              << s.inliers.size() << " points\n";
+    std::cout << "  surface " << s.id << ": area " << formatFixed(s.area_m2, 2) << " m2, normal ("
+              << formatFixed(s.plane.normal.x(), 2) << ", " << formatFixed(s.plane.normal.y(), 2)
+              << ", " << formatFixed(s.plane.normal.z(), 2) << "), " << s.inliers.size()
+              << " points\n";
   }
   if (d.scene.surfaces.empty()) {
-    std::cout << "no surface detected (none with area >= the threshold): nothing to inspect, no waypoints\n";
+    std::cout << "no surface detected (none with area >= the threshold): nothing to inspect, no "
+                 "waypoints\n";
   }
 }
 
 void printPlanSummary(const app::PlanResult& p) {
   if (p.structure) {
     const app::StructureSummary& st = *p.structure;
-    std::cout << "structure: " << st.points << " points (" << st.ground_points << " ground left out), "
-              << st.free_candidates << " of " << st.candidates << " candidate views free, " << st.photos
-              << " photos at " << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
-              << formatFixed(100.0 * st.rule_a, 1) << " %, rule (b) " << formatFixed(100.0 * st.rule_b, 1) << " %\n";
+    std::cout << "structure: " << st.points << " points (" << st.ground_points
+              << " ground left out), " << st.free_candidates << " of " << st.candidates
+              << " candidate views free, " << st.photos << " photos at "
+              << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
+              << formatFixed(100.0 * st.rule_a, 1) << " %, rule (b) "
+              << formatFixed(100.0 * st.rule_b, 1) << " %\n";
   }
   for (const auto& m : p.missions) {
-    std::cout << "  " << (m.kind == "structure" ? "structure " : "surface ") << m.surface_id << ": " << planning::toString(m.status) << ", "
-              << m.strategy.stops.size() << " stops";
+    std::cout << "  " << (m.kind == "structure" ? "structure " : "surface ") << m.surface_id << ": "
+              << planning::toString(m.status) << ", " << m.strategy.stops.size() << " stops";
     if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
-    if (m.coverage.evaluated) std::cout << ", coverage " << formatFixed(100.0 * m.coverage.fraction, 1) << " %";
+    if (m.coverage.evaluated)
+      std::cout << ", coverage " << formatFixed(100.0 * m.coverage.fraction, 1) << " %";
     if (planning::flyable(m.status)) {
-      std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count << " voxel steps), "
-                << formatFixed(m.path_length_m, 1) << " m, min clearance " << formatFixed(m.validation.min_clearance_m, 2) << " m";
+      std::cout << ", " << m.waypoints.size() << " waypoints (" << m.raw_waypoint_count
+                << " voxel steps), " << formatFixed(m.path_length_m, 1) << " m, min clearance "
+                << formatFixed(m.validation.min_clearance_m, 2) << " m";
     }
     if (!m.reason.empty()) std::cout << " - " << m.reason;
     std::cout << "\n";
@@ -176,17 +189,22 @@ void printFlight(const planning::FlightPlan& f) {
     return;
   }
   std::string order;
-  for (const auto& v : f.order) order += (order.empty() ? "" : " ") + std::to_string(v.surface_id) + (v.reversed ? "r" : "");
-  const double gap = f.lower_bound_m > 0.0 ? 100.0 * (f.tour_length_m / f.lower_bound_m - 1.0) : 0.0;
-  std::cout << "flight: " << formatFixed(f.length_m, 1) << " m, " << formatFixed(f.duration_s / 60.0, 1) << " min, "
-            << f.sorties.size() << " sortie" << (f.sorties.size() == 1 ? "" : "s") << " from home "
-            << "(" << formatFixed(f.home.x(), 1) << ", " << formatFixed(f.home.y(), 1) << ", " << formatFixed(f.home.z(), 1) << ", "
-            << f.home_source << "); order " << order << " (r = reversed); tour " << formatFixed(f.tour_length_m, 1)
-            << " m, " << formatFixed(gap, 1) << " % above the lower bound " << formatFixed(f.lower_bound_m, 1) << " m"
-            << (f.exact_order ? " (optimal order)" : "");
+  for (const auto& v : f.order)
+    order += (order.empty() ? "" : " ") + std::to_string(v.surface_id) + (v.reversed ? "r" : "");
+  const double gap =
+      f.lower_bound_m > 0.0 ? 100.0 * (f.tour_length_m / f.lower_bound_m - 1.0) : 0.0;
+  std::cout << "flight: " << formatFixed(f.length_m, 1) << " m, "
+            << formatFixed(f.duration_s / 60.0, 1) << " min, " << f.sorties.size() << " sortie"
+            << (f.sorties.size() == 1 ? "" : "s") << " from home "
+            << "(" << formatFixed(f.home.x(), 1) << ", " << formatFixed(f.home.y(), 1) << ", "
+            << formatFixed(f.home.z(), 1) << ", " << f.home_source << "); order " << order
+            << " (r = reversed); tour " << formatFixed(f.tour_length_m, 1) << " m, "
+            << formatFixed(gap, 1) << " % above the lower bound " << formatFixed(f.lower_bound_m, 1)
+            << " m" << (f.exact_order ? " (optimal order)" : "");
   if (f.naive_length_m > 0.0) std::cout << ", by id " << formatFixed(f.naive_length_m, 1) << " m";
   std::cout << "\n";
-  for (const auto& e : f.excluded) std::cout << "  not flown: surface " << e.surface_id << " (" << e.reason << ")\n";
+  for (const auto& e : f.excluded)
+    std::cout << "  not flown: surface " << e.surface_id << " (" << e.reason << ")\n";
 }
 
 /// One line over all surfaces: what the mission is, in numbers.
@@ -200,8 +218,9 @@ void printTotals(const app::PlanResult& p) {
     waypoints += m.waypoints.size();
     length += m.path_length_m;
   }
-  std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, " << stops
-            << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1) << " m over the surfaces\n";
+  std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, "
+            << stops << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1)
+            << " m over the surfaces\n";
   printFlight(p.flight);
 }
 
@@ -209,26 +228,35 @@ void printTotals(const app::PlanResult& p) {
 /// the chosen surfaces it leaves out; 3 when nothing chosen can be flown, when the
 /// one chosen surface cannot be, or when the flight failed. An empty flight is never 0.
 int missionExitCode(const app::PlanResult& p, const Verbosity& v) {
-  const auto unflyable = [](const planning::SurfaceMission& m) { return !planning::flyable(m.status); };
+  const auto unflyable = [](const planning::SurfaceMission& m) {
+    return !planning::flyable(m.status);
+  };
   const auto first = std::find_if(p.missions.begin(), p.missions.end(), unflyable);
   const auto count = std::count_if(p.missions.begin(), p.missions.end(), unflyable);
-  const bool flight = p.flight.status == planning::FlightPlan::Status::Ok && !p.flight.sorties.empty();
-  const std::string chosen = std::to_string(p.missions.size()) + " chosen surface" + (p.missions.size() == 1 ? "" : "s");
+  const bool flight =
+      p.flight.status == planning::FlightPlan::Status::Ok && !p.flight.sorties.empty();
+  const std::string chosen =
+      std::to_string(p.missions.size()) + " chosen surface" + (p.missions.size() == 1 ? "" : "s");
   if (first != p.missions.end() && (!flight || p.missions.size() == 1)) {
     std::cerr << "uavip: "
               << (count > 1 ? std::to_string(count) + " of " + chosen +
-                                  " have no collision-free mission (each one's reason is in mission.json); first: "
+                                  " have no collision-free mission (each one's reason is in "
+                                  "mission.json); first: "
                             : std::string())
-              << "surface " << first->surface_id << " has no collision-free mission: " << first->reason << "\n";
+              << "surface " << first->surface_id
+              << " has no collision-free mission: " << first->reason << "\n";
     return kExitNoMission;
   }
   if (!flight) {
     std::cerr << "uavip: no collision-free flight"
-              << (p.flight.reason.empty() ? std::string(" (nothing to fly)") : ": " + p.flight.reason) << "\n";
+              << (p.flight.reason.empty() ? std::string(" (nothing to fly)")
+                                          : ": " + p.flight.reason)
+              << "\n";
     return kExitNoMission;
   }
   if (first != p.missions.end() && !v.quiet) {
-    std::cerr << "uavip: the flight leaves out " << count << " of " << chosen << " (reasons in mission.json):";
+    std::cerr << "uavip: the flight leaves out " << count << " of " << chosen
+              << " (reasons in mission.json):";
     for (const auto& m : p.missions) {
       if (unflyable(m)) std::cerr << " " << m.surface_id << " " << planning::toString(m.status);
     }
@@ -237,8 +265,8 @@ int missionExitCode(const app::PlanResult& p, const Verbosity& v) {
   return kExitOk;
 }
 
-view::OverviewOptions overviewOptions(const std::string& name,
-                                    double clearance_m = std::numeric_limits<double>::quiet_NaN()) {
+view::OverviewOptions overviewOptions(
+    const std::string& name, double clearance_m = std::numeric_limits<double>::quiet_NaN()) {
   view::OverviewOptions o;
   o.clearance_m = clearance_m;  // mission.html colours the path by clearance against it
   o.title = name.empty() ? "uavip mission overview" : name + ": uavip mission overview";
@@ -249,8 +277,9 @@ view::OverviewOptions overviewOptions(const std::string& name,
 /// written; none with --no-views. The arguments must outlive the future (declare it
 /// after them: its destructor waits for the thread).
 std::future<view::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
-                                            const std::vector<planning::SurfaceMission>& missions,
-                                            const view::OverviewOptions& options, const planning::FlightPlan* flight) {
+                                              const std::vector<planning::SurfaceMission>& missions,
+                                              const view::OverviewOptions& options,
+                                              const planning::FlightPlan* flight) {
   if (!views) return {};
   return std::async(std::launch::async, [&scene, &missions, options, flight] {
     return view::renderViews(scene, missions, options, flight);
@@ -258,16 +287,18 @@ std::future<view::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
 }
 
 /// Stages the views once rendered (nothing with --no-views).
-void stageViews(io::StagedOutputs& outputs, const std::string& out, std::future<view::ViewFiles>& views) {
+void stageViews(io::StagedOutputs& outputs, const std::string& out,
+                std::future<view::ViewFiles>& views) {
   if (views.valid()) view::stageViews(outputs, out, views.get());
 }
 
-int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface, bool surface_given,
-               const std::string& planner, bool views, const Verbosity& v) {
+int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
+               bool surface_given, const std::string& planner, bool views, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
-    if (!v.quiet) std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
+    if (!v.quiet)
+      std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
   }
   app::Scenario scenario = app::loadScenario(path);
   if (!planner.empty()) {
@@ -285,13 +316,18 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   const preprocess::CloudStats measured = app::measure(raw, &scenario, &index);
   const app::DetectResult d = app::detect(raw, scenario.config, measured, progress, index);
   const bool structure = d.resolved.config.coverage.mode == "structure";
-  if (structure && surface_given) throw InputError("--surface: the scenario's coverage.mode is structure, which covers the whole structure; leave out --surface");
+  if (structure && surface_given)
+    throw InputError(
+        "--surface: the scenario's coverage.mode is structure, which covers the whole structure; "
+        "leave out --surface");
   const app::PlanResult p = structure ? app::planStructure(d.scene, d.resolved.config, progress)
-                                      : app::plan(d.scene, d.resolved.config, app::selectSurfaces(d.scene, surface), progress);
+                                      : app::plan(d.scene, d.resolved.config,
+                                                  app::selectSurfaces(d.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
-  auto rendered = renderViewsAsync(views, d.scene, p.missions, overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
-                                   &p.flight);
+  auto rendered = renderViewsAsync(
+      views, d.scene, p.missions,
+      overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
   writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
@@ -303,12 +339,15 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     std::cout << "scenario " << scenario.name << " (" << path << ")\n";
     printDetectSummary(d);
     printPlanSummary(p);
-    std::cout << "time: " << formatFixed(total, 2) << " s (perception " << formatFixed(d.times.total_s, 2) << " s, grid "
-              << formatFixed(p.times.grid_s, 2) << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
+    std::cout << "time: " << formatFixed(total, 2) << " s (perception "
+              << formatFixed(d.times.total_s, 2) << " s, grid " << formatFixed(p.times.grid_s, 2)
+              << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
-    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out
-              << "/" << io::kSafetyCloudFile << "\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
+    std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out
+              << "/cloud_clean.pcd, " << out << "/" << io::kSafetyCloudFile << "\n"
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out +
+                              "/path.obj, " + out + "/mission.html\n"
+                        : "");
   }
   // A scenario without surfaces (the single point, the line) has nothing to fly, as
   // the paper expects: that is a result, not a failure.
@@ -319,23 +358,30 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
 /// --cover: "" (planes by --surface) or "structure"; exit 2 for anything else or both.
 bool structureCover(const std::string& cover, bool surface_given) {
   if (cover.empty()) {
-    if (!surface_given) throw InputError("plan: give --surface (an id, a list '0,3,5' or 'all') or --cover structure");
+    if (!surface_given)
+      throw InputError(
+          "plan: give --surface (an id, a list '0,3,5' or 'all') or --cover structure");
     return false;
   }
-  if (cover != "structure") throw InputError("--cover: '" + cover + "' is not a coverage mode; use --cover structure");
-  if (surface_given) throw InputError("--cover structure covers the whole structure; leave out --surface (or drop --cover)");
+  if (cover != "structure")
+    throw InputError("--cover: '" + cover + "' is not a coverage mode; use --cover structure");
+  if (surface_given)
+    throw InputError(
+        "--cover structure covers the whole structure; leave out --surface (or drop --cover)");
   return true;
 }
 
-int detectCommand(const std::string& cloud_path, const std::string& config_path, const std::string& out, bool views,
-                  const Verbosity& v) {
-  const app::Config config = config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
+int detectCommand(const std::string& cloud_path, const std::string& config_path,
+                  const std::string& out, bool views, const Verbosity& v) {
+  const app::Config config =
+      config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
   io::CloudReadInfo read;
   const PointList raw = io::loadCloud(cloud_path, config.input, &read);
   if (!v.quiet && !read.note.empty()) std::cout << read.note << "\n";
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
-  if (progress) progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
+  if (progress)
+    progress("measuring spacing, extent and noise of " + std::to_string(raw.size()) + " points");
   app::CloudIndex index;  // one kd-tree for the measurement and the outlier removal
   const preprocess::CloudStats measured = app::measure(raw, nullptr, &index);
   app::DetectResult d = app::detect(raw, config, measured, progress, index);
@@ -343,25 +389,29 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   d.scene.safety->source = fs::absolute(cloud_path).lexically_normal().string();
   d.scene.safety->sha256 = io::sha256File(cloud_path);
   const std::vector<planning::SurfaceMission> no_missions;
-  auto rendered = renderViewsAsync(views, d.scene, no_missions, overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
+  auto rendered = renderViewsAsync(views, d.scene, no_missions,
+                                   overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d, &read);
   stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {
     printDetectSummary(d);
-    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out << "/" << io::kSafetyCloudFile
-              << "\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/mission.html\n" : "");
+    std::cout << "results: " << out << "/scene.json, " << out << "/cloud_clean.pcd, " << out << "/"
+              << io::kSafetyCloudFile << "\n"
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out +
+                              "/mission.html\n"
+                        : "");
   }
   return kExitOk;
 }
 
-int planCommand(const std::string& scene_path, const std::string& config_path, const std::string& surface,
-                const std::string& cover, const std::string& planner, const std::string& out, bool views,
-                const Verbosity& v) {
+int planCommand(const std::string& scene_path, const std::string& config_path,
+                const std::string& surface, const std::string& cover, const std::string& planner,
+                const std::string& out, bool views, const Verbosity& v) {
   const bool structure = structureCover(cover, !surface.empty());
-  app::Config config = config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
+  app::Config config =
+      config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
   if (!planner.empty()) {
     config.planner = planner;
     config.validate("--planner");
@@ -372,10 +422,11 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
   const app::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = structure ? app::planStructure(scene, resolved, progressPrinter(v))
                                       : app::plan(scene, resolved, ids, progressPrinter(v));
-  auto rendered = renderViewsAsync(views, scene, p.missions,
-                                   overviewOptions(fs::path(scene_path).parent_path().filename().string(),
-                                                   resolved.uav.inflationRadius()),
-                                   &p.flight);
+  auto rendered =
+      renderViewsAsync(views, scene, p.missions,
+                       overviewOptions(fs::path(scene_path).parent_path().filename().string(),
+                                       resolved.uav.inflationRadius()),
+                       &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
   stageViews(outputs, out, rendered);
@@ -384,11 +435,12 @@ int planCommand(const std::string& scene_path, const std::string& config_path, c
     printPlanSummary(p);
     printTotals(p);
     std::cout << "results: " << out << "/mission.json\n"
-              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out + "/path.obj, " + out + "/mission.html\n" : "");
+              << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out +
+                              "/path.obj, " + out + "/mission.html\n"
+                        : "");
   }
   return missionExitCode(p, v);
 }
-
 
 std::string plannerList() {
   std::string names;
@@ -407,67 +459,83 @@ struct PipelineArgs {
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();
   const Verbosity& v = registry.verbosity();
-  const std::string planner_help = "Point-to-point planner (" + plannerList() + "); default: the file's";
-  const std::string views_help = "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second thread)";
+  const std::string planner_help =
+      "Point-to-point planner (" + plannerList() + "); default: the file's";
+  const std::string views_help =
+      "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second "
+      "thread)";
 
-  auto* run = cli.add_subcommand("run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
+  auto* run = cli.add_subcommand(
+      "run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
   run->add_option("--planner", a->planner, planner_help);
   run->add_flag("--no-views", a->no_views, views_help);
   registry.add(run, [a, &v] {
-    return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface, !a->surface.empty(), a->planner,
-                      !a->no_views, v);
+    return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface,
+                      !a->surface.empty(), a->planner, !a->no_views, v);
   });
 
-  auto* det = cli.add_subcommand("detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
+  auto* det = cli.add_subcommand(
+      "detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
   det->footer(
       "Parameters follow the cloud: its spacing, extent and noise are measured first, and every\n"
       "parameter the config does not set is chosen from them ('auto': the voxel, the RANSAC band,\n"
-      "the cluster tolerances, the area cell, the planning grid). On a dense scan (spacing <= 5 cm)\n"
+      "the cluster tolerances, the area cell, the planning grid). On a dense scan (spacing <= 5 "
+      "cm)\n"
       "they are the paper's values. The chosen values are printed and written to scene.json.\n"
       "LAS files: metres from the file's CRS unit, recentred (source_offset_m in scene.json);\n"
       "'input: {drop_classes: [3, 4, 5, 7]}' in the config drops vegetation and noise.");
   det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt, .las)")->required();
-  det->add_option("-c,--config", a->config, "Config YAML (scenario sections; default: auto from the cloud, see below)");
+  det->add_option("-c,--config", a->config,
+                  "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();
   det->add_flag("--no-views", a->no_views, views_help);
-  registry.add(det, [a, &v] { return detectCommand(a->cloud, a->config, a->out, !a->no_views, v); });
+  registry.add(det,
+               [a, &v] { return detectCommand(a->cloud, a->config, a->out, !a->no_views, v); });
 
-  auto* pl = cli.add_subcommand("plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
+  auto* pl = cli.add_subcommand(
+      "plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
   pl->footer(
       "The flight: the flyable surfaces ordered from home and back (each forward or reversed),\n"
       "every connecting leg planned on the grid, split into battery sorties, each validated.\n"
       "Home: mission.home, else mission.start, else the lowest photo stop. Flight model: section\n"
       "'flight: {cruise_speed_m_s: 3, climb_speed_m_s: 2, descent_speed_m_s: 1.5, hover_s: 2,\n"
-      "settle_s: 1, endurance_s: 1200, reserve: 0.25}'. Export it with 'uavip export --surface all'.\n"
+      "settle_s: 1, endurance_s: 1200, reserve: 0.25}'. Export it with 'uavip export --surface "
+      "all'.\n"
       "Stop repair: a photo stop too close to something (the ground under a facade) is moved to a\n"
       "free pose that still sees its photo centre: tilted from above/below/the sides, or up to\n"
-      "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it off.\n"
+      "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it "
+      "off.\n"
       "Coverage: the share of the surface's points that some flown photo images (in the photo,\n"
-      "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a surface\n"
+      "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a "
+      "surface\n"
       "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.\n"
       "\n"
       "--cover structure: photos of the whole structure in one flight, not plane by plane. The\n"
       "structure is every point of the clean cloud except the ground (horizontal surfaces at the\n"
       "site's lowest level spanning a quarter of its footprint, and every point below\n"
-      "coverage.ground_z_m). Candidate views at the viewing distance (coverage.standoff_m, else the\n"
+      "coverage.ground_z_m). Candidate views at the viewing distance (coverage.standoff_m, else "
+      "the\n"
       "camera's GSD) along each seed point's normal, tilted 35 deg up and down, free by the UAV's\n"
-      "clearance from every input point; chosen by set cover until coverage.structure_target (0.99)\n"
+      "clearance from every input point; chosen by set cover until coverage.structure_target "
+      "(0.99)\n"
       "of what can be seen, then pruned. Camera: 'camera: {fx: 417, fy: 461, cx: 320, cy: 240,\n"
       "image_px: [640, 480], max_range_m: 11}' (a pinhole), or the footprint/sensor keys.\n"
       "Coverage: rule (a) FC-Planner's pixel rule; rule (b) GSD and range <= 1.25 x the viewing\n"
       "distance, <= 75 deg incidence, clear line of sight.");
   pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
   pl->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'");
-  pl->add_option("--cover", a->cover, "'structure': cover the whole structure (instead of --surface)");
+  pl->add_option("--cover", a->cover,
+                 "'structure': cover the whole structure (instead of --surface)");
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
   pl->add_option("-o,--out", a->out, "Output directory")->required();
   pl->add_flag("--no-views", a->no_views, views_help);
   registry.add(pl, [a, &v] {
-    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->out, !a->no_views, v);
+    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->out, !a->no_views,
+                       v);
   });
 }
 

@@ -2,26 +2,24 @@
 // written as a raw log directory (docs/raw_log_format.md).
 // uavip assemble: stages 1-2 on a raw log directory: merged cloud + cloud.report.json.
 
-#include "src/cli/commands.h"
-
-#include "uavip/app/assemble.h"
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-#include "uavip/core/text.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/io/raw_log_io.h"
-#include "uavip/app/scenario.h"
-#include "uavip/sim/scanner_sim.h"
-
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "src/cli/commands.h"
+#include "uavip/app/assemble.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/raw_log_io.h"
+#include "uavip/sim/scanner_sim.h"
 
 namespace uavip::cli {
 namespace {
@@ -45,23 +43,31 @@ int simulateCommand(const std::string& scenario_path, const std::string& out, co
     const auto& o = scenario.scan;
     std::cout << "scenario " << scenario.name << " (" << scenario_path << ")\n";
     std::cout << "stations: " << sim.log.stations.size() << ", " << o.scansPerStation()
-              << " scans per scanner each (" << formatFixed(o.turn_deg, 0) << " deg at " << formatFixed(o.yaw_rate_deg_s, 1)
-              << " deg/s), " << o.scanner.beamCount() << " beams per scan\n";
+              << " scans per scanner each (" << formatFixed(o.turn_deg, 0) << " deg at "
+              << formatFixed(o.yaw_rate_deg_s, 1) << " deg/s), " << o.scanner.beamCount()
+              << " beams per scan\n";
     std::cout << "rays: " << sim.rays << ", returns: " << sim.returns << " ("
-              << formatFixed(sim.rays ? 100.0 * static_cast<double>(sim.returns) / static_cast<double>(sim.rays) : 0.0, 1)
+              << formatFixed(sim.rays ? 100.0 * static_cast<double>(sim.returns) /
+                                            static_cast<double>(sim.rays)
+                                      : 0.0,
+                             1)
               << " %)\n";
-    std::cout << "log origin (station 0) in scenario coordinates: [" << formatFixed(sim.origin_m.x(), 3) << ", "
-              << formatFixed(sim.origin_m.y(), 3) << ", " << formatFixed(sim.origin_m.z(), 3) << "]\n";
-    std::cout << "time: simulation " << formatFixed(sim_s, 2) << " s, writing " << formatFixed(write_s, 2) << " s\n";
-    std::cout << "results: " << out << "/log.json (+ station CSV files), " << out << "/truth.json\n";
+    std::cout << "log origin (station 0) in scenario coordinates: ["
+              << formatFixed(sim.origin_m.x(), 3) << ", " << formatFixed(sim.origin_m.y(), 3)
+              << ", " << formatFixed(sim.origin_m.z(), 3) << "]\n";
+    std::cout << "time: simulation " << formatFixed(sim_s, 2) << " s, writing "
+              << formatFixed(write_s, 2) << " s\n";
+    std::cout << "results: " << out << "/log.json (+ station CSV files), " << out
+              << "/truth.json\n";
   }
   return kExitOk;
 }
 
 nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptions& o, const std::string& source,
-                          const std::string& config_path, const io::RawLogReadStats& read, bool truth) {
+nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptions& o,
+                          const std::string& source, const std::string& config_path,
+                          const io::RawLogReadStats& read, bool truth) {
   nlohmann::json stations = nlohmann::json::array();
   for (const auto& s : r.stations) {
     nlohmann::json j = {{"id", s.id},
@@ -95,16 +101,23 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
   nlohmann::json j = {{"source", source},
                       {"stations", stations},
                       {"cloud", {{"points", r.cloud.size()}, {"station_points", r.station_points}}},
-                      {"raw", {{"scans", read.scans}, {"beams", read.beams}, {"no_return", read.no_return},
-                               {"replaced_ranges", read.replaced_ranges}, {"imu_samples", read.imu_samples}}},
-                      {"options", {{"imu_prior", o.scan.use_imu_prior},
-                                   {"icp", scan::toString(o.scan.icp)},
-                                   {"registration", registration::toString(o.registration.method)},
-                                   {"use_recorded_yaw", o.registration.use_recorded_yaw},
-                                   {"output_voxel_m", o.registration.output_voxel_m},
-                                   {"config", config_path}}},
-                      {"timings", {{"assembly_s", r.assembly_s}, {"registration_s", r.registration_s},
-                                   {"total_s", r.total_s}}}};
+                      {"raw",
+                       {{"scans", read.scans},
+                        {"beams", read.beams},
+                        {"no_return", read.no_return},
+                        {"replaced_ranges", read.replaced_ranges},
+                        {"imu_samples", read.imu_samples}}},
+                      {"options",
+                       {{"imu_prior", o.scan.use_imu_prior},
+                        {"icp", scan::toString(o.scan.icp)},
+                        {"registration", registration::toString(o.registration.method)},
+                        {"use_recorded_yaw", o.registration.use_recorded_yaw},
+                        {"output_voxel_m", o.registration.output_voxel_m},
+                        {"config", config_path}}},
+                      {"timings",
+                       {{"assembly_s", r.assembly_s},
+                        {"registration_s", r.registration_s},
+                        {"total_s", r.total_s}}}};
   if (truth && r.rms_to_truth_m) {
     j["truth"] = {{"rms_to_truth_m", *r.rms_to_truth_m},
                   {"p95_to_truth_m", r.p95_to_truth_m.value_or(-1.0)},
@@ -113,8 +126,8 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
   return j;
 }
 
-int assembleCommand(const std::string& dir, const std::string& out, const std::string& config_path, bool no_imu_prior,
-                    const std::string& method, const Verbosity& v) {
+int assembleCommand(const std::string& dir, const std::string& out, const std::string& config_path,
+                    bool no_imu_prior, const std::string& method, const Verbosity& v) {
   app::AssembleOptions options;
   if (!config_path.empty()) {
     const app::Config config = app::loadConfigOrScenario(config_path);
@@ -135,7 +148,8 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   namespace fs = std::filesystem;
   const std::string report_path = fs::path(out).replace_extension(".report.json").string();
   if (fs::path(out).extension() != ".pcd")
-    throw InputError("-o: " + out + " must end in .pcd (the merged cloud is written as binary PCD)");
+    throw InputError("-o: " + out +
+                     " must end in .pcd (the merged cloud is written as binary PCD)");
   {
     std::vector<std::string> inputs;
     std::error_code ec;
@@ -155,35 +169,44 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   if (!parent.empty()) io::ensureDirectory(parent.string());
   io::StagedOutputs outputs;  // the cloud and its report are written together
   outputs.writeWith(out, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, r.cloud, out); });
-  outputs.write(report_path, reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
+  outputs.write(report_path,
+                reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
   outputs.commit();
   if (!v.quiet) {
-    std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> " << r.cloud.size()
-              << " merged (voxel " << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";
+    std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> "
+              << r.cloud.size() << " merged (voxel "
+              << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";
     for (const auto& s : r.stations) {
       std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
-                << (s.loop_closure_m >= 0.0 ? formatFixed(100.0 * s.loop_closure_m, 1) + " cm" : std::string("n/a (unobservable)"))
-                << ", drift " << formatFixed(100.0 * s.drift_max_m, 1)
-                << " cm max, " << (s.registered ? "registered" : "NOT registered");
+                << (s.loop_closure_m >= 0.0 ? formatFixed(100.0 * s.loop_closure_m, 1) + " cm"
+                                            : std::string("n/a (unobservable)"))
+                << ", drift " << formatFixed(100.0 * s.drift_max_m, 1) << " cm max, "
+                << (s.registered ? "registered" : "NOT registered");
       if (s.pose_error_m) {
-        std::cout << "; truth: drift error " << formatFixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
-                  << " cm max, position error " << formatFixed(100.0 * *s.initial_pose_error_m, 1) << " cm recorded -> "
-                  << formatFixed(100.0 * *s.pose_error_m, 1) << " cm registered";
+        std::cout << "; truth: drift error "
+                  << formatFixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
+                  << " cm max, position error " << formatFixed(100.0 * *s.initial_pose_error_m, 1)
+                  << " cm recorded -> " << formatFixed(100.0 * *s.pose_error_m, 1)
+                  << " cm registered";
       }
       std::cout << "\n";
       if (!s.position_observed) {
-        std::cout << "  warning: station " << s.id << "'s position along (" << formatFixed(s.weakest_direction.x(), 2) << ", "
-                  << formatFixed(s.weakest_direction.y(), 2) << ", " << formatFixed(s.weakest_direction.z(), 2)
-                  << ") is not fixed by the scans (" << formatFixed(s.registration_information.x(), 1)
-                  << " effective pairs): it is the recorded (GPS) one; add a station that sees a surface facing it\n";
+        std::cout << "  warning: station " << s.id << "'s position along ("
+                  << formatFixed(s.weakest_direction.x(), 2) << ", "
+                  << formatFixed(s.weakest_direction.y(), 2) << ", "
+                  << formatFixed(s.weakest_direction.z(), 2) << ") is not fixed by the scans ("
+                  << formatFixed(s.registration_information.x(), 1)
+                  << " effective pairs): it is the recorded (GPS) one; add a station that sees a "
+                     "surface facing it\n";
       }
     }
     if (r.rms_to_truth_m) {
-      std::cout << "merged cloud to the true surfaces: RMS " << formatFixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
+      std::cout << "merged cloud to the true surfaces: RMS "
+                << formatFixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
                 << formatFixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
     }
-    std::cout << "time: assembly " << formatFixed(r.assembly_s, 2) << " s, registration " << formatFixed(r.registration_s, 2)
-              << " s\n";
+    std::cout << "time: assembly " << formatFixed(r.assembly_s, 2) << " s, registration "
+              << formatFixed(r.registration_s, 2) << " s\n";
     std::cout << "results: " << out << ", " << report_path << "\n";
   }
   return kExitOk;
@@ -201,23 +224,31 @@ void addScanCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<ScanArgs>();
   const Verbosity& v = registry.verbosity();
 
-  auto* sim = cli.add_subcommand(
-      "simulate", "Simulate the two 2D scanners and the IMU on a scenario (sensing mode scan): a raw log directory");
-  sim->add_option("scenario", a->scenario, "Scenario YAML with sensing: {mode: scan, ...}")->required();
-  sim->add_option("-o,--out", a->out, "Output directory for the raw log (log.json, CSV files, truth.json)")->required();
+  auto* sim = cli.add_subcommand("simulate",
+                                 "Simulate the two 2D scanners and the IMU on a scenario (sensing "
+                                 "mode scan): a raw log directory");
+  sim->add_option("scenario", a->scenario, "Scenario YAML with sensing: {mode: scan, ...}")
+      ->required();
+  sim->add_option("-o,--out", a->out,
+                  "Output directory for the raw log (log.json, CSV files, truth.json)")
+      ->required();
   registry.add(sim, [a, &v] { return simulateCommand(a->scenario, a->out, v); });
 
-  auto* as = cli.add_subcommand("assemble",
-                                "Stages 1-2 on a raw log directory: one cloud per station (eq. (1), IMU, ICP), "
-                                "registered and merged; writes the cloud and <cloud>.report.json");
+  auto* as = cli.add_subcommand(
+      "assemble",
+      "Stages 1-2 on a raw log directory: one cloud per station (eq. (1), IMU, ICP), "
+      "registered and merged; writes the cloud and <cloud>.report.json");
   as->add_option("scans", a->scans, "Raw log directory (written by uavip simulate)")->required();
-  as->add_option("-o,--out", a->cloud_out, "Merged cloud (.pcd); the report goes beside it")->required();
+  as->add_option("-o,--out", a->cloud_out, "Merged cloud (.pcd); the report goes beside it")
+      ->required();
   as->add_option("-c,--config", a->config,
-                 "Scenario or config YAML: its assembly: and registration: sections (default: the built-in options)");
+                 "Scenario or config YAML: its assembly: and registration: sections (default: the "
+                 "built-in options)");
   as->add_flag("--no-imu-prior", a->no_imu_prior,
                "Plain ICP between horizontal scans (no IMU rotation first); overrides the config");
-  as->add_option("--registration", a->registration,
-                 "none, translation (default), icp, icp_point_to_plane, gicp or ndt; overrides the config");
+  as->add_option(
+      "--registration", a->registration,
+      "none, translation (default), icp, icp_point_to_plane, gicp or ndt; overrides the config");
   registry.add(as, [a, &v] {
     return assembleCommand(a->scans, a->cloud_out, a->config, a->no_imu_prior, a->registration, v);
   });

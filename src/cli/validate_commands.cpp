@@ -1,8 +1,13 @@
 // uavip validate: re-checks the waypoints of a mission.json against its scene.json
 // with the collision world and path validator (docs/ARCHITECTURE.md, "Safety").
 
-#include "src/cli/commands.h"
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
 
+#include "src/cli/commands.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
@@ -13,12 +18,6 @@
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
-
-#include <cmath>
-#include <filesystem>
-#include <iostream>
-#include <memory>
-#include <sstream>
 
 namespace uavip::cli {
 namespace {
@@ -34,10 +33,12 @@ struct NamedPath {
 
 std::vector<NamedPath> pathsOf(const io::MissionRecord& mission) {
   std::vector<NamedPath> out;
-  for (const auto& s : mission.surfaces) out.push_back({"surface " + std::to_string(s.surface_id), s.status, s.waypoints});
+  for (const auto& s : mission.surfaces)
+    out.push_back({"surface " + std::to_string(s.surface_id), s.status, s.waypoints});
   if (mission.flight) {
     for (std::size_t i = 0; i < mission.flight->sorties.size(); ++i)
-      out.push_back({"sortie " + std::to_string(i + 1), "ok", mission.flight->sorties[i].waypoints});
+      out.push_back(
+          {"sortie " + std::to_string(i + 1), "ok", mission.flight->sorties[i].waypoints});
   }
   return out;
 }
@@ -57,7 +58,8 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
   std::string path = cloud_arg;
   if (path.empty()) {
     if (!scene.safety || scene.safety->source.empty()) {
-      in.note = "no input file recorded in " + scene_path + " (give --cloud FILE to check against every input point)";
+      in.note = "no input file recorded in " + scene_path +
+                " (give --cloud FILE to check against every input point)";
       return in;
     }
     path = scene.safety->source;
@@ -66,7 +68,8 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
       return in;
     }
     if (io::sha256File(path) != scene.safety->sha256) {
-      in.note = "the input " + path + " changed since detect (sha256 differs; give --cloud FILE to check against it)";
+      in.note = "the input " + path +
+                " changed since detect (sha256 differs; give --cloud FILE to check against it)";
       return in;
     }
   }
@@ -75,11 +78,14 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
   Vec3 scene_offset = Vec3::Zero();
   if (j.contains("input_read")) {
     const nlohmann::json& r = j.at("input_read");
-    if (r.contains("scale") && r.at("scale").is_number()) options.scale = r.at("scale").get<double>();
+    if (r.contains("scale") && r.at("scale").is_number())
+      options.scale = r.at("scale").get<double>();
     if (r.contains("drop_classes") && r.at("drop_classes").is_array())
       options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
   }
-  if (j.contains("source_offset_m")) scene_offset = io::JsonReader(scene_path).vec3(j.at("source_offset_m"), "source_offset_m", false);
+  if (j.contains("source_offset_m"))
+    scene_offset =
+        io::JsonReader(scene_path).vec3(j.at("source_offset_m"), "source_offset_m", false);
   io::CloudReadInfo info;
   in.points = io::loadCloud(path, options, &info);
   const Vec3 shift = info.origin_m - scene_offset;  // file coordinates − scene offset
@@ -96,13 +102,15 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
                     bool clearance_given, const std::string& cloud_arg, const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   const std::vector<NamedPath> paths = pathsOf(mission);
-  if (scene_path.empty()) scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
+  if (scene_path.empty())
+    scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
   double clearance = mission.inflation_radius_m;
   if (clearance_given) {
     requirePositive(clearance_arg, "--clearance", "the clearance");
     clearance = clearance_arg;
   } else if (std::isnan(clearance)) {
-    throw InputError(mission_path + ": inflation_radius_m is missing; give the clearance with --clearance");
+    throw InputError(mission_path +
+                     ": inflation_radius_m is missing; give the clearance with --clearance");
   }
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();  // parsed once
   const Scene scene = io::sceneFromJson(scene_json, scene_path);
@@ -115,7 +123,8 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   const double margin = input.points.empty() && scene.safety ? scene.safety->margin_m : 0.0;
   const planning::PathValidator validator(world, clearance + margin);
   std::unique_ptr<const planning::PathValidator> raw;
-  if (!input.points.empty()) raw = std::make_unique<const planning::PathValidator>(input.points, clearance);
+  if (!input.points.empty())
+    raw = std::make_unique<const planning::PathValidator>(input.points, clearance);
   const double build_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
@@ -143,10 +152,12 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
     }
     std::size_t bad = 0;
     for (const double c : r.segment_clearance_m) bad += c < required - 1e-9;
-    const std::string min =
-        std::isfinite(r.min_clearance_m) ? formatFixed(r.min_clearance_m, 3) + " m" : std::string("unbounded");
+    const std::string min = std::isfinite(r.min_clearance_m)
+                                ? formatFixed(r.min_clearance_m, 3) + " m"
+                                : std::string("unbounded");
     if (r.collision_free) {
-      out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min << "\n";
+      out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min
+          << "\n";
       continue;
     }
     ++violated;
@@ -164,18 +175,26 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   const double check_s = secondsSince(t1);
 
   if (!v.quiet) {
-    std::cout << "mission " << mission_path << " against " << scene_path << " (clearance " << formatFixed(clearance, 3)
-              << " m" << (clearance_given ? ", from --clearance" : ", inflation_radius_m of the mission") << ")\n";
-    std::cout << "world: " << world->objects().size() << " objects (" << scene.surfaces.size() << " surfaces, "
-              << scene.obstacles.size() << " obstacles, cloud of " << world->cloudSize() << " points)"
-              << (margin > 0.0 ? ", checked at clearance + the safety margin " + formatFixed(margin, 3) + " m" : "")
+    std::cout << "mission " << mission_path << " against " << scene_path << " (clearance "
+              << formatFixed(clearance, 3) << " m"
+              << (clearance_given ? ", from --clearance" : ", inflation_radius_m of the mission")
+              << ")\n";
+    std::cout << "world: " << world->objects().size() << " objects (" << scene.surfaces.size()
+              << " surfaces, " << scene.obstacles.size() << " obstacles, cloud of "
+              << world->cloudSize() << " points)"
+              << (margin > 0.0 ? ", checked at clearance + the safety margin " +
+                                     formatFixed(margin, 3) + " m"
+                               : "")
               << "\n";
     std::cout << input.note << "\n";
     std::cout << out.str();
-    std::cout << "validated " << checked << " of " << paths.size() << " paths (surfaces and sorties): "
-              << (violated == 0 ? std::string("all collision-free") : std::to_string(violated) + " with violations")
+    std::cout << "validated " << checked << " of " << paths.size()
+              << " paths (surfaces and sorties): "
+              << (violated == 0 ? std::string("all collision-free")
+                                : std::to_string(violated) + " with violations")
               << "\n";
-    std::cout << "time: world " << formatFixed(build_s, 3) << " s, validation " << formatFixed(check_s, 3) << " s\n";
+    std::cout << "time: world " << formatFixed(build_s, 3) << " s, validation "
+              << formatFixed(check_s, 3) << " s\n";
   }
   if (violated > 0) {
     std::cerr << "uavip: " << first_error << "\n";
@@ -197,17 +216,22 @@ void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<ValidateArgs>();
   const Verbosity& v = registry.verbosity();
   auto* val = cli.add_subcommand(
-      "validate", "Re-check a mission.json against its scene: sweep the UAV along every waypoint path "
-                  "(exit 3 if any ok surface comes closer than the clearance)");
+      "validate",
+      "Re-check a mission.json against its scene: sweep the UAV along every waypoint path "
+      "(exit 3 if any ok surface comes closer than the clearance)");
   val->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
-  val->add_option("--scene", a->scene, "Scene to check against (default: scene.json next to the mission)");
-  a->clearance_opt = val->add_option("--clearance", a->clearance,
-                                     "Required clearance [m] (default: the mission's inflation_radius_m)");
+  val->add_option("--scene", a->scene,
+                  "Scene to check against (default: scene.json next to the mission)");
+  a->clearance_opt =
+      val->add_option("--clearance", a->clearance,
+                      "Required clearance [m] (default: the mission's inflation_radius_m)");
   val->add_option("--cloud", a->cloud,
-                  "Input cloud to measure every path against, point by point (default: the file scene.json names, "
+                  "Input cloud to measure every path against, point by point (default: the file "
+                  "scene.json names, "
                   "if unchanged)");
   registry.add(val, [a, &v] {
-    return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0, a->cloud, v);
+    return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0,
+                           a->cloud, v);
   });
 }
 

@@ -1,30 +1,32 @@
 // uavip view: the 3D mission page (view/mission_page.h) for a mission.json and the
 // scene.json beside it, found as `uavip validate` finds it.
 
-#include "src/cli/commands.h"
-
-#include "uavip/core/error.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/io/json_reader.h"
-#include "uavip/view/mission_page.h"
-#include "uavip/io/scene_json.h"
-
 #include <filesystem>
 #include <iostream>
 #include <memory>
+
+#include "src/cli/commands.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/json_reader.h"
+#include "uavip/io/scene_json.h"
+#include "uavip/view/mission_page.h"
 
 namespace uavip::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-int viewCommand(const std::string& mission_path, std::string scene_path, std::string out, const Verbosity& v) {
-  if (scene_path.empty()) scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
+int viewCommand(const std::string& mission_path, std::string scene_path, std::string out,
+                const Verbosity& v) {
+  if (scene_path.empty())
+    scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
   if (out.empty()) out = (fs::path(mission_path).parent_path() / "mission.html").string();
   const nlohmann::json mission = io::JsonReader(mission_path).load();
   if (!fs::exists(scene_path))
-    throw InputError(mission_path + ": its scene " + scene_path +
-                     " does not exist; give the scene.json the mission was planned on with --scene");
+    throw InputError(
+        mission_path + ": its scene " + scene_path +
+        " does not exist; give the scene.json the mission was planned on with --scene");
   const Scene scene = io::loadScene(scene_path);
   io::requireDistinctOutputs({mission_path, scene_path}, {out});
   view::MissionPageOptions options;
@@ -32,7 +34,8 @@ int viewCommand(const std::string& mission_path, std::string scene_path, std::st
   options.title = (options.title.empty() ? std::string() : options.title + ": ") + "uavip mission";
   const std::string page = view::missionPage(scene, &mission, options, mission_path);
   io::writeFileAtomic(out, page);
-  if (!v.quiet) std::cout << "view: " << out << " (" << (page.size() + 512 * 1024) / (1024 * 1024) << " MB)\n";
+  if (!v.quiet)
+    std::cout << "view: " << out << " (" << (page.size() + 512 * 1024) / (1024 * 1024) << " MB)\n";
   return kExitOk;
 }
 
@@ -47,7 +50,8 @@ void addViewCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<ViewArgs>();
   const Verbosity& v = registry.verbosity();
   auto* view = cli.add_subcommand(
-      "view", "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)");
+      "view",
+      "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)");
   view->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
   view->add_option("--scene", a->scene, "Its scene (default: scene.json next to the mission)");
   view->add_option("-o,--out", a->out, "Page to write (default: mission.html next to the mission)");

@@ -17,7 +17,8 @@ void requirePositive(double value, const std::string& where, const std::string& 
   }
 }
 
-void requireThat(bool ok, const std::string& where, const std::string& name, const std::string& range, double value) {
+void requireThat(bool ok, const std::string& where, const std::string& name,
+                 const std::string& range, double value) {
   if (!ok) {
     std::ostringstream os;
     os << where << ": " << name << " must be " << range << ", got " << value;

@@ -1,7 +1,6 @@
 #include "uavip/core/geometry.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 
 namespace uavip {

@@ -1,20 +1,21 @@
 #include "uavip/core/voxel_key.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/key_sort.h"
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/key_sort.h"
 
 namespace uavip {
 
 VoxelKeyer::VoxelKeyer(const Vec3& lo, const Vec3& hi, double edge, const std::string& what)
     : edge_(edge) {
   requirePositive(edge, "voxel grid", what);
-  if (!lo.allFinite() || !hi.allFinite()) throw InputError("voxel grid: the point bounds are not finite");
+  if (!lo.allFinite() || !hi.allFinite())
+    throw InputError("voxel grid: the point bounds are not finite");
   origin_ = (lo / edge).array().floor().matrix() * edge;
   for (int a = 0; a < 3; ++a) {
     const double cells = std::floor((hi[a] - origin_[a]) / edge) + 1.0;
@@ -51,8 +52,8 @@ std::uint64_t VoxelKeyer::pack(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 std::array<std::int64_t, 3> VoxelKeyer::unpack(std::uint64_t key) {
   constexpr std::uint64_t mask = (std::uint64_t{1} << kBits) - 1;
-  return {static_cast<std::int64_t>(key >> (2 * kBits)), static_cast<std::int64_t>((key >> kBits) & mask),
-          static_cast<std::int64_t>(key & mask)};
+  return {static_cast<std::int64_t>(key >> (2 * kBits)),
+          static_cast<std::int64_t>((key >> kBits) & mask), static_cast<std::int64_t>(key & mask)};
 }
 
 std::uint64_t VoxelKeyer::key(const Vec3& p) const {
@@ -86,7 +87,8 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
     // Sum relative to the voxel's first point: exact far from the origin too.
     const Vec3& base = cloud[keyed[i].second];
     Vec3 sum = Vec3::Zero();
-    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j) sum += cloud[keyed[j].second] - base;
+    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j)
+      sum += cloud[keyed[j].second] - base;
     out.push_back(base + sum / static_cast<double>(j - i));
     i = j;
   }

@@ -1,33 +1,39 @@
 #include "uavip/coverage/camera.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 
-#include <cmath>
-
 namespace uavip::coverage {
 
-double Camera::maxStandoff() const { return max_range_m > 0.0 ? max_range_m : kMaxStandoffWithoutRangeM; }
+double Camera::maxStandoff() const {
+  return max_range_m > 0.0 ? max_range_m : kMaxStandoffWithoutRangeM;
+}
 
 void Camera::validate(const std::string& where) const {
   if (!(std::isfinite(max_range_m) && max_range_m >= 0.0))
-    throw InputError(where + ": max_range_m must be > 0 (or left out), got " + formatNumber(max_range_m));
+    throw InputError(where + ": max_range_m must be > 0 (or left out), got " +
+                     formatNumber(max_range_m));
   if (pinhole) {
     requirePositive(fx_px, where, "fx");
     requirePositive(fy_px, where, "fy");
     requirePositive(static_cast<double>(image_w_px), where, "image_px[0]");
     requirePositive(static_cast<double>(image_h_px), where, "image_px[1]");
     if (!(cx_px >= 0.0 && cx_px <= image_w_px))
-      throw InputError(where + ": cx " + formatNumber(cx_px) + " px lies outside the image width " + std::to_string(image_w_px));
+      throw InputError(where + ": cx " + formatNumber(cx_px) + " px lies outside the image width " +
+                       std::to_string(image_w_px));
     if (!(cy_px >= 0.0 && cy_px <= image_h_px))
-      throw InputError(where + ": cy " + formatNumber(cy_px) + " px lies outside the image height " + std::to_string(image_h_px));
+      throw InputError(where + ": cy " + formatNumber(cy_px) +
+                       " px lies outside the image height " + std::to_string(image_h_px));
     if (!(std::isfinite(gsd_mm_per_px) && gsd_mm_per_px >= 0.0))
-      throw InputError(where + ": gsd_mm_per_px must be > 0 (or left out), got " + formatNumber(gsd_mm_per_px));
+      throw InputError(where + ": gsd_mm_per_px must be > 0 (or left out), got " +
+                       formatNumber(gsd_mm_per_px));
     if (!(gsd_mm_per_px * std::min(fx_px, fy_px) / 1000.0 <= maxStandoff()))
-      throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) + " puts the camera beyond " +
-                       formatNumber(maxStandoff()) + " m; give the GSD in mm per pixel, or set camera.max_range_m");
+      throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) +
+                       " puts the camera beyond " + formatNumber(maxStandoff()) +
+                       " m; give the GSD in mm per pixel, or set camera.max_range_m");
     return;
   }
   if (!from_sensor) {
@@ -43,12 +49,15 @@ void Camera::validate(const std::string& where) const {
   requirePositive(gsd_mm_per_px, where, "gsd_mm_per_px");
   // The standoff of solveCamera: the GSD is met on both axes.
   const double standoff_m = std::min(image_w_px * gsd_mm_per_px * focal_mm / sensor_w_mm,
-                                     image_h_px * gsd_mm_per_px * focal_mm / sensor_h_mm) / 1000.0;
+                                     image_h_px * gsd_mm_per_px * focal_mm / sensor_h_mm) /
+                            1000.0;
   if (!(standoff_m <= maxStandoff()))
-    throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) + " puts the camera " +
-                     formatNumber(standoff_m, 4) + " m from the surface, beyond " +
-                     (max_range_m > 0.0 ? "its max_range_m " + formatNumber(max_range_m)
-                                        : formatNumber(kMaxStandoffWithoutRangeM) + " m (no max_range_m given)") +
+    throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) +
+                     " puts the camera " + formatNumber(standoff_m, 4) +
+                     " m from the surface, beyond " +
+                     (max_range_m > 0.0
+                          ? "its max_range_m " + formatNumber(max_range_m)
+                          : formatNumber(kMaxStandoffWithoutRangeM) + " m (no max_range_m given)") +
                      "; give the GSD in mm per pixel (e.g. 2), or set camera.max_range_m");
 }
 

@@ -141,8 +141,8 @@ struct VisitRule {
 /// Calls on_imaged(input index) for every point within rule.range_limit of one view
 /// that the view images (criteria 1–5, cheap first), in the grid's cell order.
 template <typename OnImaged>
-void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& camera, const VisitRule& rule,
-               ViewTally& tally, OnImaged&& on_imaged) {
+void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& camera,
+               const VisitRule& rule, ViewTally& tally, OnImaged&& on_imaged) {
   const ViewFrame frame = makeViewFrame(view);
   const Vec3& c = view.position;
   // Cell box holding every point within range_limit of c (clamped doubles: ±inf safe).
@@ -169,7 +169,8 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
           ++tally.pairs_in_range;
           // cos(incidence) = n·(c − p)/r; a two-sided normal faces either way.
           const double facing = -g.nrm[j].dot(d);
-          if ((rule.two_sided || g.both[j] ? std::abs(facing) : facing) < rule.cos_max_incidence * std::sqrt(r2))
+          if ((rule.two_sided || g.both[j] ? std::abs(facing) : facing) <
+              rule.cos_max_incidence * std::sqrt(r2))
             continue;
           const Projection pr = camera.projectInFrame(frame, g.pos[j]);
           if (!pr.in_image) continue;
@@ -233,7 +234,8 @@ namespace {
 /// in_image = inside(x, y, z) with x = right·d, y = up·d, z = forward·d (d = point −
 /// camera centre) [m].
 template <typename Inside>
-Projection centralProjection(const ViewFrame& frame, const Vec3& point, double focal_px, Inside inside) {
+Projection centralProjection(const ViewFrame& frame, const Vec3& point, double focal_px,
+                             Inside inside) {
   const Vec3 d = point - frame.pose.position;
   Projection pr;
   pr.range_m = d.norm();
@@ -390,7 +392,8 @@ bool VoxelLineOfSight::occupied(const Vec3& p) const {
   return occupiedIndex(idx[0], idx[1], idx[2]);
 }
 
-// Long (97 lines): one 3D DDA traversal (Amanatides–Woo): its setup and its stepping share per-axis state in the hot loop.
+// Long (97 lines): one 3D DDA traversal (Amanatides–Woo): its setup and its stepping share per-axis
+// state in the hot loop.
 bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
   require(from.allFinite() && to.allFinite(), "voxel_line_of_sight",
           "clear() needs finite end points");
@@ -507,7 +510,8 @@ namespace {
 VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& normals,
                             const std::vector<ViewPose>& views, const CameraModel& camera,
                             const CoverageCriteria& criteria, const LineOfSight* los, int threads,
-                            const std::vector<char>* two_sided, const std::string& where, PointGrid& grid) {
+                            const std::vector<char>* two_sided, const std::string& where,
+                            PointGrid& grid) {
   criteria.validate(where + ".criteria");
   requireThat(threads >= 1, where, "threads", ">= 1", threads);
   const std::size_t n = points.size();
@@ -538,7 +542,7 @@ VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& no
   }
   VisitRule rule;
   rule.range_limit = criteria.max_range_m > 0.0 ? criteria.max_range_m
-                                                 : camera.maxRange(criteria.max_gsd_mm_per_px);
+                                                : camera.maxRange(criteria.max_gsd_mm_per_px);
   requireThat(rule.range_limit > 0.0, where, "the range limit (criteria or camera model)", "> 0",
               rule.range_limit);
   rule.cos_max_incidence = criteria.max_incidence_deg >= 180.0 ? -1.0
@@ -554,17 +558,15 @@ VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& no
 
 }  // namespace
 
-std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, const std::vector<Vec3>& normals,
-                                                     const std::vector<ViewPose>& views,
-                                                     const CameraModel& camera,
-                                                     const CoverageCriteria& criteria,
-                                                     const LineOfSight* los, int threads,
-                                                     const std::vector<char>* two_sided) {
+std::vector<std::vector<std::uint32_t>> imagedByView(
+    const PointList& points, const std::vector<Vec3>& normals, const std::vector<ViewPose>& views,
+    const CameraModel& camera, const CoverageCriteria& criteria, const LineOfSight* los,
+    int threads, const std::vector<char>* two_sided) {
   require(points.size() < std::numeric_limits<std::uint32_t>::max(), "imagedByView",
           "more than 2^32 - 1 points");
   PointGrid grid;
-  const VisitRule rule =
-      prepareEvaluation(points, normals, views, camera, criteria, los, threads, two_sided, "imagedByView", grid);
+  const VisitRule rule = prepareEvaluation(points, normals, views, camera, criteria, los, threads,
+                                           two_sided, "imagedByView", grid);
   std::vector<std::vector<std::uint32_t>> imaged(views.size());
   if (grid.pos.empty()) return imaged;
   parallelFor(views.size(), threads, [&](std::size_t v, std::size_t) {
@@ -582,8 +584,8 @@ CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>
                                 const CoverageCriteria& criteria, const LineOfSight* los,
                                 int threads, const std::vector<char>* two_sided) {
   PointGrid grid;
-  const VisitRule rule =
-      prepareEvaluation(points, normals, views, camera, criteria, los, threads, two_sided, "evaluateCoverage", grid);
+  const VisitRule rule = prepareEvaluation(points, normals, views, camera, criteria, los, threads,
+                                           two_sided, "evaluateCoverage", grid);
   const std::size_t n = points.size();
   CoverageResult res;
   res.points = n;
@@ -597,7 +599,8 @@ CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>
     parallelFor(views.size(), static_cast<int>(workers), [&](std::size_t v, std::size_t worker) {
       auto& count = counts[worker];
       if (count.empty()) count.assign(n, 0);
-      visitView(grid, views[v], camera, rule, tallies[worker], [&count](std::size_t i) { ++count[i]; });
+      visitView(grid, views[v], camera, rule, tallies[worker],
+                [&count](std::size_t i) { ++count[i]; });
     });
     for (std::size_t t = 0; t < workers; ++t) {
       for (std::size_t i = 0; i < counts[t].size(); ++i) res.views_per_point[i] += counts[t][i];

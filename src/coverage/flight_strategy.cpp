@@ -97,26 +97,31 @@ void CoverageOptions::validate(const std::string& where) const {
   requireThat(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
   requirePositive(standoff_m, where, "standoff_m");
   if (!camera.from_sensor && standoff_m > camera.maxStandoff())
-    throw InputError(where + ": standoff_m " + formatNumber(standoff_m) + " is beyond " +
-                     (camera.max_range_m > 0.0 ? "camera.max_range_m " + formatNumber(camera.max_range_m)
-                                               : formatNumber(kMaxStandoffWithoutRangeM) + " m (no camera.max_range_m given)") +
-                     "; fly closer, or set camera.max_range_m");
+    throw InputError(
+        where + ": standoff_m " + formatNumber(standoff_m) + " is beyond " +
+        (camera.max_range_m > 0.0
+             ? "camera.max_range_m " + formatNumber(camera.max_range_m)
+             : formatNumber(kMaxStandoffWithoutRangeM) + " m (no camera.max_range_m given)") +
+        "; fly closer, or set camera.max_range_m");
   requireThat(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
   if (mode != "surfaces" && mode != "structure")
-    throw InputError(where + ": mode '" + mode + "' is not a coverage mode; use surfaces or structure");
-  if (ground_z_m) requireThat(std::isfinite(*ground_z_m), where, "ground_z_m", "finite", *ground_z_m);
-  requireThat(structure_target > 0.0 && structure_target <= 1.0, where, "structure_target", "in (0, 1]",
-              structure_target);
+    throw InputError(where + ": mode '" + mode +
+                     "' is not a coverage mode; use surfaces or structure");
+  if (ground_z_m)
+    requireThat(std::isfinite(*ground_z_m), where, "ground_z_m", "finite", *ground_z_m);
+  requireThat(structure_target > 0.0 && structure_target <= 1.0, where, "structure_target",
+              "in (0, 1]", structure_target);
   requireThat(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
-               "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
+              "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
   requireThat(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
-               "gimbal.pitch_max_deg", "in [-90, 90]", gimbal.pitch_max_deg);
+              "gimbal.pitch_max_deg", "in [-90, 90]", gimbal.pitch_max_deg);
   requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
-               "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
-               gimbal.pitch_min_deg);
+              "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
+              gimbal.pitch_min_deg);
 }
 
-// Long (103 lines): the steps of §II-F in order (surface frame, footprint, steps, rows, gimbal and yaw per stop) on a dozen shared frame variables; pieces would each take most of them.
+// Long (103 lines): the steps of §II-F in order (surface frame, footprint, steps, rows, gimbal and
+// yaw per stop) on a dozen shared frame variables; pieces would each take most of them.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options) {
   options.validate();
   FlightStrategy fs;
@@ -176,8 +181,8 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   const double rows = std::max(1.0, std::ceil((hhi - hlo) / fs.spacing_h_m - 1e-9));
   if (!(cols * rows <= options.max_stops)) {
     std::ostringstream os;
-    os << "surface " << surface.id << " (" << whi - wlo << " x " << hhi - hlo << " m) would need " << cols << " x "
-       << rows << " photo stops at " << fs.spacing_w_m << " x " << fs.spacing_h_m
+    os << "surface " << surface.id << " (" << whi - wlo << " x " << hhi - hlo << " m) would need "
+       << cols << " x " << rows << " photo stops at " << fs.spacing_w_m << " x " << fs.spacing_h_m
        << " m spacing, more than coverage.max_stops " << options.max_stops
        << "; use a larger footprint (camera) or raise coverage.max_stops";
     throw InputError(os.str());

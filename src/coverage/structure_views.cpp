@@ -1,14 +1,14 @@
 #include "uavip/coverage/structure_views.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-#include "uavip/core/voxel_key.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <queue>
 #include <utility>
+
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::coverage {
 
@@ -23,7 +23,8 @@ struct Candidate {
 /// Viewing directions at a seed with normal n: n (and −n when two-sided), each also
 /// tilted toward +z and −z by each tilt (about the horizontal axis n × z; about x when
 /// n is vertical).
-std::vector<Vec3> viewingDirections(const Vec3& n, bool two_sided, const std::vector<double>& tilts_deg) {
+std::vector<Vec3> viewingDirections(const Vec3& n, bool two_sided,
+                                    const std::vector<double>& tilts_deg) {
   Vec3 up = Vec3::UnitZ() - n.z() * n;  // the part of +z across n
   if (up.norm() < 1e-6) up = Vec3::UnitX() - n.x() * n;
   up.normalize();
@@ -44,24 +45,27 @@ std::vector<Vec3> viewingDirections(const Vec3& n, bool two_sided, const std::ve
 /// Seeds: one point per seed cell (the centroid of the cell's points), with the
 /// normal of the structure point nearest to it.
 std::vector<Candidate> makeCandidates(const PointList& points, const std::vector<Vec3>& normals,
-                                      const std::vector<char>& two_sided, const StructureViewOptions& o,
-                                      std::size_t& seeds) {
+                                      const std::vector<char>& two_sided,
+                                      const StructureViewOptions& o, std::size_t& seeds) {
   const double spacing = o.seed_spacing_m > 0.0 ? o.seed_spacing_m : o.standoff_m / 3.0;
   const VoxelKeyer keyer = VoxelKeyer::forPoints(points, spacing, "structure seed spacing");
   // Per cell, the point nearest to the cell's centroid stands for it (its own normal).
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) keyed[i] = {keyer.key(points[i]), static_cast<std::uint32_t>(i)};
+  for (std::size_t i = 0; i < points.size(); ++i)
+    keyed[i] = {keyer.key(points[i]), static_cast<std::uint32_t>(i)};
   std::sort(keyed.begin(), keyed.end());
   std::vector<Candidate> out;
   seeds = 0;
   for (std::size_t b = 0; b < keyed.size();) {
     std::size_t e = b;
     Vec3 sum = Vec3::Zero();
-    for (; e < keyed.size() && keyed[e].first == keyed[b].first; ++e) sum += points[keyed[e].second];
+    for (; e < keyed.size() && keyed[e].first == keyed[b].first; ++e)
+      sum += points[keyed[e].second];
     const Vec3 centroid = sum / static_cast<double>(e - b);
     std::uint32_t best = keyed[b].second;
     for (std::size_t j = b; j < e; ++j) {
-      if ((points[keyed[j].second] - centroid).squaredNorm() < (points[best] - centroid).squaredNorm())
+      if ((points[keyed[j].second] - centroid).squaredNorm() <
+          (points[best] - centroid).squaredNorm())
         best = keyed[j].second;
     }
     ++seeds;
@@ -79,8 +83,9 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
 }
 
 /// Lazy greedy set cover: photos in order of choice until `needed` points are covered.
-std::vector<std::size_t> greedyCover(const std::vector<std::vector<std::uint32_t>>& sets, std::size_t n_points,
-                                     std::size_t needed, std::vector<int>& count) {
+std::vector<std::size_t> greedyCover(const std::vector<std::vector<std::uint32_t>>& sets,
+                                     std::size_t n_points, std::size_t needed,
+                                     std::vector<int>& count) {
   std::vector<char> covered(n_points, 0);
   count.assign(n_points, 0);
   // Max-heap on (gain, −index): equal gains go to the lower index.
@@ -112,7 +117,8 @@ std::vector<std::size_t> greedyCover(const std::vector<std::vector<std::uint32_t
 
 /// Removes, latest first, every chosen photo whose points all have another photo.
 std::vector<std::size_t> pruneRedundant(const std::vector<std::vector<std::uint32_t>>& sets,
-                                        const std::vector<std::size_t>& chosen, std::vector<int>& count) {
+                                        const std::vector<std::size_t>& chosen,
+                                        std::vector<int>& count) {
   std::vector<char> keep(chosen.size(), 1);
   for (std::size_t k = chosen.size(); k-- > 0;) {
     const auto& s = sets[chosen[k]];
@@ -130,14 +136,19 @@ std::vector<std::size_t> pruneRedundant(const std::vector<std::vector<std::uint3
 }  // namespace
 
 void StructureViewOptions::validate(const std::string& where) const {
-  requireThat(std::isfinite(standoff_m) && standoff_m > 0.0, where, "standoff_m", "> 0 and finite", standoff_m);
-  require(!distance_factors.empty(), where, "distance_factors: give at least one (1 = the standoff)");
+  requireThat(std::isfinite(standoff_m) && standoff_m > 0.0, where, "standoff_m", "> 0 and finite",
+              standoff_m);
+  require(!distance_factors.empty(), where,
+          "distance_factors: give at least one (1 = the standoff)");
   for (const double f : distance_factors)
-    requireThat(std::isfinite(f) && f >= 1.0 && f <= 3.0, where, "distance_factors", "in [1, 3]", f);
-  for (const double t : tilts_deg) requireThat(std::isfinite(t) && t > 0.0 && t < 90.0, where, "tilts_deg", "in (0, 90)", t);
-  requireThat(std::isfinite(seed_spacing_m) && seed_spacing_m >= 0.0, where, "seed_spacing_m", ">= 0 (0 = standoff / 3)",
-              seed_spacing_m);
-  requireThat(target_coverage > 0.0 && target_coverage <= 1.0, where, "target_coverage", "in (0, 1]", target_coverage);
+    requireThat(std::isfinite(f) && f >= 1.0 && f <= 3.0, where, "distance_factors", "in [1, 3]",
+                f);
+  for (const double t : tilts_deg)
+    requireThat(std::isfinite(t) && t > 0.0 && t < 90.0, where, "tilts_deg", "in (0, 90)", t);
+  requireThat(std::isfinite(seed_spacing_m) && seed_spacing_m >= 0.0, where, "seed_spacing_m",
+              ">= 0 (0 = standoff / 3)", seed_spacing_m);
+  requireThat(target_coverage > 0.0 && target_coverage <= 1.0, where, "target_coverage",
+              "in (0, 1]", target_coverage);
   requireThat(threads >= 1, where, "threads", ">= 1", threads);
   criteria.validate(where + ".criteria");
 }
@@ -158,8 +169,8 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
                                     const StructureViewOptions& options) {
   options.validate();
   require(normals.size() == points.size(), "structure_views",
-          "one normal per point: " + std::to_string(points.size()) + " points, " + std::to_string(normals.size()) +
-              " normals");
+          "one normal per point: " + std::to_string(points.size()) + " points, " +
+              std::to_string(normals.size()) + " normals");
   require(two_sided.empty() || two_sided.size() == points.size(), "structure_views",
           "one two-sided flag per point or none: " + std::to_string(points.size()) + " points, " +
               std::to_string(two_sided.size()) + " flags");
@@ -179,13 +190,14 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   std::vector<ViewPose> poses;
   poses.reserve(usable.size());
   for (const auto& c : usable) poses.push_back(c.pose);
-  const auto sets = imagedByView(points, normals, poses, camera, options.criteria, los, options.threads,
-                                 two_sided.empty() ? nullptr : &two_sided);
+  const auto sets = imagedByView(points, normals, poses, camera, options.criteria, los,
+                                 options.threads, two_sided.empty() ? nullptr : &two_sided);
   std::vector<char> seen(points.size(), 0);
   for (const auto& s : sets)
     for (const auto p : s) seen[p] = 1;
   for (const char s : seen) out.imageable += s != 0;
-  const auto needed = static_cast<std::size_t>(std::ceil(options.target_coverage * static_cast<double>(out.imageable)));
+  const auto needed = static_cast<std::size_t>(
+      std::ceil(options.target_coverage * static_cast<double>(out.imageable)));
   std::vector<int> count;
   const auto chosen = pruneRedundant(sets, greedyCover(sets, points.size(), needed, count), count);
   for (const int c : count) out.covered += c > 0;

@@ -1,7 +1,5 @@
 #include "uavip/io/atomic_file.h"
 
-#include "uavip/core/error.h"
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -9,11 +7,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "uavip/core/error.h"
+
 namespace uavip::io {
 
 namespace fs = std::filesystem;
 
-void replaceFileAtomic(const std::string& path, const std::function<void(const std::string&)>& write) {
+void replaceFileAtomic(const std::string& path,
+                       const std::function<void(const std::string&)>& write) {
   StagedOutputs one;
   one.writeWith(path, write);
   one.commit();
@@ -21,20 +22,25 @@ void replaceFileAtomic(const std::string& path, const std::function<void(const s
 
 namespace {
 
-std::string temporaryFor(const std::string& path) { return path + ".tmp" + std::to_string(::getpid()); }
+std::string temporaryFor(const std::string& path) {
+  return path + ".tmp" + std::to_string(::getpid());
+}
 
 /// Writes `text` to `file`; messages name `path`, the file the user asked for.
 void writeText(const std::string& file, const std::string& text, const std::string& path) {
   std::ofstream out(file, std::ios::binary);
   out << text;
   out.close();
-  if (!out) throw InputError(path + ": cannot write (no permission, or the disk is full); choose another -o");
+  if (!out)
+    throw InputError(path +
+                     ": cannot write (no permission, or the disk is full); choose another -o");
 }
 
 /// The checks before writing `path`: not a folder, its folder created.
 void prepareTarget(const std::string& path) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory; give a file name to write");
+  if (fs::is_directory(path, ec))
+    throw InputError(path + ": is a directory; give a file name to write");
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty()) ensureDirectory(parent.string());
 }
@@ -50,7 +56,8 @@ StagedOutputs::~StagedOutputs() {
   for (const auto& s : staged_) fs::remove(s.first, ec);
 }
 
-void StagedOutputs::writeWith(const std::string& path, const std::function<void(const std::string&)>& write) {
+void StagedOutputs::writeWith(const std::string& path,
+                              const std::function<void(const std::string&)>& write) {
   prepareTarget(path);
   const std::string tmp = temporaryFor(path);
   staged_.emplace_back(tmp, path);  // removed by the destructor unless committed
@@ -73,14 +80,16 @@ void StagedOutputs::commit() {
 void ensureDirectory(const std::string& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw InputError(dir + ": exists and is not a directory; choose another -o");
+    if (!fs::is_directory(dir, ec))
+      throw InputError(dir + ": exists and is not a directory; choose another -o");
     return;
   }
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": cannot create the output directory (" + ec.message() + ")");
 }
 
-void requireDistinctOutputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+void requireDistinctOutputs(const std::vector<std::string>& inputs,
+                            const std::vector<std::string>& outputs) {
   const auto key = [](const std::string& p) {
     std::error_code ec;
     const fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
@@ -89,11 +98,14 @@ void requireDistinctOutputs(const std::vector<std::string>& inputs, const std::v
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const std::string o = key(outputs[i]);
     for (const auto& in : inputs) {
-      if (key(in) == o) throw InputError(outputs[i] + ": would overwrite the input " + in + "; choose another -o");
+      if (key(in) == o)
+        throw InputError(outputs[i] + ": would overwrite the input " + in + "; choose another -o");
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (key(outputs[j]) == o)
-        throw InputError(outputs[i] + ": two outputs of this command would be written to the same file; choose another -o");
+        throw InputError(
+            outputs[i] +
+            ": two outputs of this command would be written to the same file; choose another -o");
     }
   }
 }
@@ -104,7 +116,8 @@ void requireRegularFile(const std::string& path) {
   if (!fs::exists(st)) throw InputError(path + ": no such file");
   if (fs::is_directory(st)) throw InputError(path + ": is a directory, expected a file");
   if (!fs::is_regular_file(st))
-    throw InputError(path + ": is not a regular file (a device, pipe or socket); save the data to a file first");
+    throw InputError(
+        path + ": is not a regular file (a device, pipe or socket); save the data to a file first");
 }
 
 std::string readFile(const std::string& path) {

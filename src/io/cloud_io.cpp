@@ -1,11 +1,5 @@
 #include "uavip/io/cloud_io.h"
 
-#include "uavip/io/las_reader.h"
-
-#include "uavip/core/error.h"
-#include "uavip/core/text.h"
-#include "uavip/io/atomic_file.h"
-
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -17,19 +11,25 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/las_reader.h"
 
 namespace uavip::io {
 namespace {
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
@@ -48,14 +48,16 @@ PointList loadXyz(const std::string& path) {
     std::string sx, sy, sz;
     // A header of column names before the first point (CloudCompare writes
     // "//X,Y,Z", spreadsheets "x,y,z"): its first word starts with a letter or '/'.
-    if (header_allowed && (std::isalpha(static_cast<unsigned char>(line[first])) || line[first] == '/') &&
+    if (header_allowed &&
+        (std::isalpha(static_cast<unsigned char>(line[first])) || line[first] == '/') &&
         line.find_first_of("0123456789") == std::string::npos) {
       header_allowed = false;
       continue;
     }
     header_allowed = false;
     if (!(fields >> sx >> sy >> sz)) {
-      throw InputError(path + ":" + std::to_string(line_no) + ": expected 'x y z', got '" + line + "'");
+      throw InputError(path + ":" + std::to_string(line_no) + ": expected 'x y z', got '" + line +
+                       "'");
     }
     Vec3 p;
     try {
@@ -82,10 +84,15 @@ PointList loadXyz(const std::string& path) {
 /// element and x y z properties (PLY).
 /// A header count: a whole number >= 0 (no sign, no fraction), else InputError
 /// naming the file, the key and the text.
-std::uint64_t headerCount(const std::string& path, const std::string& key, const std::string& text) {
-  const bool digits = !text.empty() && text.size() <= 19 &&
-                      std::all_of(text.begin(), text.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
-  if (!digits) throw InputError(path + ": " + key + " must be a whole number >= 0, got '" + text.substr(0, 40) + "'");
+std::uint64_t headerCount(const std::string& path, const std::string& key,
+                          const std::string& text) {
+  const bool digits =
+      !text.empty() && text.size() <= 19 && std::all_of(text.begin(), text.end(), [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c));
+      });
+  if (!digits)
+    throw InputError(path + ": " + key + " must be a whole number >= 0, got '" +
+                     text.substr(0, 40) + "'");
   return std::stoull(text);
 }
 
@@ -94,8 +101,9 @@ std::uint64_t headerCount(const std::string& path, const std::string& key, const
 void checkPayload(const std::string& path, std::uint64_t points, std::uint64_t min_bytes_per_point,
                   std::uint64_t available, const std::string& what) {
   if (min_bytes_per_point == 0 || points <= available / min_bytes_per_point) return;
-  throw InputError(path + ": the header claims " + std::to_string(points) + " points (" + what + ", at least " +
-                   std::to_string(min_bytes_per_point) + " bytes each) but only " + std::to_string(available) +
+  throw InputError(path + ": the header claims " + std::to_string(points) + " points (" + what +
+                   ", at least " + std::to_string(min_bytes_per_point) + " bytes each) but only " +
+                   std::to_string(available) +
                    " bytes follow it; the file is truncated or its header is wrong");
 }
 
@@ -132,8 +140,8 @@ PcdHeaderLines readPcdHeaderLines(const std::string& path, std::istream& in) {
   PcdHeaderLines h;
   std::string line;
   std::set<std::string> seen;
-  static const std::set<std::string> kKeys{"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT",
-                                           "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  static const std::set<std::string> kKeys{"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                           "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
   for (int lines = 0; lines < 64 && h.data.empty() && std::getline(in, line); ++lines) {
     std::vector<std::string> w = words(line);
     if (w.empty() || w[0][0] == '#') continue;
@@ -142,8 +150,10 @@ PcdHeaderLines readPcdHeaderLines(const std::string& path, std::istream& in) {
     // PCL's reader crashes on some malformed headers (tests/fuzz/fuzz_cloud): every
     // line must be one of the PCD keys, each once.
     if (!kKeys.count(key))
-      throw InputError(path + ": not a PCD file, or a damaged one: header line " + std::to_string(lines + 1) +
-                       " is not a PCD key (VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA)");
+      throw InputError(path + ": not a PCD file, or a damaged one: header line " +
+                       std::to_string(lines + 1) +
+                       " is not a PCD key (VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, "
+                       "VIEWPOINT, POINTS, DATA)");
     if (!seen.insert(key).second) throw InputError(path + ": PCD header has " + key + " twice");
     if (key == "VERSION") h.version = w.empty() ? "?" : w[0];
     if (key == "FIELDS") h.fields = w;
@@ -168,13 +178,17 @@ std::uint64_t checkPcdFields(const std::string& path, const PcdHeaderLines& h, P
     const std::string& size = h.sizes[i];
     const std::string& type = h.types[i];
     if (size != "1" && size != "2" && size != "4" && size != "8")
-      throw InputError(path + ": SIZE of field " + h.fields[i] + " must be 1, 2, 4 or 8 bytes, got '" + size + "'");
+      throw InputError(path + ": SIZE of field " + h.fields[i] +
+                       " must be 1, 2, 4 or 8 bytes, got '" + size + "'");
     if (type != "F" && type != "I" && type != "U")
-      throw InputError(path + ": TYPE of field " + h.fields[i] + " must be F, I or U, got '" + type + "'");
+      throw InputError(path + ": TYPE of field " + h.fields[i] + " must be F, I or U, got '" +
+                       type + "'");
     if (type == "F" && size != "4" && size != "8")
-      throw InputError(path + ": field " + h.fields[i] + " is a float of " + size + " bytes; PCD floats have 4 or 8");
+      throw InputError(path + ": field " + h.fields[i] + " is a float of " + size +
+                       " bytes; PCD floats have 4 or 8");
     const std::uint64_t count = h.counts.empty() ? 1 : headerCount(path, "COUNT", h.counts[i]);
-    if (count == 0 || count > 1'000'000) throw InputError(path + ": COUNT of field " + h.fields[i] + " must be 1..1000000");
+    if (count == 0 || count > 1'000'000)
+      throw InputError(path + ": COUNT of field " + h.fields[i] + " must be 1..1000000");
     step += count * std::stoull(size);
     header.sizes.push_back(std::stoull(size));
     header.counts.push_back(count);
@@ -188,10 +202,12 @@ PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_
   const PcdHeaderLines h = readPcdHeaderLines(path, in);
   // PCL's reader dereferences a missing VERSION (found by tests/fuzz/fuzz_cloud).
   if (h.version != "0.7" && h.version != ".7" && h.version != "0.6" && h.version != ".6")
-    throw InputError(path + ": PCD header needs VERSION 0.7 (or 0.6) before FIELDS, got '" + h.version.substr(0, 20) + "'");
+    throw InputError(path + ": PCD header needs VERSION 0.7 (or 0.6) before FIELDS, got '" +
+                     h.version.substr(0, 20) + "'");
   const std::set<std::string> names(h.fields.begin(), h.fields.end());
   if (!names.count("x") || !names.count("y") || !names.count("z") || !h.points || h.data.empty())
-    throw InputError(path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
+    throw InputError(
+        path + ": not a PCD file with x y z fields (header needs FIELDS x y z, POINTS and DATA)");
   if (!h.width || !h.height) throw InputError(path + ": PCD header needs WIDTH and HEIGHT");
   if (h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
       (!h.counts.empty() && h.counts.size() != h.fields.size()))
@@ -202,19 +218,22 @@ PcdHeader checkPcdHeader(const std::string& path, std::istream& in, std::uint64_
   const std::uint64_t w = h.width.value_or(points), ht = h.height.value_or(1);
   if (ht != 0 && w > UINT64_MAX / ht) throw InputError(path + ": WIDTH x HEIGHT overflows");
   if (w * ht != points)
-    throw InputError(path + ": WIDTH x HEIGHT (" + std::to_string(w) + " x " + std::to_string(ht) + ") differs from POINTS " +
-                     std::to_string(points));
+    throw InputError(path + ": WIDTH x HEIGHT (" + std::to_string(w) + " x " + std::to_string(ht) +
+                     ") differs from POINTS " + std::to_string(points));
   const std::streamoff at = in.tellg();
-  const std::uint64_t available = at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
+  const std::uint64_t available =
+      at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
   if (h.data == "binary") {
     checkPayload(path, points, step, available, "binary");
   } else if (h.data == "ascii") {
-    checkPayload(path, points, 2 * h.fields.size(), available + 1, "ascii, a digit and a separator per value");
+    checkPayload(path, points, 2 * h.fields.size(), available + 1,
+                 "ascii, a digit and a separator per value");
   } else if (h.data == "binary_compressed") {
     // LZF expands at most about 100 times; beyond that the header cannot be right.
     checkPayload(path, points, std::max<std::uint64_t>(1, step / 100), available, "compressed");
   } else {
-    throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + h.data + "'");
+    throw InputError(path + ": DATA must be ascii, binary or binary_compressed, got '" + h.data +
+                     "'");
   }
   header.fields = h.fields;
   header.width = w;
@@ -273,14 +292,16 @@ pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
   pcl::PCLPointCloud2 blob;
   blob.width = static_cast<std::uint32_t>(h.width);
   blob.height = static_cast<std::uint32_t>(h.height);
-  if (h.width > UINT32_MAX || h.height > UINT32_MAX) throw InputError(path + ": WIDTH or HEIGHT above 2^32");
+  if (h.width > UINT32_MAX || h.height > UINT32_MAX)
+    throw InputError(path + ": WIDTH or HEIGHT above 2^32");
   const bool ascii = h.data == "ascii";
   std::uint64_t offset = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
     pcl::PCLPointField field;
     field.name = h.fields[f];
     field.offset = static_cast<std::uint32_t>(offset);
-    field.datatype = ascii ? static_cast<std::uint8_t>(pcl::PCLPointField::FLOAT64) : pclType(h.types[f], h.sizes[f]);
+    field.datatype = ascii ? static_cast<std::uint8_t>(pcl::PCLPointField::FLOAT64)
+                           : pclType(h.types[f], h.sizes[f]);
     field.count = static_cast<std::uint32_t>(h.counts[f]);
     blob.fields.push_back(field);
     offset += (ascii ? 8 : h.sizes[f]) * h.counts[f];
@@ -301,39 +322,46 @@ pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
     std::string token;
     for (std::uint64_t k = 0; k < values * h.points; ++k) {
       if (!(in >> token))
-        throw InputError(path + ": point " + std::to_string(k / values) + " has fewer values than FIELDS/COUNT say (" +
-                         std::to_string(values) + " per point); the file is truncated");
+        throw InputError(path + ": point " + std::to_string(k / values) +
+                         " has fewer values than FIELDS/COUNT say (" + std::to_string(values) +
+                         " per point); the file is truncated");
       char* end = nullptr;
       const double v = single[k % values] ? static_cast<double>(std::strtof(token.c_str(), &end))
                                           : std::strtod(token.c_str(), &end);
       if (end != token.c_str() + token.size())
-        throw InputError(path + ": point " + std::to_string(k / values) + ": '" + token.substr(0, 20) + "' is not a number");
+        throw InputError(path + ": point " + std::to_string(k / values) + ": '" +
+                         token.substr(0, 20) + "' is not a number");
       out[k] = v;
     }
     return blob;
   }
   if (h.data == "binary") {
-    in.read(reinterpret_cast<char*>(blob.data.data()), static_cast<std::streamsize>(blob.data.size()));
-    if (static_cast<std::size_t>(in.gcount()) != blob.data.size()) throw InputError(path + ": the binary data is truncated");
+    in.read(reinterpret_cast<char*>(blob.data.data()),
+            static_cast<std::streamsize>(blob.data.size()));
+    if (static_cast<std::size_t>(in.gcount()) != blob.data.size())
+      throw InputError(path + ": the binary data is truncated");
     return blob;
   }
   // binary_compressed: uint32 compressed size, uint32 size, LZF stream of the
   // fields one after the other (all x, then all y, …).
   std::uint32_t sizes[2] = {0, 0};
   in.read(reinterpret_cast<char*>(sizes), sizeof sizes);
-  if (!in || sizes[0] > h.available - std::min<std::uint64_t>(h.available, 8) || sizes[1] != blob.data.size())
-    throw InputError(path + ": the compressed data's sizes do not match the header (" + std::to_string(h.points) +
-                     " points); the file is damaged");
+  if (!in || sizes[0] > h.available - std::min<std::uint64_t>(h.available, 8) ||
+      sizes[1] != blob.data.size())
+    throw InputError(path + ": the compressed data's sizes do not match the header (" +
+                     std::to_string(h.points) + " points); the file is damaged");
   std::vector<std::uint8_t> packed(sizes[0]);
   in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(packed.size()));
   std::vector<std::uint8_t> columns(sizes[1]);
-  if (static_cast<std::size_t>(in.gcount()) != packed.size() || !lzfDecompress(packed.data(), packed.size(), columns))
+  if (static_cast<std::size_t>(in.gcount()) != packed.size() ||
+      !lzfDecompress(packed.data(), packed.size(), columns))
     throw InputError(path + ": the compressed data is damaged (LZF)");
   std::uint64_t column = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
     const std::uint64_t bytes = h.sizes[f] * h.counts[f];
     for (std::uint64_t i = 0; i < h.points; ++i) {
-      std::memcpy(blob.data.data() + i * h.step + blob.fields[f].offset, columns.data() + column + i * bytes, bytes);
+      std::memcpy(blob.data.data() + i * h.step + blob.fields[f].offset,
+                  columns.data() + column + i * bytes, bytes);
     }
     column += bytes * h.points;
   }
@@ -344,7 +372,8 @@ pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
 std::uint64_t plyTypeSize(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
   if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32")
+    return 4;
   if (t == "double" || t == "float64") return 8;
   return 0;
 }
@@ -354,7 +383,8 @@ std::uint64_t plyTypeSize(const std::string& t) {
 void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t file_size) {
   std::string line;
   std::getline(in, line);
-  if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (first line must be 'ply')");
+  if (line.rfind("ply", 0) != 0)
+    throw InputError(path + ": not a PLY file (first line must be 'ply')");
   std::string format;
   std::optional<std::uint64_t> vertices;
   bool in_vertex = false, ended = false;
@@ -365,7 +395,8 @@ void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t fil
     if (w.empty()) continue;
     if (w[0] == "format" && w.size() >= 2) format = w[1];
     if (w[0] == "element") {
-      if (w.size() != 3) throw InputError(path + ": malformed PLY line '" + line.substr(0, 60) + "'");
+      if (w.size() != 3)
+        throw InputError(path + ": malformed PLY line '" + line.substr(0, 60) + "'");
       in_vertex = w[1] == "vertex";
       if (in_vertex) vertices = headerCount(path, "element vertex", w[2]);
     }
@@ -375,7 +406,8 @@ void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t fil
         step += 1;  // at least the list's count
       } else if (w.size() == 3) {
         const std::uint64_t size = plyTypeSize(w[1]);
-        if (size == 0) throw InputError(path + ": vertex property " + w[2] + " has unknown type '" + w[1] + "'");
+        if (size == 0)
+          throw InputError(path + ": vertex property " + w[2] + " has unknown type '" + w[1] + "'");
         step += size;
         xyz += (w[2] == "x" || w[2] == "y" || w[2] == "z");
       }
@@ -386,13 +418,18 @@ void checkPlyHeader(const std::string& path, std::istream& in, std::uint64_t fil
     }
   }
   if (!ended) throw InputError(path + ": PLY header has no end_header within 256 lines");
-  if (!vertices || xyz < 3) throw InputError(path + ": PLY file has no vertex element with x y z properties");
+  if (!vertices || xyz < 3)
+    throw InputError(path + ": PLY file has no vertex element with x y z properties");
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-    throw InputError(path + ": PLY format must be ascii, binary_little_endian or binary_big_endian, got '" + format + "'");
+    throw InputError(
+        path + ": PLY format must be ascii, binary_little_endian or binary_big_endian, got '" +
+        format + "'");
   const std::streamoff at = in.tellg();
-  const std::uint64_t available = at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
+  const std::uint64_t available =
+      at < 0 ? 0 : file_size - std::min<std::uint64_t>(file_size, static_cast<std::uint64_t>(at));
   if (format == "ascii") {
-    checkPayload(path, *vertices, 2 * properties, available + 1, "ascii, a digit and a separator per value");
+    checkPayload(path, *vertices, 2 * properties, available + 1,
+                 "ascii, a digit and a separator per value");
   } else {
     checkPayload(path, *vertices, step, available, "binary");
   }
@@ -409,7 +446,8 @@ pcl::PCLPointCloud2 readBlob(const std::string& path, const std::string& ext) {
   if (ext == ".pcd") return readPcdBody(path, checkPcdHeader(path, in, size));
   checkPlyHeader(path, in, size);
   pcl::PCLPointCloud2 cloud;
-  if (pcl::io::loadPLYFile(path, cloud) < 0) throw InputError(path + ": cannot parse as ply (corrupt or not x/y/z?)");
+  if (pcl::io::loadPLYFile(path, cloud) < 0)
+    throw InputError(path + ": cannot parse as ply (corrupt or not x/y/z?)");
   return cloud;
 }
 
@@ -418,15 +456,42 @@ pcl::PCLPointCloud2 readBlob(const std::string& path, const std::string& ext) {
 /// were a float (a double PCD read back as zeros), so the fields are read here.
 double fieldValue(const std::uint8_t* at, std::uint8_t datatype) {
   switch (datatype) {
-    case pcl::PCLPointField::INT8: return static_cast<double>(*reinterpret_cast<const std::int8_t*>(at));
-    case pcl::PCLPointField::UINT8: return static_cast<double>(*at);
-    case pcl::PCLPointField::INT16: { std::int16_t v; std::memcpy(&v, at, 2); return v; }
-    case pcl::PCLPointField::UINT16: { std::uint16_t v; std::memcpy(&v, at, 2); return v; }
-    case pcl::PCLPointField::INT32: { std::int32_t v; std::memcpy(&v, at, 4); return v; }
-    case pcl::PCLPointField::UINT32: { std::uint32_t v; std::memcpy(&v, at, 4); return v; }
-    case pcl::PCLPointField::FLOAT32: { float v; std::memcpy(&v, at, 4); return v; }
-    case pcl::PCLPointField::FLOAT64: { double v; std::memcpy(&v, at, 8); return v; }
-    default: return std::numeric_limits<double>::quiet_NaN();
+    case pcl::PCLPointField::INT8:
+      return static_cast<double>(*reinterpret_cast<const std::int8_t*>(at));
+    case pcl::PCLPointField::UINT8:
+      return static_cast<double>(*at);
+    case pcl::PCLPointField::INT16: {
+      std::int16_t v;
+      std::memcpy(&v, at, 2);
+      return v;
+    }
+    case pcl::PCLPointField::UINT16: {
+      std::uint16_t v;
+      std::memcpy(&v, at, 2);
+      return v;
+    }
+    case pcl::PCLPointField::INT32: {
+      std::int32_t v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
+    case pcl::PCLPointField::UINT32: {
+      std::uint32_t v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT32: {
+      float v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT64: {
+      double v;
+      std::memcpy(&v, at, 8);
+      return v;
+    }
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
@@ -453,13 +518,15 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
   const std::size_t sizes[9] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
   for (int a = 0; a < 3; ++a) {
     if (fields[a]->offset + sizes[fields[a]->datatype] > blob.point_step) {
-      throw InputError(path + ": field '" + std::string(names[a]) + "' lies outside the point record");
+      throw InputError(path + ": field '" + std::string(names[a]) +
+                       "' lies outside the point record");
     }
   }
   if (height > 0 && width > 0 &&
-      (static_cast<std::size_t>(blob.row_step) < width * blob.point_step || blob.data.size() < height * blob.row_step)) {
-    throw InputError(path + ": the point data is shorter than the header says (" + std::to_string(width * height) +
-                     " points)");
+      (static_cast<std::size_t>(blob.row_step) < width * blob.point_step ||
+       blob.data.size() < height * blob.row_step)) {
+    throw InputError(path + ": the point data is shorter than the header says (" +
+                     std::to_string(width * height) + " points)");
   }
   const bool organized = height > 1;
   PointList out;
@@ -472,8 +539,9 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
                    fieldValue(at + fields[2]->offset, fields[2]->datatype));
       if (!p.allFinite()) {
         if (organized) continue;  // no return in a sensor frame
-        throw InputError(path + ": point " + std::to_string(r * width + c) + " " + formatRawPoint(p) +
-                         " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
+        throw InputError(
+            path + ": point " + std::to_string(r * width + c) + " " + formatRawPoint(p) +
+            " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
       }
       out.push_back(p);
     }
@@ -485,16 +553,18 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
 /// naming the point farthest (on one axis) from the per-axis median of the cloud:
 /// a stray point such as 1e308, or a cloud in the wrong unit. `origin` is added back
 /// so that the point is shown as in the file.
-void requirePhysicalExtent(const std::string& path, const PointList& points, const Vec3& lo, const Vec3& hi,
-                           const Vec3& origin) {
+void requirePhysicalExtent(const std::string& path, const PointList& points, const Vec3& lo,
+                           const Vec3& hi, const Vec3& origin) {
   const Vec3 extent = hi - lo;
   if (extent.allFinite() && extent.maxCoeff() <= kMaxCloudExtentM) {
     // Narrow, but maybe far: a lone point at 1e308, a georeferenced file in millimetres.
     if (std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) > kMaxCoordinateM) {
       std::size_t i = 0;
       while (i + 1 < points.size() && !(points[i].cwiseAbs().maxCoeff() > kMaxCoordinateM)) ++i;
-      throw InputError(path + ": point " + std::to_string(i) + " " + formatRawPoint(points[i] + origin) +
-                       " lies beyond " + formatNumber(kMaxCoordinateM / 1e3) + " km of the file's origin, on no map of "
+      throw InputError(path + ": point " + std::to_string(i) + " " +
+                       formatRawPoint(points[i] + origin) + " lies beyond " +
+                       formatNumber(kMaxCoordinateM / 1e3) +
+                       " km of the file's origin, on no map of "
                        "the earth: remove it, or set input.scale if the file is not in metres");
     }
     return;
@@ -503,7 +573,8 @@ void requirePhysicalExtent(const std::string& path, const PointList& points, con
   std::vector<double> axis(points.size());
   for (int a = 0; a < 3; ++a) {
     for (std::size_t i = 0; i < points.size(); ++i) axis[i] = points[i][a];
-    std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2), axis.end());
+    std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2),
+                     axis.end());
     median[a] = axis[axis.size() / 2];
   }
   std::size_t worst = 0, strays = 0;
@@ -516,16 +587,21 @@ void requirePhysicalExtent(const std::string& path, const PointList& points, con
       worst = i;
     }
   }
-  const std::string span = path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) + " m (more than " +
-                           formatNumber(kMaxCloudExtentM / 1e3) + " km, beyond any structure to inspect); ";
+  const std::string span = path + ": the cloud spans " + formatNumber(extent.maxCoeff(), 3) +
+                           " m (more than " + formatNumber(kMaxCloudExtentM / 1e3) +
+                           " km, beyond any structure to inspect); ";
   // A few stray points (at most 1 %): named. Most of the cloud: a unit, not a point.
   if (strays <= std::max<std::size_t>(1, points.size() / 100))
-    throw InputError(span + (strays > 1 ? std::to_string(strays) + " points lie far from the others, the farthest " : "") +
-                     "point " + std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
-                     formatNumber(worst_d, 3) + " m from the cloud's median: remove it");
+    throw InputError(
+        span +
+        (strays > 1 ? std::to_string(strays) + " points lie far from the others, the farthest "
+                    : "") +
+        "point " + std::to_string(worst) + " " + formatRawPoint(points[worst] + origin) + " lies " +
+        formatNumber(worst_d, 3) + " m from the cloud's median: remove it");
   throw InputError(span + std::to_string(strays) + " of " + std::to_string(points.size()) +
                    " points lie over " + formatNumber(0.5 * kMaxCloudExtentM / 1e3) +
-                   " km from the median: the file is not in metres (set input.scale, e.g. 0.001 for millimetres) "
+                   " km from the median: the file is not in metres (set input.scale, e.g. 0.001 "
+                   "for millimetres) "
                    "or holds more than one site");
 }
 
@@ -543,11 +619,14 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi) {
 
 void CloudReadOptions::validate(const std::string& where) const {
   for (const int c : drop_classes) {
-    if (c < 0 || c > 255) throw InputError(where + ": drop_classes holds " + std::to_string(c) + ", a class must be 0..255");
+    if (c < 0 || c > 255)
+      throw InputError(where + ": drop_classes holds " + std::to_string(c) +
+                       ", a class must be 0..255");
   }
   if (!(std::isfinite(scale) && scale > 0.0)) {
-    throw InputError(where + ": scale must be > 0 and finite (0.001 for millimetres, 0.3048 for feet), got " +
-                     formatNumber(scale));
+    throw InputError(
+        where + ": scale must be > 0 and finite (0.001 for millimetres, 0.3048 for feet), got " +
+        formatNumber(scale));
   }
 }
 
@@ -563,37 +642,43 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     LasCloud las = readLas(path, las_options);
     if (info != nullptr) {
       std::ostringstream os;
-      os << path << ": LAS " << las.version_major << "." << las.version_minor << " point format " << las.point_format
-         << ", " << las.points_in_file << " points";
+      os << path << ": LAS " << las.version_major << "." << las.version_minor << " point format "
+         << las.point_format << ", " << las.points_in_file << " points";
       if (!options.drop_classes.empty()) {
         os << " (" << las.dropped << " dropped: input.drop_classes";
         for (const int c : options.drop_classes) os << " " << c;
-        os << (options.drop_classes == std::vector<int>{7, 18} ? ", the classes LAS flags as noise" : "") << ")";
+        os << (options.drop_classes == std::vector<int>{7, 18} ? ", the classes LAS flags as noise"
+                                                               : "")
+           << ")";
       }
       os << "; unit " << las.unit_name << " (" << las.unit_source << ")";
       if (las.unit_to_m != 1.0 || las.z_unit_to_m != 1.0) os << " converted to metres";
-      os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", " << formatNumber(las.origin_m.y(), 12) << ", "
-         << formatNumber(las.origin_m.z(), 12) << ") m";  // every metre of a UTM northing
+      os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", "
+         << formatNumber(las.origin_m.y(), 12) << ", " << formatNumber(las.origin_m.z(), 12)
+         << ") m";  // every metre of a UTM northing
       info->note = os.str();
       info->origin_m = las.origin_m;
     }
     origin = las.origin_m;
     points = std::move(las.points);
-    if (points.empty()) throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
+    if (points.empty())
+      throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     points = loadXyz(path);
   } else if (ext == ".pcd" || ext == ".ply") {
     points = fromBlob(readBlob(path, ext), path);
   } else {
-    throw InputError(path + ": unknown cloud extension '" + ext + "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
+    throw InputError(path + ": unknown cloud extension '" + ext +
+                     "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
   }
   if (points.empty()) throw InputError(path + ": the cloud has no points");
   if (options.scale != 1.0) {
     for (auto& p : points) p *= options.scale;
     origin *= options.scale;
     if (info != nullptr) {
-      info->note += std::string(info->note.empty() ? "" : "; ") + "coordinates scaled by input.scale " +
-                    formatNumber(options.scale) + " to metres";
+      info->note += std::string(info->note.empty() ? "" : "; ") +
+                    "coordinates scaled by input.scale " + formatNumber(options.scale) +
+                    " to metres";
       info->origin_m = origin;
     }
   }
@@ -610,9 +695,10 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     origin += shift;
     if (info != nullptr) {
       info->origin_m = origin;
-      info->note += std::string(info->note.empty() ? path + ": " : "; ") + "far from the origin, recentred by (" +
-                    formatNumber(shift.x(), 12) + ", " + formatNumber(shift.y(), 12) + ", " +
-                    formatNumber(shift.z(), 12) + ") m (scene.json source_offset_m adds it back)";
+      info->note += std::string(info->note.empty() ? path + ": " : "; ") +
+                    "far from the origin, recentred by (" + formatNumber(shift.x(), 12) + ", " +
+                    formatNumber(shift.y(), 12) + ", " + formatNumber(shift.z(), 12) +
+                    ") m (scene.json source_offset_m adds it back)";
     }
   }
   return points;
@@ -622,11 +708,14 @@ void writeCloudPcdFile(const std::string& file, const PointList& cloud, const st
   pcl::PointCloud<pcl::PointXYZ> out;
   out.reserve(cloud.size());
   for (const auto& p : cloud) {
-    out.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+    out.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(p.z())));
   }
   // PCL refuses to write an empty binary cloud; an empty ASCII PCD is still valid.
-  const int rc = out.empty() ? pcl::io::savePCDFileASCII(file, out) : pcl::io::savePCDFileBinary(file, out);
-  if (rc < 0) throw InputError(path + ": cannot write the PCD file (no permission, or the disk is full)");
+  const int rc =
+      out.empty() ? pcl::io::savePCDFileASCII(file, out) : pcl::io::savePCDFileBinary(file, out);
+  if (rc < 0)
+    throw InputError(path + ": cannot write the PCD file (no permission, or the disk is full)");
 }
 
 void setPclConsole(bool verbose) {

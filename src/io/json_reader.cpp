@@ -1,11 +1,11 @@
 #include "uavip/io/json_reader.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
-
-#include <algorithm>
-#include <cmath>
 
 namespace uavip::io {
 
@@ -15,17 +15,21 @@ std::string JsonReader::join(const std::string& parent, const std::string& key) 
   return parent.empty() ? key : parent + "." + key;
 }
 
-std::string JsonReader::item(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
+std::string JsonReader::item(const std::string& parent, std::size_t i) {
+  return parent + "[" + std::to_string(i) + "]";
+}
 
 json JsonReader::parse(const std::string& text) const {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     const std::size_t byte = std::min<std::size_t>(e.byte, text.size());
-    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n');
-    throw InputError(file_ + ":" + std::to_string(line) + ": not valid JSON (byte " + std::to_string(e.byte) +
-                     "; truncated or edited?)");
-  } catch (const json::exception& e) {  // e.g. a number beyond a double (1e999): out_of_range, not parse_error
+    const auto line =
+        1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n');
+    throw InputError(file_ + ":" + std::to_string(line) + ": not valid JSON (byte " +
+                     std::to_string(e.byte) + "; truncated or edited?)");
+  } catch (const json::exception&
+               e) {  // e.g. a number beyond a double (1e999): out_of_range, not parse_error
     throw InputError(file_ + ": not valid JSON (" + std::string(e.what()).substr(0, 120) + ")");
   }
 }
@@ -53,18 +57,23 @@ double JsonReader::number(const json& j, const std::string& field) const {
   return v;
 }
 
-double JsonReader::number(const json& j, const std::string& field, double lo, double hi, const std::string& unit) const {
+double JsonReader::number(const json& j, const std::string& field, double lo, double hi,
+                          const std::string& unit) const {
   const double v = number(j, field);
   if (v < lo || v > hi)
-    fail(field, "must be in [" + formatNumber(lo) + ", " + formatNumber(hi) + "] " + unit + ", got " + formatNumber(v, 9));
+    fail(field, "must be in [" + formatNumber(lo) + ", " + formatNumber(hi) + "] " + unit +
+                    ", got " + formatNumber(v, 9));
   return v;
 }
 
-std::int64_t JsonReader::integer(const json& j, const std::string& field, std::int64_t lo, std::int64_t hi) const {
-  const bool whole = j.is_number_integer() && !(j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(hi));
+std::int64_t JsonReader::integer(const json& j, const std::string& field, std::int64_t lo,
+                                 std::int64_t hi) const {
+  const bool whole =
+      j.is_number_integer() &&
+      !(j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(hi));
   if (!whole || j.get<std::int64_t>() < lo || j.get<std::int64_t>() > hi)
-    fail(field, "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                    j.dump().substr(0, 40));
+    fail(field, "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + j.dump().substr(0, 40));
   return j.get<std::int64_t>();
 }
 

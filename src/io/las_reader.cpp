@@ -148,8 +148,8 @@ struct Header {
 
 /// Version and header size (bytes 24, 25, 94): LAS 1.0–1.4, a header as long as its
 /// version needs and no longer than the file.
-void readVersion(const std::vector<unsigned char>& b, std::uint64_t file_size, const std::string& path,
-                 Header& h) {
+void readVersion(const std::vector<unsigned char>& b, std::uint64_t file_size,
+                 const std::string& path, Header& h) {
   h.major = b[24];
   h.minor = b[25];
   const std::string version = str(h.major) + "." + str(h.minor);
@@ -190,8 +190,8 @@ void readPointFormat(const std::vector<unsigned char>& b, const std::string& pat
 
 /// Where the points start and how many there are (bytes 96–107; 1.4: 235–254),
 /// within the file and this reader's limit.
-void readPointCount(const std::vector<unsigned char>& b, std::uint64_t file_size, const std::string& path,
-                    Header& h) {
+void readPointCount(const std::vector<unsigned char>& b, std::uint64_t file_size,
+                    const std::string& path, Header& h) {
   h.offset_to_points = u32(b.data() + 96);
   h.vlr_count = u32(b.data() + 100);
   if (h.offset_to_points < h.header_size || h.offset_to_points > file_size)
@@ -705,8 +705,10 @@ LasCloud readLas(const std::string& path, const LasOptions& options) {
                              h.min[0] <= h.max[0] && h.min[1] <= h.max[1];
   if (header_bounds) {
     const bool z_bounds = std::isfinite(h.min[2]) && std::isfinite(h.max[2]);  // else z is kept
-    const Vec3 lo(h.min[0] * cloud.unit_to_m, h.min[1] * cloud.unit_to_m, z_bounds ? h.min[2] * cloud.z_unit_to_m : 0.0);
-    const Vec3 hi(h.max[0] * cloud.unit_to_m, h.max[1] * cloud.unit_to_m, z_bounds ? h.max[2] * cloud.z_unit_to_m : 0.0);
+    const Vec3 lo(h.min[0] * cloud.unit_to_m, h.min[1] * cloud.unit_to_m,
+                  z_bounds ? h.min[2] * cloud.z_unit_to_m : 0.0);
+    const Vec3 hi(h.max[0] * cloud.unit_to_m, h.max[1] * cloud.unit_to_m,
+                  z_bounds ? h.max[2] * cloud.z_unit_to_m : 0.0);
     cloud.origin_m = recentringOrigin(lo, hi);
   } else if (!cloud.points.empty()) {
     Vec3 lo = cloud.points.front(), hi = cloud.points.front();

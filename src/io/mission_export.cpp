@@ -1,19 +1,19 @@
 #include "uavip/io/mission_export.h"
 
+#include <proj.h>
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/mission_json.h"
-
-#include <GeographicLib/LocalCartesian.hpp>
-#include <proj.h>
-
-#include <cerrno>
-#include <cmath>
-#include <algorithm>
-#include <cstdlib>
-#include <map>
-#include <iomanip>
-#include <sstream>
 
 namespace uavip::io {
 namespace {
@@ -65,11 +65,13 @@ void orientBetweenStops(std::vector<FlightWaypoint>& out) {
 
 /// The waypoints of one flyable surface, its flown stops marked and oriented; each
 /// flown stop must be a waypoint, in order.
-std::vector<FlightWaypoint> surfaceFlight(const SurfaceRecord& s, const std::string& path, const std::string& where) {
+std::vector<FlightWaypoint> surfaceFlight(const SurfaceRecord& s, const std::string& path,
+                                          const std::string& where) {
   std::vector<FlightWaypoint> out;
   std::size_t k = 0;  // the next stop to find
   const auto skipUnflown = [&] {
-    while (k < s.stops.size() && !s.stops[k].flown()) ++k;  // a "partial" surface skips stops it cannot reach
+    while (k < s.stops.size() && !s.stops[k].flown())
+      ++k;  // a "partial" surface skips stops it cannot reach
   };
   skipUnflown();
   for (const Vec3& p : s.waypoints) {
@@ -86,8 +88,9 @@ std::vector<FlightWaypoint> surfaceFlight(const SurfaceRecord& s, const std::str
     out.push_back(w);
   }
   if (k < s.stops.size())
-    throw InputError(path + ": " + where + ".stops[" + std::to_string(k) +
-                     "] is not on the waypoint path (in order); the file was changed or is not a uavip mission");
+    throw InputError(
+        path + ": " + where + ".stops[" + std::to_string(k) +
+        "] is not on the waypoint path (in order); the file was changed or is not a uavip mission");
   orientBetweenStops(out);
   return out;
 }
@@ -114,11 +117,16 @@ GeoOrigin parseOrigin(const std::string& text, const std::string& where) {
   GeoOrigin o;
   if (parts.size() != 3 || !parseDouble(parts[0], o.lat_deg) || !parseDouble(parts[1], o.lon_deg) ||
       !parseDouble(parts[2], o.alt_m))
-    throw InputError(where + ": expected LAT,LON,ALT (degrees, degrees, metres above sea level, e.g. "
-                             "47.3977,8.5456,488), " + shown);
-  require(o.lat_deg >= -90.0 && o.lat_deg <= 90.0, where, "latitude must be in [-90, 90] degrees, " + shown);
-  require(o.lon_deg >= -180.0 && o.lon_deg <= 180.0, where, "longitude must be in [-180, 180] degrees, " + shown);
-  require(o.alt_m >= -500.0 && o.alt_m <= 9000.0, where, "altitude must be in [-500, 9000] m, " + shown);
+    throw InputError(where +
+                     ": expected LAT,LON,ALT (degrees, degrees, metres above sea level, e.g. "
+                     "47.3977,8.5456,488), " +
+                     shown);
+  require(o.lat_deg >= -90.0 && o.lat_deg <= 90.0, where,
+          "latitude must be in [-90, 90] degrees, " + shown);
+  require(o.lon_deg >= -180.0 && o.lon_deg <= 180.0, where,
+          "longitude must be in [-180, 180] degrees, " + shown);
+  require(o.alt_m >= -500.0 && o.alt_m <= 9000.0, where,
+          "altitude must be in [-500, 9000] m, " + shown);
   return o;
 }
 
@@ -141,14 +149,17 @@ struct CrsTransform::Impl {
   }
 };
 
-CrsTransform::CrsTransform(const std::string& crs, const std::string& where) : impl_(std::make_unique<Impl>()) {
+CrsTransform::CrsTransform(const std::string& crs, const std::string& where)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.text = crs;
   m.ctx = proj_context_create();
   if (m.ctx == nullptr) throw InputError(where + ": PROJ could not start (no memory?)");
   proj_log_level(m.ctx, PJ_LOG_NONE);  // errors are ours, on one line
   const std::string shown = "'" + crs.substr(0, 80) + (crs.size() > 80 ? "…" : "") + "'";
-  const auto why = [&] { return std::string(proj_context_errno_string(m.ctx, proj_context_errno(m.ctx))); };
+  const auto why = [&] {
+    return std::string(proj_context_errno_string(m.ctx, proj_context_errno(m.ctx)));
+  };
   // The PJ objects are destroyed on every path: a small owner.
   struct Owned {
     PJ* p;
@@ -158,26 +169,36 @@ CrsTransform::CrsTransform(const std::string& crs, const std::string& where) : i
   };
   Owned source{proj_create(m.ctx, crs.c_str())};
   if (source.p == nullptr || !proj_is_crs(source.p))
-    throw InputError(where + ": PROJ does not know the CRS " + shown + (source.p == nullptr ? " (" + why() + ")" : "") +
+    throw InputError(where + ": PROJ does not know the CRS " + shown +
+                     (source.p == nullptr ? " (" + why() + ")" : "") +
                      "; give the cloud's projected CRS, e.g. EPSG:32631 (WGS 84 / UTM zone 31N)");
-  Owned horizontal{proj_get_type(source.p) == PJ_TYPE_COMPOUND_CRS ? proj_crs_get_sub_crs(m.ctx, source.p, 0) : nullptr};
+  Owned horizontal{proj_get_type(source.p) == PJ_TYPE_COMPOUND_CRS
+                       ? proj_crs_get_sub_crs(m.ctx, source.p, 0)
+                       : nullptr};
   PJ* h = horizontal.p != nullptr ? horizontal.p : source.p;
   if (proj_get_type(h) != PJ_TYPE_PROJECTED_CRS)
-    throw InputError(where + ": " + shown + " is not a projected CRS (a geographic CRS gives degrees, the cloud is in "
-                     "metres); give its projected CRS, e.g. the UTM zone (EPSG:326NN north, 327NN south)");
+    throw InputError(
+        where + ": " + shown +
+        " is not a projected CRS (a geographic CRS gives degrees, the cloud is in "
+        "metres); give its projected CRS, e.g. the UTM zone (EPSG:326NN north, 327NN south)");
   const char* name = proj_get_name(h);
   m.name = name != nullptr ? name : crs;
   Owned cs{proj_crs_get_coordinate_system(m.ctx, h)};
   double factor = 1.0;
-  if (cs.p == nullptr || !proj_cs_get_axis_info(m.ctx, cs.p, 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr, nullptr) ||
+  if (cs.p == nullptr ||
+      !proj_cs_get_axis_info(m.ctx, cs.p, 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr,
+                             nullptr) ||
       !(factor > 0.0 && std::isfinite(factor)))
     throw InputError(where + ": " + shown + " has no linear unit PROJ can read");
   m.unit_to_m = factor;
   Owned op{proj_create_crs_to_crs(m.ctx, crs.c_str(), "EPSG:4326", nullptr)};
   if (op.p == nullptr)
-    throw InputError(where + ": PROJ finds no transformation from " + shown + " to WGS84 (" + why() + ")");
-  m.to_wgs84 = proj_normalize_for_visualization(m.ctx, op.p);  // east, north in; longitude, latitude out
-  if (m.to_wgs84 == nullptr) throw InputError(where + ": PROJ cannot order the axes of " + shown + " (" + why() + ")");
+    throw InputError(where + ": PROJ finds no transformation from " + shown + " to WGS84 (" +
+                     why() + ")");
+  m.to_wgs84 =
+      proj_normalize_for_visualization(m.ctx, op.p);  // east, north in; longitude, latitude out
+  if (m.to_wgs84 == nullptr)
+    throw InputError(where + ": PROJ cannot order the axes of " + shown + " (" + why() + ")");
 }
 
 CrsTransform::~CrsTransform() = default;
@@ -192,9 +213,11 @@ GeoPoint CrsTransform::toWgs84(double east_m, double north_m) const {
   out.lat_deg = g.lp.phi;
   if (!(std::isfinite(out.lat_deg) && std::isfinite(out.lon_deg) && std::abs(out.lat_deg) <= 90.0 &&
         std::abs(out.lon_deg) <= 180.0 && out.lat_deg != HUGE_VAL))
-    throw InputError("--crs: the point (" + formatFixed(east_m, 3) + ", " + formatFixed(north_m, 3) + ") m of " + m.name +
-                     " has no WGS84 position (PROJ: " + proj_context_errno_string(m.ctx, proj_errno(m.to_wgs84)) +
-                     "); is " + m.text + " the cloud's CRS?");
+    throw InputError("--crs: the point (" + formatFixed(east_m, 3) + ", " +
+                     formatFixed(north_m, 3) + ") m of " + m.name +
+                     " has no WGS84 position (PROJ: " +
+                     proj_context_errno_string(m.ctx, proj_errno(m.to_wgs84)) + "); is " + m.text +
+                     " the cloud's CRS?");
   return out;
 }
 
@@ -245,7 +268,8 @@ Autopilot parseAutopilot(const std::string& text) {
 }
 
 void ExportOptions::validate() const {
-  require(std::isfinite(hold_s) && hold_s >= 0.0, "--hold", "must be >= 0 s, got " + formatNumber(hold_s, 12));
+  require(std::isfinite(hold_s) && hold_s >= 0.0, "--hold",
+          "must be >= 0 s, got " + formatNumber(hold_s, 12));
   requirePositive(acceptance_m, "export", "--acceptance");
   requirePositive(speed_m_s, "export", "--speed");
 }
@@ -256,10 +280,11 @@ std::size_t Flight::stopCount() const {
   return n;
 }
 
-Flight flightFromMission(const MissionRecord& mission, const std::string& path, const std::string& surface) {
+Flight flightFromMission(const MissionRecord& mission, const std::string& path,
+                         const std::string& surface) {
   if (surface == "all")
-    throw InputError("--surface all: the surfaces are flown as the ordered, validated flight of " + path +
-                     " (its sorties), not joined here");
+    throw InputError("--surface all: the surfaces are flown as the ordered, validated flight of " +
+                     path + " (its sorties), not joined here");
   std::vector<std::size_t> chosen;
   if (surface.empty()) {
     std::string ids, why;
@@ -269,13 +294,16 @@ Flight flightFromMission(const MissionRecord& mission, const std::string& path, 
         chosen.push_back(i);
         ids += (ids.empty() ? "" : ", ") + std::to_string(s.surface_id);
       }
-      why += (why.empty() ? "" : "; ") + ("surface " + std::to_string(s.surface_id) + " " + describe(s));
+      why += (why.empty() ? "" : "; ") +
+             ("surface " + std::to_string(s.surface_id) + " " + describe(s));
     }
     if (chosen.empty())
-      throw NoMissionError(path + ": no surface has a flyable mission" + (why.empty() ? " (no surfaces)" : " (" + why + ")"));
+      throw NoMissionError(path + ": no surface has a flyable mission" +
+                           (why.empty() ? " (no surfaces)" : " (" + why + ")"));
     if (chosen.size() > 1)
-      throw InputError(path + ": " + std::to_string(chosen.size()) + " surfaces have a mission (" + ids +
-                       "): pass --surface ID for one of them, or --surface all for the ordered flight over all");
+      throw InputError(
+          path + ": " + std::to_string(chosen.size()) + " surfaces have a mission (" + ids +
+          "): pass --surface ID for one of them, or --surface all for the ordered flight over all");
   } else {
     char* end = nullptr;
     const long want = std::strtol(surface.c_str(), &end, 10);
@@ -287,11 +315,13 @@ Flight flightFromMission(const MissionRecord& mission, const std::string& path, 
       all_ids += (all_ids.empty() ? "" : ", ") + std::to_string(s.surface_id);
       if (s.surface_id != want) continue;
       if (!s.flyable())
-        throw NoMissionError(path + ": surface " + surface + " has no flyable mission (" + describe(s) + ")");
+        throw NoMissionError(path + ": surface " + surface + " has no flyable mission (" +
+                             describe(s) + ")");
       chosen.push_back(i);
     }
     if (chosen.empty())
-      throw InputError(path + ": no surface with id " + surface + " (ids: " + (all_ids.empty() ? "none" : all_ids) + ")");
+      throw InputError(path + ": no surface with id " + surface +
+                       " (ids: " + (all_ids.empty() ? "none" : all_ids) + ")");
   }
   Flight f;
   for (auto i : chosen) {
@@ -305,7 +335,9 @@ Flight flightFromMission(const MissionRecord& mission, const std::string& path, 
 
 std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::string& path) {
   if (!mission.flight)
-    throw InputError(path + ": has no ordered flight (written by an older uavip); re-run uavip plan --surface all");
+    throw InputError(
+        path +
+        ": has no ordered flight (written by an older uavip); re-run uavip plan --surface all");
   const FlightRecord& flight = *mission.flight;
   if (flight.status != "ok")
     throw NoMissionError(path + ": the flight has status \"" + flight.status + "\"" +
@@ -328,7 +360,8 @@ std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::
       w.stop_index = static_cast<int>(st.stop);
       w.yaw_deg = stop.yaw_deg;
       w.gimbal_pitch_deg = stop.gimbal_pitch_deg;
-      if (std::find(f.surface_ids.begin(), f.surface_ids.end(), w.surface_id) == f.surface_ids.end())
+      if (std::find(f.surface_ids.begin(), f.surface_ids.end(), w.surface_id) ==
+          f.surface_ids.end())
         f.surface_ids.push_back(w.surface_id);
     }
     orientBetweenStops(f.waypoints);
@@ -346,15 +379,18 @@ std::vector<MissionItem> missionItems(const Flight& flight, const ExportOptions&
     if (w.isStop()) {
       if (options.autopilot == Autopilot::ArduPilot)
         items.push_back({kCmdConditionYaw, kFrameMission, {heading, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}});
-      items.push_back({kCmdGimbalPitchYaw, kFrameMission,
+      items.push_back({kCmdGimbalPitchYaw,
+                       kFrameMission,
                        {w.gimbal_pitch_deg, 0.0, 0.0, 0.0, kGimbalFlagsRollPitchLock, 0.0, 0.0}});
     }
     items.push_back({kCmdWaypoint,
                      kFrameGlobalRelativeAlt,
-                     {w.isStop() ? options.hold_s : 0.0, options.acceptance_m, 0.0, heading, g.lat_deg, g.lon_deg,
-                      g.alt_m}});
+                     {w.isStop() ? options.hold_s : 0.0, options.acceptance_m, 0.0, heading,
+                      g.lat_deg, g.lon_deg, g.alt_m}});
     if (w.isStop())
-      items.push_back({kCmdImageStartCapture, kFrameMission, {0.0, 0.0, 1.0, static_cast<double>(++photo), 0.0, 0.0, 0.0}});
+      items.push_back({kCmdImageStartCapture,
+                       kFrameMission,
+                       {0.0, 0.0, 1.0, static_cast<double>(++photo), 0.0, 0.0, 0.0}});
   }
   return items;
 }
@@ -390,8 +426,9 @@ std::string toWpl(const Flight& flight, const ExportOptions& options) {
   const GeoPoint o = homeGeo(options);
   std::ostringstream os;
   os << "QGC WPL 110\n";
-  os << "0\t1\t" << kFrameGlobal << "\t" << kCmdWaypoint << "\t0\t0\t0\t0\t" << formatNumber(o.lat_deg, 12) << "\t" << formatNumber(o.lon_deg, 12)
-     << "\t" << formatNumber(o.alt_m, 12) << "\t1\n";
+  os << "0\t1\t" << kFrameGlobal << "\t" << kCmdWaypoint << "\t0\t0\t0\t0\t"
+     << formatNumber(o.lat_deg, 12) << "\t" << formatNumber(o.lon_deg, 12) << "\t"
+     << formatNumber(o.alt_m, 12) << "\t1\n";
   int index = 0;
   for (const auto& it : missionItems(flight, options)) {
     os << ++index << "\t0\t" << it.frame << "\t" << it.command;
@@ -403,15 +440,18 @@ std::string toWpl(const Flight& flight, const ExportOptions& options) {
 
 std::string toCsv(const Flight& flight, const ExportOptions& options) {
   std::ostringstream os;
-  os << "index,surface_id,stop_index,is_stop,east_m,north_m,up_m,lat_deg,lon_deg,alt_rel_home_m,yaw_enu_deg,"
+  os << "index,surface_id,stop_index,is_stop,east_m,north_m,up_m,lat_deg,lon_deg,alt_rel_home_m,"
+        "yaw_enu_deg,"
         "heading_deg,gimbal_pitch_deg\n";
   for (std::size_t i = 0; i < flight.waypoints.size(); ++i) {
     const auto& w = flight.waypoints[i];
     const GeoPoint g = waypointGeo(options, w.enu);
-    os << i << "," << w.surface_id << "," << w.stop_index << "," << (w.isStop() ? 1 : 0) << "," << formatFixed(w.enu.x(), 4)
-       << "," << formatFixed(w.enu.y(), 4) << "," << formatFixed(w.enu.z(), 4) << "," << formatFixed(g.lat_deg, 9) << "," << formatFixed(g.lon_deg, 9) << ","
-       << formatFixed(g.alt_m, 4) << "," << formatFixed(w.yaw_deg, 4) << "," << formatFixed(headingFromYaw(w.yaw_deg), 4)
-       << "," << formatFixed(w.gimbal_pitch_deg, 4) << "\n";
+    os << i << "," << w.surface_id << "," << w.stop_index << "," << (w.isStop() ? 1 : 0) << ","
+       << formatFixed(w.enu.x(), 4) << "," << formatFixed(w.enu.y(), 4) << ","
+       << formatFixed(w.enu.z(), 4) << "," << formatFixed(g.lat_deg, 9) << ","
+       << formatFixed(g.lon_deg, 9) << "," << formatFixed(g.alt_m, 4) << ","
+       << formatFixed(w.yaw_deg, 4) << "," << formatFixed(headingFromYaw(w.yaw_deg), 4) << ","
+       << formatFixed(w.gimbal_pitch_deg, 4) << "\n";
   }
   return os.str();
 }

@@ -29,7 +29,8 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
   json stops = json::array();
   for (std::size_t i = 0; i < m.strategy.stops.size(); ++i) {
     const auto& s = m.strategy.stops[i];
-    const auto problem = i < m.stop_problems.size() ? m.stop_problems[i] : planning::StopProblem::None;
+    const auto problem =
+        i < m.stop_problems.size() ? m.stop_problems[i] : planning::StopProblem::None;
     stops.push_back({{"index", s.index},
                      {"row", s.row},
                      {"col", s.col},
@@ -38,8 +39,8 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
                      {"yaw_deg", round4(s.yaw_deg)},
                      {"gimbal_pitch_deg", round4(s.gimbal_pitch_deg)},
                      {"problem", planning::toString(problem)},
-                     {"moved", std::find(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(i)) !=
-                                   m.moved_stops.end()}});
+                     {"moved", std::find(m.moved_stops.begin(), m.moved_stops.end(),
+                                         static_cast<int>(i)) != m.moved_stops.end()}});
   }
   json waypoints = json::array();
   for (const auto& p : m.waypoints) waypoints.push_back(vec(p));
@@ -71,15 +72,18 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
 
 json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& model) {
   json order = json::array();
-  for (const auto& v : f.order) order.push_back({{"surface_id", v.surface_id}, {"reversed", v.reversed}});
+  for (const auto& v : f.order)
+    order.push_back({{"surface_id", v.surface_id}, {"reversed", v.reversed}});
   json excluded = json::array();
-  for (const auto& e : f.excluded) excluded.push_back({{"surface_id", e.surface_id}, {"reason", e.reason}});
+  for (const auto& e : f.excluded)
+    excluded.push_back({{"surface_id", e.surface_id}, {"reason", e.reason}});
   json sorties = json::array();
   for (std::size_t i = 0; i < f.sorties.size(); ++i) {
     const auto& s = f.sorties[i];
     json stops = json::array();
     for (const auto& st : s.stops)
-      stops.push_back({{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
+      stops.push_back(
+          {{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
     json waypoints = json::array();
     for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
     sorties.push_back({{"sortie", i + 1},
@@ -91,38 +95,41 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
                        {"waypoints", waypoints},
                        {"validation", validationToJson(s.validation)}});
   }
-  return {{"status", planning::toString(f.status)},
-          {"reason", f.reason},
-          {"home", vec(f.home)},
-          {"home_source", f.home_source},
-          {"order", order},
-          {"excluded", excluded},
-          {"tour_length_m", round4(f.tour_length_m)},
-          {"inner_length_m", round4(f.inner_length_m)},
-          {"naive_length_m", f.naive_length_m > 0.0 ? json(round4(f.naive_length_m)) : json(nullptr)},
-          {"lower_bound_m", round4(f.lower_bound_m)},
-          {"exact_order", f.exact_order},
-          {"planned_legs", f.planned_legs},
-          {"length_m", round4(f.length_m)},
-          {"duration_s", round4(f.duration_s)},
-          {"sortie_count", f.sorties.size()},
-          {"model",
-           {{"cruise_speed_m_s", model.cruise_speed_m_s},
-            {"climb_speed_m_s", model.climb_speed_m_s},
-            {"descent_speed_m_s", model.descent_speed_m_s},
-            {"hover_s", model.hover_s},
-            {"settle_s", model.settle_s},
-            {"endurance_s", model.endurance_s},
-            {"reserve", model.reserve}}},
-          {"sorties", sorties},
-          {"timings",
-           {{"order_s", round4(f.order_seconds)},
-            {"validate_s", round4(f.validate_seconds)},
-            {"flight_s", round4(f.seconds)}}}};
+  return {
+      {"status", planning::toString(f.status)},
+      {"reason", f.reason},
+      {"home", vec(f.home)},
+      {"home_source", f.home_source},
+      {"order", order},
+      {"excluded", excluded},
+      {"tour_length_m", round4(f.tour_length_m)},
+      {"inner_length_m", round4(f.inner_length_m)},
+      {"naive_length_m", f.naive_length_m > 0.0 ? json(round4(f.naive_length_m)) : json(nullptr)},
+      {"lower_bound_m", round4(f.lower_bound_m)},
+      {"exact_order", f.exact_order},
+      {"planned_legs", f.planned_legs},
+      {"length_m", round4(f.length_m)},
+      {"duration_s", round4(f.duration_s)},
+      {"sortie_count", f.sorties.size()},
+      {"model",
+       {{"cruise_speed_m_s", model.cruise_speed_m_s},
+        {"climb_speed_m_s", model.climb_speed_m_s},
+        {"descent_speed_m_s", model.descent_speed_m_s},
+        {"hover_s", model.hover_s},
+        {"settle_s", model.settle_s},
+        {"endurance_s", model.endurance_s},
+        {"reserve", model.reserve}}},
+      {"sorties", sorties},
+      {"timings",
+       {{"order_s", round4(f.order_seconds)},
+        {"validate_s", round4(f.validate_seconds)},
+        {"flight_s", round4(f.seconds)}}}};
 }
 
 json missionToJson(const std::vector<planning::SurfaceMission>& missions, const json& meta) {
-  json out = {{"format", "uavip-mission"}, {"version", 1}, {"frame", "local ENU, metres, z up; yaw CCW from +x (east)"}};
+  json out = {{"format", "uavip-mission"},
+              {"version", 1},
+              {"frame", "local ENU, metres, z up; yaw CCW from +x (east)"}};
   for (const auto& [k, v] : meta.items()) out[k] = v;
   json arr = json::array();
   for (const auto& m : missions) arr.push_back(surfaceMissionToJson(m));
@@ -131,4 +138,3 @@ json missionToJson(const std::vector<planning::SurfaceMission>& missions, const 
 }
 
 }  // namespace uavip::io
-

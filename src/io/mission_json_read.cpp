@@ -13,25 +13,28 @@ StopRecord readStop(const JsonReader& r, const json& j, const std::string& f) {
   StopRecord s;
   s.position = r.vec3(r.at(j, "position", f), JsonReader::join(f, "position"));
   s.yaw_deg = r.number(r.at(j, "yaw_deg", f), JsonReader::join(f, "yaw_deg"), -720.0, 720.0, "deg");
-  s.gimbal_pitch_deg =
-      r.number(r.at(j, "gimbal_pitch_deg", f), JsonReader::join(f, "gimbal_pitch_deg"), -180.0, 180.0, "deg");
+  s.gimbal_pitch_deg = r.number(r.at(j, "gimbal_pitch_deg", f),
+                                JsonReader::join(f, "gimbal_pitch_deg"), -180.0, 180.0, "deg");
   if (j.contains("problem")) s.problem = r.text(j.at("problem"), JsonReader::join(f, "problem"));
   return s;
 }
 
 SurfaceRecord readSurface(const JsonReader& r, const json& j, const std::string& f) {
   SurfaceRecord s;
-  s.surface_id = static_cast<int>(r.integer(r.at(j, "surface_id", f), JsonReader::join(f, "surface_id"), 0, 1'000'000));
+  s.surface_id = static_cast<int>(
+      r.integer(r.at(j, "surface_id", f), JsonReader::join(f, "surface_id"), 0, 1'000'000));
   s.status = r.text(r.at(j, "status", f), JsonReader::join(f, "status"));
   if (j.contains("reason")) s.reason = r.text(j.at("reason"), JsonReader::join(f, "reason"));
   const std::string fs = JsonReader::join(f, "stops");
   const json& stops = r.list(r.at(j, "stops", f), fs);
-  for (std::size_t k = 0; k < stops.size(); ++k) s.stops.push_back(readStop(r, stops[k], JsonReader::item(fs, k)));
+  for (std::size_t k = 0; k < stops.size(); ++k)
+    s.stops.push_back(readStop(r, stops[k], JsonReader::item(fs, k)));
   s.waypoints = r.points(r.at(j, "waypoints", f), JsonReader::join(f, "waypoints"));
   return s;
 }
 
-SortieRecord readSortie(const JsonReader& r, const json& j, const std::string& f, const MissionRecord& m) {
+SortieRecord readSortie(const JsonReader& r, const json& j, const std::string& f,
+                        const MissionRecord& m) {
   SortieRecord s;
   s.waypoints = r.points(r.at(j, "waypoints", f), JsonReader::join(f, "waypoints"));
   if (s.waypoints.size() < 2) r.fail(JsonReader::join(f, "waypoints"), "must list home ... home");
@@ -40,13 +43,16 @@ SortieRecord readSortie(const JsonReader& r, const json& j, const std::string& f
   for (std::size_t k = 0; k < stops.size(); ++k) {
     const std::string w = JsonReader::item(fs, k);
     SortieStopRecord st;
-    st.surface_id = static_cast<int>(r.integer(r.at(stops[k], "surface_id", w), JsonReader::join(w, "surface_id"), 0, 1'000'000));
-    st.stop = static_cast<std::size_t>(r.integer(r.at(stops[k], "stop", w), JsonReader::join(w, "stop"), 0, 1'000'000'000));
-    st.waypoint = static_cast<std::size_t>(
-        r.integer(r.at(stops[k], "waypoint", w), JsonReader::join(w, "waypoint"), 0, 1'000'000'000));
+    st.surface_id = static_cast<int>(r.integer(r.at(stops[k], "surface_id", w),
+                                               JsonReader::join(w, "surface_id"), 0, 1'000'000));
+    st.stop = static_cast<std::size_t>(
+        r.integer(r.at(stops[k], "stop", w), JsonReader::join(w, "stop"), 0, 1'000'000'000));
+    st.waypoint = static_cast<std::size_t>(r.integer(
+        r.at(stops[k], "waypoint", w), JsonReader::join(w, "waypoint"), 0, 1'000'000'000));
     const SurfaceRecord* surface = m.surface(st.surface_id);
     const bool later = s.stops.empty() || st.waypoint > s.stops.back().waypoint;
-    if (surface == nullptr || st.stop >= surface->stops.size() || !later || st.waypoint >= s.waypoints.size())
+    if (surface == nullptr || st.stop >= surface->stops.size() || !later ||
+        st.waypoint >= s.waypoints.size())
       r.fail(w, "names no stop of the mission or no later waypoint of the sortie");
     if ((s.waypoints[st.waypoint] - surface->stops[st.stop].position).norm() > kStopMatchM)
       r.fail(w, "is not at its waypoint; the file was changed or is not a uavip mission");
@@ -66,16 +72,19 @@ const SurfaceRecord* MissionRecord::surface(int id) const {
 
 MissionRecord missionFromJson(const json& j, const std::string& path) {
   const JsonReader r(path);
-  if (!j.is_object()) r.fail("the file", "must be a JSON object (a mission.json written by run or plan)");
+  if (!j.is_object())
+    r.fail("the file", "must be a JSON object (a mission.json written by run or plan)");
   MissionRecord m;
   if (j.contains("inflation_radius_m"))
-    m.inflation_radius_m = r.number(j.at("inflation_radius_m"), "inflation_radius_m", 1e-6, 1e3, "m");
+    m.inflation_radius_m =
+        r.number(j.at("inflation_radius_m"), "inflation_radius_m", 1e-6, 1e3, "m");
   const json& surfaces = r.list(r.at(j, "surfaces", ""), "surfaces");
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const std::string f = JsonReader::item("surfaces", i);
     SurfaceRecord s = readSurface(r, surfaces[i], f);
     if (m.surface(s.surface_id) != nullptr)
-      r.fail(f + ".surface_id", std::to_string(s.surface_id) + " is used by an earlier surface; ids must differ");
+      r.fail(f + ".surface_id",
+             std::to_string(s.surface_id) + " is used by an earlier surface; ids must differ");
     m.surfaces.push_back(std::move(s));
   }
   if (j.contains("flight")) {
@@ -91,6 +100,8 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
   return m;
 }
 
-MissionRecord loadMission(const std::string& path) { return missionFromJson(JsonReader(path).load(), path); }
+MissionRecord loadMission(const std::string& path) {
+  return missionFromJson(JsonReader(path).load(), path);
+}
 
 }  // namespace uavip::io

@@ -1,15 +1,14 @@
 #include "uavip/io/scene_json.h"
 
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/json_reader.h"
-
-#include <Eigen/Geometry>
-
-#include <cmath>
-#include <cstdint>
-#include <filesystem>
 
 namespace uavip::io {
 namespace {
@@ -25,7 +24,6 @@ json points(const PointList& pts) {
   for (const auto& p : pts) arr.push_back(vec(p));
   return arr;
 }
-
 
 /// A count in [0, 1e12).
 std::size_t count(const JsonReader& r, const json& j, const std::string& field) {
@@ -46,18 +44,23 @@ SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& p
   sc.cell_m = r.number(r.at(js, "cell_m", "safety"), "safety.cell_m", 1e-9, 1e6, "m");
   sc.margin_m = r.number(r.at(js, "margin_m", "safety"), "safety.margin_m", 0.0, 1e6, "m");
   sc.input_points = count(r, r.at(js, "input_points", "safety"), "safety.input_points");
-  sc.perception_dropped = count(r, r.at(js, "perception_dropped", "safety"), "safety.perception_dropped");
-  if (js.contains("source") && js.at("source").is_string()) sc.source = js.at("source").get<std::string>();
-  if (js.contains("sha256") && js.at("sha256").is_string()) sc.sha256 = js.at("sha256").get<std::string>();
+  sc.perception_dropped =
+      count(r, r.at(js, "perception_dropped", "safety"), "safety.perception_dropped");
+  if (js.contains("source") && js.at("source").is_string())
+    sc.source = js.at("source").get<std::string>();
+  if (js.contains("sha256") && js.at("sha256").is_string())
+    sc.sha256 = js.at("sha256").get<std::string>();
   if (points == 0) return sc;
-  const std::string cloud = (std::filesystem::path(path).parent_path() / file.get<std::string>()).string();
+  const std::string cloud =
+      (std::filesystem::path(path).parent_path() / file.get<std::string>()).string();
   if (!std::filesystem::exists(cloud)) {
-    throw InputError(path + ": safety.file " + cloud + " is missing; keep it beside scene.json (or run detect again)");
+    throw InputError(path + ": safety.file " + cloud +
+                     " is missing; keep it beside scene.json (or run detect again)");
   }
   sc.points = loadCloud(cloud);
   if (sc.points.size() != points) {
-    throw InputError(cloud + ": holds " + std::to_string(sc.points.size()) + " points, " + path + " says safety.points " +
-                     std::to_string(points) + "; run detect again");
+    throw InputError(cloud + ": holds " + std::to_string(sc.points.size()) + " points, " + path +
+                     " says safety.points " + std::to_string(points) + "; run detect again");
   }
   return sc;
 }
@@ -128,15 +131,21 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     Surface s;
     s.id = static_cast<int>(r.integer(r.at(js, "id", f), f + ".id", 0, 1'000'000));
     for (const auto& earlier : scene.surfaces) {
-      if (earlier.id == s.id) r.fail(f + ".id", std::to_string(s.id) + " is used by an earlier surface; ids must differ");
+      if (earlier.id == s.id)
+        r.fail(f + ".id", std::to_string(s.id) + " is used by an earlier surface; ids must differ");
     }
     s.plane.normal = r.vec3(r.at(js, "normal", f), f + ".normal");
-    if (std::abs(s.plane.normal.norm() - 1.0) > 1e-3) r.fail(f + ".normal", "must be a unit vector");
+    if (std::abs(s.plane.normal.norm() - 1.0) > 1e-3)
+      r.fail(f + ".normal", "must be a unit vector");
     s.plane.normal.normalize();
-    s.plane.offset = r.number(r.at(js, "offset", f), f + ".offset", -2.0 * kMaxLocalCoordinateM, 2.0 * kMaxLocalCoordinateM, "m");
+    s.plane.offset = r.number(r.at(js, "offset", f), f + ".offset", -2.0 * kMaxLocalCoordinateM,
+                              2.0 * kMaxLocalCoordinateM, "m");
     s.area_m2 = r.number(r.at(js, "area_m2", f), f + ".area_m2");
-    s.density_area_m2 = js.contains("density_area_m2") ? r.number(js["density_area_m2"], f + ".density_area_m2") : s.area_m2;
-    if (!(s.area_m2 >= 0.0) || !(s.density_area_m2 >= 0.0)) r.fail(f + ".area_m2", "must be >= 0 m2");
+    s.density_area_m2 = js.contains("density_area_m2")
+                            ? r.number(js["density_area_m2"], f + ".density_area_m2")
+                            : s.area_m2;
+    if (!(s.area_m2 >= 0.0) || !(s.density_area_m2 >= 0.0))
+      r.fail(f + ".area_m2", "must be >= 0 m2");
     s.centroid = r.vec3(r.at(js, "centroid", f), f + ".centroid");
     s.axis_u = r.vec3(r.at(js, "axis_u", f), f + ".axis_u");
     s.axis_u = (s.axis_u - s.axis_u.dot(s.plane.normal) * s.plane.normal).normalized();
@@ -160,7 +169,8 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     scene.cloud.insert(scene.cloud.end(), o.points.begin(), o.points.end());
     scene.obstacles.push_back(std::move(o));
   }
-  if (scene.cloud.empty()) throw InputError(path + ": the scene has no points (no surfaces, no obstacles)");
+  if (scene.cloud.empty())
+    throw InputError(path + ": the scene has no points (no surfaces, no obstacles)");
   if (j.contains("cloud")) {  // written since the auto parameters (absent in older files)
     const json& c = j.at("cloud");
     CloudStats m;
@@ -168,7 +178,8 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     if (!(points >= 0.0 && points < 1e12)) r.fail("cloud.points", "must be a count");
     m.points = static_cast<std::size_t>(points);
     m.spacing_m = r.number(r.at(c, "spacing_m", "cloud"), "cloud.spacing_m");
-    if (!(std::isfinite(m.spacing_m) && m.spacing_m >= 0.0)) r.fail("cloud.spacing_m", "must be >= 0");
+    if (!(std::isfinite(m.spacing_m) && m.spacing_m >= 0.0))
+      r.fail("cloud.spacing_m", "must be >= 0");
     m.extent_m = r.vec3(r.at(c, "extent_m", "cloud"), "cloud.extent_m", false);
     m.min = r.vec3(r.at(c, "min", "cloud"), "cloud.min");
     m.max = r.vec3(r.at(c, "max", "cloud"), "cloud.max");
@@ -183,8 +194,6 @@ Scene sceneFromJson(const json& j, const std::string& path) {
   return scene;
 }
 
-Scene loadScene(const std::string& path) {
-  return sceneFromJson(JsonReader(path).load(), path);
-}
+Scene loadScene(const std::string& path) { return sceneFromJson(JsonReader(path).load(), path); }
 
 }  // namespace uavip::io

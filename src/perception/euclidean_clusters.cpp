@@ -1,13 +1,13 @@
 #include "uavip/perception/euclidean_clusters.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/voxel_key.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <utility>
+
+#include "uavip/core/error.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::perception {
 namespace {
@@ -15,7 +15,9 @@ namespace {
 /// Union–find over cells (path halving, union by index: deterministic).
 class DisjointSets {
  public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  explicit DisjointSets(std::size_t n) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+  }
   std::size_t find(std::size_t a) {
     while (parent_[a] != a) {
       parent_[a] = parent_[parent_[a]];
@@ -35,8 +37,10 @@ class DisjointSets {
 
 }  // namespace
 
-// Long (92 lines): cell keying, the union-find over neighbouring cells and the gather of clusters are passes over the same sorted key array.
-std::vector<std::vector<int>> euclideanClusters(const PointList& points, const std::vector<int>& indices,
+// Long (92 lines): cell keying, the union-find over neighbouring cells and the gather of clusters
+// are passes over the same sorted key array.
+std::vector<std::vector<int>> euclideanClusters(const PointList& points,
+                                                const std::vector<int>& indices,
                                                 double tolerance_m) {
   requirePositive(tolerance_m, "perception", "cluster tolerance_m");
   if (indices.empty()) return {};
@@ -125,7 +129,8 @@ std::vector<std::vector<int>> euclideanClusters(const PointList& points, const s
     std::sort(c.begin(), c.end());
     clusters.push_back(std::move(c));
   }
-  std::sort(clusters.begin(), clusters.end(), [](const auto& x, const auto& y) { return x.front() < y.front(); });
+  std::sort(clusters.begin(), clusters.end(),
+            [](const auto& x, const auto& y) { return x.front() < y.front(); });
   return clusters;
 }
 

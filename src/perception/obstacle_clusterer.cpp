@@ -1,14 +1,14 @@
 #include "uavip/perception/obstacle_clusterer.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/perception/euclidean_clusters.h"
-
 #include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <numeric>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/perception/euclidean_clusters.h"
 
 namespace uavip::perception {
 namespace {
@@ -55,7 +55,8 @@ std::vector<Obstacle> clusterObstacles(const PointList& points, const ClusterOpt
 
   std::vector<int> all(points.size());
   std::iota(all.begin(), all.end(), 0);
-  const std::vector<std::vector<int>> clusters = euclideanClusters(points, all, options.tolerance_m);
+  const std::vector<std::vector<int>> clusters =
+      euclideanClusters(points, all, options.tolerance_m);
 
   std::vector<Obstacle> obstacles;
   std::vector<int> residual;

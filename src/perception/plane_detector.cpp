@@ -1,15 +1,5 @@
 #include "uavip/perception/plane_detector.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-#include "uavip/core/pcl_cloud.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/voxel_key.h"
-#include "uavip/perception/euclidean_clusters.h"
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
-
 #include <pcl/ModelCoefficients.h>
 #include <pcl/PointIndices.h>
 #include <pcl/point_cloud.h>
@@ -19,6 +9,8 @@
 #include <pcl/segmentation/sac_segmentation.h>
 #include <pcl/surface/convex_hull.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -27,6 +19,13 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
+#include "uavip/core/pcl_cloud.h"
+#include "uavip/core/voxel_key.h"
+#include "uavip/perception/euclidean_clusters.h"
 
 namespace uavip::perception {
 namespace {
@@ -73,7 +72,6 @@ bool isDegenerate(const Pca& pca) {
   return !(largest > 0.0) || pca.eigenvalues[1] <= kDegenerateRatio * largest;
 }
 
-
 /// Tightens the RANSAC inliers `candidate` to the points within a robust band
 /// (median ± band_sigmas · 1.4826 · MAD of the plane distances, between
 /// band_floor × threshold and threshold) around their plane.
@@ -90,7 +88,8 @@ std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& 
     std::vector<double> dev(dist.size());
     for (std::size_t j = 0; j < dist.size(); ++j) dev[j] = std::abs(dist[j] - med);
     const double sigma = 1.4826 * upperMedian(dev);
-    const double band = std::clamp(tuning.band_sigmas * sigma, tuning.band_floor * threshold, threshold);
+    const double band =
+        std::clamp(tuning.band_sigmas * sigma, tuning.band_floor * threshold, threshold);
     std::vector<Index> next;
     next.reserve(candidate.size());
     for (std::size_t j = 0; j < candidate.size(); ++j) {
@@ -104,7 +103,8 @@ std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& 
 
 /// The largest Euclidean cluster of cloud[idx] (euclidean_clusters.h); ties: the
 /// cluster holding the smallest index. Sorted ascending.
-std::vector<Index> largestCluster(const PointList& cloud, const std::vector<Index>& idx, double tolerance) {
+std::vector<Index> largestCluster(const PointList& cloud, const std::vector<Index>& idx,
+                                  double tolerance) {
   if (idx.size() <= 1) return idx;
   const std::vector<std::vector<int>> clusters = euclideanClusters(cloud, idx, tolerance);
   const std::vector<int>* best = nullptr;
@@ -162,7 +162,8 @@ class OccupiedVoxels {
  public:
   OccupiedVoxels(const PointList& cloud, double edge)
       : box_(boundingBox(cloud)),
-        keyer_(box_.min - Vec3::Constant(edge), box_.max + Vec3::Constant(edge), edge, "line-of-sight voxel"),
+        keyer_(box_.min - Vec3::Constant(edge), box_.max + Vec3::Constant(edge), edge,
+               "line-of-sight voxel"),
         keys_(occupiedKeys(cloud, keyer_)) {
     for (const auto& p : cloud) centroid_ += p;
     centroid_ /= static_cast<double>(std::max<std::size_t>(cloud.size(), 1));
@@ -204,8 +205,9 @@ std::vector<std::uint64_t> ownKeys(const PointList& cloud, const std::vector<Ind
 /// outside of a building, the sky above a roof; 0 when the two sides
 /// differ by less than open_margin (a lone wall, the ground with nothing below).
 /// Rays start at up to open_samples inliers, along ±n and 30° off it toward ±u, ±v.
-double opennessSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& n, const Vec3& u,
-                    const Vec3& v, const OccupiedVoxels& occupied, const PlaneTuning& tuning) {
+double opennessSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& n,
+                    const Vec3& u, const Vec3& v, const OccupiedVoxels& occupied,
+                    const PlaneTuning& tuning) {
   const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
   const double step = 0.5 * occupied.edge();
   const std::size_t samples = std::min(static_cast<std::size_t>(tuning.open_samples), kept.size());
@@ -250,8 +252,9 @@ double opennessSide(const PointList& cloud, const std::vector<Index>& kept, cons
 /// and a ray ends sight_stop_m before its target; rays longer than sight_range_m
 /// are not cast. From behind a closed object a ray crosses the object's other faces
 /// and is blocked.
-double sightSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid, const Vec3& n,
-                 const std::vector<Vec3>& viewpoints, const OccupiedVoxels& occupied, const PlaneTuning& tuning) {
+double sightSide(const PointList& cloud, const std::vector<Index>& kept, const Vec3& centroid,
+                 const Vec3& n, const std::vector<Vec3>& viewpoints, const OccupiedVoxels& occupied,
+                 const PlaneTuning& tuning) {
   const double stop = tuning.sight_stop_m;
   const std::vector<std::uint64_t> own = ownKeys(cloud, kept, occupied);
   const double step = 0.5 * occupied.edge();
@@ -372,7 +375,8 @@ double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
   PointList flat;  // the (u, v) coordinates as points of the plane z = 0
   flat.reserve(uv.size());
   for (const auto& q : uv) flat.emplace_back(q.x(), q.y(), 0.0);
-  const auto cells = static_cast<double>(occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "area_cell_m")).size());
+  const auto cells = static_cast<double>(
+      occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "area_cell_m")).size());
   return cells * cell * cell;
 }
 
@@ -422,8 +426,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
 void removeFromPool(std::vector<Index>& pool, const std::vector<Index>& drop) {
   std::vector<Index> out;
   out.reserve(pool.size());
-  std::set_difference(pool.begin(), pool.end(), drop.begin(), drop.end(),
-                      std::back_inserter(out));
+  std::set_difference(pool.begin(), pool.end(), drop.begin(), drop.end(), std::back_inserter(out));
   pool = std::move(out);
 }
 
@@ -443,9 +446,12 @@ void configureSegmenter(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PclCloud
 /// The line-of-sight grid: for scanned clouds (tuning.sight_voxel_m), and for clouds
 /// with no known sensor position (openness, open_voxel_m); none when the viewpoint is
 /// known.
-std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud, const PlaneDetectionOptions& options) {
-  if (options.viewpoints_scanned) return std::make_unique<OccupiedVoxels>(cloud, options.tuning.sight_voxel_m);
-  if (!options.viewpoint_known) return std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
+std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud,
+                                                  const PlaneDetectionOptions& options) {
+  if (options.viewpoints_scanned)
+    return std::make_unique<OccupiedVoxels>(cloud, options.tuning.sight_voxel_m);
+  if (!options.viewpoint_known)
+    return std::make_unique<OccupiedVoxels>(cloud, options.open_voxel_m);
   return nullptr;
 }
 
@@ -456,8 +462,9 @@ std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud, const 
 /// PCL reseeds its sampler with a constant on every segment() call; shuffling the
 /// pool with our seeded generator makes `seed` select the samples.
 std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PointList& cloud,
-                                   const std::vector<Index>& pool, const Vec3& origin, double threshold_m,
-                                   std::size_t scoring_points, std::mt19937& rng) {
+                                   const std::vector<Index>& pool, const Vec3& origin,
+                                   double threshold_m, std::size_t scoring_points,
+                                   std::mt19937& rng) {
   auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
   std::shuffle(shuffled->begin(), shuffled->end(), rng);
   if (shuffled->size() > scoring_points) shuffled->resize(scoring_points);
@@ -475,7 +482,8 @@ std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, con
     n /= norm;
     d = d / norm - n.dot(origin);
     for (const auto i : pool) {
-      if (std::abs(n.dot(cloud[static_cast<std::size_t>(i)]) + d) <= threshold_m) candidate.push_back(i);
+      if (std::abs(n.dot(cloud[static_cast<std::size_t>(i)]) + d) <= threshold_m)
+        candidate.push_back(i);
     }
   }
   if (candidate.size() < 3) {
@@ -491,14 +499,17 @@ void PlaneTuning::validate(const std::string& where) const {
   const auto fraction = [&](double v, const char* name) {
     requireThat(v >= 0.0 && v <= 1.0, where, name, "in [0, 1]", v);
   };
-  const auto atLeastOne = [&](double v, const char* name) { requireThat(v >= 1.0, where, name, ">= 1", v); };
+  const auto atLeastOne = [&](double v, const char* name) {
+    requireThat(v >= 1.0, where, name, ">= 1", v);
+  };
   const auto nonNegative = [&](double v, const char* name) {
     requireThat(std::isfinite(v) && v >= 0.0, where, name, ">= 0", v);
   };
   requirePositive(band_sigmas, where, "band_sigmas");
   fraction(band_floor, "band_floor");
   atLeastOne(band_iterations, "band_iterations");
-  requireThat(ransac_scoring_points >= 3, where, "ransac_scoring_points", ">= 3", static_cast<double>(ransac_scoring_points));
+  requireThat(ransac_scoring_points >= 3, where, "ransac_scoring_points", ">= 3",
+              static_cast<double>(ransac_scoring_points));
   nonNegative(orient_near_m, "orient_near_m");
   requirePositive(orient_depth_m, where, "orient_depth_m");
   requirePositive(orient_cell_m, where, "orient_cell_m");
@@ -533,8 +544,7 @@ void PlaneDetectionOptions::validate(const std::string& where) const {
     throw InputError(where + ": max_planes must be >= 0, got " + std::to_string(max_planes));
   }
   if (max_failures < 1) {
-    throw InputError(where + ": max_failures must be >= 1, got " +
-                     std::to_string(max_failures));
+    throw InputError(where + ": max_failures must be >= 1, got " + std::to_string(max_failures));
   }
   tuning.validate(where + ".tuning");
   if (!viewpoint.allFinite()) {
@@ -577,11 +587,13 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
 
     const std::vector<Index> candidate =
-        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m, options.tuning.ransac_scoring_points, rng);
+        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m,
+                        options.tuning.ransac_scoring_points, rng);
     if (candidate.empty()) break;
     ++result.stats.candidates;
 
-    const std::vector<Index> band = refineBand(cloud, candidate, options.distance_threshold_m, options.tuning);
+    const std::vector<Index> band =
+        refineBand(cloud, candidate, options.distance_threshold_m, options.tuning);
     const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
 
     bool accepted = false;

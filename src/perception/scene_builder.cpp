@@ -8,8 +8,7 @@ void PerceptionOptions::validate(const std::string& where) const {
   clusters.validate(where + ".clusters");
 }
 
-Scene buildScene(const PointList& clean, const PerceptionOptions& options,
-                 PerceptionStats* stats) {
+Scene buildScene(const PointList& clean, const PerceptionOptions& options, PerceptionStats* stats) {
   options.validate();
   Scene scene;
 

@@ -1,12 +1,5 @@
 #include "uavip/planning/flight_planner.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/planning/path_join.h"
-#include "uavip/planning/path_simplifier.h"
-#include "uavip/planning/tour.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,6 +7,13 @@
 #include <limits>
 #include <map>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/planning/path_join.h"
+#include "uavip/planning/path_simplifier.h"
+#include "uavip/planning/tour.h"
 
 namespace uavip::planning {
 
@@ -78,9 +78,9 @@ class LegPlanner {
 /// A flyable surface's path from its first to its last flown stop.
 struct SurfacePath {
   int surface_id{0};
-  PointList waypoints;              ///< first stop … last stop
-  std::vector<int> stops;           ///< stop indices in flight order
-  std::vector<std::size_t> at;      ///< waypoint index of each stop
+  PointList waypoints;          ///< first stop … last stop
+  std::vector<int> stops;       ///< stop indices in flight order
+  std::vector<std::size_t> at;  ///< waypoint index of each stop
   double length_m{0.0};
 };
 
@@ -118,7 +118,8 @@ SurfacePath reversed(const SurfacePath& s) {
 }
 
 /// Default home: the lowest flown stop (ties: first surface, first stop).
-void chooseHome(const std::vector<SurfacePath>& surfaces, const FlightOptions& options, FlightPlan& plan) {
+void chooseHome(const std::vector<SurfacePath>& surfaces, const FlightOptions& options,
+                FlightPlan& plan) {
   if (options.home) {
     plan.home = *options.home;
     plan.home_source = "mission.home";
@@ -136,8 +137,8 @@ void chooseHome(const std::vector<SurfacePath>& surfaces, const FlightOptions& o
       if (p.z() < best) {
         best = p.z();
         plan.home = p;
-        plan.home_source = "lowest photo stop (surface " + std::to_string(s.surface_id) + ", stop " +
-                           std::to_string(s.stops[k]) + ")";
+        plan.home_source = "lowest photo stop (surface " + std::to_string(s.surface_id) +
+                           ", stop " + std::to_string(s.stops[k]) + ")";
       }
     }
   }
@@ -149,8 +150,9 @@ struct TourPath {
   std::vector<FlightStop> stops;  ///< waypoint = index in `waypoints`
 };
 
-TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfaces, const std::vector<int>& order,
-                   const std::vector<int>& variant, LegPlanner& legs) {
+TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfaces,
+                   const std::vector<int>& order, const std::vector<int>& variant,
+                   LegPlanner& legs) {
   TourPath t;
   t.waypoints.push_back(plan.home);
   for (std::size_t i = 0; i < order.size(); ++i) {
@@ -158,7 +160,8 @@ TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfa
                                           : reversed(surfaces[static_cast<std::size_t>(order[i])]);
     appendLeg(t.waypoints, *legs.path(t.waypoints.back(), s.waypoints.front()));
     const std::size_t base = t.waypoints.size() - 1;  // s.waypoints.front() sits here
-    for (std::size_t k = 0; k < s.stops.size(); ++k) t.stops.push_back({s.surface_id, s.stops[k], base + s.at[k]});
+    for (std::size_t k = 0; k < s.stops.size(); ++k)
+      t.stops.push_back({s.surface_id, s.stops[k], base + s.at[k]});
     t.waypoints.insert(t.waypoints.end(), s.waypoints.begin() + 1, s.waypoints.end());
   }
   appendLeg(t.waypoints, *legs.path(t.waypoints.back(), plan.home));
@@ -167,13 +170,16 @@ TourPath buildTour(const FlightPlan& plan, const std::vector<SurfacePath>& surfa
 
 using SegmentKey = std::array<double, 6>;
 
-SegmentKey segmentKey(const Vec3& a, const Vec3& b) { return {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}; }
+SegmentKey segmentKey(const Vec3& a, const Vec3& b) {
+  return {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()};
+}
 
 /// Clearance of every segment the surfaces' own validation measured, both ways [m].
 std::map<SegmentKey, double> validatedSegments(const std::vector<SurfaceMission>& missions) {
   std::map<SegmentKey, double> known;
   for (const auto& m : missions) {
-    if (!flyable(m.status) || m.validation.segment_clearance_m.size() + 1 != m.waypoints.size()) continue;
+    if (!flyable(m.status) || m.validation.segment_clearance_m.size() + 1 != m.waypoints.size())
+      continue;
     for (std::size_t i = 0; i + 1 < m.waypoints.size(); ++i) {
       known[segmentKey(m.waypoints[i], m.waypoints[i + 1])] = m.validation.segment_clearance_m[i];
       known[segmentKey(m.waypoints[i + 1], m.waypoints[i])] = m.validation.segment_clearance_m[i];
@@ -211,29 +217,32 @@ ValidationResult validateSortie(const PointList& path, const std::map<SegmentKey
   return r;
 }
 
-std::string describeViolation(std::size_t sortie, const ValidationResult& v, const PathValidator& validator) {
+std::string describeViolation(std::size_t sortie, const ValidationResult& v,
+                              const PathValidator& validator) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(3) << "sortie " << sortie << " fails validation: segment "
-     << v.first_violation_segment << " comes closer than the required " << validator.requiredClearance() << " m to "
-     << v.violation_object << " at " << formatPoint(v.violation_point) << " (minimum clearance " << v.min_clearance_m
-     << " m)";
+     << v.first_violation_segment << " comes closer than the required "
+     << validator.requiredClearance() << " m to " << v.violation_object << " at "
+     << formatPoint(v.violation_point) << " (minimum clearance " << v.min_clearance_m << " m)";
   return os.str();
 }
 
 /// Cuts the tour into sorties that each fit the usable endurance. Returns an empty
 /// string, or why a stop cannot be flown in one battery.
-std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const FlightModel& model, LegPlanner& legs,
-                         std::vector<Sortie>& sorties) {
+std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const FlightModel& model,
+                         LegPlanner& legs, std::vector<Sortie>& sorties) {
   // Flight time from home along the tour to each waypoint.
   std::vector<double> t(tour.waypoints.size(), 0.0);
-  for (std::size_t i = 1; i < t.size(); ++i) t[i] = t[i - 1] + model.segmentSeconds(tour.waypoints[i - 1], tour.waypoints[i]);
+  for (std::size_t i = 1; i < t.size(); ++i)
+    t[i] = t[i - 1] + model.segmentSeconds(tour.waypoints[i - 1], tour.waypoints[i]);
   const double budget = model.usableSeconds();
   const std::size_t n = tour.stops.size();
   auto legSeconds = [&](const Vec3& a, const Vec3& b) {
     const PointList* p = legs.path(a, b);
     return p == nullptr ? std::numeric_limits<double>::infinity() : model.pathSeconds(*p);
   };
-  auto along = [&](std::size_t first, std::size_t last) {  // stops first..last, flight between them and photos
+  auto along = [&](std::size_t first,
+                   std::size_t last) {  // stops first..last, flight between them and photos
     return t[tour.stops[last].waypoint] - t[tour.stops[first].waypoint] +
            static_cast<double>(last - first + 1) * model.stopSeconds();
   };
@@ -243,26 +252,31 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
     const double out = legSeconds(plan.home, entry);
     std::size_t last = first;
     // Grow while the straight-line return (a lower bound) fits; then check the real one.
-    while (last + 1 < n && out + along(first, last + 1) +
-                               model.segmentSeconds(tour.waypoints[tour.stops[last + 1].waypoint], plan.home) <=
-                               budget) {
+    while (last + 1 < n &&
+           out + along(first, last + 1) +
+                   model.segmentSeconds(tour.waypoints[tour.stops[last + 1].waypoint], plan.home) <=
+               budget) {
       ++last;
     }
     while (last > first &&
-           out + along(first, last) + legSeconds(tour.waypoints[tour.stops[last].waypoint], plan.home) > budget) {
+           out + along(first, last) +
+                   legSeconds(tour.waypoints[tour.stops[last].waypoint], plan.home) >
+               budget) {
       --last;
     }
     const Vec3& exit = tour.waypoints[tour.stops[last].waypoint];
     const double total = out + along(first, last) + legSeconds(exit, plan.home);
     if (!std::isfinite(total)) {
       return "planner found no leg between home " + formatPoint(plan.home) + " and stop " +
-             std::to_string(tour.stops[first].stop) + " of surface " + std::to_string(tour.stops[first].surface_id);
+             std::to_string(tour.stops[first].stop) + " of surface " +
+             std::to_string(tour.stops[first].surface_id);
     }
     if (total > budget) {
       std::ostringstream os;
-      os << std::fixed << std::setprecision(0) << "stop " << tour.stops[first].stop << " of surface "
-         << tour.stops[first].surface_id << " needs " << total << " s from home and back, more than the usable "
-         << budget << " s of flight.endurance_s " << model.endurance_s << " s less flight.reserve; raise "
+      os << std::fixed << std::setprecision(0) << "stop " << tour.stops[first].stop
+         << " of surface " << tour.stops[first].surface_id << " needs " << total
+         << " s from home and back, more than the usable " << budget << " s of flight.endurance_s "
+         << model.endurance_s << " s less flight.reserve; raise "
          << "flight.endurance_s or move mission.home closer";
       return os.str();
     }
@@ -270,9 +284,10 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
     s.waypoints.push_back(plan.home);
     appendLeg(s.waypoints, *legs.path(plan.home, entry));
     const std::size_t shift = s.waypoints.size() - 1 - tour.stops[first].waypoint;
-    s.waypoints.insert(s.waypoints.end(),
-                       tour.waypoints.begin() + static_cast<std::ptrdiff_t>(tour.stops[first].waypoint + 1),
-                       tour.waypoints.begin() + static_cast<std::ptrdiff_t>(tour.stops[last].waypoint + 1));
+    s.waypoints.insert(
+        s.waypoints.end(),
+        tour.waypoints.begin() + static_cast<std::ptrdiff_t>(tour.stops[first].waypoint + 1),
+        tour.waypoints.begin() + static_cast<std::ptrdiff_t>(tour.stops[last].waypoint + 1));
     for (std::size_t k = first; k <= last; ++k) {
       FlightStop fs = tour.stops[k];
       fs.waypoint += shift;
@@ -280,7 +295,8 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
     }
     appendLeg(s.waypoints, *legs.path(exit, plan.home));
     s.length_m = polylineLength(s.waypoints);
-    s.duration_s = model.pathSeconds(s.waypoints) + static_cast<double>(s.stops.size()) * model.stopSeconds();
+    s.duration_s =
+        model.pathSeconds(s.waypoints) + static_cast<double>(s.stops.size()) * model.stopSeconds();
     sorties.push_back(std::move(s));
     first = last + 1;
   }
@@ -288,7 +304,8 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
 }
 
 /// The missions that can be flown, as surface paths; the others go to plan.excluded.
-std::vector<SurfacePath> flyableSurfaces(const std::vector<SurfaceMission>& missions, FlightPlan& plan) {
+std::vector<SurfacePath> flyableSurfaces(const std::vector<SurfaceMission>& missions,
+                                         FlightPlan& plan) {
   std::vector<SurfacePath> surfaces;
   for (const auto& m : missions) {
     if (!flyable(m.status)) {
@@ -306,14 +323,16 @@ std::vector<SurfacePath> flyableSurfaces(const std::vector<SurfaceMission>& miss
 }
 
 /// Leaves out the surfaces the home's free region cannot reach (to plan.excluded).
-void dropUnreachable(std::vector<SurfacePath>& surfaces, const world::VoxelGrid& grid, FlightPlan& plan) {
+void dropUnreachable(std::vector<SurfacePath>& surfaces, const world::VoxelGrid& grid,
+                     FlightPlan& plan) {
   const world::Index3 home_voxel = grid.indexOf(plan.home);
   std::vector<SurfacePath> reachable;
   for (auto& s : surfaces) {
     if (grid.connected(home_voxel, grid.indexOf(s.waypoints.front()))) {
       reachable.push_back(std::move(s));
     } else {
-      plan.excluded.push_back({s.surface_id, "cut off from home " + formatPoint(plan.home) + " on the grid"});
+      plan.excluded.push_back(
+          {s.surface_id, "cut off from home " + formatPoint(plan.home) + " on the grid"});
     }
   }
   surfaces = std::move(reachable);
@@ -325,7 +344,8 @@ struct TourProblem {
   PointList points;
   std::vector<TourCluster> clusters;
 
-  TourProblem(const std::vector<SurfacePath>& surfaces, const Vec3& home) : points{home}, clusters(1) {
+  TourProblem(const std::vector<SurfacePath>& surfaces, const Vec3& home)
+      : points{home}, clusters(1) {
     clusters[0].variants.push_back({0, 0, 0.0});
     for (const auto& s : surfaces) {
       const int first = static_cast<int>(points.size());
@@ -343,7 +363,8 @@ struct TourProblem {
     std::vector<std::pair<int, int>> ends;
     int at = 0;
     for (std::size_t i = 0; i < tour.order.size(); ++i) {
-      const auto& v = clusters[static_cast<std::size_t>(tour.order[i])].variants[static_cast<std::size_t>(tour.variant[i])];
+      const auto& v = clusters[static_cast<std::size_t>(tour.order[i])]
+                          .variants[static_cast<std::size_t>(tour.variant[i])];
       ends.emplace_back(at, v.entry);
       at = v.exit;
     }
@@ -370,8 +391,8 @@ struct TourProblem {
 /// legs exactly, repeat. Estimates are lower bounds: a tour optimal for them whose
 /// legs are all exact is optimal for the true lengths (docs/architecture_notes.md).
 /// Fills the plan's order figures (exact_order, tour and bound lengths, naive tour).
-Tour orderSurfaces(const TourProblem& problem, LegPlanner& legs, const FlightOptions& options, FlightPlan& plan,
-                   SteadyClock::time_point t0) {
+Tour orderSurfaces(const TourProblem& problem, LegPlanner& legs, const FlightOptions& options,
+                   FlightPlan& plan, SteadyClock::time_point t0) {
   const PointList& points = problem.points;
   const PointCost estimate = [&](int a, int b) { return legs.length(points[a], points[b]); };
   Tour tour;
@@ -384,7 +405,8 @@ Tour orderSurfaces(const TourProblem& problem, LegPlanner& legs, const FlightOpt
   plan.order_seconds = secondsSince(t0);
   plan.exact_order = tour.exact && converged;
   plan.tour_length_m = tour.cost;
-  plan.lower_bound_m = tourLowerBound(problem.clusters, [&](int a, int b) { return (points[b] - points[a]).norm(); });
+  plan.lower_bound_m = tourLowerBound(problem.clusters,
+                                      [&](int a, int b) { return (points[b] - points[a]).norm(); });
   if (options.compare_naive) {
     Tour naive;
     for (std::size_t c = 1; c < problem.clusters.size(); ++c) {
@@ -400,7 +422,8 @@ Tour orderSurfaces(const TourProblem& problem, LegPlanner& legs, const FlightOpt
 
 /// Sweeps the UAV along every sortie (segments the surface missions already
 /// validated are reused); the first violation fails the plan. Sums length and time.
-void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missions, const PathValidator& validator) {
+void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missions,
+                     const PathValidator& validator) {
   const auto t_validate = SteadyClock::now();
   const std::map<SegmentKey, double> known = validatedSegments(missions);
   for (std::size_t i = 0; i < plan.sorties.size(); ++i) {
@@ -410,7 +433,8 @@ void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missio
     plan.duration_s += s.duration_s;
     if (!s.validation.collision_free && plan.status == FlightPlan::Status::Ok) {
       plan.status = FlightPlan::Status::Failed;
-      plan.reason = describeViolation(i + 1, s.validation, validator) + "; the flight is not written";
+      plan.reason =
+          describeViolation(i + 1, s.validation, validator) + "; the flight is not written";
     }
   }
   plan.validate_seconds = secondsSince(t_validate);
@@ -419,7 +443,8 @@ void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missio
 }  // namespace
 
 FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
-                      const PathValidator& validator, Planner& planner, const FlightOptions& options) {
+                      const PathValidator& validator, Planner& planner,
+                      const FlightOptions& options) {
   const auto t0 = SteadyClock::now();
   FlightPlan plan;
   options.model.validate("flight");
@@ -435,11 +460,13 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
   chooseHome(surfaces, options, plan);
   if (!plan.home.allFinite() || !grid.isFree(plan.home)) {
     throw InputError("mission.home: " + formatPoint(plan.home) +
-                     " is inside obstacle space or outside the planning grid; move it into open space near the structure");
+                     " is inside obstacle space or outside the planning grid; move it into open "
+                     "space near the structure");
   }
   dropUnreachable(surfaces, grid, plan);
   if (surfaces.empty()) {
-    return fail(FlightPlan::Status::Failed, "no flyable surface can be reached from home " + formatPoint(plan.home));
+    return fail(FlightPlan::Status::Failed,
+                "no flyable surface can be reached from home " + formatPoint(plan.home));
   }
   for (const auto& s : surfaces) plan.inner_length_m += s.length_m;
 
@@ -448,15 +475,17 @@ FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::
   const Tour tour = orderSurfaces(problem, legs, options, plan, t0);
   for (const auto& [a, b] : problem.legEnds(tour)) {
     if (legs.path(problem.points[a], problem.points[b]) == nullptr) {
-      return fail(FlightPlan::Status::Failed, "planner '" + planner.name() + "' found no leg from " +
-                                                  formatPoint(problem.points[a]) + " to " +
-                                                  formatPoint(problem.points[b]) + "; no flight generated");
+      return fail(FlightPlan::Status::Failed,
+                  "planner '" + planner.name() + "' found no leg from " +
+                      formatPoint(problem.points[a]) + " to " + formatPoint(problem.points[b]) +
+                      "; no flight generated");
     }
   }
   std::vector<int> order;
   for (std::size_t i = 0; i < tour.order.size(); ++i) {
     order.push_back(tour.order[i] - 1);
-    plan.order.push_back({surfaces[static_cast<std::size_t>(tour.order[i] - 1)].surface_id, tour.variant[i] == 1});
+    plan.order.push_back(
+        {surfaces[static_cast<std::size_t>(tour.order[i] - 1)].surface_id, tour.variant[i] == 1});
   }
 
   const TourPath path = buildTour(plan, surfaces, order, tour.variant, legs);

@@ -1,12 +1,5 @@
 #include "uavip/planning/mission_planner.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/math.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/planning/path_join.h"
-#include "uavip/planning/path_simplifier.h"
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -14,14 +7,21 @@
 #include <limits>
 #include <sstream>
 
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/planning/path_join.h"
+#include "uavip/planning/path_simplifier.h"
+
 namespace uavip::planning {
 
 namespace {
 
 std::string legName(const Leg& leg) {
   std::ostringstream os;
-  os << (leg.from_stop < 0 ? std::string("start") : "stop " + std::to_string(leg.from_stop)) << " -> stop "
-     << leg.to_stop;
+  os << (leg.from_stop < 0 ? std::string("start") : "stop " + std::to_string(leg.from_stop))
+     << " -> stop " << leg.to_stop;
   return os.str();
 }
 
@@ -43,15 +43,17 @@ bool clearSight(const world::VoxelGrid& grid, const Vec3& from, const Vec3& targ
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
 /// The first candidate in that order that is free, in the gimbal limits and in
 /// clear sight of the target wins. Returns false if none is.
-bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
-                const MissionOptions& options) {
+bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
+                const world::VoxelGrid& grid, const MissionOptions& options) {
   const double standoff = strategy.camera.standoff_m;
   if (!(standoff > 0.0)) return false;
   const Vec3 n = (stop.position - stop.target) / standoff;
-  const Vec3 up = std::abs(strategy.axis_h.z()) > 1e-6 && strategy.axis_h.z() < 0.0 ? Vec3(-strategy.axis_h)
-                                                                                       : strategy.axis_h;
+  const Vec3 up = std::abs(strategy.axis_h.z()) > 1e-6 && strategy.axis_h.z() < 0.0
+                      ? Vec3(-strategy.axis_h)
+                      : strategy.axis_h;
   const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
-  const double factors[3] = {1.0, 0.5 * (1.0 + options.max_standoff_factor), options.max_standoff_factor};
+  const double factors[3] = {1.0, 0.5 * (1.0 + options.max_standoff_factor),
+                             options.max_standoff_factor};
   for (const double f : factors) {
     for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
       const double a = deg * kPi / 180.0;
@@ -59,13 +61,17 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, 
         if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
         const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
         const Vec3 p = stop.target + f * standoff * dir;
-        if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3)) continue;
+        if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3))
+          continue;
         const Vec3 look = stop.target - p;
         const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi;
-        if (pitch < options.gimbal.pitch_min_deg - 1e-9 || pitch > options.gimbal.pitch_max_deg + 1e-9) continue;
+        if (pitch < options.gimbal.pitch_min_deg - 1e-9 ||
+            pitch > options.gimbal.pitch_max_deg + 1e-9)
+          continue;
         stop.position = p;
         stop.gimbal_pitch_deg = pitch;
-        if (look.head<2>().norm() > 1e-6) stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / kPi;
+        if (look.head<2>().norm() > 1e-6)
+          stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / kPi;
         return true;
       }
     }
@@ -74,30 +80,34 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy, 
 }
 
 /// Throws InputError when mission.start is given but not in a free voxel.
-void requireFreeStart(const world::VoxelGrid& grid, const PathValidator& validator, const MissionOptions& options) {
+void requireFreeStart(const world::VoxelGrid& grid, const PathValidator& validator,
+                      const MissionOptions& options) {
   if (!options.start) return;
   const Vec3& s = *options.start;
   if (s.allFinite() && grid.isFree(s)) return;
   std::ostringstream os;
   os << "mission: start " << formatPoint(s) << " is inside obstacle space (clearance " << std::fixed
      << std::setprecision(2) << validator.clearance(s)
-     << " m to the nearest measured point; the grid blocks voxels within " << grid.effectiveInflation()
-     << " m of an occupied voxel and everything outside its bounds); move it farther from the structure";
+     << " m to the nearest measured point; the grid blocks voxels within "
+     << grid.effectiveInflation()
+     << " m of an occupied voxel and everything outside its bounds); move it farther from the "
+        "structure";
   throw InputError(os.str());
 }
 
 /// Per-stop checks: gimbal limits, then the inflated obstacle space (where stop
 /// repair may move the stop). Fills m.stop_problems and m.moved_stops; returns the
 /// first usable stop, −1 if none.
-int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
-               const MissionOptions& options) {
+int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
+               const world::VoxelGrid& grid, const MissionOptions& options) {
   auto& stops = m.strategy.stops;
   int first_usable = -1;
   for (std::size_t i = 0; i < stops.size(); ++i) {
     if (!stops[i].gimbal_ok) {
       m.stop_problems[i] = StopProblem::GimbalLimit;
     } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
-      if (options.repair_stops && stops[i].position.allFinite() && repairStop(stops[i], strategy, grid, options)) {
+      if (options.repair_stops && stops[i].position.allFinite() &&
+          repairStop(stops[i], strategy, grid, options)) {
         m.moved_stops.push_back(static_cast<int>(i));
         if (first_usable < 0) first_usable = static_cast<int>(i);
       } else {
@@ -118,9 +128,11 @@ void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const Miss
                      int first_usable) {
   const auto& stops = m.strategy.stops;
   constexpr int kSeedTries = 3;
-  const auto componentOf = [&](std::size_t i) { return grid.component(grid.indexOf(stops[i].position)); };
-  std::int32_t reach =
-      grid.component(grid.indexOf(options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
+  const auto componentOf = [&](std::size_t i) {
+    return grid.component(grid.indexOf(stops[i].position));
+  };
+  std::int32_t reach = grid.component(grid.indexOf(
+      options.start ? *options.start : stops[static_cast<std::size_t>(first_usable)].position));
   if (!options.start) {
     std::size_t best = 0;
     std::vector<char> tried(stops.size(), 0);
@@ -141,7 +153,8 @@ void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const Miss
       const std::int32_t other = componentOf(static_cast<std::size_t>(next));
       std::size_t other_count = 0;
       for (std::size_t i = 0; i < stops.size(); ++i) {
-        if (m.stop_problems[i] == StopProblem::None && other != 0 && componentOf(i) == other) ++other_count;
+        if (m.stop_problems[i] == StopProblem::None && other != 0 && componentOf(i) == other)
+          ++other_count;
       }
       tried[static_cast<std::size_t>(next)] = 1;
       if (other_count > best) reach = other;
@@ -155,8 +168,9 @@ void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const Miss
 
 /// "N of M stops infeasible: …" by cause, empty when every stop is usable; `n_bad`
 /// gets the number of skipped stops, `n_obstacle` those inside the inflated space.
-std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& grid, const MissionOptions& options,
-                            std::size_t& n_bad, std::size_t& n_obstacle) {
+std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& grid,
+                            const MissionOptions& options, std::size_t& n_bad,
+                            std::size_t& n_obstacle) {
   std::size_t n_gimbal = 0, n_unreachable = 0;
   n_obstacle = 0;
   for (const auto p : m.stop_problems) {
@@ -175,11 +189,14 @@ std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& gri
     first = false;
   };
   std::ostringstream obstacle;
-  obstacle << std::fixed << std::setprecision(2) << "inside the inflated obstacle space (voxel centre within "
+  obstacle << std::fixed << std::setprecision(2)
+           << "inside the inflated obstacle space (voxel centre within "
            << grid.effectiveInflation() << " m of an occupied voxel)";
   part(n_gimbal, "outside the gimbal pitch limits");
   part(n_obstacle, obstacle.str());
-  part(n_unreachable, options.start ? "unreachable from the start" : "unreachable (cut off from the free region holding the most stops)");
+  part(n_unreachable, options.start
+                          ? "unreachable from the start"
+                          : "unreachable (cut off from the free region holding the most stops)");
   return os.str();
 }
 
@@ -214,7 +231,8 @@ namespace {
 /// Legs start → stop 0 (if given), then usable stop → next usable stop, each planned
 /// on the grid; fills m.legs, m.raw_path and m.waypoints. On a failed leg: status
 /// Failed with its reason, no waypoints, and false.
-bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner, const MissionOptions& options) {
+bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
+              const MissionOptions& options) {
   const auto& stops = m.strategy.stops;
   PointList points;  // the points joined by legs, in order
   std::vector<int> ids;
@@ -231,7 +249,8 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
   m.waypoints.push_back(points.front());
   for (std::size_t k = 0; k + 1 < points.size(); ++k) {
     PathResult r;
-    PointList direct = options.direct_legs ? straightOrDetour(grid, points[k], points[k + 1]) : PointList{};
+    PointList direct =
+        options.direct_legs ? straightOrDetour(grid, points[k], points[k + 1]) : PointList{};
     if (!direct.empty()) {
       r.status = PathStatus::Solved;
       r.path = std::move(direct);
@@ -248,8 +267,8 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
     m.legs.push_back(leg);
     if (!r.solved()) {
       m.status = SurfaceStatus::Failed;
-      m.reason = "leg " + std::to_string(k) + " (" + legName(leg) + ") failed: planner '" + planner.name() +
-                 "' returned " + toString(r.status) + "; no waypoints generated";
+      m.reason = "leg " + std::to_string(k) + " (" + legName(leg) + ") failed: planner '" +
+                 planner.name() + "' returned " + toString(r.status) + "; no waypoints generated";
       m.waypoints.clear();
       m.raw_waypoint_count = m.raw_path.size();
       m.raw_length_m = polylineLength(m.raw_path);
@@ -266,8 +285,9 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
 
 }  // namespace
 
-SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, const world::VoxelGrid& grid,
-                                  const PathValidator& validator, Planner& planner, const MissionOptions& options) {
+SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy,
+                                  const world::VoxelGrid& grid, const PathValidator& validator,
+                                  Planner& planner, const MissionOptions& options) {
   const auto t0 = SteadyClock::now();
   SurfaceMission m;
   m.surface_id = strategy.surface_id;
@@ -281,7 +301,8 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
   m.stop_problems.assign(m.strategy.stops.size(), StopProblem::None);
   if (m.strategy.stops.empty()) {
     m.status = SurfaceStatus::NoStops;
-    m.reason = "the flight strategy produced no photo stop for surface " + std::to_string(strategy.surface_id);
+    m.reason = "the flight strategy produced no photo stop for surface " +
+               std::to_string(strategy.surface_id);
     return finish();
   }
   const int first_usable = checkStops(m, strategy, grid, options);
@@ -289,14 +310,17 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
   std::size_t n_bad = 0, n_obstacle = 0;
   const std::string skipped = describeSkipped(m, grid, options, n_bad, n_obstacle);
   const std::size_t n_stops = m.strategy.stops.size();
-  if (static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(n_stops) || n_bad == n_stops) {
+  if (static_cast<double>(n_bad) > options.max_skipped_fraction * static_cast<double>(n_stops) ||
+      n_bad == n_stops) {
     std::ostringstream os;
     os << skipped << "; more than " << std::setprecision(3) << 100.0 * options.max_skipped_fraction
        << " % of the stops, so no waypoints generated";
     if (2 * n_obstacle > n_bad) {
       // Mostly a space too tight for the UAV (a room, a narrow gap): say what to change.
-      os << " (the UAV, inflated by " << std::fixed << std::setprecision(2) << grid.effectiveInflation()
-         << " m, does not fit at the standoff here: try a smaller uav.inflation_radius_m or uav.size_m, "
+      os << " (the UAV, inflated by " << std::fixed << std::setprecision(2)
+         << grid.effectiveInflation()
+         << " m, does not fit at the standoff here: try a smaller uav.inflation_radius_m or "
+            "uav.size_m, "
             "another coverage.standoff_m, or a larger mission.max_skipped_fraction)";
     }
     m.status = SurfaceStatus::Blocked;
@@ -311,8 +335,8 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy, cons
     os << std::fixed << std::setprecision(3) << "path validation failed: segment "
        << m.validation.first_violation_segment << " comes closer than the required "
        << validator.requiredClearance() << " m to " << m.validation.violation_object << " at "
-       << formatPoint(m.validation.violation_point)
-       << " (minimum clearance " << m.validation.min_clearance_m << " m)";
+       << formatPoint(m.validation.violation_point) << " (minimum clearance "
+       << m.validation.min_clearance_m << " m)";
     m.status = SurfaceStatus::Failed;
     m.reason = os.str();
     return finish();

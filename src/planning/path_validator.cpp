@@ -1,12 +1,12 @@
 #include "uavip/planning/path_validator.h"
 
-#include "uavip/core/parallel.h"
-
 #include <algorithm>
 #include <limits>
 #include <thread>
 #include <utility>
 #include <vector>
+
+#include "uavip/core/parallel.h"
 
 namespace uavip::planning {
 
@@ -21,13 +21,15 @@ constexpr std::size_t kParallelSegments = 64;
 }  // namespace
 
 PathValidator::PathValidator(const PointList& cloud, double required_clearance_m)
-    : world_(std::make_shared<const world::CollisionWorld>(world::CollisionWorld::fromCloud(cloud))),
+    : world_(
+          std::make_shared<const world::CollisionWorld>(world::CollisionWorld::fromCloud(cloud))),
       required_clearance_m_(required_clearance_m) {}
 
 PathValidator::PathValidator(WorldTag, std::shared_ptr<const world::CollisionWorld> world,
                              double required_clearance_m)
     : world_(std::move(world)), required_clearance_m_(required_clearance_m) {
-  if (!world_) world_ = std::make_shared<const world::CollisionWorld>(world::CollisionWorld::fromCloud({}));
+  if (!world_)
+    world_ = std::make_shared<const world::CollisionWorld>(world::CollisionWorld::fromCloud({}));
 }
 
 PathValidator::~PathValidator() = default;
@@ -47,7 +49,9 @@ ValidationResult PathValidator::validate(const PointList& path) const {
   // The segments are independent read-only queries: spread over the cores, then
   // summarised in order, so the result does not depend on the threads.
   std::vector<world::Proximity> near(segments);
-  const int threads = segments >= kParallelSegments ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : 1;
+  const int threads = segments >= kParallelSegments
+                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                          : 1;
   parallelFor(segments, threads, [&](std::size_t s, std::size_t) {
     near[s] = world_->proximity(path[s], path.size() == 1 ? path[0] : path[s + 1], req);
   });

@@ -1,53 +1,69 @@
 // The plain types of planning that io/ serialises and configs set: the status names
 // and the flight model's arithmetic and checks (library uavip_planning_types, which
 // links no planner and no collision world).
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
-
-#include "uavip/core/error.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "uavip/core/error.h"
+#include "uavip/planning/flight_planner.h"
+#include "uavip/planning/mission_planner.h"
 
 namespace uavip::planning {
 
 const char* toString(PathStatus status) {
   switch (status) {
-    case PathStatus::Solved: return "solved";
-    case PathStatus::NoPath: return "no_path";
-    case PathStatus::Timeout: return "timeout";
-    case PathStatus::InvalidStart: return "invalid_start";
-    case PathStatus::InvalidGoal: return "invalid_goal";
+    case PathStatus::Solved:
+      return "solved";
+    case PathStatus::NoPath:
+      return "no_path";
+    case PathStatus::Timeout:
+      return "timeout";
+    case PathStatus::InvalidStart:
+      return "invalid_start";
+    case PathStatus::InvalidGoal:
+      return "invalid_goal";
   }
   return "unknown";
 }
 
 const char* toString(SurfaceStatus status) {
   switch (status) {
-    case SurfaceStatus::Ok: return "ok";
-    case SurfaceStatus::Partial: return "partial";
-    case SurfaceStatus::Blocked: return "blocked";
-    case SurfaceStatus::NoStops: return "no_stops";
-    case SurfaceStatus::Failed: return "failed";
+    case SurfaceStatus::Ok:
+      return "ok";
+    case SurfaceStatus::Partial:
+      return "partial";
+    case SurfaceStatus::Blocked:
+      return "blocked";
+    case SurfaceStatus::NoStops:
+      return "no_stops";
+    case SurfaceStatus::Failed:
+      return "failed";
   }
   return "unknown";
 }
 
 const char* toString(StopProblem problem) {
   switch (problem) {
-    case StopProblem::None: return "none";
-    case StopProblem::GimbalLimit: return "gimbal_limit";
-    case StopProblem::InObstacleSpace: return "in_obstacle_space";
-    case StopProblem::Unreachable: return "unreachable";
+    case StopProblem::None:
+      return "none";
+    case StopProblem::GimbalLimit:
+      return "gimbal_limit";
+    case StopProblem::InObstacleSpace:
+      return "in_obstacle_space";
+    case StopProblem::Unreachable:
+      return "unreachable";
   }
   return "unknown";
 }
 
 const char* toString(FlightPlan::Status status) {
   switch (status) {
-    case FlightPlan::Status::Ok: return "ok";
-    case FlightPlan::Status::Empty: return "empty";
-    case FlightPlan::Status::Failed: return "failed";
+    case FlightPlan::Status::Ok:
+      return "ok";
+    case FlightPlan::Status::Empty:
+      return "empty";
+    case FlightPlan::Status::Failed:
+      return "failed";
   }
   return "unknown";
 }
@@ -72,7 +88,8 @@ void FlightModel::validate(const std::string& where) const {
   require(std::isfinite(hover_s) && hover_s >= 0.0, where, "hover_s must be >= 0 s");
   require(std::isfinite(settle_s) && settle_s >= 0.0, where, "settle_s must be >= 0 s");
   requirePositive(endurance_s, where, "endurance_s");
-  require(reserve >= 0.0 && reserve < 1.0, where, "reserve must be in [0, 1) (a share of endurance_s)");
+  require(reserve >= 0.0 && reserve < 1.0, where,
+          "reserve must be in [0, 1) (a share of endurance_s)");
 }
 
 }  // namespace uavip::planning

@@ -553,7 +553,9 @@ namespace {
 struct PathCost {
   const std::vector<double>& m;  ///< (n + 1)² row-major, node 0 = start
   std::size_t stride;
-  double operator()(int a, int b) const { return m[static_cast<std::size_t>(a) * stride + static_cast<std::size_t>(b)]; }
+  double operator()(int a, int b) const {
+    return m[static_cast<std::size_t>(a) * stride + static_cast<std::size_t>(b)];
+  }
 };
 
 /// Nearest neighbour from the start (ties to the lower index); nodes 1..n.
@@ -585,7 +587,8 @@ bool twoOptPass(const PathCost& c, std::vector<int>& o) {
       const double before = c(at(i - 1), at(i)) + (j < n ? c(at(j), at(j + 1)) : 0.0);
       const double after = c(at(i - 1), at(j)) + (j < n ? c(at(i), at(j + 1)) : 0.0);
       if (after < before - 1e-9) {
-        std::reverse(o.begin() + static_cast<std::ptrdiff_t>(i - 1), o.begin() + static_cast<std::ptrdiff_t>(j));
+        std::reverse(o.begin() + static_cast<std::ptrdiff_t>(i - 1),
+                     o.begin() + static_cast<std::ptrdiff_t>(j));
         improved = true;
       }
     }
@@ -599,7 +602,8 @@ bool orOptPass(const PathCost& c, std::vector<int>& o) {
   for (std::size_t k = 0; k < o.size(); ++k) {
     const int self = o[k];
     const int prev = k == 0 ? 0 : o[k - 1];
-    const double saved = c(prev, self) + (k + 1 < o.size() ? c(self, o[k + 1]) - c(prev, o[k + 1]) : 0.0);
+    const double saved =
+        c(prev, self) + (k + 1 < o.size() ? c(self, o[k + 1]) - c(prev, o[k + 1]) : 0.0);
     std::vector<int> rest(o);
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
     double best = saved - 1e-9;
@@ -624,13 +628,15 @@ bool orOptPass(const PathCost& c, std::vector<int>& o) {
 
 }  // namespace
 
-std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost, int max_passes) {
+std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost,
+                               int max_passes) {
   const std::size_t n = points.size();
   std::vector<double> m((n + 1) * (n + 1), 0.0);
   const auto node = [&](std::size_t i) -> const Vec3& { return i == 0 ? start : points[i - 1]; };
   for (std::size_t a = 0; a <= n; ++a) {
     for (std::size_t b = a + 1; b <= n; ++b) {
-      const double d = cost ? cost(static_cast<int>(a) - 1, static_cast<int>(b) - 1) : (node(a) - node(b)).norm();
+      const double d = cost ? cost(static_cast<int>(a) - 1, static_cast<int>(b) - 1)
+                            : (node(a) - node(b)).norm();
       m[a * (n + 1) + b] = m[b * (n + 1) + a] = d;
     }
   }

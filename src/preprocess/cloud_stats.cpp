@@ -1,18 +1,17 @@
 #include "uavip/preprocess/cloud_stats.h"
 
-#include "uavip/core/geometry.h"
-#include "uavip/core/math.h"
-#include "uavip/core/text.h"
-
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <vector>
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
+#include "uavip/core/text.h"
 
 namespace uavip::preprocess {
 namespace {
@@ -29,7 +28,8 @@ double medianOf(const std::vector<double>& v) { return v.empty() ? 0.0 : upperMe
 
 // Long (83 lines): one neighbour query per sampled point feeds all three statistics (spacing,
 // noise, the one-station test); the robust spreads of the last are computed here for it.
-CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options, const NeighbourIndex* index) {
+CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options,
+                        const NeighbourIndex* index) {
   if (index != nullptr && &index->cloud() != &cloud) {
     throw std::invalid_argument("measureCloud: the index is over another cloud");
   }
@@ -104,33 +104,39 @@ CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options
   const bool origin_inside = (origin_margin.array() > 0.0).all();
   const double base = spread(nearest);
   stats.station_ratio = base > 0.0 ? spread(angular) / base : 0.0;
-  stats.scanned_from_origin =
-      origin_inside && angular.size() >= 100 && base > 0.0 && stats.station_ratio < kStationSpreadRatio;
+  stats.scanned_from_origin = origin_inside && angular.size() >= 100 && base > 0.0 &&
+                              stats.station_ratio < kStationSpreadRatio;
   return stats;
 }
 
 std::string unitWarning(const CloudStats& stats) {
   // Real structures are metres to kilometres across with centimetres to metres
   // between points; far outside that the file is in another unit.
-  constexpr double kDegreesSpanMax = 0.1;         // x, y of a site in degrees (0.1° ≈ 11 km)
-  constexpr double kDegreesHeightRatio = 100.0;   // z (metres) over that
+  constexpr double kDegreesSpanMax = 0.1;        // x, y of a site in degrees (0.1° ≈ 11 km)
+  constexpr double kDegreesHeightRatio = 100.0;  // z (metres) over that
   constexpr double kLargestStructureM = 5000.0;
   constexpr double kWidestSpacingM = 5.0;
   constexpr double kSmallestStructureM = 1.0;
   const Vec3& e = stats.extent_m;
   const double horizontal = std::max(e.x(), e.y());
-  if (horizontal > 0.0 && horizontal < kDegreesSpanMax && e.z() > kDegreesHeightRatio * horizontal) {
-    return "x and y span only " + formatNumber(horizontal, 3) + " while z spans " + formatFixed(e.z(), 1) +
-           ": the file looks like longitude/latitude in degrees; reproject it to a metric CRS (e.g. UTM, with "
+  if (horizontal > 0.0 && horizontal < kDegreesSpanMax &&
+      e.z() > kDegreesHeightRatio * horizontal) {
+    return "x and y span only " + formatNumber(horizontal, 3) + " while z spans " +
+           formatFixed(e.z(), 1) +
+           ": the file looks like longitude/latitude in degrees; reproject it to a metric CRS "
+           "(e.g. UTM, with "
            "PDAL or CloudCompare) first";
   }
   if (e.maxCoeff() > kLargestStructureM || stats.spacing_m > kWidestSpacingM) {
-    return "a structure " + formatFixed(e.maxCoeff(), 0) + " m across with points " + formatFixed(stats.spacing_m, 2) +
-           " m apart: if the file is not in metres, set 'input: {scale: 0.001}' (millimetres), 0.01 (centimetres) "
+    return "a structure " + formatFixed(e.maxCoeff(), 0) + " m across with points " +
+           formatFixed(stats.spacing_m, 2) +
+           " m apart: if the file is not in metres, set 'input: {scale: 0.001}' (millimetres), "
+           "0.01 (centimetres) "
            "or 0.3048 (feet) in the config";
   }
   if (stats.points >= 2 && e.maxCoeff() < kSmallestStructureM) {
-    return "a structure only " + formatNumber(e.maxCoeff(), 3) + " m across: if the file is in kilometres, set "
+    return "a structure only " + formatNumber(e.maxCoeff(), 3) +
+           " m across: if the file is in kilometres, set "
            "'input: {scale: 1000}' in the config";
   }
   return "";

@@ -1,11 +1,5 @@
 #include "uavip/preprocess/filters.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/parallel.h"
-#include "uavip/core/text.h"
-#include "uavip/core/voxel_key.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +9,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/parallel.h"
+#include "uavip/core/text.h"
+#include "uavip/core/voxel_key.h"
+
 namespace uavip::preprocess {
 
 void PreprocessOptions::validate(const std::string& where) const {
@@ -23,7 +23,8 @@ void PreprocessOptions::validate(const std::string& where) const {
   }
   requirePositive(outlier_std_ratio, where, "outlier_std_ratio");
   requirePositive(voxel_m, where, "voxel_m");
-  if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
+  if (threads < 1)
+    throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
 }
 
 PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads,
@@ -33,7 +34,8 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   }
   requirePositive(std_ratio, "removeStatisticalOutliers", "std_ratio");
   if (threads < 1) {
-    throw InputError("removeStatisticalOutliers: threads must be >= 1, got " + std::to_string(threads));
+    throw InputError("removeStatisticalOutliers: threads must be >= 1, got " +
+                     std::to_string(threads));
   }
   if (index != nullptr && &index->cloud() != &cloud) {
     throw std::invalid_argument("removeStatisticalOutliers: the index is over another cloud");
@@ -120,15 +122,15 @@ PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
   if (cloud.empty()) throw InputError("preprocess: cloud is empty");
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud[i].allFinite()) {
-      throw InputError("preprocess: point " + std::to_string(i) + " is not finite: " +
-                       formatRawPoint(cloud[i]));
+      throw InputError("preprocess: point " + std::to_string(i) +
+                       " is not finite: " + formatRawPoint(cloud[i]));
     }
   }
 
-  PointList current = options.remove_outliers
-                          ? removeStatisticalOutliers(cloud, options.outlier_k,
-                                                      options.outlier_std_ratio, options.threads, index)
-                          : cloud;
+  PointList current = options.remove_outliers ? removeStatisticalOutliers(cloud, options.outlier_k,
+                                                                          options.outlier_std_ratio,
+                                                                          options.threads, index)
+                                              : cloud;
   const std::size_t after_outliers = current.size();
   if (options.voxelize) current = voxelGrid(current, options.voxel_m);
 

@@ -1,14 +1,13 @@
 #include "uavip/preprocess/neighbour_index.h"
 
+#include <algorithm>
+#include <flann/flann.hpp>
+#include <limits>
+#include <string>
+
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/text.h"
-
-#include <flann/flann.hpp>
-
-#include <algorithm>
-#include <limits>
-#include <string>
 
 namespace uavip::preprocess {
 
@@ -17,11 +16,13 @@ struct NeighbourIndex::Tree {
   std::unique_ptr<flann::Index<flann::L2_Simple<float>>> index;
 };
 
-NeighbourIndex::NeighbourIndex(const PointList& cloud) : cloud_(cloud), tree_(std::make_unique<Tree>()) {
+NeighbourIndex::NeighbourIndex(const PointList& cloud)
+    : cloud_(cloud), tree_(std::make_unique<Tree>()) {
   if (cloud.empty()) throw InputError("neighbour index: the cloud is empty");
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud[i].allFinite()) {
-      throw InputError("neighbour index: point " + std::to_string(i) + " is not finite: " + formatRawPoint(cloud[i]));
+      throw InputError("neighbour index: point " + std::to_string(i) +
+                       " is not finite: " + formatRawPoint(cloud[i]));
     }
   }
   if (cloud.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
@@ -44,7 +45,8 @@ NeighbourIndex::NeighbourIndex(const PointList& cloud) : cloud_(cloud), tree_(st
 
 NeighbourIndex::~NeighbourIndex() = default;
 
-void NeighbourIndex::nearest(std::size_t first, std::size_t count, int k, int* indices, float* squared_m2) const {
+void NeighbourIndex::nearest(std::size_t first, std::size_t count, int k, int* indices,
+                             float* squared_m2) const {
   if (count == 0) return;
   const auto kk = static_cast<std::size_t>(k);
   flann::Matrix<float> queries(tree_->xyz.data() + 3 * first, count, 3);
@@ -54,8 +56,10 @@ void NeighbourIndex::nearest(std::size_t first, std::size_t count, int k, int* i
   tree_->index->knnSearch(queries, idx, dst, kk, params);
 }
 
-void NeighbourIndex::nearest(std::size_t i, int k, std::vector<int>& indices, std::vector<float>& squared_m2) const {
-  const int found = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(k), cloud_.size()));
+void NeighbourIndex::nearest(std::size_t i, int k, std::vector<int>& indices,
+                             std::vector<float>& squared_m2) const {
+  const int found =
+      static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(k), cloud_.size()));
   indices.resize(static_cast<std::size_t>(found));
   squared_m2.resize(static_cast<std::size_t>(found));
   nearest(i, 1, found, indices.data(), squared_m2.data());

@@ -1,13 +1,13 @@
 #include "uavip/preprocess/normals.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/pcl_cloud.h"
-
 #include <pcl/features/normal_3d.h>
 #include <pcl/search/kdtree.h>
 
 #include <cmath>
 #include <string>
+
+#include "uavip/core/error.h"
+#include "uavip/core/pcl_cloud.h"
 
 namespace uavip::preprocess {
 
@@ -15,7 +15,9 @@ std::vector<Vec3> estimateNormals(const PointList& queries, const PointList& sur
   if (k < 3) throw InputError("normals: k = " + std::to_string(k) + " neighbours; give at least 3");
   std::vector<Vec3> normals(queries.size(), Vec3::UnitZ());
   if (queries.empty()) return normals;
-  if (surface.empty()) throw InputError("normals: no surface points to estimate " + std::to_string(queries.size()) + " normals from");
+  if (surface.empty())
+    throw InputError("normals: no surface points to estimate " + std::to_string(queries.size()) +
+                     " normals from");
   const Vec3& origin = surface.front();  // float precision near the cloud
   const auto surface_cloud = toPclCloud(surface, origin);
   const auto query_cloud = toPclCloud(queries, origin);
@@ -31,7 +33,9 @@ std::vector<Vec3> estimateNormals(const PointList& queries, const PointList& sur
     const double len = n.norm();
     if (!std::isfinite(len) || len < 1e-6) continue;  // degenerate: keep +z
     n /= len;
-    const bool flip = n.z() < -1e-9 || (std::abs(n.z()) <= 1e-9 && (n.x() < -1e-9 || (std::abs(n.x()) <= 1e-9 && n.y() < 0.0)));
+    const bool flip =
+        n.z() < -1e-9 ||
+        (std::abs(n.z()) <= 1e-9 && (n.x() < -1e-9 || (std::abs(n.x()) <= 1e-9 && n.y() < 0.0)));
     normals[i] = flip ? Vec3(-n) : n;
   }
   return normals;

@@ -1,24 +1,27 @@
 #include "uavip/preprocess/safety_cloud.h"
 
+#include <cmath>
+#include <limits>
+
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
 
-#include <cmath>
-#include <limits>
-
 namespace uavip::preprocess {
 
 void SafetyOptions::validate(const std::string& where) const {
   if (!(std::isfinite(cell_m) && cell_m > 0.0 && cell_m <= 1.0)) {
-    throw InputError(where + ": cell_m must be in (0, 1] m (its diagonal is added to every clearance), got " +
-                     formatNumber(cell_m));
+    throw InputError(
+        where + ": cell_m must be in (0, 1] m (its diagonal is added to every clearance), got " +
+        formatNumber(cell_m));
   }
   if (!(std::isfinite(sparse_factor) && sparse_factor >= 0.0 && sparse_factor <= 5.0)) {
-    throw InputError(where + ": sparse_factor must be in [0, 5] (0.71: a planar surface between its points), got " +
-                     formatNumber(sparse_factor));
+    throw InputError(
+        where +
+        ": sparse_factor must be in [0, 5] (0.71: a planar surface between its points), got " +
+        formatNumber(sparse_factor));
   }
 }
 
@@ -32,7 +35,8 @@ SafetyCloud safetyCloud(const PointList& raw, double cell_m) {
     return out;
   }
   for (std::size_t i = 0; i < raw.size(); ++i) {
-    if (!raw[i].allFinite()) throw InputError("cloud: point " + std::to_string(i) + " is not finite");
+    if (!raw[i].allFinite())
+      throw InputError("cloud: point " + std::to_string(i) + " is not finite");
   }
   const Aabb box = boundingBox(raw);
   // A cell edge the 21-bit key can hold over this extent (2 cells of slack for the
@@ -41,13 +45,15 @@ SafetyCloud safetyCloud(const PointList& raw, double cell_m) {
   const double cell = std::max(cell_m, span / static_cast<double>(VoxelKeyer::kCells - 2));
   const VoxelKeyer keyer(box.min, box.max, cell, "safety.cell_m");
   std::vector<KeyedIndex> keyed(raw.size());
-  for (std::size_t i = 0; i < raw.size(); ++i) keyed[i] = {keyer.key(raw[i]), static_cast<std::uint32_t>(i)};
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    keyed[i] = {keyer.key(raw[i]), static_cast<std::uint32_t>(i)};
   sortByKey(keyed);  // stable: the first point of each cell comes first
   for (std::size_t i = 0; i < keyed.size(); ++i) {
     if (i > 0 && keyed[i].first == keyed[i - 1].first) continue;
     const Vec3& p = raw[keyed[i].second];
     // Float-exact: the copy in cloud_safety.pcd reads back as the same doubles.
-    out.points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    out.points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                            static_cast<float>(p.z()));
   }
   out.cell_m = cell;
   // The cell's diagonal, plus what rounding to float may move a point (half an ulp
@@ -59,7 +65,8 @@ SafetyCloud safetyCloud(const PointList& raw, double cell_m) {
 }
 
 double safetyMargin(const SafetyCloud& safety, double spacing_m, const SafetyOptions& options) {
-  const double sparse = std::isfinite(spacing_m) && spacing_m > 0.0 ? options.sparse_factor * spacing_m : 0.0;
+  const double sparse =
+      std::isfinite(spacing_m) && spacing_m > 0.0 ? options.sparse_factor * spacing_m : 0.0;
   return safety.margin_m + sparse;
 }
 

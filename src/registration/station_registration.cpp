@@ -8,6 +8,21 @@
 
 #include "uavip/registration/station_registration.h"
 
+#include <pcl/features/normal_3d.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/ndt.h>
+#include <pcl/search/kdtree.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
@@ -16,28 +31,11 @@
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 
-#include <pcl/features/normal_3d.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/registration/gicp.h>
-#include <pcl/registration/icp.h>
-#include <pcl/registration/ndt.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/search/kdtree.h>
-
-#include <Eigen/Eigenvalues>
-
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <sstream>
-
 namespace uavip::registration {
 namespace {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
-
 
 /// Centroid of each occupied voxel, voxels in key order (deterministic). Sorting
 /// (key, index) pairs instead of a hash map: 1.5 M points in ~0.2 s instead of ~1 s.
@@ -51,9 +49,12 @@ PointList voxelDownsample(const PointList& points, double leaf) {
   std::vector<KeyedIndex> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
-    const auto ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff);
-    const auto iy = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.y() / leaf)) & 0x1fffff);
-    const auto iz = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff);
+    const auto ix =
+        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff);
+    const auto iy =
+        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.y() / leaf)) & 0x1fffff);
+    const auto iz =
+        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff);
     keyed[i] = {(ix << 42) | (iy << 21) | iz, static_cast<std::uint32_t>(i)};
   }
   sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
@@ -61,7 +62,8 @@ PointList voxelDownsample(const PointList& points, double leaf) {
   for (std::size_t i = 0; i < keyed.size();) {
     Vec3 sum = Vec3::Zero();
     std::size_t j = i;
-    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j) sum += points[keyed[j].second];
+    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j)
+      sum += points[keyed[j].second];
     out.push_back(sum / static_cast<double>(j - i));
     i = j;
   }
@@ -95,8 +97,8 @@ NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud, int k) {
 }
 
 /// The points (and their normals) inside box.
-void insideBox(const PointList& points, const std::vector<Vec3>& normals, const Aabb& box, PointList& out,
-               std::vector<Vec3>& out_normals) {
+void insideBox(const PointList& points, const std::vector<Vec3>& normals, const Aabb& box,
+               PointList& out, std::vector<Vec3>& out_normals) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
     if ((p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all()) {
@@ -113,7 +115,8 @@ Aabb grown(Aabb box, double margin) {
 }
 
 struct Alignment {
-  Eigen::Isometry3d delta{Eigen::Isometry3d::Identity()};  ///< maps source (world guess) onto target
+  Eigen::Isometry3d delta{
+      Eigen::Isometry3d::Identity()};  ///< maps source (world guess) onto target
   bool converged{false};
   double rms{0.0};
   int iterations{0};
@@ -150,7 +153,8 @@ class Occupancy {
     if ((c.array() < 0.0).any()) return false;
     const Eigen::Vector3i i = c.array().floor().cast<int>();
     if ((i.array() >= dims_.array()).any()) return false;
-    out = (static_cast<std::size_t>(i.z()) * static_cast<std::size_t>(dims_.y()) + static_cast<std::size_t>(i.y())) *
+    out = (static_cast<std::size_t>(i.z()) * static_cast<std::size_t>(dims_.y()) +
+           static_cast<std::size_t>(i.y())) *
               static_cast<std::size_t>(dims_.x()) +
           static_cast<std::size_t>(i.x());
     return true;
@@ -180,7 +184,8 @@ std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint, int 
 }
 
 /// Points whose (oriented) normal is within acos(min_cos) of axis.
-PointList facing(const PointList& points, const std::vector<Vec3>& normals, const Vec3& axis, double min_cos) {
+PointList facing(const PointList& points, const std::vector<Vec3>& normals, const Vec3& axis,
+                 double min_cos) {
   PointList out;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (normals[i].allFinite() && normals[i].dot(axis) > min_cos) out.push_back(points[i]);
@@ -192,7 +197,8 @@ PointList facing(const PointList& points, const std::vector<Vec3>& normals, cons
 int hits(const PointList& source, const Occupancy& target, const Vec3& offset) {
   const std::size_t stride = std::max<std::size_t>(1, source.size() / 3000);
   int h = 0;
-  for (std::size_t i = 0; i < source.size(); i += stride) h += target.hit(source[i] + offset) ? 1 : 0;
+  for (std::size_t i = 0; i < source.size(); i += stride)
+    h += target.hit(source[i] + offset) ? 1 : 0;
   return h;
 }
 
@@ -204,8 +210,9 @@ int hits(const PointList& source, const Occupancy& target, const Vec3& offset) {
 /// twice round. Each tests offsets within ±radius on a grid of `step` and keeps the
 /// one that puts most points into occupied target cells; ties go to the smaller
 /// offset (the recorded positions are a prior).
-Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns, const PointList& target,
-                       const std::vector<Vec3>& nt, double radius, double step) {
+Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns,
+                       const PointList& target, const std::vector<Vec3>& nt, double radius,
+                       double step) {
   // Principal horizontal directions of the target's upright normals.
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
   for (const auto& n : nt) {
@@ -224,14 +231,16 @@ Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns, con
       // Faces toward +axis and toward −axis separately: the two faces of a pier are
       // both "x-facing" but must not be matched with each other.
       const double min_cos = axis.z() > 0.5 ? 0.8 : 0.7;
-      const PointList src_pos = facing(source, ns, axis, min_cos), src_neg = facing(source, ns, -axis, min_cos);
+      const PointList src_pos = facing(source, ns, axis, min_cos),
+                      src_neg = facing(source, ns, -axis, min_cos);
       const Occupancy occ_pos(facing(target, nt, axis, min_cos), step);
       const Occupancy occ_neg(facing(target, nt, -axis, min_cos), step);
       const bool use_pos = src_pos.size() >= 10 && occ_pos.usable();
       const bool use_neg = src_neg.size() >= 10 && occ_neg.usable();
       if (!use_pos && !use_neg) continue;
       auto score = [&](const Vec3& o) {
-        return (use_pos ? hits(src_pos, occ_pos, o) : 0) + (use_neg ? hits(src_neg, occ_neg, o) : 0);
+        return (use_pos ? hits(src_pos, occ_pos, o) : 0) +
+               (use_neg ? hits(src_neg, occ_neg, o) : 0);
       };
       const double along = offset.dot(axis);
       const Vec3 base = offset - along * axis;
@@ -277,7 +286,7 @@ struct IcpOutcome {
   bool converged{false};
   int iterations{0};
   std::size_t pairs{0};
-  Vec3 information{Vec3::Zero()};               ///< eigenvalues of Σ w·n nᵀ, ascending [effective pairs]
+  Vec3 information{Vec3::Zero()};  ///< eigenvalues of Σ w·n nᵀ, ascending [effective pairs]
   Eigen::Matrix3d directions{Eigen::Matrix3d::Identity()};  ///< their eigenvectors (columns)
 };
 
@@ -287,8 +296,9 @@ struct IcpOutcome {
 /// the two faces of a thin object seen from opposite sides must not pair). The step
 /// moves only along directions the pairs constrain (eigenvalues of Σ w·n nᵀ ≥ 2 % of
 /// the largest and ≥ kMinInformationPairs effective pairs); the others keep the start.
-IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& source_normals, const PointList& target,
-                          const std::vector<Vec3>& target_normals, double gate, int iterations) {
+IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& source_normals,
+                          const PointList& target, const std::vector<Vec3>& target_normals,
+                          double gate, int iterations) {
   const Cloud::Ptr tgt = toPclCloud(target, Vec3::Zero());
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(tgt);
@@ -304,7 +314,8 @@ IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& sour
     std::size_t pairs = 0;
     for (const std::size_t i : sample) {
       const Vec3 p = source[i] + out.t;
-      const pcl::PointXYZ q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      const pcl::PointXYZ q(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                            static_cast<float>(p.z()));
       if (tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
       const auto j = static_cast<std::size_t>(idx[0]);
       const Vec3& n = target_normals[j];
@@ -356,20 +367,23 @@ Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, cons
 }
 
 /// Aligns source onto target (both in world coordinates, source at its guess).
-// Long (87 lines): one robust ICP loop (correspondences, Huber weights, the normal equations, convergence and the information matrix) on shared per-iteration arrays.
-Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals, const PointList& target,
-                const std::vector<Vec3>& target_normals, const RegistrationOptions& o) {
+// Long (87 lines): one robust ICP loop (correspondences, Huber weights, the normal equations,
+// convergence and the information matrix) on shared per-iteration arrays.
+Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals,
+                const PointList& target, const std::vector<Vec3>& target_normals,
+                const RegistrationOptions& o) {
   Alignment a;
   if (source_in.size() < 10 || target.size() < 10) return a;
   // Coarse: translation only (rotation known from the IMU), then ICP from there.
-  const Vec3 coarse = o.search_radius_m > 0.0 ? searchTranslation(source_in, source_normals, target, target_normals,
-                                                                   o.search_radius_m, o.search_step_m)
-                                              : Vec3::Zero();
+  const Vec3 coarse = o.search_radius_m > 0.0
+                          ? searchTranslation(source_in, source_normals, target, target_normals,
+                                              o.search_radius_m, o.search_step_m)
+                          : Vec3::Zero();
   PointList source = source_in;
   for (auto& p : source) p += coarse;
   if (o.method == Method::PointToPlaneTranslation) {
-    const IcpOutcome r = icpTranslation(source, source_normals, target, target_normals, o.max_correspondence_m,
-                                        o.max_iterations);
+    const IcpOutcome r = icpTranslation(source, source_normals, target, target_normals,
+                                        o.max_correspondence_m, o.max_iterations);
     a.delta = Eigen::Translation3d(coarse + r.t) * Eigen::Isometry3d::Identity();
     a.converged = r.converged;
     a.rms = r.rms;
@@ -396,7 +410,8 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
       break;
     }
     case Method::IcpPointToPlane: {
-      const NormalCloud::Ptr sn = withNormals(src, o.pcl_normal_k), tn = withNormals(tgt, o.pcl_normal_k);
+      const NormalCloud::Ptr sn = withNormals(src, o.pcl_normal_k),
+                             tn = withNormals(tgt, o.pcl_normal_k);
       pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
       icp.setInputSource(sn);
       icp.setInputTarget(tn);
@@ -437,7 +452,8 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
   }
   const Eigen::Isometry3d d(m.cast<double>());
   // Back from centroid coordinates: x_world' = origin + d·(x_world − origin).
-  a.delta = Eigen::Translation3d(origin) * d * Eigen::Translation3d(-origin) * Eigen::Translation3d(coarse);
+  a.delta = Eigen::Translation3d(origin) * d * Eigen::Translation3d(-origin) *
+            Eigen::Translation3d(coarse);
   // Re-orthonormalise the float rotation.
   const Eigen::Quaterniond q(a.delta.linear());
   a.delta.linear() = q.normalized().toRotationMatrix();
@@ -461,35 +477,48 @@ Method methodFromString(const std::string& name) {
   if (name == "icp_point_to_plane") return Method::IcpPointToPlane;
   if (name == "gicp") return Method::Gicp;
   if (name == "ndt") return Method::Ndt;
-  throw InputError("registration: method must be none, translation, icp, icp_point_to_plane, gicp or ndt, got '" +
-                   name + "'");
+  throw InputError(
+      "registration: method must be none, translation, icp, icp_point_to_plane, gicp or ndt, got "
+      "'" +
+      name + "'");
 }
 
 std::string toString(Method method) {
   switch (method) {
-    case Method::None: return "none";
-    case Method::PointToPlaneTranslation: return "translation";
-    case Method::Icp: return "icp";
-    case Method::IcpPointToPlane: return "icp_point_to_plane";
-    case Method::Gicp: return "gicp";
-    case Method::Ndt: return "ndt";
+    case Method::None:
+      return "none";
+    case Method::PointToPlaneTranslation:
+      return "translation";
+    case Method::Icp:
+      return "icp";
+    case Method::IcpPointToPlane:
+      return "icp_point_to_plane";
+    case Method::Gicp:
+      return "gicp";
+    case Method::Ndt:
+      return "ndt";
   }
   return "?";
 }
 
 void RegistrationOptions::validate(const std::string& where) const {
   if (!(overlap_margin_m >= 0.0) || !std::isfinite(overlap_margin_m)) {
-    throw InputError(where + ": overlap_margin_m must be >= 0, got " + formatNumber(overlap_margin_m));
+    throw InputError(where + ": overlap_margin_m must be >= 0, got " +
+                     formatNumber(overlap_margin_m));
   }
   requirePositive(downsample_m, where, "downsample_m");
   requirePositive(max_correspondence_m, where, "max_correspondence_m");
-  if (max_iterations < 1) throw InputError(where + ": max_iterations must be >= 1, got " + std::to_string(max_iterations));
+  if (max_iterations < 1)
+    throw InputError(where + ": max_iterations must be >= 1, got " +
+                     std::to_string(max_iterations));
   requirePositive(ndt_resolution_m, where, "ndt_resolution_m");
   if (!(search_radius_m >= 0.0) || !std::isfinite(search_radius_m)) {
-    throw InputError(where + ": search_radius_m must be >= 0, got " + formatNumber(search_radius_m));
+    throw InputError(where + ": search_radius_m must be >= 0, got " +
+                     formatNumber(search_radius_m));
   }
   requirePositive(search_step_m, where, "search_step_m");
-  if (threads < 1) throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
+  if (threads < 1)
+    throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
   requireThat(normal_k >= 3, where, "normal_k", ">= 3", normal_k);
   requireThat(pcl_normal_k >= 3, where, "pcl_normal_k", ">= 3", pcl_normal_k);
   if (!(output_voxel_m >= 0.0) || !std::isfinite(output_voxel_m)) {
@@ -497,8 +526,8 @@ void RegistrationOptions::validate(const std::string& where) const {
   }
 }
 
-Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw, double imu_yaw_rad,
-                                     double imu_yaw0_rad) {
+Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw,
+                                     double imu_yaw_rad, double imu_yaw0_rad) {
   if (index >= log.stations.size()) {
     throw InputError("registration: station index " + std::to_string(index) + " out of range");
   }
@@ -514,8 +543,10 @@ Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool 
   return pose;
 }
 
-// Long (85 lines): the parallel preparation, the sequential placement of stations against those already placed, and the merge, on shared per-station arrays.
-RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options) {
+// Long (85 lines): the parallel preparation, the sequential placement of stations against those
+// already placed, and the merge, on shared per-station arrays.
+RegistrationResult registerStations(const std::vector<StationInput>& stations,
+                                    const RegistrationOptions& options) {
   options.validate();
   const auto t0 = SteadyClock::now();
   RegistrationResult result;
@@ -526,7 +557,8 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
       break;
     }
   }
-  if (ref == stations.size()) throw InputError("registration: every station cloud is empty, nothing to register");
+  if (ref == stations.size())
+    throw InputError("registration: every station cloud is empty, nothing to register");
 
   // Down-sampling and normals do not depend on the registration order: every
   // station's at once, `threads` at a time (each is independent).
@@ -542,7 +574,7 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
     prep_s[i] = secondsSince(tp);
   });
 
-  PointList placed;  // down-sampled world points of the stations placed so far
+  PointList placed;                  // down-sampled world points of the stations placed so far
   std::vector<Vec3> placed_normals;  // their normals, oriented toward their station
   for (std::size_t i = 0; i < stations.size(); ++i) {
     const auto ts = SteadyClock::now();
@@ -567,7 +599,8 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
       PointList src, tgt;
       std::vector<Vec3> src_n, tgt_n;
       insideBox(guess, normals, grown(boundingBox(placed), options.overlap_margin_m), src, src_n);
-      insideBox(placed, placed_normals, grown(boundingBox(guess), options.overlap_margin_m), tgt, tgt_n);
+      insideBox(placed, placed_normals, grown(boundingBox(guess), options.overlap_margin_m), tgt,
+                tgt_n);
       r.overlap_points = src.size();
       const Alignment a = align(src, src_n, tgt, tgt_n, options);
       r.converged = a.converged;
@@ -596,7 +629,8 @@ RegistrationResult registerStations(const std::vector<StationInput>& stations, c
     const Eigen::Isometry3d& pose = result.stations[i].pose;
     for (const auto& p : stations[i].points) all.push_back(pose * p);
   }
-  result.merged = options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m) : std::move(all);
+  result.merged =
+      options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m) : std::move(all);
   result.time_s = secondsSince(t0);
   return result;
 }

@@ -1,8 +1,5 @@
 #include "uavip/render/figure.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-
 #include <cairo-svg.h>
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
@@ -22,6 +19,9 @@
 #include <unordered_set>
 #include <utility>
 
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+
 namespace uavip::render {
 namespace {
 
@@ -37,10 +37,12 @@ cairo_t* ctx(void* p) { return static_cast<cairo_t*>(p); }
 /// At exit no cairo object of ours is alive (all are scoped).
 void releaseCairoAtExit() {
   static std::once_flag once;
-  std::call_once(once, [] { std::atexit([] {
+  std::call_once(once, [] {
+    std::atexit([] {
       cairo_debug_reset_static_data();
       FcFini();
-    }); });
+    });
+  });
 }
 
 void setColor(cairo_t* cr, const Color& c) { cairo_set_source_rgba(cr, c.r, c.g, c.b, c.a); }
@@ -71,7 +73,9 @@ Vec2 textSize(cairo_t* cr, const std::string& text, const TextStyle& style) {
 void drawText(cairo_t* cr, double x, double y, const std::string& text, const TextStyle& style) {
   if (text.empty()) return;
   const double w = textSize(cr, text, style).x();
-  const double shift = style.align == Align::Left ? 0.0 : style.align == Align::Center ? -w / 2.0 : -w;
+  const double shift = style.align == Align::Left     ? 0.0
+                       : style.align == Align::Center ? -w / 2.0
+                                                      : -w;
   cairo_save(cr);
   cairo_translate(cr, x, y);
   if (style.vertical) cairo_rotate(cr, -kPi / 2.0);
@@ -130,7 +134,8 @@ std::uint64_t cellKey(double x, double y) {
 /// Hash of a pair of cell keys (a segment between two cells).
 struct CellPairHash {
   std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& p) const {
-    return std::hash<std::uint64_t>()(p.first) ^ (std::hash<std::uint64_t>()(p.second) * 0x9E3779B97F4A7C15ULL);
+    return std::hash<std::uint64_t>()(p.first) ^
+           (std::hash<std::uint64_t>()(p.second) * 0x9E3779B97F4A7C15ULL);
   }
 };
 
@@ -181,8 +186,8 @@ void legendSwatch(cairo_t* cr, const LegendEntry& e, double x, double y, double 
       break;
     case LegendKind::Patch:
       cairo_rectangle(cr, x + 2.0, y + 2.0, w - 4.0, h - 4.0);
-      finishMarkers(cr, Style{e.style.stroke, e.style.fill, std::max(e.style.line_width_px, 1.0), e.style.dashed,
-                              Marker::Square, 0.0});
+      finishMarkers(cr, Style{e.style.stroke, e.style.fill, std::max(e.style.line_width_px, 1.0),
+                              e.style.dashed, Marker::Square, 0.0});
       break;
   }
 }
@@ -195,7 +200,8 @@ Vec2 legendSize(cairo_t* cr, const std::vector<LegendEntry>& entries, double siz
   return {w + 30.0 + 8.0 + 16.0, row * static_cast<double>(entries.size()) + 12.0};
 }
 
-void drawLegend(cairo_t* cr, double x, double y, const std::vector<LegendEntry>& entries, double size_px) {
+void drawLegend(cairo_t* cr, double x, double y, const std::vector<LegendEntry>& entries,
+                double size_px) {
   if (entries.empty()) return;
   const Vec2 size = legendSize(cr, entries, size_px);
   cairo_rectangle(cr, x, y, size.x(), size.y());
@@ -207,7 +213,8 @@ void drawLegend(cairo_t* cr, double x, double y, const std::vector<LegendEntry>&
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const double ry = y + 6.0 + row * static_cast<double>(i);
     legendSwatch(cr, entries[i], x + 8.0, ry + row * 0.12, 30.0, row * 0.76);
-    drawText(cr, x + 8.0 + 30.0 + 8.0, ry + row * 0.5 + size_px * 0.36, entries[i].label, TextStyle{size_px});
+    drawText(cr, x + 8.0 + 30.0 + 8.0, ry + row * 0.5 + size_px * 0.36, entries[i].label,
+             TextStyle{size_px});
   }
 }
 
@@ -286,10 +293,11 @@ int Color::green8() const { return static_cast<int>(std::lround(std::clamp(g, 0.
 int Color::blue8() const { return static_cast<int>(std::lround(std::clamp(b, 0.0, 1.0) * 255.0)); }
 
 Color palette(int i) {
-  static const std::array<Color, 10> kTab10{
-      Color::rgb(31, 119, 180), Color::rgb(255, 127, 14), Color::rgb(44, 160, 44),  Color::rgb(148, 103, 189),
-      Color::rgb(23, 190, 207), Color::rgb(227, 119, 194), Color::rgb(188, 189, 34), Color::rgb(140, 86, 75),
-      Color::rgb(214, 39, 40),  Color::rgb(127, 127, 127)};
+  static const std::array<Color, 10> kTab10{Color::rgb(31, 119, 180), Color::rgb(255, 127, 14),
+                                            Color::rgb(44, 160, 44),  Color::rgb(148, 103, 189),
+                                            Color::rgb(23, 190, 207), Color::rgb(227, 119, 194),
+                                            Color::rgb(188, 189, 34), Color::rgb(140, 86, 75),
+                                            Color::rgb(214, 39, 40),  Color::rgb(127, 127, 127)};
   const int n = static_cast<int>(kTab10.size());
   return kTab10[static_cast<std::size_t>(((i % n) + n) % n)];
 }
@@ -366,7 +374,8 @@ std::string tickLabel(double value) {
 
 Vec2 Frame::toPixel(const Vec2& d) const {
   auto t = [](double v, double lo, double hi, Scale s) {
-    if (s == Scale::Log10) return (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo));
+    if (s == Scale::Log10)
+      return (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo));
     return (v - lo) / (hi - lo);
   };
   return {left_px + t(d.x(), x_min, x_max, x_scale) * width_px,
@@ -378,7 +387,8 @@ Vec2 Frame::toPixel(const Vec2& d) const {
 Panel::Panel(double x_px, double y_px, double w_px, double h_px, PanelOptions options)
     : x_px_(x_px), y_px_(y_px), w_px_(w_px), h_px_(h_px), options_(std::move(options)) {}
 
-void Panel::polyline(const std::vector<Vec2>& points, const Style& style, const std::string& label) {
+void Panel::polyline(const std::vector<Vec2>& points, const Style& style,
+                     const std::string& label) {
   items_.push_back({Kind::Polyline, points, style, {}, {}});
   if (!label.empty()) legend_.push_back({label, style, LegendKind::Line});
 }
@@ -388,11 +398,13 @@ void Panel::polygon(const std::vector<Vec2>& points, const Style& style, const s
   if (!label.empty()) legend_.push_back({label, style, LegendKind::Patch});
 }
 
-void Panel::polygons(const std::vector<std::vector<Vec2>>& polygons, const Style& style, const std::string& label) {
+void Panel::polygons(const std::vector<std::vector<Vec2>>& polygons, const Style& style,
+                     const std::string& label) {
   std::vector<Vec2> rings;
   for (const auto& ring : polygons) {
     rings.insert(rings.end(), ring.begin(), ring.end());
-    rings.emplace_back(Vec2::Constant(std::numeric_limits<double>::quiet_NaN()));  // pen up: the next ring
+    rings.emplace_back(
+        Vec2::Constant(std::numeric_limits<double>::quiet_NaN()));  // pen up: the next ring
   }
   items_.push_back({Kind::Polygons, rings, style, {}, {}});
   if (!label.empty()) legend_.push_back({label, style, LegendKind::Patch});
@@ -456,7 +468,9 @@ Frame Panel::frame() const {
 namespace {
 
 /// True if a data point can be placed on the frame (finite, and > 0 on a log axis).
-bool usablePoint(const Frame& f, const Vec2& p) { return usable(p.x(), f.x_scale) && usable(p.y(), f.y_scale); }
+bool usablePoint(const Frame& f, const Vec2& p) {
+  return usable(p.x(), f.x_scale) && usable(p.y(), f.y_scale);
+}
 
 /// True for the two corners on the right of the plot area.
 bool onRight(Corner c) { return c == Corner::TopRight || c == Corner::BottomRight; }
@@ -471,7 +485,8 @@ void fillPlotArea(cairo_t* cr, const Frame& f, const Color& background) {
 }
 
 /// Light grid lines across the plot area at the ticks (data units), on whole pixels.
-void drawGrid(cairo_t* cr, const Frame& f, const std::vector<double>& xt, const std::vector<double>& yt) {
+void drawGrid(cairo_t* cr, const Frame& f, const std::vector<double>& xt,
+              const std::vector<double>& yt) {
   const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
   applyLine(cr, lineStyle(Color::rgb(225, 225, 225), 0.8));
   for (double v : xt) {
@@ -492,7 +507,8 @@ void drawGrid(cairo_t* cr, const Frame& f, const std::vector<double>& xt, const 
 /// hundreds of times, and Cairo's stroker slows down on so many overlaps: each
 /// distinct segment is drawn once, as its own sub-path (round caps and joins make
 /// the union look the same).
-void strokeDistinctSegments(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style) {
+void strokeDistinctSegments(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points,
+                            const Style& style) {
   std::unordered_set<std::pair<std::uint64_t, std::uint64_t>, CellPairHash> drawn;
   auto half = [](double v) { return std::clamp(std::round(2.0 * v), -1e9, 1e9); };
   for (std::size_t i = 1; i < points.size(); ++i) {
@@ -518,7 +534,8 @@ enum class PathShape {
 /// A polyline or polygon(s): closed shapes are closed and filled (if the style has a
 /// fill), then the outline is stroked. An unusable point lifts the pen (for Rings it
 /// first closes the ring before it).
-void drawPath(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style, PathShape shape) {
+void drawPath(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style,
+              PathShape shape) {
   bool pen = false;
   std::size_t n = 0;
   for (const auto& p : points) {
@@ -557,7 +574,8 @@ void drawPath(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, cons
 /// and Cairo takes minutes to fill and stroke their overlapping outlines on the
 /// bridge; thinned so, the picture moves by at most a quarter of a cell.
 void drawMarkers(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, const Style& style) {
-  const double cell_px = style.line_width_px > 0.0 ? std::max(0.5, 0.5 * style.marker_size_px) : 0.5;
+  const double cell_px =
+      style.line_width_px > 0.0 ? std::max(0.5, 0.5 * style.marker_size_px) : 0.5;
   std::unordered_set<std::uint64_t> drawn;
   for (const auto& p : points) {
     if (!usablePoint(f, p)) continue;
@@ -571,7 +589,8 @@ void drawMarkers(cairo_t* cr, const Frame& f, const std::vector<Vec2>& points, c
 }
 
 /// Text anchored at a data point (nothing if the point is unusable).
-void drawTextAt(cairo_t* cr, const Frame& f, const Vec2& at, const std::string& text, const TextStyle& style) {
+void drawTextAt(cairo_t* cr, const Frame& f, const Vec2& at, const std::string& text,
+                const TextStyle& style) {
   if (!usablePoint(f, at)) return;
   const Vec2 q = f.toPixel(at);
   drawText(cr, q.x(), q.y(), text, style);
@@ -601,7 +620,8 @@ void drawAxes(cairo_t* cr, const Frame& f, const PanelOptions& options, double p
   applyLine(cr, lineStyle(Color::rgb(90, 90, 90), 1.0));
   cairo_stroke(cr);
   drawText(cr, L + W / 2.0, T + H + 38.0, options.x.label, TextStyle{13.0, kBlack, Align::Center});
-  drawText(cr, panel_left_px + 17.0, T + H / 2.0, options.y.label, TextStyle{13.0, kBlack, Align::Center, false, true});
+  drawText(cr, panel_left_px + 17.0, T + H / 2.0, options.y.label,
+           TextStyle{13.0, kBlack, Align::Center, false, true});
 }
 
 /// A two-tone scale bar in a corner of the plot area: the largest 1/2/5 × 10^k length
@@ -622,15 +642,17 @@ void drawScaleBar(cairo_t* cr, const Frame& f, Corner corner, const std::string&
     applyLine(cr, lineStyle(kBlack, 1.0));
     cairo_stroke(cr);
   }
-  drawText(cr, bx + px_len / 2.0, by - 5.0, tickLabel(len) + " " + unit, TextStyle{12.0, kBlack, Align::Center, true});
+  drawText(cr, bx + px_len / 2.0, by - 5.0, tickLabel(len) + " " + unit,
+           TextStyle{12.0, kBlack, Align::Center, true});
 }
 
 /// The legend box 8 px inside a corner of the plot area.
-void drawPanelLegend(cairo_t* cr, const Frame& f, Corner corner, const std::vector<LegendEntry>& entries) {
+void drawPanelLegend(cairo_t* cr, const Frame& f, Corner corner,
+                     const std::vector<LegendEntry>& entries) {
   const double L = f.left_px, T = f.top_px, W = f.width_px, H = f.height_px;
   const Vec2 size = legendSize(cr, entries, 12.0);
-  drawLegend(cr, onRight(corner) ? L + W - 8.0 - size.x() : L + 8.0, onBottom(corner) ? T + H - 8.0 - size.y() : T + 8.0,
-             entries, 12.0);
+  drawLegend(cr, onRight(corner) ? L + W - 8.0 - size.x() : L + 8.0,
+             onBottom(corner) ? T + H - 8.0 - size.y() : T + 8.0, entries, 12.0);
 }
 
 }  // namespace
@@ -674,10 +696,12 @@ void Panel::draw(void* cairo) const {
   cairo_reset_clip(cr);
 
   if (options_.axes) drawAxes(cr, f, options_, x_px_, xt, yt);
-  drawText(cr, L + W / 2.0, y_px_ + 20.0, options_.title, TextStyle{15.0, kBlack, Align::Center, true});
+  drawText(cr, L + W / 2.0, y_px_ + 20.0, options_.title,
+           TextStyle{15.0, kBlack, Align::Center, true});
   if (options_.scale_bar != Corner::None && f.x_scale == Scale::Linear)
     drawScaleBar(cr, f, options_.scale_bar, options_.scale_bar_unit);
-  if (options_.legend != Corner::None && !legend_.empty()) drawPanelLegend(cr, f, options_.legend, legend_);
+  if (options_.legend != Corner::None && !legend_.empty())
+    drawPanelLegend(cr, f, options_.legend, legend_);
   cairo_restore(cr);
 }
 
@@ -685,12 +709,14 @@ void Panel::draw(void* cairo) const {
 
 Figure::Figure(int width_px, int height_px, const Color& background)
     : width_px_(width_px), height_px_(height_px), background_(background) {
-  require(width_px >= 1 && width_px <= 16384, "figure", "width must be in [1, 16384] px, got " + std::to_string(width_px));
+  require(width_px >= 1 && width_px <= 16384, "figure",
+          "width must be in [1, 16384] px, got " + std::to_string(width_px));
   require(height_px >= 1 && height_px <= 16384, "figure",
           "height must be in [1, 16384] px, got " + std::to_string(height_px));
 }
 
-Panel& Figure::addPanel(double x_px, double y_px, double w_px, double h_px, const PanelOptions& options) {
+Panel& Figure::addPanel(double x_px, double y_px, double w_px, double h_px,
+                        const PanelOptions& options) {
   panels_.push_back(Panel(x_px, y_px, w_px, h_px, options));
   return panels_.back();
 }
@@ -716,7 +742,8 @@ void Figure::rectangle(double x_px, double y_px, double w_px, double h_px, const
   items_.push_back(std::move(it));
 }
 
-void Figure::legend(double x_px, double y_px, const std::vector<LegendEntry>& entries, double size_px) {
+void Figure::legend(double x_px, double y_px, const std::vector<LegendEntry>& entries,
+                    double size_px) {
   Item it;
   it.kind = Kind::Legend;
   it.x = x_px;
@@ -759,7 +786,8 @@ void Figure::draw(void* cairo) const {
 }
 
 std::string Figure::png() const {
-  SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width_px_, height_px_), &cairo_surface_destroy);
+  SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width_px_, height_px_),
+                     &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
     throw std::runtime_error("render: cannot create a " + std::to_string(width_px_) + "x" +
                              std::to_string(height_px_) + " image");
@@ -768,7 +796,8 @@ std::string Figure::png() const {
     draw(cr.get());
   }
   std::string bytes;
-  if (cairo_surface_write_to_png_stream(surface.get(), &appendToString, &bytes) != CAIRO_STATUS_SUCCESS)
+  if (cairo_surface_write_to_png_stream(surface.get(), &appendToString, &bytes) !=
+      CAIRO_STATUS_SUCCESS)
     throw std::runtime_error("render: PNG encoding failed");
   return bytes;
 }
@@ -776,8 +805,9 @@ std::string Figure::png() const {
 std::string Figure::svg() const {
   std::string bytes;
   {
-    SurfacePtr surface(cairo_svg_surface_create_for_stream(&appendToString, &bytes, width_px_, height_px_),
-                       &cairo_surface_destroy);
+    SurfacePtr surface(
+        cairo_svg_surface_create_for_stream(&appendToString, &bytes, width_px_, height_px_),
+        &cairo_surface_destroy);
     {
       ContextPtr cr(cairo_create(surface.get()), &cairo_destroy);
       draw(cr.get());
@@ -796,8 +826,10 @@ void Figure::writeSvg(const std::string& path) const { writeBytes(path, svg()); 
 
 Color Raster::at(int x, int y) const {
   if (x < 0 || y < 0 || x >= width || y >= height)
-    throw std::out_of_range("raster: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") off the image");
-  const unsigned int v = argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
+    throw std::out_of_range("raster: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                            ") off the image");
+  const unsigned int v = argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                              static_cast<std::size_t>(x)];
   const double a = ((v >> 24) & 0xFFu) / 255.0;
   auto comp = [&](unsigned int shift) {
     const double c = ((v >> shift) & 0xFFu) / 255.0;
@@ -808,9 +840,11 @@ Color Raster::at(int x, int y) const {
 
 Raster decodePng(const std::string& bytes) {
   ReadCursor cursor{&bytes, 0};
-  SurfacePtr surface(cairo_image_surface_create_from_png_stream(&readFromString, &cursor), &cairo_surface_destroy);
+  SurfacePtr surface(cairo_image_surface_create_from_png_stream(&readFromString, &cursor),
+                     &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-    throw std::runtime_error(std::string("not a PNG image: ") + cairo_status_to_string(cairo_surface_status(surface.get())));
+    throw std::runtime_error(std::string("not a PNG image: ") +
+                             cairo_status_to_string(cairo_surface_status(surface.get())));
   cairo_surface_flush(surface.get());
   Raster r;
   r.width = cairo_image_surface_get_width(surface.get());
@@ -824,7 +858,8 @@ Raster decodePng(const std::string& bytes) {
       std::uint32_t v = 0;
       std::memcpy(&v, data + static_cast<std::ptrdiff_t>(y) * stride + 4 * x, 4);
       if (format != CAIRO_FORMAT_ARGB32) v |= 0xFF000000u;  // RGB24: opaque
-      r.argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(x)] = v;
+      r.argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width) +
+             static_cast<std::size_t>(x)] = v;
     }
   }
   return r;

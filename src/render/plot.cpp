@@ -1,8 +1,8 @@
 #include "uavip/render/plot.h"
 
-#include "uavip/core/error.h"
-
 #include <array>
+
+#include "uavip/core/error.h"
 
 namespace uavip::render {
 
@@ -15,8 +15,8 @@ Figure plot(const std::vector<Series>& series, const PlotOptions& options) {
   p.grid = options.grid;
   p.legend = options.legend;
   Panel& panel = fig.addPanel(0.0, 0.0, options.width_px, options.height_px, p);
-  static const std::array<Marker, 6> kMarkers{Marker::Circle, Marker::Square, Marker::Triangle,
-                                              Marker::Diamond, Marker::Cross, Marker::Plus};
+  static const std::array<Marker, 6> kMarkers{Marker::Circle,  Marker::Square, Marker::Triangle,
+                                              Marker::Diamond, Marker::Cross,  Marker::Plus};
   for (std::size_t i = 0; i < series.size(); ++i) {
     const Series& s = series[i];
     require(s.x.size() == s.y.size(), "plot: series '" + s.label + "'",

@@ -1,16 +1,15 @@
 #include "uavip/scan/drift_refinement.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-#include "uavip/core/voxel_key.h"
-
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::scan {
 namespace {
@@ -26,19 +25,20 @@ struct NodeWeight {
 NodeWeight nodeWeight(const std::vector<double>& nodes, double t) {
   if (t <= nodes.front()) return {0, 0.0};
   if (t >= nodes.back()) return {static_cast<int>(nodes.size()) - 2, 1.0};
-  const auto j = static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), t) - nodes.begin());
+  const auto j =
+      static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), t) - nodes.begin());
   return {static_cast<int>(j) - 1, (t - nodes[j - 1]) / std::max(1e-12, nodes[j] - nodes[j - 1])};
 }
 
 /// The points of one refinement: fixed parts, and the positions of the current step.
 struct Problem {
-  std::vector<Vec3> base;        ///< offset + odometry T(t) [m]
-  std::vector<Vec3> p;           ///< base + δ(t) [m]
-  std::vector<double> w;         ///< effective pairs per point
+  std::vector<Vec3> base;  ///< offset + odometry T(t) [m]
+  std::vector<Vec3> p;     ///< base + δ(t) [m]
+  std::vector<double> w;   ///< effective pairs per point
   std::vector<NodeWeight> nw;
-  std::vector<char> end;         ///< in the loop closure's end window
-  std::vector<int> vertical;     ///< indices of the vertical scanner's points
-  std::vector<int> horizontal;   ///< indices of the horizontal scanner's points
+  std::vector<char> end;        ///< in the loop closure's end window
+  std::vector<int> vertical;    ///< indices of the vertical scanner's points
+  std::vector<int> horizontal;  ///< indices of the horizontal scanner's points
   std::size_t nodes{0};
   DriftTuning tuning;
 };
@@ -50,7 +50,8 @@ struct Cells {
 };
 
 /// Bins p[subset] into voxels (or columns) of edge cell_m.
-Cells binPoints(const std::vector<Vec3>& p, const std::vector<int>& subset, double cell_m, bool column) {
+Cells binPoints(const std::vector<Vec3>& p, const std::vector<int>& subset, double cell_m,
+                bool column) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const int i : subset) {
     lo = lo.cwiseMin(p[static_cast<std::size_t>(i)]);
@@ -79,7 +80,8 @@ Cells binPoints(const std::vector<Vec3>& p, const std::vector<int>& subset, doub
   for (std::size_t k = 0; k < count.size(); ++k) c.start[k + 1] = c.start[k] + count[k];
   c.order.resize(subset.size());
   std::vector<int> fill(c.start.begin(), c.start.end() - 1);
-  for (std::size_t j = 0; j < subset.size(); ++j) c.order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[j])]++)] = subset[j];
+  for (std::size_t j = 0; j < subset.size(); ++j)
+    c.order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[j])]++)] = subset[j];
   return c;
 }
 
@@ -95,7 +97,8 @@ struct Scatter {
 
 /// Scratch space of pooledScatter: per segment Σw, Σw·p, Σw·p pᵀ.
 struct SegmentSums {
-  explicit SegmentSums(std::size_t segments) : w(segments, 0.0), s1(segments, Vec3::Zero()), s2(segments, Mat3::Zero()) {}
+  explicit SegmentSums(std::size_t segments)
+      : w(segments, 0.0), s1(segments, Vec3::Zero()), s2(segments, Mat3::Zero()) {}
   std::vector<double> w;
   std::vector<Vec3> s1;
   std::vector<Mat3> s2;
@@ -142,7 +145,8 @@ Surface classifyVoxel(const Scatter& s, const DriftTuning& tuning, Vec3& normal)
   es.computeDirect(s.cov);
   const Vec3 ev = es.eigenvalues();
   const double thickness = tuning.max_thickness_m;
-  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1))) return Surface::None;
+  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1)))
+    return Surface::None;
   normal = es.eigenvectors().col(0);
   const double snap = tuning.gravity_aligned_deg * kDegToRad;
   if (std::abs(normal.z()) >= std::cos(snap)) {
@@ -158,7 +162,8 @@ Vec3 columnNormal(const Scatter& s, const DriftTuning& tuning) {
   es.computeDirect(s.cov.topLeftCorner<2, 2>());
   const Eigen::Vector2d ev = es.eigenvalues();
   const double thickness = tuning.max_thickness_m;
-  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1))) return Vec3::Zero();
+  if (!(ev(0) >= 0.0) || ev(0) > thickness * thickness || !(ev(0) < tuning.flat_ratio * ev(1)))
+    return Vec3::Zero();
   return Vec3(es.eigenvectors()(0, 0), es.eigenvectors()(1, 0), 0.0);
 }
 
@@ -174,7 +179,8 @@ struct System {
 
 /// One plane's sufficient statistics over nodes (the offset eliminated: see accumulate).
 struct VoxelStats {
-  explicit VoxelStats(std::size_t nodes) : s(nodes, 0.0), gk(nodes, 0.0), md(nodes, 0.0), mo(nodes, 0.0), mark(nodes, 0) {}
+  explicit VoxelStats(std::size_t nodes)
+      : s(nodes, 0.0), gk(nodes, 0.0), md(nodes, 0.0), mo(nodes, 0.0), mark(nodes, 0) {}
   void reset() {
     for (const int k : touched) {
       const auto u = static_cast<std::size_t>(k);
@@ -249,8 +255,9 @@ void accumulate(const VoxelStats& v, const Vec3& n, bool loop_only, System& sys)
 }
 
 /// Adds one plane's residuals n·(p − c) (Cauchy-weighted) to the system.
-void addPlane(const Problem& pb, const std::vector<DriftPoint>& pts, const int* idx, int n, const Vec3& normal,
-              const Vec3& centroid, bool loop_only, VoxelStats& stats, System& sys) {
+void addPlane(const Problem& pb, const std::vector<DriftPoint>& pts, const int* idx, int n,
+              const Vec3& normal, const Vec3& centroid, bool loop_only, VoxelStats& stats,
+              System& sys) {
   ++sys.planes;
   stats.reset();
   for (int j = 0; j < n; ++j) {
@@ -267,10 +274,12 @@ void addPlane(const Problem& pb, const std::vector<DriftPoint>& pts, const int* 
 /// planes join the horizontal scanner's points in columns (xy cells through all
 /// heights), where an upright face is one line whatever the height it was seen at,
 /// so that every segment that saw a face, with either scanner, meets every other.
-System buildSystem(const Problem& pb, const std::vector<DriftPoint>& pts, double voxel_m, bool loop_only) {
+System buildSystem(const Problem& pb, const std::vector<DriftPoint>& pts, double voxel_m,
+                   bool loop_only) {
   System sys;
   if (!loop_only) {
-    sys.h = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * pb.nodes), static_cast<Eigen::Index>(3 * pb.nodes));
+    sys.h = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * pb.nodes),
+                                  static_cast<Eigen::Index>(3 * pb.nodes));
     sys.g = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(3 * pb.nodes));
   }
   VoxelStats stats(pb.nodes);
@@ -285,7 +294,8 @@ System buildSystem(const Problem& pb, const std::vector<DriftPoint>& pts, double
     Vec3 normal;
     const Surface kind = classifyVoxel(s, pb.tuning, normal);
     if (kind == Surface::Upright) upright.insert(upright.end(), idx, idx + n);
-    if (kind == Surface::Level || kind == Surface::Sloped) addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
+    if (kind == Surface::Level || kind == Surface::Sloped)
+      addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
   }
   const Cells cols = binPoints(pb.p, upright, voxel_m, true);
   for (std::size_t c = 0; c + 1 < cols.start.size(); ++c) {
@@ -294,7 +304,8 @@ System buildSystem(const Problem& pb, const std::vector<DriftPoint>& pts, double
     const int* idx = cols.order.data() + cols.start[c];
     const Scatter s = pooledScatter(pb, idx, n, true, sums);
     const Vec3 normal = columnNormal(s, pb.tuning);
-    if (normal.squaredNorm() > 0.0) addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
+    if (normal.squaredNorm() > 0.0)
+      addPlane(pb, pts, idx, n, normal, s.centroid, loop_only, stats, sys);
   }
   return sys;
 }
@@ -315,7 +326,8 @@ void addSmoothness(const std::vector<Vec3>& delta, double lambda, System& sys) {
 
 /// The fixed parts of every point: odometry position, weight, node weight, window.
 Problem makeProblem(const std::vector<DriftPoint>& points, const TranslationTrack& track,
-                    const std::vector<double>& node_times_s, double loop_start_s, const DriftTuning& tuning) {
+                    const std::vector<double>& node_times_s, double loop_start_s,
+                    const DriftTuning& tuning) {
   Problem pb;
   pb.tuning = tuning;
   const double unit = tuning.unit_sigma_m;
@@ -339,7 +351,8 @@ Problem makeProblem(const std::vector<DriftPoint>& points, const TranslationTrac
 /// block of the data's normal equations [effective pairs].
 Mat3 sweepInformation(const System& sys, std::size_t nodes) {
   Mat3 info = Mat3::Zero();
-  for (std::size_t k = 1; k < nodes; ++k) info += sys.h.block<3, 3>(static_cast<Eigen::Index>(3 * k), static_cast<Eigen::Index>(3 * k));
+  for (std::size_t k = 1; k < nodes; ++k)
+    info += sys.h.block<3, 3>(static_cast<Eigen::Index>(3 * k), static_cast<Eigen::Index>(3 * k));
   return info;
 }
 
@@ -352,7 +365,8 @@ void freezeUnobserved(const Mat3& information, double min_information, Eigen::Ve
   for (int c = 0; c < 3; ++c) {
     if (es.eigenvalues()(c) >= min_information) continue;
     const Vec3 e = es.eigenvectors().col(c);
-    for (Eigen::Index k = 0; k + 2 < step.size(); k += 3) step.segment<3>(k) -= e.dot(step.segment<3>(k)) * e;
+    for (Eigen::Index k = 0; k + 2 < step.size(); k += 3)
+      step.segment<3>(k) -= e.dot(step.segment<3>(k)) * e;
   }
 }
 
@@ -370,7 +384,8 @@ Vec3 TranslationTrack::at(double t) const {
   if (times_s.empty()) return Vec3::Zero();
   if (t <= times_s.front()) return positions.front();
   if (t >= times_s.back()) return positions.back();
-  const auto j = static_cast<std::size_t>(std::upper_bound(times_s.begin(), times_s.end(), t) - times_s.begin());
+  const auto j = static_cast<std::size_t>(std::upper_bound(times_s.begin(), times_s.end(), t) -
+                                          times_s.begin());
   const double u = (t - times_s[j - 1]) / std::max(1e-12, times_s[j] - times_s[j - 1]);
   return (1.0 - u) * positions[j - 1] + u * positions[j];
 }
@@ -390,17 +405,20 @@ std::vector<double> sweptYawDeg(const std::vector<double>& yaw_rad) {
   return swept;
 }
 
-double timeAtSweptDeg(const std::vector<double>& times_s, const std::vector<double>& swept_deg, double target_deg) {
+double timeAtSweptDeg(const std::vector<double>& times_s, const std::vector<double>& swept_deg,
+                      double target_deg) {
   if (times_s.empty()) return 0.0;
   if (target_deg <= swept_deg.front()) return times_s.front();
   if (target_deg >= swept_deg.back()) return times_s.back();
-  const auto j = static_cast<std::size_t>(std::lower_bound(swept_deg.begin(), swept_deg.end(), target_deg) - swept_deg.begin());
-  const double u = (target_deg - swept_deg[j - 1]) / std::max(1e-12, swept_deg[j] - swept_deg[j - 1]);
+  const auto j = static_cast<std::size_t>(
+      std::lower_bound(swept_deg.begin(), swept_deg.end(), target_deg) - swept_deg.begin());
+  const double u =
+      (target_deg - swept_deg[j - 1]) / std::max(1e-12, swept_deg[j] - swept_deg[j - 1]);
   return times_s[j - 1] + u * (times_s[j] - times_s[j - 1]);
 }
 
-std::vector<double> segmentNodeTimes(const std::vector<double>& times_s, const std::vector<double>& swept_deg,
-                                     double segment_deg) {
+std::vector<double> segmentNodeTimes(const std::vector<double>& times_s,
+                                     const std::vector<double>& swept_deg, double segment_deg) {
   if (times_s.empty()) return {};
   const int segments = std::max(1, static_cast<int>(std::lround(swept_deg.back() / segment_deg)));
   std::vector<double> nodes{times_s.front()};
@@ -416,12 +434,12 @@ void DriftTuning::validate(const std::string& where) const {
   requireThat(min_cell_points >= 3, where, "min_cell_points", ">= 3", min_cell_points);
   requireThat(flat_ratio > 0.0 && flat_ratio <= 1.0, where, "flat_ratio", "in (0, 1]", flat_ratio);
   requirePositive(max_thickness_m, where, "max_thickness_m");
-  requireThat(gravity_aligned_deg >= 0.0 && gravity_aligned_deg < 45.0, where, "gravity_aligned_deg", "in [0, 45)",
-              gravity_aligned_deg);
+  requireThat(gravity_aligned_deg >= 0.0 && gravity_aligned_deg < 45.0, where,
+              "gravity_aligned_deg", "in [0, 45)", gravity_aligned_deg);
   requirePositive(unit_sigma_m, where, "unit_sigma_m");
   requirePositive(robust_sigmas, where, "robust_sigmas");
-  requireThat(std::isfinite(min_loop_information) && min_loop_information >= 0.0, where, "min_loop_information", ">= 0",
-              min_loop_information);
+  requireThat(std::isfinite(min_loop_information) && min_loop_information >= 0.0, where,
+              "min_loop_information", ">= 0", min_loop_information);
   requireThat(std::isfinite(min_direction_information) && min_direction_information >= 0.0, where,
               "min_direction_information", ">= 0", min_direction_information);
 }
@@ -436,7 +454,8 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
   const DriftTuning& tn = options.tuning;
   tn.validate("drift refinement tuning");
   Problem pb = makeProblem(points, track, node_times_s, loop_start_s, tn);
-  const double lambda = (tn.unit_sigma_m / options.smoothness_m) * (tn.unit_sigma_m / options.smoothness_m);
+  const double lambda =
+      (tn.unit_sigma_m / options.smoothness_m) * (tn.unit_sigma_m / options.smoothness_m);
   const auto m = static_cast<Eigen::Index>(3 * (pb.nodes - 1));
   for (int it = 0; it < options.iterations; ++it) {
     placePoints(pb, out.corrections_m);
@@ -447,7 +466,8 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
     Eigen::VectorXd step = -sys.h.bottomRightCorner(m, m).ldlt().solve(sys.g.tail(m));
     if (!step.allFinite()) break;
     freezeUnobserved(observed, tn.min_direction_information, step);
-    for (std::size_t k = 1; k < pb.nodes; ++k) out.corrections_m[k] += step.segment<3>(static_cast<Eigen::Index>(3 * (k - 1)));
+    for (std::size_t k = 1; k < pb.nodes; ++k)
+      out.corrections_m[k] += step.segment<3>(static_cast<Eigen::Index>(3 * (k - 1)));
     out.planes = sys.planes;
     out.iterations = it + 1;
   }
@@ -459,7 +479,8 @@ DriftRefinement refineDrift(const std::vector<DriftPoint>& points, const Transla
   const System fin = buildSystem(pb, points, options.voxel_m, true);
   const Eigen::SelfAdjointEigenSolver<Mat3> es(fin.h_loop);
   out.loop_closure_information = std::max(0.0, es.eigenvalues()(0));
-  if (out.loop_closure_information >= tn.min_loop_information) out.loop_closure_m = fin.h_loop.ldlt().solve(fin.g_loop).norm();
+  if (out.loop_closure_information >= tn.min_loop_information)
+    out.loop_closure_m = fin.h_loop.ldlt().solve(fin.g_loop).norm();
   return out;
 }
 

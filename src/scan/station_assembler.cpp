@@ -8,20 +8,12 @@
 
 #include "uavip/scan/station_assembler.h"
 
-#include "uavip/scan/drift_refinement.h"
-
-#include "uavip/core/error.h"
-#include "uavip/core/math.h"
-#include "uavip/core/stopwatch.h"
-#include "uavip/core/text.h"
-
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
 #include <pcl/registration/transformation_estimation_2D.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,13 +21,20 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/scan/drift_refinement.h"
+
 namespace uavip::scan {
 namespace {
 
 /// Hash key of a 2D cell. Unsigned arithmetic: shifting a negative index is undefined
 /// behaviour (UBSan).
 std::int64_t cellKey(std::int64_t x, std::int64_t y) {
-  return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^ (static_cast<std::uint64_t>(y) & 0xffffffffULL));
+  return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^
+                                   (static_cast<std::uint64_t>(y) & 0xffffffffULL));
 }
 
 using Vec2 = Eigen::Vector2d;
@@ -51,7 +50,8 @@ Eigen::Matrix2d rot2(double theta) {
 class Grid2D {
  public:
   Grid2D(const std::vector<Vec2>& points, double cell) : points_(points), cell_(cell) {
-    for (std::size_t i = 0; i < points_.size(); ++i) cells_[key(cellOf(points_[i].x()), cellOf(points_[i].y()))].push_back(static_cast<int>(i));
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      cells_[key(cellOf(points_[i].x()), cellOf(points_[i].y()))].push_back(static_cast<int>(i));
   }
   /// Index of the nearest point within the cell size, or −1.
   int nearest(const Vec2& q) const {
@@ -97,7 +97,8 @@ struct Reference {
 
 /// A scan placed by (theta, t), with the line normal of each point (AssemblerTuning's
 /// line fit; zero where the neighbourhood is not a line).
-Reference makeReference(const Scan2D& scan, double theta, const Vec2& t, const AssemblerTuning& tuning) {
+Reference makeReference(const Scan2D& scan, double theta, const Vec2& t,
+                        const AssemblerTuning& tuning) {
   const int half = tuning.line_half_window;
   Reference ref;
   const Eigen::Matrix2d r = rot2(theta);
@@ -192,7 +193,8 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
     r.pairs = pairs;
     r.rms = pairs ? std::sqrt(sse / static_cast<double>(pairs)) : 0.0;
     if (pairs < tn.min_pairs) break;
-    r.min_information = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(h.topLeftCorner<2, 2>()).eigenvalues()(0);
+    r.min_information =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(h.topLeftCorner<2, 2>()).eigenvalues()(0);
     // A weak prior toward the guess (the previous position: the wind is a random
     // walk) keeps directions the scan does not constrain (one flat face seen, or
     // nothing in the field of view) where they were instead of letting them slide.
@@ -213,7 +215,8 @@ IcpResult icpPointToLine(const Scan2D& src, const Reference& ref, const Grid2D& 
     Eigen::Vector3d dxs = Eigen::Vector3d::Zero();
     for (int c = 0; c < 3; ++c) {
       const double ev = es.eigenvalues()(c);
-      if (ev > floor_ev && ev > 0.0) dxs -= (es.eigenvectors().col(c).dot(gs) / ev) * es.eigenvectors().col(c);
+      if (ev > floor_ev && ev > 0.0)
+        dxs -= (es.eigenvectors().col(c).dot(gs) / ev) * es.eigenvectors().col(c);
     }
     const Eigen::Vector3d dx = scale.asDiagonal() * dxs;
     if (!dx.allFinite()) break;
@@ -231,12 +234,15 @@ IcpResult icpPcl(const Scan2D& src, const Reference& ref, double theta0, const V
   auto s = std::make_shared<Cloud>();
   auto d = std::make_shared<Cloud>();
   for (std::size_t i = 0; i < src.pts.size(); i += static_cast<std::size_t>(stride)) {
-    s->push_back(pcl::PointXYZ(static_cast<float>(src.pts[i].x()), static_cast<float>(src.pts[i].y()), 0.0f));
+    s->push_back(pcl::PointXYZ(static_cast<float>(src.pts[i].x()),
+                               static_cast<float>(src.pts[i].y()), 0.0f));
   }
-  for (const auto& p : ref.pts) d->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f));
+  for (const auto& p : ref.pts)
+    d->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f));
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
   icp.setTransformationEstimation(
-      std::make_shared<pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>>());
+      std::make_shared<
+          pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>>());
   icp.setInputSource(s);
   icp.setInputTarget(d);
   icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
@@ -313,21 +319,30 @@ std::string toString(IcpMethod method) {
 }
 
 void AssemblerOptions::validate(const std::string& where) const {
-  if (max_iterations < 1) throw InputError(where + ": max_iterations must be >= 1, got " + std::to_string(max_iterations));
+  if (max_iterations < 1)
+    throw InputError(where + ": max_iterations must be >= 1, got " +
+                     std::to_string(max_iterations));
   requirePositive(max_correspondence_m, where, "max_correspondence_m");
   requirePositive(convergence_m, where, "convergence_m");
   requirePositive(keyframe_yaw_deg, where, "keyframe_yaw_deg");
   requirePositive(keyframe_translation_m, where, "keyframe_translation_m");
-  if (horizontal_stride < 1) throw InputError(where + ": horizontal_stride must be >= 1, got " + std::to_string(horizontal_stride));
+  if (horizontal_stride < 1)
+    throw InputError(where + ": horizontal_stride must be >= 1, got " +
+                     std::to_string(horizontal_stride));
   if (!(imu_smoothing_s >= 0.0) || !std::isfinite(imu_smoothing_s)) {
-    throw InputError(where + ": imu_smoothing_s must be >= 0, got " + formatNumber(imu_smoothing_s));
+    throw InputError(where + ": imu_smoothing_s must be >= 0, got " +
+                     formatNumber(imu_smoothing_s));
   }
   requirePositive(max_imu_gap_s, where, "max_imu_gap_s");
-  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0)) throw InputError(where + ": z_cone_deg must be in (0, 90), got " + formatNumber(z_cone_deg));
+  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0))
+    throw InputError(where + ": z_cone_deg must be in (0, 90), got " + formatNumber(z_cone_deg));
   if (!(drift_segment_deg > 0.0 && drift_segment_deg <= 360.0)) {
-    throw InputError(where + ": drift_segment_deg must be in (0, 360], got " + formatNumber(drift_segment_deg));
+    throw InputError(where + ": drift_segment_deg must be in (0, 360], got " +
+                     formatNumber(drift_segment_deg));
   }
-  if (drift_iterations < 1) throw InputError(where + ": drift_iterations must be >= 1, got " + std::to_string(drift_iterations));
+  if (drift_iterations < 1)
+    throw InputError(where + ": drift_iterations must be >= 1, got " +
+                     std::to_string(drift_iterations));
   requirePositive(drift_voxel_m, where, "drift_voxel_m");
   tuning.validate(where + ".tuning");
 }
@@ -350,8 +365,8 @@ void AssemblerTuning::validate(const std::string& where) const {
   atLeast(static_cast<double>(min_pairs), 3, "min_pairs");
   atLeast(prior_weight, 0.0, "prior_weight");
   requirePositive(typical_range_m, where, "typical_range_m");
-  requireThat(degenerate_fraction >= 0.0 && degenerate_fraction < 1.0, where, "degenerate_fraction", "in [0, 1)",
-              degenerate_fraction);
+  requireThat(degenerate_fraction >= 0.0 && degenerate_fraction < 1.0, where, "degenerate_fraction",
+              "in [0, 1)", degenerate_fraction);
   atLeast(map_spacing_m, 0.0, "map_spacing_m");
   atLeast(min_loop_information, 0.0, "min_loop_information");
   atLeast(static_cast<double>(drift_beam_stride), 1, "drift_beam_stride");
@@ -376,23 +391,27 @@ ImuTrack::ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, doub
   q_.reserve(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const auto& s = samples[i];
-    if (!std::isfinite(s.t_s) || !s.world_q_body.coeffs().allFinite() || s.world_q_body.norm() < 1e-6) {
-      throw InputError(where + ": IMU sample " + std::to_string(i) + " is not finite or not a rotation");
+    if (!std::isfinite(s.t_s) || !s.world_q_body.coeffs().allFinite() ||
+        s.world_q_body.norm() < 1e-6) {
+      throw InputError(where + ": IMU sample " + std::to_string(i) +
+                       " is not finite or not a rotation");
     }
     if (i > 0) {
       const double gap = s.t_s - t_.back();
       if (gap < 0.0) {
-        throw InputError(where + ": IMU time goes backwards at sample " + std::to_string(i) + " (" + formatNumber(t_.back()) +
-                         " s -> " + formatNumber(s.t_s) + " s)");
+        throw InputError(where + ": IMU time goes backwards at sample " + std::to_string(i) + " (" +
+                         formatNumber(t_.back()) + " s -> " + formatNumber(s.t_s) + " s)");
       }
       if (gap > max_gap_s) {
-        throw InputError(where + ": IMU gap of " + formatNumber(gap) + " s at t = " + formatNumber(t_.back()) +
+        throw InputError(where + ": IMU gap of " + formatNumber(gap) +
+                         " s at t = " + formatNumber(t_.back()) +
                          " s is longer than max_imu_gap_s " + formatNumber(max_gap_s) + " s");
       }
     }
     t_.push_back(s.t_s);
     Eigen::Quaterniond q = s.world_q_body.normalized();
-    if (!q_.empty() && q_.back().coeffs().dot(q.coeffs()) < 0.0) q.coeffs() *= -1.0;  // same hemisphere
+    if (!q_.empty() && q_.back().coeffs().dot(q.coeffs()) < 0.0)
+      q.coeffs() *= -1.0;  // same hemisphere
     q_.push_back(q);
   }
   if (smoothing_s > 0.0 && q_.size() > 2) {
@@ -415,7 +434,8 @@ ImuTrack::ImuTrack(const std::vector<ImuSample>& samples, double max_gap_s, doub
         r1 += tau * r;
       }
       const double det = s0 * s2 - s1 * s1;
-      const Eigen::Vector3d a = std::abs(det) > 1e-18 ? Eigen::Vector3d((s2 * r0 - s1 * r1) / det) : Eigen::Vector3d(r0 / s0);
+      const Eigen::Vector3d a = std::abs(det) > 1e-18 ? Eigen::Vector3d((s2 * r0 - s1 * r1) / det)
+                                                      : Eigen::Vector3d(r0 / s0);
       smooth[i] = (q_[i] * expMap(a)).normalized();
     }
     q_ = std::move(smooth);
@@ -457,22 +477,27 @@ Eigen::Quaterniond ImuTrack::at(double t_s) const {
 namespace {
 
 /// Throws InputError for a scan with a bad time, out of order or outside the IMU's span.
-void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, const std::string& where) {
+void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s,
+                const std::string& where) {
   auto check = [&](const std::vector<LaserScan>& scans, const char* kind) {
     for (std::size_t i = 0; i < scans.size(); ++i) {
       const LaserScan& s = scans[i];
       const double prev_t = i ? scans[i - 1].t_start_s : -std::numeric_limits<double>::infinity();
       if (!std::isfinite(s.t_start_s) || !std::isfinite(s.duration_s) || s.duration_s < 0.0) {
-        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " has a non-finite time");
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) +
+                         " has a non-finite time");
       }
       if (s.t_start_s < prev_t) {
-        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " starts before the previous one (" +
-                         formatNumber(prev_t) + " s -> " + formatNumber(s.t_start_s) + " s)");
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) +
+                         " starts before the previous one (" + formatNumber(prev_t) + " s -> " +
+                         formatNumber(s.t_start_s) + " s)");
       }
-      if (s.t_start_s < imu.startTime() - tolerance_s || s.t_start_s + s.duration_s > imu.endTime() + tolerance_s) {
-        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " + formatNumber(s.t_start_s) +
-                         " s is outside the IMU's time span [" + formatNumber(imu.startTime()) + ", " +
-                         formatNumber(imu.endTime()) + "] s");
+      if (s.t_start_s < imu.startTime() - tolerance_s ||
+          s.t_start_s + s.duration_s > imu.endTime() + tolerance_s) {
+        throw InputError(where + ": " + kind + " scan " + std::to_string(i) + " at " +
+                         formatNumber(s.t_start_s) + " s is outside the IMU's time span [" +
+                         formatNumber(imu.startTime()) + ", " + formatNumber(imu.endTime()) +
+                         "] s");
       }
     }
   };
@@ -481,8 +506,8 @@ void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s, cons
 }
 
 /// The horizontal scans as 2D points (IMU-rotated with the prior) with line normals.
-std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu, bool prior,
-                                    const AssemblerTuning& tuning) {
+std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu,
+                                    bool prior, const AssemblerTuning& tuning) {
   std::vector<Scan2D> scans(st.horizontal.size());
   for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
     const LaserScan& s = st.horizontal[k];
@@ -490,7 +515,8 @@ std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const 
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
       const float r = s.ranges_m[i];
       if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
-      const Vec3 b = log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
+      const Vec3 b = log.body_T_horizontal *
+                     horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
       // With the prior: rotate by the IMU at the beam's own time (levels, de-yaws, deskews).
       const Vec3 p = prior ? Vec3(imu.at(s.beamTime(i)) * b) : b;
       scans[k].pts.emplace_back(p.x(), p.y());
@@ -513,11 +539,13 @@ struct Odometry {
 /// placed, in coordinates centred on the last scan's position (so the result is a
 /// body offset). Only a closure the scans can see is a measurement: with too few
 /// pairs, or a direction no pair fixes (one flat face in view), the offset would read 0.
-void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo, const AssemblerOptions& options) {
+void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo,
+                         const AssemblerOptions& options) {
   if (scans.size() < 2) return;
   const std::size_t last = scans.size() - 1;
   Scan2D first_c;
-  for (const auto& p : scans[0].pts) first_c.pts.push_back(rot2(odo.theta[0]) * p + odo.trans[0] - odo.trans[last]);
+  for (const auto& p : scans[0].pts)
+    first_c.pts.push_back(rot2(odo.theta[0]) * p + odo.trans[0] - odo.trans[last]);
   Reference lref = makeReference(first_c, 0.0, Vec2::Zero(), options.tuning);
   const Grid2D lgrid(lref.pts, options.max_correspondence_m);
   Scan2D last_c;
@@ -526,13 +554,15 @@ void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo, const 
   const IcpResult r = icpPointToLine(last_c, lref, lgrid, 0.0, Vec2::Zero(), options, 1);
   odo.loop_closure_information = r.min_information;
   const AssemblerTuning& tn = options.tuning;
-  odo.loop_closure_m = r.pairs >= tn.min_pairs && r.min_information >= tn.min_loop_information ? r.t.norm() : -1.0;
+  odo.loop_closure_m =
+      r.pairs >= tn.min_pairs && r.min_information >= tn.min_loop_information ? r.t.norm() : -1.0;
 }
 
 /// T in xy from ICP between horizontal scans and a keyframe map (see the header).
 /// (The 2D loop closure only with `loop_closure`: the refinement has its own.)
-Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu, const AssemblerOptions& options,
-                            bool loop_closure, AssemblyStats& stats) {
+Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu,
+                            const AssemblerOptions& options, bool loop_closure,
+                            AssemblyStats& stats) {
   const bool prior = options.use_imu_prior;
   const std::vector<Scan2D> scans = horizontalScans(log, st, imu, prior, options.tuning);
   Odometry odo;
@@ -554,10 +584,12 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
     // yaw prediction either: it starts from the last yaw).
     const double th0 = theta[k - 1];
     const Vec2 t0 = trans[k - 1];
-    const IcpResult r = options.icp == IcpMethod::PointToLine2D
-                            ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, options.horizontal_stride)
-                            : icpPcl(scans[k], ref, th0, t0, options, options.horizontal_stride);
-    const bool ok = r.converged && r.pairs >= options.tuning.min_pairs && std::isfinite(r.theta) && r.t.allFinite();
+    const IcpResult r =
+        options.icp == IcpMethod::PointToLine2D
+            ? icpPointToLine(scans[k], ref, *grid, th0, t0, options, options.horizontal_stride)
+            : icpPcl(scans[k], ref, th0, t0, options, options.horizontal_stride);
+    const bool ok = r.converged && r.pairs >= options.tuning.min_pairs && std::isfinite(r.theta) &&
+                    r.t.allFinite();
     theta[k] = ok ? r.theta : th0;
     trans[k] = ok ? r.t : t0;
     if (!ok) ++stats.failed_icp;
@@ -566,7 +598,8 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
     ++icp_runs;
     // Yaw since the keyframe: the IMU's (with the prior) or the ICP's own.
     const double yaw_k = prior ? yawOf(imu.at(st.horizontal[k].t_start_s)) + theta[k] : theta[k];
-    const double yaw_kf = prior ? yawOf(imu.at(st.horizontal[kf].t_start_s)) + theta[kf] : theta[kf];
+    const double yaw_kf =
+        prior ? yawOf(imu.at(st.horizontal[kf].t_start_s)) + theta[kf] : theta[kf];
     if (ok && (std::abs(wrapAngle(yaw_k - yaw_kf)) * 180.0 / kPi > options.keyframe_yaw_deg ||
                (trans[k] - trans[kf]).norm() > options.keyframe_translation_m)) {
       // The reference is a map of all keyframes so far: structure seen earlier in
@@ -577,7 +610,9 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
       for (std::size_t i = 0; i < add.pts.size(); ++i) {
         if (add.normals[i].squaredNorm() == 0.0) continue;
         const int j = grid->nearest(add.pts[i]);
-        if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() < options.tuning.map_spacing_m) continue;
+        if (j >= 0 && (ref.pts[static_cast<std::size_t>(j)] - add.pts[i]).norm() <
+                          options.tuning.map_spacing_m)
+          continue;
         ref.pts.push_back(add.pts[i]);
         ref.normals.push_back(add.normals[i]);
       }
@@ -643,14 +678,16 @@ std::size_t nearestVerticalScan(const std::vector<LaserScan>& vertical, double t
   const auto it = std::lower_bound(vertical.begin(), vertical.end(), t,
                                    [](const LaserScan& s, double v) { return s.t_start_s < v; });
   std::size_t j = static_cast<std::size_t>(it - vertical.begin());
-  if (j == vertical.size() || (j > 0 && t - vertical[j - 1].t_start_s < vertical[j].t_start_s - t)) j = j == 0 ? 0 : j - 1;
+  if (j == vertical.size() || (j > 0 && t - vertical[j - 1].t_start_s < vertical[j].t_start_s - t))
+    j = j == 0 ? 0 : j - 1;
   return j;
 }
 
 /// T(t) from the odometry (xy at the horizontal scans' mid times) and the vertical
 /// drift (z of the vertical scan nearest in time). Without horizontal scans: the
 /// vertical scans' start times, z only.
-TranslationTrack odometryTrack(const Station& st, const Odometry& odo, const std::vector<double>& z_of_vscan) {
+TranslationTrack odometryTrack(const Station& st, const Odometry& odo,
+                               const std::vector<double>& z_of_vscan) {
   TranslationTrack track;
   if (!st.horizontal.empty()) {
     for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
@@ -687,7 +724,8 @@ std::vector<DriftPoint> driftPoints(const RawLog& log, const Station& st, const 
   for (const auto& s : st.vertical) beams += s.ranges_m.size();
   for (const auto& s : st.horizontal) beams += s.ranges_m.size() / scan_stride_h;
   pts.reserve(beams / beam_stride + 1);
-  auto add = [&](const std::vector<LaserScan>& scans, const Eigen::Isometry3d& mount, bool horizontal, std::size_t scan_stride) {
+  auto add = [&](const std::vector<LaserScan>& scans, const Eigen::Isometry3d& mount,
+                 bool horizontal, std::size_t scan_stride) {
     for (std::size_t k = 0; k < scans.size(); k += scan_stride) {
       const LaserScan& s = scans[k];
       for (std::size_t i = k % beam_stride; i < s.ranges_m.size(); i += beam_stride) {
@@ -716,7 +754,8 @@ void smoothTrackXY(TranslationTrack& track, double half_s) {
   std::size_t lo = 0, hi = 0;
   Vec2 sum = Vec2::Zero();
   for (std::size_t k = 0; k < n; ++k) {
-    while (hi < n && track.times_s[hi] <= track.times_s[k] + half_s) sum += track.positions[hi++].head<2>();
+    while (hi < n && track.times_s[hi] <= track.times_s[k] + half_s)
+      sum += track.positions[hi++].head<2>();
     while (track.times_s[lo] < track.times_s[k] - half_s) sum -= track.positions[lo++].head<2>();
     xy[k] = sum / static_cast<double>(hi - lo);
   }
@@ -725,30 +764,34 @@ void smoothTrackXY(TranslationTrack& track, double half_s) {
 }
 
 /// The joint refinement of T(t) (drift_refinement.h) on `track`, in place; returns it.
-DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack& imu, const AssemblerOptions& options,
-                            TranslationTrack& track) {
+DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack& imu,
+                            const AssemblerOptions& options, TranslationTrack& track) {
   if (track.times_s.size() < 2) return {};
   std::vector<double> yaw(track.times_s.size());
   for (std::size_t k = 0; k < yaw.size(); ++k) yaw[k] = yawOf(imu.at(track.times_s[k]));
   const std::vector<double> swept = sweptYawDeg(yaw);
   const AssemblerTuning& tn = options.tuning;
-  const double segment_deg = std::max(options.drift_segment_deg, swept.back() / tn.max_drift_segments);
+  const double segment_deg =
+      std::max(options.drift_segment_deg, swept.back() / tn.max_drift_segments);
   const std::vector<double> nodes = segmentNodeTimes(track.times_s, swept, segment_deg);
-  const double loop_start_s = timeAtSweptDeg(track.times_s, swept, swept.back() - tn.loop_window_deg);
+  const double loop_start_s =
+      timeAtSweptDeg(track.times_s, swept, swept.back() - tn.loop_window_deg);
   const double segment_s = (nodes.back() - nodes.front()) / static_cast<double>(nodes.size() - 1);
   smoothTrackXY(track, tn.odometry_smoothing * segment_s);
   DriftRefinementOptions o;
   o.iterations = options.drift_iterations;
   o.voxel_m = options.drift_voxel_m;
   o.tuning = tn.drift;
-  const DriftRefinement r = refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
-  for (std::size_t k = 0; k < track.times_s.size(); ++k) track.positions[k] += r.at(track.times_s[k]);
+  const DriftRefinement r =
+      refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
+  for (std::size_t k = 0; k < track.times_s.size(); ++k)
+    track.positions[k] += r.at(track.times_s[k]);
   return r;
 }
 
 /// Eq. (1) on every vertical beam (and the horizontal ones with include_horizontal).
-void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu, const TranslationTrack& track,
-                 bool include_horizontal, StationCloud& out) {
+void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu,
+                 const TranslationTrack& track, bool include_horizontal, StationCloud& out) {
   std::size_t n_beams = 0;
   for (const auto& s : st.vertical) n_beams += s.ranges_m.size();
   out.points.reserve(n_beams);
@@ -773,7 +816,9 @@ void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu, cons
       const float r = s.ranges_m[i];
       if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
       const double t = s.beamTime(i);
-      out.points.push_back(imu.at(t) * (log.body_T_horizontal * horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad)) +
+      out.points.push_back(imu.at(t) * (log.body_T_horizontal *
+                                        horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) *
+                                                                                s.angle_step_rad)) +
                            track.at(t));
     }
   }
@@ -781,7 +826,8 @@ void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu, cons
 
 }  // namespace
 
-StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options) {
+StationCloud assembleStation(const RawLog& log, std::size_t index,
+                             const AssemblerOptions& options) {
   options.validate();
   if (index >= log.stations.size()) {
     throw InputError("scan: station index " + std::to_string(index) + " out of range (" +

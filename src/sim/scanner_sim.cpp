@@ -1,14 +1,14 @@
 #include "uavip/sim/scanner_sim.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/text.h"
-#include "uavip/core/math.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
 #include <sstream>
+
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/text.h"
 
 namespace uavip::sim {
 namespace {
@@ -99,8 +99,12 @@ std::vector<Vec3> boundedWalk(std::mt19937& rng, int ticks, double step, double 
 /// The true motion of one station: yaw ramp, wind offset and tilt walks.
 class StationMotion {
  public:
-  StationMotion(const ScanSimOptions& o, const Vec3& position, double t0, double span_s, std::mt19937& rng)
-      : position_(position), t0_(t0), tick_(o.scanner.period_s), yaw0_(o.start_yaw_deg * kDeg),
+  StationMotion(const ScanSimOptions& o, const Vec3& position, double t0, double span_s,
+                std::mt19937& rng)
+      : position_(position),
+        t0_(t0),
+        tick_(o.scanner.period_s),
+        yaw0_(o.start_yaw_deg * kDeg),
         yaw_rate_(o.yaw_rate_deg_s * kDeg) {
     const int ticks = static_cast<int>(std::ceil(span_s / tick_)) + 2;
     wind_ = boundedWalk(rng, ticks, o.wind_step_m, o.wind_bound_m);
@@ -117,9 +121,10 @@ class StationMotion {
     const Vec3 wind = (1.0 - w) * wind_[k] + w * wind_[k + 1];
     const Vec3 tilt = (1.0 - w) * tilt_[k] + w * tilt_[k + 1];
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = (Eigen::AngleAxisd(yaw0_ + yaw_rate_ * local, Vec3::UnitZ()) *
-                  Eigen::AngleAxisd(tilt.y(), Vec3::UnitY()) * Eigen::AngleAxisd(tilt.x(), Vec3::UnitX()))
-                     .toRotationMatrix();
+    T.linear() =
+        (Eigen::AngleAxisd(yaw0_ + yaw_rate_ * local, Vec3::UnitZ()) *
+         Eigen::AngleAxisd(tilt.y(), Vec3::UnitY()) * Eigen::AngleAxisd(tilt.x(), Vec3::UnitX()))
+            .toRotationMatrix();
     T.translation() = position_ + wind;
     return T;
   }
@@ -133,14 +138,17 @@ class StationMotion {
 /// Beam direction in the scanner frame (core/raw_log.h): eq. (1) for the vertical
 /// scanner, the x*–y* plane for the horizontal one.
 Vec3 beamDir(bool vertical, double alpha) {
-  return vertical ? Vec3(-std::cos(alpha), 0.0, -std::sin(alpha)) : Vec3(std::cos(alpha), std::sin(alpha), 0.0);
+  return vertical ? Vec3(-std::cos(alpha), 0.0, -std::sin(alpha))
+                  : Vec3(std::cos(alpha), std::sin(alpha), 0.0);
 }
 
 }  // namespace
 
 // ---------------------------------------------------------------- ScannerModel
 
-int ScannerModel::beamCount() const { return static_cast<int>(std::lround(fov_deg / step_deg)) + 1; }
+int ScannerModel::beamCount() const {
+  return static_cast<int>(std::lround(fov_deg / step_deg)) + 1;
+}
 double ScannerModel::angleMinRad() const { return -0.5 * fov_deg * kDeg; }
 double ScannerModel::angleStepRad() const { return step_deg * kDeg; }
 double ScannerModel::sweepDurationS() const { return period_s * fov_deg / 360.0; }
@@ -190,28 +198,36 @@ void ScanSimOptions::validate(const std::string& where) const {
   require(turn_deg / (yaw_rate_deg_s * scanner.period_s) <= 1e6, where,
           "turn_deg / (yaw_rate_deg_s * period) must be <= 1e6 scans per station");
   requirePositive(max_readings, where, "max_readings");
-  const double readings = static_cast<double>(stations.size()) * (turn_deg / (yaw_rate_deg_s * scanner.period_s) + 1.0) *
-                          2.0 * scanner.beamCount();
+  const double readings = static_cast<double>(stations.size()) *
+                          (turn_deg / (yaw_rate_deg_s * scanner.period_s) + 1.0) * 2.0 *
+                          scanner.beamCount();
   require(readings <= max_readings, where,
-          formatNumber(static_cast<double>(stations.size())) + " stations x " + formatNumber(turn_deg) + " deg at " +
-              formatNumber(yaw_rate_deg_s) + " deg/s make " + formatNumber(readings / 1e6, 3) +
+          formatNumber(static_cast<double>(stations.size())) + " stations x " +
+              formatNumber(turn_deg) + " deg at " + formatNumber(yaw_rate_deg_s) + " deg/s make " +
+              formatNumber(readings / 1e6, 3) +
               " M range readings, more than max_readings = " + formatNumber(max_readings / 1e6, 3) +
-              " M; use fewer stations, a smaller turn_deg or a faster yaw_rate_deg_s, or raise sensing.max_readings");
-  for (const Vec3* v : {&vertical_mount_m, &horizontal_mount_m, &vertical_mount_rpy_deg, &horizontal_mount_rpy_deg}) {
+              " M; use fewer stations, a smaller turn_deg or a faster yaw_rate_deg_s, or raise "
+              "sensing.max_readings");
+  for (const Vec3* v : {&vertical_mount_m, &horizontal_mount_m, &vertical_mount_rpy_deg,
+                        &horizontal_mount_rpy_deg}) {
     require(v->allFinite(), where, "mount offsets and angles must be finite");
   }
   requireNonNegative(horizontal_time_offset_s, where, "horizontal_time_offset_s");
   require(horizontal_time_offset_s < scanner.period_s, where,
-          "horizontal_time_offset_s must be < the scan period " + std::to_string(scanner.period_s) + " s");
+          "horizontal_time_offset_s must be < the scan period " + std::to_string(scanner.period_s) +
+              " s");
   requirePositive(imu_rate_hz, where, "imu_rate_hz");
-  require(imu_rate_hz <= 10000.0, where, "imu_rate_hz must be <= 10000, got " + std::to_string(imu_rate_hz));
+  require(imu_rate_hz <= 10000.0, where,
+          "imu_rate_hz must be <= 10000, got " + std::to_string(imu_rate_hz));
   requireNonNegative(imu_error_deg, where, "imu_error_deg");
-  require(imu_error_deg <= 45.0, where, "imu_error_deg must be <= 45, got " + std::to_string(imu_error_deg));
+  require(imu_error_deg <= 45.0, where,
+          "imu_error_deg must be <= 45, got " + std::to_string(imu_error_deg));
   requireNonNegative(wind_step_m, where, "wind_step_m");
   requireNonNegative(wind_bound_m, where, "wind_bound_m");
   requireNonNegative(tilt_step_deg, where, "tilt_step_deg");
   requireNonNegative(tilt_bound_deg, where, "tilt_bound_deg");
-  require(tilt_bound_deg <= 30.0, where, "tilt_bound_deg must be <= 30, got " + std::to_string(tilt_bound_deg));
+  require(tilt_bound_deg <= 30.0, where,
+          "tilt_bound_deg must be <= 30, got " + std::to_string(tilt_bound_deg));
   requireNonNegative(gps_sigma_m, where, "gps_sigma_m");
   requireNonNegative(thin_radius_m, where, "thin_radius_m");
   requireNonNegative(station_gap_s, where, "station_gap_s");
@@ -243,7 +259,8 @@ RayCaster::RayCaster(const WorldModel& world, double thin_radius_m) : radius_(th
     c_.push_back(r.edge_v / r.edge_v.squaredNorm());
     n_.push_back(r.normal());
     Vec3 l = r.corner, h = r.corner;
-    for (const Vec3& p : {Vec3(r.corner + r.edge_u), Vec3(r.corner + r.edge_v), Vec3(r.corner + r.edge_u + r.edge_v)}) {
+    for (const Vec3& p : {Vec3(r.corner + r.edge_u), Vec3(r.corner + r.edge_v),
+                          Vec3(r.corner + r.edge_u + r.edge_v)}) {
       l = l.cwiseMin(p);
       h = h.cwiseMax(p);
     }
@@ -287,7 +304,8 @@ RayCaster::RayCaster(const WorldModel& world, double thin_radius_m) : radius_(th
   permute(n_);
 }
 
-int RayCaster::build(std::vector<int>& order, int begin, int end, const std::vector<Eigen::Vector3d>& lo,
+int RayCaster::build(std::vector<int>& order, int begin, int end,
+                     const std::vector<Eigen::Vector3d>& lo,
                      const std::vector<Eigen::Vector3d>& hi) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.push_back({});
@@ -311,8 +329,9 @@ int RayCaster::build(std::vector<int>& order, int begin, int end, const std::vec
   auto centre = [&](int s) {
     return lo[static_cast<std::size_t>(s)][axis] + hi[static_cast<std::size_t>(s)][axis];
   };
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                   [&](int x, int y) { return centre(x) < centre(y) || (centre(x) == centre(y) && x < y); });
+  std::nth_element(
+      order.begin() + begin, order.begin() + mid, order.begin() + end,
+      [&](int x, int y) { return centre(x) < centre(y) || (centre(x) == centre(y) && x < y); });
   const int left = build(order, begin, mid, lo, hi);
   const int right = build(order, mid, end, lo, hi);
   nodes_[static_cast<std::size_t>(index)].first = left;
@@ -371,15 +390,19 @@ double RayCaster::cast(const Vec3& origin, const Vec3& dir, double max_range_m) 
 
 // ---------------------------------------------------------------- simulation
 
-// Long (106 lines): one pass over the sweep whose per-scan state (station motion, both scanners' noise streams, the IMU clock, progress) is shared; ray casting and motion already live in RayCaster and StationMotion.
-SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, const SimProgress& progress) {
+// Long (106 lines): one pass over the sweep whose per-scan state (station motion, both scanners'
+// noise streams, the IMU clock, progress) is shared; ray casting and motion already live in
+// RayCaster and StationMotion.
+SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o,
+                           const SimProgress& progress) {
   o.validate();
   const RayCaster caster(world, o.thin_radius_m);
   const ScannerModel& sc = o.scanner;
   const int beams = sc.beamCount();
   const int scans = o.scansPerStation();
   const double turn_s = o.turn_deg / o.yaw_rate_deg_s;
-  const double span_s = (scans - 1) * sc.period_s + o.horizontal_time_offset_s + sc.sweepDurationS();
+  const double span_s =
+      (scans - 1) * sc.period_s + o.horizontal_time_offset_s + sc.sweepDurationS();
   const double station_s = turn_s + sc.period_s + o.station_gap_s;
   const Eigen::Isometry3d mounts[2] = {o.bodyTVertical(), o.bodyTHorizontal()};
 
@@ -395,8 +418,9 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
   for (std::size_t s = 0; s < o.stations.size(); ++s) {
     const int sid = static_cast<int>(s);
     if (progress) {
-      progress("simulating station " + std::to_string(s + 1) + "/" + std::to_string(o.stations.size()) + ": " +
-               std::to_string(scans) + " scans x 2 scanners x " + std::to_string(beams) + " beams");
+      progress("simulating station " + std::to_string(s + 1) + "/" +
+               std::to_string(o.stations.size()) + ": " + std::to_string(scans) +
+               " scans x 2 scanners x " + std::to_string(beams) + " beams");
     }
     const double t0 = static_cast<double>(s) * station_s;
     const Vec3 position = o.stations[s] - out.origin_m;
@@ -414,7 +438,8 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
     std::mt19937 gps_rng(gps_seed);
     const Vec3 gps_error(gauss(gps_rng), gauss(gps_rng), gauss(gps_rng));
     st.recorded_position = s == 0 ? Vec3::Zero() : Vec3(position + o.gps_sigma_m * gps_error);
-    st.recorded_yaw_rad = o.start_yaw_deg * kDeg + o.imu_error_deg * kDeg * (2.0 * unit(gps_rng) - 1.0);
+    st.recorded_yaw_rad =
+        o.start_yaw_deg * kDeg + o.imu_error_deg * kDeg * (2.0 * unit(gps_rng) - 1.0);
 
     // Scans: vertical (k = 0) and horizontal (k = 1).
     for (int k = 0; k < 2; ++k) {
@@ -425,7 +450,8 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
       // Beam directions in the body frame (the mount rotation applied once).
       std::vector<Vec3> dirs(static_cast<std::size_t>(beams));
       for (int b = 0; b < beams; ++b) {
-        dirs[static_cast<std::size_t>(b)] = mounts[k].linear() * beamDir(vertical, sc.angleMinRad() + b * sc.angleStepRad());
+        dirs[static_cast<std::size_t>(b)] =
+            mounts[k].linear() * beamDir(vertical, sc.angleMinRad() + b * sc.angleStepRad());
       }
       for (int i = 0; i < scans; ++i) {
         LaserScan scan;
@@ -434,8 +460,8 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
         scan.angle_min_rad = sc.angleMinRad();
         scan.angle_step_rad = sc.angleStepRad();
         scan.ranges_m.assign(static_cast<std::size_t>(beams), 0.0f);
-        std::seed_seq noise_seed{o.seed, static_cast<std::uint32_t>(s), 2u, static_cast<std::uint32_t>(k),
-                                 static_cast<std::uint32_t>(i)};
+        std::seed_seq noise_seed{o.seed, static_cast<std::uint32_t>(s), 2u,
+                                 static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i)};
         std::mt19937 noise_rng(noise_seed);
         const Eigen::Isometry3d start_pose = motion.pose(scan.t_start_s);
         poses.push_back(start_pose);
@@ -443,7 +469,8 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
         for (int b = 0; b < beams; ++b) {
           const double noise = sc.range_noise_m * gauss(noise_rng);  // one draw per beam, always
           if (o.deskew && b > 0) body = motion.pose(scan.beamTime(static_cast<std::size_t>(b)));
-          const Vec3 from = out.origin_m + body * mounts[k].translation();  // the world is in scenario coordinates
+          const Vec3 from = out.origin_m +
+                            body * mounts[k].translation();  // the world is in scenario coordinates
           const Vec3 d = body.linear() * dirs[static_cast<std::size_t>(b)];
           const double r = caster.cast(from, d, sc.max_range_m);
           ++out.rays;
@@ -470,7 +497,8 @@ SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o, con
       if (axis.norm() < 1e-12) axis = Vec3::UnitZ();
       const double angle = o.imu_error_deg * kDeg * unit(imu_rng);
       const Eigen::Quaterniond q_true(motion.pose(m.t_s).linear());
-      m.world_q_body = (q_true * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
+      m.world_q_body =
+          (q_true * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
       st.imu.push_back(m);
     }
     out.log.stations.push_back(std::move(st));

@@ -32,11 +32,11 @@ constexpr double kMaxSamples = 50e6;
 void SampleOptions::validate(const std::string& where) const {
   requirePositive(spacing_m, where, "spacing_m");
   requireThat(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0, where, "noise_sigma_m", ">= 0",
-               noise_sigma_m);
+              noise_sigma_m);
   requireThat(outlier_fraction >= 0.0 && outlier_fraction < 1.0, where, "outlier_fraction",
-               "in [0, 1)", outlier_fraction);
-  requireThat(std::isfinite(outlier_margin_m) && outlier_margin_m >= 0.0, where,
-               "outlier_margin_m", ">= 0", outlier_margin_m);
+              "in [0, 1)", outlier_fraction);
+  requireThat(std::isfinite(outlier_margin_m) && outlier_margin_m >= 0.0, where, "outlier_margin_m",
+              ">= 0", outlier_margin_m);
 }
 
 PointList sampleSurfaces(const WorldModel& world, const SampleOptions& options) {

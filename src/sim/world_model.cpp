@@ -138,14 +138,16 @@ void TreeOptions::validate(const std::string& where) const {
 void GrassOptions::validate(const std::string& where) const {
   requirePositive(size_x_m, where, "size_x_m");
   requirePositive(size_y_m, where, "size_y_m");
-  require(tufts >= 1 && tufts <= 10000, where, "tufts must be in [1, 10000], got " + std::to_string(tufts));
+  require(tufts >= 1 && tufts <= 10000, where,
+          "tufts must be in [1, 10000], got " + std::to_string(tufts));
   requirePositive(tuft_height_m, where, "tuft_height_m");
   requirePositive(tuft_width_m, where, "tuft_width_m");
 }
 
 void WorldModel::addTree(const std::string& name, const Vec3& base, const TreeOptions& o) {
   o.validate("world: tree '" + name + "'");
-  require(base.allFinite(), "world", "tree '" + name + "' base must be finite, got " + vecString(base));
+  require(base.allFinite(), "world",
+          "tree '" + name + "' base must be finite, got " + vecString(base));
   const Vec3 half(0.5 * o.trunk_width_m, 0.5 * o.trunk_width_m, 0.0);
   addBox(name + "/trunk", base - half, base + half + Vec3(0.0, 0.0, o.trunk_height_m));
   // Crown centre one crown radius above the trunk top; centres uniform in the ball
@@ -166,7 +168,8 @@ void WorldModel::addTree(const std::string& name, const Vec3& base, const TreeOp
 
 void WorldModel::addGrass(const std::string& name, const Vec3& center, const GrassOptions& o) {
   o.validate("world: grass '" + name + "'");
-  require(center.allFinite(), "world", "grass '" + name + "' center must be finite, got " + vecString(center));
+  require(center.allFinite(), "world",
+          "grass '" + name + "' center must be finite, got " + vecString(center));
   std::mt19937 rng(o.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double hw = 0.5 * o.tuft_width_m;

@@ -4,13 +4,6 @@
 
 #include "uavip/view/mission_page.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/core/pcl_cloud.h"
-#include "uavip/core/text.h"
-#include "uavip/io/mission_json.h"
-#include "uavip/render/figure.h"
-
 #include <pcl/kdtree/kdtree_flann.h>
 
 #include <algorithm>
@@ -23,6 +16,13 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/core/pcl_cloud.h"
+#include "uavip/core/text.h"
+#include "uavip/io/mission_json.h"
+#include "uavip/render/figure.h"
 
 namespace uavip::view {
 
@@ -46,7 +46,8 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   out.reserve((bytes.size() + 2) / 3 * 4);
   std::size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
-    const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+    const std::uint32_t v =
+        (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
     out += kAlphabet[(v >> 18) & 63];
     out += kAlphabet[(v >> 12) & 63];
     out += kAlphabet[(v >> 6) & 63];
@@ -54,7 +55,8 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   }
   if (i < bytes.size()) {
     const bool two = i + 1 < bytes.size();
-    const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (two ? std::uint32_t{bytes[i + 1]} << 8 : 0u);
+    const std::uint32_t v =
+        (std::uint32_t{bytes[i]} << 16) | (two ? std::uint32_t{bytes[i + 1]} << 8 : 0u);
     out += kAlphabet[(v >> 18) & 63];
     out += kAlphabet[(v >> 12) & 63];
     out += two ? kAlphabet[(v >> 6) & 63] : '=';
@@ -112,11 +114,20 @@ std::string htmlEscape(const std::string& s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -168,7 +179,8 @@ class Clearance {
   double at(const Vec3& p) const {
     if (empty_) return std::numeric_limits<double>::infinity();
     const Vec3 q = p - origin_;
-    pcl::PointXYZ s(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+    pcl::PointXYZ s(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                    static_cast<float>(q.z()));
     std::vector<int> idx(1);
     std::vector<float> d2(1);
     if (tree_.nearestKSearch(s, 1, idx, d2) < 1) return std::numeric_limits<double>::infinity();
@@ -196,14 +208,17 @@ void MissionPageOptions::validate() const {
   if (max_cloud_points < 1)
     throw InputError("mission page: max_cloud_points is 0; give at least 1 point to draw");
   if (!std::isnan(clearance_m) && !(clearance_m > 0.0 && std::isfinite(clearance_m)))
-    throw InputError("mission page: clearance_m " + std::to_string(clearance_m) + " must be a positive number of metres");
+    throw InputError("mission page: clearance_m " + std::to_string(clearance_m) +
+                     " must be a positive number of metres");
   if (max_path_samples < 2)
-    throw InputError("mission page: max_path_samples is " + std::to_string(max_path_samples) + "; give at least 2");
+    throw InputError("mission page: max_path_samples is " + std::to_string(max_path_samples) +
+                     "; give at least 2");
 }
 
 const std::string& embeddedThreeJs() {
-  static const std::string text = std::string(page_assets::kThreeJs, page_assets::kThreeJsSize) + "\n" +
-                                  std::string(page_assets::kOrbitControlsJs, page_assets::kOrbitControlsJsSize);
+  static const std::string text =
+      std::string(page_assets::kThreeJs, page_assets::kThreeJsSize) + "\n" +
+      std::string(page_assets::kOrbitControlsJs, page_assets::kOrbitControlsJsSize);
   return text;
 }
 
@@ -225,7 +240,8 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
       const json& stops = sj.at("stops");
       for (std::size_t k = 0; k < extras.size(); ++k) {
         const json& t = stops[k].contains("target") ? stops[k].at("target") : json();
-        if (t.is_array() && t.size() == 3 && t[0].is_number() && t[1].is_number() && t[2].is_number()) {
+        if (t.is_array() && t.size() == 3 && t[0].is_number() && t[1].is_number() &&
+            t[2].is_number()) {
           extras[k].target = {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
           extras[k].has_target = extras[k].target.allFinite();
         }
@@ -242,8 +258,10 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
       for (const char* k : {"length_m", "duration_s"})
         if (f.contains(k) && f.at(k).is_number()) flight_extra[k] = f.at(k);
       const bool ok = f.contains("status") && f.at("status") == "ok";
-      if (ok && f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3) flight_extra["home"] = f.at("home");
-      if (f.contains("home_source") && f.at("home_source").is_string()) flight_extra["home_source"] = f.at("home_source");
+      if (ok && f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3)
+        flight_extra["home"] = f.at("home");
+      if (f.contains("home_source") && f.at("home_source").is_string())
+        flight_extra["home_source"] = f.at("home_source");
     }
   }
 
@@ -255,7 +273,9 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     for (std::size_t k = 0; k < rec.flight->sorties.size(); ++k) {
       const auto& s = rec.flight->sorties[k];
       PagePath p{"sortie " + std::to_string(k + 1),
-                 hex(render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35)), s.waypoints, {}};
+                 hex(render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35)),
+                 s.waypoints,
+                 {}};
       for (const auto& st : s.stops) {
         if (st.surface_id == current) continue;
         current = st.surface_id;
@@ -267,7 +287,9 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     for (const auto& s : rec.surfaces) {
       if (!s.flyable() || s.waypoints.size() < 2) continue;
       paths.push_back({"surface " + std::to_string(s.surface_id),
-                       hex(render::palette(s.surface_id).mix(render::kBlack, 0.35)), s.waypoints, {{0, s.surface_id}}});
+                       hex(render::palette(s.surface_id).mix(render::kBlack, 0.35)),
+                       s.waypoints,
+                       {{0, s.surface_id}}});
     }
   }
 
@@ -283,7 +305,8 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     for (const auto& w : p.waypoints) box.extend(w);
   for (const auto& s : scene.surfaces)
     for (const auto& b : s.boundary) box.extend(b);
-  if (box.empty()) box = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};  // nothing to draw: an empty page
+  if (box.empty())
+    box = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};  // nothing to draw: an empty page
   Quantiser q;
   q.min = box.min;
   q.size = (box.max - box.min).cwiseMax(Vec3::Constant(1e-3));
@@ -292,7 +315,9 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   std::vector<PointClass> classes;
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
     for (const auto& p : scene.surfaces[i].inliers)
-      classes.push_back({{p.x(), p.y(), p.z()}, 1, static_cast<std::uint16_t>(std::min<std::size_t>(i, kNoSurface - 1))});
+      classes.push_back({{p.x(), p.y(), p.z()},
+                         1,
+                         static_cast<std::uint16_t>(std::min<std::size_t>(i, kNoSurface - 1))});
   for (const auto& o : scene.obstacles)
     for (const auto& p : o.points) classes.push_back({{p.x(), p.y(), p.z()}, 2, kNoSurface});
   std::sort(classes.begin(), classes.end());
@@ -366,8 +391,10 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   // ---- paths resampled with the clearance at each sample
   double total_length = 0.0;
   for (const auto& p : paths)
-    for (std::size_t k = 1; k < p.waypoints.size(); ++k) total_length += (p.waypoints[k] - p.waypoints[k - 1]).norm();
-  const double step = std::max(total_length / static_cast<double>(options.max_path_samples), 0.05);  // [m]
+    for (std::size_t k = 1; k < p.waypoints.size(); ++k)
+      total_length += (p.waypoints[k] - p.waypoints[k - 1]).norm();
+  const double step =
+      std::max(total_length / static_cast<double>(options.max_path_samples), 0.05);  // [m]
   const Clearance clearance(scene.cloud, box.min);
   json path_list = json::array();
   std::size_t flight_waypoints = 0;
@@ -390,7 +417,8 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
       if (k + 1 == p.waypoints.size()) break;
       const Vec3 a = p.waypoints[k], b = p.waypoints[k + 1];
       const auto pieces = static_cast<std::size_t>(std::ceil((b - a).norm() / step));
-      for (std::size_t j = 1; j < pieces; ++j) sample(a + (b - a) * (static_cast<double>(j) / static_cast<double>(pieces)));
+      for (std::size_t j = 1; j < pieces; ++j)
+        sample(a + (b - a) * (static_cast<double>(j) / static_cast<double>(pieces)));
     }
     json entries = json::array();
     for (const auto& [w, id] : p.entries) entries.push_back({w, id});
@@ -409,17 +437,19 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   const std::size_t sorties = flown ? rec.flight->sorties.size() : 0;
   std::ostringstream line;
   line << scene.cloud.size() << " cloud points"
-       << (drawn < scene.cloud.size() ? " (" + std::to_string(drawn) + " in the page)" : std::string()) << ", " << scene.surfaces.size()
-       << " surfaces, " << scene.obstacles.size() << " obstacle clusters";
+       << (drawn < scene.cloud.size() ? " (" + std::to_string(drawn) + " in the page)"
+                                      : std::string())
+       << ", " << scene.surfaces.size() << " surfaces, " << scene.obstacles.size()
+       << " obstacle clusters";
   if (mission != nullptr) {
     std::size_t ok = 0;
     for (const auto& s : rec.surfaces) ok += s.flyable();
-    line << " | " << rec.surfaces.size() << " surfaces planned, " << ok << " with a flight: " << photos << " photo stops, "
-         << waypoints << " waypoints";
+    line << " | " << rec.surfaces.size() << " surfaces planned, " << ok
+         << " with a flight: " << photos << " photo stops, " << waypoints << " waypoints";
     if (flown) {
       line << " | flight " << formatFixed(numberOr(flight_extra, "length_m", 0.0), 1) << " m, "
-           << formatFixed(numberOr(flight_extra, "duration_s", 0.0) / 60.0, 1) << " min, " << sorties << " sortie"
-           << (sorties == 1 ? "" : "s");
+           << formatFixed(numberOr(flight_extra, "duration_s", 0.0) / 60.0, 1) << " min, "
+           << sorties << " sortie" << (sorties == 1 ? "" : "s");
     } else if (rec.flight) {
       line << " | no ordered flight (" << rec.flight->status << ")";
     }
@@ -438,45 +468,49 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
                   {"obstacles", scene.obstacles.size()},
                   {"cloud_points", scene.cloud.size()},
                   {"cloud_points_drawn", drawn},
-                  {"min_clearance_m", std::isfinite(min_clearance) ? json(std::round(min_clearance * 1000.0) / 1000.0)
-                                                                   : json(nullptr)}};
+                  {"min_clearance_m", std::isfinite(min_clearance)
+                                          ? json(std::round(min_clearance * 1000.0) / 1000.0)
+                                          : json(nullptr)}};
 
   const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
-  json data = {{"title", options.title},
-               {"summary_line", line.str()},
-               {"box_min", vec(q.min)},
-               {"box_size", vec(q.size)},
-               {"spacing_m", spacing},
-               {"inflation_radius_m", std::isfinite(options.clearance_m)       ? json(options.clearance_m)
-                                      : std::isfinite(rec.inflation_radius_m) ? json(rec.inflation_radius_m)
-                                                                              : json(nullptr)},
-               {"colors",
-                {{"other", hex(render::Color{0.78, 0.78, 0.78})}, {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
-               {"cloud",
-                {{"n", drawn},
-                 {"stride", stride},
-                 {"by_class", class_count},
-                 {"pos", cloud_pos.str()},
-                 {"cls", cloud_cls.str()},
-                 {"sid", cloud_sid.str()}}},
-               {"surfaces", surfaces},
-               {"missions", missions},
-               {"stops",
-                {{"n", photos},
-                 {"pos", stop_pos.str()},
-                 {"target", stop_tgt.str()},
-                 {"angles", stop_ang.str()},
-                 {"mission", stop_sid.str()},
-                 {"index", stop_idx.str()},
-                 {"flown", stop_flown.str()}}},
-               {"flown", flown},
-               {"flight", flight_extra},
-               {"paths", path_list}};
+  json data = {
+      {"title", options.title},
+      {"summary_line", line.str()},
+      {"box_min", vec(q.min)},
+      {"box_size", vec(q.size)},
+      {"spacing_m", spacing},
+      {"inflation_radius_m", std::isfinite(options.clearance_m)      ? json(options.clearance_m)
+                             : std::isfinite(rec.inflation_radius_m) ? json(rec.inflation_radius_m)
+                                                                     : json(nullptr)},
+      {"colors",
+       {{"other", hex(render::Color{0.78, 0.78, 0.78})},
+        {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
+      {"cloud",
+       {{"n", drawn},
+        {"stride", stride},
+        {"by_class", class_count},
+        {"pos", cloud_pos.str()},
+        {"cls", cloud_cls.str()},
+        {"sid", cloud_sid.str()}}},
+      {"surfaces", surfaces},
+      {"missions", missions},
+      {"stops",
+       {{"n", photos},
+        {"pos", stop_pos.str()},
+        {"target", stop_tgt.str()},
+        {"angles", stop_ang.str()},
+        {"mission", stop_sid.str()},
+        {"index", stop_idx.str()},
+        {"flown", stop_flown.str()}}},
+      {"flown", flown},
+      {"flight", flight_extra},
+      {"paths", path_list}};
 
   std::string html;
   html.reserve(embeddedThreeJs().size() + cloud_pos.b.size() * 2 + 100000);
-  html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" "
-          "content=\"width=device-width, initial-scale=1\">\n<title>";
+  html +=
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" "
+      "content=\"width=device-width, initial-scale=1\">\n<title>";
   html += htmlEscape(options.title);
   html += R"(</title>
 <!-- uavip mission page (issue 22): three.js r111 (MIT licence, threejs.org) and the data are inlined; no network. -->

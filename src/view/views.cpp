@@ -1,10 +1,5 @@
 #include "uavip/view/views.h"
 
-#include "uavip/core/geometry.h"
-#include "uavip/core/text.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/view/mission_page.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,6 +12,11 @@
 #include <system_error>
 #include <utility>
 #include <vector>
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/view/mission_page.h"
 
 namespace uavip::view {
 namespace {
@@ -41,7 +41,7 @@ struct View {
   const char* title;
   const char* x_label;
   const char* y_label;
-  int u, v;  ///< coordinate indices shown as panel x and y
+  int u, v;          ///< coordinate indices shown as panel x and y
   int toward, sign;  ///< the viewer looks from sign·(axis `toward`): nearer things are drawn last
 };
 
@@ -54,7 +54,8 @@ constexpr std::array<View, 3> kViews{{
 std::vector<Vec2> project(const PointList& pts, const View& view, std::size_t stride = 1) {
   std::vector<Vec2> out;
   out.reserve(pts.size() / std::max<std::size_t>(stride, 1) + 1);
-  for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(stride, 1)) out.emplace_back(pts[i][view.u], pts[i][view.v]);
+  for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(stride, 1))
+    out.emplace_back(pts[i][view.u], pts[i][view.v]);
   return out;
 }
 
@@ -65,7 +66,8 @@ std::string facing(const Vec3& n) {
     const std::size_t which = 2 * static_cast<std::size_t>(a) + (n[a] < 0.0 ? 1 : 0);
     if (std::abs(n[a]) > 0.95) return std::string("faces ") + kNames[which];
   }
-  return "normal (" + formatFixed(n.x(), 2) + ", " + formatFixed(n.y(), 2) + ", " + formatFixed(n.z(), 2) + ")";
+  return "normal (" + formatFixed(n.x(), 2) + ", " + formatFixed(n.y(), 2) + ", " +
+         formatFixed(n.z(), 2) + ")";
 }
 
 /// The four corners of a stop's photo on the surface plane.
@@ -90,7 +92,8 @@ PointList otherPoints(const Scene& scene) {
   return out;
 }
 
-const planning::SurfaceMission* missionOf(const std::vector<planning::SurfaceMission>& missions, int id) {
+const planning::SurfaceMission* missionOf(const std::vector<planning::SurfaceMission>& missions,
+                                          int id) {
   for (const auto& m : missions)
     if (m.surface_id == id) return &m;
   return nullptr;
@@ -119,14 +122,15 @@ std::string sceneToPly(const Scene& scene, const std::vector<planning::SurfaceMi
      << "property uchar kind\nproperty int surface\nend_header\n";
   char line[160];
   for (const auto& x : v) {
-    std::snprintf(line, sizeof line, "%.4f %.4f %.4f %d %d %d %d %d\n", x.p.x(), x.p.y(), x.p.z(), x.c.red8(),
-                  x.c.green8(), x.c.blue8(), x.kind, x.surface);
+    std::snprintf(line, sizeof line, "%.4f %.4f %.4f %d %d %d %d %d\n", x.p.x(), x.p.y(), x.p.z(),
+                  x.c.red8(), x.c.green8(), x.c.blue8(), x.kind, x.surface);
     os << line;
   }
   return os.str();
 }
 
-std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions, const planning::FlightPlan* flight) {
+std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions,
+                       const planning::FlightPlan* flight) {
   std::ostringstream os;
   std::size_t next = 1;
   char line[128];
@@ -142,8 +146,10 @@ std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions, co
     next += points.size();
   };
   if (flight != nullptr && flight->status == planning::FlightPlan::Status::Ok) {
-    os << "# uavip flight, local ENU metres (z up): one polyline per sortie, home to home, in flight order\n";
-    for (std::size_t i = 0; i < flight->sorties.size(); ++i) polyline("sortie_" + std::to_string(i + 1), flight->sorties[i].waypoints);
+    os << "# uavip flight, local ENU metres (z up): one polyline per sortie, home to home, in "
+          "flight order\n";
+    for (std::size_t i = 0; i < flight->sorties.size(); ++i)
+      polyline("sortie_" + std::to_string(i + 1), flight->sorties[i].waypoints);
     return os.str();
   }
   os << "# uavip flight paths, local ENU metres (z up): one polyline per surface with a mission\n";
@@ -155,9 +161,12 @@ std::string pathsToObj(const std::vector<planning::SurfaceMission>& missions, co
 
 /// Colour of sortie k (from 0): the categorical palette, darkened so it reads over
 /// the surfaces' own colours.
-Color sortieColor(std::size_t k) { return render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35); }
+Color sortieColor(std::size_t k) {
+  return render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35);
+}
 
-const render::Style kHomeStyle{render::kBlack, Color{1.0, 1.0, 1.0}, 2.0, false, render::Marker::Square, 12.0};
+const render::Style kHomeStyle{render::kBlack, Color{1.0, 1.0, 1.0},   2.0,
+                               false,          render::Marker::Square, 12.0};
 
 /// The ordered flight on one view: each sortie in its colour, home, and the place
 /// where each surface is entered numbered in flight order.
@@ -171,7 +180,8 @@ void drawFlight(render::Panel& p, const planning::FlightPlan& flight, const View
       if (st.surface_id == current) continue;
       current = st.surface_id;
       const auto at = project({s.waypoints[st.waypoint]}, view);
-      p.text(at.front(), " " + std::to_string(++n), {13.0, render::kBlack, render::Align::Left, true});
+      p.text(at.front(), " " + std::to_string(++n),
+             {13.0, render::kBlack, render::Align::Left, true});
     }
   }
   p.markers(project({flight.home}, view), kHomeStyle);
@@ -185,7 +195,8 @@ struct OverviewLayout {
   double top{84.0};                ///< height of the header above the views
   double gap{10.0};                ///< between the panels and the legend column
   double legend_w{0.0};            ///< width of the legend column
-  std::array<std::array<double, 4>, 3> views{};  ///< left, top, width, height of each view's panel (kViews order)
+  std::array<std::array<double, 4>, 3>
+      views{};  ///< left, top, width, height of each view's panel (kViews order)
 };
 
 /// The layout: the top view on the left over the full height, the front and side views
@@ -210,20 +221,24 @@ OverviewLayout overviewLayout(const OverviewOptions& options) {
 struct OverviewContent {
   const Scene& scene;
   const std::vector<planning::SurfaceMission>& missions;
-  const planning::FlightPlan* flight;  ///< the ordered flight when there is one (status ok), else null
-  PointList other;                     ///< cloud points in no surface and no obstacle
-  std::size_t stride;                  ///< every stride-th cloud point is drawn (the same in every view)
-  double min_spacing_m;                ///< smallest stop spacing of any mission, at most 0.5 [m]
+  const planning::FlightPlan*
+      flight;            ///< the ordered flight when there is one (status ok), else null
+  PointList other;       ///< cloud points in no surface and no obstacle
+  std::size_t stride;    ///< every stride-th cloud point is drawn (the same in every view)
+  double min_spacing_m;  ///< smallest stop spacing of any mission, at most 0.5 [m]
 };
 
 /// Gathers the content: the flight if flown, the leftover cloud points, the cloud
 /// subsampling stride (options.max_cloud_points) and the smallest stop spacing.
-OverviewContent overviewContent(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                                const OverviewOptions& options, const planning::FlightPlan* flight) {
+OverviewContent overviewContent(const Scene& scene,
+                                const std::vector<planning::SurfaceMission>& missions,
+                                const OverviewOptions& options,
+                                const planning::FlightPlan* flight) {
   const bool flown = flight != nullptr && flight->status == planning::FlightPlan::Status::Ok;
   const std::size_t total = scene.cloud.size();
-  const std::size_t stride =
-      options.max_cloud_points > 0 && total > options.max_cloud_points ? (total + options.max_cloud_points - 1) / options.max_cloud_points : 1;
+  const std::size_t stride = options.max_cloud_points > 0 && total > options.max_cloud_points
+                                 ? (total + options.max_cloud_points - 1) / options.max_cloud_points
+                                 : 1;
   double min_spacing = 0.5;  // [m]
   for (const auto& m : missions) {
     if (m.strategy.spacing_w_m > 0.0) min_spacing = std::min(min_spacing, m.strategy.spacing_w_m);
@@ -244,13 +259,14 @@ void drawHeader(render::Figure& fig, const std::string& title, const OverviewCon
   }
   fig.text(20, 34, title, {22.0, render::kBlack, render::Align::Left, true});
   std::ostringstream sub;
-  sub << c.scene.cloud.size() << " cloud points, " << c.scene.surfaces.size() << " surfaces, " << c.scene.obstacles.size()
-      << " obstacle clusters  |  " << c.missions.size() << " surfaces planned, " << ok << " with a flight: " << stops
-      << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1)
-      << " m over the surfaces";
+  sub << c.scene.cloud.size() << " cloud points, " << c.scene.surfaces.size() << " surfaces, "
+      << c.scene.obstacles.size() << " obstacle clusters  |  " << c.missions.size()
+      << " surfaces planned, " << ok << " with a flight: " << stops << " photo stops, " << waypoints
+      << " waypoints, " << formatFixed(length, 1) << " m over the surfaces";
   if (c.flight != nullptr) {
-    sub << "  |  flight " << formatFixed(c.flight->length_m, 1) << " m, " << formatFixed(c.flight->duration_s / 60.0, 1)
-        << " min, " << c.flight->sorties.size() << " sortie" << (c.flight->sorties.size() == 1 ? "" : "s");
+    sub << "  |  flight " << formatFixed(c.flight->length_m, 1) << " m, "
+        << formatFixed(c.flight->duration_s / 60.0, 1) << " min, " << c.flight->sorties.size()
+        << " sortie" << (c.flight->sorties.size() == 1 ? "" : "s");
   }
   sub << "  |  local ENU frame, metres";
   fig.text(20, 62, sub.str(), {14.0, Color::rgb(50, 50, 50)});
@@ -259,10 +275,13 @@ void drawHeader(render::Figure& fig, const std::string& title, const OverviewCon
 /// A surface's path is its colour mixed halfway toward this.
 const Color kPathDark = render::kBlack;
 /// Surface points no flown photo images (mission coverage).
-const render::Style kUncoveredStyle{render::kBlack, render::Color{1.0, 0.85, 0.0}, 0.6, false, render::Marker::Diamond, 5.0};
+const render::Style kUncoveredStyle{render::kBlack, render::Color{1.0, 0.85, 0.0}, 0.6,
+                                    false,          render::Marker::Diamond,       5.0};
 
 /// Marker of the start of a surface's own flight (views without an ordered flight).
-render::Style startStyle() { return render::markerStyle(render::kBlack, render::Marker::Triangle, 11.0); }
+render::Style startStyle() {
+  return render::markerStyle(render::kBlack, render::Marker::Triangle, 11.0);
+}
 
 /// Depth along a view: larger is nearer the viewer [m].
 double depth(const View& view, const Vec3& c) { return view.sign * c[view.toward]; }
@@ -271,25 +290,29 @@ double depth(const View& view, const Vec3& c) { return view.sign * c[view.toward
 std::vector<const Surface*> surfacesFarToNear(const Scene& scene, const View& view) {
   std::vector<const Surface*> surfaces;
   for (const auto& s : scene.surfaces) surfaces.push_back(&s);
-  std::stable_sort(surfaces.begin(), surfaces.end(),
-                   [&](const Surface* a, const Surface* b) { return depth(view, a->centroid) < depth(view, b->centroid); });
+  std::stable_sort(surfaces.begin(), surfaces.end(), [&](const Surface* a, const Surface* b) {
+    return depth(view, a->centroid) < depth(view, b->centroid);
+  });
   return surfaces;
 }
 
 /// The missions far to near along a view, by the mean of their stops (depth 0 without stops).
-std::vector<const planning::SurfaceMission*> missionsFarToNear(const std::vector<planning::SurfaceMission>& missions,
-                                                               const View& view) {
+std::vector<const planning::SurfaceMission*> missionsFarToNear(
+    const std::vector<planning::SurfaceMission>& missions, const View& view) {
   std::vector<const planning::SurfaceMission*> order;
   order.reserve(missions.size());
   for (const auto& m : missions) order.push_back(&m);
   auto mission_depth = [&](const planning::SurfaceMission* m) {
     Vec3 c = Vec3::Zero();
     for (const auto& st : m->strategy.stops) c += st.position;
-    return m->strategy.stops.empty() ? 0.0 : depth(view, c / static_cast<double>(m->strategy.stops.size()));
+    return m->strategy.stops.empty()
+               ? 0.0
+               : depth(view, c / static_cast<double>(m->strategy.stops.size()));
   };
-  std::stable_sort(order.begin(), order.end(), [&](const planning::SurfaceMission* a, const planning::SurfaceMission* b) {
-    return mission_depth(a) < mission_depth(b);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const planning::SurfaceMission* a, const planning::SurfaceMission* b) {
+                     return mission_depth(a) < mission_depth(b);
+                   });
   return order;
 }
 
@@ -310,27 +333,35 @@ double stopMarkerPx(const OverviewContent& c, const View& view, const std::array
 
 /// The cloud layer: points of no surface or obstacle, then the obstacles' points.
 void drawCloudLayer(render::Panel& p, const OverviewContent& c, const View& view) {
-  const render::Style other_style{kCloudColor, kCloudColor, 0.0, false, render::Marker::Square, 1.8};
-  const render::Style obstacle_style{kObstacleColor, kObstacleColor, 0.0, false, render::Marker::Square, 2.2};
+  const render::Style other_style{kCloudColor, kCloudColor, 0.0, false, render::Marker::Square,
+                                  1.8};
+  const render::Style obstacle_style{kObstacleColor, kObstacleColor,         0.0,
+                                     false,          render::Marker::Square, 2.2};
   p.markers(project(c.other, view, c.stride), other_style);
-  for (const auto& o : c.scene.obstacles) p.markers(project(o.points, view, c.stride), obstacle_style);
+  for (const auto& o : c.scene.obstacles)
+    p.markers(project(o.points, view, c.stride), obstacle_style);
 }
 
 /// A mission's photo footprints, as one translucent path in its surface's colour.
 void drawFootprints(render::Panel& p, const planning::SurfaceMission& m, const View& view) {
   const Color mc = surfaceColor(m.surface_id);
-  const render::Style fp = render::patchStyle(mc.withAlpha(0.10), mc.mix(render::kBlack, 0.2).withAlpha(0.55), 0.8);
+  const render::Style fp =
+      render::patchStyle(mc.withAlpha(0.10), mc.mix(render::kBlack, 0.2).withAlpha(0.55), 0.8);
   std::vector<std::vector<Vec2>> footprints;
-  for (const auto& st : m.strategy.stops) footprints.push_back(project(footprint(m.strategy, st), view));
+  for (const auto& st : m.strategy.stops)
+    footprints.push_back(project(footprint(m.strategy, st), view));
   p.polygons(footprints, fp);
 }
 
-/// The surface layer, far to near: each surface's points, its boundary and its mission's footprints.
+/// The surface layer, far to near: each surface's points, its boundary and its mission's
+/// footprints.
 void drawSurfaceLayer(render::Panel& p, const OverviewContent& c, const View& view) {
   for (const Surface* s : surfacesFarToNear(c.scene, view)) {
     const Color pale = surfaceColor(s->id).mix(render::kWhite, 0.45);
-    p.markers(project(s->inliers, view, c.stride), render::Style{pale, pale, 0.0, false, render::Marker::Square, 1.8});
-    p.polygon(project(s->boundary, view), render::lineStyle(surfaceColor(s->id).mix(render::kBlack, 0.3), 2.4));
+    p.markers(project(s->inliers, view, c.stride),
+              render::Style{pale, pale, 0.0, false, render::Marker::Square, 1.8});
+    p.polygon(project(s->boundary, view),
+              render::lineStyle(surfaceColor(s->id).mix(render::kBlack, 0.3), 2.4));
     if (const auto* m = missionOf(c.missions, s->id)) drawFootprints(p, *m, view);
   }
 }
@@ -338,16 +369,19 @@ void drawSurfaceLayer(render::Panel& p, const OverviewContent& c, const View& vi
 /// The mission layer, far to near: each path, its feasible stops (surface colour) and
 /// infeasible ones (red crosses), the surface points no photo images, and (without an
 /// ordered flight) the start. stop_px: stop marker size [px].
-void drawMissionLayer(render::Panel& p, const OverviewContent& c, const View& view, double stop_px) {
-  const render::Style bad_here{render::kRed, render::kRed, stop_px > 4.0 ? 2.0 : 1.2, false, render::Marker::Cross,
-                               stop_px * 1.4};
+void drawMissionLayer(render::Panel& p, const OverviewContent& c, const View& view,
+                      double stop_px) {
+  const render::Style bad_here{render::kRed, render::kRed,          stop_px > 4.0 ? 2.0 : 1.2,
+                               false,        render::Marker::Cross, stop_px * 1.4};
   for (const auto* mp : missionsFarToNear(c.missions, view)) {
     const auto& m = *mp;
     const Color col = surfaceColor(m.surface_id);
-    if (m.waypoints.size() >= 2) p.polyline(project(m.waypoints, view), render::lineStyle(col.mix(kPathDark, 0.5), 1.6));
+    if (m.waypoints.size() >= 2)
+      p.polyline(project(m.waypoints, view), render::lineStyle(col.mix(kPathDark, 0.5), 1.6));
     PointList good, bad;
     for (std::size_t i = 0; i < m.strategy.stops.size(); ++i) {
-      const bool problem = i < m.stop_problems.size() && m.stop_problems[i] != planning::StopProblem::None;
+      const bool problem =
+          i < m.stop_problems.size() && m.stop_problems[i] != planning::StopProblem::None;
       (problem ? bad : good).push_back(m.strategy.stops[i].position);
     }
     render::Style good_style = render::markerStyle(col, render::Marker::Circle, stop_px);
@@ -355,12 +389,14 @@ void drawMissionLayer(render::Panel& p, const OverviewContent& c, const View& vi
     p.markers(project(good, view), good_style);
     p.markers(project(bad, view), bad_here);
     p.markers(project(m.coverage.uncovered_points, view), kUncoveredStyle);
-    if (c.flight == nullptr && !m.waypoints.empty()) p.markers(project({m.waypoints.front()}, view), startStyle());
+    if (c.flight == nullptr && !m.waypoints.empty())
+      p.markers(project({m.waypoints.front()}, view), startStyle());
   }
 }
 
 /// One view's panel at rect [px]: the cloud, surface and mission layers, then the flight.
-void drawView(render::Figure& fig, const std::array<double, 4>& rect, const View& view, const OverviewContent& c) {
+void drawView(render::Figure& fig, const std::array<double, 4>& rect, const View& view,
+              const OverviewContent& c) {
   render::PanelOptions po;
   po.title = view.title;
   po.x.label = view.x_label;
@@ -389,18 +425,26 @@ std::vector<LegendEntry> symbolEntries(const OverviewContent& c) {
   const render::Style bad_style{render::kRed, render::kRed, 2.0, false, render::Marker::Cross, 9.0};
   const Color demo = render::palette(0);
   return {
-      {"surface points (colour = surface)", render::markerStyle(demo.mix(render::kWhite, 0.45), render::Marker::Square, 7.0),
+      {"surface points (colour = surface)",
+       render::markerStyle(demo.mix(render::kWhite, 0.45), render::Marker::Square, 7.0),
        LegendKind::Marker},
-      {"surface boundary (convex hull)", render::lineStyle(demo.mix(render::kBlack, 0.3), 2.4), LegendKind::Line},
-      {"obstacle points", render::markerStyle(kObstacleColor, render::Marker::Square, 7.0), LegendKind::Marker},
-      {"other cloud points", render::markerStyle(kCloudColor, render::Marker::Square, 7.0), LegendKind::Marker},
-      {"photo footprint " + formatFixed(footprint_w, 2) + " × " + formatFixed(footprint_h, 2) + " m",
+      {"surface boundary (convex hull)", render::lineStyle(demo.mix(render::kBlack, 0.3), 2.4),
+       LegendKind::Line},
+      {"obstacle points", render::markerStyle(kObstacleColor, render::Marker::Square, 7.0),
+       LegendKind::Marker},
+      {"other cloud points", render::markerStyle(kCloudColor, render::Marker::Square, 7.0),
+       LegendKind::Marker},
+      {"photo footprint " + formatFixed(footprint_w, 2) + " × " + formatFixed(footprint_h, 2) +
+           " m",
        render::patchStyle(demo.withAlpha(0.15), demo.mix(render::kBlack, 0.2)), LegendKind::Patch},
-      {"photo stop (UAV, " + formatFixed(standoff, 2) + " m off)", render::markerStyle(demo, render::Marker::Circle, 7.0),
-       LegendKind::Marker},
-      {"flight path (waypoints)", render::lineStyle(demo.mix(kPathDark, 0.5), 1.8), LegendKind::Line},
-      c.flight != nullptr ? LegendEntry{"sortie k (colour), home to home", render::lineStyle(sortieColor(0), 1.4), LegendKind::Line}
-                          : LegendEntry{"start of a surface's flight", startStyle(), LegendKind::Marker},
+      {"photo stop (UAV, " + formatFixed(standoff, 2) + " m off)",
+       render::markerStyle(demo, render::Marker::Circle, 7.0), LegendKind::Marker},
+      {"flight path (waypoints)", render::lineStyle(demo.mix(kPathDark, 0.5), 1.8),
+       LegendKind::Line},
+      c.flight != nullptr
+          ? LegendEntry{"sortie k (colour), home to home", render::lineStyle(sortieColor(0), 1.4),
+                        LegendKind::Line}
+          : LegendEntry{"start of a surface's flight", startStyle(), LegendKind::Marker},
       {"infeasible stop (not flown)", bad_style, LegendKind::Marker},
       {"surface point no photo images", kUncoveredStyle, LegendKind::Marker},
   };
@@ -412,8 +456,8 @@ std::vector<LegendEntry> surfaceRows(const OverviewContent& c, std::size_t max_r
   std::vector<LegendEntry> rows;
   for (const auto& s : c.scene.surfaces) {
     if (rows.size() + 1 >= max_rows && rows.size() + 1 < c.scene.surfaces.size()) {
-      rows.push_back({"... " + std::to_string(c.scene.surfaces.size() - rows.size()) + " more", render::Style{},
-                      LegendKind::Line});
+      rows.push_back({"... " + std::to_string(c.scene.surfaces.size() - rows.size()) + " more",
+                      render::Style{}, LegendKind::Line});
       break;
     }
     std::ostringstream os;
@@ -425,7 +469,9 @@ std::vector<LegendEntry> surfaceRows(const OverviewContent& c, std::size_t max_r
       os << ", not planned";
     }
     const Color col = surfaceColor(s.id);
-    rows.push_back({os.str(), render::patchStyle(col.mix(render::kWhite, 0.3), col.mix(render::kBlack, 0.3)), LegendKind::Patch});
+    rows.push_back({os.str(),
+                    render::patchStyle(col.mix(render::kWhite, 0.3), col.mix(render::kBlack, 0.3)),
+                    LegendKind::Patch});
   }
   if (rows.empty()) rows.push_back({"no surface detected", render::Style{}, LegendKind::Line});
   return rows;
@@ -471,27 +517,32 @@ void drawLegendColumn(render::Figure& fig, const OverviewLayout& l, const Overvi
 
   const double sy = l.top + 24.0 + 12.0 * 1.55 * static_cast<double>(symbols.size()) + 12.0 + 36.0;
   fig.text(lx, sy, "Surfaces", {15.0, render::kBlack, render::Align::Left, true});
-  const std::size_t max_rows = static_cast<std::size_t>(std::max(1.0, (l.height - sy - 40.0) / (12.0 * 1.55)));
+  const std::size_t max_rows =
+      static_cast<std::size_t>(std::max(1.0, (l.height - sy - 40.0) / (12.0 * 1.55)));
   const std::vector<LegendEntry> rows = surfaceRows(c, max_rows);
   fig.legend(lx, sy + 10.0, rows, 12.0);
 
   const double hy = sy + 10.0 + 12.0 * 1.55 * static_cast<double>(rows.size()) + 12.0 + 40.0;
   const std::vector<std::string> help = howToRead(c.flight != nullptr);
-  for (std::size_t i = 0; i < help.size() && hy + 18.0 * static_cast<double>(i) < l.height - 10.0; ++i) {
+  for (std::size_t i = 0; i < help.size() && hy + 18.0 * static_cast<double>(i) < l.height - 10.0;
+       ++i) {
     fig.text(lx, hy + 18.0 * static_cast<double>(i), help[i],
-             {i == 0 ? 15.0 : 12.5, i == 0 ? render::kBlack : Color::rgb(50, 50, 50), render::Align::Left, i == 0});
+             {i == 0 ? 15.0 : 12.5, i == 0 ? render::kBlack : Color::rgb(50, 50, 50),
+              render::Align::Left, i == 0});
   }
 }
 
 }  // namespace
 
-render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
+render::Figure overviewFigure(const Scene& scene,
+                              const std::vector<planning::SurfaceMission>& missions,
                               const OverviewOptions& options, const planning::FlightPlan* flight) {
   render::Figure fig(options.width_px, options.height_px);
   const OverviewLayout layout = overviewLayout(options);
   const OverviewContent content = overviewContent(scene, missions, options, flight);
   drawHeader(fig, options.title, content);
-  for (std::size_t vi = 0; vi < kViews.size(); ++vi) drawView(fig, layout.views[vi], kViews[vi], content);
+  for (std::size_t vi = 0; vi < kViews.size(); ++vi)
+    drawView(fig, layout.views[vi], kViews[vi], content);
   drawLegendColumn(fig, layout, content);
   return fig;
 }
@@ -514,11 +565,13 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
     const std::string suffix = " overview";
     page_options.title = options.title;
     if (page_options.title.size() > suffix.size() &&
-        page_options.title.compare(page_options.title.size() - suffix.size(), suffix.size(), suffix) == 0)
+        page_options.title.compare(page_options.title.size() - suffix.size(), suffix.size(),
+                                   suffix) == 0)
       page_options.title.resize(page_options.title.size() - suffix.size());
     page_options.clearance_m = options.clearance_m;
     const bool scene_only = missions.empty() && flight == nullptr;
-    return scene_only ? missionPage(scene, nullptr, page_options) : missionPage(scene, missions, flight, page_options);
+    return scene_only ? missionPage(scene, nullptr, page_options)
+                      : missionPage(scene, missions, flight, page_options);
   };
   try {
     html = std::async(std::launch::async, page);
@@ -538,8 +591,8 @@ void stageViews(io::StagedOutputs& outputs, const std::string& out_dir, const Vi
 }
 
 void writeViews(io::StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
-                const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options,
-                const planning::FlightPlan* flight) {
+                const std::vector<planning::SurfaceMission>& missions,
+                const OverviewOptions& options, const planning::FlightPlan* flight) {
   stageViews(outputs, out_dir, renderViews(scene, missions, options, flight));
 }
 

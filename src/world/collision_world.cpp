@@ -1,16 +1,13 @@
 #include "uavip/world/collision_world.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/voxel_key.h"
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
 #include <fcl/fcl.h>
 #include <octomap/OcTree.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,6 +17,9 @@
 #include <limits>
 #include <memory>
 #include <vector>
+
+#include "uavip/core/error.h"
+#include "uavip/core/voxel_key.h"
 
 // qhull (reentrant), the library behind PCL's ConvexHull, linked through PCL. Last:
 // its headers define macros (True, False, FORALLfacets, ...).
@@ -53,13 +53,15 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
   const double denom = 1.0 / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
 /// Closest points of segments p1q1 and p2q2 (Ericson §5.1.9); returns the distance.
-double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1, Vec3& c2) {
+double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
+                      Vec3& c2) {
   const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   constexpr double kEps = 1e-300;
@@ -96,7 +98,8 @@ double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3
 
 /// Distance from segment [a, b] to triangle (t0, t1, t2); `q` gets the nearest
 /// point of the triangle.
-double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2, Vec3& q) {
+double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2,
+                       Vec3& q) {
   const Vec3 n = (t1 - t0).cross(t2 - t0);
   const double da = n.dot(a - t0), db = n.dot(b - t0);
   if (n.squaredNorm() > 0.0 && ((da <= 0.0 && db >= 0.0) || (da >= 0.0 && db <= 0.0)) && da != db) {
@@ -118,7 +121,8 @@ double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3&
       q = c;
     }
   }
-  const std::array<std::pair<const Vec3*, const Vec3*>, 3> edges{{{&t0, &t1}, {&t1, &t2}, {&t2, &t0}}};
+  const std::array<std::pair<const Vec3*, const Vec3*>, 3> edges{
+      {{&t0, &t1}, {&t1, &t2}, {&t2, &t0}}};
   for (const auto& [e0, e1] : edges) {
     Vec3 cs, ce;
     const double d = segmentSegment(a, b, *e0, *e1, cs, ce);
@@ -134,8 +138,8 @@ double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3&
 struct Polyhedron {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
-  std::vector<Vec3> normals;    ///< outward unit normal per triangle
-  std::vector<double> offsets;  ///< n·x + offset = 0 per triangle
+  std::vector<Vec3> normals;       ///< outward unit normal per triangle
+  std::vector<double> offsets;     ///< n·x + offset = 0 per triangle
   std::vector<Vec3> ball_centres;  ///< a ball holding each triangle: its box centre…
   std::vector<double> ball_radii;  ///< …and the farthest vertex from it, plus slack [m]
 
@@ -151,7 +155,8 @@ struct Polyhedron {
     ball_radii.clear();
     for (auto& t : triangles) {
       const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
-      Vec3 n = (vertices[static_cast<std::size_t>(t[1])] - a).cross(vertices[static_cast<std::size_t>(t[2])] - a);
+      Vec3 n = (vertices[static_cast<std::size_t>(t[1])] - a)
+                   .cross(vertices[static_cast<std::size_t>(t[2])] - a);
       if (n.dot(a - centre) < 0.0) {
         std::swap(t[1], t[2]);
         n = -n;
@@ -322,8 +327,10 @@ Polyhedron orientedBox(PcaFrame f, double min_edge) {
     f.hi[k] += grow;
   }
   std::vector<Vec3> top;  // the face at hi.z, in order around it
-  for (const auto& [x, y] : std::array<std::pair<double, double>, 4>{{{f.lo.x(), f.lo.y()}, {f.hi.x(), f.lo.y()},
-                                                                        {f.hi.x(), f.hi.y()}, {f.lo.x(), f.hi.y()}}}) {
+  for (const auto& [x, y] : std::array<std::pair<double, double>, 4>{{{f.lo.x(), f.lo.y()},
+                                                                      {f.hi.x(), f.lo.y()},
+                                                                      {f.hi.x(), f.hi.y()},
+                                                                      {f.lo.x(), f.hi.y()}}}) {
     top.push_back(f.mean + f.axes * Vec3(x, y, f.hi.z()));
   }
   return prism(top, (f.hi.z() - f.lo.z()) * f.axes.col(2));
@@ -349,7 +356,8 @@ std::vector<std::array<int, 3>> hullTriangles(const PointList& pts, const Vec3& 
   qh_zero(qh, err);
   // "Qt": triangulated output (done inside qh_new_qhull's error guard).
   char flags[] = "qhull Qt";
-  const int code = qh_new_qhull(qh, 3, static_cast<int>(pts.size()), coords.data(), False, flags, nullptr, err);
+  const int code =
+      qh_new_qhull(qh, 3, static_cast<int>(pts.size()), coords.data(), False, flags, nullptr, err);
   if (code == 0) {
     facetT* facet;
     FORALLfacets {
@@ -360,7 +368,8 @@ std::vector<std::array<int, 3>> hullTriangles(const PointList& pts, const Vec3& 
       std::array<int, 3> t{};
       int k = 0;
       vertexT *vertex, **vertexp;
-      FOREACHvertex_(facet->vertices) t[static_cast<std::size_t>(k++)] = qh_pointid(qh, vertex->point);
+      FOREACHvertex_(facet->vertices) t[static_cast<std::size_t>(k++)] =
+          qh_pointid(qh, vertex->point);
       tris.push_back(t);
     }
   }
@@ -388,7 +397,9 @@ Polyhedron hullSolid(const PointList& pts, const Vec3& centre) {
       if (v < 0 || static_cast<std::size_t>(v) >= pts.size()) return {};
     }
     const Vec3& a = pts[static_cast<std::size_t>(t[0])];
-    if ((pts[static_cast<std::size_t>(t[1])] - a).cross(pts[static_cast<std::size_t>(t[2])] - a).norm() <= min_area2) {
+    if ((pts[static_cast<std::size_t>(t[1])] - a)
+            .cross(pts[static_cast<std::size_t>(t[2])] - a)
+            .norm() <= min_area2) {
       continue;  // a sliver of the triangulation: its edges belong to its neighbours
     }
     std::array<int, 3> lt{};
@@ -569,7 +580,8 @@ fcl::Transform3d capsulePose(const Vec3& a, const Vec3& b) {
   fcl::Transform3d tf = fcl::Transform3d::Identity();
   tf.translation() = 0.5 * (a + b);
   const Vec3 d = b - a;
-  if (d.norm() > 0.0) tf.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), d).toRotationMatrix();
+  if (d.norm() > 0.0)
+    tf.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), d).toRotationMatrix();
   return tf;
 }
 
@@ -599,14 +611,16 @@ struct CollisionWorld::Impl {
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> fcl_objects;  ///< per object
   std::vector<int> index;  ///< per fcl object: its object index (stable storage for user data)
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
-
 };
 
 std::string WorldObject::name() const {
   switch (kind) {
-    case ObjectKind::Surface: return "surface " + std::to_string(id);
-    case ObjectKind::Obstacle: return "obstacle " + std::to_string(id);
-    case ObjectKind::Cloud: return "cloud";
+    case ObjectKind::Surface:
+      return "surface " + std::to_string(id);
+    case ObjectKind::Obstacle:
+      return "obstacle " + std::to_string(id);
+    case ObjectKind::Cloud:
+      return "cloud";
   }
   return "object";
 }
@@ -618,7 +632,8 @@ void WorldOptions::validate(const std::string& where) const {
   requirePositive(obstacle_min_thickness_m, where, "obstacle_min_thickness_m");
 }
 
-CollisionWorld::CollisionWorld(const Scene& scene, const WorldOptions& options) : options_(options) {
+CollisionWorld::CollisionWorld(const Scene& scene, const WorldOptions& options)
+    : options_(options) {
   options_.validate();
   build(scene);
 }
@@ -644,20 +659,24 @@ void CollisionWorld::build(const Scene& scene) {
 
   auto addSolid = [&](ObjectKind kind, int id, Polyhedron&& poly) {
     if (poly.triangles.empty()) return;
-    auto verts = std::make_shared<std::vector<fcl::Vector3d>>(poly.vertices.begin(), poly.vertices.end());
+    auto verts =
+        std::make_shared<std::vector<fcl::Vector3d>>(poly.vertices.begin(), poly.vertices.end());
     auto faces = std::make_shared<std::vector<int>>();
     for (const auto& t : poly.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
-    geoms.push_back(std::make_shared<fcl::Convexd>(verts, static_cast<int>(poly.triangles.size()), faces));
+    geoms.push_back(
+        std::make_shared<fcl::Convexd>(verts, static_cast<int>(poly.triangles.size()), faces));
     objects_.push_back({kind, id, poly.bounds()});
     im.solids.push_back(std::move(poly));
   };
   if (options_.include_surfaces) {
-    for (const auto& s : scene.surfaces) addSolid(ObjectKind::Surface, s.id, surfaceSlab(s, options_.slab_thickness_m));
+    for (const auto& s : scene.surfaces)
+      addSolid(ObjectKind::Surface, s.id, surfaceSlab(s, options_.slab_thickness_m));
   }
   if (options_.include_obstacles) {
     for (const auto& o : scene.obstacles) {
       for (const auto& piece : obstaclePieces(o, options_.obstacle_piece_m)) {
-        addSolid(ObjectKind::Obstacle, o.id, obstacleSolid(piece, options_.obstacle_min_thickness_m));
+        addSolid(ObjectKind::Obstacle, o.id,
+                 obstacleSolid(piece, options_.obstacle_min_thickness_m));
       }
     }
   }
@@ -667,14 +686,16 @@ void CollisionWorld::build(const Scene& scene) {
     im.octree = std::make_shared<octomap::OcTree>(options_.octree_resolution_m);
     for (const auto& p : cloud) {
       octomap::OcTreeKey key;
-      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                               static_cast<float>(p.z()));
       if (im.octree->coordToKeyChecked(q, key)) im.octree->updateNode(key, true, true);
     }
     im.octree->updateInnerOccupancy();
     for (auto it = im.octree->begin_leafs(); it != im.octree->end_leafs(); ++it) {
       im.octree_leaves += im.octree->isNodeOccupied(*it) ? 1 : 0;
     }
-    geoms.push_back(std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(im.octree)));
+    geoms.push_back(
+        std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(im.octree)));
     objects_.push_back({ObjectKind::Cloud, -1, boundingBox(cloud)});
     im.solids.emplace_back();
   }
@@ -693,14 +714,17 @@ void CollisionWorld::build(const Scene& scene) {
   im.manager->setup();
 }
 
-PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied, const Aabb* region) const {
+PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied,
+                                       const Aabb* region) const {
   requirePositive(spacing, "world", "solid sample spacing");
   if (!impl_) return {};
   const auto meets = [region](const Aabb& b) {
-    return region == nullptr || (((b.max - region->min).array() >= 0.0).all() && ((region->max - b.min).array() >= 0.0).all());
+    return region == nullptr || (((b.max - region->min).array() >= 0.0).all() &&
+                                 ((region->max - b.min).array() >= 0.0).all());
   };
   const auto inRegion = [region](const Vec3& p) {
-    return region == nullptr || (((p - region->min).array() >= 0.0).all() && ((region->max - p).array() >= 0.0).all());
+    return region == nullptr ||
+           (((p - region->min).array() >= 0.0).all() && ((region->max - p).array() >= 0.0).all());
   };
   Aabb all;
   for (const auto& solid : impl_->solids) {
@@ -720,15 +744,19 @@ PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied
       // The shell: rows parallel to the longest edge, `spacing` apart along the
       // height and along each row, so the samples grow with the area (a long
       // sliver of a hull gets a few rows, not a lattice over its longest edge).
-      Vec3 p[3] = {solid.vertices[static_cast<std::size_t>(t[0])], solid.vertices[static_cast<std::size_t>(t[1])],
+      Vec3 p[3] = {solid.vertices[static_cast<std::size_t>(t[0])],
+                   solid.vertices[static_cast<std::size_t>(t[1])],
                    solid.vertices[static_cast<std::size_t>(t[2])]};
       int longest = 0;
       for (int e = 1; e < 3; ++e) {
-        if ((p[(e + 1) % 3] - p[e]).squaredNorm() > (p[(longest + 1) % 3] - p[longest]).squaredNorm()) longest = e;
+        if ((p[(e + 1) % 3] - p[e]).squaredNorm() >
+            (p[(longest + 1) % 3] - p[longest]).squaredNorm())
+          longest = e;
       }
       const Vec3 a = p[longest], b = p[(longest + 1) % 3], apex = p[(longest + 2) % 3];
       const Vec3 base = b - a;
-      const double height = base.squaredNorm() > 0.0 ? (apex - a).cross(base).norm() / base.norm() : (apex - a).norm();
+      const double height = base.squaredNorm() > 0.0 ? (apex - a).cross(base).norm() / base.norm()
+                                                     : (apex - a).norm();
       const int rows = std::max(1, static_cast<int>(std::ceil(height / spacing)));
       for (int r = 0; r <= rows; ++r) {
         const double f = static_cast<double>(r) / rows;
@@ -794,7 +822,8 @@ Proximity CollisionWorld::proximity(const Vec3& a, const Vec3& b, double radius)
   q.radius = std::max(0.0, radius);
   // Broadphase by FCL; narrowphase exact. `dist` is FCL's pruning bound: subtrees
   // whose AABB lies farther than it from the capsule's AABB are skipped.
-  auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data, double& dist) {
+  auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data,
+                     double& dist) {
     auto& pq = *static_cast<ProximityQuery*>(data);
     const fcl::CollisionObjectd* obj = o1 == pq.query ? o2 : o1;
     const int i = objectOf(obj);

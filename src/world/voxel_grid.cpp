@@ -1,7 +1,5 @@
 #include "uavip/world/voxel_grid.h"
 
-#include "uavip/core/error.h"
-
 #include <octomap/OcTree.h>
 
 #include <algorithm>
@@ -11,6 +9,8 @@
 #include <limits>
 #include <mutex>
 #include <sstream>
+
+#include "uavip/core/error.h"
 
 namespace uavip::world {
 
@@ -52,7 +52,8 @@ constexpr double kBytesPerVoxel = 5.0;
 /// the resolution) and dims; returns the voxel count. Throws InputError, before
 /// anything is allocated, when the count exceeds options.max_voxels, naming the
 /// count, the memory it would take and grid.resolution_m, the key to change.
-double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec3& origin, std::array<int, 3>& dims) {
+double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec3& origin,
+                 std::array<int, 3>& dims) {
   const double res = options.resolution_m;
   double count = 1.0;
   for (int a = 0; a < 3; ++a) {
@@ -60,17 +61,20 @@ double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec
     origin[a] = o;
     const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
     count *= n;
-    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2)) count = std::numeric_limits<double>::infinity();
+    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2))
+      count = std::numeric_limits<double>::infinity();
     dims[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
   }
   if (!(count <= static_cast<double>(options.max_voxels))) {
     const Vec3 extent = hi - lo;
     // The finest resolution whose grid fits max_voxels.
-    const double fits = std::cbrt(extent.x() * extent.y() * extent.z() / static_cast<double>(options.max_voxels));
+    const double fits =
+        std::cbrt(extent.x() * extent.y() * extent.z() / static_cast<double>(options.max_voxels));
     std::ostringstream os;
-    os << "grid: " << dims[0] << " x " << dims[1] << " x " << dims[2] << " = " << std::setprecision(3) << count
-       << " voxels (" << count * kBytesPerVoxel / 1e9 << " GB) exceeds max_voxels = " << options.max_voxels
-       << " (extent " << extent.x() << " x " << extent.y() << " x " << extent.z() << " m at resolution_m = " << res
+    os << "grid: " << dims[0] << " x " << dims[1] << " x " << dims[2] << " = "
+       << std::setprecision(3) << count << " voxels (" << count * kBytesPerVoxel / 1e9
+       << " GB) exceeds max_voxels = " << options.max_voxels << " (extent " << extent.x() << " x "
+       << extent.y() << " x " << extent.z() << " m at resolution_m = " << res
        << "); set grid.resolution_m >= " << std::ceil(fits * 1000.0) / 1000.0
        << " (or leave it out: auto), reduce padding_m or crop the cloud, or raise max_voxels";
     throw InputError(os.str());
@@ -84,7 +88,8 @@ void VoxelGrid::requireFits(const Aabb& region, const GridOptions& options) {
   options.validate("grid");
   Vec3 origin;
   std::array<int, 3> dims{};
-  gridShape(region.min.array() - options.padding_m, region.max.array() + options.padding_m, options, origin, dims);
+  gridShape(region.min.array() - options.padding_m, region.max.array() + options.padding_m, options,
+            origin, dims);
 }
 
 void GridOptions::validate(const std::string& where) const {
@@ -102,9 +107,10 @@ void GridOptions::validate(const std::string& where) const {
   require(max_voxels > 0, where, "max_voxels must be > 0, got 0");
 }
 
-VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const GridOptions& options,
-                           const Aabb& region) {
-  require(!region.empty() && region.min.allFinite() && region.max.allFinite(), "grid", "the region is empty");
+VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
+                           const GridOptions& options, const Aabb& region) {
+  require(!region.empty() && region.min.allFinite() && region.max.allFinite(), "grid",
+          "the region is empty");
   options.validate("grid");
   Aabb box = region;
   for (const auto& p : extra) box.extend(p);
@@ -114,23 +120,29 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const
   const double reach = options.inflation_radius_m + 3.0 * options.resolution_m;
   PointList cropped;
   for (const auto& p : cloud) {
-    if (((p - lo).array() >= -reach).all() && ((p - hi).array() <= reach).all()) cropped.push_back(p);
+    if (((p - lo).array() >= -reach).all() && ((p - hi).array() <= reach).all())
+      cropped.push_back(p);
   }
   return buildWithin(cropped, lo, hi, options);
 }
 
-VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra, const GridOptions& options) {
+VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
+                           const GridOptions& options) {
   options.validate("grid");
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
-  require(allFinite(extra), "grid", "an extra point (e.g. a photo stop) has a non-finite coordinate");
+  require(allFinite(extra), "grid",
+          "an extra point (e.g. a photo stop) has a non-finite coordinate");
   Aabb box = boundingBox(cloud);
   for (const auto& p : extra) box.extend(p);
   if (box.empty()) box.extend(Vec3::Zero());  // nothing to cover: a padded box around the origin
-  return buildWithin(cloud, box.min.array() - options.padding_m, box.max.array() + options.padding_m, options);
+  return buildWithin(cloud, box.min.array() - options.padding_m,
+                     box.max.array() + options.padding_m, options);
 }
 
-// Long (101 lines): checks, dimensions, occupancy and inflation each run once over the same dense arrays; the inflation's sphere offsets are computed here for that loop.
-VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options) {
+// Long (101 lines): checks, dimensions, occupancy and inflation each run once over the same dense
+// arrays; the inflation's sphere offsets are computed here for that loop.
+VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
+                                 const GridOptions& options) {
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
   static std::atomic<std::uint64_t> last_id{0};
   VoxelGrid g;
@@ -161,7 +173,8 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
     octomap::OcTree tree(res);
     for (const auto& p : cloud) {
       octomap::OcTreeKey key;
-      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                               static_cast<float>(p.z()));
       if (tree.coordToKeyChecked(q, key)) tree.updateNode(key, true, true);
     }
     tree.updateInnerOccupancy();
@@ -197,8 +210,9 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
         ++g.occupied_count_;
         // An occupied voxel whose six face neighbours are occupied adds nothing: every
         // offset point at distance >= 1 voxel is at least as close to one of them.
-        const bool interior = occupiedAt(x - 1, y, z) && occupiedAt(x + 1, y, z) && occupiedAt(x, y - 1, z) &&
-                              occupiedAt(x, y + 1, z) && occupiedAt(x, y, z - 1) && occupiedAt(x, y, z + 1);
+        const bool interior = occupiedAt(x - 1, y, z) && occupiedAt(x + 1, y, z) &&
+                              occupiedAt(x, y - 1, z) && occupiedAt(x, y + 1, z) &&
+                              occupiedAt(x, y, z - 1) && occupiedAt(x, y, z + 1);
         if (!interior) seeds.push_back({x, y, z});
       }
     }
@@ -211,8 +225,8 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
       if (v == kFree) v = kInflated;
     }
   }
-  g.blocked_count_ = static_cast<std::size_t>(
-      std::count_if(g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));
+  g.blocked_count_ = static_cast<std::size_t>(std::count_if(
+      g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));
   return g;
 }
 
@@ -324,8 +338,10 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
   a = findRoot(parent, a);
   b = findRoot(parent, b);
-  if (a < b) parent[b] = a;
-  else if (b < a) parent[a] = b;
+  if (a < b)
+    parent[b] = a;
+  else if (b < a)
+    parent[a] = b;
 }
 
 }  // namespace
@@ -352,7 +368,8 @@ std::vector<std::int32_t> VoxelGrid::labelComponents() const {
     }
     row_start[r + 1] = runs.size();
   }
-  require(runs.size() < std::numeric_limits<std::uint32_t>::max(), "grid", "too many free runs to label");
+  require(runs.size() < std::numeric_limits<std::uint32_t>::max(), "grid",
+          "too many free runs to label");
   std::vector<std::uint32_t> parent(runs.size());
   for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
   auto joinRows = [&](std::size_t ra, std::size_t rb) {
@@ -362,13 +379,16 @@ std::vector<std::int32_t> VoxelGrid::labelComponents() const {
         unite(parent, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
       // Advance the run that ends first: the next run of its row starts ≥ 2 voxels
       // after that end, so it cannot meet the other row's runs already passed.
-      if (runs[i].x1 < runs[j].x1) ++i;
-      else ++j;
+      if (runs[i].x1 < runs[j].x1)
+        ++i;
+      else
+        ++j;
     }
   };
   for (int z = 0; z < nz; ++z) {
     for (int y = 0; y < ny; ++y) {
-      const std::size_t r = static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z);
+      const std::size_t r =
+          static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z);
       if (y > 0) joinRows(r, r - 1);
       if (z == 0) continue;
       const std::size_t below = r - static_cast<std::size_t>(ny);
@@ -386,8 +406,10 @@ std::vector<std::int32_t> VoxelGrid::labelComponents() const {
     std::int32_t* row = label.data() + r * static_cast<std::size_t>(nx);
     for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
       const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(k));
-      if (root == k) run_label[k] = ++next;
-      else run_label[k] = run_label[root];
+      if (root == k)
+        run_label[k] = ++next;
+      else
+        run_label[k] = run_label[root];
       std::fill(row + runs[k].x0, row + runs[k].x1 + 1, run_label[k]);
     }
   }

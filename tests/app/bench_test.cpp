@@ -3,12 +3,8 @@
 
 #include "uavip/app/bench.h"
 
-#include "uavip/core/error.h"
-#include "uavip/io/atomic_file.h"
-#include "uavip/app/scenario.h"
-#include "planners/harness.h"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -19,7 +15,10 @@
 #include <optional>
 #include <sstream>
 
-#include <unistd.h>
+#include "planners/harness.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/io/atomic_file.h"
 
 namespace uavip::app {
 namespace {
@@ -43,7 +42,8 @@ bench:
 )";
 
 fs::path tempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("uavip_bench_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("uavip_bench_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -61,7 +61,9 @@ std::optional<std::string> shell(const std::string& cmd) {
   return out;
 }
 
-bool haveTool(const std::string& tool) { return std::system(("command -v " + tool + " >/dev/null 2>&1").c_str()) == 0; }
+bool haveTool(const std::string& tool) {
+  return std::system(("command -v " + tool + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 BenchOptions smallOptions() {
   BenchOptions o;
@@ -73,7 +75,8 @@ BenchOptions smallOptions() {
 
 /// One benchmark shared by the tests (it is the slow part).
 const BenchResult& sharedResult() {
-  static const BenchResult r = runBench({app::parseScenario(kScenario, "bench_test.yaml")}, smallOptions());
+  static const BenchResult r =
+      runBench({app::parseScenario(kScenario, "bench_test.yaml")}, smallOptions());
   return r;
 }
 
@@ -105,7 +108,8 @@ TEST(Bench, AStarSolvesTheFeasibleLegsAndEverySolvedPathIsSafe) {
     }
     if (run.solved) {
       EXPECT_TRUE(run.valid) << run.planner << " leg " << run.leg;
-      EXPECT_GE(run.min_clearance_m, 0.6) << run.planner;  // the UAV's inflation radius (default size)
+      EXPECT_GE(run.min_clearance_m, 0.6)
+          << run.planner;  // the UAV's inflation radius (default size)
       EXPECT_GE(run.waypoints, 2u);
       EXPECT_LE(run.length_m, run.raw_length_m + 1e-9);
       EXPECT_GE(run.length_m, (r.legs[static_cast<std::size_t>(run.leg)].straight_m) - 1e-9);
@@ -133,7 +137,8 @@ TEST(Bench, SummaryMatchesCountsOverTheRuns) {
     EXPECT_NEAR(s.min_clearance_m, min_clearance, 1e-12);
     EXPECT_GE(s.length_ratio_to_best, 1.0 - 1e-12);
   }
-  const auto astar = std::find_if(r.summary.begin(), r.summary.end(), [](const auto& s) { return s.planner == "astar"; });
+  const auto astar = std::find_if(r.summary.begin(), r.summary.end(),
+                                  [](const auto& s) { return s.planner == "astar"; });
   ASSERT_NE(astar, r.summary.end());
   EXPECT_NEAR(astar->success_pct, 100.0 * 2.0 / 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(astar->time_ratio_to_astar, 1.0);
@@ -152,7 +157,8 @@ TEST(Bench, LogLoadsIntoSqliteWithOneRowPerRun) {
   const fs::path log = dir / "results.log";
   const fs::path db = dir / "results.db";
   io::writeFileAtomic(log.string(), benchLog(r, "bench_test", "testhost"));
-  ASSERT_TRUE(shell("ompl_benchmark_statistics '" + log.string() + "' -d '" + db.string() + "' 2>&1"));
+  ASSERT_TRUE(
+      shell("ompl_benchmark_statistics '" + log.string() + "' -d '" + db.string() + "' 2>&1"));
   auto query = [&](const std::string& sql) {
     const auto out = shell("sqlite3 '" + db.string() + "' \"" + sql + "\"");
     EXPECT_TRUE(out) << sql;
@@ -166,7 +172,8 @@ TEST(Bench, LogLoadsIntoSqliteWithOneRowPerRun) {
   for (const auto& run : r.runs) solved += run.solved ? 1 : 0;
   EXPECT_EQ(query("SELECT COUNT(*) FROM runs WHERE solved = 1;"), std::to_string(solved) + "\n");
   EXPECT_EQ(query("SELECT COUNT(*) FROM runs WHERE leg_id = 2 AND solved = 1;"), "0\n");
-  EXPECT_EQ(query("SELECT COUNT(*) FROM runs WHERE solved = 1 AND (validator_verdict != 1 OR min_clearance < 0.6);"),
+  EXPECT_EQ(query("SELECT COUNT(*) FROM runs WHERE solved = 1 AND (validator_verdict != 1 OR "
+                  "min_clearance < 0.6);"),
             "0\n");
   EXPECT_EQ(query("SELECT version FROM experiments;"), "OMPL " + planners::omplVersion() + "\n");
   fs::remove_all(dir);
@@ -177,8 +184,9 @@ TEST(Bench, SampledLegsJoinReachableStopsOfDifferentSurfacesAroundObstacles) {
   PointList cloud;
   for (double y = 0.0; y <= 3.0 + 1e-9; y += 0.1)
     for (double z = 0.0; z <= 3.0 + 1e-9; z += 0.1) cloud.emplace_back(2.0, y, z);
-  const std::vector<PointList> stops = {{Vec3(0.5, 1.0, 1.0), Vec3(0.5, 2.0, 1.5), Vec3(0.5, 1.5, 2.5)},
-                                        {Vec3(3.5, 1.0, 1.0), Vec3(3.5, 2.0, 2.0), Vec3(2.0, 1.5, 1.5)}};
+  const std::vector<PointList> stops = {
+      {Vec3(0.5, 1.0, 1.0), Vec3(0.5, 2.0, 1.5), Vec3(0.5, 1.5, 2.5)},
+      {Vec3(3.5, 1.0, 1.0), Vec3(3.5, 2.0, 2.0), Vec3(2.0, 1.5, 1.5)}};
   world::GridOptions go;
   go.inflation_radius_m = 0.3;
   PointList extra;
@@ -189,8 +197,8 @@ TEST(Bench, SampledLegsJoinReachableStopsOfDifferentSurfacesAroundObstacles) {
   EXPECT_LE(legs.size(), 4u);
   for (const auto& [a, b] : legs) {
     const bool a_left = a.x() < 2.0, b_left = b.x() < 2.0;
-    EXPECT_NE(a_left, b_left);             // different surfaces (sides of the wall)
-    EXPECT_NE(a, Vec3(2.0, 1.5, 1.5));      // the stop inside the wall is never used
+    EXPECT_NE(a_left, b_left);          // different surfaces (sides of the wall)
+    EXPECT_NE(a, Vec3(2.0, 1.5, 1.5));  // the stop inside the wall is never used
     EXPECT_NE(b, Vec3(2.0, 1.5, 1.5));
     EXPECT_FALSE(grid.segmentFree(a, b));  // the wall is in the way
     EXPECT_TRUE(grid.connected(grid.indexOf(a), grid.indexOf(b)));
@@ -208,10 +216,14 @@ TEST(Bench, BadOptionsAndBenchSectionsAreRejected) {
   o.runs = 1;
   o.time_limit_s = 0.0;
   EXPECT_THROW(o.validate(), InputError);
-  const std::string base = "name: x\nworld: [{type: point, at: [0, 0, 0]}]\nsensing: {mode: sample}\n";
-  EXPECT_EQ(app::parseScenario(base + "bench: {legs: [[[0, 0, 1], [1, 2, 3]]]}\n", "x.yaml").bench.legs.size(), 1u);
+  const std::string base =
+      "name: x\nworld: [{type: point, at: [0, 0, 0]}]\nsensing: {mode: sample}\n";
+  EXPECT_EQ(app::parseScenario(base + "bench: {legs: [[[0, 0, 1], [1, 2, 3]]]}\n", "x.yaml")
+                .bench.legs.size(),
+            1u);
   EXPECT_THROW(app::parseScenario(base + "bench: {legs: [[[0, 0, 1]]]}\n", "x.yaml"), InputError);
-  EXPECT_THROW(app::parseScenario(base + "bench: {legs: [[[0, 0], [1, 2, 3]]]}\n", "x.yaml"), InputError);
+  EXPECT_THROW(app::parseScenario(base + "bench: {legs: [[[0, 0], [1, 2, 3]]]}\n", "x.yaml"),
+               InputError);
   EXPECT_THROW(app::parseScenario(base + "bench: {max_legs: 0}\n", "x.yaml"), InputError);
   EXPECT_THROW(app::parseScenario(base + "bench: {leg: []}\n", "x.yaml"), InputError);
   EXPECT_THROW(app::parseScenario(base + "planner: {time_limit_s: -1}\n", "x.yaml"), InputError);
@@ -223,14 +235,16 @@ TEST(Bench, CommandLineWritesLogCsvMarkdownAndPlot) {
   io::writeFileAtomic(scenario.string(), kScenario);
   const fs::path log = dir / "out" / "results.log";
   const std::string cmd = std::string(UAVIP_BINARY) + " bench '" + scenario.string() +
-                          "' --planners astar,astar-euclid --runs 1 -q -o '" + log.string() + "' 2>&1";
+                          "' --planners astar,astar-euclid --runs 1 -q -o '" + log.string() +
+                          "' 2>&1";
   ASSERT_TRUE(shell(cmd)) << cmd;
   for (const char* ext : {".log", ".csv", ".md", ".png"}) {
     fs::path p = log;
     p.replace_extension(ext);
     EXPECT_TRUE(fs::exists(p) && fs::file_size(p) > 0) << p;
   }
-  EXPECT_FALSE(shell(std::string(UAVIP_BINARY) + " bench '" + scenario.string() + "' --planners nope -q 2>&1"));
+  EXPECT_FALSE(shell(std::string(UAVIP_BINARY) + " bench '" + scenario.string() +
+                     "' --planners nope -q 2>&1"));
   fs::remove_all(dir);
 }
 

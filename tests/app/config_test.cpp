@@ -3,12 +3,13 @@
 // values set in the YAML always winning.
 
 #include "uavip/app/config.h"
-#include "uavip/app/scenario.h"
-#include "uavip/preprocess/cloud_stats.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "uavip/app/scenario.h"
+#include "uavip/preprocess/cloud_stats.h"
 
 namespace uavip::app {
 namespace {
@@ -60,7 +61,8 @@ TEST(ResolveConfig, DenseScanGivesThePapersValues) {
   EXPECT_DOUBLE_EQ(r.config.perception.planes.min_area_m2, 2.0);
   EXPECT_DOUBLE_EQ(r.config.perception.planes.cluster_tolerance_m, 0.3);
   EXPECT_DOUBLE_EQ(r.config.perception.clusters.tolerance_m, 0.3);
-  EXPECT_DOUBLE_EQ(r.config.perception.planes.cell_size_m, 0.1);  // a voxel grid coarser than the scan: a lattice, 2 × 5 cm
+  EXPECT_DOUBLE_EQ(r.config.perception.planes.cell_size_m,
+                   0.1);  // a voxel grid coarser than the scan: a lattice, 2 × 5 cm
   EXPECT_DOUBLE_EQ(r.config.grid.resolution_m, 0.2);
   EXPECT_FALSE(r.config.perception.planes.viewpoint_known);  // a cloud file has no sensor position
 }
@@ -70,17 +72,22 @@ TEST(ResolveConfig, SparseCloudScalesWithItsSpacing) {
   const ResolvedConfig r = resolveConfig(app::parseConfig("", "cfg"), stats);
   const double s = stats.spacing_m;
   EXPECT_NEAR(r.config.preprocess.voxel_m, s, 0.001);
-  EXPECT_NEAR(r.config.perception.planes.cluster_tolerance_m, 3.0 * s, 0.005);  // voxel rounded up to mm
+  EXPECT_NEAR(r.config.perception.planes.cluster_tolerance_m, 3.0 * s,
+              0.005);  // voxel rounded up to mm
   EXPECT_NEAR(r.config.perception.clusters.tolerance_m, 3.0 * s, 0.005);
   EXPECT_NEAR(r.config.perception.planes.distance_threshold_m, std::max(0.2, 0.5 * s), 0.005);
-  EXPECT_NEAR(r.config.perception.planes.cell_size_m, 3.0 * s, 0.005);  // irregular sampling assumed
-  EXPECT_NEAR(valueOf(r, "perception.plane_cluster_tolerance_m"), r.config.perception.planes.cluster_tolerance_m, 1e-12);
+  EXPECT_NEAR(r.config.perception.planes.cell_size_m, 3.0 * s,
+              0.005);  // irregular sampling assumed
+  EXPECT_NEAR(valueOf(r, "perception.plane_cluster_tolerance_m"),
+              r.config.perception.planes.cluster_tolerance_m, 1e-12);
 }
 
 TEST(ResolveConfig, ValuesSetInTheFileWin) {
   CloudStats stats = preprocess::measureCloud(lattice(40.0, 40.0, 0.5, 0.01));
   const app::Config c = app::parseConfig(
-      "preprocess: {voxel_m: 0.07}\nperception: {distance_threshold_m: 0.15, obstacle_tolerance_m: 0.4}\n", "cfg");
+      "preprocess: {voxel_m: 0.07}\nperception: {distance_threshold_m: 0.15, obstacle_tolerance_m: "
+      "0.4}\n",
+      "cfg");
   const ResolvedConfig r = resolveConfig(c, stats);
   EXPECT_DOUBLE_EQ(r.config.preprocess.voxel_m, 0.07);
   EXPECT_DOUBLE_EQ(r.config.perception.planes.distance_threshold_m, 0.15);
@@ -99,7 +106,8 @@ TEST(ResolveConfig, LargeStructureWithoutACameraGetsAnInspectionCamera) {
   const ResolvedConfig big = resolveConfig(app::parseConfig("", "cfg"), stats);
   EXPECT_TRUE(big.config.coverage.camera.from_sensor);
   EXPECT_DOUBLE_EQ(big.config.coverage.camera.gsd_mm_per_px, 2.0);
-  const ResolvedConfig own = resolveConfig(app::parseConfig("camera: {footprint_m: [1.0, 0.8]}\n", "cfg"), stats);
+  const ResolvedConfig own =
+      resolveConfig(app::parseConfig("camera: {footprint_m: [1.0, 0.8]}\n", "cfg"), stats);
   EXPECT_FALSE(own.config.coverage.camera.from_sensor);
   EXPECT_DOUBLE_EQ(own.config.coverage.camera.footprint_w_m, 1.0);
 }

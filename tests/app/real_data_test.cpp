@@ -2,11 +2,6 @@
 // surfaces a person would name. References are independent of the pipeline: the
 // LAS file's own classification, the model's known geometry.
 
-#include "uavip/app/pipeline.h"
-#include "uavip/core/geometry.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/io/las_reader.h"
-
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,6 +9,11 @@
 #include <limits>
 #include <map>
 #include <string>
+
+#include "uavip/app/pipeline.h"
+#include "uavip/core/geometry.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/las_reader.h"
 
 namespace uavip::app {
 namespace {
@@ -39,7 +39,8 @@ TEST(RealData, MarinaBaySandsFacadesFaceOutAndLevelSurfacesFaceUp) {
     // the same x and z (the two legs of a tower make it noisy on their inner faces).
     // A facade faces out when most of its points say so.
     int out = 0, votes = 0;
-    for (std::size_t k = 0; k < s.inliers.size(); k += std::max<std::size_t>(1, s.inliers.size() / 20)) {
+    for (std::size_t k = 0; k < s.inliers.size();
+         k += std::max<std::size_t>(1, s.inliers.size() / 20)) {
       const Vec3& q = s.inliers[k];
       double sum = 0.0;
       int count = 0;
@@ -64,7 +65,7 @@ TEST(RealData, MarinaBaySandsFacadesFaceOutAndLevelSurfacesFaceUp) {
   // The reference (the local middle of the tower) is ambiguous near the top, where
   // the two legs of a tower join under the SkyPark: one facade may disagree.
   EXPECT_GE(facing_out, facades - 1);
-  EXPECT_GE(level, 1);    // the podium roofs
+  EXPECT_GE(level, 1);  // the podium roofs
 
   // The largest facade's mission: flown, its coverage measured, and every segment
   // at least the UAV radius from every measured point (brute force).
@@ -88,7 +89,8 @@ TEST(RealData, AutzenGroundPointsLieOnUpFacingSurfaces) {
   const DetectResult d = detectWithDefaults(las.points);
   ASSERT_FALSE(d.scene.surfaces.empty());
   auto cellOf = [](const Vec3& p) {
-    return std::array<long, 3>{static_cast<long>(std::floor(p.x())), static_cast<long>(std::floor(p.y())),
+    return std::array<long, 3>{static_cast<long>(std::floor(p.x())),
+                               static_cast<long>(std::floor(p.y())),
                                static_cast<long>(std::floor(p.z()))};
   };
   // The file's class 1 ("unclassified") holds much of the flat ground as well, so
@@ -97,7 +99,8 @@ TEST(RealData, AutzenGroundPointsLieOnUpFacingSurfaces) {
   std::map<std::array<long, 3>, bool> on_surface;  // 1 m cells holding a surface point
   for (const auto& s : d.scene.surfaces) {
     if (s.area_m2 >= 150.0) {
-      EXPECT_GT(s.plane.normal.z(), 0.9) << "surface " << s.id << " (" << s.area_m2 << " m²) is not level ground";
+      EXPECT_GT(s.plane.normal.z(), 0.9)
+          << "surface " << s.id << " (" << s.area_m2 << " m²) is not level ground";
     }
     if (s.plane.normal.z() <= 0.0) continue;
     for (const auto& p : s.inliers) on_surface[cellOf(p)] = true;

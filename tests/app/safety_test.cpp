@@ -5,16 +5,10 @@
 // every point within reach is computed exactly (PCL's kd-tree picks the candidates).
 // Heavy (real clouds, the bridge): label `heavy`, out of the sanitizer run.
 
-#include "uavip/app/pipeline.h"
-#include "uavip/core/geometry.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-
+#include <gtest/gtest.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/geometry.h"
+#include "uavip/io/cloud_io.h"
+
 namespace uavip::app {
 namespace {
 
@@ -30,7 +29,8 @@ const std::string kData = std::string(UAVIP_SOURCE_DIR) + "/tests/data/";
 const std::string kScenarios = std::string(UAVIP_SOURCE_DIR) + "/scenarios/";
 const char* const kSmallUav = "uav: {size_m: [0.3, 0.3, 0.2]}\ncoverage: {standoff_m: 1.0}\n";
 const char* const kTinyUav =
-    "uav: {size_m: [0.2, 0.2, 0.1]}\ncoverage: {standoff_m: 0.8}\nmission: {max_skipped_fraction: 0.5}\n";
+    "uav: {size_m: [0.2, 0.2, 0.1]}\ncoverage: {standoff_m: 0.8}\nmission: {max_skipped_fraction: "
+    "0.5}\n";
 
 /// Exact smallest distance from the polylines to the cloud [m]: every segment is cut
 /// into pieces ≤ 1 m, every point within (half the piece + `reach`) of a piece's
@@ -38,7 +38,8 @@ const char* const kTinyUav =
 /// Distances beyond `reach` are reported as `reach`.
 double minDistance(const std::vector<PointList>& paths, const PointList& cloud, double reach) {
   auto pcl_cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (const auto& p : cloud) pcl_cloud->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  for (const auto& p : cloud)
+    pcl_cloud->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(pcl_cloud);
   double best = reach;
@@ -49,11 +50,14 @@ double minDistance(const std::vector<PointList>& paths, const PointList& cloud, 
       const Vec3 a = path[i], b = path[i + 1];
       const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm())));
       for (int k = 0; k < pieces; ++k) {
-        const Vec3 p0 = a + (b - a) * (double(k) / pieces), p1 = a + (b - a) * (double(k + 1) / pieces);
+        const Vec3 p0 = a + (b - a) * (double(k) / pieces),
+                   p1 = a + (b - a) * (double(k + 1) / pieces);
         const Vec3 mid = 0.5 * (p0 + p1);
         const double radius = 0.5 * (p1 - p0).norm() + reach + 0.01;
-        tree.radiusSearch(pcl::PointXYZ(float(mid.x()), float(mid.y()), float(mid.z())), radius, idx, d2);
-        for (const int j : idx) best = std::min(best, pointSegmentDistance(cloud[static_cast<std::size_t>(j)], p0, p1));
+        tree.radiusSearch(pcl::PointXYZ(float(mid.x()), float(mid.y()), float(mid.z())), radius,
+                          idx, d2);
+        for (const int j : idx)
+          best = std::min(best, pointSegmentDistance(cloud[static_cast<std::size_t>(j)], p0, p1));
       }
     }
   }
@@ -83,12 +87,13 @@ Flown flyCloud(const PointList& raw, const app::Config& config) {
 }
 
 void expectClear(const std::string& name, const Flown& f, const PointList& reference) {
-  ASSERT_EQ(f.plan.flight.status, planning::FlightPlan::Status::Ok) << name << ": " << f.plan.flight.reason;
+  ASSERT_EQ(f.plan.flight.status, planning::FlightPlan::Status::Ok)
+      << name << ": " << f.plan.flight.reason;
   ASSERT_FALSE(f.plan.flight.sorties.empty()) << name;
   const double d = minDistance(sortiesOf(f.plan), reference, 5.0);
-  std::cout << name << ": flight " << f.plan.flight.length_m << " m, min distance to " << reference.size()
-            << " input points " << d << " m (inflation radius " << f.inflation_m << " m, clearance kept "
-            << f.plan.clearance_m << " m)\n";
+  std::cout << name << ": flight " << f.plan.flight.length_m << " m, min distance to "
+            << reference.size() << " input points " << d << " m (inflation radius " << f.inflation_m
+            << " m, clearance kept " << f.plan.clearance_m << " m)\n";
   EXPECT_GE(d, f.inflation_m - 1e-4) << name;
 }
 
@@ -98,7 +103,9 @@ struct RealCase {
   std::string config;  ///< YAML; empty = defaults
 };
 
-void PrintTo(const RealCase& c, std::ostream* os) { *os << c.file << (c.config.empty() ? "" : " (small UAV)"); }
+void PrintTo(const RealCase& c, std::ostream* os) {
+  *os << c.file << (c.config.empty() ? "" : " (small UAV)");
+}
 
 class RealCloud : public ::testing::TestWithParam<RealCase> {};
 
@@ -111,13 +118,14 @@ TEST_P(RealCloud, TheFlightKeepsTheInflationRadiusFromEveryInputPoint) {
 // The room scans fly only with a small UAV close to the walls (a cluttered 3 m room
 // leaves no free layer for the default 0.6 m inflation); the second room needs a
 // smaller one still.
-INSTANTIATE_TEST_SUITE_P(Safety, RealCloud,
-                         ::testing::Values(RealCase{"fcplanner_MBS.pcd", ""}, RealCase{"fcplanner_christ.pcd", ""},
-                                           RealCase{"fcplanner_pipe.pcd", ""},
-                                           RealCase{"hk_fruits_wholesale_market.pcd", ""},
-                                           RealCase{"room_scan1.pcd", kSmallUav}, RealCase{"room_scan2.pcd", kTinyUav},
-                                           RealCase{"autzen_trim.las", ""}),
-                         [](const auto& info) { return info.param.file.substr(0, info.param.file.find('.')); });
+INSTANTIATE_TEST_SUITE_P(
+    Safety, RealCloud,
+    ::testing::Values(RealCase{"fcplanner_MBS.pcd", ""}, RealCase{"fcplanner_christ.pcd", ""},
+                      RealCase{"fcplanner_pipe.pcd", ""},
+                      RealCase{"hk_fruits_wholesale_market.pcd", ""},
+                      RealCase{"room_scan1.pcd", kSmallUav}, RealCase{"room_scan2.pcd", kTinyUav},
+                      RealCase{"autzen_trim.las", ""}),
+    [](const auto& info) { return info.param.file.substr(0, info.param.file.find('.')); });
 
 class DenserCloud : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 
@@ -131,10 +139,13 @@ TEST_P(DenserCloud, AFlightPlannedOnTheSparseCloudKeepsClearOfTheDenseOne) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Safety, DenserCloud,
-                         ::testing::Values(std::make_pair(std::string("fcplanner_MBS.pcd"), std::string("fcplanner_MBSmore.pcd")),
+                         ::testing::Values(std::make_pair(std::string("fcplanner_MBS.pcd"),
+                                                          std::string("fcplanner_MBSmore.pcd")),
                                            std::make_pair(std::string("fcplanner_christ.pcd"),
                                                           std::string("fcplanner_christmore.pcd"))),
-                         [](const auto& info) { return info.param.first.substr(10, info.param.first.find('.') - 10); });
+                         [](const auto& info) {
+                           return info.param.first.substr(10, info.param.first.find('.') - 10);
+                         });
 
 class ScenarioCloud : public ::testing::TestWithParam<std::string> {};
 
@@ -145,9 +156,11 @@ TEST_P(ScenarioCloud, TheFlightKeepsTheInflationRadiusFromEverySensedPoint) {
   const PointList raw = sense(scenario);
   const DetectResult d = detect(raw, scenario.config, measure(raw, &scenario));
   const app::Config resolved = d.resolved.config;
-  const Flown f{plan(d.scene, resolved, selectSurfaces(d.scene, "all")), resolved.uav.inflationRadius()};
+  const Flown f{plan(d.scene, resolved, selectSurfaces(d.scene, "all")),
+                resolved.uav.inflationRadius()};
   if (d.scene.surfaces.empty() || GetParam() == "cube_crossed_planes") {
-    // Nothing to fly (the point, the line) or nothing flyable (the crossed planes, as the paper says).
+    // Nothing to fly (the point, the line) or nothing flyable (the crossed planes, as the paper
+    // says).
     EXPECT_TRUE(f.plan.flight.sorties.empty()) << GetParam();
     return;
   }
@@ -155,8 +168,9 @@ TEST_P(ScenarioCloud, TheFlightKeepsTheInflationRadiusFromEverySensedPoint) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Safety, ScenarioCloud,
-                         ::testing::Values("single_point", "single_line", "single_plane", "single_cube",
-                                           "cube_crossed_planes", "wall_on_ground", "bridge_sampled", "bridge"));
+                         ::testing::Values("single_point", "single_line", "single_plane",
+                                           "single_cube", "cube_crossed_planes", "wall_on_ground",
+                                           "bridge_sampled", "bridge"));
 
 }  // namespace
 }  // namespace uavip::app

@@ -1,20 +1,18 @@
 #include "uavip/app/scenario.h"
 
-#include "uavip/core/error.h"
-#include "planners/harness.h"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
-
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
 #include <utility>
+
+#include "planners/harness.h"
+#include "uavip/core/error.h"
 
 namespace uavip::app {
 namespace {
@@ -34,13 +32,15 @@ void expectInputError(const std::string& yaml, std::initializer_list<std::string
   } catch (const InputError& e) {
     const std::string msg = e.what();
     EXPECT_EQ(msg.find('\n'), std::string::npos) << "error must be one line: " << msg;
-    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+    for (const auto& f : fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
   }
 }
 
 TEST(Scenario, EveryBundledScenarioParses) {
   int count = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     const Scenario s = loadScenario(entry.path().string());
@@ -92,14 +92,17 @@ expect: {surfaces: 1, status: ok}
 }
 
 TEST(Scenario, UnknownKeyIsNamed) {
-  expectInputError(kMinimal + "grid: {resolution: 0.1}\n", {"x.yaml", "grid.resolution", "not a known key"});
+  expectInputError(kMinimal + "grid: {resolution: 0.1}\n",
+                   {"x.yaml", "grid.resolution", "not a known key"});
   expectInputError(kMinimal + "colour: red\n", {"x.yaml", "colour"});
 }
 
 TEST(Scenario, DuplicateKeyIsRefusedWithItsLine) {
   // yaml-cpp keeps the first of two equal keys; a user who repeats one means the second.
-  expectInputError(kMinimal + "grid: {resolution_m: 0.1, resolution_m: 0.3}\n", {"x.yaml", "grid.resolution_m", "twice"});
-  const auto second = std::count(kMinimal.begin(), kMinimal.end(), '\n') + 2;  // 1-based line of the repeat
+  expectInputError(kMinimal + "grid: {resolution_m: 0.1, resolution_m: 0.3}\n",
+                   {"x.yaml", "grid.resolution_m", "twice"});
+  const auto second =
+      std::count(kMinimal.begin(), kMinimal.end(), '\n') + 2;  // 1-based line of the repeat
   expectInputError(kMinimal + "planner: {name: astar}\nplanner: {name: rrtstar}\n",
                    {"x.yaml", "planner", "twice", "line " + std::to_string(second)});
 }
@@ -116,16 +119,21 @@ TEST(Config, NonScalarKeyInsideASectionIsNamed) {
 }
 
 TEST(Scenario, WrongTypeIsNamed) {
-  expectInputError(kMinimal + "grid: {resolution_m: fine}\n", {"x.yaml", "grid.resolution_m", "number", "fine"});
-  expectInputError(kMinimal + "perception: {max_iterations: 2.5}\n", {"perception.max_iterations", "integer"});
-  expectInputError(kMinimal + "camera: {footprint_m: [0.6]}\n", {"camera.footprint_m", "list of 2"});
-  expectInputError(kMinimal + "preprocess: {voxelize: maybe}\n", {"preprocess.voxelize", "true or false"});
+  expectInputError(kMinimal + "grid: {resolution_m: fine}\n",
+                   {"x.yaml", "grid.resolution_m", "number", "fine"});
+  expectInputError(kMinimal + "perception: {max_iterations: 2.5}\n",
+                   {"perception.max_iterations", "integer"});
+  expectInputError(kMinimal + "camera: {footprint_m: [0.6]}\n",
+                   {"camera.footprint_m", "list of 2"});
+  expectInputError(kMinimal + "preprocess: {voxelize: maybe}\n",
+                   {"preprocess.voxelize", "true or false"});
 }
 
 TEST(Scenario, MissingFieldIsNamed) {
   expectInputError("name: t\nsensing: {mode: sample}\n", {"x.yaml", "world"});
   expectInputError("name: t\nworld:\n  - {type: point, at: [0, 0, 0]}\n", {"sensing", "missing"});
-  expectInputError("name: t\nworld:\n  - {type: line, from: [0, 0, 0]}\nsensing: {}\n", {"world[0].to", "missing"});
+  expectInputError("name: t\nworld:\n  - {type: line, from: [0, 0, 0]}\nsensing: {}\n",
+                   {"world[0].to", "missing"});
 }
 
 TEST(Scenario, BadValuesAreRejected) {
@@ -133,8 +141,10 @@ TEST(Scenario, BadValuesAreRejected) {
   expectInputError(kMinimal + "uav: {size_m: [0.6, -0.6, 0.4]}\n", {"x.yaml", "size_m"});
   expectInputError(kMinimal + "coverage: {overlap: 1.0}\n", {"x.yaml", "overlap"});
   expectInputError(kMinimal + "planner: {name: warp-drive}\n", {"x.yaml", "warp-drive", "astar"});
-  expectInputError(kMinimal + "camera: {footprint_m: [0.6, 0.4], focal_mm: 8}\n", {"camera", "both"});
-  expectInputError("name: t\nworld:\n  - {type: torus}\nsensing: {}\n", {"torus", "not a primitive"});
+  expectInputError(kMinimal + "camera: {footprint_m: [0.6, 0.4], focal_mm: 8}\n",
+                   {"camera", "both"});
+  expectInputError("name: t\nworld:\n  - {type: torus}\nsensing: {}\n",
+                   {"torus", "not a primitive"});
   expectInputError("name: t\nworld: []\nsensing: {}\n", {"world", "empty"});
   expectInputError("name: [unclosed\n", {"x.yaml", "YAML"});
 }
@@ -144,7 +154,8 @@ TEST(Scenario, MissingFileIsNamed) {
     loadScenario("/nonexistent/dir/s.yaml");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/s.yaml: no such file"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/s.yaml: no such file"),
+              std::string::npos);
   }
 }
 
@@ -251,32 +262,50 @@ TEST(Config, AssemblyAndRegistrationValuesAreRead) {
   expectStagesRead(parseConfig(kStages, "c.yaml"));
   // Every registration method name maps to its enum value.
   const std::pair<const char*, registration::Method> methods[] = {
-      {"none", registration::Method::None},   {"translation", registration::Method::PointToPlaneTranslation},
-      {"icp", registration::Method::Icp},     {"icp_point_to_plane", registration::Method::IcpPointToPlane},
-      {"gicp", registration::Method::Gicp},   {"ndt", registration::Method::Ndt}};
+      {"none", registration::Method::None},
+      {"translation", registration::Method::PointToPlaneTranslation},
+      {"icp", registration::Method::Icp},
+      {"icp_point_to_plane", registration::Method::IcpPointToPlane},
+      {"gicp", registration::Method::Gicp},
+      {"ndt", registration::Method::Ndt}};
   for (const auto& [name, method] : methods) {
-    EXPECT_EQ(parseConfig(std::string("registration: {method: ") + name + "}\n", "c.yaml").registration.method, method)
+    EXPECT_EQ(parseConfig(std::string("registration: {method: ") + name + "}\n", "c.yaml")
+                  .registration.method,
+              method)
         << name;
   }
-  EXPECT_EQ(parseConfig("assembly: {icp: point_to_line}\n", "c.yaml").assembly.icp, scan::IcpMethod::PointToLine2D);
+  EXPECT_EQ(parseConfig("assembly: {icp: point_to_line}\n", "c.yaml").assembly.icp,
+            scan::IcpMethod::PointToLine2D);
 }
 
 TEST(Scenario, AssemblyAndRegistrationAreStrict) {
-  expectInputError(kMinimal + "assembly: {max_iteration: 5}\n", {"x.yaml", "assembly.max_iteration", "not a known key"});
-  expectInputError(kMinimal + "registration: {convergence: 1}\n", {"x.yaml", "registration.convergence", "not a known key"});
-  expectInputError(kMinimal + "registration: {method: sgd}\n", {"x.yaml", "registration.method", "'sgd'", "gicp"});
-  expectInputError(kMinimal + "assembly: {icp: svd}\n", {"x.yaml", "assembly.icp", "'svd'", "point_to_line"});
-  expectInputError(kMinimal + "registration: {method: [icp]}\n", {"x.yaml", "registration.method", "string"});
-  expectInputError(kMinimal + "assembly: {use_imu_prior: often}\n", {"x.yaml", "assembly.use_imu_prior", "true or false"});
-  expectInputError(kMinimal + "assembly: {horizontal_stride: 1.5}\n", {"x.yaml", "assembly.horizontal_stride", "integer"});
-  expectInputError(kMinimal + "registration: {downsample_m: fine}\n", {"x.yaml", "registration.downsample_m", "number"});
+  expectInputError(kMinimal + "assembly: {max_iteration: 5}\n",
+                   {"x.yaml", "assembly.max_iteration", "not a known key"});
+  expectInputError(kMinimal + "registration: {convergence: 1}\n",
+                   {"x.yaml", "registration.convergence", "not a known key"});
+  expectInputError(kMinimal + "registration: {method: sgd}\n",
+                   {"x.yaml", "registration.method", "'sgd'", "gicp"});
+  expectInputError(kMinimal + "assembly: {icp: svd}\n",
+                   {"x.yaml", "assembly.icp", "'svd'", "point_to_line"});
+  expectInputError(kMinimal + "registration: {method: [icp]}\n",
+                   {"x.yaml", "registration.method", "string"});
+  expectInputError(kMinimal + "assembly: {use_imu_prior: often}\n",
+                   {"x.yaml", "assembly.use_imu_prior", "true or false"});
+  expectInputError(kMinimal + "assembly: {horizontal_stride: 1.5}\n",
+                   {"x.yaml", "assembly.horizontal_stride", "integer"});
+  expectInputError(kMinimal + "registration: {downsample_m: fine}\n",
+                   {"x.yaml", "registration.downsample_m", "number"});
   expectInputError(kMinimal + "assembly: 3\n", {"x.yaml", "assembly", "mapping"});
   // Values are checked by the options' own validate(), named by section.
-  expectInputError(kMinimal + "assembly: {max_iterations: 0}\n", {"x.yaml", "assembly", "max_iterations"});
+  expectInputError(kMinimal + "assembly: {max_iterations: 0}\n",
+                   {"x.yaml", "assembly", "max_iterations"});
   expectInputError(kMinimal + "assembly: {z_cone_deg: 95}\n", {"x.yaml", "assembly", "z_cone_deg"});
-  expectInputError(kMinimal + "assembly: {drift_segment_deg: 0}\n", {"x.yaml", "assembly", "drift_segment_deg"});
-  expectInputError(kMinimal + "registration: {downsample_m: 0}\n", {"x.yaml", "registration", "downsample_m"});
-  expectInputError(kMinimal + "registration: {search_radius_m: -1}\n", {"x.yaml", "registration", "search_radius_m"});
+  expectInputError(kMinimal + "assembly: {drift_segment_deg: 0}\n",
+                   {"x.yaml", "assembly", "drift_segment_deg"});
+  expectInputError(kMinimal + "registration: {downsample_m: 0}\n",
+                   {"x.yaml", "registration", "downsample_m"});
+  expectInputError(kMinimal + "registration: {search_radius_m: -1}\n",
+                   {"x.yaml", "registration", "search_radius_m"});
   EXPECT_THROW(parseConfig("registration: {method: sgd}\n", "c.yaml"), InputError);
 }
 
@@ -285,7 +314,8 @@ TEST(Config, FlightModelAndHomeAreRead) {
   EXPECT_FALSE(d.flight.home);
   EXPECT_DOUBLE_EQ(d.flight.model.endurance_s, 1200.0);
   const Config c = parseConfig(
-      "mission: {home: [1, 2, 3]}\nflight: {cruise_speed_m_s: 4, climb_speed_m_s: 1, descent_speed_m_s: 0.5, hover_s: 0, "
+      "mission: {home: [1, 2, 3]}\nflight: {cruise_speed_m_s: 4, climb_speed_m_s: 1, "
+      "descent_speed_m_s: 0.5, hover_s: 0, "
       "settle_s: 0.5, endurance_s: 600, reserve: 0.3}\n",
       "c.yaml");
   ASSERT_TRUE(c.flight.home);
@@ -297,8 +327,9 @@ TEST(Config, FlightModelAndHomeAreRead) {
   EXPECT_DOUBLE_EQ(c.flight.model.settle_s, 0.5);
   EXPECT_DOUBLE_EQ(c.flight.model.endurance_s, 600.0);
   EXPECT_DOUBLE_EQ(c.flight.model.reserve, 0.3);
-  for (const std::string bad : {"flight: {reserve: 1}\n", "flight: {endurance_s: 0}\n", "flight: {hover_s: -1}\n",
-                                "flight: {speed: 3}\n", "mission: {home: [1, 2]}\n"}) {
+  for (const std::string bad :
+       {"flight: {reserve: 1}\n", "flight: {endurance_s: 0}\n", "flight: {hover_s: -1}\n",
+        "flight: {speed: 3}\n", "mission: {home: [1, 2]}\n"}) {
     try {
       parseConfig(bad, "c.yaml");
       ADD_FAILURE() << "accepted " << bad;
@@ -341,7 +372,8 @@ TEST(Config, ScenarioOrConfigFile) {
     loadConfigOrScenario(write("bad.yaml", "registration: {method: sgd}\n"));
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find((dir / "bad.yaml").string() + ": registration.method"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find((dir / "bad.yaml").string() + ": registration.method"),
+              std::string::npos)
         << e.what();
   }
   std::filesystem::remove_all(dir);
@@ -396,10 +428,13 @@ sensing:
   };
   expectError(base + "  spacing_m: 0.05\n", "sensing.spacing_m is not a known key");
   expectError(base + "  yaw_rat_deg_s: 3\n", "yaw_rat_deg_s");
-  expectError(std::regex_replace(base, std::regex("stations: .*"), "stations: [[1, 2]]"), "sensing.stations[0]");
-  expectError(std::regex_replace(base, std::regex("imu_rate_hz: 2000"), "imu_rate_hz: -5"), "imu_rate_hz");
+  expectError(std::regex_replace(base, std::regex("stations: .*"), "stations: [[1, 2]]"),
+              "sensing.stations[0]");
+  expectError(std::regex_replace(base, std::regex("imu_rate_hz: 2000"), "imu_rate_hz: -5"),
+              "imu_rate_hz");
   expectError(std::regex_replace(base, std::regex("tufts: 5"), "tufts: 0"), "tufts");
-  expectError(std::regex_replace(base, std::regex("mode: scan"), "mode: lidar"), "supported: sample, scan");
+  expectError(std::regex_replace(base, std::regex("mode: scan"), "mode: lidar"),
+              "supported: sample, scan");
 }
 
 }  // namespace

@@ -1,19 +1,17 @@
 // The paper's hypothetical cases (§III-A), read from scenarios/, checked against the
 // simulator's ground truth and by brute force.
 
-#include "uavip/app/pipeline.h"
-
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-#include "uavip/io/cloud_io.h"
-#include "uavip/app/scenario.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <filesystem>
+
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
+#include "uavip/io/cloud_io.h"
 
 namespace uavip::app {
 namespace {
@@ -28,7 +26,8 @@ Outcome runScenario(const std::string& file) {
   Outcome o{app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + file), {}, {}};
   const PointList raw = sense(o.scenario);
   o.detected = detect(raw, o.scenario.config, measure(raw, &o.scenario));
-  o.planned = plan(o.detected.scene, o.detected.resolved.config, selectSurfaces(o.detected.scene, "all"));
+  o.planned =
+      plan(o.detected.scene, o.detected.resolved.config, selectSurfaces(o.detected.scene, "all"));
   return o;
 }
 
@@ -36,7 +35,8 @@ Outcome runScenario(const std::string& file) {
 double bruteForceClearance(const PointList& path, const PointList& cloud) {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    for (const auto& p : cloud) best = std::min(best, pointSegmentDistance(p, path[i], path[i + 1]));
+    for (const auto& p : cloud)
+      best = std::min(best, pointSegmentDistance(p, path[i], path[i + 1]));
   }
   if (path.size() == 1) {
     for (const auto& p : cloud) best = std::min(best, (p - path[0]).norm());
@@ -62,7 +62,8 @@ std::vector<const Surface*> surfacesOn(const sim::Rect& rect, const Scene& scene
 /// True if every point of a 10 cm sampling of the rectangle lies in some stop's footprint.
 bool footprintsCover(const sim::Rect& rect, const planning::SurfaceMission& m, double inset) {
   const auto& st = m.strategy;
-  const int nu = static_cast<int>(rect.edge_u.norm() / 0.1), nv = static_cast<int>(rect.edge_v.norm() / 0.1);
+  const int nu = static_cast<int>(rect.edge_u.norm() / 0.1),
+            nv = static_cast<int>(rect.edge_v.norm() / 0.1);
   for (int i = 0; i <= nu; ++i) {
     for (int j = 0; j <= nv; ++j) {
       const double s = inset + (1 - 2 * inset) * i / nu, t = inset + (1 - 2 * inset) * j / nv;
@@ -129,7 +130,8 @@ TEST(PaperCases, SinglePlaneIsDetectedCoveredAndFlownSafely) {
   // too close to one is moved by repair, farther or tilted, and still sees its photo.
   std::size_t in_place = 0;
   for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
-    const bool moved = std::find(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(k)) != m.moved_stops.end();
+    const bool moved = std::find(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(k)) !=
+                       m.moved_stops.end();
     if (moved) continue;
     ++in_place;
     EXPECT_NEAR(truth.distance(m.strategy.stops[k].position), 1.5, 0.05);
@@ -153,7 +155,8 @@ TEST(PaperCases, SingleCubeHasSixOutwardSurfacesAllPlanned) {
   }
   ASSERT_EQ(o.planned.missions.size(), 6u);
   for (const auto& m : o.planned.missions) {
-    EXPECT_EQ(m.status, planning::SurfaceStatus::Ok) << "surface " << m.surface_id << ": " << m.reason;
+    EXPECT_EQ(m.status, planning::SurfaceStatus::Ok)
+        << "surface " << m.surface_id << ": " << m.reason;
     EXPECT_FALSE(m.waypoints.empty());
   }
   expectSafe(o);
@@ -163,7 +166,8 @@ TEST(PaperCases, CrossedPlanesWithStopRepairFlyOnlyValidatedPaths) {
   // Beyond the paper: repair moves the stops that sit in the inflated space to
   // tilted or farther poses that still see their photo centre. Whatever it makes
   // flyable must pass the FCL validator, and every moved stop must be free.
-  app::Scenario sc = app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/cube_crossed_planes.yaml");
+  app::Scenario sc =
+      app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/cube_crossed_planes.yaml");
   sc.config.mission.repair_stops = true;
   const PointList raw = sense(sc);
   const DetectResult d = detect(raw, sc.config, measure(raw, &sc));
@@ -173,7 +177,8 @@ TEST(PaperCases, CrossedPlanesWithStopRepairFlyOnlyValidatedPaths) {
     moved += m.moved_stops.size();
     if (planning::flyable(m.status)) {
       EXPECT_TRUE(m.validation.collision_free) << "surface " << m.surface_id;
-      EXPECT_GE(bruteForceClearance(m.waypoints, d.scene.cloud), d.resolved.config.uav.inflationRadius() - 1e-6);
+      EXPECT_GE(bruteForceClearance(m.waypoints, d.scene.cloud),
+                d.resolved.config.uav.inflationRadius() - 1e-6);
     }
   }
   EXPECT_GT(moved, 0u);
@@ -183,7 +188,8 @@ TEST(RealDataCases, WallOnTheGroundIsFlownAfterStopRepair) {
   // The wall's lowest rows sit in the ground's inflated space. The wall is found by
   // its vertical normal; coverage is checked by the evaluator against the wall's
   // own points, and the flown path against every measured point by brute force.
-  app::Scenario sc = app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_on_ground.yaml");
+  app::Scenario sc =
+      app::loadScenario(std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_on_ground.yaml");
   for (const bool repair : {false, true}) {
     SCOPED_TRACE(repair ? "with repair" : "without repair");
     sc.config.mission.repair_stops = repair;
@@ -204,7 +210,8 @@ TEST(RealDataCases, WallOnTheGroundIsFlownAfterStopRepair) {
     EXPECT_GT(wall->moved_stops.size(), 0u);
     ASSERT_TRUE(wall->coverage.evaluated);
     EXPECT_GE(wall->coverage.fraction, 0.8);
-    EXPECT_GE(bruteForceClearance(wall->waypoints, d.scene.cloud), d.resolved.config.uav.inflationRadius() - 1e-6);
+    EXPECT_GE(bruteForceClearance(wall->waypoints, d.scene.cloud),
+              d.resolved.config.uav.inflationRadius() - 1e-6);
   }
 }
 
@@ -230,7 +237,8 @@ TEST(PaperCases, CrossedPlanesBlockEverySurface) {
 }
 
 TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
     const app::Scenario sc = app::loadScenario(entry.path().string());
     if (!sc.expect.surfaces && !sc.expect.status && !sc.expect.min_surface_area_m2) continue;
@@ -241,10 +249,12 @@ TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
     }
     if (sc.expect.status) {
       EXPECT_FALSE(o.planned.missions.empty());
-      for (const auto& m : o.planned.missions) EXPECT_EQ(planning::toString(m.status), *sc.expect.status);
+      for (const auto& m : o.planned.missions)
+        EXPECT_EQ(planning::toString(m.status), *sc.expect.status);
     }
     if (sc.expect.min_surface_area_m2) {
-      for (const auto& s : o.detected.scene.surfaces) EXPECT_GE(s.area_m2, *sc.expect.min_surface_area_m2) << s.id;
+      for (const auto& s : o.detected.scene.surfaces)
+        EXPECT_GE(s.area_m2, *sc.expect.min_surface_area_m2) << s.id;
     }
   }
 }
@@ -269,7 +279,8 @@ TEST(PaperCases, SurfaceSelectionNamesValidIds) {
 }
 
 TEST(RealData, RoomScanGivesHorizontalAndVerticalSurfaces) {
-  app::Config config = app::parseConfig("preprocess: {voxel_m: 0.05}\nperception: {min_area_m2: 2.0}\n", "cfg");
+  app::Config config =
+      app::parseConfig("preprocess: {voxel_m: 0.05}\nperception: {min_area_m2: 2.0}\n", "cfg");
   const PointList raw = io::loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
   const DetectResult d = detect(raw, config, measure(raw));
   ASSERT_GE(d.scene.surfaces.size(), 3u);
@@ -281,7 +292,8 @@ TEST(RealData, RoomScanGivesHorizontalAndVerticalSurfaces) {
   }
   EXPECT_GE(horizontal, 1);  // floor / ceiling levels
   EXPECT_GE(vertical, 2);    // walls
-  EXPECT_GT(std::abs(d.scene.surfaces[0].plane.normal.z()), 0.95);  // the largest plane is horizontal
+  EXPECT_GT(std::abs(d.scene.surfaces[0].plane.normal.z()),
+            0.95);  // the largest plane is horizontal
 }
 
 }  // namespace

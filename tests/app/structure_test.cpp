@@ -3,18 +3,17 @@
 // on an independent analytic sampling, with every flown segment measured by brute
 // force against every input point.
 
-#include "uavip/app/pipeline.h"
-
-#include "uavip/app/scenario.h"
-#include "uavip/core/geometry.h"
-#include "uavip/coverage/pixel_coverage.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <iostream>
 #include <limits>
 #include <random>
+
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
+#include "uavip/core/geometry.h"
+#include "uavip/coverage/pixel_coverage.h"
 
 namespace uavip::app {
 namespace {
@@ -26,7 +25,8 @@ double flightClearance(const planning::FlightPlan& f, const PointList& cloud) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& s : f.sorties) {
     for (std::size_t i = 0; i + 1 < s.waypoints.size(); ++i) {
-      for (const auto& p : cloud) best = std::min(best, pointSegmentDistance(p, s.waypoints[i], s.waypoints[i + 1]));
+      for (const auto& p : cloud)
+        best = std::min(best, pointSegmentDistance(p, s.waypoints[i], s.waypoints[i + 1]));
     }
   }
   return best;
@@ -78,8 +78,8 @@ TEST(StructureCoverage, FloatingCubeInOneFlightSafeFromEveryPoint) {
   k.cy_px = 0.5 * k.height_px;
   const auto ra = coverage::evaluatePixelCoverage(truth, views, k, p.structure->visible_range_m);
   const double a = ra.fraction;
-  std::cout << "single_cube structure: " << views.size() << " photos, rule (a) on the truth " << a << ", rule (b) "
-            << p.structure->rule_b << "\n";
+  std::cout << "single_cube structure: " << views.size() << " photos, rule (a) on the truth " << a
+            << ", rule (b) " << p.structure->rule_b << "\n";
   EXPECT_GE(a, 0.98);  // the rest lies next to the simulated outliers no free pose sees past
   EXPECT_GE(p.structure->rule_b, 0.95);
   EXPECT_GE(flightClearance(p.flight, raw), d.resolved.config.uav.inflationRadius());
@@ -93,13 +93,17 @@ TEST(StructureCoverage, TankOnTheGroundLeavesTheGroundOutAndCoversTheShell) {
       if (std::hypot(x, y) > 2.05) raw.emplace_back(x, y, 0.0);
   const int around = static_cast<int>(2.0 * kPi * 2.0 / 0.1);
   for (double z = 0.1; z <= 6.0 + 1e-9; z += 0.1)
-    for (int j = 0; j < around; ++j) raw.emplace_back(2.0 * std::cos(2 * kPi * j / around), 2.0 * std::sin(2 * kPi * j / around), z);
+    for (int j = 0; j < around; ++j)
+      raw.emplace_back(2.0 * std::cos(2 * kPi * j / around), 2.0 * std::sin(2 * kPi * j / around),
+                       z);
   for (double r = 0.0; r < 2.0; r += 0.1) {
     const int n = std::max(1, static_cast<int>(2 * kPi * r / 0.1));
-    for (int j = 0; j < n; ++j) raw.emplace_back(r * std::cos(2 * kPi * j / n), r * std::sin(2 * kPi * j / n), 6.0);
+    for (int j = 0; j < n; ++j)
+      raw.emplace_back(r * std::cos(2 * kPi * j / n), r * std::sin(2 * kPi * j / n), 6.0);
   }
   Config config = parseConfig(
-      "camera: {fx: 417.0467, fy: 461.0951, cx: 320, cy: 240, image_px: [640, 480], max_range_m: 6}\n"
+      "camera: {fx: 417.0467, fy: 461.0951, cx: 320, cy: 240, image_px: [640, 480], max_range_m: "
+      "6}\n"
       "coverage: {standoff_m: 4}\nuav: {inflation_radius_m: 0.3}\n",
       "(test)");
   const DetectResult d = detect(raw, config, measure(raw));
@@ -107,13 +111,16 @@ TEST(StructureCoverage, TankOnTheGroundLeavesTheGroundOutAndCoversTheShell) {
   ASSERT_TRUE(p.structure);
   ASSERT_EQ(p.flight.status, planning::FlightPlan::Status::Ok) << p.flight.reason;
   EXPECT_GT(p.structure->ground_points, 50000u);  // the ground square is not photographed
-  PointList truth;  // the shell every 3 cm
+  PointList truth;                                // the shell every 3 cm
   const int fine = static_cast<int>(2.0 * kPi * 2.0 / 0.03);
   for (double z = 0.3; z <= 6.0 + 1e-9; z += 0.03)
-    for (int j = 0; j < fine; ++j) truth.emplace_back(2.0 * std::cos(2 * kPi * j / fine), 2.0 * std::sin(2 * kPi * j / fine), z);
-  const double a = coverage::evaluatePixelCoverage(truth, flownViews(p), coverage::PinholeIntrinsics{}, 6.0).fraction;
-  std::cout << "tank: " << p.structure->photos << " photos, rule (a) on the shell " << a << ", rule (b) "
-            << p.structure->rule_b << "\n";
+    for (int j = 0; j < fine; ++j)
+      truth.emplace_back(2.0 * std::cos(2 * kPi * j / fine), 2.0 * std::sin(2 * kPi * j / fine), z);
+  const double a =
+      coverage::evaluatePixelCoverage(truth, flownViews(p), coverage::PinholeIntrinsics{}, 6.0)
+          .fraction;
+  std::cout << "tank: " << p.structure->photos << " photos, rule (a) on the shell " << a
+            << ", rule (b) " << p.structure->rule_b << "\n";
   EXPECT_GE(a, 0.99);
   EXPECT_GE(p.structure->rule_b, 0.95);
   EXPECT_GE(flightClearance(p.flight, raw), 0.3);
@@ -134,7 +141,8 @@ TEST(StructureCoverage, SolarPanelsBelowTheAreaThresholdArePhotographed) {
   for (const auto& r : sc.world.rects()) {
     if (r.name.rfind("panel_", 0) != 0) continue;
     for (double a = 0.0; a <= 1.0 + 1e-9; a += 0.015)
-      for (double b = 0.0; b <= 1.0 + 1e-9; b += 0.02) truth.push_back(r.corner + a * r.edge_u + b * r.edge_v);
+      for (double b = 0.0; b <= 1.0 + 1e-9; b += 0.02)
+        truth.push_back(r.corner + a * r.edge_u + b * r.edge_v);
   }
   ASSERT_GT(truth.size(), 10000u);
   coverage::PinholeIntrinsics k;  // the 1.2 x 0.8 m footprint at the standoff, over 1000 px
@@ -143,9 +151,11 @@ TEST(StructureCoverage, SolarPanelsBelowTheAreaThresholdArePhotographed) {
   k.fx_px = k.fy_px = 1000.0 * p.structure->standoff_m / 1.2;
   k.cx_px = 500.0;
   k.cy_px = 333.5;
-  const double a = coverage::evaluatePixelCoverage(truth, flownViews(p), k, p.structure->visible_range_m).fraction;
-  std::cout << "solar field: " << p.structure->photos << " photos, rule (a) on the panels " << a << ", rule (b) "
-            << p.structure->rule_b << "\n";
+  const double a =
+      coverage::evaluatePixelCoverage(truth, flownViews(p), k, p.structure->visible_range_m)
+          .fraction;
+  std::cout << "solar field: " << p.structure->photos << " photos, rule (a) on the panels " << a
+            << ", rule (b) " << p.structure->rule_b << "\n";
   EXPECT_GE(a, 0.99);
   EXPECT_GE(p.structure->rule_b, 0.95);
   for (const auto& sortie : p.flight.sorties)

@@ -4,23 +4,22 @@
 // line) and leaves an earlier cloud untouched; `-c` applies a config's
 // `registration:` section.
 
-#include "tests/cli/cli_runner.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/cli/cli_runner.h"
 
 namespace {
 
@@ -51,9 +50,13 @@ nlohmann::json readJson(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
-Vec3 vec(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+Vec3 vec(const nlohmann::json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
 
-std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
 
 /// The points of a PCD file (x y z float, ascii or binary), read by hand.
 std::vector<Vec3> readPcd(const fs::path& p) {
@@ -77,9 +80,11 @@ std::vector<Vec3> readPcd(const fs::path& p) {
   if (fields != 3) return out;
   if (data == "binary") {
     std::vector<float> buf(3 * n);
-    in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size() * sizeof(float)));
+    in.read(reinterpret_cast<char*>(buf.data()),
+            static_cast<std::streamsize>(buf.size() * sizeof(float)));
     if (!in) return out;
-    for (std::size_t i = 0; i < n; ++i) out.emplace_back(buf[3 * i], buf[3 * i + 1], buf[3 * i + 2]);
+    for (std::size_t i = 0; i < n; ++i)
+      out.emplace_back(buf[3 * i], buf[3 * i + 1], buf[3 * i + 2]);
   } else if (data == "ascii") {
     double x = 0, y = 0, z = 0;
     while (out.size() < n && in >> x >> y >> z) out.emplace_back(x, y, z);
@@ -103,13 +108,16 @@ class AssembleCli : public ::testing::Test {
     fs::create_directories(dir_);
     std::ofstream(dir_ / "room.yaml") << kScenario;
     simulate_ = uavip("simulate " + (dir_ / "room.yaml").string() + " -q -o " + scans().string());
-    if (simulate_.code == 0) assemble_ = uavip("assemble " + scans().string() + " -q -o " + cloud().string());
+    if (simulate_.code == 0)
+      assemble_ = uavip("assemble " + scans().string() + " -q -o " + cloud().string());
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   static fs::path scans() { return dir_ / "scans"; }
   static fs::path cloud() { return dir_ / "out" / "cloud.pcd"; }
-  static fs::path reportOf(const fs::path& pcd) { return fs::path(pcd).replace_extension(".report.json"); }
+  static fs::path reportOf(const fs::path& pcd) {
+    return fs::path(pcd).replace_extension(".report.json");
+  }
 
   /// A copy of the simulated raw log, to damage.
   static fs::path copyOfScans(const std::string& name) {
@@ -128,7 +136,8 @@ class AssembleCli : public ::testing::Test {
     std::ofstream(reportOf(out)) << "earlier report";
     const Result r = uavip("assemble " + args + " -o " + out.string());
     EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
-    EXPECT_TRUE(std::regex_search(r.out, std::regex(pattern))) << "'" << pattern << "' not in: " << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(pattern)))
+        << "'" << pattern << "' not in: " << r.out;
     EXPECT_EQ(lines(r.out), 1u) << r.out;
     EXPECT_EQ(slurp(out), "earlier cloud");
     EXPECT_EQ(slurp(reportOf(out)), "earlier report");
@@ -166,9 +175,11 @@ TEST_F(AssembleCli, CloudAndReportMatchTheTruth) {
     // The station frame's origin: the UAV centre at its first horizontal scan.
     const auto& poses = truth["stations"][i]["horizontal_poses"];
     ASSERT_GT(poses.size(), 1u);
-    const Vec3 origin(poses[0][0].get<double>(), poses[0][1].get<double>(), poses[0][2].get<double>());
+    const Vec3 origin(poses[0][0].get<double>(), poses[0][1].get<double>(),
+                      poses[0][2].get<double>());
     EXPECT_LT((vec(s["position"]) - origin).norm(), 0.03);
-    EXPECT_NEAR(s["truth"]["position_error_m"].get<double>(), (vec(s["position"]) - origin).norm(), 1e-9);
+    EXPECT_NEAR(s["truth"]["position_error_m"].get<double>(), (vec(s["position"]) - origin).norm(),
+                1e-9);
     // The room has walls facing every direction: every position is fixed by the scans
     // (station 0 is the reference and has no pairs of its own).
     EXPECT_TRUE(s["position_observed"].get<bool>());
@@ -182,7 +193,9 @@ TEST_F(AssembleCli, CloudAndReportMatchTheTruth) {
     // estimate within 3 cm of it.
     double true_max = 0.0;
     for (const auto& p : poses) {
-      true_max = std::max(true_max, (Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()) - origin).norm());
+      true_max = std::max(
+          true_max,
+          (Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()) - origin).norm());
     }
     EXPECT_GT(true_max, 0.02);  // the wind did move the UAV
     EXPECT_NEAR(s["truth"]["true_drift_max_m"].get<double>(), true_max, 1e-9);
@@ -200,7 +213,8 @@ TEST_F(AssembleCli, CloudAndReportMatchTheTruth) {
   EXPECT_LE(reported, 0.03);
   ASSERT_EQ(truth["world"]["rects"].size(), 18u);  // three boxes
   std::vector<std::array<Vec3, 3>> rects;
-  for (const auto& r : truth["world"]["rects"]) rects.push_back({vec(r["corner"]), vec(r["edge_u"]), vec(r["edge_v"])});
+  for (const auto& r : truth["world"]["rects"])
+    rects.push_back({vec(r["corner"]), vec(r["edge_u"]), vec(r["edge_v"])});
   double sum = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < points.size(); i += 25, ++n) {
@@ -218,7 +232,8 @@ TEST_F(AssembleCli, ConfigWithoutRegistrationKeepsTheRecordedPoses) {
   const fs::path config = dir_ / "none.yaml";
   std::ofstream(config) << "registration: {method: none, output_voxel_m: 0.05}\n";
   const fs::path out = dir_ / "none" / "cloud.pcd";
-  const Result r = uavip("assemble " + scans().string() + " -q -c " + config.string() + " -o " + out.string());
+  const Result r =
+      uavip("assemble " + scans().string() + " -q -c " + config.string() + " -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json log = readJson(scans() / "log.json");
   const nlohmann::json report = readJson(reportOf(out));
@@ -236,14 +251,14 @@ TEST_F(AssembleCli, ConfigWithoutRegistrationKeepsTheRecordedPoses) {
   // than with registration (the default run above: <= 3 cm).
   EXPECT_GT(report["stations"][1]["truth"]["position_error_m"].get<double>(), 0.1);
   EXPECT_GT(readPcd(out).size(), 0u);
-
 }
 
 TEST_F(AssembleCli, BadInputExits2WithOneLineNamingTheFile) {
   ASSERT_EQ(simulate_.code, 0) << simulate_.out;
   // A missing directory.
   const fs::path missing = dir_ / "no_such_scans";
-  expectBad(missing.string(), std::regex_replace(missing.string(), std::regex("[.]"), "[.]") + ".*log[.]json");
+  expectBad(missing.string(),
+            std::regex_replace(missing.string(), std::regex("[.]"), "[.]") + ".*log[.]json");
 
   // A scan line cut in the middle: keep the header and 9 scans, then half of line 11.
   {
@@ -271,9 +286,11 @@ TEST_F(AssembleCli, BadInputExits2WithOneLineNamingTheFile) {
   {
     const fs::path config = dir_ / "bad_config.yaml";
     std::ofstream(config) << "registration: {methd: none}\n";
-    expectBad(scans().string() + " -c " + config.string(), "bad_config[.]yaml: registration[.]methd is not a known key");
+    expectBad(scans().string() + " -c " + config.string(),
+              "bad_config[.]yaml: registration[.]methd is not a known key");
     std::ofstream(config, std::ios::trunc) << "registration: {method: sgd}\n";
-    expectBad(scans().string() + " -c " + config.string(), "bad_config[.]yaml: registration[.]method .*'sgd'");
+    expectBad(scans().string() + " -c " + config.string(),
+              "bad_config[.]yaml: registration[.]method .*'sgd'");
   }
 }
 

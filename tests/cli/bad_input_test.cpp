@@ -3,10 +3,7 @@
 // "uavip: error:" (or "uavip: " for exit 3) that names the file, key or value, and
 // must leave the previous results in the output folder byte for byte.
 
-#include "tests/cli/cli_runner.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -14,9 +11,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <vector>
+
+#include "tests/cli/cli_runner.h"
 
 namespace {
 
@@ -27,7 +27,7 @@ using uavip::cli_test::uavip;
 
 struct Case {
   const char* name;
-  std::string args;      ///< after `uavip -q`; $D is the fixture folder
+  std::string args;  ///< after `uavip -q`; $D is the fixture folder
   int code;
   std::string fragment;  ///< must appear in the one line
 };
@@ -39,8 +39,10 @@ class BadInput : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "scans");
     // A good result to keep: run writes scene, mission and views into prev/.
-    good_ = uavip("-q run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " + (dir_ / "prev").string());
-    for (const char* f : {"scene.json", "mission.json", "cloud_clean.pcd", "overview.png", "path.obj"})
+    good_ = uavip("-q run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " +
+                  (dir_ / "prev").string());
+    for (const char* f :
+         {"scene.json", "mission.json", "cloud_clean.pcd", "overview.png", "path.obj"})
       before_.push_back(slurp(dir_ / "prev" / f));
     writeFixtures();
     // Scenes that are valid JSON but wrong: an id beyond int, an id used twice, a negative area.
@@ -63,28 +65,33 @@ class BadInput : public ::testing::Test {
   static void write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name, std::ios::binary) << text;
   }
-  static std::string pcd(const std::string& fields, const std::string& size, const std::string& type,
-                         const std::string& width, const std::string& points, const std::string& data,
+  static std::string pcd(const std::string& fields, const std::string& size,
+                         const std::string& type, const std::string& width,
+                         const std::string& points, const std::string& data,
                          const std::string& body, const std::string& height = "1") {
-    return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " + size + "\nTYPE " + type + "\nCOUNT 1 1 1\nWIDTH " +
-           width + "\nHEIGHT " + height + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + points + "\nDATA " + data + "\n" + body;
+    return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " + size + "\nTYPE " + type +
+           "\nCOUNT 1 1 1\nWIDTH " + width + "\nHEIGHT " + height +
+           "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + points + "\nDATA " + data + "\n" + body;
   }
-  static std::string ply(const std::string& format, const std::string& vertices, const std::string& props,
-                         const std::string& body, bool end = true) {
-    return "ply\nformat " + format + " 1.0\nelement vertex " + vertices + "\n" + props + (end ? "end_header\n" : "") + body;
+  static std::string ply(const std::string& format, const std::string& vertices,
+                         const std::string& props, const std::string& body, bool end = true) {
+    return "ply\nformat " + format + " 1.0\nelement vertex " + vertices + "\n" + props +
+           (end ? "end_header\n" : "") + body;
   }
 
   static void writeFixtures() {
     const std::string xyz3 = "property float x\nproperty float y\nproperty float z\n";
     write("empty.pcd", "");
     write("no_data.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\n");
-    write("huge.pcd", pcd("x y z", "4 4 4", "F F F", "1000000000", "1000000000", "binary", std::string(200, '\0')));
+    write("huge.pcd", pcd("x y z", "4 4 4", "F F F", "1000000000", "1000000000", "binary",
+                          std::string(200, '\0')));
     write("neg_width.pcd", pcd("x y z", "4 4 4", "F F F", "-5", "5", "ascii", "1 2 3\n"));
     write("size3.pcd", pcd("x y z", "3 3 3", "F F F", "1", "1", "ascii", "1 2 3\n"));
     write("type_x.pcd", pcd("x y z", "4 4 4", "F X F", "1", "1", "ascii", "1 2 3\n"));
     write("half_float.pcd", pcd("x y z", "2 2 2", "F F F", "1", "1", "ascii", "1 2 3\n"));
     write("data_zip.pcd", pcd("x y z", "4 4 4", "F F F", "1", "1", "zip", "1 2 3\n"));
-    write("wh_mismatch.pcd", pcd("x y z", "4 4 4", "F F F", "2", "5", "ascii", "1 2 3\n1 2 3\n", "2"));
+    write("wh_mismatch.pcd",
+          pcd("x y z", "4 4 4", "F F F", "2", "5", "ascii", "1 2 3\n1 2 3\n", "2"));
     write("no_z.pcd", pcd("x y w", "4 4 4", "F F F", "1", "1", "ascii", "1 2 3\n"));
     write("nan.pcd", pcd("x y z", "4 4 4", "F F F", "2", "2", "ascii", "1 2 3\nnan 2 3\n"));
     write("points_text.pcd", pcd("x y z", "4 4 4", "F F F", "1", "1e3", "ascii", "1 2 3\n"));
@@ -92,9 +99,11 @@ class BadInput : public ::testing::Test {
     write("no_end.ply", ply("ascii", "1", xyz3, "1 2 3\n", false));
     write("neg_vertex.ply", ply("ascii", "-3", xyz3, "1 2 3\n"));
     write("huge.ply", ply("binary_little_endian", "1000000000", xyz3, std::string(64, '\0')));
-    write("type.ply", ply("ascii", "1", "property quad x\nproperty float y\nproperty float z\n", "1 2 3\n"));
+    write("type.ply",
+          ply("ascii", "1", "property quad x\nproperty float y\nproperty float z\n", "1 2 3\n"));
     write("format.ply", ply("utf8", "1", xyz3, "1 2 3\n"));
-    write("no_xyz.ply", ply("ascii", "1", "property float a\nproperty float b\nproperty float c\n", "1 2 3\n"));
+    write("no_xyz.ply",
+          ply("ascii", "1", "property float a\nproperty float b\nproperty float c\n", "1 2 3\n"));
     write("not.ply", "solid cube\nfacet normal 0 0 1\n");
     write("empty.xyz", "");
     write("letters.xyz", "1 2 3\na b c\n");
@@ -132,14 +141,23 @@ class BadInput : public ::testing::Test {
     write("tiny.yaml", "camera: {footprint_m: [0.001, 0.001]}\n");
     // Scenarios.
     write("no_world.yaml", "name: x\n");
-    const std::string wall = "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [4, 0, 0], edge_v: [0, 0, 2]}\n";
-    write("turn3600.yaml", wall + "sensing: {mode: scan, stations: [[1, -3, 1], [2, -3, 1], [3, -3, 1]], turn_deg: 3600}\n");
+    const std::string wall =
+        "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [4, 0, 0], edge_v: "
+        "[0, 0, 2]}\n";
+    write("turn3600.yaml", wall +
+                               "sensing: {mode: scan, stations: [[1, -3, 1], [2, -3, 1], [3, -3, "
+                               "1]], turn_deg: 3600}\n");
     std::string stations;
-    for (int i = 0; i < 200; ++i) stations += std::string(i ? ", " : "") + "[" + std::to_string(i) + ", -3, 1]";
+    for (int i = 0; i < 200; ++i)
+      stations += std::string(i ? ", " : "") + "[" + std::to_string(i) + ", -3, 1]";
     write("stations200.yaml", wall + "sensing: {mode: scan, stations: [" + stations + "]}\n");
-    write("bad_mode.yaml", "name: x\nworld:\n  - {type: point, name: p, at: [0, 0, 2]}\nsensing: {mode: teleport}\n");
-    write("fine.yaml", "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [40, 0, 0], edge_v: [0, 0, 20]}\n"
-                       "sensing: {mode: sample, spacing_m: 0.0001}\n");
+    write(
+        "bad_mode.yaml",
+        "name: x\nworld:\n  - {type: point, name: p, at: [0, 0, 2]}\nsensing: {mode: teleport}\n");
+    write("fine.yaml",
+          "name: x\nworld:\n  - {type: plane, name: w, corner: [0, 0, 0], edge_u: [40, 0, 0], "
+          "edge_v: [0, 0, 20]}\n"
+          "sensing: {mode: sample, spacing_m: 0.0001}\n");
     write("bad_prim.yaml", "name: x\nworld:\n  - {type: sphere, name: s, at: [0, 0, 2]}\n");
     write("world_map.yaml", "name: x\nworld: {spheres: [{c: [0,0,0]}]}\n");
     // Scene and mission JSON.
@@ -147,12 +165,15 @@ class BadInput : public ::testing::Test {
     write("scene_nosurf.json", "{\"cloud\": []}");
     write("mission_nosurf.json", "{\"inflation_radius_m\": 0.6}");
     write("mission_badwp.json",
-          "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", \"stops\": [], "
+          "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", "
+          "\"stops\": [], "
           "\"waypoints\": [[1, \"a\", 3]]}]}");
     // A surface path 60 km from the origin (within the file's 1,000 km), and one at 1e155 m.
     const std::string far_surface =
-        "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", \"stops\": "
-        "[{\"position\": [60000, 0, 5], \"yaw_deg\": 0, \"gimbal_pitch_deg\": 0}], \"waypoints\": [[60000, 0, 5], [WP]]}]}";
+        "{\"inflation_radius_m\": 0.6, \"surfaces\": [{\"surface_id\": 0, \"status\": \"ok\", "
+        "\"stops\": "
+        "[{\"position\": [60000, 0, 5], \"yaw_deg\": 0, \"gimbal_pitch_deg\": 0}], \"waypoints\": "
+        "[[60000, 0, 5], [WP]]}]}";
     write("mission_far.json", std::regex_replace(far_surface, std::regex("WP"), "60001, 0, 5"));
     write("mission_1e155.json", std::regex_replace(far_surface, std::regex("WP"), "1e155, 0, 5"));
     // Hostile numbers (issue 21): a stray point at 1e308, a wall scaled by 1e12, a
@@ -166,12 +187,16 @@ class BadInput : public ::testing::Test {
     }
     write("wall.xyz", wall_xyz);
     write("far_point.xyz", wall_xyz + "1e308 0 0\n");
-    write("far_point_neg.pcd", pcd("x y z", "8 8 8", "F F F", "3", "3", "ascii", "1 2 3\n-1e308 0 0\n1 2 4\n"));
+    write("far_point_neg.pcd",
+          pcd("x y z", "8 8 8", "F F F", "3", "3", "ascii", "1 2 3\n-1e308 0 0\n1 2 4\n"));
     write("wall_1e12.xyz", wall_1e12);
     write("scale_1e12.yaml", "input: {scale: 1e12}\n");
     write("res_1e-4.yaml", "grid: {resolution_m: 1e-4}\n");
-    write("gsd_1e6.yaml", "camera: {sensor_mm: [13.2, 8.8], focal_mm: 8.8, image_px: [5472, 3648], gsd_mm_per_px: 1e6}\n");
-    write("range.yaml", "camera: {footprint_m: [0.6, 0.4], max_range_m: 10}\ncoverage: {standoff_m: 20}\n");
+    write("gsd_1e6.yaml",
+          "camera: {sensor_mm: [13.2, 8.8], focal_mm: 8.8, image_px: [5472, 3648], gsd_mm_per_px: "
+          "1e6}\n");
+    write("range.yaml",
+          "camera: {footprint_m: [0.6, 0.4], max_range_m: 10}\ncoverage: {standoff_m: 20}\n");
     write("standoff_2km.yaml", "coverage: {standoff_m: 2000}\n");
     write("two\nlines.xyz", "1 2\n");
     // Scans folder with a file an output could overwrite.
@@ -188,7 +213,8 @@ Result BadInput::good_;
 std::vector<std::string> BadInput::before_;
 
 std::string replaceAll(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+  for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+    s.replace(p, from.size(), to);
   return s;
 }
 
@@ -201,13 +227,15 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       // Clouds (detect writes into prev/: nothing there may change).
       {"empty pcd", "detect $D/empty.pcd -o $D/prev", 2, "empty.pcd"},
       {"pcd without DATA", "detect $D/no_data.pcd -o $D/prev", 2, "DATA"},
-      {"pcd claiming 1e9 points in 200 bytes", "detect $D/huge.pcd -o $D/prev", 2, "claims 1000000000 points"},
+      {"pcd claiming 1e9 points in 200 bytes", "detect $D/huge.pcd -o $D/prev", 2,
+       "claims 1000000000 points"},
       {"pcd negative WIDTH", "detect $D/neg_width.pcd -o $D/prev", 2, "WIDTH"},
       {"pcd SIZE 3", "detect $D/size3.pcd -o $D/prev", 2, "SIZE"},
       {"pcd TYPE X", "detect $D/type_x.pcd -o $D/prev", 2, "TYPE"},
       {"pcd 2-byte float", "detect $D/half_float.pcd -o $D/prev", 2, "float of 2 bytes"},
       {"pcd DATA zip", "detect $D/data_zip.pcd -o $D/prev", 2, "DATA"},
-      {"pcd WIDTH x HEIGHT != POINTS", "detect $D/wh_mismatch.pcd -o $D/prev", 2, "differs from POINTS"},
+      {"pcd WIDTH x HEIGHT != POINTS", "detect $D/wh_mismatch.pcd -o $D/prev", 2,
+       "differs from POINTS"},
       {"pcd without z", "detect $D/no_z.pcd -o $D/prev", 2, "x y z"},
       {"pcd with a NaN point", "detect $D/nan.pcd -o $D/prev", 2, "not finite"},
       {"pcd POINTS 1e3", "detect $D/points_text.pcd -o $D/prev", 2, "POINTS"},
@@ -230,109 +258,159 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"FIFO as cloud", "detect $D/fifo.pcd -o $D/prev", 2, "not a regular file"},
       {"truncated las", "detect $D/short.las -o $D/prev", 2, "short.las"},
       {"laz", "detect $D/c.laz -o $D/prev", 2, "laz"},
-      {"output onto a file", "detect " + S + "../tests/data/room_scan1.pcd -o $D/empty.xyz", 2, "not a directory"},
+      {"output onto a file", "detect " + S + "../tests/data/room_scan1.pcd -o $D/empty.xyz", 2,
+       "not a directory"},
       // Configs.
       {"duplicate YAML key", "detect $D/nan.xyz -c $D/dup.yaml -o $D/prev", 2, "dup.yaml"},
-      {"unknown config key", "plan " + scene + " --surface 0 -c $D/unknown.yaml -o $D/prev", 2, "voxel"},
-      {"config value of the wrong type", "plan " + scene + " --surface 0 -c $D/type.yaml -o $D/prev", 2, "voxel_m"},
-      {"negative voxel", "plan " + scene + " --surface 0 -c $D/negative.yaml -o $D/prev", 2, "voxel_m"},
-      {"negative input.scale", "detect $D/letters.xyz -c $D/scale.yaml -o $D/prev", 2, "scale must be > 0"},
-      {"complex YAML key", "plan " + scene + " --surface 0 -c $D/complex.yaml -o $D/prev", 2, "complex.yaml"},
+      {"unknown config key", "plan " + scene + " --surface 0 -c $D/unknown.yaml -o $D/prev", 2,
+       "voxel"},
+      {"config value of the wrong type",
+       "plan " + scene + " --surface 0 -c $D/type.yaml -o $D/prev", 2, "voxel_m"},
+      {"negative voxel", "plan " + scene + " --surface 0 -c $D/negative.yaml -o $D/prev", 2,
+       "voxel_m"},
+      {"negative input.scale", "detect $D/letters.xyz -c $D/scale.yaml -o $D/prev", 2,
+       "scale must be > 0"},
+      {"complex YAML key", "plan " + scene + " --surface 0 -c $D/complex.yaml -o $D/prev", 2,
+       "complex.yaml"},
       {"reserve 1", "plan " + scene + " --surface 0 -c $D/reserve.yaml -o $D/prev", 2, "reserve"},
-      {"home with two numbers", "plan " + scene + " --surface 0 -c $D/home2.yaml -o $D/prev", 2, "home"},
-      {"YAML syntax error", "plan " + scene + " --surface 0 -c $D/syntax.yaml -o $D/prev", 2, "syntax.yaml"},
-      {"unknown planner in config", "plan " + scene + " --surface 0 -c $D/planner.yaml -o $D/prev", 2, "warp"},
-      {"--cover with --surface", "plan " + scene + " --cover structure --surface 0 -o $D/prev", 2, "--surface"},
+      {"home with two numbers", "plan " + scene + " --surface 0 -c $D/home2.yaml -o $D/prev", 2,
+       "home"},
+      {"YAML syntax error", "plan " + scene + " --surface 0 -c $D/syntax.yaml -o $D/prev", 2,
+       "syntax.yaml"},
+      {"unknown planner in config", "plan " + scene + " --surface 0 -c $D/planner.yaml -o $D/prev",
+       2, "warp"},
+      {"--cover with --surface", "plan " + scene + " --cover structure --surface 0 -o $D/prev", 2,
+       "--surface"},
       {"--cover unknown", "plan " + scene + " --cover roof -o $D/prev", 2, "roof"},
-      {"plan with neither --surface nor --cover", "plan " + scene + " -o $D/prev", 2, "--cover structure"},
-      {"pinhole with zero focal length", "plan " + scene + " --cover structure -c $D/fx0.yaml -o $D/prev", 2, "fx"},
-      {"pinhole with a negative image", "plan " + scene + " --cover structure -c $D/image_neg.yaml -o $D/prev", 2, "image_px"},
-      {"pinhole and sensor keys", "plan " + scene + " --cover structure -c $D/fx_focal.yaml -o $D/prev", 2, "focal_mm"},
-      {"viewing distance inside the clearance", "plan " + scene + " --cover structure -c $D/standoff_in.yaml -o $D/prev", 2,
-       "standoff_m"},
-      {"unknown coverage mode", "plan " + scene + " --cover structure -c $D/mode.yaml -o $D/prev", 2, "everything"},
-      {"start inside the wall", "plan " + scene + " --surface 0 -c $D/start_in.yaml -o $D/prev", 2, "start"},
-      {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2, "home"},
-      {"start 100 km away", "plan " + scene + " --surface 0 -c $D/start_far.yaml -o $D/prev", 2, "battery's reach"},
-      {"home 10,000 km away", "plan " + scene + " --surface 0 -c $D/home_far.yaml -o $D/prev", 2, "mission.home"},
-      {"cruise speed 0", "plan " + scene + " --surface 0 -c $D/speed0.yaml -o $D/prev", 2, "cruise_speed_m_s"},
-      {"zero footprint", "plan " + scene + " --surface 0 -c $D/camera.yaml -o $D/prev", 2, "footprint"},
-      {"1 mm footprint: 32 million stops", "plan " + scene + " --surface 0 -c $D/tiny.yaml -o $D/prev", 2, "max_stops"},
+      {"plan with neither --surface nor --cover", "plan " + scene + " -o $D/prev", 2,
+       "--cover structure"},
+      {"pinhole with zero focal length",
+       "plan " + scene + " --cover structure -c $D/fx0.yaml -o $D/prev", 2, "fx"},
+      {"pinhole with a negative image",
+       "plan " + scene + " --cover structure -c $D/image_neg.yaml -o $D/prev", 2, "image_px"},
+      {"pinhole and sensor keys",
+       "plan " + scene + " --cover structure -c $D/fx_focal.yaml -o $D/prev", 2, "focal_mm"},
+      {"viewing distance inside the clearance",
+       "plan " + scene + " --cover structure -c $D/standoff_in.yaml -o $D/prev", 2, "standoff_m"},
+      {"unknown coverage mode", "plan " + scene + " --cover structure -c $D/mode.yaml -o $D/prev",
+       2, "everything"},
+      {"start inside the wall", "plan " + scene + " --surface 0 -c $D/start_in.yaml -o $D/prev", 2,
+       "start"},
+      {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2,
+       "home"},
+      {"start 100 km away", "plan " + scene + " --surface 0 -c $D/start_far.yaml -o $D/prev", 2,
+       "battery's reach"},
+      {"home 10,000 km away", "plan " + scene + " --surface 0 -c $D/home_far.yaml -o $D/prev", 2,
+       "mission.home"},
+      {"cruise speed 0", "plan " + scene + " --surface 0 -c $D/speed0.yaml -o $D/prev", 2,
+       "cruise_speed_m_s"},
+      {"zero footprint", "plan " + scene + " --surface 0 -c $D/camera.yaml -o $D/prev", 2,
+       "footprint"},
+      {"1 mm footprint: 32 million stops",
+       "plan " + scene + " --surface 0 -c $D/tiny.yaml -o $D/prev", 2, "max_stops"},
       {"overlap 1.5", "plan " + scene + " --surface 0 -c $D/overlap.yaml -o $D/prev", 2, "overlap"},
-      {"config is a folder", "plan " + scene + " --surface 0 -c $D/a_dir.pcd -o $D/prev", 2, "is a directory"},
-      {"missing config", "plan " + scene + " --surface 0 -c $D/nope.yaml -o $D/prev", 2, "nope.yaml"},
+      {"config is a folder", "plan " + scene + " --surface 0 -c $D/a_dir.pcd -o $D/prev", 2,
+       "is a directory"},
+      {"missing config", "plan " + scene + " --surface 0 -c $D/nope.yaml -o $D/prev", 2,
+       "nope.yaml"},
       // Scenarios (run writes into prev/).
       {"missing scenario", "run $D/nope.yaml -o $D/prev", 2, "nope.yaml"},
       {"scenario without world", "run $D/no_world.yaml -o $D/prev", 2, "world"},
-      {"three 3600 deg turns: 31 M range readings", "run $D/turn3600.yaml -o $D/prev", 2, "max_readings"},
+      {"three 3600 deg turns: 31 M range readings", "run $D/turn3600.yaml -o $D/prev", 2,
+       "max_readings"},
       {"200 scan stations", "run $D/stations200.yaml -o $D/prev", 2, "200 stations"},
       {"unknown sensing mode", "run $D/bad_mode.yaml -o $D/prev", 2, "teleport"},
       {"unknown primitive", "run $D/bad_prim.yaml -o $D/prev", 2, "sphere"},
       {"0.1 mm sampling of a 40 x 20 m wall", "run $D/fine.yaml -o $D/prev", 2, "spacing_m"},
       {"world not a list", "run $D/world_map.yaml -o $D/prev", 2, "world"},
       {"scenario YAML syntax", "run $D/syntax.yaml -o $D/prev", 2, "syntax.yaml"},
-      {"unknown planner flag", "run " + S + "single_plane.yaml --planner warp -o $D/prev", 2, "warp"},
-      {"surface that does not exist", "run " + S + "single_plane.yaml --surface 7 -o $D/prev", 2, "no surface with id 7"},
+      {"unknown planner flag", "run " + S + "single_plane.yaml --planner warp -o $D/prev", 2,
+       "warp"},
+      {"surface that does not exist", "run " + S + "single_plane.yaml --surface 7 -o $D/prev", 2,
+       "no surface with id 7"},
       // Scene selection.
       {"scene not JSON", "plan $D/not.json --surface 0 -o $D/prev", 2, "not.json"},
-      {"scene id beyond int", "plan $D/scene_bigid.json --surface all -o $D/prev", 2, "surfaces[0].id"},
-      {"scene id used twice", "plan $D/scene_twice.json --surface all -o $D/prev", 2, "ids must differ"},
+      {"scene id beyond int", "plan $D/scene_bigid.json --surface all -o $D/prev", 2,
+       "surfaces[0].id"},
+      {"scene id used twice", "plan $D/scene_twice.json --surface all -o $D/prev", 2,
+       "ids must differ"},
       {"scene negative area", "plan $D/scene_negative.json --surface all -o $D/prev", 2, "area_m2"},
-      {"scene without surfaces", "plan $D/scene_nosurf.json --surface 0 -o $D/prev", 2, "scene_nosurf.json"},
+      {"scene without surfaces", "plan $D/scene_nosurf.json --surface 0 -o $D/prev", 2,
+       "scene_nosurf.json"},
       {"missing scene", "plan $D/nope.json --surface 0 -o $D/prev", 2, "nope.json"},
       {"surface id 99", "plan " + scene + " --surface 99 -o $D/prev", 2, "no surface with id 99"},
       {"surface id text", "plan " + scene + " --surface abc -o $D/prev", 2, "'abc'"},
       {"surface listed twice", "plan " + scene + " --surface 0,0 -o $D/prev", 2, "listed twice"},
       {"empty surface list", "plan " + scene + " --surface , -o $D/prev", 2, "--surface"},
-      {"surface id beyond int", "plan " + scene + " --surface 4294967296 -o $D/prev", 2, "4294967296"},
+      {"surface id beyond int", "plan " + scene + " --surface 4294967296 -o $D/prev", 2,
+       "4294967296"},
       // Export.
       {"export without origin", "export " + mission + " --format wpl -o $D/x.wpl", 2, "--origin"},
-      {"export origin of two numbers", "export " + mission + " --format wpl --origin 47.4,8.5 -o $D/x.wpl", 2, "47.4,8.5"},
+      {"export origin of two numbers",
+       "export " + mission + " --format wpl --origin 47.4,8.5 -o $D/x.wpl", 2, "47.4,8.5"},
       {"export origin twice", exp + "--origin 47.4,8.5,1 -o $D/x.wpl", 2, "--origin"},
-      {"export latitude 95", "export " + mission + " --format wpl --origin 95,8.5,488 -o $D/x.wpl", 2, "latitude"},
-      {"export unknown format", "export " + mission + " --format kml --origin 1,2,3 -o $D/x", 2, "kml"},
+      {"export latitude 95", "export " + mission + " --format wpl --origin 95,8.5,488 -o $D/x.wpl",
+       2, "latitude"},
+      {"export unknown format", "export " + mission + " --format kml --origin 1,2,3 -o $D/x", 2,
+       "kml"},
       {"export unknown autopilot", exp + "--autopilot betaflight -o $D/x.wpl", 2, "betaflight"},
       {"export negative hold", exp + "--hold -1 -o $D/x.wpl", 2, "--hold"},
       {"export zero speed", exp + "--speed 0 -o $D/x.wpl", 2, "--speed"},
-      {"export missing mission", "export $D/nope.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2, "nope.json"},
-      {"export mission not JSON", "export $D/not.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2, "not.json"},
+      {"export missing mission", "export $D/nope.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2,
+       "nope.json"},
+      {"export mission not JSON", "export $D/not.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2,
+       "not.json"},
       {"export surface 9", exp + "--surface 9 -o $D/x.wpl", 2, "no surface with id 9"},
       {"export sortie 5", exp + "--surface all --sortie 5 -o $D/x.wpl", 2, "--sortie"},
       {"export onto its mission", exp + "--surface all -o " + mission, 2, "would overwrite"},
       {"export onto a folder", exp + "--surface all -o $D/a_dir.pcd", 2, "is a directory"},
-      {"export with a missing scene", exp + "--surface all --scene $D/nope.json -o $D/x.wpl", 2, "nope.json"},
-      {"export a mission without surfaces", "export $D/mission_nosurf.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2,
-       "surfaces"},
+      {"export with a missing scene", exp + "--surface all --scene $D/nope.json -o $D/x.wpl", 2,
+       "nope.json"},
+      {"export a mission without surfaces",
+       "export $D/mission_nosurf.json --format wpl --origin 1,2,3 -o $D/x.wpl", 2, "surfaces"},
       // Validate.
       {"validate missing mission", "validate $D/nope.json", 2, "nope.json"},
-      {"validate a waypoint of text", "validate $D/mission_badwp.json --scene " + scene, 2, "waypoints[0]"},
-      {"validate a waypoint at 1e155 m", "validate $D/mission_1e155.json --scene " + scene, 2, "waypoints[1]"},
-      {"export a flight 60 km from the origin", "export $D/mission_far.json --format wpl --origin 47,8,400 -o $D/x.wpl", 2,
+      {"validate a waypoint of text", "validate $D/mission_badwp.json --scene " + scene, 2,
+       "waypoints[0]"},
+      {"validate a waypoint at 1e155 m", "validate $D/mission_1e155.json --scene " + scene, 2,
+       "waypoints[1]"},
+      {"export a flight 60 km from the origin",
+       "export $D/mission_far.json --format wpl --origin 47,8,400 -o $D/x.wpl", 2,
        "60.0 km from the origin"},
       {"validate negative clearance", "validate " + mission + " --clearance -1", 2, "--clearance"},
-      {"validate a mission without surfaces", "validate $D/mission_nosurf.json --scene " + scene, 2, "surfaces"},
+      {"validate a mission without surfaces", "validate $D/mission_nosurf.json --scene " + scene, 2,
+       "surfaces"},
       // Hostile numbers (issue 21).
       {"a point at 1e308", "detect $D/far_point.xyz -o $D/prev", 2, "point 861 (1e+308, 0, 0)"},
-      {"a point at -1e308 in a double PCD", "detect $D/far_point_neg.pcd -o $D/prev", 2, "point 1 (-1e+308, 0, 0)"},
+      {"a point at -1e308 in a double PCD", "detect $D/far_point_neg.pcd -o $D/prev", 2,
+       "point 1 (-1e+308, 0, 0)"},
       {"a wall scaled by 1e12", "detect $D/wall_1e12.xyz -o $D/prev", 2, "spans 4e+12 m"},
-      {"input.scale 1e12", "detect $D/wall.xyz -c $D/scale_1e12.yaml -o $D/prev", 2, "spans 4e+12 m"},
-      {"grid.resolution_m 1e-4", "plan " + scene + " --surface 0 -c $D/res_1e-4.yaml -o $D/prev", 2, "grid.resolution_m >="},
-      {"GSD 1e6 mm/px: a 3,648 km standoff", "plan " + scene + " --surface 0 -c $D/gsd_1e6.yaml -o $D/prev", 2,
+      {"input.scale 1e12", "detect $D/wall.xyz -c $D/scale_1e12.yaml -o $D/prev", 2,
+       "spans 4e+12 m"},
+      {"grid.resolution_m 1e-4", "plan " + scene + " --surface 0 -c $D/res_1e-4.yaml -o $D/prev", 2,
+       "grid.resolution_m >="},
+      {"GSD 1e6 mm/px: a 3,648 km standoff",
+       "plan " + scene + " --surface 0 -c $D/gsd_1e6.yaml -o $D/prev", 2,
        "3.648e+06 m from the surface"},
-      {"standoff beyond max_range_m", "plan " + scene + " --surface 0 -c $D/range.yaml -o $D/prev", 2, "max_range_m 10"},
-      {"standoff 2 km without max_range_m", "plan " + scene + " --surface 0 -c $D/standoff_2km.yaml -o $D/prev", 2,
-       "standoff_m 2000"},
+      {"standoff beyond max_range_m", "plan " + scene + " --surface 0 -c $D/range.yaml -o $D/prev",
+       2, "max_range_m 10"},
+      {"standoff 2 km without max_range_m",
+       "plan " + scene + " --surface 0 -c $D/standoff_2km.yaml -o $D/prev", 2, "standoff_m 2000"},
       {"a newline in a file name", "detect '$D/two\nlines.xyz' -o $D/prev", 2, "two\\nlines.xyz"},
       // Command line.
       {"unknown command", "fly", 2, "fly"},
       {"unknown option", "run --warp 9", 2, "--warp"},
       {"detect without -o", "detect $D/nan.xyz", 2, "--out"},
-      {"quiet and verbose", "-v run " + S + "single_plane.yaml -o $D/prev", 2, "--quiet and --verbose"},
-      {"runs not a number", "bench " + S + "bench_cube_around.yaml --runs many -o $D/b.log", 2, "many"},
+      {"quiet and verbose", "-v run " + S + "single_plane.yaml -o $D/prev", 2,
+       "--quiet and --verbose"},
+      {"runs not a number", "bench " + S + "bench_cube_around.yaml --runs many -o $D/b.log", 2,
+       "many"},
       // Outputs that would overwrite an input or each other.
-      {"bench of 55,000 h worst case", "bench " + S + "bench_cube_around.yaml --runs 10000 --time-limit 600 -o $D/b.log", 2,
+      {"bench of 55,000 h worst case",
+       "bench " + S + "bench_cube_around.yaml --runs 10000 --time-limit 600 -o $D/b.log", 2,
        "--max-total"},
-      {"bench log onto its own csv", "bench " + S + "bench_cube_around.yaml --runs 1 -o $D/r.csv", 2, "same file"},
+      {"bench log onto its own csv", "bench " + S + "bench_cube_around.yaml --runs 1 -o $D/r.csv",
+       2, "same file"},
       {"bench missing scenario", "bench $D/nope.yaml -o $D/b.log", 2, "nope.yaml"},
       {"assemble into .xyz", "assemble $D/scans -o $D/x.xyz", 2, ".pcd"},
       {"assemble onto an input", "assemble $D/scans -o $D/scans/cloud.pcd", 2, "would overwrite"},
@@ -345,12 +423,17 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
     EXPECT_EQ(r.code, c.code) << c.name << ": uavip -q " << args << "\n" << r.out;
     const auto lines = std::count(r.out.begin(), r.out.end(), '\n');
     EXPECT_EQ(lines, 1) << c.name << ": one line expected\n" << r.out;
-    EXPECT_EQ(r.out.rfind(c.code == 2 ? "uavip: error: " : "uavip: ", 0), 0u) << c.name << "\n" << r.out;
-    EXPECT_NE(r.out.find(c.fragment), std::string::npos) << c.name << ": '" << c.fragment << "' expected\n" << r.out;
-    EXPECT_LT(r.out.size(), 600u) << c.name << ": no echo of binary content\n" << r.out.substr(0, 600);
+    EXPECT_EQ(r.out.rfind(c.code == 2 ? "uavip: error: " : "uavip: ", 0), 0u) << c.name << "\n"
+                                                                              << r.out;
+    EXPECT_NE(r.out.find(c.fragment), std::string::npos)
+        << c.name << ": '" << c.fragment << "' expected\n"
+        << r.out;
+    EXPECT_LT(r.out.size(), 600u) << c.name << ": no echo of binary content\n"
+                                  << r.out.substr(0, 600);
   }
   // The earlier results in prev/ are untouched.
-  const char* files[] = {"scene.json", "mission.json", "cloud_clean.pcd", "overview.png", "path.obj"};
+  const char* files[] = {"scene.json", "mission.json", "cloud_clean.pcd", "overview.png",
+                         "path.obj"};
   for (std::size_t i = 0; i < before_.size(); ++i)
     EXPECT_EQ(slurp(dir_ / "prev" / files[i]), before_[i]) << files[i] << " changed";
   EXPECT_FALSE(fs::exists(dir_ / "x.wpl"));

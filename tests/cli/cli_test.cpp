@@ -1,10 +1,7 @@
 // The uavip executable as a user runs it: exit codes, one-line errors, outputs.
 
-#include "tests/cli/cli_runner.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,20 +10,24 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "tests/cli/cli_runner.h"
+#include "uavip/core/geometry.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 using uavip::cli_test::Result;
-using uavip::cli_test::uavip;
 using uavip::cli_test::slurp;
+using uavip::cli_test::uavip;
 
-std::string scenario(const std::string& name) { return std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + name; }
-
+std::string scenario(const std::string& name) {
+  return std::string(UAVIP_SOURCE_DIR) + "/scenarios/" + name;
+}
 
 class Cli : public ::testing::Test {
  protected:
@@ -74,16 +75,19 @@ TEST_F(Cli, RunWritesTheContractFiles) {
   EXPECT_TRUE(fs::exists(dir_ / "out/cloud_clean.pcd"));
   const auto scene = nlohmann::json::parse(slurp(dir_ / "out/scene.json"));
   ASSERT_EQ(scene["surfaces"].size(), 1u);
-  for (const char* k : {"id", "normal", "area_m2", "boundary", "points"}) EXPECT_TRUE(scene["surfaces"][0].contains(k)) << k;
+  for (const char* k : {"id", "normal", "area_m2", "boundary", "points"})
+    EXPECT_TRUE(scene["surfaces"][0].contains(k)) << k;
   const auto mission = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
   const auto& m = mission["surfaces"][0];
   EXPECT_EQ(m["status"], "ok");
   EXPECT_GT(m["stops"].size(), 100u);
-  for (const char* k : {"position", "yaw_deg", "gimbal_pitch_deg"}) EXPECT_TRUE(m["stops"][0].contains(k)) << k;
+  for (const char* k : {"position", "yaw_deg", "gimbal_pitch_deg"})
+    EXPECT_TRUE(m["stops"][0].contains(k)) << k;
   EXPECT_GT(m["waypoints"].size(), 0u);
   EXPECT_EQ(m["validation"]["collision_free"], true);
   for (const auto& e : fs::directory_iterator(dir_ / "out")) {
-    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << "temporary file left: " << e.path();
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos)
+        << "temporary file left: " << e.path();
   }
 }
 
@@ -107,7 +111,8 @@ TEST_F(Cli, DetectThenPlanOneSurface) {
   ASSERT_EQ(r.code, 0) << r.out;
   const auto mission = nlohmann::json::parse(slurp(dir_ / "p/mission.json"));
   EXPECT_EQ(mission["surfaces"][0]["status"], "ok");
-  expectBadInput("plan " + path("d/scene.json") + " --surface 9 -o " + path("p"), "no surface with id 9");
+  expectBadInput("plan " + path("d/scene.json") + " --surface 9 -o " + path("p"),
+                 "no surface with id 9");
 }
 
 TEST_F(Cli, CoverStructureFlowsIntoValidateAndExport) {
@@ -115,13 +120,16 @@ TEST_F(Cli, CoverStructureFlowsIntoValidateAndExport) {
   std::ostringstream xyz;
   for (int k = 0; k <= 40; ++k)
     for (int j = 0; j < 32; ++j)
-      xyz << 0.25 * std::cos(j * 0.19635) << " " << 0.25 * std::sin(j * 0.19635) << " " << 1.0 + k * 0.05 << "\n";
+      xyz << 0.25 * std::cos(j * 0.19635) << " " << 0.25 * std::sin(j * 0.19635) << " "
+          << 1.0 + k * 0.05 << "\n";
   const std::string cloud = write("pole.xyz", xyz.str());
   Result r = uavip("detect " + cloud + " -o " + path("d"));
   ASSERT_EQ(r.code, 0) << r.out;
-  const std::string config = write("cam.yaml", "camera: {fx: 417, fy: 461, image_px: [640, 480]}\n"
-                                               "coverage: {standoff_m: 2.5}\nuav: {inflation_radius_m: 0.3}\n");
-  r = uavip("plan " + path("d/scene.json") + " --cover structure -c " + config + " -o " + path("p"));
+  const std::string config = write("cam.yaml",
+                                   "camera: {fx: 417, fy: 461, image_px: [640, 480]}\n"
+                                   "coverage: {standoff_m: 2.5}\nuav: {inflation_radius_m: 0.3}\n");
+  r = uavip("plan " + path("d/scene.json") + " --cover structure -c " + config + " -o " +
+            path("p"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("rule (a)"), std::string::npos) << r.out;
   const auto mission = nlohmann::json::parse(slurp(dir_ / "p/mission.json"));
@@ -129,10 +137,12 @@ TEST_F(Cli, CoverStructureFlowsIntoValidateAndExport) {
   ASSERT_EQ(mission["surfaces"].size(), 1u);
   const auto& s = mission["surfaces"][0];
   EXPECT_EQ(s["kind"], "structure");
-  EXPECT_EQ(s["surface_id"].get<int>(), static_cast<int>(scene["surfaces"].size()));  // above the scene's ids
+  EXPECT_EQ(s["surface_id"].get<int>(),
+            static_cast<int>(scene["surfaces"].size()));  // above the scene's ids
   EXPECT_GT(s["stop_count"].get<int>(), 3);
   EXPECT_GE(mission["structure"]["coverage_rule_a"].get<double>(), 0.95);
-  for (const auto& st : mission["flight"]["sorties"][0]["stops"]) EXPECT_EQ(st["surface_id"], s["surface_id"]);
+  for (const auto& st : mission["flight"]["sorties"][0]["stops"])
+    EXPECT_EQ(st["surface_id"], s["surface_id"]);
   r = uavip("validate " + path("p/mission.json") + " --scene " + path("d/scene.json"));
   EXPECT_EQ(r.code, 0) << r.out;
   r = uavip("export " + path("p/mission.json") + " --scene " + path("d/scene.json") +
@@ -173,7 +183,9 @@ TEST_F(Cli, TheFlightKeepsClearOfPointsOutlierRemovalDrops) {
   // validate re-reads the input named in scene.json (sha256 checked) and measures every point.
   r = uavip("validate " + path("d/mission.json"));
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("poles.xyz: 7403 points (from scene.json, sha256 checked)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("poles.xyz: 7403 points (from scene.json, sha256 checked)"),
+            std::string::npos)
+      << r.out;
   // A waypoint moved 0.3 m from a pole point fails.
   auto moved = mission;
   moved["surfaces"][0]["waypoints"][1] = {3.0, 1.5, 2.0};
@@ -192,8 +204,8 @@ TEST_F(Cli, BlockedSurfaceMakesPlanExit3) {
   EXPECT_NE(r.out.find("blocked"), std::string::npos) << r.out;
   ASSERT_TRUE(fs::exists(dir_ / "x/mission.json"));
   // The paper's perpendicular stops only (stop repair would move them, see PaperCases).
-  r = uavip("plan " + path("x/scene.json") + " --surface 0 -c " + write("norepair.yaml", "mission: {repair_stops: false}\n") +
-            " -o " + path("p"));
+  r = uavip("plan " + path("x/scene.json") + " --surface 0 -c " +
+            write("norepair.yaml", "mission: {repair_stops: false}\n") + " -o " + path("p"));
   EXPECT_EQ(r.code, 3) << r.out;
 }
 
@@ -206,7 +218,8 @@ TEST_F(Cli, EverySurfaceBlockedIsCountedAndSaysWhatToChange) {
   const Result r = uavip("plan " + path("c/scene.json") + " --surface all --no-views -q -c " +
                          write("huge.yaml", "uav: {size_m: [4, 4, 4]}\n") + " -o " + path("p"));
   EXPECT_EQ(r.code, 3) << r.out;
-  const std::string count = std::to_string(surfaces) + " of " + std::to_string(surfaces) + " chosen surfaces";
+  const std::string count =
+      std::to_string(surfaces) + " of " + std::to_string(surfaces) + " chosen surfaces";
   EXPECT_NE(r.out.find(count), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("try a smaller uav.inflation_radius_m"), std::string::npos) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;  // one line
@@ -214,26 +227,33 @@ TEST_F(Cli, EverySurfaceBlockedIsCountedAndSaysWhatToChange) {
 
 TEST_F(Cli, BadInputIsOneLineAndExit2) {
   expectBadInput("run " + path("nope.yaml"), "nope.yaml: no such file");
-  expectBadInput("run " + write("k.yaml", "name: t\nworld: [{type: point, at: [0,0,0]}]\nsensing: {spacing: 1}\n"),
-                 "sensing.spacing");
-  expectBadInput("run " + write("t.yaml", "name: t\nworld: [{type: point, at: [0,0,x]}]\nsensing: {}\n"),
-                 "world[0].at");
-  expectBadInput("run " + scenario("single_plane.yaml") + " --planner nope -o " + path("o"), "nope");
-  expectBadInput("run " + scenario("single_plane.yaml") + " --surface 42 -o " + path("o"), "no surface with id 42");
+  expectBadInput(
+      "run " +
+          write("k.yaml", "name: t\nworld: [{type: point, at: [0,0,0]}]\nsensing: {spacing: 1}\n"),
+      "sensing.spacing");
+  expectBadInput(
+      "run " + write("t.yaml", "name: t\nworld: [{type: point, at: [0,0,x]}]\nsensing: {}\n"),
+      "world[0].at");
+  expectBadInput("run " + scenario("single_plane.yaml") + " --planner nope -o " + path("o"),
+                 "nope");
+  expectBadInput("run " + scenario("single_plane.yaml") + " --surface 42 -o " + path("o"),
+                 "no surface with id 42");
   expectBadInput("detect " + write("e.xyz", "") + " -o " + path("o"), "no points");
   expectBadInput("detect " + write("n.xyz", "0 0 0\nnan 1 1\n") + " -o " + path("o"), "n.xyz:2");
-  expectBadInput("detect " + write("c.xyz", "0 0 0\n") + " -c " + write("c.yaml", "preprocess: {voxel_m: -1}\n") +
-                     " -o " + path("o"),
+  expectBadInput("detect " + write("c.xyz", "0 0 0\n") + " -c " +
+                     write("c.yaml", "preprocess: {voxel_m: -1}\n") + " -o " + path("o"),
                  "voxel_m");
   expectBadInput("plan " + write("s.json", "{}") + " --surface 0 -o " + path("o"), "surfaces");
-  const std::string start_inside = write("s.yaml", slurp(scenario("single_plane.yaml")) + "mission: {start: [4.0, 0.0, 2.0]}\n");
+  const std::string start_inside =
+      write("s.yaml", slurp(scenario("single_plane.yaml")) + "mission: {start: [4.0, 0.0, 2.0]}\n");
   expectBadInput("run " + start_inside + " -o " + path("o"), "start");
 }
 
 TEST_F(Cli, AFailedRunKeepsEarlierResults) {
   ASSERT_EQ(uavip("run " + scenario("single_plane.yaml") + " -o " + path("out")).code, 0);
   const std::string before = slurp(dir_ / "out/mission.json");
-  EXPECT_EQ(uavip("run " + scenario("single_plane.yaml") + " --surface 5 -o " + path("out")).code, 2);
+  EXPECT_EQ(uavip("run " + scenario("single_plane.yaml") + " --surface 5 -o " + path("out")).code,
+            2);
   EXPECT_EQ(slurp(dir_ / "out/mission.json"), before);
 }
 

@@ -1,10 +1,8 @@
 // uavip run → views, and uavip export, as a user runs them: files, exit codes,
 // one-line errors.
 
-#include "tests/cli/cli_runner.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,18 +11,19 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "tests/cli/cli_runner.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 using uavip::cli_test::Result;
-using uavip::cli_test::uavip;
 using uavip::cli_test::slurp;
-
+using uavip::cli_test::uavip;
 
 /// One run of the single-plane scenario shared by the tests of this file.
 class ExportCli : public ::testing::Test {
@@ -33,7 +32,8 @@ class ExportCli : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("uavip_export_cli_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    run_ = uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " + (dir_ / "out").string());
+    run_ = uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " +
+                 (dir_ / "out").string());
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static std::string mission() { return (dir_ / "out/mission.json").string(); }
@@ -66,7 +66,8 @@ TEST_F(ExportCli, RunWritesTheViewsAndASummary) {
 
 TEST_F(ExportCli, QgcPlanMatchesTheMission) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  const Result r = uavip("export " + mission() + " --format qgc-plan --origin 47.3977,8.5456,488 -o " + path("m.plan"));
+  const Result r = uavip("export " + mission() +
+                         " --format qgc-plan --origin 47.3977,8.5456,488 -o " + path("m.plan"));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto m = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
   const auto plan = nlohmann::json::parse(slurp(dir_ / "m.plan"));
@@ -81,13 +82,20 @@ TEST_F(ExportCli, QgcPlanMatchesTheMission) {
 
 TEST_F(ExportCli, WplAndCsv) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  ASSERT_EQ(uavip("export " + mission() + " --format wpl --origin 47.3977,8.5456,488 -o " + path("m.wpl")).code, 0);
+  ASSERT_EQ(
+      uavip("export " + mission() + " --format wpl --origin 47.3977,8.5456,488 -o " + path("m.wpl"))
+          .code,
+      0);
   const std::string wpl = slurp(dir_ / "m.wpl");
   EXPECT_EQ(wpl.rfind("QGC WPL 110\n0\t1\t0\t16\t", 0), 0u) << wpl.substr(0, 80);
-  ASSERT_EQ(uavip("export " + mission() + " --format csv --origin 47.3977,8.5456,488 -q -o " + path("m.csv")).code, 0);
+  ASSERT_EQ(uavip("export " + mission() + " --format csv --origin 47.3977,8.5456,488 -q -o " +
+                  path("m.csv"))
+                .code,
+            0);
   const auto m = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
   const std::string csv = slurp(dir_ / "m.csv");
-  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), 1 + m["surfaces"][0]["waypoints"].size());
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
+            1 + m["surfaces"][0]["waypoints"].size());
 }
 
 TEST_F(ExportCli, BadInputIsOneLineAndExit2) {
@@ -97,9 +105,11 @@ TEST_F(ExportCli, BadInputIsOneLineAndExit2) {
   expectBadInput(base + " --origin 47.3,8.5", "'47.3,8.5'");
   expectBadInput(base + " --origin 95,8.5,400", "latitude");
   expectBadInput("export " + mission() + " --format kml --origin 1,2,3 -o " + path("x"), "kml");
-  expectBadInput("export " + path("nope.json") + " --format wpl --origin 1,2,3 -o " + path("x"), "nope.json");
+  expectBadInput("export " + path("nope.json") + " --format wpl --origin 1,2,3 -o " + path("x"),
+                 "nope.json");
   std::ofstream(path("bad.json")) << "{ not json";
-  expectBadInput("export " + path("bad.json") + " --format wpl --origin 1,2,3 -o " + path("x"), "bad.json");
+  expectBadInput("export " + path("bad.json") + " --format wpl --origin 1,2,3 -o " + path("x"),
+                 "bad.json");
   expectBadInput(base + " --origin 1,2,3 --surface 9", "no surface with id 9");
   EXPECT_FALSE(fs::exists(dir_ / "x.wpl"));
 }
@@ -114,7 +124,8 @@ TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefuse
   const auto& sortie = flight["sorties"][0];
   EXPECT_EQ(sortie["waypoints"].front(), sortie["waypoints"].back());  // home to home
   EXPECT_EQ(sortie["waypoints"].front(), flight["home"]);
-  const Result r = uavip("export " + mission() + " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " +
+  const Result r = uavip("export " + mission() +
+                         " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " +
                          path("flight.plan"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("sortie 1"), std::string::npos) << r.out;
@@ -123,7 +134,9 @@ TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefuse
   for (const auto& it : plan["mission"]["items"]) ++count[it["command"].get<int>()];
   EXPECT_EQ(count[16], sortie["waypoints"].size());
   EXPECT_EQ(count[2000], sortie["stops"].size());
-  expectBadInput("export " + mission() + " --sortie 2 --format wpl --origin 1,2,3 -o " + path("x.wpl"), "--sortie");
+  expectBadInput(
+      "export " + mission() + " --sortie 2 --format wpl --origin 1,2,3 -o " + path("x.wpl"),
+      "--sortie");
 
   // A waypoint on the plane itself (a photo's centre) inserted after home.
   auto changed = m;
@@ -132,8 +145,9 @@ TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefuse
   for (auto& st : s["stops"])
     if (st["waypoint"].get<int>() >= 1) st["waypoint"] = st["waypoint"].get<int>() + 1;
   std::ofstream(dir_ / "out/changed.json") << changed.dump();
-  const Result bad = uavip("export " + (dir_ / "out/changed.json").string() +
-                           " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " + path("bad.plan"));
+  const Result bad =
+      uavip("export " + (dir_ / "out/changed.json").string() +
+            " --surface all --format qgc-plan --origin 47.3977,8.5456,488 -o " + path("bad.plan"));
   EXPECT_EQ(bad.code, 3) << bad.out;
   EXPECT_NE(bad.out.find("sortie 1, segment 0"), std::string::npos) << bad.out;
   EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
@@ -142,12 +156,17 @@ TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefuse
 
 TEST_F(ExportCli, BlockedSurfaceExits3) {
   // A mission.json as run writes it for a blocked surface (no waypoints).
-  std::ofstream(path("blocked.json")) << R"({"format": "uavip-mission", "surfaces": [{"surface_id": 0,
+  std::ofstream(path("blocked.json"))
+      << R"({"format": "uavip-mission", "surfaces": [{"surface_id": 0,
     "status": "blocked", "reason": "2 of 2 stops infeasible", "stops": [], "waypoints": []}]})";
-  const Result r = uavip("export " + path("blocked.json") + " --format wpl --origin 1,2,3 --surface 0 -o " + path("b.wpl"));
+  const Result r = uavip("export " + path("blocked.json") +
+                         " --format wpl --origin 1,2,3 --surface 0 -o " + path("b.wpl"));
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("blocked"), std::string::npos) << r.out;
-  EXPECT_EQ(uavip("export " + path("blocked.json") + " --format wpl --origin 1,2,3 -o " + path("b.wpl")).code, 3);
+  EXPECT_EQ(
+      uavip("export " + path("blocked.json") + " --format wpl --origin 1,2,3 -o " + path("b.wpl"))
+          .code,
+      3);
   EXPECT_FALSE(fs::exists(dir_ / "b.wpl"));
 }
 

@@ -4,21 +4,21 @@
 // with --crs EPSG:32631 every waypoint lands where GeographicLib's own UTM
 // conversion (an independent implementation of the same projection) puts it.
 
-#include "tests/cli/cli_runner.h"
-
-#include <GeographicLib/UTMUPS.hpp>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <GeographicLib/UTMUPS.hpp>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/cli/cli_runner.h"
 
 namespace {
 
@@ -42,8 +42,10 @@ std::string cubeText(char sep) {
   for (int i = 0; i <= n; ++i) {
     for (int j = 0; j <= n; ++j) {
       const double a = i * kStep, b = j * kStep;
-      const double pts[5][3] = {{a, b, kSide}, {a, 0.0, b}, {a, kSide, b}, {0.0, a, b}, {kSide, a, b}};
-      for (const auto& p : pts) os << kEast + p[0] << sep << kNorth + p[1] << sep << z0 + p[2] << "\n";
+      const double pts[5][3] = {
+          {a, b, kSide}, {a, 0.0, b}, {a, kSide, b}, {0.0, a, b}, {kSide, a, b}};
+      for (const auto& p : pts)
+        os << kEast + p[0] << sep << kNorth + p[1] << sep << z0 + p[2] << "\n";
     }
   }
   return os.str();
@@ -76,7 +78,8 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
   for (const std::string name : {"cube.xyz", "cube.csv"}) {
     SCOPED_TRACE(name);
     const bool csv = name == "cube.csv";
-    std::ofstream(path(name)) << (csv ? "easting,northing,height\n" : "") << cubeText(csv ? ',' : ' ');
+    std::ofstream(path(name)) << (csv ? "easting,northing,height\n" : "")
+                              << cubeText(csv ? ',' : ' ');
     const std::string out = path(name + "_out");
 
     Result r = uavip("detect " + path(name) + " -o " + out);
@@ -95,10 +98,14 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
     ASSERT_EQ(r.code, 0) << r.out;
 
     // --origin still works on such a scene (local metres about the given point).
-    r = uavip("export " + out + "/mission.json --surface all --format csv --origin 48.75,3.0,150 -o " + path("o.csv"));
+    r = uavip("export " + out +
+              "/mission.json --surface all --format csv --origin 48.75,3.0,150 -o " +
+              path("o.csv"));
     ASSERT_EQ(r.code, 0) << r.out;
 
-    r = uavip("export " + out + "/mission.json --surface all --sortie 1 --format csv --crs EPSG:32631 -o " + path("g.csv"));
+    r = uavip("export " + out +
+              "/mission.json --surface all --sortie 1 --format csv --crs EPSG:32631 -o " +
+              path("g.csv"));
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("relative to home"), std::string::npos) << r.out;
     const auto mission = nlohmann::json::parse(slurp(fs::path(out) / "mission.json"));
@@ -113,8 +120,9 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
     const auto column = [&](const std::string& c) {
       return static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin());
     };
-    const std::size_t ce = column("east_m"), cn = column("north_m"), cu = column("up_m"), clat = column("lat_deg"),
-                      clon = column("lon_deg"), calt = column("alt_rel_home_m");
+    const std::size_t ce = column("east_m"), cn = column("north_m"), cu = column("up_m"),
+                      clat = column("lat_deg"), clon = column("lon_deg"),
+                      calt = column("alt_rel_home_m");
     ASSERT_LT(calt, header.size()) << line;
     int checked = 0;
     while (std::getline(rows, line)) {
@@ -122,7 +130,8 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
       ASSERT_EQ(f.size(), header.size()) << line;
       // GeographicLib: UTM zone 31, northern hemisphere, of the file's coordinates.
       double lat = 0.0, lon = 0.0;
-      GeographicLib::UTMUPS::Reverse(31, true, std::stod(f[ce]) + off_e, std::stod(f[cn]) + off_n, lat, lon);
+      GeographicLib::UTMUPS::Reverse(31, true, std::stod(f[ce]) + off_e, std::stod(f[cn]) + off_n,
+                                     lat, lon);
       EXPECT_NEAR(std::stod(f[clat]), lat, 1e-8) << line;  // 1e-8 deg ≈ 1 mm
       EXPECT_NEAR(std::stod(f[clon]), lon, 1e-8) << line;
       EXPECT_NEAR(std::stod(f[calt]), std::stod(f[cu]) - home_z, 1e-3) << line;
@@ -134,12 +143,14 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
     EXPECT_GT(checked, 10);
 
     // The .plan's home is the flight's home, at its height in the cloud's datum.
-    r = uavip("export " + out + "/mission.json --surface all --sortie 1 --format qgc-plan --crs EPSG:32631 -o " +
+    r = uavip("export " + out +
+              "/mission.json --surface all --sortie 1 --format qgc-plan --crs EPSG:32631 -o " +
               path("g.plan"));
     ASSERT_EQ(r.code, 0) << r.out;
     const auto plan = nlohmann::json::parse(slurp(path("g.plan")));
     double lat = 0.0, lon = 0.0;
-    GeographicLib::UTMUPS::Reverse(31, true, home[0].get<double>() + off_e, home[1].get<double>() + off_n, lat, lon);
+    GeographicLib::UTMUPS::Reverse(31, true, home[0].get<double>() + off_e,
+                                   home[1].get<double>() + off_n, lat, lon);
     EXPECT_NEAR(plan["mission"]["plannedHomePosition"][0].get<double>(), lat, 1e-8);
     EXPECT_NEAR(plan["mission"]["plannedHomePosition"][1].get<double>(), lon, 1e-8);
     EXPECT_NEAR(plan["mission"]["plannedHomePosition"][2].get<double>(), home_z, 1e-6);
@@ -150,7 +161,8 @@ TEST_F(GeorefCli, CrsMistakesAreOneLineAndExit2) {
   std::ofstream(path("cube.xyz")) << cubeText(' ');
   ASSERT_EQ(uavip("detect " + path("cube.xyz") + " -o " + path("d")).code, 0);
   ASSERT_EQ(uavip("plan " + path("d/scene.json") + " --surface 0 -o " + path("d")).code, 0);
-  const std::string exp = "export " + path("d/mission.json") + " --surface 0 --format wpl -o " + path("x.wpl") + " ";
+  const std::string exp =
+      "export " + path("d/mission.json") + " --surface 0 --format wpl -o " + path("x.wpl") + " ";
   const struct {
     std::string args, fragment;
   } cases[] = {
@@ -167,8 +179,12 @@ TEST_F(GeorefCli, CrsMistakesAreOneLineAndExit2) {
   }
   EXPECT_FALSE(fs::exists(path("x.wpl")));
   // A scene near its own origin has no offset: --crs cannot place it.
-  ASSERT_EQ(uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " + path("local")).code, 0);
-  const Result r = uavip("export " + path("local/mission.json") + " --format wpl --crs EPSG:32631 -o " + path("x.wpl"));
+  ASSERT_EQ(uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_plane.yaml -o " +
+                  path("local"))
+                .code,
+            0);
+  const Result r = uavip("export " + path("local/mission.json") +
+                         " --format wpl --crs EPSG:32631 -o " + path("x.wpl"));
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("source_offset_m"), std::string::npos) << r.out;
 }

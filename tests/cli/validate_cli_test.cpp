@@ -1,19 +1,19 @@
 // `uavip validate` as a user runs it: a planned mission passes, a waypoint moved
 // into the structure fails naming the segment, bad input exits 2 with one line.
 
-#include "tests/cli/cli_runner.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "tests/cli/cli_runner.h"
 
 namespace {
 
@@ -29,7 +29,9 @@ nlohmann::json readJson(const fs::path& p) {
 
 void writeJson(const fs::path& p, const nlohmann::json& j) { std::ofstream(p) << j.dump(1); }
 
-std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
 
 class ValidateCli : public ::testing::Test {
  protected:
@@ -55,14 +57,17 @@ TEST_F(ValidateCli, PlannedMissionPasses) {
   // One verdict line per surface of the mission.
   const auto mission = readJson(out() / "mission.json");
   for (const auto& s : mission["surfaces"]) {
-    const std::string line = "surface " + std::to_string(s["surface_id"].get<int>()) + ": collision-free";
+    const std::string line =
+        "surface " + std::to_string(s["surface_id"].get<int>()) + ": collision-free";
     EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   }
-  EXPECT_NE(r.out.find("clearance 0.600 m"), std::string::npos) << r.out;  // the mission's inflation radius
+  EXPECT_NE(r.out.find("clearance 0.600 m"), std::string::npos)
+      << r.out;  // the mission's inflation radius
   // And one per sortie of the ordered flight.
   ASSERT_GE(mission["flight"]["sorties"].size(), 1u);
   for (std::size_t k = 1; k <= mission["flight"]["sorties"].size(); ++k)
-    EXPECT_NE(r.out.find("sortie " + std::to_string(k) + ": collision-free"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("sortie " + std::to_string(k) + ": collision-free"), std::string::npos)
+        << r.out;
 }
 
 TEST_F(ValidateCli, SortieWaypointMovedIntoTheCubeFails) {
@@ -74,7 +79,8 @@ TEST_F(ValidateCli, SortieWaypointMovedIntoTheCubeFails) {
   const fs::path edited = dir_ / "edited_sortie";
   fs::create_directories(edited);
   writeJson(edited / "mission.json", mission);
-  const Result r = uavip("validate -q " + (edited / "mission.json").string() + " --scene " + (out() / "scene.json").string());
+  const Result r = uavip("validate -q " + (edited / "mission.json").string() + " --scene " +
+                         (out() / "scene.json").string());
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("sortie 1: segment 1 "), std::string::npos) << r.out;
 }
@@ -93,7 +99,9 @@ TEST_F(ValidateCli, WaypointMovedIntoTheCubeFailsNamingTheSegment) {
   Result r = uavip("validate " + (edited / "mission.json").string() + " --scene " + scene);
   EXPECT_EQ(r.code, 3) << r.out;
   const int id = mission["surfaces"][0]["surface_id"].get<int>();
-  EXPECT_NE(r.out.find("surface " + std::to_string(id) + ": VIOLATION: segment 4 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("surface " + std::to_string(id) + ": VIOLATION: segment 4 "),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find(" from surface "), std::string::npos) << r.out;  // the face it crosses
   EXPECT_NE(r.out.find("1 with violations"), std::string::npos) << r.out;
   // With --quiet only the error line remains.
@@ -121,18 +129,21 @@ TEST_F(ValidateCli, BadInputExitsTwoWithOneLine) {
   // No scene.json next to the mission.
   const fs::path lonely = dir_ / "lonely";
   fs::create_directories(lonely);
-  fs::copy_file(out() / "mission.json", lonely / "mission.json", fs::copy_options::overwrite_existing);
+  fs::copy_file(out() / "mission.json", lonely / "mission.json",
+                fs::copy_options::overwrite_existing);
   expectBad("validate " + (lonely / "mission.json").string(), "scene.json");
   // Malformed fields are named.
   auto mission = readJson(out() / "mission.json");
   mission["surfaces"][0]["waypoints"][3] = {1.0, 2.0};
   writeJson(lonely / "bad.json", mission);
-  expectBad("validate " + (lonely / "bad.json").string() + " --scene " + (out() / "scene.json").string(),
-            "surfaces[0].waypoints[3] must be [x, y, z]");
+  expectBad(
+      "validate " + (lonely / "bad.json").string() + " --scene " + (out() / "scene.json").string(),
+      "surfaces[0].waypoints[3] must be [x, y, z]");
   mission = readJson(out() / "mission.json");
   mission.erase("inflation_radius_m");
   writeJson(lonely / "noradius.json", mission);
-  expectBad("validate " + (lonely / "noradius.json").string() + " --scene " + (out() / "scene.json").string(),
+  expectBad("validate " + (lonely / "noradius.json").string() + " --scene " +
+                (out() / "scene.json").string(),
             "inflation_radius_m");
   std::ofstream(lonely / "garbage.json") << "{ not json";
   expectBad("validate " + (lonely / "garbage.json").string(), "not valid JSON");

@@ -1,6 +1,5 @@
 // Tests of core/geometry.h against brute force and known shapes.
 #include "uavip/core/geometry.h"
-#include "uavip/core/text.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+
+#include "uavip/core/text.h"
 
 namespace uavip {
 namespace {
@@ -110,7 +111,8 @@ TEST(Text, ControlCharactersAreEscapedOnOneLine) {
   raw += '\0';
   raw += 'e';
   EXPECT_EQ(escapeControl(raw), "a\\tb\\rc\\x01d\\x7f\\x00e");
-  EXPECT_EQ(escapeControl("gr\xc3\xbcn \xe2\x88\x9e.pcd"), "gr\xc3\xbcn \xe2\x88\x9e.pcd");  // UTF-8 is kept
+  EXPECT_EQ(escapeControl("gr\xc3\xbcn \xe2\x88\x9e.pcd"),
+            "gr\xc3\xbcn \xe2\x88\x9e.pcd");  // UTF-8 is kept
 }
 
 }  // namespace

@@ -42,7 +42,9 @@ TEST(SortByKey, HighBitsOnlyAndVoxelLikeKeysSortCorrectly) {
   std::uniform_int_distribution<int> coord(-300, 300);
   for (std::uint32_t i = 0; i < 20000; ++i) {
     high.push_back({static_cast<std::uint64_t>(rng() % 7) << 50, i});
-    const auto wrap = [](int c) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(c) & 0x1fffff); };
+    const auto wrap = [](int c) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(c) & 0x1fffff);
+    };
     voxel.push_back({(wrap(coord(rng)) << 42) | (wrap(coord(rng)) << 21) | wrap(coord(rng)), i});
   }
   for (auto* v : {&high, &voxel}) {

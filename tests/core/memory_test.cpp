@@ -1,7 +1,6 @@
 #include "uavip/core/memory.h"
 
 #include <gtest/gtest.h>
-
 #include <sys/resource.h>
 
 #include <cstring>

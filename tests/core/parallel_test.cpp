@@ -15,7 +15,8 @@ TEST(ParallelFor, EveryIndexOnceOnAnyThreadCount) {
   for (const int threads : {1, 2, 4, 16}) {
     std::vector<int> hits(1000, 0);
     parallelFor(hits.size(), threads, [&](std::size_t i, std::size_t) { ++hits[i]; });
-    for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i], 1) << "index " << i << ", threads " << threads;
+    for (std::size_t i = 0; i < hits.size(); ++i)
+      ASSERT_EQ(hits[i], 1) << "index " << i << ", threads " << threads;
   }
   int calls = 0;
   parallelFor(0, 4, [&](std::size_t, std::size_t) { ++calls; });
@@ -46,7 +47,10 @@ TEST(ParallelFor, AWorkerExceptionIsRethrownInTheCaller) {
                  std::bad_alloc);
     EXPECT_LT(done.load(), 100000u);
   }
-  EXPECT_THROW(parallelFor(10, 2, [](std::size_t i, std::size_t) { if (i == 9) throw std::runtime_error("x"); }),
+  EXPECT_THROW(parallelFor(10, 2,
+                           [](std::size_t i, std::size_t) {
+                             if (i == 9) throw std::runtime_error("x");
+                           }),
                std::runtime_error);
 }
 

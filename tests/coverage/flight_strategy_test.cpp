@@ -480,7 +480,8 @@ TEST(FlightStrategy, TooManyStopsAreRefusedBeforeAnyIsMade) {
     planFlightStrategy(wallFacingX(), o);
     ADD_FAILURE() << "500,000 stops accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("coverage.max_stops 200000"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("coverage.max_stops 200000"), std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("surface 3"), std::string::npos) << e.what();
   }
   o.max_stops = 600000;  // now allowed: the count is the ideal one

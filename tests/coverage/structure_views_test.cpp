@@ -4,9 +4,7 @@
 // permutation of a small set, and the view selection on analytic worlds (sphere,
 // cylinder, a field of tilted panels, a box) whose normals and free space are known
 // exactly, scored by the independent pixel rule on a denser sampling.
-#include "uavip/coverage/pixel_coverage.h"
 #include "uavip/coverage/structure_views.h"
-#include "uavip/planning/tour.h"
 
 #include <gtest/gtest.h>
 
@@ -20,6 +18,8 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/coverage/pixel_coverage.h"
+#include "uavip/planning/tour.h"
 
 namespace uavip::coverage {
 namespace {
@@ -39,7 +39,8 @@ long pixelOf(const ViewPose& v, const PinholeIntrinsics& k, const Vec3& p) {
   const double px = k.cx_px + k.fx_px * r.dot(d) / z;
   const double py = k.cy_px + k.fy_px * (-u.dot(d)) / z;
   if (px < 0.0 || px >= k.width_px || py < 0.0 || py >= k.height_px) return -1;
-  return static_cast<long>(std::floor(py)) * static_cast<long>(k.width_px) + static_cast<long>(std::floor(px));
+  return static_cast<long>(std::floor(py)) * static_cast<long>(k.width_px) +
+         static_cast<long>(std::floor(px));
 }
 
 TEST(PixelCoverage, MatchesBruteForceOverEveryPixel) {
@@ -54,7 +55,8 @@ TEST(PixelCoverage, MatchesBruteForceOverEveryPixel) {
   k.fy_px = 11.0;
   k.cx_px = 8.0;
   k.cy_px = 6.0;
-  const std::vector<ViewPose> views = {{Vec3(-8, 0, 0), 0.0, 0.0}, {Vec3(0, 8, 1), -90.0, -10.0}, {Vec3(0, 0, 9), 30.0, -90.0}};
+  const std::vector<ViewPose> views = {
+      {Vec3(-8, 0, 0), 0.0, 0.0}, {Vec3(0, 8, 1), -90.0, -10.0}, {Vec3(0, 0, 9), 30.0, -90.0}};
   const double range = 10.0;
   std::vector<char> expected(pts.size(), 0);
   for (const auto& v : views) {
@@ -80,7 +82,7 @@ TEST(PixelCoverage, MatchesBruteForceOverEveryPixel) {
     n_expected += expected[i];
   }
   EXPECT_EQ(got.covered, n_expected);
-  EXPECT_GT(n_expected, 20u);  // the case is not empty
+  EXPECT_GT(n_expected, 20u);         // the case is not empty
   EXPECT_LT(n_expected, pts.size());  // and not trivial
   EXPECT_EQ(evaluatePixelCoverage(pts, views, k, range, 1).covered, got.covered);
   EXPECT_THROW(evaluatePixelCoverage(pts, views, k, 0.0), InputError);
@@ -113,7 +115,8 @@ TEST(ImagedByView, MatchesPerPairBruteForceAndTheCounts) {
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const Vec3 d = views[v].position - pts[i];
       const double cos_inc = std::abs(normals[i].dot(d)) / d.norm();
-      if (d.norm() > 11.0 || cos_inc < std::cos(75.0 * kPi / 180.0) || pixelOf(views[v], PinholeIntrinsics{}, pts[i]) < 0)
+      if (d.norm() > 11.0 || cos_inc < std::cos(75.0 * kPi / 180.0) ||
+          pixelOf(views[v], PinholeIntrinsics{}, pts[i]) < 0)
         continue;
       expected.push_back(static_cast<std::uint32_t>(i));
     }
@@ -246,7 +249,8 @@ World box(double edge, double step) {
     }
   }
   w.inside = [edge](const Vec3& c) {
-    return c.x() > 0 && c.x() < edge && c.y() > 0 && c.y() < edge && c.z() < 1.0 + edge;  // the box on its plinth
+    return c.x() > 0 && c.x() < edge && c.y() > 0 && c.y() < edge &&
+           c.z() < 1.0 + edge;  // the box on its plinth
   };
   return w;
 }
@@ -267,15 +271,21 @@ void expectCovered(const World& coarse, const World& fine, const char* name, dou
   o.criteria.max_incidence_deg = 75.0;
   o.criteria.max_range_m = 1.25 * standoff;
   o.target_coverage = target;
-  const StructureViews v = selectStructureViews(coarse.points, coarse.normals, {}, camera, &sight, is_free, o);
+  const StructureViews v =
+      selectStructureViews(coarse.points, coarse.normals, {}, camera, &sight, is_free, o);
   ASSERT_FALSE(v.views.empty()) << name;
   for (const auto& view : v.views) EXPECT_TRUE(is_free(view.position)) << name;
   const CoverageCriteria& rule_b = o.criteria;  // with the exact outward normals
-  const CoverageResult b = evaluateCoverage(fine.points, fine.normals, v.views, camera, rule_b, &sight);
-  const PixelCoverageResult a = evaluatePixelCoverage(fine.points, v.views, PinholeIntrinsics{}, 1.25 * standoff);
-  EXPECT_GE(a.fraction, 0.99) << name << ": rule (a) with " << v.views.size() << " photos, target " << target;
-  EXPECT_GE(b.fraction, 0.95) << name << ": rule (b) with " << v.views.size() << " photos, target " << target;
-  std::cout << name << " target " << target << ": " << v.views.size() << " photos, rule (a) " << a.fraction << ", rule (b) " << b.fraction << "\n";
+  const CoverageResult b =
+      evaluateCoverage(fine.points, fine.normals, v.views, camera, rule_b, &sight);
+  const PixelCoverageResult a =
+      evaluatePixelCoverage(fine.points, v.views, PinholeIntrinsics{}, 1.25 * standoff);
+  EXPECT_GE(a.fraction, 0.99) << name << ": rule (a) with " << v.views.size() << " photos, target "
+                              << target;
+  EXPECT_GE(b.fraction, 0.95) << name << ": rule (b) with " << v.views.size() << " photos, target "
+                              << target;
+  std::cout << name << " target " << target << ": " << v.views.size() << " photos, rule (a) "
+            << a.fraction << ", rule (b) " << b.fraction << "\n";
 }
 
 TEST(StructureViews, CoverCurvedThinAndSmallPartsAndABox) {
@@ -290,14 +300,16 @@ TEST(StructureViews, RejectsBadOptionsAndReportsNoFreeViewpoint) {
   const World w = sphere(1.0, 0.3);
   const PinholeCamera camera(PinholeIntrinsics{});
   StructureViewOptions o;
-  EXPECT_THROW(selectStructureViews(w.points, w.normals, {}, camera, nullptr, {}, o), InputError);  // standoff 0
+  EXPECT_THROW(selectStructureViews(w.points, w.normals, {}, camera, nullptr, {}, o),
+               InputError);  // standoff 0
   o.standoff_m = 2.0;
   o.target_coverage = 1.5;
   EXPECT_THROW(selectStructureViews(w.points, w.normals, {}, camera, nullptr, {}, o), InputError);
   o.target_coverage = 0.95;
-  EXPECT_THROW(selectStructureViews(w.points, {Vec3::UnitZ()}, {}, camera, nullptr, {}, o), InputError);
-  const StructureViews none =
-      selectStructureViews(w.points, w.normals, {}, camera, nullptr, [](const Vec3&) { return false; }, o);
+  EXPECT_THROW(selectStructureViews(w.points, {Vec3::UnitZ()}, {}, camera, nullptr, {}, o),
+               InputError);
+  const StructureViews none = selectStructureViews(
+      w.points, w.normals, {}, camera, nullptr, [](const Vec3&) { return false; }, o);
   EXPECT_TRUE(none.views.empty());
   EXPECT_EQ(none.free_candidates, 0u);
   EXPECT_GT(none.candidates, 0u);

@@ -7,9 +7,6 @@
 // readers promise not to return: non-finite, or, after recentring, farther from the
 // origin than the cloud's largest allowed extent plus 10 km. scripts/fuzz.sh.
 
-#include "uavip/core/error.h"
-#include "uavip/io/cloud_io.h"
-
 #include <unistd.h>
 
 #include <cstddef>
@@ -18,9 +15,13 @@
 #include <fstream>
 #include <string>
 
+#include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  static const char* const kExtensions[] = {".pcd", ".ply", ".xyz", ".csv", ".txt", ".las", ".xyz", ".csv"};
+  static const char* const kExtensions[] = {".pcd", ".ply", ".xyz", ".csv",
+                                            ".txt", ".las", ".xyz", ".csv"};
   static const std::string base = "/tmp/uavip_fuzz_cloud_" + std::to_string(::getpid());
   const std::string path = base + kExtensions[data[0] & 7];
   {
@@ -36,7 +37,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& p : points) {
       if (!p.allFinite()) __builtin_trap();  // the readers promise finite points
       // Recentred and no wider than kMaxCloudExtentM: every point near the origin.
-      if (p.cwiseAbs().maxCoeff() > uavip::io::kMaxCloudExtentM + uavip::io::kRecentreBeyondM) __builtin_trap();
+      if (p.cwiseAbs().maxCoeff() > uavip::io::kMaxCloudExtentM + uavip::io::kRecentreBeyondM)
+        __builtin_trap();
     }
   } catch (const uavip::InputError&) {
   }

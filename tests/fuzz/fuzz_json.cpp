@@ -4,15 +4,14 @@
 // document the reader refuses must end in InputError / NoMissionError / a JSON
 // parse error; anything else is a finding. scripts/fuzz.sh.
 
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
 #include "uavip/core/error.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/scene_json.h"
-
-#include <nlohmann/json.hpp>
-
-#include <cstddef>
-#include <cstdint>
-#include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
@@ -25,10 +24,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     switch (data[0] % 4) {
-      case 0: uavip::io::sceneFromJson(j, "fuzz.json"); break;
-      case 1: uavip::io::flightFromMissionJson(j, "fuzz.json", ""); break;
-      case 2: uavip::io::flightFromMissionJson(j, "fuzz.json", "0"); break;
-      default: uavip::io::sortiesFromMissionJson(j, "fuzz.json"); break;
+      case 0:
+        uavip::io::sceneFromJson(j, "fuzz.json");
+        break;
+      case 1:
+        uavip::io::flightFromMissionJson(j, "fuzz.json", "");
+        break;
+      case 2:
+        uavip::io::flightFromMissionJson(j, "fuzz.json", "0");
+        break;
+      default:
+        uavip::io::sortiesFromMissionJson(j, "fuzz.json");
+        break;
     }
   } catch (const uavip::InputError&) {
   } catch (const uavip::io::NoMissionError&) {

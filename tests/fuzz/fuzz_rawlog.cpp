@@ -8,9 +8,6 @@
 // or IMU samples, a range that is negative or non-finite, times that do not
 // increase, stats that do not match the data). scripts/fuzz.sh.
 
-#include "uavip/core/error.h"
-#include "uavip/io/raw_log_io.h"
-
 #include <unistd.h>
 
 #include <cmath>
@@ -21,11 +18,15 @@
 #include <string>
 #include <string_view>
 
+#include "uavip/core/error.h"
+#include "uavip/io/raw_log_io.h"
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   namespace fs = std::filesystem;
   static const std::string dir = "/tmp/uavip_fuzz_rawlog_" + std::to_string(::getpid());
-  static const std::string kNames[] = {uavip::io::rawLogIndexName(), uavip::io::rawLogScanFileName(0, true),
-                                       uavip::io::rawLogScanFileName(0, false), uavip::io::rawLogImuFileName(0)};
+  static const std::string kNames[] = {
+      uavip::io::rawLogIndexName(), uavip::io::rawLogScanFileName(0, true),
+      uavip::io::rawLogScanFileName(0, false), uavip::io::rawLogImuFileName(0)};
   constexpr std::string_view kSeparator = "@@@@";
   // New files every time (removed at the end): rewriting a file in place is slow on
   // ext4 (it flushes the old data first), and a part that is missing must be missing.
@@ -39,7 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       std::ofstream out(dir + "/" + kNames[i], std::ios::binary);
       out.write(part.data(), static_cast<std::streamsize>(part.size()));
     }
-    rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + kSeparator.size());
+    rest =
+        end == std::string_view::npos ? std::string_view() : rest.substr(end + kSeparator.size());
   }
   try {
     uavip::io::RawLogReadStats stats;
@@ -63,7 +65,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       imu += st.imu.size();
     }
-    if (log.stations.empty() || stats.scans != scans || stats.beams != beams || stats.imu_samples != imu) {
+    if (log.stations.empty() || stats.scans != scans || stats.beams != beams ||
+        stats.imu_samples != imu) {
       __builtin_trap();
     }
   } catch (const uavip::InputError&) {

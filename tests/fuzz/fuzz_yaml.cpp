@@ -5,12 +5,12 @@
 // so only InputError is expected; anything else (a crash, a sanitizer report, a
 // yaml-cpp or other exception, a leak) is a finding. scripts/fuzz.sh.
 
-#include "uavip/core/error.h"
-#include "uavip/app/scenario.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+#include "uavip/app/scenario.h"
+#include "uavip/core/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;

@@ -3,14 +3,14 @@
 
 #include "uavip/io/atomic_file.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "uavip/core/error.h"
 
 namespace uavip::io {
 namespace {
@@ -35,7 +35,8 @@ fs::path folder(const std::string& name) {
 }
 
 std::size_t entries(const fs::path& dir) {
-  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+  return static_cast<std::size_t>(
+      std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
 TEST(StagedOutputs, FilesAppearTogetherOnCommit) {

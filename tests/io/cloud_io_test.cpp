@@ -1,7 +1,5 @@
 #include "uavip/io/cloud_io.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
@@ -10,15 +8,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <iomanip>
-#include <sstream>
-#include <utility>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <random>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "uavip/core/error.h"
 
 namespace uavip::io {
 namespace {
@@ -97,11 +97,13 @@ TEST_F(CloudIo, DoubleAndIntegerFieldsAreReadAsNumbers) {
   // zeros before. Geo-referenced values (5e5 m) need the double.
   const auto pcd = [](const std::string& size, const std::string& type, const std::string& data) {
     return "VERSION .7\nFIELDS x y z\nSIZE " + size + "\nTYPE " + type +
-           "\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n" + data;
+           "\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n" +
+           data;
   };
   CloudReadInfo info;
-  const PointList d =
-      loadCloud(file("d.pcd", pcd("8 8 8", "F F F", "500000.125 4000000.5 12.25\n500003.5 4000002 3\n")), {}, &info);
+  const PointList d = loadCloud(
+      file("d.pcd", pcd("8 8 8", "F F F", "500000.125 4000000.5 12.25\n500003.5 4000002 3\n")), {},
+      &info);
   ASSERT_EQ(d.size(), 2u);
   EXPECT_EQ(info.origin_m, Vec3(500002.0, 4000001.0, 0.0));  // recentred: the box's centre, rounded
   EXPECT_DOUBLE_EQ(d[0].x() + info.origin_m.x(), 500000.125);
@@ -111,10 +113,13 @@ TEST_F(CloudIo, DoubleAndIntegerFieldsAreReadAsNumbers) {
   ASSERT_EQ(i.size(), 2u);
   EXPECT_DOUBLE_EQ(i[0].x(), -7.0);
   EXPECT_DOUBLE_EQ(i[0].z(), 9.0);
-  const PointList ply = loadCloud(file("d.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\n"
-                                                "property double y\nproperty double z\nend_header\n1.25 -2.5 700000.75\n"));
+  const PointList ply =
+      loadCloud(file("d.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\n"
+                     "property double y\nproperty double z\nend_header\n1.25 -2.5 700000.75\n"));
   ASSERT_EQ(ply.size(), 1u);
-  EXPECT_DOUBLE_EQ(ply[0].z(), -0.25);  // z far from the origin too: recentred by its rounded value 700001
+  EXPECT_DOUBLE_EQ(ply[0].z(),
+                   -0.25);  // z far from the origin too: recentred by its rounded value 700001
 }
 
 /// The origin the readers promise (cloud_io.h), computed from the points here.
@@ -125,12 +130,15 @@ Vec3 expectedOrigin(const PointList& file_points) {
     hi = hi.cwiseMax(p);
   }
   const Vec3 c = 0.5 * (lo + hi);
-  return {std::round(c.x()), std::round(c.y()), std::max(std::abs(lo.z()), std::abs(hi.z())) > 1e4 ? std::round(c.z()) : 0.0};
+  return {std::round(c.x()), std::round(c.y()),
+          std::max(std::abs(lo.z()), std::abs(hi.z())) > 1e4 ? std::round(c.z()) : 0.0};
 }
 
 TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
   // UTM 31N coordinates with millimetres: recentring must keep every digit.
-  const PointList utm = {{500123.371, 5400456.812, 101.25}, {500126.374, 5400459.813, 104.5}, {500124.001, 5400457.5, 102.0}};
+  const PointList utm = {{500123.371, 5400456.812, 101.25},
+                         {500126.374, 5400459.813, 104.5},
+                         {500124.001, 5400457.5, 102.0}};
   std::string xyz, csv = "x,y,z\n";
   for (const auto& p : utm) {
     std::ostringstream l;
@@ -140,10 +148,14 @@ TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
     std::replace(c.begin(), c.end(), ' ', ',');
     csv += c;
   }
-  const std::string pcd = "VERSION .7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
-                          "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n" + xyz;
-  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
-                          "property double z\nend_header\n" + xyz;
+  const std::string pcd =
+      "VERSION .7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n" +
+      xyz;
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property double z\nend_header\n" +
+      xyz;
   const Vec3 origin = expectedOrigin(utm);
   EXPECT_EQ(origin, Vec3(500125.0, 5400458.0, 0.0));
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
@@ -152,7 +164,8 @@ TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
     const PointList p = loadCloud(file(name, text), {}, &info);
     ASSERT_EQ(p.size(), utm.size()) << name;
     EXPECT_EQ(info.origin_m, origin) << name;
-    EXPECT_NE(info.note.find("recentred by (500125, 5400458, 0) m"), std::string::npos) << name << ": " << info.note;
+    EXPECT_NE(info.note.find("recentred by (500125, 5400458, 0) m"), std::string::npos)
+        << name << ": " << info.note;
     for (std::size_t i = 0; i < p.size(); ++i) {
       EXPECT_LT(p[i].head<2>().norm(), 10.0) << name;  // x, y recentred; z kept
       EXPECT_NEAR((p[i] + info.origin_m - utm[i]).norm(), 0.0, 1e-9) << name << " point " << i;
@@ -162,7 +175,8 @@ TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
   CloudReadOptions mm;
   mm.scale = 0.001;
   CloudReadInfo info;
-  const PointList p = loadCloud(file("mm.xyz", "500123371 5400456812 101250\n500126374 5400459813 104500\n"), mm, &info);
+  const PointList p = loadCloud(
+      file("mm.xyz", "500123371 5400456812 101250\n500126374 5400459813 104500\n"), mm, &info);
   EXPECT_EQ(info.origin_m, Vec3(500125.0, 5400458.0, 0.0));
   EXPECT_NEAR((p[0] + info.origin_m - utm[0]).norm(), 0.0, 1e-6);
   // A cloud near its origin is left where it is.
@@ -176,12 +190,14 @@ TEST_F(CloudIo, EveryReaderRecentresAGeoreferencedCloudInDouble) {
 TEST_F(CloudIo, ACloudBeyondPhysicalSenseNamesItsStrayPoint) {
   // One point at 1e308 among a wall's: the cloud cannot be recentred into any frame.
   std::string wall;
-  for (int i = 0; i < 20; ++i) wall += std::to_string(i * 0.1) + " 0 " + std::to_string(i * 0.05) + "\n";
+  for (int i = 0; i < 20; ++i)
+    wall += std::to_string(i * 0.1) + " 0 " + std::to_string(i * 0.05) + "\n";
   expectError(file("far.xyz", wall + "1e308 0 0\n" + wall), "point 20 (1e+308, 0, 0)");
   expectError(file("far_neg.csv", "x,y,z\n" + wall + "0 -1e308 0\n"), "point 20 (0, -1e+308, 0)");
   // A wall in the wrong unit (or scaled by 1e12): 4e12 m across is no structure.
   std::string huge;
-  for (int i = 0; i <= 40; ++i) huge += std::to_string(i * 1e11) + " 0 " + std::to_string((i % 7) * 1e11) + "\n";
+  for (int i = 0; i <= 40; ++i)
+    huge += std::to_string(i * 1e11) + " 0 " + std::to_string((i % 7) * 1e11) + "\n";
   expectError(file("huge.xyz", huge), "spans 4e+12 m");
   CloudReadOptions scale;
   scale.scale = 1e12;
@@ -195,9 +211,11 @@ TEST_F(CloudIo, ACloudBeyondPhysicalSenseNamesItsStrayPoint) {
 
 TEST_F(CloudIo, OrganizedFrameSkipsItsMissingReturns) {
   // A sensor frame (HEIGHT > 1) marks beams without a return by NaN.
-  const PointList p = loadCloud(file("o.pcd", "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-                                               "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
-                                               "1 2 3\nnan nan nan\n4 5 6\n7 8 9\n"));
+  const PointList p =
+      loadCloud(file("o.pcd",
+                     "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                     "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+                     "1 2 3\nnan nan nan\n4 5 6\n7 8 9\n"));
   ASSERT_EQ(p.size(), 3u);
   EXPECT_DOUBLE_EQ(p[2].x(), 7.0);
 }
@@ -213,20 +231,30 @@ TEST_F(CloudIo, BadCloudsAreOneLineErrors) {
   expectError(file("b.las", "x"), "b.las");
   expectError(file("c.laz", "x"), "laszip");
   expectError(file("bad.pcd", "garbage"), "not a PCD file");
-  expectError(file("nofields.pcd", "VERSION 0.7\nFIELDS a b c\nPOINTS 1\nDATA ascii\n1 2 3\n"), "x y z");
+  expectError(file("nofields.pcd", "VERSION 0.7\nFIELDS a b c\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+              "x y z");
   // Headers PCL's reader crashes on (found by tests/fuzz/fuzz_cloud) are refused first.
   const std::string body = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
-  expectError(file("noversion.pcd", body + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"), "VERSION");
-  expectError(file("nowidth.pcd", "VERSION 0.7\n" + body + "HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"), "WIDTH");
-  expectError(file("key.pcd", "VERSION 0.7\n" + body + "WIDT\xfe\xff HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+  expectError(file("noversion.pcd", body + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+              "VERSION");
+  expectError(
+      file("nowidth.pcd", "VERSION 0.7\n" + body + "HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+      "WIDTH");
+  expectError(file("key.pcd",
+                   "VERSION 0.7\n" + body + "WIDT\xfe\xff HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
               "header line 6");
-  expectError(file("twice.pcd", "VERSION 0.7\n" + body + "WIDTH 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
+  expectError(file("twice.pcd", "VERSION 0.7\n" + body +
+                                    "WIDTH 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n"),
               "WIDTH twice");
-  expectError(file("claims.pcd", "VERSION 0.7\n" + body + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" +
-                                     std::string(12, '\0')), "claims 100 points");
+  expectError(
+      file("claims.pcd", "VERSION 0.7\n" + body + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" +
+                             std::string(12, '\0')),
+      "claims 100 points");
   expectError(file("bad.ply", "garbage"), "not a PLY file");
-  expectError(file("claims.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\n"
-                                 "property float y\nproperty float z\nend_header\n" + std::string(12, '\0')),
+  expectError(file("claims.ply",
+                   "ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\n"
+                   "property float y\nproperty float z\nend_header\n" +
+                       std::string(12, '\0')),
               "claims 9 points");
   expectError(file("novertex.ply", "ply\nformat ascii 1.0\nend_header\n"), "no vertex");
 }
@@ -235,7 +263,6 @@ TEST(CloudIoReal, RoomScanLoads) {
   const PointList p = loadCloud(std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd");
   EXPECT_GT(p.size(), 100000u);
 }
-
 
 // uavip reads PCD itself (PCL's reader crashes on some damaged files): every layout
 // PCL writes must read back point for point as PCL reads it.
@@ -251,16 +278,17 @@ TEST(CloudIoPcd, OwnReaderMatchesPclOnEveryDataLayout) {
     p.r = static_cast<std::uint8_t>(i);
     cloud.push_back(p);
   }
-  const auto dir = std::filesystem::temp_directory_path() / ("uavip_pcd_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uavip_pcd_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string ascii = (dir / "a.pcd").string(), binary = (dir / "b.pcd").string(),
                     compressed = (dir / "c.pcd").string();
   pcl::io::savePCDFileASCII(ascii, cloud);
   pcl::io::savePCDFileBinary(binary, cloud);
   pcl::io::savePCDFileBinaryCompressed(compressed, cloud);
-  std::vector<std::string> files = {ascii, binary, compressed,
-                                    std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd",
-                                    std::string(UAVIP_SOURCE_DIR) + "/tests/data/fcplanner_MBS.pcd"};
+  std::vector<std::string> files = {
+      ascii, binary, compressed, std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd",
+      std::string(UAVIP_SOURCE_DIR) + "/tests/data/fcplanner_MBS.pcd"};
   for (const auto& f : files) {
     pcl::PointCloud<pcl::PointXYZ> reference;
     ASSERT_EQ(pcl::io::loadPCDFile(f, reference), 0) << f;
@@ -278,7 +306,8 @@ TEST(CloudIoPcd, OwnReaderMatchesPclOnEveryDataLayout) {
   }
   const std::size_t data = bytes.find("DATA binary_compressed\n") + 23;
   std::string damaged = bytes;
-  damaged[data + 8] = static_cast<char>(0xff);  // the first control byte: a back reference before the start
+  damaged[data + 8] =
+      static_cast<char>(0xff);  // the first control byte: a back reference before the start
   std::ofstream(dir / "d.pcd", std::ios::binary) << damaged;
   EXPECT_THROW(loadCloud((dir / "d.pcd").string()), InputError);
   damaged = bytes;

@@ -1,19 +1,19 @@
 // uavip export: each format parsed back and checked against a hand-made mission;
 // geography against the WGS84 radii of curvature worked out by hand.
 
-#include "uavip/core/error.h"
-#include "uavip/io/mission_export.h"
+#include <gtest/gtest.h>
 
 #include <GeographicLib/UTMUPS.hpp>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "uavip/core/error.h"
+#include "uavip/io/mission_export.h"
 
 namespace {
 
@@ -36,7 +36,10 @@ void radii(double lat_deg, double& M, double& N) {
 }
 
 json stop(double x, double y, double z, double yaw, double pitch) {
-  return {{"position", {x, y, z}}, {"target", {x, y, z}}, {"yaw_deg", yaw}, {"gimbal_pitch_deg", pitch}};
+  return {{"position", {x, y, z}},
+          {"target", {x, y, z}},
+          {"yaw_deg", yaw},
+          {"gimbal_pitch_deg", pitch}};
 }
 
 /// Surface 0: two stops (100 m north, then 100 m east, 10 m up) with a waypoint
@@ -106,7 +109,8 @@ TEST(Geo, HundredMetresNorthAndEast) {
   EXPECT_NEAR(north.lat_deg - kLat0, 0.000899, 2e-6);  // the rule of thumb
   EXPECT_NEAR(north.lon_deg, kLon0, 1e-10);
   const io::GeoPoint east = io::enuToGeodetic(o, {100.0, 0.0, 0.0});
-  EXPECT_NEAR(east.lon_deg - kLon0, 100.0 / (N * std::cos(kLat0 * kPi / 180.0)) * 180.0 / kPi, 1e-8);
+  EXPECT_NEAR(east.lon_deg - kLon0, 100.0 / (N * std::cos(kLat0 * kPi / 180.0)) * 180.0 / kPi,
+              1e-8);
   const io::GeoPoint up = io::enuToGeodetic(o, {0.0, 0.0, 10.0});
   EXPECT_NEAR(up.alt_m, kAlt0 + 10.0, 1e-6);
   EXPECT_NEAR(up.lat_deg, kLat0, 1e-10);
@@ -117,7 +121,8 @@ TEST(Geo, OriginParsing) {
   EXPECT_DOUBLE_EQ(o.lat_deg, 47.5);
   EXPECT_DOUBLE_EQ(o.lon_deg, -8.25);
   EXPECT_DOUBLE_EQ(o.alt_m, 488.0);
-  for (const std::string bad : {"47.5,8", "47.5,8,1,2", "a,b,c", "91,0,0", "0,181,0", "0,0,nan", "", "1,2,3x"}) {
+  for (const std::string bad :
+       {"47.5,8", "47.5,8,1,2", "a,b,c", "91,0,0", "0,181,0", "0,0,nan", "", "1,2,3x"}) {
     try {
       io::parseOrigin(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
@@ -203,11 +208,12 @@ TEST(Flight, SelectionOfSurfaces) {
   EXPECT_THROW(io::flightFromMissionJson(json{{"x", 1}}, "m.json", ""), uavip::InputError);
   // A partial surface: the skipped stop (problem set) is not on the path and not flown.
   json partial = m;
-  partial["surfaces"][1] = {{"surface_id", 1},
-                            {"status", "partial"},
-                            {"reason", "1 of 3 stops skipped"},
-                            {"stops", {stop(0, 0, 1, 0, 0), stop(5, 5, 5, 0, 0), stop(2, 0, 1, 45.0, 0)}},
-                            {"waypoints", {{0, 0, 1}, {1, -1, 1}, {2, 0, 1}}}};
+  partial["surfaces"][1] = {
+      {"surface_id", 1},
+      {"status", "partial"},
+      {"reason", "1 of 3 stops skipped"},
+      {"stops", {stop(0, 0, 1, 0, 0), stop(5, 5, 5, 0, 0), stop(2, 0, 1, 45.0, 0)}},
+      {"waypoints", {{0, 0, 1}, {1, -1, 1}, {2, 0, 1}}}};
   partial["surfaces"][1]["stops"][1]["problem"] = "in_obstacle_space";
   const io::Flight pf = io::flightFromMissionJson(partial, "m.json", "1");
   ASSERT_EQ(pf.waypoints.size(), 3u);
@@ -253,9 +259,9 @@ TEST(QgcPlan, RequiredKeysAndItems) {
     ++count[it["command"].get<int>()];
     EXPECT_EQ(it["frame"], it["command"] == 16 ? 3 : 2);
   }
-  EXPECT_EQ(count[16], 3);    // every waypoint
-  EXPECT_EQ(count[1000], 2);  // gimbal at each stop
-  EXPECT_EQ(count[2000], 2);  // one photo per stop
+  EXPECT_EQ(count[16], 3);          // every waypoint
+  EXPECT_EQ(count[1000], 2);        // gimbal at each stop
+  EXPECT_EQ(count[2000], 2);        // one photo per stop
   EXPECT_EQ(count.count(115), 0u);  // PX4: heading in the waypoint
   EXPECT_EQ(count.size(), 3u);
 
@@ -265,13 +271,13 @@ TEST(QgcPlan, RequiredKeysAndItems) {
   EXPECT_DOUBLE_EQ(items[0]["params"][0].get<double>(), -10.0);
   EXPECT_EQ(items[1]["command"], 16);
   const json& wp = items[1]["params"];
-  EXPECT_DOUBLE_EQ(wp[0].get<double>(), 2.0);       // hold at a stop
-  EXPECT_NEAR(wp[3].get<double>(), 0.0, 1e-9);      // yaw 90 (north) → heading 0
+  EXPECT_DOUBLE_EQ(wp[0].get<double>(), 2.0);   // hold at a stop
+  EXPECT_NEAR(wp[3].get<double>(), 0.0, 1e-9);  // yaw 90 (north) → heading 0
   double M = 0.0, N = 0.0;
   radii(kLat0, M, N);
   EXPECT_NEAR(wp[4].get<double>() - kLat0, 100.0 / M * 180.0 / kPi, 1e-8);
   EXPECT_NEAR(wp[5].get<double>(), kLon0, 1e-9);
-  EXPECT_NEAR(wp[6].get<double>(), 10.0, 1e-3);     // relative to home
+  EXPECT_NEAR(wp[6].get<double>(), 10.0, 1e-3);  // relative to home
   EXPECT_EQ(items[2]["command"], 2000);
   EXPECT_DOUBLE_EQ(items[2]["params"][2].get<double>(), 1.0);  // one photo
   EXPECT_DOUBLE_EQ(items[2]["params"][3].get<double>(), 1.0);  // sequence 1
@@ -280,8 +286,8 @@ TEST(QgcPlan, RequiredKeysAndItems) {
   EXPECT_DOUBLE_EQ(items[3]["params"][0].get<double>(), 0.0);
   EXPECT_NEAR(items[3]["params"][3].get<double>(), 90.0, 1e-9);
   // The second stop is 100 m east.
-  EXPECT_NEAR(items[5]["params"][5].get<double>() - kLon0, 100.0 / (N * std::cos(kLat0 * kPi / 180.0)) * 180.0 / kPi,
-              1e-8);
+  EXPECT_NEAR(items[5]["params"][5].get<double>() - kLon0,
+              100.0 / (N * std::cos(kLat0 * kPi / 180.0)) * 180.0 / kPi, 1e-8);
   EXPECT_DOUBLE_EQ(items[6]["params"][3].get<double>(), 2.0);  // photo 2
 }
 
@@ -341,8 +347,8 @@ TEST(Csv, OneRowPerWaypointWithBothFrames) {
   const auto header = split(lines[0], ',');
   std::map<std::string, std::size_t> col;
   for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
-  for (const char* k : {"east_m", "north_m", "up_m", "lat_deg", "lon_deg", "alt_rel_home_m", "is_stop", "yaw_enu_deg",
-                        "heading_deg", "gimbal_pitch_deg", "surface_id"})
+  for (const char* k : {"east_m", "north_m", "up_m", "lat_deg", "lon_deg", "alt_rel_home_m",
+                        "is_stop", "yaw_enu_deg", "heading_deg", "gimbal_pitch_deg", "surface_id"})
     ASSERT_TRUE(col.count(k)) << k;
   int stops = 0;
   for (std::size_t i = 1; i < lines.size(); ++i) {

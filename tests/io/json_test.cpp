@@ -1,10 +1,9 @@
+#include <gtest/gtest.h>
+
+#include "uavip/core/error.h"
 #include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
-
-#include "uavip/core/error.h"
-
-#include <gtest/gtest.h>
 
 namespace uavip::io {
 namespace {
@@ -54,7 +53,9 @@ TEST(SceneJson, BadFieldsAreNamed) {
     sceneFromJson(j, "s.json");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("s.json: surfaces[0].normal is missing"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("s.json: surfaces[0].normal is missing"),
+              std::string::npos)
+        << e.what();
   }
   j = sceneToJson(smallScene());
   j["obstacles"][0]["points"][1] = {1, "a", 2};
@@ -96,32 +97,53 @@ TEST(JsonReader, NamesTheFieldAndBoundsLocalCoordinates) {
     }
     return "accepted";
   };
-  const nlohmann::json j = {{"p", {1.0, 2.0, 3.0}}, {"far", {1e155, 0.0, 0.0}}, {"n", 5}, {"big", 4294967296LL}};
+  const nlohmann::json j = {
+      {"p", {1.0, 2.0, 3.0}}, {"far", {1e155, 0.0, 0.0}}, {"n", 5}, {"big", 4294967296LL}};
   EXPECT_EQ(r.vec3(j["p"], "p"), Vec3(1, 2, 3));
-  EXPECT_NE(message([&] { r.vec3(j["far"], "far"); }).find("f.json: far (1e+155, 0, 0) lies beyond"), std::string::npos);
+  EXPECT_NE(
+      message([&] { r.vec3(j["far"], "far"); }).find("f.json: far (1e+155, 0, 0) lies beyond"),
+      std::string::npos);
   EXPECT_NO_THROW(r.vec3(j["far"], "far", false));  // not a position: only finite
-  EXPECT_NE(message([&] { r.at(j, "q", "top"); }).find("f.json: top.q is missing"), std::string::npos);
-  EXPECT_EQ(r.integer(j["n"], "n", 0, 10), 5);
-  EXPECT_NE(message([&] { r.integer(j["big"], "big", 0, 1'000'000); }).find("big must be a whole number in [0, 1000000]"),
+  EXPECT_NE(message([&] { r.at(j, "q", "top"); }).find("f.json: top.q is missing"),
             std::string::npos);
-  EXPECT_NE(message([&] { r.number(j["n"], "n", 0.0, 1.0, "m"); }).find("n must be in [0, 1] m, got 5"), std::string::npos);
-  EXPECT_NE(message([&] { r.parse("{\"a\": \n [1, 2"); }).find("f.json:2: not valid JSON (byte"), std::string::npos);
+  EXPECT_EQ(r.integer(j["n"], "n", 0, 10), 5);
+  EXPECT_NE(message([&] {
+              r.integer(j["big"], "big", 0, 1'000'000);
+            }).find("big must be a whole number in [0, 1000000]"),
+            std::string::npos);
+  EXPECT_NE(
+      message([&] { r.number(j["n"], "n", 0.0, 1.0, "m"); }).find("n must be in [0, 1] m, got 5"),
+      std::string::npos);
+  EXPECT_NE(message([&] { r.parse("{\"a\": \n [1, 2"); }).find("f.json:2: not valid JSON (byte"),
+            std::string::npos);
   // A fuzz finding: a number beyond a double threw nlohmann's out_of_range, not an InputError.
-  EXPECT_NE(message([&] { r.parse("{\"a\": 1e999}"); }).find("f.json: not valid JSON"), std::string::npos);
+  EXPECT_NE(message([&] { r.parse("{\"a\": 1e999}"); }).find("f.json: not valid JSON"),
+            std::string::npos);
 }
 
 /// A mission of two surfaces and one sortie, as the planner writes it.
 nlohmann::json smallMission() {
   auto stop = [](double x) {
-    return nlohmann::json{{"position", {x, 0.0, 2.0}}, {"yaw_deg", 90.0}, {"gimbal_pitch_deg", 0.0}, {"problem", "none"}};
+    return nlohmann::json{{"position", {x, 0.0, 2.0}},
+                          {"yaw_deg", 90.0},
+                          {"gimbal_pitch_deg", 0.0},
+                          {"problem", "none"}};
   };
-  nlohmann::json s0 = {{"surface_id", 0}, {"status", "ok"}, {"reason", ""}, {"stops", {stop(0), stop(2)}},
+  nlohmann::json s0 = {{"surface_id", 0},
+                       {"status", "ok"},
+                       {"reason", ""},
+                       {"stops", {stop(0), stop(2)}},
                        {"waypoints", {{0.0, 0.0, 2.0}, {1.0, 0.0, 2.5}, {2.0, 0.0, 2.0}}}};
-  nlohmann::json s3 = {{"surface_id", 3}, {"status", "blocked"}, {"reason", "no stop reachable"},
-                       {"stops", {stop(9)}}, {"waypoints", nlohmann::json::array()}};
-  nlohmann::json sortie = {{"waypoints", {{0.0, 0.0, 0.0}, {0.0, 0.0, 2.0}, {2.0, 0.0, 2.0}, {0.0, 0.0, 0.0}}},
-                           {"stops", {{{"surface_id", 0}, {"stop", 0}, {"waypoint", 1}},
-                                      {{"surface_id", 0}, {"stop", 1}, {"waypoint", 2}}}}};
+  nlohmann::json s3 = {{"surface_id", 3},
+                       {"status", "blocked"},
+                       {"reason", "no stop reachable"},
+                       {"stops", {stop(9)}},
+                       {"waypoints", nlohmann::json::array()}};
+  nlohmann::json sortie = {
+      {"waypoints", {{0.0, 0.0, 0.0}, {0.0, 0.0, 2.0}, {2.0, 0.0, 2.0}, {0.0, 0.0, 0.0}}},
+      {"stops",
+       {{{"surface_id", 0}, {"stop", 0}, {"waypoint", 1}},
+        {{"surface_id", 0}, {"stop", 1}, {"waypoint", 2}}}}};
   return {{"inflation_radius_m", 0.6},
           {"surfaces", {s0, s3}},
           {"flight", {{"status", "ok"}, {"reason", ""}, {"sorties", {sortie}}}}};
@@ -157,7 +179,8 @@ TEST(MissionJson, InconsistentFilesAreNamed) {
   j["surfaces"][1]["surface_id"] = 0;
   expectField(j, "surfaces[1].surface_id 0 is used by an earlier surface");
   j = smallMission();
-  j["surfaces"][0]["waypoints"][1] = {1e155, 0.0, 2.0};  // validate once called such a path collision-free
+  j["surfaces"][0]["waypoints"][1] = {1e155, 0.0,
+                                      2.0};  // validate once called such a path collision-free
   expectField(j, "surfaces[0].waypoints[1]");
   j = smallMission();
   j["surfaces"][0]["stops"][0]["position"][2] = 1.7e12;  // export once wrote this altitude

@@ -1,5 +1,4 @@
 #include "uavip/io/las_reader.h"
-#include "uavip/io/cloud_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/io/cloud_io.h"
 
 #ifndef UAVIP_SOURCE_DIR
 #define UAVIP_SOURCE_DIR "."  // standalone build from the repository root
@@ -428,7 +428,8 @@ TEST_F(LasReader, LoadCloudDropsOnlyTheNoiseClassesByDefaultAndSaysSo) {
   const std::string file = write("noise.las", s);
   io::CloudReadInfo info;
   EXPECT_EQ(io::loadCloud(file, {}, &info).size(), 3u);  // 7 and 18 dropped; vegetation (5) kept
-  EXPECT_NE(info.note.find("2 dropped: input.drop_classes 7 18, the classes LAS flags as noise"), std::string::npos)
+  EXPECT_NE(info.note.find("2 dropped: input.drop_classes 7 18, the classes LAS flags as noise"),
+            std::string::npos)
       << info.note;
   io::CloudReadOptions keep;
   keep.drop_classes.clear();

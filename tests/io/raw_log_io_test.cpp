@@ -3,7 +3,6 @@
 #include "uavip/io/raw_log_io.h"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -46,8 +45,9 @@ sim::SimulatedLog smallLog() {
 class RawLogIo : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("uavip_rawlog_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("uavip_rawlog_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     sim_ = smallLog();
     writeRawLog(dir_.string(), sim_.log);
@@ -62,13 +62,16 @@ class RawLogIo : public ::testing::Test {
     for (std::string l; std::getline(in, l);) out.push_back(l);
     return out;
   }
-  void writeLines(const std::string& name, const std::vector<std::string>& ls, bool final_newline = true) const {
+  void writeLines(const std::string& name, const std::vector<std::string>& ls,
+                  bool final_newline = true) const {
     std::ofstream out(file(name), std::ios::trunc);
-    for (std::size_t i = 0; i < ls.size(); ++i) out << ls[i] << (i + 1 < ls.size() || final_newline ? "\n" : "");
+    for (std::size_t i = 0; i < ls.size(); ++i)
+      out << ls[i] << (i + 1 < ls.size() || final_newline ? "\n" : "");
   }
 
   /// Reading fails with one line "<file>:<line>: ..." containing every fragment.
-  void expectError(const std::string& name, std::size_t line, const std::vector<std::string>& fragments) const {
+  void expectError(const std::string& name, std::size_t line,
+                   const std::vector<std::string>& fragments) const {
     try {
       readRawLog(dir_.string());
       ADD_FAILURE() << "expected an error for " << name;
@@ -77,7 +80,8 @@ class RawLogIo : public ::testing::Test {
       EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
       const std::string where = file(name) + ":" + std::to_string(line) + ": ";
       EXPECT_EQ(msg.rfind(where, 0), 0u) << "'" << where << "' does not start: " << msg;
-      for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+      for (const auto& f : fragments)
+        EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
     }
   }
 
@@ -143,9 +147,11 @@ TEST_F(RawLogIo, TruthRoundTripIsInTheLogFrame) {
   EXPECT_EQ(t->scenario, "room.yaml");
   EXPECT_TRUE(t->origin_m.isApprox(Vec3(0.5, 0.2, 1.5)));
   ASSERT_EQ(t->poses.stations.size(), 1u);
-  ASSERT_EQ(t->poses.stations[0].vertical_poses.size(), sim_.truth.stations[0].vertical_poses.size());
+  ASSERT_EQ(t->poses.stations[0].vertical_poses.size(),
+            sim_.truth.stations[0].vertical_poses.size());
   for (std::size_t i = 0; i < sim_.truth.stations[0].horizontal_poses.size(); ++i) {
-    EXPECT_TRUE(t->poses.stations[0].horizontal_poses[i].isApprox(sim_.truth.stations[0].horizontal_poses[i], 1e-12));
+    EXPECT_TRUE(t->poses.stations[0].horizontal_poses[i].isApprox(
+        sim_.truth.stations[0].horizontal_poses[i], 1e-12));
   }
   ASSERT_EQ(t->world.rects().size(), world.rects().size());
   ASSERT_EQ(t->world.segments().size(), 1u);
@@ -166,7 +172,8 @@ TEST_F(RawLogIo, TruncatedLastLine) {
 
 TEST_F(RawLogIo, LineWithTooFewRanges) {
   auto ls = lines("station_0_horizontal.csv");
-  ls[2] = ls[2].substr(0, ls[2].rfind(',', ls[2].size() / 2));  // cut at a comma: whole numbers, too few
+  ls[2] = ls[2].substr(
+      0, ls[2].rfind(',', ls[2].size() / 2));  // cut at a comma: whole numbers, too few
   writeLines("station_0_horizontal.csv", ls);
   expectError("station_0_horizontal.csv", 3, {"truncated", "expected 1081 ranges"});
 }
@@ -258,13 +265,15 @@ TEST_F(RawLogIo, MaxRangeBeyondAFloatIsRefused) {
   // max_range_m 1e300 let a range of 1e299 through, which overflowed to infinity when
   // stored as float (found while checking a fuzz report).
   auto ls = lines("log.json");
-  for (auto& l : ls) l = std::regex_replace(l, std::regex("\"max_range_m\": [0-9.e+]+"), "\"max_range_m\": 1e300");
+  for (auto& l : ls)
+    l = std::regex_replace(l, std::regex("\"max_range_m\": [0-9.e+]+"), "\"max_range_m\": 1e300");
   writeLines("log.json", ls);
   try {
     readRawLog(dir_.string());
     FAIL() << "max_range_m 1e300 accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("max_range_m must be <= 10000 m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("max_range_m must be <= 10000 m"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -3,8 +3,6 @@
 
 #include "uavip/perception/euclidean_clusters.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -16,14 +14,18 @@
 #include <numeric>
 #include <random>
 
+#include "uavip/core/error.h"
+
 namespace uavip::perception {
 namespace {
 
 /// PCL's clusters of points[indices], each sorted, ordered by smallest index.
-std::vector<std::vector<int>> pclClusters(const PointList& points, const std::vector<int>& indices, double tol) {
+std::vector<std::vector<int>> pclClusters(const PointList& points, const std::vector<int>& indices,
+                                          double tol) {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   for (const auto& p : points) {
-    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                   static_cast<float>(p.z())));
   }
   pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
   ec.setInputCloud(cloud);
@@ -40,7 +42,8 @@ std::vector<std::vector<int>> pclClusters(const PointList& points, const std::ve
     std::sort(v.begin(), v.end());
     out.push_back(std::move(v));
   }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a.front() < b.front(); });
   return out;
 }
 
@@ -54,9 +57,11 @@ PointList mixedCloud(unsigned seed, std::size_t n) {
   for (int b = 0; b < 12; ++b) {
     const Vec3 c(10.0 * u(rng), 10.0 * u(rng), 3.0 * u(rng));
     const double spread = 0.05 + 0.3 * u(rng);
-    for (std::size_t i = 0; i < n / 24; ++i) pts.push_back(c + spread * Vec3(g(rng), g(rng), g(rng)));
+    for (std::size_t i = 0; i < n / 24; ++i)
+      pts.push_back(c + spread * Vec3(g(rng), g(rng), g(rng)));
   }
-  for (std::size_t i = 0; i < n / 3; ++i) pts.emplace_back(10.0 * u(rng), 10.0 * u(rng), 0.01 * g(rng));
+  for (std::size_t i = 0; i < n / 3; ++i)
+    pts.emplace_back(10.0 * u(rng), 10.0 * u(rng), 0.01 * g(rng));
   while (pts.size() < n) pts.emplace_back(10.0 * u(rng), 10.0 * u(rng), 3.0 * u(rng));
   return pts;
 }

@@ -1,13 +1,13 @@
 #include "uavip/perception/obstacle_clusterer.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
 #include <random>
 #include <set>
+
+#include "uavip/core/error.h"
 
 namespace uavip::perception {
 namespace {
@@ -106,9 +106,9 @@ TEST(ObstacleClusterer, SamePartitionAsBruteForceFloodFill) {
 
 TEST(ObstacleClusterer, SmallClustersMergeIntoOneResidual) {
   PointList pts;
-  for (int i = 0; i < 30; ++i) pts.emplace_back(0.1 * i, 0.0, 0.0);     // 30 points, 2.9 m
-  for (int i = 0; i < 20; ++i) pts.emplace_back(10.0, 0.1 * i, 0.0);    // 20 points
-  pts.emplace_back(-10.0, -10.0, 0.0);                                   // three singletons
+  for (int i = 0; i < 30; ++i) pts.emplace_back(0.1 * i, 0.0, 0.0);   // 30 points, 2.9 m
+  for (int i = 0; i < 20; ++i) pts.emplace_back(10.0, 0.1 * i, 0.0);  // 20 points
+  pts.emplace_back(-10.0, -10.0, 0.0);                                // three singletons
   pts.emplace_back(20.0, 20.0, 5.0);
   pts.emplace_back(0.0, 20.0, -5.0);
   ClusterOptions o;

@@ -1,14 +1,14 @@
 #include "uavip/perception/plane_detector.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::perception {
 namespace {
@@ -70,7 +70,8 @@ void expectConsistent(const Surface& s, double cell) {
   EXPECT_NEAR(0.5 * vector_area.norm(), s.area_m2, 1e-6 * std::max(1.0, s.area_m2));
   // Occupied cells: never more cells than points, never (much) more than the hull.
   EXPECT_LE(s.density_area_m2, static_cast<double>(s.inliers.size()) * cell * cell + 1e-9);
-  EXPECT_LE(s.density_area_m2, s.area_m2 + 4.0 * cell * std::sqrt(std::max(s.area_m2, 0.0)) * 2.0 + 1e-9);
+  EXPECT_LE(s.density_area_m2,
+            s.area_m2 + 4.0 * cell * std::sqrt(std::max(s.area_m2, 0.0)) * 2.0 + 1e-9);
   Vec3 mean = Vec3::Zero();
   for (const auto& p : s.inliers) mean += p;
   mean /= static_cast<double>(s.inliers.size());
@@ -255,9 +256,9 @@ TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {
     const auto& s = r.surfaces[static_cast<std::size_t>(i)];
     EXPECT_EQ(s.id, i);
     expectConsistent(s, o.cell_size_m);
-    EXPECT_LT(std::min(angleDeg(s.plane.normal, Vec3::UnitZ()),
-                       angleDeg(s.plane.normal, -Vec3::UnitZ())),
-              1.0);
+    EXPECT_LT(
+        std::min(angleDeg(s.plane.normal, Vec3::UnitZ()), angleDeg(s.plane.normal, -Vec3::UnitZ())),
+        1.0);
     if (std::abs(s.centroid.z()) < 0.5) ground = i;
   }
   ASSERT_GE(ground, 0);
@@ -305,8 +306,8 @@ TEST(PlaneDetector, ManySmallCoplanarPatchesDoNotHideALargerPlane) {
   PointList cloud;
   for (int i = 0; i < 5; ++i) {
     for (int j = 0; j < 4; ++j) {
-      addPatch(cloud, Vec3(3.0 * i, 3.0 * j, 0.0), Vec3::UnitX(), Vec3::UnitY(), 11, 11, 0.1,
-               0.003, rng);
+      addPatch(cloud, Vec3(3.0 * i, 3.0 * j, 0.0), Vec3::UnitX(), Vec3::UnitY(), 11, 11, 0.1, 0.003,
+               rng);
     }
   }
   addPatch(cloud, Vec3(6.0, 4.5, 5.0), Vec3::UnitX(), Vec3::UnitY(), 41, 41, 0.1, 0.003, rng);
@@ -358,11 +359,15 @@ TEST(PlaneDetector, WithoutASensorABuildingFacesOutAndGroundAndRoofFaceUp) {
   PointList cloud;
   const Vec3 c(3.0, -2.0, 0.0);
   addPatch(cloud, Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitY(), 134, 134, 0.3, 0.02, rng);  // ground
-  addPatch(cloud, c + Vec3(0, 0, 6), Vec3::UnitX(), Vec3::UnitY(), 40, 27, 0.3, 0.02, rng);   // roof
-  addPatch(cloud, c + Vec3(6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02, rng);   // east wall
-  addPatch(cloud, c + Vec3(-6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02, rng);  // west wall
-  addPatch(cloud, c + Vec3(0, 4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02, rng);   // north wall
-  addPatch(cloud, c + Vec3(0, -4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02, rng);  // south wall
+  addPatch(cloud, c + Vec3(0, 0, 6), Vec3::UnitX(), Vec3::UnitY(), 40, 27, 0.3, 0.02, rng);  // roof
+  addPatch(cloud, c + Vec3(6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02,
+           rng);  // east wall
+  addPatch(cloud, c + Vec3(-6, 0, 3), Vec3::UnitY(), Vec3::UnitZ(), 27, 20, 0.3, 0.02,
+           rng);  // west wall
+  addPatch(cloud, c + Vec3(0, 4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02,
+           rng);  // north wall
+  addPatch(cloud, c + Vec3(0, -4, 3), Vec3::UnitX(), Vec3::UnitZ(), 40, 20, 0.3, 0.02,
+           rng);  // south wall
   PlaneDetectionOptions o;
   o.viewpoint_known = false;
   o.viewpoint = c + Vec3(0, 0, 3);  // a wrong hint inside the building must not matter

@@ -1,10 +1,10 @@
 #include "uavip/perception/scene_builder.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <random>
+
+#include "uavip/core/error.h"
 
 namespace uavip::perception {
 namespace {

@@ -1,7 +1,4 @@
 #include "planners/astar.h"
-#include "planners/registry.h"
-
-#include "uavip/core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +8,9 @@
 #include <cstdlib>
 #include <limits>
 #include <random>
+
+#include "planners/registry.h"
+#include "uavip/core/error.h"
 
 namespace uavip::planners {
 namespace {
@@ -55,9 +55,10 @@ double referenceCost(const VoxelGrid& g, const Index3& s, const Index3& t, const
                 if (!dx && !dy && !dz) continue;
                 const Index3 n{x + dx, y + dy, z + dz};
                 if (g.isBlocked(n)) continue;
-                const double w = o.cost == AStarCost::Paper
-                                     ? o.a1 * std::abs(dx) + o.a2 * std::abs(dy) + o.a3 * std::abs(dz)
-                                     : std::sqrt(o.a1 * dx * dx + o.a2 * dy * dy + o.a3 * dz * dz);
+                const double w =
+                    o.cost == AStarCost::Paper
+                        ? o.a1 * std::abs(dx) + o.a2 * std::abs(dy) + o.a3 * std::abs(dz)
+                        : std::sqrt(o.a1 * dx * dx + o.a2 * dy * dy + o.a3 * dz * dz);
                 const double nd = d[g.linear(c)] + w;
                 if (nd < d[g.linear(n)] - 1e-12) {
                   d[g.linear(n)] = nd;
@@ -69,8 +70,8 @@ double referenceCost(const VoxelGrid& g, const Index3& s, const Index3& t, const
   return d[g.linear(t)];
 }
 
-void expectValidPath(const VoxelGrid& g, const GridSearchResult& r, const Index3& s, const Index3& t,
-                     const AStarOptions& o) {
+void expectValidPath(const VoxelGrid& g, const GridSearchResult& r, const Index3& s,
+                     const Index3& t, const AStarOptions& o) {
   ASSERT_FALSE(r.cells.empty());
   EXPECT_EQ(r.cells.front(), s);
   EXPECT_EQ(r.cells.back(), t);
@@ -103,13 +104,15 @@ TEST(AStar, StepCostFollowsThePaper) {
 
 TEST(AStar, OptimalAgainstExhaustiveSearchOnRandomGrids) {
   std::mt19937 rng(42);
-  const std::vector<std::array<double, 3>> weights = {{1.0, 1.0, 1.0}, {1.0, 2.0, 3.0}, {2.5, 1.0, 0.7}};
+  const std::vector<std::array<double, 3>> weights = {
+      {1.0, 1.0, 1.0}, {1.0, 2.0, 3.0}, {2.5, 1.0, 0.7}};
   int compared = 0, unreachable = 0;
   for (int trial = 0; trial < 12; ++trial) {
     std::vector<Index3> obstacles;
     const int n_obs = 2 + static_cast<int>(rng() % 3);
     for (int k = 0; k < n_obs; ++k)
-      obstacles.push_back({static_cast<int>(rng() % 8), static_cast<int>(rng() % 8), static_cast<int>(rng() % 6)});
+      obstacles.push_back(
+          {static_cast<int>(rng() % 8), static_cast<int>(rng() % 8), static_cast<int>(rng() % 6)});
     const VoxelGrid g = unitGrid(8, 8, 6, obstacles);
     std::vector<Index3> free_cells;
     for (int z = 0; z < 6; ++z)
@@ -154,11 +157,15 @@ TEST(AStar, PaperCostInFreeSpaceIsWeightedL1) {
   o.a2 = 0.5;
   o.a3 = 4.0;
   for (int k = 0; k < 20; ++k) {
-    const Index3 s{static_cast<int>(rng() % 10), static_cast<int>(rng() % 9), static_cast<int>(rng() % 7)};
-    const Index3 t{static_cast<int>(rng() % 10), static_cast<int>(rng() % 9), static_cast<int>(rng() % 7)};
+    const Index3 s{static_cast<int>(rng() % 10), static_cast<int>(rng() % 9),
+                   static_cast<int>(rng() % 7)};
+    const Index3 t{static_cast<int>(rng() % 10), static_cast<int>(rng() % 9),
+                   static_cast<int>(rng() % 7)};
     const GridSearchResult r = astarSearch(g, s, t, o);
     ASSERT_TRUE(r.found);
-    EXPECT_NEAR(r.cost, 1.5 * std::abs(s.x - t.x) + 0.5 * std::abs(s.y - t.y) + 4.0 * std::abs(s.z - t.z), 1e-12);
+    EXPECT_NEAR(r.cost,
+                1.5 * std::abs(s.x - t.x) + 0.5 * std::abs(s.y - t.y) + 4.0 * std::abs(s.z - t.z),
+                1e-12);
     expectValidPath(g, r, s, t, o);
   }
 }
@@ -179,7 +186,9 @@ TEST(AStar, EuclideanCostInFreeSpaceMatchesClosedForm) {
     o.cost = AStarCost::Euclidean;
     std::mt19937 rng(8);
     for (int k = 0; k < 6; ++k) {
-      auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(std::min(n, 12))); };
+      auto pick = [&](int n) {
+        return static_cast<int>(rng() % static_cast<unsigned>(std::min(n, 12)));
+      };
       const Index3 s{pick(dims[0]), pick(dims[1]), pick(dims[2])};
       const Index3 t{pick(dims[0]), pick(dims[1]), pick(dims[2])};
       const GridSearchResult r = astarSearch(g, s, t, o);
@@ -221,16 +230,20 @@ TEST(AStar, BudgetGivesTimeout) {
   EXPECT_FALSE(r.found);
   EXPECT_TRUE(r.exhausted_budget);
   AStarPlanner planner(o);
-  EXPECT_EQ(planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(9.5, 9.5, 9.5)).status, planning::PathStatus::Timeout);
+  EXPECT_EQ(planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(9.5, 9.5, 9.5)).status,
+            planning::PathStatus::Timeout);
 }
 
 TEST(AStar, PlannerEndsAndInvalidEnds) {
   const VoxelGrid g = unitGrid(10, 10, 6, {Index3{5, 5, 3}});
   AStarPlanner planner(AStarOptions{});
   EXPECT_EQ(planner.name(), "astar");
-  EXPECT_EQ(planner.plan(g, Vec3(5.5, 5.5, 3.5), Vec3(0.5, 0.5, 0.5)).status, planning::PathStatus::InvalidStart);
-  EXPECT_EQ(planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(5.2, 5.9, 3.1)).status, planning::PathStatus::InvalidGoal);
-  EXPECT_EQ(planner.plan(g, Vec3(-3.0, 0.5, 0.5), Vec3(0.5, 0.5, 0.5)).status, planning::PathStatus::InvalidStart);
+  EXPECT_EQ(planner.plan(g, Vec3(5.5, 5.5, 3.5), Vec3(0.5, 0.5, 0.5)).status,
+            planning::PathStatus::InvalidStart);
+  EXPECT_EQ(planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(5.2, 5.9, 3.1)).status,
+            planning::PathStatus::InvalidGoal);
+  EXPECT_EQ(planner.plan(g, Vec3(-3.0, 0.5, 0.5), Vec3(0.5, 0.5, 0.5)).status,
+            planning::PathStatus::InvalidStart);
 
   const Vec3 s(0.3, 0.6, 0.2), t(9.7, 9.1, 5.4);
   const auto r = planner.plan(g, s, t);

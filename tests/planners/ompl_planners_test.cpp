@@ -1,23 +1,22 @@
-#include "planners/astar_ompl.h"
-#include "planners/harness.h"
 #include "planners/ompl_planners.h"
-#include "planners/registry.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
+#include <gtest/gtest.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathGeometric.h>
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <random>
+
+#include "planners/astar_ompl.h"
+#include "planners/harness.h"
+#include "planners/registry.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::planners {
 namespace {
@@ -28,7 +27,8 @@ using world::VoxelGrid;
 constexpr double kRadius = 0.3;  // UAV inflation radius r of these worlds [m]
 
 /// Points of the axis-aligned rectangle {x = x0} × [y0, y1] × [z0, z1], spaced `step`.
-void addWallX(PointList& cloud, double x0, double y0, double y1, double z0, double z1, double step) {
+void addWallX(PointList& cloud, double x0, double y0, double y1, double z0, double z1,
+              double step) {
   for (double y = y0; y <= y1 + 1e-9; y += step)
     for (double z = z0; z <= z1 + 1e-9; z += step) cloud.emplace_back(x0, y, z);
 }
@@ -87,7 +87,8 @@ WallWorld wideWallWorld() {
 double bruteClearance(const PointList& path, const PointList& cloud) {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i + 1 < path.size(); ++i)
-    for (const Vec3& p : cloud) best = std::min(best, pointSegmentDistance(p, path[i], path[i + 1]));
+    for (const Vec3& p : cloud)
+      best = std::min(best, pointSegmentDistance(p, path[i], path[i + 1]));
   return best;
 }
 
@@ -100,7 +101,8 @@ bool onRawPath(const Vec3& a, const Vec3& b, const PointList* raw) {
   for (int k = 0; k <= n; ++k) {
     const Vec3 p = a + (b - a) * (static_cast<double>(k) / n);
     bool on = false;
-    for (std::size_t i = 0; i + 1 < raw->size() && !on; ++i) on = pointSegmentDistance(p, (*raw)[i], (*raw)[i + 1]) < 1e-6;
+    for (std::size_t i = 0; i + 1 < raw->size() && !on; ++i)
+      on = pointSegmentDistance(p, (*raw)[i], (*raw)[i + 1]) < 1e-6;
     if (!on) return false;
   }
   return true;
@@ -117,10 +119,12 @@ void expectValidPath(const PointList& path, const WallWorld& w, const std::strin
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
     const world::Index3 a = w.grid.indexOf(path[i]);
     const world::Index3 b = w.grid.indexOf(path[i + 1]);
-    const bool step = w.grid.isFree(a) && w.grid.isFree(b) && std::abs(a.x - b.x) <= 1 && std::abs(a.y - b.y) <= 1 &&
-                      std::abs(a.z - b.z) <= 1;
-    EXPECT_TRUE(step || w.grid.segmentFree(path[i], path[i + 1]) || onRawPath(path[i], path[i + 1], raw))
-        << who << " segment " << i << ": (" << path[i].transpose() << ") -> (" << path[i + 1].transpose() << ")";
+    const bool step = w.grid.isFree(a) && w.grid.isFree(b) && std::abs(a.x - b.x) <= 1 &&
+                      std::abs(a.y - b.y) <= 1 && std::abs(a.z - b.z) <= 1;
+    EXPECT_TRUE(step || w.grid.segmentFree(path[i], path[i + 1]) ||
+                onRawPath(path[i], path[i + 1], raw))
+        << who << " segment " << i << ": (" << path[i].transpose() << ") -> ("
+        << path[i + 1].transpose() << ")";
   }
   EXPECT_GE(bruteClearance(path, w.cloud), kRadius) << who;
   // The wall is in the way: no path is shorter than the straight line, and a
@@ -136,8 +140,9 @@ PlannerSettings fastSettings() {
 
 TEST(OmplPlanners, RegistryHasEveryRequiredPlanner) {
   const auto names = plannerNames();
-  for (const char* required : {"astar", "astar-euclid", "rrtconnect", "rrtstar", "informed-rrtstar", "bitstar",
-                               "abitstar", "aitstar", "prmstar", "lazyprmstar", "fmtstar"}) {
+  for (const char* required :
+       {"astar", "astar-euclid", "rrtconnect", "rrtstar", "informed-rrtstar", "bitstar", "abitstar",
+        "aitstar", "prmstar", "lazyprmstar", "fmtstar"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
   }
   for (const auto& n : names) {
@@ -241,7 +246,8 @@ TEST(OmplPlanners, SealedBoxGivesAStatusForEveryPlanner) {
   for (const auto& n : plannerNames()) {
     const auto r = makePlanner(n, s)->plan(grid, outside, inside);
     EXPECT_FALSE(r.solved()) << n;
-    const auto expected = isOmplPlanner(n) ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
+    const auto expected =
+        isOmplPlanner(n) ? planning::PathStatus::Timeout : planning::PathStatus::NoPath;
     EXPECT_EQ(r.status, expected) << n << ": " << planning::toString(r.status);
     EXPECT_TRUE(r.path.empty()) << n;
   }
@@ -283,7 +289,8 @@ TEST(OmplPlanners, AStarThroughOmplMatchesAStarSearch) {
     planner->setProblemDefinition(pdef);
     planner->setup();
     ASSERT_EQ(planner->solve(1.0), ompl::base::PlannerStatus::EXACT_SOLUTION);
-    const GridSearchResult ref = astarSearch(w.grid, w.grid.indexOf(w.start), w.grid.indexOf(w.goal), o);
+    const GridSearchResult ref =
+        astarSearch(w.grid, w.grid.indexOf(w.start), w.grid.indexOf(w.goal), o);
     ASSERT_TRUE(ref.found);
     EXPECT_DOUBLE_EQ(planner->lastResult().cost, ref.cost);
     // The solution path is the grid path: exact ends, and one voxel centre per step.
@@ -324,7 +331,8 @@ TEST(OmplPlanners, MotionValidatorKeepsClearanceAndFindsLastValidState) {
       EXPECT_LT((l - (p + lv.second * (q - p))).norm(), 1e-9);
       EXPECT_GE(bruteClearance({p, l}, w.cloud), kRadius);
       // A quarter voxel further the motion is no longer valid.
-      const Vec3 beyond = p + std::min(1.0, lv.second + 0.25 * 0.2 / (q - p).norm() + 1e-9) * (q - p);
+      const Vec3 beyond =
+          p + std::min(1.0, lv.second + 0.25 * 0.2 / (q - p).norm() + 1e-9) * (q - p);
       EXPECT_FALSE(w.grid.segmentFree(p, beyond));
     }
   }

@@ -1,14 +1,14 @@
 #include "uavip/planning/flight_planner.h"
 
-#include "planners/registry.h"
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
 #include <set>
+
+#include "planners/registry.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::planning {
 namespace {
@@ -57,8 +57,8 @@ struct World {
 /// sides must go around or over it.
 World twoSidedWall(std::unique_ptr<Planner>& planner) {
   World w;
-  w.strategies = {stopsAt(0, 1.5, 1.0, 1.0, 2, 4), stopsAt(1, -1.5, 1.0, 1.0, 2, 4), stopsAt(2, 1.5, 1.0, 4.5, 1, 3),
-                  stopsAt(3, -1.5, 4.0, 4.5, 1, 2)};
+  w.strategies = {stopsAt(0, 1.5, 1.0, 1.0, 2, 4), stopsAt(1, -1.5, 1.0, 1.0, 2, 4),
+                  stopsAt(2, 1.5, 1.0, 4.5, 1, 3), stopsAt(3, -1.5, 4.0, 4.5, 1, 2)};
   PointList extra;
   for (const auto& s : w.strategies)
     for (const auto& stop : s.stops) extra.push_back(stop.position);
@@ -70,7 +70,8 @@ World twoSidedWall(std::unique_ptr<Planner>& planner) {
   w.validator = PathValidator(w.cloud, kRadius);
   planner = planners::makePlanner("astar", {});
   MissionOptions mo;
-  for (const auto& s : w.strategies) w.missions.push_back(planSurfaceMission(s, w.grid, w.validator, *planner, mo));
+  for (const auto& s : w.strategies)
+    w.missions.push_back(planSurfaceMission(s, w.grid, w.validator, *planner, mo));
   for (const auto& m : w.missions) EXPECT_EQ(m.status, SurfaceStatus::Ok) << m.reason;
   return w;
 }
@@ -98,11 +99,13 @@ void expectWholeFlight(const FlightPlan& f, const World& w) {
     EXPECT_NEAR(s.validation.min_clearance_m, whole.min_clearance_m, 1e-9);
     ASSERT_EQ(s.validation.segment_clearance_m.size(), whole.segment_clearance_m.size());
     for (std::size_t i = 0; i < whole.segment_clearance_m.size(); ++i)
-      EXPECT_NEAR(s.validation.segment_clearance_m[i], whole.segment_clearance_m[i], 1e-9) << "segment " << i;
+      EXPECT_NEAR(s.validation.segment_clearance_m[i], whole.segment_clearance_m[i], 1e-9)
+          << "segment " << i;
     for (const auto& st : s.stops) {
       EXPECT_TRUE(flown.insert({st.surface_id, st.stop}).second) << "stop flown twice";
       ASSERT_LT(st.waypoint, s.waypoints.size());
-      EXPECT_EQ(s.waypoints[st.waypoint], w.strategies[static_cast<std::size_t>(st.surface_id)].stops[st.stop].position);
+      EXPECT_EQ(s.waypoints[st.waypoint],
+                w.strategies[static_cast<std::size_t>(st.surface_id)].stops[st.stop].position);
     }
   }
   std::size_t total = 0;
@@ -148,8 +151,9 @@ TEST(FlightPlanner, SortiesFitTheBatteryAndStartAndEndAtHome) {
     double t = 0.0;
     for (std::size_t i = 1; i < s.waypoints.size(); ++i) {
       const Vec3 d = s.waypoints[i] - s.waypoints[i - 1];
-      t += std::max(std::hypot(d.x(), d.y()) / o.model.cruise_speed_m_s,
-                    d.z() > 0 ? d.z() / o.model.climb_speed_m_s : -d.z() / o.model.descent_speed_m_s);
+      t += std::max(
+          std::hypot(d.x(), d.y()) / o.model.cruise_speed_m_s,
+          d.z() > 0 ? d.z() / o.model.climb_speed_m_s : -d.z() / o.model.descent_speed_m_s);
     }
     t += static_cast<double>(s.stops.size()) * (o.model.hover_s + o.model.settle_s);
     EXPECT_NEAR(s.duration_s, t, 1e-9);
@@ -191,15 +195,16 @@ TEST(FlightPlanner, BlockedSurfacesAreListedNotFlown) {
   for (const auto& s : f.sorties)
     for (const auto& st : s.stops) EXPECT_NE(st.surface_id, 1);
   w.missions.clear();
-  EXPECT_EQ(planFlight(w.missions, w.grid, w.validator, *planner, {}).status, FlightPlan::Status::Empty);
+  EXPECT_EQ(planFlight(w.missions, w.grid, w.validator, *planner, {}).status,
+            FlightPlan::Status::Empty);
 }
 
 TEST(FlightModel, TimesAndValidation) {
   FlightModel m;
-  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {6, 0, 0}), 2.0);   // 3 m/s
-  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {0, 0, 4}), 2.0);   // climb 2 m/s
+  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {6, 0, 0}), 2.0);  // 3 m/s
+  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {0, 0, 4}), 2.0);  // climb 2 m/s
   EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 4}, {0, 0, 0}), 4.0 / 1.5);
-  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {3, 0, 4}), 2.0);   // vertical limits
+  EXPECT_DOUBLE_EQ(m.segmentSeconds({0, 0, 0}, {3, 0, 4}), 2.0);  // vertical limits
   EXPECT_DOUBLE_EQ(m.usableSeconds(), 900.0);
   m.reserve = 1.0;
   EXPECT_THROW(m.validate(), InputError);

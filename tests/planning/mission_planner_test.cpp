@@ -1,13 +1,13 @@
 #include "uavip/planning/mission_planner.h"
 
-#include "planners/registry.h"
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
+
+#include "planners/registry.h"
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::planning {
 namespace {
@@ -44,7 +44,8 @@ coverage::FlightStrategy strategyInFront(double x = 1.5) {
   return s;
 }
 
-world::VoxelGrid gridFor(const PointList& cloud, const coverage::FlightStrategy& s, const PointList& more = {}) {
+world::VoxelGrid gridFor(const PointList& cloud, const coverage::FlightStrategy& s,
+                         const PointList& more = {}) {
   PointList extra = more;
   for (const auto& stop : s.stops) extra.push_back(stop.position);
   world::GridOptions o;
@@ -67,10 +68,12 @@ void expectStopsInOrderAndSafe(const SurfaceMission& m, const PointList& cloud) 
     ASSERT_LT(pos, m.waypoints.size()) << "stop " << stop.index << " missing or out of order";
   }
   for (std::size_t i = 0; i + 1 < m.waypoints.size(); ++i) {
-    EXPECT_GE(bruteClearance(cloud, m.waypoints[i], m.waypoints[i + 1]), kRadius) << "segment " << i;
+    EXPECT_GE(bruteClearance(cloud, m.waypoints[i], m.waypoints[i + 1]), kRadius)
+        << "segment " << i;
   }
   for (std::size_t i = 0; i + 1 < m.raw_path.size(); ++i) {
-    EXPECT_GE(bruteClearance(cloud, m.raw_path[i], m.raw_path[i + 1]), kRadius) << "raw segment " << i;
+    EXPECT_GE(bruteClearance(cloud, m.raw_path[i], m.raw_path[i + 1]), kRadius)
+        << "raw segment " << i;
   }
 }
 
@@ -137,7 +140,8 @@ TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   const auto grid = gridFor(cloud, strategy);
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
-  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  const SurfaceMission m =
+      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
   EXPECT_EQ(m.status, SurfaceStatus::Blocked);
   EXPECT_TRUE(m.waypoints.empty());
   EXPECT_TRUE(m.legs.empty());
@@ -147,7 +151,8 @@ TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   EXPECT_NE(m.reason.find("2 of 6 stops"), std::string::npos) << m.reason;
   EXPECT_NE(m.reason.find("1 inside the inflated obstacle space"), std::string::npos) << m.reason;
   EXPECT_NE(m.reason.find("1 outside the gimbal"), std::string::npos) << m.reason;
-  EXPECT_EQ(m.reason.find("does not fit"), std::string::npos) << m.reason;  // not mostly a tight space
+  EXPECT_EQ(m.reason.find("does not fit"), std::string::npos)
+      << m.reason;  // not mostly a tight space
   EXPECT_STREQ(toString(m.status), "blocked");
 }
 
@@ -171,15 +176,16 @@ TEST(MissionPlanner, EnclosedStopIsUnreachable) {
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
   // 1 of 6 stops (17 %) is within the default 25 %: skipped and reported.
-  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  const SurfaceMission m =
+      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
   EXPECT_EQ(m.status, SurfaceStatus::Partial);
   EXPECT_STREQ(toString(m.status), "partial");
   EXPECT_EQ(m.stop_problems[3], StopProblem::Unreachable);
   EXPECT_NE(m.reason.find("1 of 6 stops infeasible: 1 unreachable"), std::string::npos) << m.reason;
   EXPECT_TRUE(m.validation.collision_free);
   for (std::size_t i = 0; i < strategy.stops.size(); ++i) {
-    const bool visited = std::find(m.waypoints.begin(), m.waypoints.end(), strategy.stops[i].position) !=
-                         m.waypoints.end();
+    const bool visited = std::find(m.waypoints.begin(), m.waypoints.end(),
+                                   strategy.stops[i].position) != m.waypoints.end();
     EXPECT_EQ(visited, i != 3) << "stop " << i;
   }
   for (std::size_t i = 0; i + 1 < m.waypoints.size(); ++i) {
@@ -196,14 +202,18 @@ TEST(MissionPlanner, EnclosedStopIsUnreachable) {
 TEST(MissionPlanner, MostStopsInsideInflationSayWhatToChange) {
   const PointList cloud = wall();
   auto strategy = strategyInFront();
-  for (const std::size_t i : {1u, 2u, 3u}) strategy.stops[i].position.x() = 0.4;  // closer than r to the wall
+  for (const std::size_t i : {1u, 2u, 3u})
+    strategy.stops[i].position.x() = 0.4;  // closer than r to the wall
   const auto grid = gridFor(cloud, strategy);
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
-  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  const SurfaceMission m =
+      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
   ASSERT_EQ(m.status, SurfaceStatus::Blocked);
   EXPECT_NE(m.reason.find("3 inside the inflated obstacle space"), std::string::npos) << m.reason;
-  EXPECT_NE(m.reason.find("does not fit at the standoff here: try a smaller uav.inflation_radius_m"), std::string::npos)
+  EXPECT_NE(
+      m.reason.find("does not fit at the standoff here: try a smaller uav.inflation_radius_m"),
+      std::string::npos)
       << m.reason;
 }
 
@@ -237,7 +247,8 @@ TEST(MissionPlanner, FailedLegOrValidationFailsTheSurface) {
   planners::PlannerSettings tight;
   tight.astar.max_expansions = 1;  // legs between stops 1 m apart need more
   auto starved = planners::makePlanner("astar", tight);
-  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *starved, MissionOptions{});
+  const SurfaceMission m =
+      planSurfaceMission(strategy, grid, validator, *starved, MissionOptions{});
   EXPECT_EQ(m.status, SurfaceStatus::Failed);
   EXPECT_NE(m.reason.find("leg 0"), std::string::npos) << m.reason;
   EXPECT_NE(m.reason.find("timeout"), std::string::npos) << m.reason;

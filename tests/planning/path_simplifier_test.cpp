@@ -1,13 +1,13 @@
 #include "uavip/planning/path_simplifier.h"
 
-#include "planners/astar.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
 #include <random>
+
+#include "planners/astar.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::planning {
 namespace {
@@ -32,8 +32,8 @@ TEST(PathSimplifier, ShortcutsKeepEndsLengthAndClearance) {
   const VoxelGrid grid = VoxelGrid::build(cloud, {Vec3(0.0, -2.0, 0.0), Vec3(4.0, 3.5, 2.5)}, o);
   planners::AStarPlanner planner(planners::AStarOptions{});
   const std::vector<std::pair<Vec3, Vec3>> legs = {
-      {Vec3(0.0, 0.0, 1.0), Vec3(4.0, 1.0, 1.0)},    // around the wall
-      {Vec3(0.0, -2.0, 0.5), Vec3(0.5, 3.5, 2.5)},   // along it
+      {Vec3(0.0, 0.0, 1.0), Vec3(4.0, 1.0, 1.0)},   // around the wall
+      {Vec3(0.0, -2.0, 0.5), Vec3(0.5, 3.5, 2.5)},  // along it
       {Vec3(0.3, 0.1, 0.1), Vec3(3.9, 2.8, 1.7)}};
   for (const auto& [a, b] : legs) {
     const PathResult r = planner.plan(grid, a, b);
@@ -48,7 +48,8 @@ TEST(PathSimplifier, ShortcutsKeepEndsLengthAndClearance) {
     // a free line of sight, and keeps the clearance from every measured point.
     std::size_t pos = 0;
     for (std::size_t i = 0; i < s.size(); ++i) {
-      const auto it = std::find(r.path.begin() + static_cast<std::ptrdiff_t>(pos), r.path.end(), s[i]);
+      const auto it =
+          std::find(r.path.begin() + static_cast<std::ptrdiff_t>(pos), r.path.end(), s[i]);
       ASSERT_NE(it, r.path.end());
       const auto next = static_cast<std::size_t>(it - r.path.begin());
       if (i > 0) {
@@ -88,8 +89,10 @@ TEST(PathSimplifier, RandomWorldsRawAndSimplifiedKeepClearance) {
       for (const PointList& path : {r.path, simplifyPath(r.path, grid)}) {
         for (std::size_t i = 0; i + 1 < path.size(); ++i) {
           double d = std::numeric_limits<double>::infinity();
-          for (const auto& p : cloud) d = std::min(d, pointSegmentDistance(p, path[i], path[i + 1]));
-          EXPECT_GE(d, o.inflation_radius_m) << "world " << world << " leg " << k << " segment " << i;
+          for (const auto& p : cloud)
+            d = std::min(d, pointSegmentDistance(p, path[i], path[i + 1]));
+          EXPECT_GE(d, o.inflation_radius_m)
+              << "world " << world << " leg " << k << " segment " << i;
         }
       }
     }

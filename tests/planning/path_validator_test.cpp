@@ -1,16 +1,15 @@
 #include "uavip/planning/path_validator.h"
 
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <random>
+
+#include "uavip/core/geometry.h"
 
 namespace uavip::planning {
 namespace {
@@ -87,7 +86,8 @@ TEST(PathValidator, ThinWallIsCaughtOnTheRightSegment) {
   const ValidationResult ok = validator.validate(around);
   EXPECT_TRUE(ok.collision_free);
   EXPECT_EQ(ok.first_violation_segment, -1);
-  EXPECT_NEAR(ok.min_clearance_m, 1.0, 1e-9);  // from (5, 3, 0) to the wall's top edge point (5, 2, 0)
+  EXPECT_NEAR(ok.min_clearance_m, 1.0,
+              1e-9);  // from (5, 3, 0) to the wall's top edge point (5, 2, 0)
 }
 
 TEST(PathValidator, GrazingAtTheClearanceBoundary) {
@@ -123,7 +123,8 @@ TEST(PathValidator, EmptyCloudAndEmptyPath) {
 
 /// A rectangular surface through `origin` with unit normal n and in-plane axis u
 /// (v = n × u), boundary [0, w] × [0, h], and optionally inlier points on a grid.
-Surface rectangle(int id, const Vec3& origin, const Vec3& n, const Vec3& u, double w, double h, double spacing = 0.0) {
+Surface rectangle(int id, const Vec3& origin, const Vec3& n, const Vec3& u, double w, double h,
+                  double spacing = 0.0) {
   Surface s;
   s.id = id;
   s.plane.normal = n;
@@ -134,12 +135,15 @@ Surface rectangle(int id, const Vec3& origin, const Vec3& n, const Vec3& u, doub
   s.centroid = origin + 0.5 * w * u + 0.5 * h * s.axis_v;
   if (spacing > 0.0) {
     for (double a = 0.0; a <= w + 1e-9; a += spacing)
-      for (double b = 0.0; b <= h + 1e-9; b += spacing) s.inliers.push_back(origin + a * u + b * s.axis_v);
+      for (double b = 0.0; b <= h + 1e-9; b += spacing)
+        s.inliers.push_back(origin + a * u + b * s.axis_v);
   }
   return s;
 }
 
-double pointBox(const Vec3& p, const Vec3& lo, const Vec3& hi) { return (p - p.cwiseMax(lo).cwiseMin(hi)).norm(); }
+double pointBox(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (p - p.cwiseMax(lo).cwiseMin(hi)).norm();
+}
 
 /// Segment–box distance by ternary search (convex along the segment).
 double segmentBox(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi) {
@@ -147,7 +151,10 @@ double segmentBox(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi) 
   auto f = [&](double t) { return pointBox(a + t * (b - a), lo, hi); };
   for (int i = 0; i < 200; ++i) {
     const double m1 = l + (r - l) / 3.0, m2 = r - (r - l) / 3.0;
-    if (f(m1) <= f(m2)) r = m2; else l = m1;
+    if (f(m1) <= f(m2))
+      r = m2;
+    else
+      l = m1;
   }
   return std::min({f(0.0), f(1.0), f(0.5 * (l + r))});
 }
@@ -157,9 +164,10 @@ TEST(PathValidator, ThinSurfaceWallWithoutPointsIsCaughtAndNamed) {
   // near the crossing are missing (only its outer rim was measured).
   Scene scene;
   Surface wall = rectangle(3, Vec3(5, 2, -2), -Vec3::UnitX(), -Vec3::UnitY(), 4.0, 4.0, 0.1);
-  wall.inliers.erase(std::remove_if(wall.inliers.begin(), wall.inliers.end(),
-                                    [](const Vec3& p) { return std::abs(p.y()) < 1.8 && std::abs(p.z()) < 1.8; }),
-                     wall.inliers.end());
+  wall.inliers.erase(
+      std::remove_if(wall.inliers.begin(), wall.inliers.end(),
+                     [](const Vec3& p) { return std::abs(p.y()) < 1.8 && std::abs(p.z()) < 1.8; }),
+      wall.inliers.end());
   scene.cloud = wall.inliers;
   scene.surfaces.push_back(wall);
   const double r = 0.5;
@@ -187,10 +195,12 @@ TEST(PathValidator, ThinSurfaceWallWithoutPointsIsCaughtAndNamed) {
 
 TEST(PathValidator, GrazingSurfacesAndObstaclesAtTheMargin) {
   Scene scene;
-  scene.surfaces.push_back(rectangle(0, Vec3(0, 0, 0), Vec3::UnitZ(), Vec3::UnitX(), 4.0, 4.0));  // floor z = 0
+  scene.surfaces.push_back(
+      rectangle(0, Vec3(0, 0, 0), Vec3::UnitZ(), Vec3::UnitX(), 4.0, 4.0));  // floor z = 0
   Obstacle box;
   box.id = 12;
-  for (int i = 0; i < 8; ++i) box.points.emplace_back(10 + (i & 1) * 1.0, (i & 2) * 1.0, 1 + (i & 4) * 0.5);
+  for (int i = 0; i < 8; ++i)
+    box.points.emplace_back(10 + (i & 1) * 1.0, (i & 2) * 1.0, 1 + (i & 4) * 0.5);
   scene.obstacles.push_back(box);  // [10, 11] × [0, 2] × [1, 3]
   auto world = std::make_shared<const world::CollisionWorld>(scene);
   const double r = 0.6;
@@ -248,9 +258,12 @@ TEST(PathValidator, AgreesWithBruteForceOnRandomWorldsWithObjects) {
       o.id = 10 + k;
       const Vec3 lo(pos(rng), pos(rng), pos(rng));
       const Vec3 hi = lo + Vec3(ext(rng), 1.5 * ext(rng), 2.0 * ext(rng));
-      for (int i = 0; i < 8; ++i) o.points.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+      for (int i = 0; i < 8; ++i)
+        o.points.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
+                              i & 4 ? hi.z() : lo.z());
       scene.obstacles.push_back(o);
-      boxes.push_back({Eigen::Matrix3d::Identity(), Vec3::Zero(), lo, hi, "obstacle " + std::to_string(o.id)});
+      boxes.push_back(
+          {Eigen::Matrix3d::Identity(), Vec3::Zero(), lo, hi, "obstacle " + std::to_string(o.id)});
     }
     for (int i = 0; i < 60; ++i) scene.cloud.emplace_back(pos(rng), pos(rng), pos(rng));
     const PathValidator v(std::make_shared<const world::CollisionWorld>(scene), r);
@@ -266,15 +279,24 @@ TEST(PathValidator, AgreesWithBruteForceOnRandomWorldsWithObjects) {
         std::string name;
         for (const auto& p : scene.cloud) {
           const double d = pointSegmentDistance(p, path[s], path[s + 1]);
-          if (d < seg) { seg = d; name = "cloud"; }
+          if (d < seg) {
+            seg = d;
+            name = "cloud";
+          }
         }
         for (const auto& b : boxes) {
           const double d = segmentBox(b.frame.transpose() * (path[s] - b.origin),
                                       b.frame.transpose() * (path[s + 1] - b.origin), b.lo, b.hi);
-          if (d < seg) { seg = d; name = b.name; }
+          if (d < seg) {
+            seg = d;
+            name = b.name;
+          }
         }
         min = std::min(min, seg);
-        if (seg < r && first < 0) { first = static_cast<int>(s); first_name = name; }
+        if (seg < r && first < 0) {
+          first = static_cast<int>(s);
+          first_name = name;
+        }
       }
       const ValidationResult res = v.validate(path);
       EXPECT_NEAR(res.min_clearance_m, min, 1e-9);

@@ -21,9 +21,15 @@ PointList building(double scale, bool degrees = false) {
   for (int i = 0; i < 4000; ++i) {
     Vec3 p(20.0 * u(rng), 12.0 * u(rng), 9.0 * u(rng));
     switch (i % 3) {  // on a wall x = 0, a wall y = 0, or the roof
-      case 0: p.x() = 0.0; break;
-      case 1: p.y() = 0.0; break;
-      default: p.z() = 9.0; break;
+      case 0:
+        p.x() = 0.0;
+        break;
+      case 1:
+        p.y() = 0.0;
+        break;
+      default:
+        p.z() = 9.0;
+        break;
     }
     if (degrees) {
       cloud.emplace_back(114.17 + p.x() / 111000.0, 22.32 + p.y() / 111000.0, p.z());

@@ -1,7 +1,5 @@
 #include "uavip/preprocess/filters.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/point_cloud.h>
@@ -16,6 +14,8 @@
 #include <set>
 #include <tuple>
 #include <vector>
+
+#include "uavip/core/error.h"
 
 namespace uavip::preprocess {
 namespace {
@@ -34,13 +34,14 @@ PointList noisyPlane(int nx, int ny, double step, double sigma, std::uint32_t se
 TEST(StatisticalOutliers, RemovesFarIsolatedPointsAndKeepsThePlane) {
   PointList cloud = noisyPlane(50, 50, 0.05, 0.005, 7);  // 2.5 m x 2.5 m, 2500 points
   const std::size_t plane_points = cloud.size();
-  const PointList planted = {{1.2, 1.2, 3.0}, {-4.0, 0.5, 0.0}, {0.3, 6.0, -2.0},
-                             {5.0, 5.0, 5.0}, {1.0, -3.0, 1.0}};
+  const PointList planted = {
+      {1.2, 1.2, 3.0}, {-4.0, 0.5, 0.0}, {0.3, 6.0, -2.0}, {5.0, 5.0, 5.0}, {1.0, -3.0, 1.0}};
   for (const auto& p : planted) cloud.push_back(p);
 
   const PointList out = removeStatisticalOutliers(cloud, 16, 2.0);
   for (const auto& p : planted) {
-    for (const auto& q : out) EXPECT_FALSE(q.isApprox(p)) << "planted outlier kept: " << p.transpose();
+    for (const auto& q : out)
+      EXPECT_FALSE(q.isApprox(p)) << "planted outlier kept: " << p.transpose();
   }
   std::size_t kept_plane = 0;
   for (const auto& q : out) kept_plane += std::abs(q.z()) < 0.1 ? 1 : 0;
@@ -74,10 +75,11 @@ PointList mixedScene(std::size_t planted, std::uint32_t seed, PointList* outlier
     cloud.emplace_back(std::min(x, 3.0), 1.5 * u(rng), noise(rng));
   }
   for (int i = 0; i < 30; ++i) {  // wall x = 3.2 m, 3 m x 1.5 m at 10 cm
-    for (int j = 0; j < 15; ++j) cloud.emplace_back(3.2 + noise(rng), 0.1 * i - 0.5, 0.1 * j + 0.05);
+    for (int j = 0; j < 15; ++j)
+      cloud.emplace_back(3.2 + noise(rng), 0.1 * i - 0.5, 0.1 * j + 0.05);
   }
   for (int i = 0; i < 200; ++i) cloud.emplace_back(1.5, -0.3, 0.01 * i);  // pole, 1 cm steps
-  for (int i = 0; i < 20; ++i) cloud.push_back(cloud[1000]);                // duplicates
+  for (int i = 0; i < 20; ++i) cloud.push_back(cloud[1000]);              // duplicates
   for (std::size_t i = 0; i < planted; ++i) {
     const Vec3 p(0.1 + 0.25 * static_cast<double>(i), 0.75, 0.6);
     cloud.push_back(p);
@@ -94,7 +96,8 @@ PointList pclStatisticalOutlierRemoval(const PointList& cloud, int k, double std
   auto pc = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   for (const auto& p : cloud) {
     const Vec3 q = p - lo;
-    pc->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
+    pc->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                                static_cast<float>(q.z())));
   }
   pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
   sor.setInputCloud(pc);
@@ -120,12 +123,14 @@ TEST(StatisticalOutliers, KeepsExactlyThePointsPclKeepsWithAnyThreadCount) {
     ASSERT_GT(cloud.size() - reference.size(), outliers.size() + 20);
     for (const int threads : {1, 2, 3}) {
       const PointList out = removeStatisticalOutliers(cloud, 16, ratio, threads);
-      EXPECT_EQ(out, reference) << "ratio " << ratio << ", " << threads << " threads: " << out.size()
-                                << " kept, PCL keeps " << reference.size();
+      EXPECT_EQ(out, reference) << "ratio " << ratio << ", " << threads
+                                << " threads: " << out.size() << " kept, PCL keeps "
+                                << reference.size();
     }
   }
   const PointList out = removeStatisticalOutliers(cloud, 16, 2.0);
-  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+  for (const auto& p : outliers)
+    EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
 }
 
 TEST(StatisticalOutliers, KeepsExactlyThePointsPclKeepsFarFromTheOrigin) {
@@ -140,7 +145,8 @@ TEST(StatisticalOutliers, KeepsExactlyThePointsPclKeepsFarFromTheOrigin) {
   for (auto& p : outliers) p += base;
   const PointList out = removeStatisticalOutliers(cloud, 16, 2.0, 2);
   EXPECT_EQ(out, pclStatisticalOutlierRemoval(cloud, 16, 2.0));
-  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+  for (const auto& p : outliers)
+    EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
 }
 
 TEST(StatisticalOutliers, AgreesWithABruteForceStatistic) {
@@ -174,7 +180,8 @@ TEST(StatisticalOutliers, AgreesWithABruteForceStatistic) {
     const bool kept = j < out.size() && out[j] == cloud[i];
     if (kept) ++j;
     if (mean_dist[i] > threshold * (1.0 + 1e-5)) {
-      EXPECT_FALSE(kept) << "point " << i << " mean distance " << mean_dist[i] << " > " << threshold;
+      EXPECT_FALSE(kept) << "point " << i << " mean distance " << mean_dist[i] << " > "
+                         << threshold;
       ++checked;
     } else if (mean_dist[i] < threshold * (1.0 - 1e-5)) {
       EXPECT_TRUE(kept) << "point " << i << " mean distance " << mean_dist[i] << " < " << threshold;
@@ -183,7 +190,8 @@ TEST(StatisticalOutliers, AgreesWithABruteForceStatistic) {
   }
   EXPECT_EQ(j, out.size()) << "output is not a subsequence of the input";
   EXPECT_GE(checked, n - 5);
-  for (const auto& p : outliers) EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
+  for (const auto& p : outliers)
+    EXPECT_FALSE(contains(out, p)) << "planted outlier kept: " << p.transpose();
 }
 
 TEST(StatisticalOutliers, BadArgumentsThrow) {
@@ -312,7 +320,7 @@ TEST(Preprocess, BadOptionsThrowNamingTheField) {
 
 TEST(Preprocess, StatsAndStages) {
   PointList cloud = noisyPlane(40, 40, 0.025, 0.001, 5);  // 1 m x 1 m at 2.5 cm
-  for (auto& p : cloud) p += Vec3(0.0125, 0.0125, 0.05);   // away from voxel borders
+  for (auto& p : cloud) p += Vec3(0.0125, 0.0125, 0.05);  // away from voxel borders
   cloud.emplace_back(0.5, 0.5, 4.0);                      // one far outlier
   PreprocessOptions o;
   o.voxel_m = 0.1;

@@ -1,8 +1,4 @@
-#include "uavip/preprocess/cloud_stats.h"
-#include "uavip/preprocess/filters.h"
 #include "uavip/preprocess/neighbour_index.h"
-
-#include "uavip/core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +7,10 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+
+#include "uavip/core/error.h"
+#include "uavip/preprocess/cloud_stats.h"
+#include "uavip/preprocess/filters.h"
 
 namespace uavip::preprocess {
 namespace {
@@ -22,8 +22,10 @@ PointList wallWithStrays(std::size_t n, std::uint32_t seed) {
   std::uniform_real_distribution<double> u(0.0, 2.0);
   std::normal_distribution<double> noise(0.0, 0.003);
   PointList pts;
-  for (std::size_t i = 0; i < n; ++i) pts.emplace_back(4.0e5 + u(rng), 5.0e6 + noise(rng), 120.0 + u(rng));
-  for (int i = 0; i < 20; ++i) pts.emplace_back(4.0e5 + u(rng), 5.0e6 + 0.3 + u(rng), 120.0 + u(rng));
+  for (std::size_t i = 0; i < n; ++i)
+    pts.emplace_back(4.0e5 + u(rng), 5.0e6 + noise(rng), 120.0 + u(rng));
+  for (int i = 0; i < 20; ++i)
+    pts.emplace_back(4.0e5 + u(rng), 5.0e6 + 0.3 + u(rng), 120.0 + u(rng));
   return pts;
 }
 
@@ -43,7 +45,8 @@ TEST(NeighbourIndex, NearestMatchesBruteForce) {
       EXPECT_NEAR((pts[static_cast<std::size_t>(idx[static_cast<std::size_t>(j)])] - pts[i]).norm(),
                   brute[static_cast<std::size_t>(j)], 1e-5)
           << "point " << i << " neighbour " << j;
-      EXPECT_NEAR(std::sqrt(d2[static_cast<std::size_t>(j)]), brute[static_cast<std::size_t>(j)], 1e-5);
+      EXPECT_NEAR(std::sqrt(d2[static_cast<std::size_t>(j)]), brute[static_cast<std::size_t>(j)],
+                  1e-5);
     }
   }
   // Fewer points than k: every point, itself first.
@@ -57,7 +60,8 @@ TEST(NeighbourIndex, NearestMatchesBruteForce) {
 TEST(NeighbourIndex, SharedTreeGivesTheSameFilterAndMeasurement) {
   const PointList pts = wallWithStrays(5000, 9);
   const NeighbourIndex index(pts);
-  EXPECT_EQ(removeStatisticalOutliers(pts, 16, 2.0, 2, &index), removeStatisticalOutliers(pts, 16, 2.0, 2));
+  EXPECT_EQ(removeStatisticalOutliers(pts, 16, 2.0, 2, &index),
+            removeStatisticalOutliers(pts, 16, 2.0, 2));
   const CloudStats own = measureCloud(pts);
   const CloudStats shared = measureCloud(pts, {}, &index);
   EXPECT_EQ(own.spacing_m, shared.spacing_m);

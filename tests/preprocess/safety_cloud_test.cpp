@@ -3,18 +3,19 @@
 
 #include "uavip/preprocess/safety_cloud.h"
 
-#include "uavip/core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
 
+#include "uavip/core/error.h"
+
 namespace uavip::preprocess {
 namespace {
 
-PointList randomCloud(std::size_t n, double extent, std::uint32_t seed, const Vec3& offset = Vec3::Zero()) {
+PointList randomCloud(std::size_t n, double extent, std::uint32_t seed,
+                      const Vec3& offset = Vec3::Zero()) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, extent);
   PointList pts;

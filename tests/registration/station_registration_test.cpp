@@ -2,15 +2,15 @@
 
 #include "uavip/registration/station_registration.h"
 
+#include <gtest/gtest.h>
+
+#include <cmath>
+
 #include "uavip/core/error.h"
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/sim/world_model.h"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
 
 namespace uavip::registration {
 namespace {
@@ -65,7 +65,8 @@ std::vector<StationInput> knownPair(const Eigen::Isometry3d& truth) {
 class KnownTransform : public ::testing::TestWithParam<Method> {};
 
 TEST_P(KnownTransform, RecoversAnOffsetOfThirtyCentimetresAndTwoDegrees) {
-  const Eigen::Isometry3d truth = Eigen::Translation3d(0.3, -0.25, 0.1) * Eigen::AngleAxisd(2.0 * kDeg, Vec3::UnitZ());
+  const Eigen::Isometry3d truth =
+      Eigen::Translation3d(0.3, -0.25, 0.1) * Eigen::AngleAxisd(2.0 * kDeg, Vec3::UnitZ());
   RegistrationOptions o;
   o.method = GetParam();
   const RegistrationResult r = registerStations(knownPair(truth), o);  // initial pose: identity
@@ -139,7 +140,8 @@ TEST(RegisterStations, EmptyStationsAreKeptButSkipped) {
     few.validate("registration");
     ADD_FAILURE() << "no throw";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("registration: normal_k must be >= 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("registration: normal_k must be >= 3"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(methodFromString("sgd"), InputError);
 }
@@ -167,9 +169,11 @@ TEST(RegisterStations, SimulatedStationsMatchTheTruth) {
   for (std::size_t i = 0; i < 3; ++i) {
     // Station frame origin: the UAV centre at the station's first horizontal scan.
     const Vec3 truth = s.truth.stations[i].horizontal_poses.front().translation();
-    worst_initial = std::max(worst_initial, (r.stations[i].initial_pose.translation() - truth).norm());
+    worst_initial =
+        std::max(worst_initial, (r.stations[i].initial_pose.translation() - truth).norm());
     EXPECT_LT((r.stations[i].pose.translation() - truth).norm(), 0.03) << "station " << i;
-    EXPECT_LT(Eigen::AngleAxisd(r.stations[i].pose.linear()).angle(), 0.3 * kDeg) << "station " << i;
+    EXPECT_LT(Eigen::AngleAxisd(r.stations[i].pose.linear()).angle(), 0.3 * kDeg)
+        << "station " << i;
   }
   EXPECT_GT(worst_initial, 0.2);  // the recorded positions alone are far off
   double sum = 0.0;

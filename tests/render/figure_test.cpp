@@ -1,13 +1,14 @@
 // The rendering module: tick values, the data→pixel frame, and pixels read back
 // from the encoded PNG at places computed by hand.
 
-#include "uavip/core/error.h"
 #include "uavip/render/figure.h"
-#include "uavip/render/plot.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "uavip/core/error.h"
+#include "uavip/render/plot.h"
 
 namespace {
 
@@ -98,9 +99,11 @@ TEST(Frame, LogAxisSpacesDecadesEvenlyAndDropsNonPositiveValues) {
   PanelOptions o;
   o.y.scale = Scale::Log10;
   auto& p = fig.addPanel(0, 0, 500, 400, o);
-  p.markers({{1.0, 0.01}, {2.0, 1.0}, {3.0, 100.0}, {4.0, 0.0}, {5.0, -3.0}}, render::markerStyle(render::palette(0)));
+  p.markers({{1.0, 0.01}, {2.0, 1.0}, {3.0, 100.0}, {4.0, 0.0}, {5.0, -3.0}},
+            render::markerStyle(render::palette(0)));
   const render::Frame f = p.frame();
-  const double y1 = f.toPixel({1.0, 0.01}).y(), y2 = f.toPixel({1.0, 1.0}).y(), y3 = f.toPixel({1.0, 100.0}).y();
+  const double y1 = f.toPixel({1.0, 0.01}).y(), y2 = f.toPixel({1.0, 1.0}).y(),
+               y3 = f.toPixel({1.0, 100.0}).y();
   EXPECT_NEAR(y1 - y2, y2 - y3, 1e-9);
   EXPECT_GT(f.y_min, 0.0);
   // x range from the kept points only (1..3 with margins).
@@ -131,7 +134,8 @@ TEST(Figure, PixelsAppearWhereTheFrameSays) {
   const Vec2 in_square = f.toPixel({7.0, 8.0});
   EXPECT_TRUE(near(img.at(static_cast<int>(in_square.x()), static_cast<int>(in_square.y())), blue));
   const Vec2 empty = f.toPixel({3.0, 2.0});
-  EXPECT_TRUE(near(img.at(static_cast<int>(empty.x()), static_cast<int>(empty.y())), render::kWhite));
+  EXPECT_TRUE(
+      near(img.at(static_cast<int>(empty.x()), static_cast<int>(empty.y())), render::kWhite));
   EXPECT_THROW(img.at(300, 0), std::out_of_range);
 }
 
@@ -147,7 +151,8 @@ TEST(Figure, LegendTextAndScaleBarAddInk) {
       o.title = "title";
     }
     auto& p = fig.addPanel(0, 0, 400, 300, o);
-    p.polyline({{0.0, 0.0}, {10.0, 3.0}}, render::lineStyle(render::kBlack), extras ? "a line" : "");
+    p.polyline({{0.0, 0.0}, {10.0, 3.0}}, render::lineStyle(render::kBlack),
+               extras ? "a line" : "");
     return countNot(render::decodePng(fig.png()), render::kWhite);
   };
   EXPECT_GT(make(true), make(false) + 200);
@@ -156,7 +161,8 @@ TEST(Figure, LegendTextAndScaleBarAddInk) {
 TEST(Figure, SvgIsAnSvgDocumentOfTheFigureSize) {
   Figure fig(320, 240);
   auto& p = fig.addPanel(0, 0, 320, 240, PanelOptions{});
-  p.markers({{0.0, 0.0}, {1.0, 1.0}}, render::markerStyle(render::palette(1), render::Marker::Square));
+  p.markers({{0.0, 0.0}, {1.0, 1.0}},
+            render::markerStyle(render::palette(1), render::Marker::Square));
   fig.text(10, 20, "hello");
   const std::string svg = fig.svg();
   EXPECT_NE(svg.find("<svg"), std::string::npos);

@@ -3,16 +3,15 @@
 
 #include "uavip/scan/station_assembler.h"
 
-#include "uavip/scan/drift_refinement.h"
-
-#include "uavip/core/error.h"
-#include "uavip/sim/scanner_sim.h"
-#include "uavip/sim/world_model.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "uavip/core/error.h"
+#include "uavip/scan/drift_refinement.h"
+#include "uavip/sim/scanner_sim.h"
+#include "uavip/sim/world_model.h"
 
 namespace uavip::scan {
 namespace {
@@ -93,9 +92,11 @@ TEST(Eq1, VerticalBeamHandWorked) {
 
 TEST(Eq1, MountAndBodyTransformHandWorked) {
   // Mount: scanner turned 180° about body z, 0.12 m forward, 0.05 m up.
-  const Eigen::Isometry3d mount = Eigen::Translation3d(0.12, 0.0, 0.05) * Eigen::AngleAxisd(kPi, Vec3::UnitZ());
+  const Eigen::Isometry3d mount =
+      Eigen::Translation3d(0.12, 0.0, 0.05) * Eigen::AngleAxisd(kPi, Vec3::UnitZ());
   // Body: at (1, 2, 3), yawed 90°.
-  const Eigen::Isometry3d body = Eigen::Translation3d(1.0, 2.0, 3.0) * Eigen::AngleAxisd(kPi / 2.0, Vec3::UnitZ());
+  const Eigen::Isometry3d body =
+      Eigen::Translation3d(1.0, 2.0, 3.0) * Eigen::AngleAxisd(kPi / 2.0, Vec3::UnitZ());
   // x* = (−1.7320508, 0, −1) → Rz(180°): (1.7320508, 0, −1) → + mount: (1.8520508, 0, −0.95)
   // → Rz(90°): (0, 1.8520508, −0.95) → + body: (1, 3.8520508, 2.05).
   const Vec3 x = verticalBeamToFrame(2.0, 30.0 * kDeg, mount, body);
@@ -191,7 +192,8 @@ TEST(AssembleStation, RecoversWindDriftWithinTolerance) {
   // The truth really drifts: more than 5 cm somewhere, so ignoring it would fail.
   double true_drift = 0.0;
   for (const auto& p : truth.horizontal_poses) {
-    true_drift = std::max(true_drift, (p.translation() - truth.horizontal_poses.front().translation()).norm());
+    true_drift = std::max(true_drift,
+                          (p.translation() - truth.horizontal_poses.front().translation()).norm());
   }
   ASSERT_GT(true_drift, 0.05);
   const StationCloud c = assembleStation(s.log, 0);
@@ -234,7 +236,8 @@ TEST(AssembleStation, LoopClosureIsNotReportedWhenOneWallIsAllTheScannerSees) {
   const StationCloud odo = assembleStation(s.log, 0, odometry_only);
   ASSERT_EQ(odo.poses.size(), one_wall.poses.size());
   for (std::size_t k = 0; k < odo.poses.size(); ++k) {
-    EXPECT_NEAR(one_wall.poses[k].translation().y(), odo.poses[k].translation().y(), 0.01) << "scan " << k;
+    EXPECT_NEAR(one_wall.poses[k].translation().y(), odo.poses[k].translation().y(), 0.01)
+        << "scan " << k;
   }
 }
 
@@ -279,8 +282,8 @@ TEST(AssembleStation, VerticalScansFixTheDriftTheHorizontalScannerCannotSee) {
   AssemblerOptions odometry_only;
   odometry_only.refine_drift = false;
   const StationCloud odo = assembleStation(s.log, 0, odometry_only);
-  EXPECT_LT(odo.loop_closure_m, 0.0);                   // the premise: not measurable in 2D
-  EXPECT_GT(trajectoryError(odo, truth).xy, 0.08);      // and the drift not seen
+  EXPECT_LT(odo.loop_closure_m, 0.0);               // the premise: not measurable in 2D
+  EXPECT_GT(trajectoryError(odo, truth).xy, 0.08);  // and the drift not seen
 
   const StationCloud c = assembleStation(s.log, 0);
   const TrajError e = trajectoryError(c, truth);
@@ -363,9 +366,10 @@ TEST(AssembleStation, BadRawDataIsAnInputErrorNamingTheStation) {
     RawLog log = s.log;  // an IMU gap of 0.2 s (longer than a scan)
     auto& imu = log.stations[0].imu;
     const double t_cut = imu[imu.size() / 2].t_s;
-    imu.erase(std::remove_if(imu.begin(), imu.end(),
-                             [&](const ImuSample& x) { return x.t_s > t_cut && x.t_s < t_cut + 0.2; }),
-              imu.end());
+    imu.erase(
+        std::remove_if(imu.begin(), imu.end(),
+                       [&](const ImuSample& x) { return x.t_s > t_cut && x.t_s < t_cut + 0.2; }),
+        imu.end());
     try {
       assembleStation(log, 0);
       FAIL() << "no throw";
@@ -393,7 +397,8 @@ TEST(AssembleStation, BadRawDataIsAnInputErrorNamingTheStation) {
 TEST(DriftRefinement, NodesAtEqualSharesOfTheSweptYaw) {
   // 0.5 s per sample, yaw −170°, 170°, 150° …: wrapping counts 20° per step, either way.
   const std::vector<double> t{0.0, 0.5, 1.0, 1.5, 2.0};
-  const std::vector<double> yaw{-170.0 * kDeg, 170.0 * kDeg, 150.0 * kDeg, 130.0 * kDeg, 110.0 * kDeg};
+  const std::vector<double> yaw{-170.0 * kDeg, 170.0 * kDeg, 150.0 * kDeg, 130.0 * kDeg,
+                                110.0 * kDeg};
   const std::vector<double> swept = sweptYawDeg(yaw);
   ASSERT_EQ(swept.size(), 5u);
   EXPECT_NEAR(swept.back(), 80.0, 1e-9);

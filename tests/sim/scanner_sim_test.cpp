@@ -59,7 +59,8 @@ TEST(RayRect, HandWorkedCases) {
   // From below: rectangles are two-sided.
   EXPECT_NEAR(intersectRayRect(Vec3(0.5, 0.5, -1), Vec3(0, 0, 1), r), 1.0, 1e-12);
   // 45° down towards +x from (1, 0.5, 1): meets z = 0 at x = 2, the edge (closed set).
-  EXPECT_NEAR(intersectRayRect(Vec3(1, 0.5, 1), Vec3(1, 0, -1).normalized(), r), std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(intersectRayRect(Vec3(1, 0.5, 1), Vec3(1, 0, -1).normalized(), r), std::sqrt(2.0),
+              1e-12);
   // Slightly shallower: meets z = 0 at x = 1 + 1/0.9 > 2, a miss.
   EXPECT_EQ(intersectRayRect(Vec3(1, 0.5, 1), Vec3(0.9, 0, -0.9 * 0.9).normalized(), r), kInf);
   // Parallel to the plane, and pointing away from it.
@@ -213,7 +214,8 @@ TEST(ScanSim, LogFrameHasItsOriginAtStationZero) {
 /// Every return, mapped to the log frame with the given body pose per beam, lies on
 /// the world (shifted by the origin).
 double worstDistance(const WorldModel& w, const SimulatedLog& s,
-                     const std::function<Eigen::Isometry3d(int, bool, const LaserScan&, std::size_t, std::size_t)>& pose) {
+                     const std::function<Eigen::Isometry3d(int, bool, const LaserScan&, std::size_t,
+                                                           std::size_t)>& pose) {
   double worst = 0.0;
   std::size_t returns = 0;
   for (std::size_t st = 0; st < s.log.stations.size(); ++st) {
@@ -226,7 +228,8 @@ double worstDistance(const WorldModel& w, const SimulatedLog& s,
           if (scan.ranges_m[b] == 0.0f) continue;
           ++returns;
           const double alpha = scan.angle_min_rad + static_cast<double>(b) * scan.angle_step_rad;
-          const Vec3 x = pose(static_cast<int>(st), vertical, scan, i, b) * (mount * beamPoint(vertical, scan.ranges_m[b], alpha));
+          const Vec3 x = pose(static_cast<int>(st), vertical, scan, i, b) *
+                         (mount * beamPoint(vertical, scan.ranges_m[b], alpha));
           worst = std::max(worst, w.distanceToTruth(x + s.origin_m));
         }
       }
@@ -258,12 +261,14 @@ TEST(ScanSim, ReturnsMappedWithTruePosesLieOnTheWorld) {
   o.horizontal_mount_m = Vec3(0.1, 0.05, -0.1);
   const SimulatedLog s = simulateScans(w, o);
   double moved = 0.0;
-  for (const auto& T : s.truth.stations[0].vertical_poses) moved = std::max(moved, T.translation().norm());
+  for (const auto& T : s.truth.stations[0].vertical_poses)
+    moved = std::max(moved, T.translation().norm());
   EXPECT_GT(moved, 0.005);  // the wind did push
-  const double worst = worstDistance(w, s, [&](int st, bool vertical, const LaserScan&, std::size_t i, std::size_t) {
-    const auto& t = s.truth.stations[static_cast<std::size_t>(st)];
-    return vertical ? t.vertical_poses[i] : t.horizontal_poses[i];
-  });
+  const double worst =
+      worstDistance(w, s, [&](int st, bool vertical, const LaserScan&, std::size_t i, std::size_t) {
+        const auto& t = s.truth.stations[static_cast<std::size_t>(st)];
+        return vertical ? t.vertical_poses[i] : t.horizontal_poses[i];
+      });
   EXPECT_LT(worst, 1e-4);  // float ranges
 }
 
@@ -280,13 +285,15 @@ TEST(ScanSim, DeskewCastsEachBeamFromItsOwnTime) {
     T.linear() = Eigen::AngleAxisd((10.0 + 90.0 * t) * kDeg, Vec3::UnitZ()).toRotationMatrix();
     return T;
   };
-  const double deskewed = worstDistance(w, s, [&](int, bool, const LaserScan& scan, std::size_t, std::size_t b) {
-    return yawPose(scan.beamTime(b));
-  });
+  const double deskewed =
+      worstDistance(w, s, [&](int, bool, const LaserScan& scan, std::size_t, std::size_t b) {
+        return yawPose(scan.beamTime(b));
+      });
   EXPECT_LT(deskewed, 1e-4);
-  const double at_start = worstDistance(w, s, [&](int, bool, const LaserScan& scan, std::size_t, std::size_t) {
-    return yawPose(scan.t_start_s);
-  });
+  const double at_start =
+      worstDistance(w, s, [&](int, bool, const LaserScan& scan, std::size_t, std::size_t) {
+        return yawPose(scan.t_start_s);
+      });
   EXPECT_GT(at_start, 0.05);  // ignoring the sweep time misplaces far beams
 }
 
@@ -330,9 +337,9 @@ TEST(ScanSim, ImuSamplesStayWithinTheirErrorOfTheTruth) {
   const WorldModel w = smallRoom();
   ScanSimOptions o;
   o.stations = {Vec3(0, 0, 0.5)};
-  o.turn_deg = 45.0;  // 61 scans
+  o.turn_deg = 45.0;         // 61 scans
   o.scanner.fov_deg = 10.0;  // few beams: only the IMU and the truth matter here
-  o.imu_rate_hz = 400.0;  // every 10th sample is at a vertical scan start
+  o.imu_rate_hz = 400.0;     // every 10th sample is at a vertical scan start
   o.imu_error_deg = 0.5;
   const SimulatedLog s = simulateScans(w, o);
   const auto& st = s.log.stations[0];
@@ -389,7 +396,8 @@ TEST(ScanSim, SameSeedSameLogOtherSeedOtherLog) {
       EXPECT_EQ(a.log.stations[s].horizontal[i].ranges_m, b.log.stations[s].horizontal[i].ranges_m);
     }
     EXPECT_EQ(a.log.stations[s].recorded_position, b.log.stations[s].recorded_position);
-    EXPECT_TRUE(a.log.stations[s].imu.back().world_q_body.isApprox(b.log.stations[s].imu.back().world_q_body, 0.0));
+    EXPECT_TRUE(a.log.stations[s].imu.back().world_q_body.isApprox(
+        b.log.stations[s].imu.back().world_q_body, 0.0));
   }
   EXPECT_NE(a.log.stations[0].vertical[0].ranges_m, c.log.stations[0].vertical[0].ranges_m);
   EXPECT_NE(a.log.stations[1].recorded_position, c.log.stations[1].recorded_position);

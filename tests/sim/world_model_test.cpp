@@ -38,7 +38,8 @@ TEST(Tree, TrunkAndCrownBoxesInTheirPlaces) {
   }
   // Every box piece stays well under the 2 m² surface threshold, and so does the
   // tree's whole extent seen from the side (trunk height x crown width).
-  EXPECT_LT(o.trunk_width_m * o.trunk_height_m + std::pow(2 * o.crown_radius_m + o.crown_box_m, 2), 2.0);
+  EXPECT_LT(o.trunk_width_m * o.trunk_height_m + std::pow(2 * o.crown_radius_m + o.crown_box_m, 2),
+            2.0);
 }
 
 TEST(Tree, SeededLayout) {

@@ -5,14 +5,8 @@
 // cloud's and the path's colours where the scene and the mission put them.
 // Without chromium the browser tests are skipped, naming why.
 
-#include "tests/cli/cli_runner.h"
-
-#include "uavip/io/scene_json.h"
-#include "uavip/view/views.h"
-
 #include <cairo.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,9 +18,14 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/cli/cli_runner.h"
+#include "uavip/io/scene_json.h"
+#include "uavip/view/views.h"
 
 namespace {
 
@@ -88,13 +87,15 @@ class MissionPageCli : public ::testing::Test {
 
   /// Headless Chromium on `page` + `hash` with WebGL on SwiftShader; `mode` is
   /// --dump-dom or --screenshot=FILE.
-  static std::string browse(const fs::path& page, const std::string& hash, const std::string& mode) {
+  static std::string browse(const fs::path& page, const std::string& hash,
+                            const std::string& mode) {
     const fs::path profile = dir_ / "profile";
     return capture(chromium() +
-                   " --headless --no-sandbox --use-gl=swiftshader --enable-unsafe-swiftshader --hide-scrollbars"
+                   " --headless --no-sandbox --use-gl=swiftshader --enable-unsafe-swiftshader "
+                   "--hide-scrollbars"
                    " --no-first-run --disable-extensions --mute-audio --window-size=1200,800"
-                   " --virtual-time-budget=30000 --user-data-dir=" + profile.string() + " " + mode + " 'file://" +
-                   page.string() + hash + "'");
+                   " --virtual-time-budget=30000 --user-data-dir=" +
+                   profile.string() + " " + mode + " 'file://" + page.string() + hash + "'");
   }
 
   static inline fs::path dir_;
@@ -118,7 +119,8 @@ TEST_F(MissionPageCli, RunWritesThePageWithTheMissionsNumbers) {
   EXPECT_EQ(page["photos"].get<std::size_t>(), photos);
   EXPECT_EQ(page["waypoints"].get<std::size_t>(), waypoints);
   EXPECT_EQ(page["sorties"].get<std::size_t>(), mission["flight"]["sorties"].size());
-  EXPECT_EQ(page["sorties"].get<std::size_t>(), mission["flight"]["sortie_count"].get<std::size_t>());
+  EXPECT_EQ(page["sorties"].get<std::size_t>(),
+            mission["flight"]["sortie_count"].get<std::size_t>());
   EXPECT_EQ(page["flight_waypoints"].get<std::size_t>(), flight_waypoints);
   EXPECT_EQ(page["surfaces_planned"].get<std::size_t>(), mission["surfaces"].size());
   const uavip::Scene scene = io::loadScene((out() / "scene.json").string());
@@ -136,20 +138,25 @@ TEST_F(MissionPageCli, ViewWritesTheSamePage) {
   EXPECT_NE(r.out.find("mission.html"), std::string::npos) << r.out;
   // The same counts as run's page (the cloud itself comes back from scene.json in
   // another order and rounded to 0.1 mm, so the bytes differ).
-  const std::string from_run = slurp(out() / "mission.html"), from_view = slurp(copy / "mission.html");
+  const std::string from_run = slurp(out() / "mission.html"),
+                    from_view = slurp(copy / "mission.html");
   EXPECT_EQ(block(from_view, "uavip-summary"), block(from_run, "uavip-summary"));
-  const nlohmann::json run_data = block(from_run, "uavip-data"), view_data = block(from_view, "uavip-data");
+  const nlohmann::json run_data = block(from_run, "uavip-data"),
+                       view_data = block(from_view, "uavip-data");
   EXPECT_EQ(view_data["title"], run_data["title"]);
   EXPECT_EQ(view_data["summary_line"], run_data["summary_line"]);
   EXPECT_EQ(view_data["inflation_radius_m"], run_data["inflation_radius_m"]);
   ASSERT_EQ(view_data["paths"].size(), run_data["paths"].size());
   for (std::size_t k = 0; k < run_data["paths"].size(); ++k)
-    EXPECT_EQ(view_data["paths"][k]["waypoints"], run_data["paths"][k]["waypoints"]) << "sortie " << k + 1;
+    EXPECT_EQ(view_data["paths"][k]["waypoints"], run_data["paths"][k]["waypoints"])
+        << "sortie " << k + 1;
   // Deterministic: the same files make the same bytes.
-  const Result again = uavip("view -q " + (copy / "mission.json").string() + " -o " + (dir_ / "again.html").string());
+  const Result again = uavip("view -q " + (copy / "mission.json").string() + " -o " +
+                             (dir_ / "again.html").string());
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_TRUE(slurp(dir_ / "again.html") == from_view) << "two views of the same mission differ";
-  const Result o = uavip("view " + (copy / "mission.json").string() + " -o " + (dir_ / "other.html").string());
+  const Result o =
+      uavip("view " + (copy / "mission.json").string() + " -o " + (dir_ / "other.html").string());
   ASSERT_EQ(o.code, 0) << o.out;
   EXPECT_TRUE(fs::exists(dir_ / "other.html"));
 }
@@ -158,7 +165,8 @@ TEST_F(MissionPageCli, ViewBadInputIsOneLineAndExit2) {
   ASSERT_EQ(run_.code, 0) << run_.out;
   const fs::path lone = dir_ / "lone";
   fs::create_directories(lone);
-  fs::copy_file(out() / "mission.json", lone / "mission.json", fs::copy_options::overwrite_existing);
+  fs::copy_file(out() / "mission.json", lone / "mission.json",
+                fs::copy_options::overwrite_existing);
   Result r = uavip("view " + (lone / "mission.json").string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -175,7 +183,8 @@ TEST_F(MissionPageCli, ViewBadInputIsOneLineAndExit2) {
 
 TEST_F(MissionPageCli, NoViewsWritesNoPage) {
   const fs::path o = dir_ / "noviews";
-  const Result r = uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/single_cube.yaml -q --no-views -o " + o.string());
+  const Result r = uavip("run " + std::string(UAVIP_SOURCE_DIR) +
+                         "/scenarios/single_cube.yaml -q --no-views -o " + o.string());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(o / "mission.json"));
   EXPECT_FALSE(fs::exists(o / "mission.html"));
@@ -187,7 +196,9 @@ TEST_F(MissionPageCli, NoViewsWritesNoPage) {
 struct Image {
   int w{0}, h{0};
   std::vector<std::uint32_t> px;
-  std::uint32_t at(int x, int y) const { return px[static_cast<std::size_t>(y) * w + x] & 0xffffff; }
+  std::uint32_t at(int x, int y) const {
+    return px[static_cast<std::size_t>(y) * w + x] & 0xffffff;
+  }
 };
 
 Image readPng(const fs::path& p) {
@@ -202,19 +213,22 @@ Image readPng(const fs::path& p) {
     img.px.resize(static_cast<std::size_t>(img.w) * img.h);
     for (int y = 0; y < img.h; ++y)
       for (int x = 0; x < img.w; ++x)
-        img.px[static_cast<std::size_t>(y) * img.w + x] = reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
+        img.px[static_cast<std::size_t>(y) * img.w + x] =
+            reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
   }
   cairo_surface_destroy(s);
   return img;
 }
 
 std::uint32_t rgb(const uavip::render::Color& c) {
-  return (static_cast<std::uint32_t>(c.red8()) << 16) | (static_cast<std::uint32_t>(c.green8()) << 8) | c.blue8();
+  return (static_cast<std::uint32_t>(c.red8()) << 16) |
+         (static_cast<std::uint32_t>(c.green8()) << 8) | c.blue8();
 }
 
 bool near(std::uint32_t a, std::uint32_t b, int tol = 8) {
   for (int s = 0; s <= 16; s += 8)
-    if (std::abs(static_cast<int>((a >> s) & 255) - static_cast<int>((b >> s) & 255)) > tol) return false;
+    if (std::abs(static_cast<int>((a >> s) & 255) - static_cast<int>((b >> s) & 255)) > tol)
+      return false;
   return true;
 }
 
@@ -248,22 +262,26 @@ struct Projection {
     const double q[4] = {p.x() - origin[0], p.y() - origin[1], p.z() - origin[2], 1.0};
     double c[4] = {0, 0, 0, 0};
     for (int r = 0; r < 4; ++r)
-      for (int k = 0; k < 4; ++k) c[r] += m[static_cast<std::size_t>(k * 4 + r)] * q[k];  // column-major
-    return {canvas[0] + (c[0] / c[3] + 1.0) / 2.0 * canvas[2], canvas[1] + (1.0 - c[1] / c[3]) / 2.0 * canvas[3],
-            c[2] / c[3]};
+      for (int k = 0; k < 4; ++k)
+        c[r] += m[static_cast<std::size_t>(k * 4 + r)] * q[k];  // column-major
+    return {canvas[0] + (c[0] / c[3] + 1.0) / 2.0 * canvas[2],
+            canvas[1] + (1.0 - c[1] / c[3]) / 2.0 * canvas[3], c[2] / c[3]};
   }
 };
 
 TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
+  if (chromium().empty())
+    GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set "
+                    "UAVIP_CHROMIUM): no browser test";
   const fs::path page = out() / "mission.html";
   const std::string hash = "#view=top&layers=cloud,flight&path=sortie&points=all&canvas=900x600";
   const std::string dom = browse(page, hash, "--dump-dom");
   ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
   EXPECT_EQ(stateAttribute(dom, "data-view"), "top");
   EXPECT_EQ(stateAttribute(dom, "data-path-mode"), "sortie");
-  const Projection proj{numbers(stateAttribute(dom, "data-matrix")), numbers(stateAttribute(dom, "data-origin")),
+  const Projection proj{numbers(stateAttribute(dom, "data-matrix")),
+                        numbers(stateAttribute(dom, "data-origin")),
                         numbers(stateAttribute(dom, "data-canvas"))};
   ASSERT_TRUE(proj.valid()) << dom.substr(0, 400);
 
@@ -293,7 +311,8 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
     // over 7 × 7 px (gaps between points then do not count as cloud-free).
     for (int dy = -3; dy <= 3; ++dy)
       for (int dx = -3; dx <= 3; ++dx) {
-        const int x = static_cast<int>(std::floor(s[0])) + dx, y = static_cast<int>(std::floor(s[1])) + dy;
+        const int x = static_cast<int>(std::floor(s[0])) + dx,
+                  y = static_cast<int>(std::floor(s[1])) + dy;
         if (x < 0 || y < 0 || x >= img.w || y >= img.h) continue;
         const std::size_t k = static_cast<std::size_t>(y) * img.w + x;
         if (s[2] < depth[k]) {
@@ -307,7 +326,8 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   std::vector<std::uint8_t> near_path(img.px.size(), 0);
   std::vector<std::uint32_t> sortie_colour;
   for (std::size_t k = 0; k < mission["flight"]["sorties"].size(); ++k) {
-    sortie_colour.push_back(rgb(uavip::render::palette(static_cast<int>(k)).mix(uavip::render::kBlack, 0.35)));
+    sortie_colour.push_back(
+        rgb(uavip::render::palette(static_cast<int>(k)).mix(uavip::render::kBlack, 0.35)));
     const auto& w = mission["flight"]["sorties"][k]["waypoints"];
     for (std::size_t j = 0; j + 1 < w.size(); ++j) {
       const Vec3 a(w[j][0].get<double>(), w[j][1].get<double>(), w[j][2].get<double>());
@@ -317,7 +337,8 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
         for (int dy = -3; dy <= 3; ++dy)
           for (int dx = -3; dx <= 3; ++dx) {
             const int x = static_cast<int>(s[0]) + dx, y = static_cast<int>(s[1]) + dy;
-            if (x >= 0 && y >= 0 && x < img.w && y < img.h) near_path[static_cast<std::size_t>(y) * img.w + x] = 1;
+            if (x >= 0 && y >= 0 && x < img.w && y < img.h)
+              near_path[static_cast<std::size_t>(y) * img.w + x] = 1;
           }
       }
     }
@@ -348,7 +369,8 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   }
   ASSERT_GE(checked, 50) << "too few cloud pixels to check";
   std::cout << "cloud: " << matched << " of " << checked << " pixels in the scene's colours\n";
-  EXPECT_GE(matched, 0.9 * checked) << matched << " of " << checked << " cloud pixels in the scene's colours";
+  EXPECT_GE(matched, 0.9 * checked)
+      << matched << " of " << checked << " cloud pixels in the scene's colours";
 
   // Path: at the middle of every segment longer than 8 px on screen, a sortie colour
   // within 2 px.
@@ -361,7 +383,8 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
       const Vec3 b(w[j + 1][0].get<double>(), w[j + 1][1].get<double>(), w[j + 1][2].get<double>());
       const auto sa = proj(a), sb = proj(b), sm = proj((a + b) / 2.0);
       if (std::hypot(sa[0] - sb[0], sa[1] - sb[1]) < 8.0) continue;
-      const int x0 = static_cast<int>(std::lround(sm[0])), y0 = static_cast<int>(std::lround(sm[1]));
+      const int x0 = static_cast<int>(std::lround(sm[0])),
+                y0 = static_cast<int>(std::lround(sm[1]));
       if (x0 < 2 || y0 < 2 || x0 >= img.w - 2 || y0 >= img.h - 2) continue;
       ++segments;
       bool any = false, mine = false;
@@ -377,16 +400,22 @@ TEST_F(MissionPageCli, ChromiumDrawsTheTopView) {
   }
   ASSERT_GE(segments, 4) << "too few path segments on screen";
   std::cout << "path: " << found << " of " << segments << " segments in a sortie's colour\n";
-  EXPECT_GE(found, 0.9 * segments) << found << " of " << segments << " path segments show a sortie's colour";
-  for (std::size_t k = 0; k < own.size(); ++k) EXPECT_GT(own[k], 0) << "sortie " << k + 1 << "'s colour is nowhere";
+  EXPECT_GE(found, 0.9 * segments)
+      << found << " of " << segments << " path segments show a sortie's colour";
+  for (std::size_t k = 0; k < own.size(); ++k)
+    EXPECT_GT(own[k], 0) << "sortie " << k + 1 << "'s colour is nowhere";
 }
 
 TEST_F(MissionPageCli, ChromiumOpensEveryView) {
   ASSERT_EQ(run_.code, 0) << run_.out;
-  if (chromium().empty()) GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set UAVIP_CHROMIUM): no browser test";
+  if (chromium().empty())
+    GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set "
+                    "UAVIP_CHROMIUM): no browser test";
   for (const char* view : {"orbit", "front", "side"}) {
-    const std::string dom = browse(out() / "mission.html", std::string("#view=") + view, "--dump-dom");
-    EXPECT_NE(dom.find("<title>ready</title>"), std::string::npos) << view << ": " << dom.substr(0, 300);
+    const std::string dom =
+        browse(out() / "mission.html", std::string("#view=") + view, "--dump-dom");
+    EXPECT_NE(dom.find("<title>ready</title>"), std::string::npos)
+        << view << ": " << dom.substr(0, 300);
     EXPECT_EQ(stateAttribute(dom, "data-view"), view);
     EXPECT_FALSE(stateAttribute(dom, "data-frame-ms").empty()) << view;
   }

@@ -4,16 +4,16 @@
 
 #include "uavip/view/mission_page.h"
 
-#include "uavip/core/error.h"
-#include "uavip/io/mission_json.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "uavip/core/error.h"
+#include "uavip/io/mission_json.h"
 
 namespace {
 
@@ -98,11 +98,16 @@ std::vector<std::uint8_t> unbase64(const std::string& s) {
   int bits = 0;
   for (const char c : s) {
     int v = -1;
-    if (c >= 'A' && c <= 'Z') v = c - 'A';
-    else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') v = c - '0' + 52;
-    else if (c == '+') v = 62;
-    else if (c == '/') v = 63;
+    if (c >= 'A' && c <= 'Z')
+      v = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      v = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      v = c - '0' + 52;
+    else if (c == '+')
+      v = 62;
+    else if (c == '/')
+      v = 63;
     if (v < 0) continue;
     acc = (acc << 6) | static_cast<std::uint32_t>(v);
     bits += 6;
@@ -116,8 +121,10 @@ std::vector<std::uint8_t> unbase64(const std::string& s) {
 
 std::vector<Vec3> decodePositions(const nlohmann::json& data, const std::string& b64) {
   const auto bytes = unbase64(b64);
-  const Vec3 min(data["box_min"][0].get<double>(), data["box_min"][1].get<double>(), data["box_min"][2].get<double>());
-  const Vec3 size(data["box_size"][0].get<double>(), data["box_size"][1].get<double>(), data["box_size"][2].get<double>());
+  const Vec3 min(data["box_min"][0].get<double>(), data["box_min"][1].get<double>(),
+                 data["box_min"][2].get<double>());
+  const Vec3 size(data["box_size"][0].get<double>(), data["box_size"][1].get<double>(),
+                  data["box_size"][2].get<double>());
   std::vector<Vec3> out;
   for (std::size_t i = 0; i + 5 < bytes.size(); i += 6) {
     Vec3 p;
@@ -145,7 +152,7 @@ TEST(MissionPage, EmbedsTheMissionCounts) {
   EXPECT_EQ(summary["scene_surfaces"], 1);
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(html.find("REVISION=\"111\""), std::string::npos);  // three.js r111 is inlined
-  EXPECT_EQ(html.find("<script src"), std::string::npos);          // nothing is loaded
+  EXPECT_EQ(html.find("<script src"), std::string::npos);       // nothing is loaded
 }
 
 TEST(MissionPage, QuantisedPositionsDecodeToTheInputs) {
@@ -157,7 +164,8 @@ TEST(MissionPage, QuantisedPositionsDecodeToTheInputs) {
   ASSERT_EQ(cloud.size(), f.scene.cloud.size());
   double step = 0.0;  // half a quantum on the longest axis [m]
   for (int a = 0; a < 3; ++a) step = std::max(step, data["box_size"][a].get<double>() / 65535.0);
-  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LE((cloud[i] - f.scene.cloud[i]).norm(), step) << i;
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    EXPECT_LE((cloud[i] - f.scene.cloud[i]).norm(), step) << i;
   // Classes: the wall's points are surface points, then the obstacle, then the strays.
   const auto cls = unbase64(data["cloud"]["cls"].get<std::string>());
   ASSERT_EQ(cls.size(), cloud.size());
@@ -183,7 +191,9 @@ TEST(MissionPage, ScriptsStayWholeAndOutputIsDeterministic) {
   const std::string html = view::missionPage(f.scene, f.missions, &f.flight, o);
   // Four script elements: summary, data, three.js, the page; a title cannot close one.
   std::size_t closes = 0;
-  for (auto at = html.find("</script>"); at != std::string::npos; at = html.find("</script>", at + 1)) ++closes;
+  for (auto at = html.find("</script>"); at != std::string::npos;
+       at = html.find("</script>", at + 1))
+    ++closes;
   EXPECT_EQ(closes, 4u);
   EXPECT_NE(html.find("<title>a &lt;/script&gt;&lt;b&gt; title</title>"), std::string::npos);
   EXPECT_EQ(html, view::missionPage(f.scene, f.missions, &f.flight, o));
@@ -202,7 +212,8 @@ TEST(MissionPage, DecimatesTheCloudEvenly) {
   const Fixture f;
   view::MissionPageOptions o;
   o.max_cloud_points = 30;
-  const nlohmann::json summary = block(view::missionPage(f.scene, f.missions, &f.flight, o), "uavip-summary");
+  const nlohmann::json summary =
+      block(view::missionPage(f.scene, f.missions, &f.flight, o), "uavip-summary");
   EXPECT_EQ(summary["cloud_points_drawn"], 30);  // every 3rd of 89
 }
 

@@ -2,7 +2,6 @@
 // mission; the overview picture decoded and checked for size and content.
 
 #include "uavip/view/views.h"
-#include "uavip/render/figure.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,6 +13,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "uavip/render/figure.h"
 
 namespace {
 
@@ -197,7 +198,8 @@ std::size_t near(const render::Raster& r, const render::Color& want, int x_max) 
   for (int y = 0; y < r.height; ++y)
     for (int x = 0; x < std::min(x_max, r.width); ++x) {
       const render::Color c = r.at(x, y);
-      n += std::abs(c.r - want.r) < 0.03 && std::abs(c.g - want.g) < 0.03 && std::abs(c.b - want.b) < 0.03;
+      n += std::abs(c.r - want.r) < 0.03 && std::abs(c.g - want.g) < 0.03 &&
+           std::abs(c.b - want.b) < 0.03;
     }
   return n;
 }
@@ -218,7 +220,7 @@ TEST(Views, OverviewHasTheSizeAndShowsTheMission) {
   EXPECT_EQ(colourful(bare, views), 0u);
   EXPECT_GT(colourful(full, views), 300u);
   EXPECT_GT(near(full, view::surfaceColor(0), views), 10u);  // stops in the wall's colour
-  EXPECT_GT(near(full, render::kRed, views), 5u);           // the infeasible stop's cross
+  EXPECT_GT(near(full, render::kRed, views), 5u);            // the infeasible stop's cross
 }
 
 TEST(Views, WriteViewsWritesItsFourFilesAtomically) {

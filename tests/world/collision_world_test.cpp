@@ -1,15 +1,14 @@
 #include "uavip/world/collision_world.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::world {
 namespace {
@@ -40,7 +39,10 @@ double segmentBox(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi) 
   auto f = [&](double t) { return pointBox(a + t * (b - a), lo, hi); };
   for (int i = 0; i < 200; ++i) {
     const double m1 = l + (r - l) / 3.0, m2 = r - (r - l) / 3.0;
-    if (f(m1) <= f(m2)) r = m2; else l = m1;
+    if (f(m1) <= f(m2))
+      r = m2;
+    else
+      l = m1;
   }
   return std::min({f(0.0), f(1.0), f(0.5 * (l + r))});
 }
@@ -100,7 +102,8 @@ TEST(CollisionWorld, SlabDistanceMatchesAnIndependentBoxDistance) {
     for (int k = 0; k < 40; ++k) {
       const Vec3 a(coord(rng), coord(rng), coord(rng));
       const Vec3 b = k % 5 == 0 ? a : Vec3(coord(rng), coord(rng), coord(rng));
-      const double ref = segmentBox(frame.transpose() * (a - origin), frame.transpose() * (b - origin), lo, hi);
+      const double ref =
+          segmentBox(frame.transpose() * (a - origin), frame.transpose() * (b - origin), lo, hi);
       const double r = 0.4;
       const Proximity p = world.proximity(a, b, r);
       EXPECT_NEAR(p.distance_m, ref, 1e-9) << "world " << w << " segment " << k;
@@ -197,7 +200,8 @@ TEST(CollisionWorld, SegmentsReachingFarBeyondTheCloudStayExact) {
     const double reach = k % 2 == 0 ? 50.0 : 5e4;  // metres beyond the cloud
     const Vec3 through(u(rng), u(rng), u(rng));
     const Vec3 d = Vec3(dir(rng), dir(rng), dir(rng)).normalized();
-    const Vec3 a = through - reach * d, b = through + (k % 3 == 0 ? 1.0 : reach) * d + Vec3(0, 0, 0.2 * (k % 4));
+    const Vec3 a = through - reach * d,
+               b = through + (k % 3 == 0 ? 1.0 : reach) * d + Vec3(0, 0, 0.2 * (k % 4));
     double brute = std::numeric_limits<double>::infinity();
     for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
     const Proximity p = world.proximity(a, b, 0.5);

@@ -1,17 +1,15 @@
 // Obstacle solids of the collision world: the 3D convex hull of a cluster that spans a
 // volume, the oriented box (min thickness) of flat, linear and tiny clusters.
-#include "uavip/world/collision_world.h"
-
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+
+#include "uavip/core/geometry.h"
+#include "uavip/world/collision_world.h"
 
 namespace uavip::world {
 namespace {
@@ -44,10 +42,12 @@ double pointPrism(const Vec3& p) {
   const Eigen::Vector2d q(p.x(), p.y());
   double d_xy = 0.0;
   if (!(q.x() >= 0.0 && q.y() >= 0.0 && q.x() + q.y() <= 2.0)) {
-    const std::array<Eigen::Vector2d, 3> c{Eigen::Vector2d(0, 0), Eigen::Vector2d(2, 0), Eigen::Vector2d(0, 2)};
+    const std::array<Eigen::Vector2d, 3> c{Eigen::Vector2d(0, 0), Eigen::Vector2d(2, 0),
+                                           Eigen::Vector2d(0, 2)};
     d_xy = kInf;
     for (int e = 0; e < 3; ++e) {
-      const Eigen::Vector2d a = c[static_cast<std::size_t>(e)], b = c[static_cast<std::size_t>((e + 1) % 3)];
+      const Eigen::Vector2d a = c[static_cast<std::size_t>(e)],
+                            b = c[static_cast<std::size_t>((e + 1) % 3)];
       const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
       d_xy = std::min(d_xy, (q - (a + t * (b - a))).norm());
     }
@@ -63,7 +63,10 @@ double segmentPrism(const Vec3& a, const Vec3& b) {
   double l = 0.0, r = 1.0;
   for (int i = 0; i < 200; ++i) {
     const double m1 = l + (r - l) / 3.0, m2 = r - (r - l) / 3.0;
-    if (f(m1) <= f(m2)) r = m2; else l = m1;
+    if (f(m1) <= f(m2))
+      r = m2;
+    else
+      l = m1;
   }
   return std::min({f(0.0), f(1.0), f(0.5 * (l + r))});
 }
@@ -119,7 +122,8 @@ TEST(ObstacleSolid, RotatedLHullDistanceMatchesThePrismAndNeverExceedsThePoints)
   // The L cluster rotated and moved to bridge-like coordinates; the solid must be
   // its convex hull (the prism), never farther than the nearest point.
   const Eigen::Matrix3d rot =
-      (Eigen::AngleAxisd(0.7, Vec3::UnitZ()) * Eigen::AngleAxisd(0.3, Vec3(1, 2, 0).normalized())).toRotationMatrix();
+      (Eigen::AngleAxisd(0.7, Vec3::UnitZ()) * Eigen::AngleAxisd(0.3, Vec3(1, 2, 0).normalized()))
+          .toRotationMatrix();
   const Vec3 offset(12.0, 3.5, 0.1);
   PointList pts;
   for (const auto& p : lCluster()) pts.push_back(rot * p + offset);
@@ -154,7 +158,8 @@ TEST(ObstacleSolid, NoisyClustersAreContainedAndBuiltQuietly) {
     Obstacle o;
     o.id = c;
     const Vec3 centre(1000.0 + 3.0 * c, -500.0, 20.0);
-    for (int i = 0; i < 60 + 40 * c; ++i) o.points.push_back(centre + Vec3(noise(rng), noise(rng), 2.0 * noise(rng)));
+    for (int i = 0; i < 60 + 40 * c; ++i)
+      o.points.push_back(centre + Vec3(noise(rng), noise(rng), 2.0 * noise(rng)));
     scene.obstacles.push_back(o);
   }
   testing::internal::CaptureStderr();

@@ -1,8 +1,5 @@
 #include "uavip/world/voxel_grid.h"
 
-#include "uavip/core/error.h"
-#include "uavip/core/geometry.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +7,9 @@
 #include <limits>
 #include <map>
 #include <random>
+
+#include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 
 namespace uavip::world {
 namespace {
@@ -110,9 +110,9 @@ TEST(VoxelGrid, BoundsCoverCloudAndExtraWithPadding) {
     EXPECT_GT(g.origin()[a], lo[a] - o.resolution_m - 1e-12);
     EXPECT_LT(g.origin()[a] + g.dims()[a] * o.resolution_m, hi[a] + o.resolution_m + 1e-9);
   }
-  EXPECT_EQ(g.voxelCount(),
-            static_cast<std::size_t>(g.dims()[0]) * static_cast<std::size_t>(g.dims()[1]) *
-                static_cast<std::size_t>(g.dims()[2]));
+  EXPECT_EQ(g.voxelCount(), static_cast<std::size_t>(g.dims()[0]) *
+                                static_cast<std::size_t>(g.dims()[1]) *
+                                static_cast<std::size_t>(g.dims()[2]));
   EXPECT_TRUE(g.isBlocked(Index3{-1, 0, 0}));
   EXPECT_TRUE(g.isBlocked(Index3{0, g.dims()[1], 0}));
 }
@@ -127,7 +127,8 @@ TEST(VoxelGrid, AsAFreeSpaceItIsItsBoxAndItsContentHasOneId) {
   // The box is the voxels' box; outside it nothing is free.
   const Aabb box = space.bounds();
   EXPECT_EQ(box.min, g.origin());
-  EXPECT_EQ(g.indexOf(box.max - Vec3::Constant(1e-9)), (Index3{g.dims()[0] - 1, g.dims()[1] - 1, g.dims()[2] - 1}));
+  EXPECT_EQ(g.indexOf(box.max - Vec3::Constant(1e-9)),
+            (Index3{g.dims()[0] - 1, g.dims()[1] - 1, g.dims()[2] - 1}));
   EXPECT_FALSE(space.isFree(box.max + Vec3::Constant(1e-9)));
   EXPECT_FALSE(space.isFree(box.min - Vec3::Constant(1e-9)));
   std::mt19937 rng(3);

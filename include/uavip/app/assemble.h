@@ -7,17 +7,16 @@
 /// scenario with sensing mode `scan`, and the bridge benchmark call this; nothing
 /// here prints.
 
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <optional>
+#include <vector>
+
 #include "uavip/app/pipeline.h"
 #include "uavip/core/raw_log.h"
 #include "uavip/registration/station_registration.h"
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/world_model.h"
-
-#include <Eigen/Geometry>
-
-#include <cstddef>
-#include <optional>
-#include <vector>
 
 namespace uavip::app {
 
@@ -31,17 +30,18 @@ struct AssembleOptions {
 /// What stages 1–2 did at one station (cloud.report.json, `stations[]`).
 struct StationReport {
   int id{0};
-  std::size_t points{0};              ///< points of the station cloud
-  std::size_t invalid_beams{0};       ///< vertical beams skipped (no return, out of range)
+  std::size_t points{0};         ///< points of the station cloud
+  std::size_t invalid_beams{0};  ///< vertical beams skipped (no return, out of range)
   std::size_t keyframes{0};
   double mean_icp_iterations{0.0};
-  double loop_closure_m{-1.0};        ///< first vs last horizontal scan (paper: 10 cm); −1 if < 2 scans or unobservable
-  double drift_final_m{0.0};          ///< estimated UAV displacement at the last scan (wind) [m]
-  double drift_max_m{0.0};            ///< largest estimated displacement during the turn [m]
+  double loop_closure_m{
+      -1.0};  ///< first vs last horizontal scan (paper: 10 cm); −1 if < 2 scans or unobservable
+  double drift_final_m{0.0};  ///< estimated UAV displacement at the last scan (wind) [m]
+  double drift_max_m{0.0};    ///< largest estimated displacement during the turn [m]
   Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};  ///< from the recorded position
   Eigen::Isometry3d pose{Eigen::Isometry3d::Identity()};          ///< after registration
-  bool registered{false};             ///< registration converged (station 0: true)
-  double registration_rms_m{0.0};     ///< ICP pair RMS [m]
+  bool registered{false};          ///< registration converged (station 0: true)
+  double registration_rms_m{0.0};  ///< ICP pair RMS [m]
   /// Stage 2's information per direction (registration::StationResult::information):
   /// effective point-to-plane pairs, ascending, and the weakest direction.
   Vec3 registration_information{Vec3::Zero()};
@@ -52,32 +52,35 @@ struct StationReport {
   double assembly_s{0.0};
   double registration_s{0.0};
   // With the ground truth:
-  std::optional<double> drift_error_max_m;   ///< max |estimated − true displacement| over the turn [m]
-  std::optional<double> drift_error_rms_m;   ///< RMS of the same [m]
-  std::optional<double> true_drift_max_m;    ///< largest true displacement during the turn [m]
+  std::optional<double>
+      drift_error_max_m;  ///< max |estimated − true displacement| over the turn [m]
+  std::optional<double> drift_error_rms_m;     ///< RMS of the same [m]
+  std::optional<double> true_drift_max_m;      ///< largest true displacement during the turn [m]
   std::optional<double> initial_pose_error_m;  ///< |recorded − true station position| [m]
-  std::optional<double> pose_error_m;        ///< |registered − true station position| [m]
-  std::optional<double> pose_error_deg;      ///< rotation error of the registered station [deg]
+  std::optional<double> pose_error_m;          ///< |registered − true station position| [m]
+  std::optional<double> pose_error_deg;        ///< rotation error of the registered station [deg]
 };
 
 /// The merged cloud and the report.
 struct AssembleResult {
-  PointList cloud;                    ///< merged, in the log frame (station 0) [m]
+  PointList cloud;  ///< merged, in the log frame (station 0) [m]
   std::vector<StationReport> stations;
-  std::size_t station_points{0};      ///< points of all station clouds before merging
-  double assembly_s{0.0};             ///< stage 1 wall time [s]
-  double registration_s{0.0};         ///< stage 2 wall time [s]
+  std::size_t station_points{0};  ///< points of all station clouds before merging
+  double assembly_s{0.0};         ///< stage 1 wall time [s]
+  double registration_s{0.0};     ///< stage 2 wall time [s]
   double total_s{0.0};
-  std::optional<double> rms_to_truth_m;      ///< RMS distance of the merged cloud to the true surfaces [m]
-  std::optional<double> p95_to_truth_m;      ///< 95th percentile of the same [m]
-  std::size_t scored_points{0};              ///< points used for the two above (an even subsample)
+  std::optional<double>
+      rms_to_truth_m;  ///< RMS distance of the merged cloud to the true surfaces [m]
+  std::optional<double> p95_to_truth_m;  ///< 95th percentile of the same [m]
+  std::size_t scored_points{0};          ///< points used for the two above (an even subsample)
 };
 
 /// Runs stages 1–2. `truth` (true poses) and `world` (the true surfaces in the log
 /// frame) are optional and only score. Throws InputError for bad raw data (see
 /// scan::assembleStation) or when no station has any point.
-AssembleResult assemble(const RawLog& log, const AssembleOptions& options = {}, const RawLogTruth* truth = nullptr,
-                        const sim::WorldModel* world = nullptr, const Progress& progress = {});
+AssembleResult assemble(const RawLog& log, const AssembleOptions& options = {},
+                        const RawLogTruth* truth = nullptr, const sim::WorldModel* world = nullptr,
+                        const Progress& progress = {});
 
 /// Sensing mode `scan` for `uavip run`: simulate the scenario's raw scans
 /// (sim::simulateScans), assemble them, and return the merged cloud shifted back

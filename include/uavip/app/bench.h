@@ -8,15 +8,15 @@
 /// records and their four report formats (OMPL log, CSV, Markdown, plot) are owned
 /// by app/bench_report.h. Nothing here prints.
 
-#include "uavip/app/pipeline.h"
-#include "uavip/app/bench_report.h"
-#include "uavip/app/scenario.h"
-#include "planners/registry.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "planners/registry.h"
+#include "uavip/app/bench_report.h"
+#include "uavip/app/pipeline.h"
+#include "uavip/app/scenario.h"
 
 namespace uavip::app {
 
@@ -30,7 +30,8 @@ using app::TargetCheck;
 
 /// Each surface's photo-stop positions (stage 6, planFlightStrategy), in scene order
 /// [m]: what sampleLegs draws its legs between.
-std::vector<PointList> stopsBySurface(const Scene& scene, const coverage::CoverageOptions& coverage);
+std::vector<PointList> stopsBySurface(const Scene& scene,
+                                      const coverage::CoverageOptions& coverage);
 
 /// The legs of a scenario: its `bench.legs`, or up to `bench.max_legs` legs sampled
 /// deterministically (seeded) between free photo stops of different surfaces whose

@@ -6,13 +6,13 @@
 /// summary per scenario and planner, and a plot of time against path length.
 /// app/bench.h measures; app/bench_stats.h summarises; this file writes.
 
-#include "uavip/core/types.h"
-#include "uavip/render/figure.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/render/figure.h"
 
 namespace uavip::app {
 
@@ -22,7 +22,7 @@ struct BenchOptions {
   int runs{5};                        ///< runs per planner and leg
   double time_limit_s{1.0};           ///< budget per run of an OMPL planner [s]
   bool simplify{true};                ///< simplify every path (OMPL PathSimplifier, no B-spline)
-  std::uint32_t seed{1};              ///< OMPL's global seed (first seed of the process wins) and leg sampling
+  std::uint32_t seed{1};  ///< OMPL's global seed (first seed of the process wins) and leg sampling
   /// Most planning time the bench may take in the worst case (every run using its whole
   /// time limit): legs × planners × runs × time_limit_s, checked before planning [s].
   double max_total_s{4.0 * 3600.0};
@@ -45,23 +45,24 @@ struct BenchLeg {
 
 /// One run of one planner on one leg.
 struct BenchRun {
-  int leg{0};                 ///< BenchLeg::id
+  int leg{0};  ///< BenchLeg::id
   int scenario{0};
-  std::string planner;        ///< registry name
-  std::string ompl_name;      ///< e.g. "RRTConnect" (the log's planner is geometric_<ompl_name>)
-  int status{0};              ///< index into planners::plannerStatusNames()
-  bool solved{false};         ///< exact solution
+  std::string planner;    ///< registry name
+  std::string ompl_name;  ///< e.g. "RRTConnect" (the log's planner is geometric_<ompl_name>)
+  int status{0};          ///< index into planners::plannerStatusNames()
+  bool solved{false};     ///< exact solution
   bool approximate{false};
-  double time_s{0.0};         ///< solve time [s]
-  double simplify_time_s{0.0};///< [s]
-  double raw_length_m{0.0};   ///< the planner's path [m]
-  double length_m{0.0};       ///< the final (simplified) path [m]
+  double time_s{0.0};           ///< solve time [s]
+  double simplify_time_s{0.0};  ///< [s]
+  double raw_length_m{0.0};     ///< the planner's path [m]
+  double length_m{0.0};         ///< the final (simplified) path [m]
   std::size_t raw_waypoints{0};
-  std::size_t waypoints{0};   ///< vertices of the final path
+  std::size_t waypoints{0};  ///< vertices of the final path
   std::size_t graph_states{0};
   std::size_t graph_motions{0};
-  double min_clearance_m{0.0};///< final path vs the clean cloud (PathValidator) [m]; nan if unsolved
-  bool valid{false};          ///< validator verdict on the final path (false if unsolved)
+  double min_clearance_m{
+      0.0};           ///< final path vs the clean cloud (PathValidator) [m]; nan if unsolved
+  bool valid{false};  ///< validator verdict on the final path (false if unsolved)
 };
 
 /// Summary of one planner on one scenario (or on every scenario: scenario = "all").
@@ -71,14 +72,16 @@ struct PlannerSummary {
   std::size_t runs{0};
   std::size_t solved{0};
   double success_pct{0.0};
-  double median_time_s{0.0};         ///< solve + simplification of solved runs [s]
-  double median_length_m{0.0};       ///< final path of solved runs [m]
-  double length_ratio_to_best{0.0};  ///< median over legs of (median length / best planner's median length)
-  double time_ratio_to_astar{0.0};   ///< median time / the paper A*'s median time (nan without astar)
-  double length_ratio_to_astar{0.0}; ///< median over legs of length / the A*'s (nan without astar)
-  double min_clearance_m{0.0};       ///< smallest clearance over solved runs [m]
+  double median_time_s{0.0};    ///< solve + simplification of solved runs [s]
+  double median_length_m{0.0};  ///< final path of solved runs [m]
+  double length_ratio_to_best{
+      0.0};  ///< median over legs of (median length / best planner's median length)
+  double time_ratio_to_astar{
+      0.0};  ///< median time / the paper A*'s median time (nan without astar)
+  double length_ratio_to_astar{0.0};  ///< median over legs of length / the A*'s (nan without astar)
+  double min_clearance_m{0.0};        ///< smallest clearance over solved runs [m]
   double median_waypoints{0.0};
-  std::size_t invalid{0};            ///< solved runs the validator rejected
+  std::size_t invalid{0};  ///< solved runs the validator rejected
 };
 
 /// The planner target on one scenario: the grid A* must plan legs as short as the
@@ -87,33 +90,34 @@ struct PlannerSummary {
 /// shortest median length; "as short" compares the two medians (1 mm tolerance).
 struct TargetCheck {
   std::string scenario;
-  std::string ours;               ///< our planner with the shortest median length
-  std::string best_ompl;          ///< OMPL planner with the shortest median length
+  std::string ours;       ///< our planner with the shortest median length
+  std::string best_ompl;  ///< OMPL planner with the shortest median length
   double ours_length_m{0.0}, ompl_length_m{0.0};
   double ours_time_s{0.0}, ompl_time_s{0.0};
-  double leg_length_ratio{0.0};   ///< median over legs of ours' / theirs' per-leg median length
-  bool as_short{false};           ///< leg_length_ratio ≤ 1 (per-leg medians), with at least its success
-  bool tenth_time{false};         ///< ours_time ≤ ompl_time / 10
+  double leg_length_ratio{0.0};  ///< median over legs of ours' / theirs' per-leg median length
+  bool as_short{false};    ///< leg_length_ratio ≤ 1 (per-leg medians), with at least its success
+  bool tenth_time{false};  ///< ours_time ≤ ompl_time / 10
   bool holds() const { return as_short && tenth_time; }
 };
 
 /// Everything a benchmark measured.
 struct BenchResult {
-  std::vector<std::string> scenarios;   ///< scenario names, in input order
+  std::vector<std::string> scenarios;  ///< scenario names, in input order
   std::vector<BenchLeg> legs;
   std::vector<BenchRun> runs;           ///< ordered by planner, then scenario, leg, run
   std::vector<std::string> planners;    ///< registry names, in order
   std::vector<PlannerSummary> summary;  ///< per scenario and planner, then "all"
   std::vector<TargetCheck> targets;     ///< per scenario (when astar* and an OMPL planner ran)
   BenchOptions options;
-  double total_s{0.0};                  ///< wall time of the whole benchmark [s]
-  double planning_s{0.0};               ///< wall time spent in the runs [s]
-  std::string start_time;               ///< local time the benchmark started, "YYYY-MM-DD HH:MM:SS"
+  double total_s{0.0};     ///< wall time of the whole benchmark [s]
+  double planning_s{0.0};  ///< wall time spent in the runs [s]
+  std::string start_time;  ///< local time the benchmark started, "YYYY-MM-DD HH:MM:SS"
 };
 
 /// The OMPL benchmark log (format of ompl::tools::Benchmark, one experiment; the
 /// first line is "OMPL version <OMPL's version>" since Debian's OMPL_VERSION is empty).
-std::string benchLog(const BenchResult& result, const std::string& experiment_name, const std::string& host);
+std::string benchLog(const BenchResult& result, const std::string& experiment_name,
+                     const std::string& host);
 
 /// One CSV row per summary entry, with a header.
 std::string benchCsv(const BenchResult& result);

@@ -4,23 +4,25 @@
 /// to the best planner and to the paper's A* leg by leg) and the issue-4 target check.
 /// Pure functions of the runs; app/bench.h calls them, app/bench_report.h writes them.
 
-#include "uavip/app/bench_report.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "uavip/app/bench_report.h"
 
 namespace uavip::app {
 
 /// One summary per planner of `planners` (in that order) over `runs`, labelled
 /// `scenario`. Lengths and times are those of solved runs; ratios are medians over
 /// legs of per-leg median lengths (nan when no leg is comparable).
-std::vector<app::PlannerSummary> summarise(const std::string& scenario, const std::vector<app::BenchRun>& runs,
-                                          const std::vector<std::string>& planners);
+std::vector<app::PlannerSummary> summarise(const std::string& scenario,
+                                           const std::vector<app::BenchRun>& runs,
+                                           const std::vector<std::string>& planners);
 
 /// Our best A* against the best OMPL planner on one scenario; nullopt unless both
 /// sides solved at least one run.
-std::optional<app::TargetCheck> checkTarget(const std::string& scenario, const std::vector<app::BenchRun>& runs,
-                                           const std::vector<app::PlannerSummary>& summary);
+std::optional<app::TargetCheck> checkTarget(const std::string& scenario,
+                                            const std::vector<app::BenchRun>& runs,
+                                            const std::vector<app::PlannerSummary>& summary);
 
 }  // namespace uavip::app

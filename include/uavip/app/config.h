@@ -19,8 +19,8 @@
 ///                                            aligned with the cells cannot alias
 ///                                            (area = occupied cells × cell²)
 ///   perception.min_inliers                 = 30                      a plane needs support
-///   perception.open_voxel_m                = max(0.1, 2 s')          openness rays (no sensor known)
-///   perception.viewpoint                   = the origin when the cloud is one scan from
+///   perception.open_voxel_m                = max(0.1, 2 s')          openness rays (no sensor
+///   known) perception.viewpoint                   = the origin when the cloud is one scan from
 ///                                            it (cloud_stats.h scanned_from_origin): each
 ///                                            normal faces it; otherwise none (openness)
 ///   grid.resolution_m                      = max(0.2, the edge that keeps the grid
@@ -35,17 +35,17 @@
 /// Derived, never set directly: the area cell from the sensing spacing of a
 /// synthetic scenario (a lattice), grid inflation from the UAV.
 
-#include "uavip/app/scenario.h"
-#include "uavip/preprocess/cloud_stats.h"
-
 #include <string>
 #include <vector>
+
+#include "uavip/app/scenario.h"
+#include "uavip/preprocess/cloud_stats.h"
 
 namespace uavip::app {
 
 /// One resolved parameter, for the printout and scene.json.
 struct ResolvedValue {
-  std::string key;     ///< "preprocess.voxel_m"
+  std::string key;  ///< "preprocess.voxel_m"
   double value{0.0};
   std::string source;  ///< "set", "auto: max(0.05, spacing)", "default"
 };

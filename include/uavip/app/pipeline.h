@@ -5,19 +5,19 @@
 /// stage 7 (planning), with per-stage wall times. The CLI and the benchmark call
 /// these; nothing here prints.
 
-#include "uavip/app/config.h"
-#include "uavip/app/scenario.h"
-#include "uavip/preprocess/cloud_stats.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
-#include "uavip/preprocess/filters.h"
-
 #include <cstddef>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "uavip/app/config.h"
+#include "uavip/app/scenario.h"
+#include "uavip/planning/flight_planner.h"
+#include "uavip/planning/mission_planner.h"
+#include "uavip/preprocess/cloud_stats.h"
+#include "uavip/preprocess/filters.h"
 
 namespace uavip::app {
 
@@ -38,7 +38,7 @@ struct StageTimes {
 
 /// Stages 3–5 on a raw cloud.
 struct DetectResult {
-  ResolvedConfig resolved;        ///< the config the stages ran with (app/config.h)
+  ResolvedConfig resolved;  ///< the config the stages ran with (app/config.h)
   preprocess::PreprocessStats preprocess;
   Scene scene;
   StageTimes times;
@@ -89,8 +89,9 @@ preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenar
 /// Runs stages 3–5 with the config resolved for `cloud` (app/config.h); `index`
 /// (from measure() on this very `raw`) spares stage 3 building its own. Throws
 /// InputError for an empty cloud or non-finite points.
-DetectResult detect(const PointList& raw, const app::Config& config, const preprocess::CloudStats& cloud,
-                    const Progress& progress = {}, const CloudIndex& index = nullptr);
+DetectResult detect(const PointList& raw, const app::Config& config,
+                    const preprocess::CloudStats& cloud, const Progress& progress = {},
+                    const CloudIndex& index = nullptr);
 
 /// The config resolved for a scene read back from scene.json: with the cloud
 /// numbers it was detected with (scene.measured), else measured on its points.
@@ -117,7 +118,8 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
 /// distance: coverage.standoff_m when set, else the one the camera's GSD implies.
 /// Throws InputError for a bad camera or a viewing distance inside the clearance.
 /// A structure with no free viewpoint gives a mission with status blocked.
-PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress = {});
+PlanResult planStructure(const Scene& scene, const app::Config& config,
+                         const Progress& progress = {});
 
 /// Senses the scenario's world: mode `sample` samples its surfaces; mode `scan`
 /// simulates the raw scans and runs stages 1–2 on them (app/assemble.h, senseScans),

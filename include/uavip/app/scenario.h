@@ -4,9 +4,16 @@
 /// is strict: an unknown key, a wrong type, a missing required field or a bad value
 /// throws InputError naming the file, the key path and the value.
 
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "planners/registry.h"
 #include "uavip/core/types.h"
-#include "uavip/io/cloud_io.h"
 #include "uavip/coverage/flight_strategy.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
@@ -18,13 +25,6 @@
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/sim/world_model.h"
 #include "uavip/world/voxel_grid.h"
-#include "planners/registry.h"
-
-#include <optional>
-#include <set>
-#include <string>
-#include <utility>
-#include <vector>
 
 namespace uavip::app {
 
@@ -33,7 +33,9 @@ struct UavConfig {
   Vec3 size_m{0.6, 0.6, 0.4};  ///< [m]
   /// Inflation radius of the grid [m]; default: the largest dimension (paper).
   std::optional<double> inflation_radius_m;
-  double inflationRadius() const { return inflation_radius_m ? *inflation_radius_m : size_m.maxCoeff(); }
+  double inflationRadius() const {
+    return inflation_radius_m ? *inflation_radius_m : size_m.maxCoeff();
+  }
 };
 
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`
@@ -72,8 +74,8 @@ struct Config {
 
 /// What the paper reports for a scenario, asserted by the tests.
 struct Expectation {
-  std::optional<int> surfaces;             ///< number of detected surfaces
-  std::optional<std::string> status;       ///< mission status of every surface ("ok", "blocked")
+  std::optional<int> surfaces;                ///< number of detected surfaces
+  std::optional<std::string> status;          ///< mission status of every surface ("ok", "blocked")
   std::optional<double> min_surface_area_m2;  ///< smallest detected surface area, if given
 };
 
@@ -87,13 +89,14 @@ struct BenchSpec {
 /// A synthetic scenario: a world, how it is sensed, every stage's parameters and
 /// the expected outcome.
 struct Scenario {
-  std::string path;         ///< file it was read from
+  std::string path;  ///< file it was read from
   std::string name;
   std::string description;
   sim::WorldModel world;
-  std::string sensing_mode{"sample"};  ///< "sample" (surface sampling) or "scan" (two 2D scanners + IMU)
-  sim::SampleOptions sample;           ///< options of mode "sample"
-  sim::ScanSimOptions scan;            ///< options of mode "scan"
+  std::string sensing_mode{
+      "sample"};              ///< "sample" (surface sampling) or "scan" (two 2D scanners + IMU)
+  sim::SampleOptions sample;  ///< options of mode "sample"
+  sim::ScanSimOptions scan;   ///< options of mode "scan"
   Config config;
   Expectation expect;
   BenchSpec bench;

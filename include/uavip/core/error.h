@@ -22,6 +22,7 @@ void require(bool cond, const std::string& where, const std::string& what);
 void requirePositive(double value, const std::string& where, const std::string& name);
 
 /// Throws InputError unless ok: "<where>: <name> must be <range>, got <value>".
-void requireThat(bool ok, const std::string& where, const std::string& name, const std::string& range, double value);
+void requireThat(bool ok, const std::string& where, const std::string& name,
+                 const std::string& range, double value);
 
 }  // namespace uavip

@@ -2,9 +2,9 @@
 /// \file
 /// Small geometric helpers used by several stages.
 
-#include "uavip/core/types.h"
-
 #include <limits>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 

@@ -16,6 +16,7 @@ namespace uavip {
 /// rethrown here. When no thread can be started the caller does all the work.
 /// Results are deterministic when body(i, ·) writes only to slot i, or to its
 /// worker's own tally that the caller merges in an order-free way.
-void parallelFor(std::size_t n, int threads, const std::function<void(std::size_t i, std::size_t worker)>& body);
+void parallelFor(std::size_t n, int threads,
+                 const std::function<void(std::size_t i, std::size_t worker)>& body);
 
 }  // namespace uavip

@@ -3,13 +3,13 @@
 /// PointList → PCL cloud, for the modules that run PCL algorithms (header-only, so
 /// uavip_core itself does not link PCL; include it only where PCL is linked).
 
-#include "uavip/core/types.h"
-
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <cstdint>
 #include <memory>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 
@@ -20,7 +20,8 @@ inline pcl::PointCloud<pcl::PointXYZ>::Ptr toPclCloud(const PointList& points, c
   cloud->points.reserve(points.size());
   for (const auto& p : points) {
     const Vec3 q = p - origin;
-    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+    cloud->points.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                               static_cast<float>(q.z()));
   }
   cloud->width = static_cast<std::uint32_t>(cloud->points.size());
   cloud->height = 1;

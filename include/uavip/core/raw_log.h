@@ -11,26 +11,26 @@
 /// x* = −ρ·cos α, y* = 0, z* = −ρ·sin α. Horizontal scanner beams: x* = ρ·cos α,
 /// y* = ρ·sin α, z* = 0.
 
-#include "uavip/core/types.h"
-
 #include <Eigen/Geometry>
-
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 
 /// One sweep of a 2D scanner (Hokuyo UTM-30LX: 1081 beams, 0.25°, 270°, 25 ms).
 struct LaserScan {
-  double t_start_s{0.0};           ///< time of beam 0 [s]
-  double duration_s{0.025};        ///< time from beam 0 to the last beam [s]
-  double angle_min_rad{0.0};       ///< α of beam 0 in the scanner frame [rad]
-  double angle_step_rad{0.0};      ///< α increment per beam [rad]
-  std::vector<float> ranges_m;     ///< ρ per beam [m]; 0 = no return
+  double t_start_s{0.0};        ///< time of beam 0 [s]
+  double duration_s{0.025};     ///< time from beam 0 to the last beam [s]
+  double angle_min_rad{0.0};    ///< α of beam 0 in the scanner frame [rad]
+  double angle_step_rad{0.0};   ///< α increment per beam [rad]
+  std::vector<float> ranges_m;  ///< ρ per beam [m]; 0 = no return
   /// Time of beam i [s] (beams are evenly spaced in time over the sweep).
   double beamTime(std::size_t i) const {
     return ranges_m.size() < 2 ? t_start_s
-                               : t_start_s + duration_s * static_cast<double>(i) / static_cast<double>(ranges_m.size() - 1);
+                               : t_start_s + duration_s * static_cast<double>(i) /
+                                                 static_cast<double>(ranges_m.size() - 1);
   }
 };
 
@@ -43,19 +43,22 @@ struct ImuSample {
 /// A station: the UAV hovers, yaws 360°, both scanners and the IMU record.
 struct Station {
   int id{0};
-  Vec3 recorded_position{Vec3::Zero()};  ///< approximate position (GPS-like) of the UAV centre at the first scan [m]
-  double recorded_yaw_rad{0.0};          ///< approximate heading at the first scan [rad]
-  std::vector<LaserScan> vertical;       ///< time-ordered
-  std::vector<LaserScan> horizontal;     ///< time-ordered
-  std::vector<ImuSample> imu;            ///< time-ordered
+  Vec3 recorded_position{
+      Vec3::Zero()};  ///< approximate position (GPS-like) of the UAV centre at the first scan [m]
+  double recorded_yaw_rad{0.0};       ///< approximate heading at the first scan [rad]
+  std::vector<LaserScan> vertical;    ///< time-ordered
+  std::vector<LaserScan> horizontal;  ///< time-ordered
+  std::vector<ImuSample> imu;         ///< time-ordered
 };
 
 /// A whole raw recording.
 struct RawLog {
-  Eigen::Isometry3d body_T_vertical{Eigen::Isometry3d::Identity()};    ///< mount of the vertical scanner
-  Eigen::Isometry3d body_T_horizontal{Eigen::Isometry3d::Identity()};  ///< mount of the horizontal scanner
-  double max_range_m{30.0};   ///< returns beyond this are invalid
-  double min_range_m{0.1};    ///< returns below this are invalid
+  Eigen::Isometry3d body_T_vertical{
+      Eigen::Isometry3d::Identity()};  ///< mount of the vertical scanner
+  Eigen::Isometry3d body_T_horizontal{
+      Eigen::Isometry3d::Identity()};  ///< mount of the horizontal scanner
+  double max_range_m{30.0};            ///< returns beyond this are invalid
+  double min_range_m{0.1};             ///< returns below this are invalid
   std::vector<Station> stations;
 };
 

@@ -3,11 +3,11 @@
 /// Numbers and points as text for messages, summaries and text files: the one set
 /// of formatters every module uses. Header-only.
 
-#include "uavip/core/types.h"
-
 #include <iomanip>
 #include <sstream>
 #include <string>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 
@@ -28,7 +28,8 @@ inline std::string formatFixed(double v, int decimals) {
 
 /// "(x, y, z)" in metres with two decimals: a position in a message.
 inline std::string formatPoint(const Vec3& p) {
-  return "(" + formatFixed(p.x(), 2) + ", " + formatFixed(p.y(), 2) + ", " + formatFixed(p.z(), 2) + ")";
+  return "(" + formatFixed(p.x(), 2) + ", " + formatFixed(p.y(), 2) + ", " + formatFixed(p.z(), 2) +
+         ")";
 }
 
 /// "(x, y, z)" with 6 significant digits: a raw value that may be huge or NaN.

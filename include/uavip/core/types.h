@@ -4,7 +4,6 @@
 /// World frame: ENU metres, z up.
 
 #include <Eigen/Core>
-
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -32,22 +31,23 @@ struct Plane {
 /// A planar surface to inspect (paper §II-D): RANSAC plane, the inliers of its
 /// largest cluster, and the convex-hull boundary of the projected inliers.
 struct Surface {
-  int id{0};                 ///< 0-based, stable for the same input and options
-  Plane plane;               ///< normal oriented toward free space
-  PointList inliers;         ///< inliers of the largest cluster [m]
-  PointList boundary;        ///< convex hull on the plane, counter-clockwise seen from +normal [m]
+  int id{0};           ///< 0-based, stable for the same input and options
+  Plane plane;         ///< normal oriented toward free space
+  PointList inliers;   ///< inliers of the largest cluster [m]
+  PointList boundary;  ///< convex hull on the plane, counter-clockwise seen from +normal [m]
   Vec3 centroid{Vec3::Zero()};  ///< mean of the inliers [m]
   Vec3 axis_u{Vec3::UnitX()};   ///< first principal in-plane axis (unit)
   Vec3 axis_v{Vec3::UnitY()};   ///< second in-plane axis, axis_u × axis_v = normal
   double area_m2{0.0};          ///< area of the boundary polygon [m²]
-  double density_area_m2{0.0};  ///< area the inliers occupy: cells of a spacing-sized grid in the plane × cell² [m²]
+  double density_area_m2{
+      0.0};  ///< area the inliers occupy: cells of a spacing-sized grid in the plane × cell² [m²]
 };
 
 /// A cluster of points that belongs to no surface (paper §II-E).
 struct Obstacle {
   int id{0};
-  PointList points;                     ///< [m]
-  Vec3 aabb_min{Vec3::Zero()};          ///< axis-aligned bounding box [m]
+  PointList points;             ///< [m]
+  Vec3 aabb_min{Vec3::Zero()};  ///< axis-aligned bounding box [m]
   Vec3 aabb_max{Vec3::Zero()};
 };
 
@@ -85,10 +85,11 @@ struct SafetyCloud {
   PointList points;      ///< one input point per occupied cell of edge cell_m [m]
   double cell_m{0.0};    ///< edge of the thinning lattice [m]
   double margin_m{0.0};  ///< every input point lies within this of some point here (√3·cell_m) [m]
-  std::size_t input_points{0};        ///< points read from the input
-  std::size_t perception_dropped{0};  ///< input points stage 3's outlier removal dropped (kept here)
-  std::string source;    ///< the input file as given (empty for a simulated scenario)
-  std::string sha256;    ///< of the input file's bytes (empty when no file)
+  std::size_t input_points{0};  ///< points read from the input
+  std::size_t perception_dropped{
+      0};              ///< input points stage 3's outlier removal dropped (kept here)
+  std::string source;  ///< the input file as given (empty for a simulated scenario)
+  std::string sha256;  ///< of the input file's bytes (empty when no file)
 };
 
 /// Result of perception: what the clean cloud means. Every measured point stays an

@@ -6,12 +6,12 @@
 /// PCL's VoxelGrid packs three axes into one 32-bit int (2^31 voxels in all: a
 /// 130 m building at 5 cm already overflows it); this key does not.
 
-#include "uavip/core/types.h"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 
@@ -29,7 +29,8 @@ class VoxelKeyer {
   /// box spans more than 2^21 voxels on an axis, or for a non-positive edge.
   VoxelKeyer(const Vec3& lo, const Vec3& hi, double edge, const std::string& what = "voxel_m");
   /// Keyer for the bounding box of `points` (non-empty, finite).
-  static VoxelKeyer forPoints(const PointList& points, double edge, const std::string& what = "voxel_m");
+  static VoxelKeyer forPoints(const PointList& points, double edge,
+                              const std::string& what = "voxel_m");
 
   double edge() const { return edge_; }
   const Vec3& origin() const { return origin_; }  ///< min corner of voxel (0,0,0) [m]

@@ -49,8 +49,9 @@ struct CameraGeometry {
   double footprint_w_m{0.0};  ///< [m]
   double footprint_h_m{0.0};  ///< [m]
   double standoff_m{0.0};     ///< distance from the surface [m]
-  double gsd_w_mm{0.0};       ///< achieved GSD along the image width [mm/px] (0 if footprint given directly)
-  double gsd_h_mm{0.0};       ///< achieved GSD along the image height [mm/px]
+  double gsd_w_mm{
+      0.0};  ///< achieved GSD along the image width [mm/px] (0 if footprint given directly)
+  double gsd_h_mm{0.0};  ///< achieved GSD along the image height [mm/px]
 };
 
 /// Solves the camera. With a direct footprint the standoff is `standoff_m`.

@@ -259,9 +259,9 @@ struct CoverageResult {
 /// `two_sided`, if given, holds one flag per point: 1 where that point's normal is
 /// two-sided (as two_sided_normals, for that point only).
 /// The views are split over `threads` workers (core/parallel.h) with per-worker
-/// counters summed at the end: the result does not depend on the thread count. Throws InputError for non-finite points, views or normals, a
-/// zero normal, a normal count other than points.size() or 1, invalid criteria or
-/// threads < 1.
+/// counters summed at the end: the result does not depend on the thread count. Throws InputError
+/// for non-finite points, views or normals, a zero normal, a normal count other than points.size()
+/// or 1, invalid criteria or threads < 1.
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
@@ -270,11 +270,9 @@ CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>
 /// The same test, view by view: for each view, the indices of the points it images
 /// (ascending). What a view selection scores its candidates with. Same checks and
 /// exceptions as evaluateCoverage.
-std::vector<std::vector<std::uint32_t>> imagedByView(const PointList& points, const std::vector<Vec3>& normals,
-                                                     const std::vector<ViewPose>& views,
-                                                     const CameraModel& camera,
-                                                     const CoverageCriteria& criteria,
-                                                     const LineOfSight* los, int threads = 2,
-                                                     const std::vector<char>* two_sided = nullptr);
+std::vector<std::vector<std::uint32_t>> imagedByView(
+    const PointList& points, const std::vector<Vec3>& normals, const std::vector<ViewPose>& views,
+    const CameraModel& camera, const CoverageCriteria& criteria, const LineOfSight* los,
+    int threads = 2, const std::vector<char>* two_sided = nullptr);
 
 }  // namespace uavip::coverage

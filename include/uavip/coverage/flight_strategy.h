@@ -6,12 +6,12 @@
 /// boundary polygon; each stop offset by the standoff along the outward normal,
 /// ordered boustrophedon, with yaw and gimbal pitch for a 2-DOF gimbal.
 
-#include "uavip/core/types.h"
-#include "uavip/coverage/camera.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/coverage/camera.h"
 
 namespace uavip::coverage {
 
@@ -24,9 +24,10 @@ struct GimbalLimits {
 /// Options of stage 6.
 struct CoverageOptions {
   Camera camera;
-  double overlap_w{0.2};   ///< overlap between neighbouring photos along the image width [0, 1)
-  double overlap_h{0.2};   ///< overlap along the image height [0, 1)
-  double standoff_m{1.5};  ///< distance from the surface when the camera gives a footprint directly [m]
+  double overlap_w{0.2};  ///< overlap between neighbouring photos along the image width [0, 1)
+  double overlap_h{0.2};  ///< overlap along the image height [0, 1)
+  double standoff_m{
+      1.5};  ///< distance from the surface when the camera gives a footprint directly [m]
   GimbalLimits gimbal;
   /// Most photo stops one surface may get (the footprint grid's cells, counted
   /// before any stop is made); a tiny footprint on a large surface is refused.
@@ -47,26 +48,28 @@ struct CoverageOptions {
 
 /// One photo stop.
 struct Stop {
-  int index{0};              ///< position in the flight order
+  int index{0};  ///< position in the flight order
   int surface_id{0};
-  int row{0}, col{0};        ///< cell of the footprint grid (col along the image width axis)
-  Vec3 target{Vec3::Zero()};    ///< centre of the photo on the surface plane [m]
-  Vec3 position{Vec3::Zero()};  ///< UAV position = target + standoff·normal [m]
-  double yaw_deg{0.0};       ///< UAV heading, counter-clockwise from +x (east) [deg]
+  int row{0}, col{0};            ///< cell of the footprint grid (col along the image width axis)
+  Vec3 target{Vec3::Zero()};     ///< centre of the photo on the surface plane [m]
+  Vec3 position{Vec3::Zero()};   ///< UAV position = target + standoff·normal [m]
+  double yaw_deg{0.0};           ///< UAV heading, counter-clockwise from +x (east) [deg]
   double gimbal_pitch_deg{0.0};  ///< camera pitch, up positive, 0 = horizontal [deg]
-  bool gimbal_ok{true};      ///< false when the pitch is outside the gimbal limits
+  bool gimbal_ok{true};          ///< false when the pitch is outside the gimbal limits
 };
 
 /// The flight strategy of one surface.
 struct FlightStrategy {
   int surface_id{0};
   CameraGeometry camera;
-  Vec3 axis_w{Vec3::UnitX()};  ///< in-plane direction of the image width (horizontal for non-horizontal surfaces)
+  Vec3 axis_w{Vec3::UnitX()};  ///< in-plane direction of the image width (horizontal for
+                               ///< non-horizontal surfaces)
   Vec3 axis_h{Vec3::UnitY()};  ///< in-plane direction of the image height
   double spacing_w_m{0.0};     ///< footprint_w·(1 − overlap_w) [m]
   double spacing_h_m{0.0};     ///< footprint_h·(1 − overlap_h) [m]
   int cols{0}, rows{0};        ///< grid size before removing cells off the surface
-  std::vector<Stop> stops;     ///< boustrophedon order: rows along axis_h, alternating direction along axis_w
+  std::vector<Stop>
+      stops;  ///< boustrophedon order: rows along axis_h, alternating direction along axis_w
 };
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per

@@ -8,11 +8,11 @@
 /// pixel z-buffer: a point hidden behind another one in the same pixel is not
 /// covered by that pose. Here it is applied at the photo stops only.
 
-#include "uavip/core/types.h"
-#include "uavip/coverage/coverage_evaluator.h"
-
 #include <cstddef>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/coverage/coverage_evaluator.h"
 
 namespace uavip::coverage {
 
@@ -28,7 +28,8 @@ struct PixelCoverageResult {
 /// 0 ≤ v < height, u = cx + fx·x/z, v = cy + fy·y/z, z > 0) up to `visible_range_m`
 /// [m] (> 0). Views are spread over `threads` workers; the result does not depend on
 /// their number. Throws InputError for a non-finite point or view, or a bad range.
-PixelCoverageResult evaluatePixelCoverage(const PointList& points, const std::vector<ViewPose>& views,
+PixelCoverageResult evaluatePixelCoverage(const PointList& points,
+                                          const std::vector<ViewPose>& views,
                                           const PinholeIntrinsics& camera, double visible_range_m,
                                           int threads = 2);
 

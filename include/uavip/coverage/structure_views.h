@@ -11,9 +11,9 @@
 /// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
 /// each seed with normal n, a camera is put at the viewing distance D (and each
 /// further `distance_factors` × D) along n (and −n when two-sided), and along those
-/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is kept when it is free (the caller's test: clear of every
-/// measured point by the UAV's clearance, in the free space reachable from home) and
-/// its pitch lies within the gimbal limits.
+/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is kept when it is
+/// free (the caller's test: clear of every measured point by the UAV's clearance, in the free space
+/// reachable from home) and its pitch lies within the gimbal limits.
 ///
 /// Scoring: what each candidate images of the structure points by the coverage
 /// evaluator's rule (coverage_evaluator.h: in the image, range, GSD, incidence,
@@ -24,29 +24,29 @@
 /// reverse order of choice, every photo whose points are all imaged by another chosen
 /// photo is removed. Deterministic for any thread count.
 
-#include "uavip/core/types.h"
-#include "uavip/coverage/coverage_evaluator.h"
-#include "uavip/coverage/flight_strategy.h"
-
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "uavip/core/types.h"
+#include "uavip/coverage/coverage_evaluator.h"
+#include "uavip/coverage/flight_strategy.h"
+
 namespace uavip::coverage {
 
 /// Options of the view selection.
 struct StructureViewOptions {
-  double standoff_m{0.0};                   ///< viewing distance D from a seed [m] (> 0)
-  std::vector<double> tilts_deg{35.0};      ///< extra tilts of ±n up and down [deg], each in (0, 90)
+  double standoff_m{0.0};               ///< viewing distance D from a seed [m] (> 0)
+  std::vector<double> tilts_deg{35.0};  ///< extra tilts of ±n up and down [deg], each in (0, 90)
   /// Candidates at these multiples of standoff_m, each ≥ 1 (farther ones stand in
   /// where the nearer one is not free: a pocket, a measured outlier).
   std::vector<double> distance_factors{1.0};
-  double seed_spacing_m{0.0};               ///< seed cell edge [m]; 0 = D / 3
-  double target_coverage{0.99};             ///< of the imageable points, in (0, 1]
-  GimbalLimits gimbal;                      ///< a candidate's pitch must lie within
-  CoverageCriteria criteria;                ///< what "imaged" means
-  int threads{2};                           ///< workers for scoring
+  double seed_spacing_m{0.0};    ///< seed cell edge [m]; 0 = D / 3
+  double target_coverage{0.99};  ///< of the imageable points, in (0, 1]
+  GimbalLimits gimbal;           ///< a candidate's pitch must lie within
+  CoverageCriteria criteria;     ///< what "imaged" means
+  int threads{2};                ///< workers for scoring
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "structure_views") const;
@@ -57,14 +57,14 @@ using ViewpointFree = std::function<bool(const Vec3&)>;
 
 /// The chosen photos and what they image.
 struct StructureViews {
-  std::vector<ViewPose> views;  ///< in order of choice
-  std::vector<Vec3> targets;    ///< the seed each view looks at [m]
-  std::size_t seeds{0};         ///< seed points
-  std::size_t candidates{0};    ///< candidate poses made
+  std::vector<ViewPose> views;     ///< in order of choice
+  std::vector<Vec3> targets;       ///< the seed each view looks at [m]
+  std::size_t seeds{0};            ///< seed points
+  std::size_t candidates{0};       ///< candidate poses made
   std::size_t free_candidates{0};  ///< of which free and within the gimbal limits
-  std::size_t points{0};        ///< structure points
-  std::size_t imageable{0};     ///< points some free candidate images
-  std::size_t covered{0};       ///< points the chosen views image
+  std::size_t points{0};           ///< structure points
+  std::size_t imageable{0};        ///< points some free candidate images
+  std::size_t covered{0};          ///< points the chosen views image
 };
 
 /// Selects the photos of a structure (see the file comment). `normals` holds one
@@ -72,9 +72,9 @@ struct StructureViews {
 /// one-sided). Throws InputError for invalid options, a normal or flag count other
 /// than points.size(), or non-finite input.
 StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
-                                    const std::vector<char>& two_sided,
-                                    const CameraModel& camera, const LineOfSight* los,
-                                    const ViewpointFree& is_free, const StructureViewOptions& options);
+                                    const std::vector<char>& two_sided, const CameraModel& camera,
+                                    const LineOfSight* los, const ViewpointFree& is_free,
+                                    const StructureViewOptions& options);
 
 /// The pose at `position` looking at `target`: yaw = atan2 of the horizontal
 /// direction (0 when looking straight up or down), pitch = its elevation [deg].

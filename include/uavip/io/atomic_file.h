@@ -14,7 +14,8 @@ namespace uavip::io {
 void writeFileAtomic(const std::string& path, const std::string& text);
 
 /// Calls write(tmp_path) then renames tmp_path to `path`; removes tmp_path if write throws.
-void replaceFileAtomic(const std::string& path, const std::function<void(const std::string&)>& write);
+void replaceFileAtomic(const std::string& path,
+                       const std::function<void(const std::string&)>& write);
 
 /// The outputs of one command, written as one unit: each file goes to a temporary
 /// beside its target, and commit() renames them all onto their targets. Destroyed
@@ -44,7 +45,8 @@ void ensureDirectory(const std::string& dir);
 
 /// Throws InputError naming the output when an output path is one of the inputs
 /// (same file after resolving links and `..`) or two outputs are the same file.
-void requireDistinctOutputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+void requireDistinctOutputs(const std::vector<std::string>& inputs,
+                            const std::vector<std::string>& outputs);
 
 /// Throws InputError naming `path` unless it is an existing regular file (not a
 /// folder, device, pipe or socket: reading /dev/zero or a FIFO would never end).

@@ -3,10 +3,10 @@
 /// Point cloud files: PCD and PLY (PCL readers/writers) and XYZ text
 /// ("x y z" per line, extra columns ignored, '#' comments).
 
-#include "uavip/core/types.h"
-
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::io {
 
@@ -27,8 +27,9 @@ struct CloudReadOptions {
 
 /// What reading did besides returning points (for the printout and scene.json).
 struct CloudReadInfo {
-  std::string note;                   ///< one line, e.g. the unit conversion of a LAS file; empty if none
-  Vec3 origin_m{Vec3::Zero()};        ///< subtracted from the file's coordinates (after unit conversion) [m]
+  std::string note;  ///< one line, e.g. the unit conversion of a LAS file; empty if none
+  Vec3 origin_m{
+      Vec3::Zero()};  ///< subtracted from the file's coordinates (after unit conversion) [m]
 };
 
 /// A cloud whose bounding box reaches farther than this from the file's origin, on
@@ -68,7 +69,8 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// kMaxCoordinateM (naming the point), or a cloud wider than
 /// kMaxCloudExtentM (naming the point farthest from the cloud's median when at most
 /// 1 % of the points lie far from it, else pointing at input.scale).
-PointList loadCloud(const std::string& path, const CloudReadOptions& options = {}, CloudReadInfo* info = nullptr);
+PointList loadCloud(const std::string& path, const CloudReadOptions& options = {},
+                    CloudReadInfo* info = nullptr);
 
 /// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too
 /// few inliers, which uavip handles): they are silenced unless `verbose`, so that an

@@ -8,12 +8,11 @@
 /// (a swept segment of that length overflows the collision queries). Lives in io/
 /// rather than core/ so that core stays free of file formats.
 
-#include "uavip/core/types.h"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
+
+#include "uavip/core/types.h"
 
 namespace uavip::io {
 
@@ -37,15 +36,18 @@ class JsonReader {
   [[noreturn]] void fail(const std::string& field, const std::string& what) const;
 
   /// `parent.key`; InputError "<parent.key> is missing" when absent or `j` is not an object.
-  const nlohmann::json& at(const nlohmann::json& j, const std::string& key, const std::string& parent) const;
+  const nlohmann::json& at(const nlohmann::json& j, const std::string& key,
+                           const std::string& parent) const;
   /// The list at `field`; InputError unless `j` is an array.
   const nlohmann::json& list(const nlohmann::json& j, const std::string& field) const;
   /// A finite number.
   double number(const nlohmann::json& j, const std::string& field) const;
   /// A finite number in [lo, hi]; the message gives the range and `unit`.
-  double number(const nlohmann::json& j, const std::string& field, double lo, double hi, const std::string& unit) const;
+  double number(const nlohmann::json& j, const std::string& field, double lo, double hi,
+                const std::string& unit) const;
   /// A whole number in [lo, hi].
-  std::int64_t integer(const nlohmann::json& j, const std::string& field, std::int64_t lo, std::int64_t hi) const;
+  std::int64_t integer(const nlohmann::json& j, const std::string& field, std::int64_t lo,
+                       std::int64_t hi) const;
   std::string text(const nlohmann::json& j, const std::string& field) const;
   bool boolean(const nlohmann::json& j, const std::string& field) const;
   /// [x, y, z] of finite numbers; with `local` each within ±kMaxLocalCoordinateM.

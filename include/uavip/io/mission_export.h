@@ -40,17 +40,16 @@
 /// it and need CONDITION_YAW. No take-off or landing item is added: the vehicle
 /// takes off and lands as its ground station or autopilot is set up to do.
 
-#include "uavip/core/types.h"
-#include "uavip/io/mission_json.h"
-
-#include <nlohmann/json.hpp>
-
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/io/mission_json.h"
 
 namespace uavip::io {
 
@@ -126,12 +125,13 @@ struct ExportOptions {
   std::shared_ptr<const CrsTransform> crs;
   /// --crs: scene.json's source_offset_m, added to every local point [m].
   Vec3 source_offset_m{Vec3::Zero()};
-  /// --crs: home in the local frame (the flight's first waypoint) [m]; altitudes are relative to its z.
+  /// --crs: home in the local frame (the flight's first waypoint) [m]; altitudes are relative to
+  /// its z.
   Vec3 home_m{Vec3::Zero()};
   Autopilot autopilot{Autopilot::Px4};
-  double hold_s{1.0};          ///< hover time at a photo stop before the photo [s]
-  double acceptance_m{0.3};    ///< waypoint acceptance radius [m]
-  double speed_m_s{2.0};       ///< hoverSpeed of the .plan [m/s]
+  double hold_s{1.0};        ///< hover time at a photo stop before the photo [s]
+  double acceptance_m{0.3};  ///< waypoint acceptance radius [m]
+  double speed_m_s{2.0};     ///< hoverSpeed of the .plan [m/s]
   /// Throws InputError naming the bad field.
   void validate() const;
 };
@@ -146,9 +146,9 @@ GeoPoint homeGeo(const ExportOptions& options);
 /// One waypoint of the flight, in flight order.
 struct FlightWaypoint {
   int surface_id{0};
-  int stop_index{-1};        ///< index of the photo stop in its surface's stops[], −1 between stops
-  Vec3 enu{Vec3::Zero()};    ///< [m]
-  double yaw_deg{0.0};       ///< ENU yaw (CCW from east) of the stop, or of the next stop [deg]
+  int stop_index{-1};      ///< index of the photo stop in its surface's stops[], −1 between stops
+  Vec3 enu{Vec3::Zero()};  ///< [m]
+  double yaw_deg{0.0};     ///< ENU yaw (CCW from east) of the stop, or of the next stop [deg]
   double gimbal_pitch_deg{0.0};  ///< up positive [deg]; of the stop, or of the next stop
   bool isStop() const { return stop_index >= 0; }
 };
@@ -171,7 +171,8 @@ struct Flight {
 /// id does not exist, "" is ambiguous (lists the ids), or NoMissionError when the
 /// chosen surface has no flyable mission (names its status and reason; the CLI
 /// exits 3 for that).
-Flight flightFromMission(const MissionRecord& mission, const std::string& path, const std::string& surface);
+Flight flightFromMission(const MissionRecord& mission, const std::string& path,
+                         const std::string& surface);
 
 /// The sorties of the ordered flight, each home → stops → home, stops oriented from
 /// their surface's stops. Throws InputError when the flight is missing (an older
@@ -179,10 +180,12 @@ Flight flightFromMission(const MissionRecord& mission, const std::string& path, 
 std::vector<Flight> sortiesFromMission(const MissionRecord& mission, const std::string& path);
 
 /// The same from a mission.json document (read with missionFromJson).
-inline Flight flightFromMissionJson(const nlohmann::json& mission, const std::string& path, const std::string& surface) {
+inline Flight flightFromMissionJson(const nlohmann::json& mission, const std::string& path,
+                                    const std::string& surface) {
   return flightFromMission(missionFromJson(mission, path), path, surface);
 }
-inline std::vector<Flight> sortiesFromMissionJson(const nlohmann::json& mission, const std::string& path) {
+inline std::vector<Flight> sortiesFromMissionJson(const nlohmann::json& mission,
+                                                  const std::string& path) {
   return sortiesFromMission(missionFromJson(mission, path), path);
 }
 
@@ -195,8 +198,8 @@ class NoMissionError : public std::runtime_error {
 /// One MAVLink mission item.
 struct MissionItem {
   int command{16};
-  int frame{3};                     ///< 3 = global, altitude relative to home; 2 = mission (no position)
-  std::array<double, 7> params{};   ///< p1…p7; p5–p7 are lat, lon, alt for NAV_WAYPOINT
+  int frame{3};  ///< 3 = global, altitude relative to home; 2 = mission (no position)
+  std::array<double, 7> params{};  ///< p1…p7; p5–p7 are lat, lon, alt for NAV_WAYPOINT
 };
 
 /// The mission items of a flight (see the file comment for their order).

@@ -6,16 +6,15 @@
 /// This file owns the format: the planner's results are written here, and
 /// `export` and `validate` read it back through missionFromJson / loadMission.
 
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
-
-#include <nlohmann/json.hpp>
-
 #include <cstddef>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "uavip/planning/flight_planner.h"
+#include "uavip/planning/mission_planner.h"
 
 namespace uavip::io {
 
@@ -39,8 +38,8 @@ nlohmann::json missionToJson(const std::vector<planning::SurfaceMission>& missio
 
 /// A photo stop as mission.json records it.
 struct StopRecord {
-  Vec3 position{Vec3::Zero()};  ///< [m], local ENU
-  double yaw_deg{0.0};          ///< CCW from +x (east) [deg]
+  Vec3 position{Vec3::Zero()};   ///< [m], local ENU
+  double yaw_deg{0.0};           ///< CCW from +x (east) [deg]
   double gimbal_pitch_deg{0.0};  ///< up positive [deg]
   std::string problem{"none"};   ///< "none" when flown; a partial mission skips the others
   bool flown() const { return problem == "none"; }

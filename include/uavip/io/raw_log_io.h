@@ -12,37 +12,39 @@
 /// line); a range of 0, negative, non-finite, below min_range_m or beyond
 /// max_range_m is a no-return beam and becomes 0.
 
-#include "uavip/core/raw_log.h"
-#include "uavip/sim/world_model.h"
-
 #include <cstddef>
 #include <optional>
 #include <string>
+
+#include "uavip/core/raw_log.h"
+#include "uavip/sim/world_model.h"
 
 namespace uavip::io {
 
 /// The ground truth of a simulated raw log (SCANS/truth.json), in the log frame.
 struct RawLogTruthFile {
-  RawLogTruth poses;               ///< true body poses at every scan start
-  Vec3 origin_m{Vec3::Zero()};     ///< the log frame's origin in scenario coordinates [m]
-  sim::WorldModel world;           ///< the true world, already shifted into the log frame
-  std::string scenario;            ///< the scenario file it was simulated from
+  RawLogTruth poses;            ///< true body poses at every scan start
+  Vec3 origin_m{Vec3::Zero()};  ///< the log frame's origin in scenario coordinates [m]
+  sim::WorldModel world;        ///< the true world, already shifted into the log frame
+  std::string scenario;         ///< the scenario file it was simulated from
 };
 
 /// What reading found besides the data.
 struct RawLogReadStats {
-  std::size_t scans{0};            ///< scans read (both scanners, every station)
-  std::size_t beams{0};            ///< beams read
-  std::size_t no_return{0};        ///< beams that are no-returns (including those below)
-  std::size_t replaced_ranges{0};  ///< non-zero ranges outside [min_range_m, max_range_m] or non-finite, set to 0
-  std::size_t imu_samples{0};      ///< IMU samples read
+  std::size_t scans{0};      ///< scans read (both scanners, every station)
+  std::size_t beams{0};      ///< beams read
+  std::size_t no_return{0};  ///< beams that are no-returns (including those below)
+  std::size_t replaced_ranges{
+      0};  ///< non-zero ranges outside [min_range_m, max_range_m] or non-finite, set to 0
+  std::size_t imu_samples{0};  ///< IMU samples read
 };
 
 /// File names inside a raw log directory.
-std::string rawLogIndexName();                                      ///< "log.json"
-std::string rawLogTruthName();                                      ///< "truth.json"
-std::string rawLogScanFileName(int station_id, bool vertical);      ///< "station_<id>_vertical.csv" / "_horizontal.csv"
-std::string rawLogImuFileName(int station_id);                      ///< "station_<id>_imu.csv"
+std::string rawLogIndexName();  ///< "log.json"
+std::string rawLogTruthName();  ///< "truth.json"
+std::string rawLogScanFileName(int station_id,
+                               bool vertical);  ///< "station_<id>_vertical.csv" / "_horizontal.csv"
+std::string rawLogImuFileName(int station_id);  ///< "station_<id>_imu.csv"
 
 /// Writes log.json and the per-station CSV files into `dir` (created if missing),
 /// each file atomically. Throws InputError if the log is not writable as documented
@@ -51,8 +53,9 @@ void writeRawLog(const std::string& dir, const RawLog& log);
 
 /// Writes truth.json: the poses, the origin, the scenario path and `world` (given in
 /// scenario coordinates) shifted by −origin_m into the log frame.
-void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth, const sim::WorldModel& world,
-                      const Vec3& origin_m, const std::string& scenario);
+void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth,
+                      const sim::WorldModel& world, const Vec3& origin_m,
+                      const std::string& scenario);
 
 /// Reads a raw log directory. Throws InputError "<file>:<line>: <what>" on bad data.
 RawLog readRawLog(const std::string& dir, RawLogReadStats* stats = nullptr);

@@ -8,11 +8,10 @@
 /// stated margin; preprocess/safety_cloud.h), so `uavip plan` rebuilds the planning
 /// world from these two files.
 
-#include "uavip/core/types.h"
-
 #include <nlohmann/json.hpp>
-
 #include <string>
+
+#include "uavip/core/types.h"
 
 namespace uavip::io {
 

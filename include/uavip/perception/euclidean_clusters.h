@@ -14,9 +14,9 @@
 /// Measured on the bridge (stage 4, 22 candidate planes on 295 k points): see
 /// docs/architecture_notes.md, perception.
 
-#include "uavip/core/types.h"
-
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::perception {
 
@@ -24,7 +24,8 @@ namespace uavip::perception {
 /// tolerance_m (strictly, like PCL). Each cluster lists indices into `points` in
 /// increasing order; clusters are ordered by their smallest index. Deterministic.
 /// Throws InputError if tolerance_m is not > 0.
-std::vector<std::vector<int>> euclideanClusters(const PointList& points, const std::vector<int>& indices,
+std::vector<std::vector<int>> euclideanClusters(const PointList& points,
+                                                const std::vector<int>& indices,
                                                 double tolerance_m);
 
 }  // namespace uavip::perception

@@ -4,17 +4,18 @@
 /// surface (euclidean_clusters.h: PCL EuclideanClusterExtraction's partition, on a
 /// voxel grid).
 
-#include "uavip/core/types.h"
-
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::perception {
 
 /// Options of stage 5.
 struct ClusterOptions {
   double tolerance_m{0.3};  ///< r < epsilon of the paper's pseudo code [m]
-  int min_points{1};        ///< clusters smaller than this are merged into one "residual" obstacle, never dropped
+  int min_points{
+      1};  ///< clusters smaller than this are merged into one "residual" obstacle, never dropped
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "perception") const;

@@ -6,11 +6,11 @@
 /// the inliers; small planes (area < min_area_m2) go back to the object points;
 /// the boundary is the 2D convex hull (PCL ConvexHull) of the projected inliers.
 
-#include "uavip/core/types.h"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::perception {
 
@@ -23,8 +23,9 @@ struct PlaneTuning {
   /// robust sigmas (1.4826 · MAD) of their plane distances, so points of an adjacent
   /// face caught by the 20 cm RANSAC band stay for their own surface.
   double band_sigmas{4.0};
-  double band_floor{0.1};        ///< the band is never narrower than this fraction of distance_threshold_m
-  int band_iterations{3};        ///< refits of the plane and its band
+  double band_floor{
+      0.1};  ///< the band is never narrower than this fraction of distance_threshold_m
+  int band_iterations{3};  ///< refits of the plane and its band
   /// At most this many points (a seeded random subset of the pool) score RANSAC's
   /// hypotheses; a 2 m² plane at 5 cm spacing (800 of 300 k points) keeps ~160.
   std::size_t ransac_scoring_points{60000};
@@ -63,10 +64,11 @@ struct PlaneDetectionOptions {
   /// Cell of the occupied-area estimate: the inliers are projected on their plane
   /// and area = occupied cells × cell² (app/config.h resolves it from the spacing) [m]
   double cell_size_m{0.1};
-  int min_inliers{3};                ///< a plane with fewer points is an object, whatever its area
-  int max_planes{64};                ///< stop after this many accepted planes
-  int max_failures{8};               ///< stop after this many consecutive rejected candidates
-  Vec3 viewpoint{Vec3::Zero()};      ///< sensor position, used to orient a normal when free space is ambiguous [m]
+  int min_inliers{3};   ///< a plane with fewer points is an object, whatever its area
+  int max_planes{64};   ///< stop after this many accepted planes
+  int max_failures{8};  ///< stop after this many consecutive rejected candidates
+  Vec3 viewpoint{
+      Vec3::Zero()};  ///< sensor position, used to orient a normal when free space is ambiguous [m]
   /// More sensor positions (e.g. every scanning station); the one nearest to a
   /// surface's centroid, among these and `viewpoint`, orients it [m].
   std::vector<Vec3> extra_viewpoints;
@@ -85,8 +87,8 @@ struct PlaneDetectionOptions {
   bool single_station{false};
   /// Voxel edge of the openness rays: large enough that a sparse wall blocks them [m].
   double open_voxel_m{0.1};
-  std::uint32_t seed{42};            ///< RANSAC seed (the same inputs give the same planes)
-  PlaneTuning tuning;                ///< uavip's own tuning (above)
+  std::uint32_t seed{42};  ///< RANSAC seed (the same inputs give the same planes)
+  PlaneTuning tuning;      ///< uavip's own tuning (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "perception") const;
@@ -94,8 +96,8 @@ struct PlaneDetectionOptions {
 
 /// Statistics of stage 4.
 struct PlaneDetectionStats {
-  int candidates{0};        ///< planes proposed by RANSAC
-  int rejected_small{0};    ///< candidates under the area threshold (returned to the objects)
+  int candidates{0};              ///< planes proposed by RANSAC
+  int rejected_small{0};          ///< candidates under the area threshold (returned to the objects)
   std::size_t trimmed_points{0};  ///< inliers dropped as isolated groups (returned to the objects)
 };
 

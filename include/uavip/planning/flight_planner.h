@@ -21,15 +21,15 @@
 /// measured (same validator, same segment); connecting, outbound and return legs are
 /// validated here.
 
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "uavip/core/types.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/planning/planner.h"
 #include "uavip/world/voxel_grid.h"
-
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace uavip::planning {
 
@@ -64,20 +64,22 @@ struct FlightOptions {
   /// Take-off / landing point of every sortie; must be free. Default: the mission's
   /// start, else the lowest flown photo stop (FlightPlan::home_source says which).
   std::optional<Vec3> home;
-  std::optional<Vec3> start;  ///< the missions' start (MissionOptions::start): home when `home` is not given
+  std::optional<Vec3>
+      start;  ///< the missions' start (MissionOptions::start): home when `home` is not given
   FlightModel model;
-  bool simplify{true};   ///< shortcut planned legs (path_simplifier.h)
+  bool simplify{true};  ///< shortcut planned legs (path_simplifier.h)
   /// Also plan the naive tour (surfaces by id, each forward) to report its length;
   /// costs one planned leg per blocked straight line (seconds on a large site).
   bool compare_naive{false};
-  int max_rounds{50};    ///< lazy re-solves with newly planned legs (each plans the new legs of its tour)
+  int max_rounds{
+      50};  ///< lazy re-solves with newly planned legs (each plans the new legs of its tour)
 };
 
 /// A photo stop in a sortie.
 struct FlightStop {
   int surface_id{0};
-  int stop{0};               ///< index in the surface's strategy.stops
-  std::size_t waypoint{0};   ///< index in the sortie's waypoints
+  int stop{0};              ///< index in the surface's strategy.stops
+  std::size_t waypoint{0};  ///< index in the sortie's waypoints
 };
 
 /// One battery: home → stops → home, validated as one path.
@@ -85,7 +87,7 @@ struct Sortie {
   PointList waypoints;            ///< [m]; first and last are home
   std::vector<FlightStop> stops;  ///< in flight order
   double length_m{0.0};
-  double duration_s{0.0};         ///< flight + hover + settle [s]
+  double duration_s{0.0};  ///< flight + hover + settle [s]
   ValidationResult validation;
 };
 
@@ -105,23 +107,26 @@ struct ExcludedSurface {
 struct FlightPlan {
   enum class Status { Ok, Empty, Failed };
   Status status{Status::Empty};
-  std::string reason;                 ///< one sentence; empty when ok
+  std::string reason;  ///< one sentence; empty when ok
   Vec3 home{Vec3::Zero()};
-  std::string home_source;            ///< "mission.home", "mission.start" or "lowest photo stop (surface S, stop K)"
+  std::string
+      home_source;  ///< "mission.home", "mission.start" or "lowest photo stop (surface S, stop K)"
   std::vector<SurfaceVisit> order;
   std::vector<ExcludedSurface> excluded;
-  double tour_length_m{0.0};          ///< one tour home → every surface → home [m]
-  double inner_length_m{0.0};         ///< of which flown along the surfaces' own paths [m]
-  double naive_length_m{0.0};         ///< surfaces by id, each forward, same legs [m]; 0 unless compare_naive
-  double lower_bound_m{0.0};          ///< no tour is shorter (tour.h, tourLowerBound) [m]
-  bool exact_order{false};            ///< the order is optimal for the planned leg lengths (Held–Karp, converged)
-  std::size_t planned_legs{0};        ///< connecting legs the planner was asked for
-  double order_seconds{0.0};          ///< wall time of ordering (solves + leg planning) [s]
-  double validate_seconds{0.0};       ///< wall time of validating the sorties [s]
-  double length_m{0.0};               ///< all sorties [m]
-  double duration_s{0.0};             ///< all sorties [s]
+  double tour_length_m{0.0};   ///< one tour home → every surface → home [m]
+  double inner_length_m{0.0};  ///< of which flown along the surfaces' own paths [m]
+  double naive_length_m{
+      0.0};  ///< surfaces by id, each forward, same legs [m]; 0 unless compare_naive
+  double lower_bound_m{0.0};  ///< no tour is shorter (tour.h, tourLowerBound) [m]
+  bool exact_order{
+      false};  ///< the order is optimal for the planned leg lengths (Held–Karp, converged)
+  std::size_t planned_legs{0};   ///< connecting legs the planner was asked for
+  double order_seconds{0.0};     ///< wall time of ordering (solves + leg planning) [s]
+  double validate_seconds{0.0};  ///< wall time of validating the sorties [s]
+  double length_m{0.0};          ///< all sorties [m]
+  double duration_s{0.0};        ///< all sorties [s]
   std::vector<Sortie> sorties;
-  double seconds{0.0};                ///< wall time of the whole step [s]
+  double seconds{0.0};  ///< wall time of the whole step [s]
 };
 
 const char* toString(FlightPlan::Status status);
@@ -132,6 +137,7 @@ const char* toString(FlightPlan::Status status);
 /// stop cannot be flown within one battery, or a sortie fails validation (reason
 /// names the sortie and segment).
 FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
-                      const PathValidator& validator, Planner& planner, const FlightOptions& options);
+                      const PathValidator& validator, Planner& planner,
+                      const FlightOptions& options);
 
 }  // namespace uavip::planning

@@ -4,15 +4,15 @@
 /// inflated grid, then join consecutive stops by legs planned with a Planner, then
 /// simplify and validate the whole path.
 
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "uavip/core/types.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/planning/planner.h"
 #include "uavip/world/voxel_grid.h"
-
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace uavip::planning {
 
@@ -26,7 +26,9 @@ enum class SurfaceStatus {
 };
 
 /// True when the surface has a validated path to fly (Ok or Partial).
-inline bool flyable(SurfaceStatus status) { return status == SurfaceStatus::Ok || status == SurfaceStatus::Partial; }
+inline bool flyable(SurfaceStatus status) {
+  return status == SurfaceStatus::Ok || status == SurfaceStatus::Partial;
+}
 
 /// Text of a status ("ok", "partial", "blocked", "no_stops", "failed").
 const char* toString(SurfaceStatus status);
@@ -37,12 +39,12 @@ const char* toString(StopProblem problem);
 
 /// Options of mission planning.
 struct MissionOptions {
-  bool simplify{true};          ///< shortcut the raw voxel path (line of sight on the grid)
+  bool simplify{true};  ///< shortcut the raw voxel path (line of sight on the grid)
   /// Unusable stops (gimbal limit, obstacle space, unreachable) are skipped and
   /// reported while they are at most this fraction of the surface's stops (status
   /// Partial); above it the surface is Blocked. 0 = any unusable stop blocks.
   double max_skipped_fraction{0.25};
-  std::optional<Vec3> start;    ///< take-off / entry point; must be free. Default: the first stop
+  std::optional<Vec3> start;  ///< take-off / entry point; must be free. Default: the first stop
   /// Stop repair: a stop inside the inflated obstacle space is moved to a nearby
   /// free pose that still looks at its photo centre with a clear line of sight:
   /// tilted from above, below or the sides by 15–60° at the same distance, or
@@ -52,7 +54,7 @@ struct MissionOptions {
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
-  coverage::GimbalLimits gimbal;     ///< pitch limits a repaired stop must respect (the camera's)
+  coverage::GimbalLimits gimbal;  ///< pitch limits a repaired stop must respect (the camera's)
   /// Fly a leg straight when its segment crosses free voxels only, or through one
   /// point beside its midpoint when both halves do, and ask the planner only for the
   /// others (structure coverage: most legs are short hops).
@@ -65,7 +67,7 @@ struct Leg {
   int to_stop{0};
   PathStatus status{PathStatus::NoPath};
   std::size_t raw_steps{0};
-  double length_m{0.0};   ///< raw voxel path length [m]
+  double length_m{0.0};  ///< raw voxel path length [m]
   double seconds{0.0};
 };
 
@@ -76,10 +78,10 @@ struct SurfaceMission {
   /// whole structure (coverage/structure_views.h).
   std::string kind{"plane"};
   SurfaceStatus status{SurfaceStatus::NoStops};
-  std::string reason;                     ///< one sentence; empty when ok
+  std::string reason;  ///< one sentence; empty when ok
   coverage::FlightStrategy strategy;
-  std::vector<StopProblem> stop_problems; ///< one per stop of the strategy
-  std::vector<int> moved_stops;           ///< stops moved by repair (strategy.stops holds the new pose)
+  std::vector<StopProblem> stop_problems;  ///< one per stop of the strategy
+  std::vector<int> moved_stops;  ///< stops moved by repair (strategy.stops holds the new pose)
   /// Share of the surface's points some flown photo images (coverage_evaluator.h),
   /// filled by the caller that knows the surface's points (app::plan).
   struct Coverage {
@@ -90,13 +92,13 @@ struct SurfaceMission {
     PointList uncovered_points;  ///< [m], for the overview
   } coverage;
   std::vector<Leg> legs;
-  PointList raw_path;                     ///< every voxel step (the paper's waypoint count) [m]
-  PointList waypoints;                    ///< simplified (or raw) path through every stop [m]
+  PointList raw_path;   ///< every voxel step (the paper's waypoint count) [m]
+  PointList waypoints;  ///< simplified (or raw) path through every stop [m]
   std::size_t raw_waypoint_count{0};
   double raw_length_m{0.0};
   double path_length_m{0.0};
   ValidationResult validation;
-  double seconds{0.0};                    ///< wall time of stage 7 for this surface
+  double seconds{0.0};  ///< wall time of stage 7 for this surface
 };
 
 /// A leg of one or two straight segments on free voxels: the direct segment, else a

@@ -16,14 +16,14 @@
 /// and at r − 1e-6 fails, for points, slabs and boxes alike. FCL's own GJK sweep is
 /// CollisionWorld::sweepContacts().
 
-#include "uavip/core/types.h"
-#include "uavip/world/collision_world.h"
-
 #include <memory>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/world/collision_world.h"
 
 namespace uavip::planning {
 
@@ -32,7 +32,8 @@ struct ValidationResult {
   bool collision_free{true};
   double min_clearance_m{0.0};  ///< smallest distance from the path to any object [m] (inf if none)
   int first_violation_segment{-1};  ///< index i of segment path[i]→path[i+1], −1 if none
-  Vec3 violation_point{Vec3::Zero()};  ///< nearest point of the violated object (a measured point for the cloud) [m]
+  Vec3 violation_point{
+      Vec3::Zero()};  ///< nearest point of the violated object (a measured point for the cloud) [m]
   std::string violation_object;  ///< "surface 3", "obstacle 12" or "cloud"; empty if none
   /// Distance from each segment to the nearest object [m] (one entry for a single
   /// point); a segment is collision-free when its entry is ≥ the required clearance.
@@ -50,8 +51,8 @@ class PathValidator {
   /// Validates against `world` (a std::shared_ptr to a CollisionWorld, shared, not
   /// copied): surfaces, obstacles and cloud. A template only so that the older
   /// `PathValidator({}, r)` still means an empty cloud.
-  template <typename World, typename = std::enable_if_t<
-                                std::is_convertible_v<World, std::shared_ptr<const world::CollisionWorld>>>>
+  template <typename World, typename = std::enable_if_t<std::is_convertible_v<
+                                World, std::shared_ptr<const world::CollisionWorld>>>>
   PathValidator(World world, double required_clearance_m)
       : PathValidator(WorldTag{}, std::shared_ptr<const world::CollisionWorld>(std::move(world)),
                       required_clearance_m) {}
@@ -68,7 +69,8 @@ class PathValidator {
 
  private:
   struct WorldTag {};
-  PathValidator(WorldTag, std::shared_ptr<const world::CollisionWorld> world, double required_clearance_m);
+  PathValidator(WorldTag, std::shared_ptr<const world::CollisionWorld> world,
+                double required_clearance_m);
 
   std::shared_ptr<const world::CollisionWorld> world_;
   double required_clearance_m_{0.0};

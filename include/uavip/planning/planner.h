@@ -3,13 +3,13 @@
 /// The point-to-point planner interface of stage 7. Implementations live in
 /// planners/ (the paper's A* first; OMPL planners behind the same interface).
 
+#include <cstddef>
+#include <string>
+
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/types.h"
 #include "uavip/world/free_space.h"
 #include "uavip/world/voxel_grid.h"
-
-#include <cstddef>
-#include <string>
 
 namespace uavip::planning {
 
@@ -22,17 +22,20 @@ const char* toString(PathStatus status);
 /// Result of planning one leg.
 struct PathResult {
   PathStatus status{PathStatus::NoPath};
-  PointList path;              ///< start … goal; for grid planners the voxel centres of every step, with the exact start and goal at the ends [m]
-  double cost{0.0};            ///< in the planner's own cost units
-  std::size_t expansions{0};   ///< nodes expanded (grid searches; 0 for sampling planners)
-  std::size_t graph_states{0}; ///< states in the planner's graph after the leg (a PRM roadmap's milestones; 0 for grid searches)
-  double seconds{0.0};         ///< wall time
+  PointList path;  ///< start … goal; for grid planners the voxel centres of every step, with the
+                   ///< exact start and goal at the ends [m]
+  double cost{0.0};             ///< in the planner's own cost units
+  std::size_t expansions{0};    ///< nodes expanded (grid searches; 0 for sampling planners)
+  std::size_t graph_states{0};  ///< states in the planner's graph after the leg (a PRM roadmap's
+                                ///< milestones; 0 for grid searches)
+  double seconds{0.0};          ///< wall time
   bool solved() const { return status == PathStatus::Solved; }
 };
 
 /// The check every planner makes before searching: InvalidStart / InvalidGoal when
 /// that end is not finite or not free, else Solved (the ends are usable).
-inline PathStatus checkEndpoints(const world::FreeSpace& space, const Vec3& start, const Vec3& goal) {
+inline PathStatus checkEndpoints(const world::FreeSpace& space, const Vec3& start,
+                                 const Vec3& goal) {
   if (!start.allFinite() || !space.isFree(start)) return PathStatus::InvalidStart;
   if (!goal.allFinite() || !space.isFree(goal)) return PathStatus::InvalidGoal;
   return PathStatus::Solved;
@@ -42,7 +45,8 @@ inline PathStatus checkEndpoints(const world::FreeSpace& space, const Vec3& star
 /// `search(result)` fill the result when they are usable (its status is Solved on
 /// entry), and times the whole call into result.seconds.
 template <typename Search>
-PathResult timedPlan(const world::FreeSpace& space, const Vec3& start, const Vec3& goal, Search&& search) {
+PathResult timedPlan(const world::FreeSpace& space, const Vec3& start, const Vec3& goal,
+                     Search&& search) {
   const auto t0 = SteadyClock::now();
   PathResult out;
   out.status = checkEndpoints(space, start, goal);

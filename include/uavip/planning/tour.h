@@ -14,10 +14,10 @@
 /// ids at most once: results are kept in a cache that lives for that call, of
 /// O(P²) doubles for P distinct point ids.
 
-#include "uavip/core/types.h"
-
 #include <functional>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::planning {
 
@@ -119,7 +119,7 @@ namespace uavip::planning {
 /// per pair (empty = straight-line lengths). Returns a permutation of
 /// 0..points.size()−1. Deterministic. O(n²) memory and per pass; meant for a few
 /// thousand photo stops.
-std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost = {},
-                               int max_passes = 50);
+std::vector<int> orderOpenPath(const Vec3& start, const PointList& points,
+                               const PointCost& cost = {}, int max_passes = 50);
 
 }  // namespace uavip::planning

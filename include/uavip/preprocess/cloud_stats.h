@@ -4,19 +4,20 @@
 /// Real clouds come at every density (a terrestrial scan at 1 cm, airborne LiDAR at
 /// 0.5–1 m); app/config.h scales every `auto` parameter with these numbers.
 
-#include "uavip/core/types.h"
-#include "uavip/preprocess/neighbour_index.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+#include "uavip/core/types.h"
+#include "uavip/preprocess/neighbour_index.h"
 
 namespace uavip::preprocess {
 
 /// Options of the measurement.
 struct CloudStatsOptions {
-  std::size_t sample_points{4000};  ///< points (a seeded random sample) whose neighbours are measured
-  int noise_k{12};                  ///< neighbours of the local plane fit for the noise estimate
+  std::size_t sample_points{
+      4000};        ///< points (a seeded random sample) whose neighbours are measured
+  int noise_k{12};  ///< neighbours of the local plane fit for the noise estimate
   std::uint32_t seed{7};
 };
 

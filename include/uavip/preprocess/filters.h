@@ -7,22 +7,24 @@
 /// down-sampler (64-bit keys: PCL's VoxelGrid overflows its 32-bit index on a
 /// 130 m building at 5 cm).
 
-#include "uavip/core/types.h"
-#include "uavip/preprocess/neighbour_index.h"
-
 #include <cstddef>
 #include <string>
+
+#include "uavip/core/types.h"
+#include "uavip/preprocess/neighbour_index.h"
 
 namespace uavip::preprocess {
 
 /// Options of stage 3.
 struct PreprocessOptions {
   bool remove_outliers{true};
-  int outlier_k{16};             ///< neighbours for the mean distance of each point
-  double outlier_std_ratio{2.0}; ///< d_t: a point whose mean neighbour distance is above mu + d_t·sigma is removed
+  int outlier_k{16};  ///< neighbours for the mean distance of each point
+  double outlier_std_ratio{
+      2.0};  ///< d_t: a point whose mean neighbour distance is above mu + d_t·sigma is removed
   bool voxelize{true};
-  double voxel_m{0.05};          ///< voxel edge; each occupied voxel is replaced by its centroid [m]
-  int threads{2};                ///< threads for the outlier statistic's kNN queries; the result does not depend on it
+  double voxel_m{0.05};  ///< voxel edge; each occupied voxel is replaced by its centroid [m]
+  int threads{
+      2};  ///< threads for the outlier statistic's kNN queries; the result does not depend on it
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "preprocess") const;
@@ -44,8 +46,8 @@ struct PreprocessStats {
 /// cloud (built once for this and measureCloud); else one is built. Throws
 /// InputError for k < 1, std_ratio ≤ 0, threads < 1 or a non-finite point, and
 /// std::invalid_argument for an index over another cloud.
-PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads = 2,
-                                    const NeighbourIndex* index = nullptr);
+PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio,
+                                    int threads = 2, const NeighbourIndex* index = nullptr);
 
 /// Replaces the points of each occupied voxel (edge leaf_m) by their centroid.
 /// Output order is deterministic. Throws InputError when the extent exceeds 2^21

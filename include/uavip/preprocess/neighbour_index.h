@@ -4,11 +4,11 @@
 /// measurement (cloud_stats.h) and the statistical outlier removal (filters.h)
 /// search the same points, so the caller may build the tree once for both.
 
-#include "uavip/core/types.h"
-
 #include <cstddef>
 #include <memory>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::preprocess {
 
@@ -36,7 +36,8 @@ class NeighbourIndex {
 
   /// The same for stored point i alone; `indices` and `squared_m2` get k entries
   /// (fewer if the cloud has fewer points).
-  void nearest(std::size_t i, int k, std::vector<int>& indices, std::vector<float>& squared_m2) const;
+  void nearest(std::size_t i, int k, std::vector<int>& indices,
+               std::vector<float>& squared_m2) const;
 
  private:
   struct Tree;

@@ -4,9 +4,9 @@
 /// each point's k nearest neighbours (PCL NormalEstimation on a kd-tree). The sign
 /// is unknown (two-sided): callers that need a side test both or use a line of sight.
 
-#include "uavip/core/types.h"
-
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::preprocess {
 

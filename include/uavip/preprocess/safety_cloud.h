@@ -12,10 +12,10 @@
 /// Planning and validation keep `clearance + margin_m` from the safety points, so the
 /// flight keeps `clearance` from every input point (docs/ARCHITECTURE.md, "Safety").
 
-#include "uavip/core/types.h"
-
 #include <cstddef>
 #include <string>
+
+#include "uavip/core/types.h"
 
 namespace uavip::preprocess {
 

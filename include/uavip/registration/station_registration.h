@@ -22,28 +22,29 @@
 /// the recorded position and is reported (StationResult::information). The result
 /// is chained to station 0, whose pose is fixed.
 
-#include "uavip/core/raw_log.h"
-#include "uavip/core/types.h"
-
 #include <Eigen/Geometry>
-
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "uavip/core/raw_log.h"
+#include "uavip/core/types.h"
 
 namespace uavip::registration {
 
 /// The registration algorithm (PCL).
 enum class Method {
-  None,            ///< keep the initial poses
-  PointToPlaneTranslation,  ///< translation only (rotation from the IMU), point-to-plane, Eigen + kd-tree
-  Icp,             ///< pcl::IterativeClosestPoint (point-to-point)
-  IcpPointToPlane, ///< pcl::IterativeClosestPointWithNormals (point-to-plane)
-  Gicp,            ///< pcl::GeneralizedIterativeClosestPoint (plane-to-plane)
-  Ndt              ///< pcl::NormalDistributionsTransform
+  None,                     ///< keep the initial poses
+  PointToPlaneTranslation,  ///< translation only (rotation from the IMU), point-to-plane, Eigen +
+                            ///< kd-tree
+  Icp,                      ///< pcl::IterativeClosestPoint (point-to-point)
+  IcpPointToPlane,          ///< pcl::IterativeClosestPointWithNormals (point-to-plane)
+  Gicp,                     ///< pcl::GeneralizedIterativeClosestPoint (plane-to-plane)
+  Ndt                       ///< pcl::NormalDistributionsTransform
 };
 
-/// "none" | "translation" | "icp" | "icp_point_to_plane" | "gicp" | "ndt"; throws InputError otherwise.
+/// "none" | "translation" | "icp" | "icp_point_to_plane" | "gicp" | "ndt"; throws InputError
+/// otherwise.
 Method methodFromString(const std::string& name);
 std::string toString(Method method);
 
@@ -54,18 +55,22 @@ constexpr double kMinInformationPairs = 20.0;
 /// Options of stage 2.
 struct RegistrationOptions {
   Method method{Method::PointToPlaneTranslation};
-  double overlap_margin_m{1.0};       ///< growth of the bounding boxes that predict the overlap [m]
-  double search_radius_m{2.0};        ///< coarse translation search around the recorded position, ±this per axis (0: none) [m]
-  double search_step_m{0.2};          ///< its grid step (and occupancy cell) [m]
-  double downsample_m{0.15};          ///< voxel edge of the clouds ICP sees [m]
-  double max_correspondence_m{1.0};   ///< ICP pairs farther apart are rejected [m]
+  double overlap_margin_m{1.0};  ///< growth of the bounding boxes that predict the overlap [m]
+  double search_radius_m{2.0};   ///< coarse translation search around the recorded position, ±this
+                                 ///< per axis (0: none) [m]
+  double search_step_m{0.2};     ///< its grid step (and occupancy cell) [m]
+  double downsample_m{0.15};     ///< voxel edge of the clouds ICP sees [m]
+  double max_correspondence_m{1.0};  ///< ICP pairs farther apart are rejected [m]
   int max_iterations{40};
-  double ndt_resolution_m{1.0};       ///< NDT cell [m]
-  bool use_recorded_yaw{false};       ///< rotate each station by recorded_yaw − IMU yaw at its first scan
-  double output_voxel_m{0.02};        ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
-  int threads{2};                     ///< stations down-sampled and given normals in parallel
-  int normal_k{10};                   ///< neighbours of a point's PCA normal (translation method; its coarse search too)
-  int pcl_normal_k{12};               ///< the same for PCL's point-to-plane ICP (icp_point_to_plane)
+  double ndt_resolution_m{1.0};  ///< NDT cell [m]
+  bool use_recorded_yaw{
+      false};  ///< rotate each station by recorded_yaw − IMU yaw at its first scan
+  double output_voxel_m{
+      0.02};       ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
+  int threads{2};  ///< stations down-sampled and given normals in parallel
+  int normal_k{
+      10};  ///< neighbours of a point's PCA normal (translation method; its coarse search too)
+  int pcl_normal_k{12};  ///< the same for PCL's point-to-plane ICP (icp_point_to_plane)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "registration") const;
@@ -74,8 +79,8 @@ struct RegistrationOptions {
 /// One station's cloud in its own frame and its initial pose in the world.
 struct StationInput {
   int id{0};
-  PointList points;                                              ///< station frame [m]
-  Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()}; ///< world_T_station guess
+  PointList points;                                               ///< station frame [m]
+  Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};  ///< world_T_station guess
 };
 
 /// What registration did to one station.
@@ -84,11 +89,12 @@ struct StationResult {
   Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};
   Eigen::Isometry3d pose{Eigen::Isometry3d::Identity()};  ///< world_T_station after ICP
   std::size_t points{0};
-  std::size_t overlap_points{0};     ///< this station's points in the predicted overlap (after down-sampling)
-  double fitness_rms_m{0.0};         ///< RMS pair distance after ICP (pairs within max_correspondence) [m]
-  bool converged{false};             ///< ICP converged (station 0 and method None: true)
-  int iterations{0};                 ///< ICP iterations run (translation method)
-  std::size_t pairs{0};              ///< point-to-plane pairs in the last iteration (translation method)
+  std::size_t overlap_points{
+      0};  ///< this station's points in the predicted overlap (after down-sampling)
+  double fitness_rms_m{0.0};  ///< RMS pair distance after ICP (pairs within max_correspondence) [m]
+  bool converged{false};      ///< ICP converged (station 0 and method None: true)
+  int iterations{0};          ///< ICP iterations run (translation method)
+  std::size_t pairs{0};       ///< point-to-plane pairs in the last iteration (translation method)
   /// How well the pairs fix each direction (translation method): eigenvalues of
   /// Σ w·n nᵀ over the pairs, ascending, in effective pairs (a pair whose normal lies
   /// along a direction adds 1 to it). Below kMinInformationPairs a direction keeps
@@ -100,19 +106,21 @@ struct StationResult {
 
 /// The merged cloud and per-station results.
 struct RegistrationResult {
-  PointList merged;                  ///< world frame [m]
+  PointList merged;  ///< world frame [m]
   std::vector<StationResult> stations;
   double time_s{0.0};
 };
 
 /// Initial pose of station `index` from the recorded positions (and yaw if asked;
 /// imu_yaw_rad is the IMU's heading at the station's first scan) relative to station 0.
-Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw = false,
-                                     double imu_yaw_rad = 0.0, double imu_yaw0_rad = 0.0);
+Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index,
+                                     bool use_recorded_yaw = false, double imu_yaw_rad = 0.0,
+                                     double imu_yaw0_rad = 0.0);
 
 /// Registers the stations (the first is the reference, pose = its initial pose)
 /// and merges them. Stations with no points are kept in the result with converged
 /// = false and contribute nothing. Throws InputError if every station is empty.
-RegistrationResult registerStations(const std::vector<StationInput>& stations, const RegistrationOptions& options = {});
+RegistrationResult registerStations(const std::vector<StationInput>& stations,
+                                    const RegistrationOptions& options = {});
 
 }  // namespace uavip::registration

@@ -33,7 +33,6 @@
 /// See render/plot.h for scatter/line plots in one call.
 
 #include <Eigen/Core>
-
 #include <deque>
 #include <optional>
 #include <string>
@@ -74,9 +73,9 @@ enum class Marker { Circle, Square, Triangle, Diamond, Cross, Plus };
 
 /// How a primitive is drawn. Sizes in pixels.
 struct Style {
-  Color stroke{kBlack};        ///< line / outline colour
-  std::optional<Color> fill;   ///< fill of polygons and markers (none: outline only)
-  double line_width_px{1.5};   ///< 0: no outline
+  Color stroke{kBlack};       ///< line / outline colour
+  std::optional<Color> fill;  ///< fill of polygons and markers (none: outline only)
+  double line_width_px{1.5};  ///< 0: no outline
   bool dashed{false};
   Marker marker{Marker::Circle};
   double marker_size_px{6.0};  ///< marker width [px]
@@ -94,10 +93,10 @@ enum class Scale { Linear, Log10 };
 
 /// One axis of a panel.
 struct Axis {
-  std::string label;              ///< drawn along the axis, e.g. "x east [m]"
+  std::string label;  ///< drawn along the axis, e.g. "x east [m]"
   Scale scale{Scale::Linear};
-  std::optional<double> min;      ///< fixed lower end (else from the data)
-  std::optional<double> max;      ///< fixed upper end (else from the data)
+  std::optional<double> min;  ///< fixed lower end (else from the data)
+  std::optional<double> max;  ///< fixed upper end (else from the data)
 };
 
 /// Where a legend or scale bar goes inside the plot area (None: not drawn).
@@ -117,7 +116,7 @@ struct TextStyle {
 
 /// Options of a panel.
 struct PanelOptions {
-  std::string title;                ///< above the plot area
+  std::string title;  ///< above the plot area
   Axis x;
   Axis y;
   bool axes{true};                  ///< frame, ticks and tick labels
@@ -143,7 +142,7 @@ struct LegendEntry {
 /// Pixel y grows downward; data y grows upward.
 struct Frame {
   double left_px{0.0}, top_px{0.0}, width_px{0.0}, height_px{0.0};  ///< plot area
-  double x_min{0.0}, x_max{1.0}, y_min{0.0}, y_max{1.0};          ///< data range (not log)
+  double x_min{0.0}, x_max{1.0}, y_min{0.0}, y_max{1.0};            ///< data range (not log)
   Scale x_scale{Scale::Linear}, y_scale{Scale::Linear};
 
   /// Data → pixel coordinates (log axes map log10 of the value).
@@ -169,7 +168,8 @@ class Panel {
   /// Many closed polygons of one style drawn as one path: one fill and one stroke
   /// (their union is filled once, so overlaps do not darken). Thousands of photo
   /// footprints cost one Cairo stroke instead of thousands.
-  void polygons(const std::vector<std::vector<Vec2>>& polygons, const Style& style, const std::string& label = {});
+  void polygons(const std::vector<std::vector<Vec2>>& polygons, const Style& style,
+                const std::string& label = {});
   /// One marker at each point.
   void markers(const std::vector<Vec2>& points, const Style& style, const std::string& label = {});
   /// Text anchored at a data point (baseline at the point's y).
@@ -183,7 +183,13 @@ class Panel {
 
  private:
   friend class Figure;
-  enum class Kind { Polyline, Polygon, Polygons, Markers, Text };  ///< Polygons: NaN-separated rings
+  enum class Kind {
+    Polyline,
+    Polygon,
+    Polygons,
+    Markers,
+    Text
+  };  ///< Polygons: NaN-separated rings
   struct Item {
     Kind kind{Kind::Polyline};
     std::vector<Vec2> points;
@@ -217,7 +223,8 @@ class Figure {
   /// A filled rectangle in pixels (backgrounds, swatches).
   void rectangle(double x_px, double y_px, double w_px, double h_px, const Style& style);
   /// A legend box with its top-left corner at a pixel position.
-  void legend(double x_px, double y_px, const std::vector<LegendEntry>& entries, double size_px = 13.0);
+  void legend(double x_px, double y_px, const std::vector<LegendEntry>& entries,
+              double size_px = 13.0);
 
   /// The picture as PNG file bytes (8-bit RGB(A)).
   std::string png() const;

@@ -16,23 +16,23 @@
 /// Series get palette colours and distinct markers in order unless given. On a log
 /// axis, points with a value <= 0 on that axis are left out (see figure.h).
 
-#include "uavip/render/figure.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "uavip/render/figure.h"
 
 namespace uavip::render {
 
 /// One data series; x and y must have the same length.
 struct Series {
-  std::string label;               ///< legend text (empty: not in the legend)
+  std::string label;  ///< legend text (empty: not in the legend)
   std::vector<double> x;
   std::vector<double> y;
-  bool markers{true};              ///< a marker at each point (scatter)
-  bool lines{false};               ///< join the points in the given order (line plot)
-  std::optional<Color> color;      ///< default: palette(series index)
-  std::optional<Marker> marker;    ///< default: cycles Circle, Square, Triangle, Diamond, Cross, Plus
+  bool markers{true};            ///< a marker at each point (scatter)
+  bool lines{false};             ///< join the points in the given order (line plot)
+  std::optional<Color> color;    ///< default: palette(series index)
+  std::optional<Marker> marker;  ///< default: cycles Circle, Square, Triangle, Diamond, Cross, Plus
   double marker_size_px{7.0};
   double line_width_px{1.8};
 };

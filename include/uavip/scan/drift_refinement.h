@@ -47,11 +47,11 @@
 /// Effective pairs: a point with 1.5 cm of noise counts 1, a noisier one (far: the
 /// IMU's attitude error grows with range) (1.5 cm / σ)², each times its Cauchy weight.
 
-#include "uavip/core/types.h"
-
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::scan {
 
@@ -70,24 +70,29 @@ struct DriftPoint {
   Vec3 offset{Vec3::Zero()};  ///< R(t)·(body_T_scanner·x*) [m]
   double t_s{0.0};            ///< beam time [s]
   double sigma_m{0.01};       ///< expected position noise of the point (range and attitude) [m]
-  bool horizontal{false};     ///< from the horizontal scanner (its lines may stand for vertical faces)
-  double beams{1.0};          ///< raw beams the point stands for (the sampling stride), for the loop closure's information
+  bool horizontal{false};  ///< from the horizontal scanner (its lines may stand for vertical faces)
+  double beams{1.0};       ///< raw beams the point stands for (the sampling stride), for the loop
+                           ///< closure's information
 };
 
 /// uavip's own tuning of the refinement (AssemblerTuning::drift); the defaults were
 /// measured on the simulated sweeps. Not read from YAML.
 struct DriftTuning {
-  int min_cell_points{6};              ///< a voxel or column needs this many points to give a plane
+  int min_cell_points{6};  ///< a voxel or column needs this many points to give a plane
   /// Planar (voxel) or straight (column): the smallest scatter eigenvalue below this
   /// fraction of the next one.
   double flat_ratio{0.1};
-  double max_thickness_m{0.05};        ///< cells thicker than this (√ smallest scatter eigenvalue) are not planes [m]
-  double gravity_aligned_deg{10.0};    ///< within this angle of level a plane is level, of upright upright [deg]
+  double max_thickness_m{
+      0.05};  ///< cells thicker than this (√ smallest scatter eigenvalue) are not planes [m]
+  double gravity_aligned_deg{
+      10.0};  ///< within this angle of level a plane is level, of upright upright [deg]
   /// A point with this noise counts as one effective pair; noisier ones as (this/σ)² [m].
   double unit_sigma_m{0.015};
-  double robust_sigmas{3.0};           ///< Cauchy scale of a residual, in σ of its point
-  double min_loop_information{10.0};   ///< effective pairs the least constrained direction needs for a loop-closure figure
-  double min_direction_information{10.0};  ///< a direction the whole sweep fixes with fewer effective pairs is not corrected
+  double robust_sigmas{3.0};  ///< Cauchy scale of a residual, in σ of its point
+  double min_loop_information{
+      10.0};  ///< effective pairs the least constrained direction needs for a loop-closure figure
+  double min_direction_information{
+      10.0};  ///< a direction the whole sweep fixes with fewer effective pairs is not corrected
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where) const;
@@ -113,7 +118,7 @@ struct DriftRefinement {
   /// Effective pairs fixing the least constrained direction of that fit, each point
   /// counted for its `beams` (so at the scanners' full resolution).
   double loop_closure_information{0.0};
-  std::size_t planes{0};                 ///< planes (voxels and columns) of the last iteration
+  std::size_t planes{0};  ///< planes (voxels and columns) of the last iteration
   int iterations{0};
   /// δ at time t [s]: linear between nodes, clamped at the ends [m].
   Vec3 at(double t_s) const;
@@ -125,13 +130,14 @@ std::vector<double> sweptYawDeg(const std::vector<double>& yaw_rad);
 
 /// The time at which `swept_deg` (of samples at `times_s`) reaches target_deg,
 /// linear between samples, clamped to the first and last time [s].
-double timeAtSweptDeg(const std::vector<double>& times_s, const std::vector<double>& swept_deg, double target_deg);
+double timeAtSweptDeg(const std::vector<double>& times_s, const std::vector<double>& swept_deg,
+                      double target_deg);
 
 /// Node times for segments of about segment_deg of swept yaw, equal shares of the
 /// whole sweep; the first and the last time are nodes (at least two when the times
 /// differ).
-std::vector<double> segmentNodeTimes(const std::vector<double>& times_s, const std::vector<double>& swept_deg,
-                                     double segment_deg);
+std::vector<double> segmentNodeTimes(const std::vector<double>& times_s,
+                                     const std::vector<double>& swept_deg, double segment_deg);
 
 /// Refines `track` with the points (see the file comment). `node_times_s` from
 /// segmentNodeTimes; points at or after loop_start_s are the end window of the loop

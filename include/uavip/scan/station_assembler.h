@@ -33,23 +33,22 @@
 /// axes those of the IMU's reference (world ENU, gravity-aligned).
 /// Invalid ranges (0, < min_range, > max_range, NaN, inf) are skipped and counted.
 
-#include "uavip/core/raw_log.h"
-#include "uavip/core/types.h"
-#include "uavip/scan/drift_refinement.h"
-
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "uavip/core/raw_log.h"
+#include "uavip/core/types.h"
+#include "uavip/scan/drift_refinement.h"
+
 namespace uavip::scan {
 
 /// The ICP used between horizontal scans.
 enum class IcpMethod {
-  PointToLine2D,  ///< Gauss–Newton point-to-line on (x, y, yaw), Eigen (default)
-  PclPointToPoint ///< pcl::IterativeClosestPoint with a 2D transformation estimate
+  PointToLine2D,   ///< Gauss–Newton point-to-line on (x, y, yaw), Eigen (default)
+  PclPointToPoint  ///< pcl::IterativeClosestPoint with a 2D transformation estimate
 };
 
 /// "point_to_line" | "pcl"; throws InputError for another name.
@@ -65,8 +64,8 @@ struct AssemblerTuning {
   /// line_reach_per_m × range of it, and is a line when the smaller eigenvalue is
   /// below line_ratio × the larger.
   int line_half_window{8};
-  double line_reach_m{0.2};        ///< [m]
-  double line_reach_per_m{0.02};   ///< [m per m of range]
+  double line_reach_m{0.2};       ///< [m]
+  double line_reach_per_m{0.02};  ///< [m per m of range]
   double line_ratio{0.1};
   /// Point-to-line ICP: Huber scale for the first huber_steps steps (the guess may be
   /// centimetres off), then Tukey: pairs across an occlusion edge or a corner get no
@@ -74,15 +73,17 @@ struct AssemblerTuning {
   double huber_m{0.05};
   double tukey_m{0.1};
   int huber_steps{3};
-  double normal_cos{0.94};          ///< pairs need normals within acos(this) of each other (20°)
-  std::size_t min_pairs{30};        ///< fewer pairs: the scan keeps the previous pose
-  double prior_weight{1e-3};        ///< weight of the prior toward the guess, per pair
-  double typical_range_m{5.0};      ///< scales yaw against translation in the degeneracy test [m]
+  double normal_cos{0.94};      ///< pairs need normals within acos(this) of each other (20°)
+  std::size_t min_pairs{30};    ///< fewer pairs: the scan keeps the previous pose
+  double prior_weight{1e-3};    ///< weight of the prior toward the guess, per pair
+  double typical_range_m{5.0};  ///< scales yaw against translation in the degeneracy test [m]
   /// Directions whose (range-scaled) eigenvalue is below this fraction of the largest
   /// are not updated by an ICP step (e.g. only one flat face in view).
   double degenerate_fraction{0.02};
-  double map_spacing_m{0.03};       ///< keyframe points join the reference map only this far from its points [m]
-  double min_loop_information{10.0};  ///< effective pairs the least constrained direction needs for a loop-closure figure
+  double map_spacing_m{
+      0.03};  ///< keyframe points join the reference map only this far from its points [m]
+  double min_loop_information{
+      10.0};  ///< effective pairs the least constrained direction needs for a loop-closure figure
   /// Drift refinement points: every drift_beam_stride-th beam of every vertical scan
   /// and of every drift_horizontal_scan_stride-th horizontal scan (~10⁵ per station).
   std::size_t drift_beam_stride{4};
@@ -91,10 +92,13 @@ struct AssemblerTuning {
   /// UTM-30LX: 1–3 cm; Xsens MTi-10: 0.5°, here about its mean).
   double beam_range_sigma_m{0.015};
   double beam_angle_sigma_rad{0.005};
-  double odometry_smoothing{0.25};  ///< before the refinement, xy is averaged over ± this fraction of a segment
-  double loop_window_deg{30.0};     ///< the loop closure's end window: the last this much of the sweep's yaw [deg]
-  double max_drift_segments{120.0}; ///< at most this many refinement segments (dense normal equations: 3 per node)
-  DriftTuning drift;                ///< the refinement's own (drift_refinement.h)
+  double odometry_smoothing{
+      0.25};  ///< before the refinement, xy is averaged over ± this fraction of a segment
+  double loop_window_deg{
+      30.0};  ///< the loop closure's end window: the last this much of the sweep's yaw [deg]
+  double max_drift_segments{
+      120.0};  ///< at most this many refinement segments (dense normal equations: 3 per node)
+  DriftTuning drift;  ///< the refinement's own (drift_refinement.h)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where) const;
@@ -102,24 +106,25 @@ struct AssemblerTuning {
 
 /// Options of stage 1.
 struct AssemblerOptions {
-  bool use_imu_prior{true};           ///< rotate horizontal scans by the IMU before ICP (paper)
+  bool use_imu_prior{true};  ///< rotate horizontal scans by the IMU before ICP (paper)
   IcpMethod icp{IcpMethod::PointToLine2D};
-  int max_iterations{30};             ///< ICP iterations per scan pair
-  double max_correspondence_m{0.5};   ///< pairs farther apart are ignored [m]
-  double convergence_m{1e-4};         ///< stop when an ICP step moves less than this [m] (and 1e-5 rad)
-  double keyframe_yaw_deg{15.0};      ///< new keyframe after this much yaw since the last one [deg]
-  double keyframe_translation_m{0.2}; ///< … or this much translation [m]
-  int horizontal_stride{1};           ///< use every n-th horizontal beam in ICP
-  double imu_smoothing_s{0.0};        ///< > 0: local-linear fit of the IMU attitude over this window [s]
-  double max_imu_gap_s{0.025};        ///< an IMU gap longer than this (one scan) is an error [s]
-  bool estimate_z{true};              ///< vertical drift from the vertical scanner's nadir/zenith beams
-  double z_cone_deg{20.0};            ///< beams within this angle of straight down/up are used for z [deg]
-  bool include_horizontal{false};     ///< also put the horizontal scanner's points in the cloud (paper: no)
-  bool refine_drift{true};            ///< all beams of the sweep join the drift estimate (drift_refinement.h)
-  double drift_segment_deg{12.0};     ///< refinement node spacing: this much yaw, in (0, 360] [deg]
-  int drift_iterations{3};            ///< refinement steps (voxels and normals rebuilt between them), >= 1
-  double drift_voxel_m{0.5};          ///< refinement voxel and column edge, > 0 [m]
-  AssemblerTuning tuning;             ///< uavip's own tuning (above)
+  int max_iterations{30};            ///< ICP iterations per scan pair
+  double max_correspondence_m{0.5};  ///< pairs farther apart are ignored [m]
+  double convergence_m{1e-4};     ///< stop when an ICP step moves less than this [m] (and 1e-5 rad)
+  double keyframe_yaw_deg{15.0};  ///< new keyframe after this much yaw since the last one [deg]
+  double keyframe_translation_m{0.2};  ///< … or this much translation [m]
+  int horizontal_stride{1};            ///< use every n-th horizontal beam in ICP
+  double imu_smoothing_s{0.0};  ///< > 0: local-linear fit of the IMU attitude over this window [s]
+  double max_imu_gap_s{0.025};  ///< an IMU gap longer than this (one scan) is an error [s]
+  bool estimate_z{true};        ///< vertical drift from the vertical scanner's nadir/zenith beams
+  double z_cone_deg{20.0};  ///< beams within this angle of straight down/up are used for z [deg]
+  bool include_horizontal{
+      false};               ///< also put the horizontal scanner's points in the cloud (paper: no)
+  bool refine_drift{true};  ///< all beams of the sweep join the drift estimate (drift_refinement.h)
+  double drift_segment_deg{12.0};  ///< refinement node spacing: this much yaw, in (0, 360] [deg]
+  int drift_iterations{3};    ///< refinement steps (voxels and normals rebuilt between them), >= 1
+  double drift_voxel_m{0.5};  ///< refinement voxel and column edge, > 0 [m]
+  AssemblerTuning tuning;     ///< uavip's own tuning (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "scan") const;
@@ -129,25 +134,27 @@ struct AssemblerOptions {
 struct AssemblyStats {
   std::size_t vertical_scans{0};
   std::size_t horizontal_scans{0};
-  std::size_t beams{0};            ///< vertical beams seen
-  std::size_t invalid_beams{0};    ///< skipped: 0, NaN, < min_range, > max_range
+  std::size_t beams{0};          ///< vertical beams seen
+  std::size_t invalid_beams{0};  ///< skipped: 0, NaN, < min_range, > max_range
   std::size_t keyframes{0};
-  std::size_t failed_icp{0};       ///< scans with too few ICP pairs or no convergence (they keep the previous pose)
+  std::size_t failed_icp{
+      0};  ///< scans with too few ICP pairs or no convergence (they keep the previous pose)
   double mean_icp_iterations{0.0};
-  double mean_icp_rms_m{0.0};      ///< mean point-to-line (or point) residual after ICP [m]
-  double icp_s{0.0};               ///< wall time of the horizontal ICP [s]
-  double points_s{0.0};            ///< wall time of the z drift and of eq. (1) on all vertical beams [s]
-  double refine_s{0.0};            ///< wall time of the drift refinement [s]
-  std::size_t drift_segments{0};   ///< refinement segments (0: not refined)
-  std::size_t drift_planes{0};     ///< voxel planes of the refinement's last step
+  double mean_icp_rms_m{0.0};  ///< mean point-to-line (or point) residual after ICP [m]
+  double icp_s{0.0};           ///< wall time of the horizontal ICP [s]
+  double points_s{0.0};  ///< wall time of the z drift and of eq. (1) on all vertical beams [s]
+  double refine_s{0.0};  ///< wall time of the drift refinement [s]
+  std::size_t drift_segments{0};  ///< refinement segments (0: not refined)
+  std::size_t drift_planes{0};    ///< voxel planes of the refinement's last step
 };
 
 /// One station's cloud and trajectory.
 struct StationCloud {
   int station_id{0};
-  PointList points;                          ///< station frame [m]
-  std::vector<double> pose_times_s;          ///< mid time of each horizontal scan [s]
-  std::vector<Eigen::Isometry3d> poses;      ///< station_T_body at each horizontal scan (IMU R; T: odometry, refined)
+  PointList points;                  ///< station frame [m]
+  std::vector<double> pose_times_s;  ///< mid time of each horizontal scan [s]
+  std::vector<Eigen::Isometry3d>
+      poses;  ///< station_T_body at each horizontal scan (IMU R; T: odometry, refined)
   /// Loop closure (paper §III: 10 cm) [m]: the length of the translation that would
   /// bring the end of the sweep onto its start, each placed with its estimated T.
   /// With refine_drift: the beams of the last 30° of yaw, both scanners, moved alone
@@ -174,11 +181,13 @@ inline Vec3 horizontalBeam(double range_m, double angle_rad) {
 
 /// True for a usable return: finite, > 0, within [min_range, max_range].
 inline bool validRange(float range_m, double min_range_m, double max_range_m) {
-  return std::isfinite(range_m) && range_m > 0.0f && range_m >= min_range_m && range_m <= max_range_m;
+  return std::isfinite(range_m) && range_m > 0.0f && range_m >= min_range_m &&
+         range_m <= max_range_m;
 }
 
 /// Eq. (2) for one vertical beam: world_T_body · body_T_vertical · x*.
-inline Vec3 verticalBeamToFrame(double range_m, double angle_rad, const Eigen::Isometry3d& body_T_vertical,
+inline Vec3 verticalBeamToFrame(double range_m, double angle_rad,
+                                const Eigen::Isometry3d& body_T_vertical,
                                 const Eigen::Isometry3d& frame_T_body) {
   return frame_T_body * (body_T_vertical * verticalBeam(range_m, angle_rad));
 }
@@ -216,6 +225,7 @@ double yawOf(const Eigen::Quaterniond& q);
 /// refinement's correction, from the vertical scans alone). Throws InputError for
 /// a station without IMU samples, an IMU gap longer than max_imu_gap_s, or scans
 /// outside the IMU's time span.
-StationCloud assembleStation(const RawLog& log, std::size_t index, const AssemblerOptions& options = {});
+StationCloud assembleStation(const RawLog& log, std::size_t index,
+                             const AssemblerOptions& options = {});
 
 }  // namespace uavip::scan

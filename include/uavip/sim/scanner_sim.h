@@ -19,17 +19,16 @@
 /// that its origin is the UAV centre at the first scan of station 0
 /// (SimulatedLog::origin_m is that point in scenario coordinates); axes unchanged.
 
-#include "uavip/core/raw_log.h"
-#include "uavip/core/types.h"
-#include "uavip/sim/world_model.h"
-
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "uavip/core/raw_log.h"
+#include "uavip/core/types.h"
+#include "uavip/sim/world_model.h"
 
 namespace uavip::sim {
 
@@ -56,31 +55,38 @@ struct ScannerModel {
 
 /// Options of the raw two-scanner + IMU simulation (scenarios/README.md, `sensing: {mode: scan}`).
 struct ScanSimOptions {
-  std::vector<Vec3> stations;         ///< true UAV centre at each station's first scan, scenario frame [m]
-  double start_yaw_deg{0.0};          ///< heading (body +x from world +x, CCW) at each station's first scan [deg]
-  double yaw_rate_deg_s{30.0};        ///< yaw rate; the turn takes turn_deg / yaw_rate [deg/s]
-  double turn_deg{360.0};             ///< yaw swept per station (paper: 360°) [deg]
+  std::vector<Vec3> stations;  ///< true UAV centre at each station's first scan, scenario frame [m]
+  double start_yaw_deg{
+      0.0};  ///< heading (body +x from world +x, CCW) at each station's first scan [deg]
+  double yaw_rate_deg_s{30.0};  ///< yaw rate; the turn takes turn_deg / yaw_rate [deg/s]
+  double turn_deg{360.0};       ///< yaw swept per station (paper: 360°) [deg]
   /// Most range readings of the whole recording (stations × scans × 2 scanners ×
   /// beams): bounds time and memory before anything is simulated (the bridge takes
   /// 4.2 M; 20 M take about 1 GB) [readings].
   double max_readings{20e6};
-  ScannerModel scanner;               ///< both scanners are the same model
-  Vec3 vertical_mount_m{-0.15, 0.0, 0.0};    ///< vertical scanner centre in the body frame [m]
-  Vec3 horizontal_mount_m{0.15, 0.0, 0.0};   ///< horizontal scanner centre in the body frame [m]
-  Vec3 vertical_mount_rpy_deg{0.0, 0.0, 0.0};    ///< vertical scanner orientation (roll, pitch, yaw about body x, y, z) [deg]
+  ScannerModel scanner;                     ///< both scanners are the same model
+  Vec3 vertical_mount_m{-0.15, 0.0, 0.0};   ///< vertical scanner centre in the body frame [m]
+  Vec3 horizontal_mount_m{0.15, 0.0, 0.0};  ///< horizontal scanner centre in the body frame [m]
+  Vec3 vertical_mount_rpy_deg{
+      0.0, 0.0, 0.0};  ///< vertical scanner orientation (roll, pitch, yaw about body x, y, z) [deg]
   Vec3 horizontal_mount_rpy_deg{0.0, 0.0, 0.0};  ///< horizontal scanner orientation [deg]
-  double horizontal_time_offset_s{0.0125};  ///< horizontal scans start this much after the vertical ones [s]
-  double imu_rate_hz{400.0};          ///< IMU sample rate (MTi-10: up to 2000) [Hz]
-  double imu_error_deg{0.5};          ///< each sample is rotated by a random axis and an angle uniform in [0, this] [deg]
-  double wind_step_m{0.003};          ///< σ per axis of the wind walk step per scanner period [m]
-  double wind_bound_m{0.2};           ///< the wind offset stays within ±this per axis [m]
-  double tilt_step_deg{0.05};         ///< σ of the roll/pitch walk step per scanner period [deg]
-  double tilt_bound_deg{1.0};         ///< roll and pitch stay within ±this [deg]
-  double gps_sigma_m{0.5};            ///< σ per axis of the recorded station position error (not station 0) [m]
-  double thin_radius_m{0.02};         ///< radius of segments (capsules) and points (spheres) seen by rays [m]
-  bool deskew{true};                  ///< each beam is cast from the pose at its own time (else the scan start's)
-  double station_gap_s{10.0};         ///< time between the end of one station and the start of the next [s]
-  std::uint32_t seed{1};              ///< seed of every random draw
+  double horizontal_time_offset_s{
+      0.0125};                ///< horizontal scans start this much after the vertical ones [s]
+  double imu_rate_hz{400.0};  ///< IMU sample rate (MTi-10: up to 2000) [Hz]
+  double imu_error_deg{
+      0.5};  ///< each sample is rotated by a random axis and an angle uniform in [0, this] [deg]
+  double wind_step_m{0.003};   ///< σ per axis of the wind walk step per scanner period [m]
+  double wind_bound_m{0.2};    ///< the wind offset stays within ±this per axis [m]
+  double tilt_step_deg{0.05};  ///< σ of the roll/pitch walk step per scanner period [deg]
+  double tilt_bound_deg{1.0};  ///< roll and pitch stay within ±this [deg]
+  double gps_sigma_m{
+      0.5};  ///< σ per axis of the recorded station position error (not station 0) [m]
+  double thin_radius_m{
+      0.02};          ///< radius of segments (capsules) and points (spheres) seen by rays [m]
+  bool deskew{true};  ///< each beam is cast from the pose at its own time (else the scan start's)
+  double station_gap_s{
+      10.0};              ///< time between the end of one station and the start of the next [s]
+  std::uint32_t seed{1};  ///< seed of every random draw
 
   /// Mount transforms (body_T_scanner) from the offsets and angles.
   Eigen::Isometry3d bodyTVertical() const;
@@ -94,11 +100,11 @@ struct ScanSimOptions {
 
 /// A simulated recording.
 struct SimulatedLog {
-  RawLog log;                    ///< what the pipeline reads
-  RawLogTruth truth;             ///< true body poses at every scan start (log frame)
-  Vec3 origin_m{Vec3::Zero()};   ///< the log frame's origin in scenario coordinates [m]
-  std::size_t rays{0};           ///< rays cast
-  std::size_t returns{0};        ///< beams with a valid range
+  RawLog log;                   ///< what the pipeline reads
+  RawLogTruth truth;            ///< true body poses at every scan start (log frame)
+  Vec3 origin_m{Vec3::Zero()};  ///< the log frame's origin in scenario coordinates [m]
+  std::size_t rays{0};          ///< rays cast
+  std::size_t returns{0};       ///< beams with a valid range
 };
 
 /// Exact ray–rectangle intersection: the distance t > 0 along the unit direction
@@ -122,9 +128,9 @@ class RayCaster {
   struct Node {
     Eigen::Vector3d lo{Eigen::Vector3d::Zero()};
     Eigen::Vector3d hi{Eigen::Vector3d::Zero()};
-    int first{0};   ///< leaf: first shape index; inner: left child index
-    int count{0};   ///< leaf: number of shapes; inner: 0
-    int right{0};   ///< inner: right child index
+    int first{0};  ///< leaf: first shape index; inner: left child index
+    int count{0};  ///< leaf: number of shapes; inner: 0
+    int right{0};  ///< inner: right child index
   };
   double hitShape(int i, const Vec3& o, const Vec3& d, double best) const;
   int build(std::vector<int>& order, int begin, int end, const std::vector<Eigen::Vector3d>& lo,

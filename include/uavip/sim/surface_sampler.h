@@ -3,10 +3,10 @@
 /// Sensing mode `sample`: a point cloud sampled on the world's primitives with
 /// Gaussian noise and sprinkled outliers, seeded (scenarios/README.md).
 
+#include <cstdint>
+
 #include "uavip/core/types.h"
 #include "uavip/sim/world_model.h"
-
-#include <cstdint>
 
 namespace uavip::sim {
 

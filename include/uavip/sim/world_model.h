@@ -7,11 +7,11 @@
 /// boxes, so it is seen by the ray-casting scanner simulation (scanner_sim.h) and
 /// stays an obstacle: no piece is a plane of 2 m² or more.
 
-#include "uavip/core/types.h"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip::sim {
 
@@ -51,10 +51,11 @@ struct TruthPoint {
 struct TreeOptions {
   double trunk_height_m{1.5};  ///< trunk box height [m]
   double trunk_width_m{0.15};  ///< trunk box width and depth [m]
-  double crown_radius_m{0.35};  ///< crown cube centres lie within this radius of the crown centre [m]
-  int crown_boxes{8};           ///< number of crown cubes
-  double crown_box_m{0.25};     ///< crown cube edge [m]
-  std::uint32_t seed{1};       ///< seed of the crown layout
+  double crown_radius_m{
+      0.35};                 ///< crown cube centres lie within this radius of the crown centre [m]
+  int crown_boxes{8};        ///< number of crown cubes
+  double crown_box_m{0.25};  ///< crown cube edge [m]
+  std::uint32_t seed{1};     ///< seed of the crown layout
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "tree") const;
@@ -63,12 +64,12 @@ struct TreeOptions {
 /// A patch of grass: thin vertical tuft boxes at uniform positions on the ground
 /// (seeded); tuft heights uniform in [0.5, 1] × tuft_height_m.
 struct GrassOptions {
-  double size_x_m{2.0};        ///< patch extent along x [m]
-  double size_y_m{2.0};        ///< patch extent along y [m]
-  int tufts{12};               ///< number of tufts
-  double tuft_height_m{0.4};   ///< tallest tuft [m]
-  double tuft_width_m{0.06};   ///< tuft box width and depth [m]
-  std::uint32_t seed{1};       ///< seed of the layout
+  double size_x_m{2.0};       ///< patch extent along x [m]
+  double size_y_m{2.0};       ///< patch extent along y [m]
+  int tufts{12};              ///< number of tufts
+  double tuft_height_m{0.4};  ///< tallest tuft [m]
+  double tuft_width_m{0.06};  ///< tuft box width and depth [m]
+  std::uint32_t seed{1};      ///< seed of the layout
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "grass") const;

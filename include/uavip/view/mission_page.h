@@ -23,24 +23,24 @@
 /// path's colouring), `points=all`, `canvas=WxH` (a fixed drawing size in CSS pixels).
 /// Deterministic: the same scene and mission give the same bytes.
 
+#include <cstddef>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
 #include "uavip/core/types.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
-
-#include <nlohmann/json.hpp>
-
-#include <cstddef>
-#include <limits>
-#include <string>
-#include <vector>
 
 namespace uavip::view {
 
 /// Options of the mission page.
 struct MissionPageOptions {
-  std::string title{"uavip mission"};      ///< heading and <title> until the page is ready
-  std::size_t max_cloud_points{300000};    ///< cloud points drawn (evenly subsampled above this)
-  std::size_t max_path_samples{40000};     ///< samples of all paths together for the clearance colouring
+  std::string title{"uavip mission"};    ///< heading and <title> until the page is ready
+  std::size_t max_cloud_points{300000};  ///< cloud points drawn (evenly subsampled above this)
+  std::size_t max_path_samples{
+      40000};  ///< samples of all paths together for the clearance colouring
   /// Required clearance for the path colouring [m]; NaN: the mission's
   /// inflation_radius_m, else 1 m.
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
@@ -52,7 +52,8 @@ struct MissionPageOptions {
 /// (io/mission_json.h), read strictly by missionFromJson (errors name `mission_path`),
 /// or null for the scene alone (detect). A scene without points gives a page without a
 /// cloud (run on a scene where nothing was detected); `uavip view` refuses such a scene.
-std::string missionPage(const Scene& scene, const nlohmann::json* mission, const MissionPageOptions& options = {},
+std::string missionPage(const Scene& scene, const nlohmann::json* mission,
+                        const MissionPageOptions& options = {},
                         const std::string& mission_path = "mission.json");
 
 /// The page for the planner's results, as `run` and `plan` write them (the mission is

@@ -17,16 +17,16 @@
 ///  - OUT/mission.html: the mission in 3D in one self-contained page (view/mission_page.h).
 /// Everything is deterministic for the same scene and missions.
 
-#include "uavip/io/atomic_file.h"
-#include "uavip/core/types.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
-#include "uavip/render/figure.h"
-
 #include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "uavip/core/types.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/planning/flight_planner.h"
+#include "uavip/planning/mission_planner.h"
+#include "uavip/render/figure.h"
 
 namespace uavip::view {
 
@@ -53,7 +53,8 @@ struct OverviewOptions {
   std::string title{"uavip mission overview"};  ///< first line, e.g. the scenario name
   int width_px{1900};
   int height_px{1100};
-  std::size_t max_cloud_points{60000};  ///< cloud points drawn per view (evenly subsampled above this)
+  std::size_t max_cloud_points{
+      60000};  ///< cloud points drawn per view (evenly subsampled above this)
   /// The mission's required clearance [m], for mission.html's path colouring (NaN: 1 m).
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
 };
@@ -61,30 +62,33 @@ struct OverviewOptions {
 /// The overview figure (encode it with png() or svg()).
 /// With a flight (status ok): every sortie in its colour, home, and each surface's
 /// place in the order as a number where it is entered.
-render::Figure overviewFigure(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                              const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
+render::Figure overviewFigure(const Scene& scene,
+                              const std::vector<planning::SurfaceMission>& missions,
+                              const OverviewOptions& options = {},
+                              const planning::FlightPlan* flight = nullptr);
 
 /// The views as file contents.
 struct ViewFiles {
-  std::string ply;  ///< scene.ply
-  std::string obj;  ///< path.obj
-  std::string png;  ///< overview.png
+  std::string ply;   ///< scene.ply
+  std::string obj;   ///< path.obj
+  std::string png;   ///< overview.png
   std::string html;  ///< mission.html, the 3D page (view/mission_page.h)
 };
 
 /// Renders the four views. Reads its arguments only, so it may run on a thread of
 /// its own while the caller writes the scene and the mission.
 ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                      const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
+                      const OverviewOptions& options = {},
+                      const planning::FlightPlan* flight = nullptr);
 
 /// Stages rendered views as out_dir/scene.ply, path.obj, overview.png and mission.html.
 void stageViews(io::StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
 
-/// Stages out_dir/scene.ply, out_dir/path.obj, out_dir/overview.png and out_dir/mission.html in `outputs`
-/// (io/atomic_file.h: written when the command commits its outputs). Throws
-/// InputError naming a file that cannot be written.
+/// Stages out_dir/scene.ply, out_dir/path.obj, out_dir/overview.png and out_dir/mission.html in
+/// `outputs` (io/atomic_file.h: written when the command commits its outputs). Throws InputError
+/// naming a file that cannot be written.
 void writeViews(io::StagedOutputs& outputs, const std::string& out_dir, const Scene& scene,
-                const std::vector<planning::SurfaceMission>& missions, const OverviewOptions& options = {},
-                const planning::FlightPlan* flight = nullptr);
+                const std::vector<planning::SurfaceMission>& missions,
+                const OverviewOptions& options = {}, const planning::FlightPlan* flight = nullptr);
 
 }  // namespace uavip::view

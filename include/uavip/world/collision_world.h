@@ -27,13 +27,13 @@
 ///
 /// Immutable after construction; const queries are thread-safe.
 
-#include "uavip/core/geometry.h"
-#include "uavip/core/types.h"
-
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/types.h"
 
 namespace uavip::world {
 
@@ -77,8 +77,8 @@ struct WorldObject {
 /// Nearest object to a segment.
 struct Proximity {
   double distance_m{std::numeric_limits<double>::infinity()};  ///< segment–object distance [m]
-  int object{-1};                ///< index into CollisionWorld::objects(), −1 if none
-  Vec3 point{Vec3::Zero()};      ///< nearest point of the object (a measured point for the cloud) [m]
+  int object{-1};            ///< index into CollisionWorld::objects(), −1 if none
+  Vec3 point{Vec3::Zero()};  ///< nearest point of the object (a measured point for the cloud) [m]
 };
 
 /// Surfaces, obstacles and cloud of a Scene as FCL objects in a broadphase manager.
@@ -120,7 +120,8 @@ class CollisionWorld {
   /// reachable only through its shell.
   /// Only solids whose bounds meet `region` (when given) are sampled, and only
   /// their samples inside it.
-  PointList solidSamples(double spacing, const PointList& occupied = {}, const Aabb* region = nullptr) const;
+  PointList solidSamples(double spacing, const PointList& occupied = {},
+                         const Aabb* region = nullptr) const;
 
  private:
   CollisionWorld() = default;

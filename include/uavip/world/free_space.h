@@ -6,10 +6,10 @@
 /// still holds. VoxelGrid is the implementation; the OMPL planners of planners/ see
 /// nothing else of it.
 
+#include <cstdint>
+
 #include "uavip/core/geometry.h"
 #include "uavip/core/types.h"
-
-#include <cstdint>
 
 namespace uavip::world {
 

@@ -16,10 +16,6 @@
 /// can cut the corner of a blocked voxel between two samples, so segmentFree also
 /// walks every voxel the segment crosses.
 
-#include "uavip/core/geometry.h"
-#include "uavip/core/types.h"
-#include "uavip/world/free_space.h"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -27,13 +23,17 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/geometry.h"
+#include "uavip/core/types.h"
+#include "uavip/world/free_space.h"
+
 namespace uavip::world {
 
 /// Options of the planning grid.
 struct GridOptions {
   double resolution_m{0.2};        ///< voxel edge [m]
   double inflation_radius_m{0.6};  ///< r: the UAV's largest dimension (paper) [m]
-  double padding_m{2.0};           ///< free margin around the cloud's (and extra points') bounds [m]
+  double padding_m{2.0};  ///< free margin around the cloud's (and extra points') bounds [m]
   std::size_t max_voxels{60'000'000};  ///< refuse grids larger than this (memory guard)
 
   /// Throws InputError naming the bad field (prefix `where`).
@@ -55,7 +55,8 @@ class VoxelGrid final : public FreeSpace {
   /// grown by padding_m. Occupancy comes from an octomap::OcTree filled with the
   /// cloud; inflation blocks voxels within r + √3·res (see the file comment).
   /// Throws InputError for bad options or a grid over max_voxels.
-  static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options);
+  static VoxelGrid build(const PointList& cloud, const PointList& extra,
+                         const GridOptions& options);
   /// A grid over `region` only (grown by padding_m): a surface's neighbourhood on a
   /// large site instead of the whole site. Points of `cloud` outside the region
   /// still block it when they lie within the inflation of a voxel inside it (the
@@ -105,7 +106,8 @@ class VoxelGrid final : public FreeSpace {
   std::size_t linear(const Index3& i) const {
     return static_cast<std::size_t>(i.x) +
            static_cast<std::size_t>(dims_[0]) *
-               (static_cast<std::size_t>(i.y) + static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z));
+               (static_cast<std::size_t>(i.y) +
+                static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z));
   }
   /// The 26-connected component of voxel i: 0 if blocked, else a label ≥ 1 shared
   /// by exactly the free voxels connected to it. The grid's components are labelled
@@ -119,13 +121,14 @@ class VoxelGrid final : public FreeSpace {
 
  private:
   /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
-  static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi, const GridOptions& options);
+  static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
+                               const GridOptions& options);
 
   GridOptions options_;
   Vec3 origin_{Vec3::Zero()};
   std::array<int, 3> dims_{{0, 0, 0}};
-  std::vector<std::uint8_t> blocked_;   ///< 0 free, 1 inflated, 2 occupied
-  struct ReachCache;                    ///< component labels (mutex + labels)
+  std::vector<std::uint8_t> blocked_;  ///< 0 free, 1 inflated, 2 occupied
+  struct ReachCache;                   ///< component labels (mutex + labels)
   /// Labels of the 26-connected components of the free voxels (0 for blocked).
   std::vector<std::int32_t> labelComponents() const;
   std::shared_ptr<ReachCache> reach_cache_;

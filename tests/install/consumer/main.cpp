@@ -1,14 +1,14 @@
 // Plans around a scanned wall with the installed uavip: the grid of stage 7, the paper's
 // A* from the planner registry, then checks the path with the core geometry. Exit 0 when
 // every check holds.
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
 #include "planners/registry.h"
 #include "uavip/core/geometry.h"
 #include "uavip/planning/planner.h"
 #include "uavip/world/voxel_grid.h"
-
-#include <algorithm>
-#include <cstdio>
-#include <limits>
 
 namespace {
 
@@ -37,7 +37,8 @@ int main() {
   const uavip::world::VoxelGrid grid = uavip::world::VoxelGrid::build(wall, {}, options);
 
   const auto names = uavip::planners::plannerNames();
-  check(std::find(names.begin(), names.end(), "astar") != names.end(), "\"astar\" is a registered planner");
+  check(std::find(names.begin(), names.end(), "astar") != names.end(),
+        "\"astar\" is a registered planner");
 
   const Vec3 start(3.5, 2.0, 2.0), goal(6.5, 2.0, 2.0);  // either side of the wall
   auto planner = uavip::planners::makePlanner("astar", uavip::planners::PlannerSettings{});
@@ -49,15 +50,20 @@ int main() {
   for (std::size_t i = 1; i < result.path.size(); ++i) {
     check(grid.isFree(result.path[i]), "every path point lies in a free voxel");
     for (const Vec3& p : wall) {
-      clearance = std::min(clearance, uavip::pointSegmentDistance(p, result.path[i - 1], result.path[i]));
+      clearance =
+          std::min(clearance, uavip::pointSegmentDistance(p, result.path[i - 1], result.path[i]));
     }
   }
   const double length = uavip::polylineLength(result.path);
-  check(result.path.front().isApprox(start) && result.path.back().isApprox(goal), "the path joins start and goal");
-  check(clearance >= options.inflation_radius_m, "the path keeps the inflation radius from every wall point");
+  check(result.path.front().isApprox(start) && result.path.back().isApprox(goal),
+        "the path joins start and goal");
+  check(clearance >= options.inflation_radius_m,
+        "the path keeps the inflation radius from every wall point");
   check(length > 3.0 + 2.0, "the path goes around the wall, not through it");
-  std::printf("uavip_consumer: %s path of %zu points, %.2f m, clearance %.2f m on a %d x %d x %d grid: %s\n",
-              planner->name().c_str(), result.path.size(), length, clearance, grid.dims()[0], grid.dims()[1],
-              grid.dims()[2], failures == 0 ? "ok" : "FAILED");
+  std::printf(
+      "uavip_consumer: %s path of %zu points, %.2f m, clearance %.2f m on a %d x %d x %d grid: "
+      "%s\n",
+      planner->name().c_str(), result.path.size(), length, clearance, grid.dims()[0],
+      grid.dims()[1], grid.dims()[2], failures == 0 ? "ok" : "FAILED");
   return failures == 0 ? 0 : 1;
 }
