@@ -285,6 +285,16 @@ void requireFree(const std::optional<Vec3>& point, const std::string& key,
   }
 }
 
+planning::FlightPlan flyMissions(const std::vector<planning::SurfaceMission>& missions,
+                                 const world::VoxelGrid& grid,
+                                 const planning::PathValidator& validator,
+                                 planning::Planner& planner, const app::Config& config) {
+  planning::FlightOptions options = config.flight;
+  options.start = config.mission.start;
+  options.simplify = config.mission.simplify;
+  return planning::planFlight(missions, grid, validator, planner, options);
+}
+
 PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {
   PlanResult result;
@@ -333,10 +343,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
 
   const auto t3 = SteadyClock::now();
   report(progress, "flight: order, connecting legs, sorties");
-  planning::FlightOptions flight_options = config.flight;
-  flight_options.start = config.mission.start;
-  flight_options.simplify = config.mission.simplify;
-  result.flight = planning::planFlight(result.missions, grid, validator, *planner, flight_options);
+  result.flight = flyMissions(result.missions, grid, validator, *planner, config);
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);
   return result;

@@ -34,4 +34,11 @@ void requireWithinReach(const std::optional<Vec3>& point, const std::string& key
 void requireFree(const std::optional<Vec3>& point, const std::string& key,
                  const planning::PathValidator& validator);
 
+/// The one flight over `missions` (planning/flight_planner.h) with the config's
+/// flight options, mission.start and mission.simplify.
+planning::FlightPlan flyMissions(const std::vector<planning::SurfaceMission>& missions,
+                                 const world::VoxelGrid& grid,
+                                 const planning::PathValidator& validator,
+                                 planning::Planner& planner, const app::Config& config);
+
 }  // namespace uavip::app

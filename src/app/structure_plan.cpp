@@ -400,10 +400,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
 
   const auto t3 = SteadyClock::now();
   report(progress, "flight: connecting legs, sorties");
-  planning::FlightOptions flight_options = config.flight;
-  flight_options.start = config.mission.start;
-  flight_options.simplify = config.mission.simplify;
-  result.flight = planning::planFlight(result.missions, grid, *validator, *planner, flight_options);
+  result.flight = flyMissions(result.missions, grid, *validator, *planner, config);
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);
   result.structure = summary;
