@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace uavip::app {
 namespace {
@@ -13,15 +14,13 @@ constexpr double kLargeStructureM = 20.0;
 /// Rounds up to whole millimetres, so printed and used values agree.
 double mm(double metres) { return std::ceil(metres * 1000.0 - 1e-6) / 1000.0; }
 
-/// Records `key`: the file's value when set, else `auto_value` with its rule.
-void resolve(ResolvedConfig& r, const std::string& key, double& field, double auto_value,
-             const std::string& rule) {
-  if (r.config.isSet(key)) {
-    r.values.push_back({key, field, "set"});
-    return;
-  }
-  field = auto_value;
-  r.values.push_back({key, field, "auto: " + rule});
+/// Sets `field` to the file's value when it gave one, else to `auto_value`, and
+/// records which with the rule.
+template <typename T>
+void resolve(ResolvedConfig& r, const std::string& key, T& field, const std::optional<T>& given,
+             T auto_value, const std::string& rule) {
+  field = given ? *given : auto_value;
+  r.values.push_back({key, static_cast<double>(field), given ? "set" : "auto: " + rule});
 }
 
 }  // namespace
@@ -36,27 +35,30 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   ResolvedConfig r;
   r.config = config;
   app::Config& c = r.config;
+  const FileValues& given = config.file_values;
   const double spacing = stats.spacing_m > 0.0 ? stats.spacing_m : 0.05;
   const double noise = std::max(stats.noise_m, 0.0);
 
-  resolve(r, "preprocess.voxel_m", c.preprocess.voxel_m, mm(std::max(0.05, spacing)),
+  resolve(r, "preprocess.voxel_m", c.preprocess.voxel_m, given.voxel_m, mm(std::max(0.05, spacing)),
           "max(0.05, spacing)");
   const double s_eff = c.preprocess.voxelize ? std::max(spacing, c.preprocess.voxel_m) : spacing;
 
   auto& planes = c.perception.planes;
   resolve(r, "perception.distance_threshold_m", planes.distance_threshold_m,
-          mm(std::max({0.2, 4.0 * noise, 0.5 * s_eff})), "max(0.2, 4 noise, spacing'/2)");
+          given.distance_threshold_m, mm(std::max({0.2, 4.0 * noise, 0.5 * s_eff})),
+          "max(0.2, 4 noise, spacing'/2)");
   resolve(r, "perception.plane_cluster_tolerance_m", planes.cluster_tolerance_m,
-          mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
+          given.plane_cluster_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
   resolve(r, "perception.obstacle_tolerance_m", c.perception.clusters.tolerance_m,
-          mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
+          given.obstacle_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
   // After a voxel grid coarser than the spacing, the points form a lattice too.
   const bool lattice =
       stats.lattice || (c.preprocess.voxelize && c.preprocess.voxel_m >= 1.5 * spacing);
-  resolve(r, "perception.area_cell_m", planes.cell_size_m, mm(lattice ? 2.0 * s_eff : 3.0 * s_eff),
+  resolve(r, "perception.area_cell_m", planes.cell_size_m, given.area_cell_m,
+          mm(lattice ? 2.0 * s_eff : 3.0 * s_eff),
           lattice ? "2 spacing' (lattice)" : "3 spacing' (irregular sampling)");
   // A scenario knows its sensor; a cloud file knows none unless the config gives one.
-  planes.viewpoint_known = c.isSet("perception.viewpoint");
+  planes.viewpoint_known = given.viewpoint.has_value();
   if (!planes.viewpoint_known && stats.scanned_from_origin) {
     // One terrestrial scan from the origin: the sensor is known, and it saw the
     // front of every surface.
@@ -64,21 +66,16 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     planes.viewpoint = Vec3::Zero();
     planes.single_station = true;
   }
-  resolve(r, "perception.open_voxel_m", planes.open_voxel_m, mm(std::max(0.1, 2.0 * s_eff)),
-          "max(0.1, 2 spacing')");
-  double min_inliers = planes.min_inliers;
-  resolve(r, "perception.min_inliers", min_inliers, 30.0, "30");
-  planes.min_inliers = static_cast<int>(min_inliers);
+  resolve(r, "perception.open_voxel_m", planes.open_voxel_m, given.open_voxel_m,
+          mm(std::max(0.1, 2.0 * s_eff)), "max(0.1, 2 spacing')");
+  resolve(r, "perception.min_inliers", planes.min_inliers, given.min_inliers, 30, "30");
   r.values.push_back({"perception.min_area_m2", planes.min_area_m2,
-                      c.isSet("perception.min_area_m2") ? "set" : "default (paper)"});
+                      given.min_area_m2 ? "set" : "default (paper)"});
 
   // Camera: the paper's 0.6 × 0.4 m footprint at 1.5 m suits its small cases; a
   // building or bridge (largest extent > 20 m) with no camera in the config gets a
   // 1-inch 20 MP inspection camera at 2 mm/px (7.3 m standoff, 10.9 × 7.3 m photos).
-  const bool camera_set =
-      std::any_of(c.set_keys.begin(), c.set_keys.end(), [](const std::string& k) {
-        return k.rfind("camera.", 0) == 0 || k == "coverage.standoff_m";
-      });
+  const bool camera_set = given.camera || given.standoff_m;
   // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
   if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
     auto& cam = c.coverage.camera;
@@ -98,7 +95,8 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
 
   // The planning grid of the whole site (app::plan applies the rule again to the
   // region it plans): a 1 km site gets a coarser grid, not an error.
-  resolve(r, "grid.resolution_m", c.grid.resolution_m, autoGridResolution(stats.extent_m, c.grid),
+  resolve(r, "grid.resolution_m", c.grid.resolution_m, given.grid_resolution_m,
+          autoGridResolution(stats.extent_m, c.grid),
           "max(0.2, (site volume / (max_voxels/4))^(1/3))");
   c.validate("config");
   return r;

@@ -197,7 +197,7 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions();
   grid_options.inflation_radius_m = clearance_m;  // the UAV's radius and the safety margin
-  if (!config.isSet("grid.resolution_m"))
+  if (!config.file_values.grid_resolution_m)
     grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   world::VoxelGrid::requireFits(region,
                                 grid_options);  // before the solids are sampled at the resolution
@@ -223,8 +223,7 @@ std::vector<planning::SurfaceMission> planMissions(
     const std::vector<coverage::FlightStrategy>& strategies, const std::vector<int>& surface_ids,
     const world::VoxelGrid& grid, const planning::PathValidator& validator,
     planning::Planner& planner, const app::Config& config, const Progress& progress) {
-  planning::MissionOptions mission_options = config.mission;
-  mission_options.gimbal = config.coverage.gimbal;
+  const planning::MissionOptions mission_options = config.missionOptions();
   const int threads = planners::isDeterministic(config.planner)
                           ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
                           : 1;
@@ -289,10 +288,7 @@ planning::FlightPlan flyMissions(const std::vector<planning::SurfaceMission>& mi
                                  const world::VoxelGrid& grid,
                                  const planning::PathValidator& validator,
                                  planning::Planner& planner, const app::Config& config) {
-  planning::FlightOptions options = config.flight;
-  options.start = config.mission.start;
-  options.simplify = config.mission.simplify;
-  return planning::planFlight(missions, grid, validator, planner, options);
+  return planning::planFlight(missions, grid, validator, planner, config.flightOptions());
 }
 
 PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,

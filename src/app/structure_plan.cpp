@@ -121,7 +121,7 @@ coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double
 
 /// coverage.standoff_m when set, else what the camera's GSD implies.
 double viewingDistance(const app::Config& config) {
-  if (config.isSet("coverage.standoff_m")) return config.coverage.standoff_m;
+  if (config.file_values.standoff_m) return *config.file_values.standoff_m;
   return coverage::solveCamera(config.coverage.camera, config.coverage.standoff_m).standoff_m;
 }
 
@@ -383,8 +383,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   report(progress,
          "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
-  planning::MissionOptions mission_options = config.mission;
-  mission_options.gimbal = config.coverage.gimbal;
+  planning::MissionOptions mission_options = config.missionOptions();
   mission_options.direct_legs = true;
   planning::SurfaceMission mission =
       planning::planSurfaceMission(strategy, grid, *validator, *planner, mission_options);

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "expectation.h"
 #include "planners/harness.h"
 #include "uavip/core/error.h"
 
@@ -46,6 +47,7 @@ TEST(Scenario, EveryBundledScenarioParses) {
     const Scenario s = loadScenario(entry.path().string());
     EXPECT_FALSE(s.name.empty());
     EXPECT_FALSE(s.world.empty());
+    EXPECT_NO_THROW(test::readExpectation(entry.path().string()));
     ++count;
   }
   EXPECT_GE(count, 5);
@@ -63,8 +65,8 @@ TEST(Scenario, MinimalScenarioGetsThePapersDefaults) {
   EXPECT_DOUBLE_EQ(s.config.uav.inflationRadius(), 0.6);  // largest UAV dimension (paper)
   EXPECT_EQ(s.config.planner, "astar");
   // The area cell is resolved from the cloud (app/config.h), not by the parser.
-  EXPECT_FALSE(s.config.isSet("perception.area_cell_m"));
-  EXPECT_TRUE(s.config.isSet("perception.viewpoint"));  // a scenario knows its sensor
+  EXPECT_FALSE(s.config.file_values.area_cell_m);
+  EXPECT_TRUE(s.config.file_values.viewpoint);  // a scenario knows its sensor
 }
 
 TEST(Scenario, ValuesAreRead) {
@@ -87,8 +89,9 @@ expect: {surfaces: 1, status: ok}
   EXPECT_DOUBLE_EQ(s.config.planner_settings.astar.a3, 3.0);
   ASSERT_TRUE(s.config.mission.start.has_value());
   EXPECT_DOUBLE_EQ(s.config.mission.start->y(), -3.0);
-  EXPECT_EQ(*s.expect.surfaces, 1);
-  EXPECT_EQ(*s.expect.status, "ok");
+  EXPECT_EQ(s.config.missionOptions().gimbal.pitch_max_deg, 30.0);  // the camera's gimbal
+  ASSERT_TRUE(s.config.flightOptions().start.has_value());
+  EXPECT_DOUBLE_EQ(s.config.flightOptions().start->y(), -3.0);
 }
 
 TEST(Scenario, UnknownKeyIsNamed) {
@@ -147,6 +150,26 @@ TEST(Scenario, BadValuesAreRejected) {
                    {"torus", "not a primitive"});
   expectInputError("name: t\nworld: []\nsensing: {}\n", {"world", "empty"});
   expectInputError("name: [unclosed\n", {"x.yaml", "YAML"});
+  // Checked by MissionOptions::validate, which Config::validate calls.
+  expectInputError(kMinimal + "mission: {max_skipped_fraction: 1.5}\n",
+                   {"x.yaml", "mission", "max_skipped_fraction", "1.5"});
+  expectInputError(kMinimal + "mission: {max_standoff_factor: 0.5}\n",
+                   {"x.yaml", "max_standoff_factor", "[1, 3]"});
+  expectInputError(kMinimal + "expect: 3\n", {"x.yaml", "expect", "mapping"});
+}
+
+TEST(Scenario, ExpectBlockIsForTheTestsAndStrictThere) {
+  // uavip accepts the section; the tests' reader refuses a misspelt key, so a typo
+  // cannot silently turn an expectation off.
+  EXPECT_NO_THROW(parseScenario(kMinimal + "expect: {surfaces: 1, status: ok}\n", "x.yaml"));
+  const std::string path = ::testing::TempDir() + "expect_typo.yaml";
+  std::ofstream(path) << kMinimal << "expect: {surfaces: 1, statuss: ok}\n";
+  EXPECT_THROW(test::readExpectation(path), std::runtime_error);
+  std::ofstream(path) << kMinimal << "expect: {surfaces: 2, status: blocked}\n";
+  const test::Expectation e = test::readExpectation(path);
+  EXPECT_EQ(e.surfaces, 2);
+  EXPECT_EQ(e.status, std::string("blocked"));
+  EXPECT_FALSE(e.min_surface_area_m2);
 }
 
 TEST(Scenario, MissingFileIsNamed) {

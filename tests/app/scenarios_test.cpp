@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "expectation.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
@@ -240,21 +241,21 @@ TEST(PaperCases, EveryScenarioMeetsItsExpectBlock) {
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(UAVIP_SOURCE_DIR) + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
-    const app::Scenario sc = app::loadScenario(entry.path().string());
-    if (!sc.expect.surfaces && !sc.expect.status && !sc.expect.min_surface_area_m2) continue;
+    const test::Expectation expect = test::readExpectation(entry.path().string());
+    if (expect.empty()) continue;
     SCOPED_TRACE(entry.path().filename().string());
     const Outcome o = runScenario(entry.path().filename().string());
-    if (sc.expect.surfaces) {
-      EXPECT_EQ(static_cast<int>(o.detected.scene.surfaces.size()), *sc.expect.surfaces);
+    if (expect.surfaces) {
+      EXPECT_EQ(static_cast<int>(o.detected.scene.surfaces.size()), *expect.surfaces);
     }
-    if (sc.expect.status) {
+    if (expect.status) {
       EXPECT_FALSE(o.planned.missions.empty());
       for (const auto& m : o.planned.missions)
-        EXPECT_EQ(planning::toString(m.status), *sc.expect.status);
+        EXPECT_EQ(planning::toString(m.status), *expect.status);
     }
-    if (sc.expect.min_surface_area_m2) {
+    if (expect.min_surface_area_m2) {
       for (const auto& s : o.detected.scene.surfaces)
-        EXPECT_GE(s.area_m2, *sc.expect.min_surface_area_m2) << s.id;
+        EXPECT_GE(s.area_m2, *expect.min_surface_area_m2) << s.id;
     }
   }
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "planners/registry.h"
@@ -266,6 +267,25 @@ TEST(MissionPlanner, FailedLegOrValidationFailsTheSurface) {
   EXPECT_EQ(v.validation.first_violation_segment, 0);
   EXPECT_NEAR(v.validation.min_clearance_m, 1.5, 1e-9);
   EXPECT_NE(v.reason.find("validation failed"), std::string::npos) << v.reason;
+}
+
+TEST(MissionPlanner, OptionsBuiltInCodeAreValidatedToo) {
+  // Options that never passed through a config file are checked by the planner.
+  const PointList cloud = wall();
+  const auto strategy = strategyInFront();
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  MissionOptions bad;
+  bad.max_skipped_fraction = 1.5;
+  EXPECT_THROW(planSurfaceMission(strategy, grid, validator, *planner, bad), InputError);
+  bad = MissionOptions{};
+  bad.min_coverage = -0.1;
+  EXPECT_THROW(bad.validate("mission"), InputError);
+  bad = MissionOptions{};
+  bad.start = Vec3(0.0, std::nan(""), 1.0);
+  EXPECT_THROW(bad.validate("mission"), InputError);
+  EXPECT_NO_THROW(MissionOptions{}.validate("mission"));
 }
 
 TEST(MissionPlanner, StatusNames) {

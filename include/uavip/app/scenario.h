@@ -5,7 +5,6 @@
 /// throws InputError naming the file, the key path and the value.
 
 #include <optional>
-#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +37,27 @@ struct UavConfig {
   }
 };
 
+/// The file's values for the parameters that are otherwise `auto` (app/config.h):
+/// empty where the file leaves them out. The stage options below hold the same
+/// values (or the paper's defaults); app::resolveConfig reads these once and
+/// fills the unset ones from the measured cloud.
+struct FileValues {
+  std::optional<double> voxel_m;                    ///< preprocess.voxel_m [m]
+  std::optional<double> distance_threshold_m;       ///< perception.distance_threshold_m [m]
+  std::optional<double> plane_cluster_tolerance_m;  ///< perception.plane_cluster_tolerance_m [m]
+  std::optional<double> obstacle_tolerance_m;       ///< perception.obstacle_tolerance_m [m]
+  std::optional<double> area_cell_m;                ///< perception.area_cell_m [m]
+  std::optional<int> min_inliers;                   ///< perception.min_inliers
+  std::optional<double> open_voxel_m;               ///< perception.open_voxel_m [m]
+  /// perception.viewpoint [m]; a scenario always knows its sensor (`sensing.viewpoint`,
+  /// by default the origin).
+  std::optional<Vec3> viewpoint;
+  std::optional<double> min_area_m2;        ///< perception.min_area_m2 (not auto: printed as set)
+  std::optional<double> grid_resolution_m;  ///< grid.resolution_m [m]
+  std::optional<double> standoff_m;         ///< coverage.standoff_m [m]
+  bool camera{false};                       ///< any key of `camera:` (the auto camera is off)
+};
+
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`
 /// config of `uavip detect`, `uavip plan` and `uavip assemble`).
 struct Config {
@@ -60,23 +80,17 @@ struct Config {
   /// The flight over all chosen surfaces: `mission.home` and section `flight:`
   /// (speeds, hover and settle time, endurance, reserve; planning/flight_planner.h).
   planning::FlightOptions flight;
-  /// Keys the file set, as "section.key" (e.g. "preprocess.voxel_m"); every other
-  /// `auto` key is resolved from the measured cloud (app/config.h).
-  std::set<std::string> set_keys;
-  /// True if the file set `section.key`.
-  bool isSet(const std::string& key) const { return set_keys.count(key) != 0; }
+  /// What the file set of the `auto` parameters; the rest follow the measured cloud.
+  FileValues file_values;
 
   /// Validates every section; throws InputError prefixed by `where` (the file).
   void validate(const std::string& where) const;
   /// Grid options with the UAV's inflation radius filled in.
   world::GridOptions gridOptions() const;
-};
-
-/// What the paper reports for a scenario, asserted by the tests.
-struct Expectation {
-  std::optional<int> surfaces;                ///< number of detected surfaces
-  std::optional<std::string> status;          ///< mission status of every surface ("ok", "blocked")
-  std::optional<double> min_surface_area_m2;  ///< smallest detected surface area, if given
+  /// Mission options with the camera's gimbal limits (`camera.gimbal`) filled in.
+  planning::MissionOptions missionOptions() const;
+  /// Flight options with `mission.start` and `mission.simplify` filled in.
+  planning::FlightOptions flightOptions() const;
 };
 
 /// The optional `bench:` section: the legs `uavip bench` plans (app/bench.h).
@@ -86,8 +100,9 @@ struct BenchSpec {
   int max_legs{10};  ///< number of sampled legs when `legs` is empty
 };
 
-/// A synthetic scenario: a world, how it is sensed, every stage's parameters and
-/// the expected outcome.
+/// A synthetic scenario: a world, how it is sensed and every stage's parameters.
+/// Its `expect:` section (the paper's outcome) is read by the tests only
+/// (tests/app/expectation.h).
 struct Scenario {
   std::string path;  ///< file it was read from
   std::string name;
@@ -98,7 +113,6 @@ struct Scenario {
   sim::SampleOptions sample;  ///< options of mode "sample"
   sim::ScanSimOptions scan;   ///< options of mode "scan"
   Config config;
-  Expectation expect;
   BenchSpec bench;
 };
 

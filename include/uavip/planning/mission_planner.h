@@ -59,6 +59,11 @@ struct MissionOptions {
   /// point beside its midpoint when both halves do, and ask the planner only for the
   /// others (structure coverage: most legs are short hops).
   bool direct_legs{false};
+
+  /// Throws InputError "<where>: <key> must be …, got …" for a value out of range
+  /// (max_skipped_fraction and min_coverage in [0, 1], max_standoff_factor in [1, 3],
+  /// a finite start, valid gimbal limits). planSurfaceMission calls it.
+  void validate(const std::string& where) const;
 };
 
 /// A planned leg between two consecutive path points.
