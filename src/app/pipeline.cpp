@@ -24,6 +24,10 @@
 #include "uavip/world/collision_world.h"
 #include "uavip/world/voxel_grid.h"
 
+#ifndef UAVIP_VERSION
+#define UAVIP_VERSION "dev"
+#endif
+
 namespace uavip::app {
 namespace {
 
@@ -343,6 +347,42 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);
   return result;
+}
+
+io::SceneExtras sceneExtras(const DetectResult& detected, const io::CloudReadInfo* read) {
+  io::SceneExtras e;
+  e.parameters = detected.resolved.values;
+  e.preprocess_s = detected.times.preprocess_s;
+  e.perception_s = detected.times.perception_s;
+  if (read != nullptr) {
+    const io::CloudReadOptions& input = detected.resolved.config.input;
+    e.input_read = io::InputReadRecord{input.scale, input.drop_classes, read->origin_m};
+  }
+  return e;
+}
+
+io::MissionExtras missionExtras(const PlanResult& planned, const app::Config& config,
+                                const std::string& source) {
+  io::MissionExtras e;
+  e.uavip_version = UAVIP_VERSION;
+  e.source = source;
+  e.planner = config.planner;
+  const auto& a = config.planner_settings.astar;
+  e.cost_weights = Vec3(a.a1, a.a2, a.a3);
+  e.inflation_radius_m = config.uav.inflationRadius();
+  e.overlap_w = config.coverage.overlap_w;
+  e.overlap_h = config.coverage.overlap_h;
+  e.camera = config.coverage.camera;
+  e.grid_voxels = planned.grid_voxels;
+  e.grid_blocked = planned.grid_blocked;
+  e.grid_resolution_m = planned.grid_resolution_m;
+  e.safety_clearance_m = planned.clearance_m;
+  e.coverage_s = planned.times.coverage_s;
+  e.grid_s = planned.times.grid_s;
+  e.planning_s = planned.times.planning_s;
+  e.flight_s = planned.times.flight_s;
+  e.structure = planned.structure;
+  return e;
 }
 
 }  // namespace uavip::app

@@ -227,7 +227,7 @@ struct StructurePoints {
 };
 
 StructurePoints prepareStructure(const Scene& scene, const app::Config& config,
-                                 StructureSummary& summary, const Progress& progress) {
+                                 planning::StructureSummary& summary, const Progress& progress) {
   StructurePoints s;
   s.ground_z = config.coverage.ground_z_m;
   const PointList structure = structurePoints(scene, config, summary.ground_points, s.ground_z);
@@ -312,7 +312,7 @@ Vec3 pathStart(const std::optional<Vec3>& home, const coverage::StructureViews& 
 void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
                 const coverage::PinholeIntrinsics& k, const coverage::StructureViewOptions& options,
                 const coverage::LineOfSight& sight, const app::Config& config,
-                StructureSummary& summary) {
+                planning::StructureSummary& summary) {
   std::vector<coverage::ViewPose> flown;
   for (std::size_t i = 0; i < mission.strategy.stops.size(); ++i) {
     if (mission.stop_problems[i] != planning::StopProblem::None ||
@@ -342,7 +342,7 @@ void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
 
 PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
   PlanResult result;
-  StructureSummary summary;
+  planning::StructureSummary summary;
   const auto t0 = SteadyClock::now();
   result.clearance_m = safetyClearance(scene, config);
   summary.standoff_m = checkedStandoff(config, result.clearance_m);

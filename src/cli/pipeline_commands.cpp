@@ -23,9 +23,6 @@
 #include "uavip/io/scene_json.h"
 #include "uavip/view/views.h"
 
-#ifndef UAVIP_VERSION
-#define UAVIP_VERSION "dev"
-#endif
 #ifndef UAVIP_SCENARIO_DIR
 #define UAVIP_SCENARIO_DIR "scenarios"
 #endif
@@ -35,30 +32,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json metaFor(const app::Config& config, const std::string& source) {
-  const auto& cam = config.coverage.camera;
-  nlohmann::json camera =
-      cam.from_sensor ? nlohmann::json{{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
-                                       {"focal_mm", cam.focal_mm},
-                                       {"image_px", {cam.image_w_px, cam.image_h_px}},
-                                       {"gsd_mm_per_px", cam.gsd_mm_per_px}}
-                      : nlohmann::json{{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
-  return {{"uavip_version", UAVIP_VERSION},
-          {"source", source},
-          {"planner", config.planner},
-          {"cost_weights",
-           {config.planner_settings.astar.a1, config.planner_settings.astar.a2,
-            config.planner_settings.astar.a3}},
-          {"inflation_radius_m", config.uav.inflationRadius()},
-          {"grid_resolution_m", config.grid.resolution_m},
-          {"overlap", {config.coverage.overlap_w, config.coverage.overlap_h}},
-          {"camera_model", camera}};
-}
-
+/// Stages scene.json and the clean and safety clouds beside it (`read`: how a cloud
+/// file was read; null for a scenario).
 void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
                 const io::CloudReadInfo* read = nullptr) {
-  const double scale = d.resolved.config.input.scale;
-  const std::vector<int>& drop_classes = d.resolved.config.input.drop_classes;
   const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
   outputs.writeWith(
       pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
@@ -68,50 +45,16 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
       io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
     });
   }
-  nlohmann::json j = io::sceneToJson(d.scene);
-  nlohmann::json parameters = nlohmann::json::object();
-  for (const auto& r : d.resolved.values)
-    parameters[r.key] = {{"value", r.value}, {"source", r.source}};
-  j["parameters"] = parameters;
-  // Stage times [s]: 3 outlier removal + voxel grid, 4-5 planes + obstacle clusters.
-  j["timings"] = {{"preprocess_s", d.times.preprocess_s}, {"perception_s", d.times.perception_s}};
-  // Recentred input (LAS): add source_offset_m to a point to get the file's coordinates in metres.
-  // How the input was read, so that validate reads it the same way.
-  if (read != nullptr) j["input_read"] = {{"scale", scale}, {"drop_classes", drop_classes}};
-  if (read != nullptr && read->origin_m != Vec3::Zero()) {
-    j["source_offset_m"] = {read->origin_m.x(), read->origin_m.y(), read->origin_m.z()};
-  }
-  outputs.write((fs::path(out) / "scene.json").string(), j.dump(1) + "\n");
+  outputs.write((fs::path(out) / "scene.json").string(),
+                io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
 }
 
+/// Stages mission.json (`source`: the scenario or scene.json planned).
 void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
-                  const nlohmann::json& meta, const planning::FlightModel& model) {
-  nlohmann::json m = meta;
-  m["timings"] = {{"coverage_s", plan.times.coverage_s},
-                  {"grid_s", plan.times.grid_s},
-                  {"planning_s", plan.times.planning_s},
-                  {"flight_s", plan.times.flight_s}};
-  m["grid"] = {{"voxels", plan.grid_voxels},
-               {"blocked", plan.grid_blocked},
-               {"resolution_m", plan.grid_resolution_m}};
-  m["grid_resolution_m"] = plan.grid_resolution_m;
-  // The distance kept from every measured point (app::safetyClearance): the UAV's
-  // inflation radius plus the safety cloud's margin.
-  m["safety_clearance_m"] = plan.clearance_m;
-  if (plan.structure) {
-    const app::StructureSummary& st = *plan.structure;
-    // Structure coverage: rule (a) FC-Planner's pixel rule, rule (b) ours (docs/ARCHITECTURE.md).
-    m["structure"] = {{"surface_id", st.surface_id},       {"points", st.points},
-                      {"ground_points", st.ground_points}, {"seeds", st.seeds},
-                      {"candidates", st.candidates},       {"free_candidates", st.free_candidates},
-                      {"imageable_points", st.imageable},  {"photos", st.photos},
-                      {"standoff_m", st.standoff_m},       {"visible_range_m", st.visible_range_m},
-                      {"coverage_rule_a", st.rule_a},      {"coverage_rule_b", st.rule_b}};
-    m["timings"]["select_s"] = st.select_s;
-  }
-  nlohmann::json doc = io::missionToJson(plan.missions, m);
-  doc["flight"] = io::flightToJson(plan.flight, model);
-  outputs.write((fs::path(out) / "mission.json").string(), doc.dump(1) + "\n");
+                  const app::Config& config, const std::string& source) {
+  outputs.write((fs::path(out) / "mission.json").string(),
+                io::missionJsonText(plan.missions, plan.flight, config.flight.model,
+                                    app::missionExtras(plan, config, source)));
 }
 
 void printDetectSummary(const app::DetectResult& d) {
@@ -158,7 +101,7 @@ void printDetectSummary(const app::DetectResult& d) {
 
 void printPlanSummary(const app::PlanResult& p) {
   if (p.structure) {
-    const app::StructureSummary& st = *p.structure;
+    const planning::StructureSummary& st = *p.structure;
     std::cout << "structure: " << st.points << " points (" << st.ground_points
               << " ground left out), " << st.free_candidates << " of " << st.candidates
               << " candidate views free, " << st.photos << " photos at "
@@ -330,7 +273,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
       overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
-  writeMission(outputs, out, p, metaFor(d.resolved.config, path), d.resolved.config.flight.model);
+  writeMission(outputs, out, p, d.resolved.config, path);
   stageViews(outputs, out, rendered);
   outputs.commit();
   const double total = secondsSince(t0);
@@ -428,7 +371,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
                                        resolved.uav.inflationRadius()),
                        &p.flight);
   io::StagedOutputs outputs;
-  writeMission(outputs, out, p, metaFor(resolved, scene_path), resolved.flight.model);
+  writeMission(outputs, out, p, resolved, scene_path);
   stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {

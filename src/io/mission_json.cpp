@@ -126,6 +126,57 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
         {"flight_s", round4(f.seconds)}}}};
 }
 
+namespace {
+
+/// `camera_model`: the sensor and its GSD, or the paper's footprint.
+json cameraModel(const coverage::Camera& cam) {
+  if (!cam.from_sensor) return {{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
+  return {{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
+          {"focal_mm", cam.focal_mm},
+          {"image_px", {cam.image_w_px, cam.image_h_px}},
+          {"gsd_mm_per_px", cam.gsd_mm_per_px}};
+}
+
+/// `structure`: rule (a) FC-Planner's pixel rule, rule (b) ours (docs/ARCHITECTURE.md).
+json structureToJson(const planning::StructureSummary& st) {
+  return {{"surface_id", st.surface_id},       {"points", st.points},
+          {"ground_points", st.ground_points}, {"seeds", st.seeds},
+          {"candidates", st.candidates},       {"free_candidates", st.free_candidates},
+          {"imageable_points", st.imageable},  {"photos", st.photos},
+          {"standoff_m", st.standoff_m},       {"visible_range_m", st.visible_range_m},
+          {"coverage_rule_a", st.rule_a},      {"coverage_rule_b", st.rule_b}};
+}
+
+}  // namespace
+
+std::string missionJsonText(const std::vector<planning::SurfaceMission>& missions,
+                            const planning::FlightPlan& flight, const planning::FlightModel& model,
+                            const MissionExtras& e) {
+  json meta = {{"uavip_version", e.uavip_version},
+               {"source", e.source},
+               {"planner", e.planner},
+               {"cost_weights", {e.cost_weights.x(), e.cost_weights.y(), e.cost_weights.z()}},
+               {"inflation_radius_m", e.inflation_radius_m},
+               {"grid_resolution_m", e.grid_resolution_m},
+               {"overlap", {e.overlap_w, e.overlap_h}},
+               {"camera_model", cameraModel(e.camera)}};
+  meta["timings"] = {{"coverage_s", e.coverage_s},
+                     {"grid_s", e.grid_s},
+                     {"planning_s", e.planning_s},
+                     {"flight_s", e.flight_s}};
+  meta["grid"] = {{"voxels", e.grid_voxels},
+                  {"blocked", e.grid_blocked},
+                  {"resolution_m", e.grid_resolution_m}};
+  meta["safety_clearance_m"] = e.safety_clearance_m;
+  if (e.structure) {
+    meta["structure"] = structureToJson(*e.structure);
+    meta["timings"]["select_s"] = e.structure->select_s;
+  }
+  json doc = missionToJson(missions, meta);
+  doc["flight"] = flightToJson(flight, model);
+  return doc.dump(1) + "\n";
+}
+
 json missionToJson(const std::vector<planning::SurfaceMission>& missions, const json& meta) {
   json out = {{"format", "uavip-mission"},
               {"version", 1},

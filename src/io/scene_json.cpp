@@ -120,6 +120,26 @@ json sceneToJson(const Scene& scene) {
   return j;
 }
 
+std::string sceneJsonText(const Scene& scene, const SceneExtras& extras) {
+  json j = sceneToJson(scene);
+  json parameters = json::object();
+  for (const auto& r : extras.parameters)
+    parameters[r.key] = {{"value", r.value}, {"source", r.source}};
+  j["parameters"] = parameters;
+  // Stage times [s]: 3 outlier removal + voxel grid, 4-5 planes + obstacle clusters.
+  j["timings"] = {{"preprocess_s", extras.preprocess_s}, {"perception_s", extras.perception_s}};
+  if (extras.input_read) {
+    const InputReadRecord& read = *extras.input_read;
+    j["input_read"] = {{"scale", read.scale}, {"drop_classes", read.drop_classes}};
+    // A recentred input (LAS, UTM): add source_offset_m to a point for the file's metres.
+    if (read.source_offset_m != Vec3::Zero()) {
+      const Vec3& o = read.source_offset_m;
+      j["source_offset_m"] = {o.x(), o.y(), o.z()};
+    }
+  }
+  return j.dump(1) + "\n";
+}
+
 Scene sceneFromJson(const json& j, const std::string& path) {
   const JsonReader r(path);
   Scene scene;

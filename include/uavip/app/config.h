@@ -39,16 +39,14 @@
 #include <vector>
 
 #include "uavip/app/scenario.h"
+#include "uavip/io/scene_json.h"
 #include "uavip/preprocess/cloud_stats.h"
 
 namespace uavip::app {
 
-/// One resolved parameter, for the printout and scene.json.
-struct ResolvedValue {
-  std::string key;  ///< "preprocess.voxel_m"
-  double value{0.0};
-  std::string source;  ///< "set", "auto: max(0.05, spacing)", "default"
-};
+/// One resolved parameter, for the printout and scene.json: key, value, source
+/// ("set", "auto: max(0.05, spacing)", "default (paper)").
+using ResolvedValue = io::ParameterRecord;
 
 /// The config every stage runs with, and how each auto value was chosen.
 struct ResolvedConfig {

@@ -14,6 +14,9 @@
 
 #include "uavip/app/config.h"
 #include "uavip/app/scenario.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/mission_json.h"
+#include "uavip/io/scene_json.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/preprocess/cloud_stats.h"
@@ -44,23 +47,6 @@ struct DetectResult {
   StageTimes times;
 };
 
-/// What structure coverage (planStructure) found and reached.
-struct StructureSummary {
-  int surface_id{0};               ///< id of its entry in missions (above the scene's ids)
-  std::size_t points{0};           ///< structure points (the clean cloud without the ground)
-  std::size_t ground_points{0};    ///< points of the clean cloud taken as ground
-  std::size_t seeds{0};            ///< seed points of the candidates
-  std::size_t candidates{0};       ///< candidate poses
-  std::size_t free_candidates{0};  ///< free, reachable and within the gimbal limits
-  std::size_t imageable{0};        ///< structure points some free candidate images
-  std::size_t photos{0};           ///< photos chosen
-  double standoff_m{0.0};          ///< viewing distance [m]
-  double visible_range_m{0.0};     ///< rule (a)'s range [m]
-  double rule_a{0.0};              ///< FC-Planner's pixel rule at the flown stops [0, 1]
-  double rule_b{0.0};              ///< our rule (GSD, incidence ≤ 75°, line of sight) [0, 1]
-  double select_s{0.0};            ///< wall time of the view selection [s]
-};
-
 /// Stages 6–7 for the chosen surfaces.
 struct PlanResult {
   std::vector<planning::SurfaceMission> missions;
@@ -73,7 +59,7 @@ struct PlanResult {
   /// One ordered flight over every flyable surface (planning/flight_planner.h).
   planning::FlightPlan flight;
   StageTimes times;
-  std::optional<StructureSummary> structure;  ///< set by planStructure
+  std::optional<planning::StructureSummary> structure;  ///< set by planStructure
 };
 
 /// The raw cloud's kd-tree: built by measure(), searched again by detect()'s
@@ -125,5 +111,15 @@ PlanResult planStructure(const Scene& scene, const app::Config& config,
 /// simulates the raw scans and runs stages 1–2 on them (app/assemble.h, senseScans),
 /// returning the merged cloud in scenario coordinates.
 PointList sense(const app::Scenario& scenario);
+
+/// What scene.json records beside the scene (io::sceneJsonText): the resolved
+/// parameters, the stage times and, for a cloud file (`read` not null), how it was read.
+io::SceneExtras sceneExtras(const DetectResult& detected, const io::CloudReadInfo* read);
+
+/// What mission.json records beside the missions and the flight
+/// (io::missionJsonText): how it was planned (`source`: the file planned), the grid,
+/// the clearance kept, the stage times and the structure summary.
+io::MissionExtras missionExtras(const PlanResult& planned, const app::Config& config,
+                                const std::string& source);
 
 }  // namespace uavip::app

@@ -34,6 +34,35 @@ nlohmann::json flightToJson(const planning::FlightPlan& flight, const planning::
 nlohmann::json missionToJson(const std::vector<planning::SurfaceMission>& missions,
                              const nlohmann::json& meta);
 
+/// What mission.json holds beside the missions and the flight: how it was planned
+/// and how long each stage took.
+struct MissionExtras {
+  std::string uavip_version;
+  std::string source;               ///< the scenario or scene.json planned
+  std::string planner;              ///< planners/registry.h name
+  Vec3 cost_weights{Vec3::Ones()};  ///< a1, a2, a3 of the A* step cost (§II-G)
+  double inflation_radius_m{0.0};   ///< the UAV's radius [m]
+  double overlap_w{0.0};            ///< photo overlap asked, along the rows [0, 1)
+  double overlap_h{0.0};            ///< and across them [0, 1)
+  coverage::Camera camera;          ///< written as `camera_model`
+  std::size_t grid_voxels{0};       ///< planning grid (`grid`)
+  std::size_t grid_blocked{0};
+  double grid_resolution_m{0.0};  ///< [m]
+  /// Distance kept from every measured point: the UAV's radius + the safety margin [m].
+  double safety_clearance_m{0.0};
+  double coverage_s{0.0};                               ///< stage 6 wall time [s]
+  double grid_s{0.0};                                   ///< planning grid [s]
+  double planning_s{0.0};                               ///< stage 7 [s]
+  double flight_s{0.0};                                 ///< order, legs, sorties [s]
+  std::optional<planning::StructureSummary> structure;  ///< plan --cover structure
+};
+
+/// The text of mission.json: missionToJson with the extras, `flight` and (structure
+/// coverage) `structure`. The file's one writer.
+std::string missionJsonText(const std::vector<planning::SurfaceMission>& missions,
+                            const planning::FlightPlan& flight, const planning::FlightModel& model,
+                            const MissionExtras& extras);
+
 // ---- reading back
 
 /// A photo stop as mission.json records it.

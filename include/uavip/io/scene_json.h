@@ -9,7 +9,9 @@
 /// world from these two files.
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "uavip/core/types.h"
 
@@ -17,6 +19,32 @@ namespace uavip::io {
 
 /// File name of the safety cloud, beside scene.json.
 inline constexpr const char* kSafetyCloudFile = "cloud_safety.pcd";
+
+/// One resolved parameter (app/config.h), as scene.json's `parameters` records it.
+struct ParameterRecord {
+  std::string key;  ///< "preprocess.voxel_m"
+  double value{0.0};
+  std::string source;  ///< "set", "auto: max(0.05, spacing)", "default (paper)"
+};
+
+/// How `uavip detect` read its input file (`input_read`, `source_offset_m`), so
+/// that `uavip validate` reads it the same way.
+struct InputReadRecord {
+  double scale{1.0};                   ///< factor to metres applied to the coordinates
+  std::vector<int> drop_classes;       ///< LAS classes left out
+  Vec3 source_offset_m{Vec3::Zero()};  ///< add to a point to get the file's coordinates [m]
+};
+
+/// What scene.json holds beside the scene itself.
+struct SceneExtras {
+  std::vector<ParameterRecord> parameters;    ///< every resolved parameter
+  double preprocess_s{0.0};                   ///< stage 3 wall time [s]
+  double perception_s{0.0};                   ///< stages 4–5 wall time [s]
+  std::optional<InputReadRecord> input_read;  ///< absent for a simulated scenario
+};
+
+/// The text of scene.json: sceneToJson plus the extras. The file's one writer.
+std::string sceneJsonText(const Scene& scene, const SceneExtras& extras);
 
 /// Scene → JSON (coordinates rounded to 0.1 mm). The safety cloud's points are not
 /// in it: the caller writes them to kSafetyCloudFile beside it.

@@ -66,6 +66,23 @@ struct MissionOptions {
   void validate(const std::string& where) const;
 };
 
+/// What structure coverage (app::planStructure; coverage/structure_views.h) found and reached.
+struct StructureSummary {
+  int surface_id{0};               ///< id of its entry in missions (above the scene's ids)
+  std::size_t points{0};           ///< structure points (the clean cloud without the ground)
+  std::size_t ground_points{0};    ///< points of the clean cloud taken as ground
+  std::size_t seeds{0};            ///< seed points of the candidates
+  std::size_t candidates{0};       ///< candidate poses
+  std::size_t free_candidates{0};  ///< free, reachable and within the gimbal limits
+  std::size_t imageable{0};        ///< structure points some free candidate images
+  std::size_t photos{0};           ///< photos chosen
+  double standoff_m{0.0};          ///< viewing distance [m]
+  double visible_range_m{0.0};     ///< rule (a)'s range [m]
+  double rule_a{0.0};              ///< FC-Planner's pixel rule at the flown stops [0, 1]
+  double rule_b{0.0};              ///< our rule (GSD, incidence ≤ 75°, line of sight) [0, 1]
+  double select_s{0.0};            ///< wall time of the view selection [s]
+};
+
 /// A planned leg between two consecutive path points.
 struct Leg {
   int from_stop{-1};  ///< −1 for the start point
