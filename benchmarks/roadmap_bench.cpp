@@ -4,7 +4,7 @@
 // harness's runPlannerOnce, as `uavip bench` runs them). Multi-query planners
 // (PRM*, LazyPRM*) keep their roadmap; the others are cleared, so they are the
 // control. Each scenario is sensed and detected once; the legs are sampled between
-// photo stops of different surfaces (app::sampleLegs), the same legs for every
+// photo stops of different surfaces (bench::sampleLegs), the same legs for every
 // planner and mode, planned in order with the same budget per leg.
 // Usage: uavip_roadmap_bench [SCENARIO.yaml ...] [--legs N] [--time S]
 //        (default scenarios/bench_cluttered.yaml scenarios/bridge.yaml, N = 30, S = 0.2)
@@ -20,9 +20,9 @@
 #include "bench_util.h"
 #include "planners/harness.h"
 #include "planners/registry.h"
-#include "uavip/app/bench.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
+#include "uavip/bench/runner.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/io/cloud_io.h"
@@ -49,12 +49,12 @@ struct Legs {
 Legs prepare(const uavip::app::Scenario& sc, int max_legs) {
   const auto raw = uavip::app::sense(sc);
   const auto d = uavip::app::detect(raw, sc.config, uavip::app::measure(raw, &sc));
-  const auto stops_by_surface = uavip::app::stopsBySurface(d.scene, d.resolved.config.coverage);
+  const auto stops_by_surface = uavip::bench::stopsBySurface(d.scene, d.resolved.config.coverage);
   uavip::PointList extra;
   for (const auto& stops : stops_by_surface) extra.insert(extra.end(), stops.begin(), stops.end());
   Legs out;
   out.grid = uavip::world::VoxelGrid::build(d.scene.cloud, extra, d.resolved.config.gridOptions());
-  out.legs = uavip::app::sampleLegs(out.grid, stops_by_surface, max_legs, 1);
+  out.legs = uavip::bench::sampleLegs(out.grid, stops_by_surface, max_legs, 1);
   return out;
 }
 

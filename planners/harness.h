@@ -2,7 +2,7 @@
 /// \file
 /// One planning run through the ompl::base::Planner interface for any registered
 /// planner (the grid A* included), without exposing OMPL types: the benchmark
-/// (uavip bench, app/bench.h) uses it so every planner runs in the same harness.
+/// (uavip bench, bench/runner.h) uses it so every planner runs in the same harness.
 
 #include <cstddef>
 #include <cstdint>

@@ -1,5 +1,5 @@
 // uavip bench: the paper's A* and OMPL planners on the legs of benchmark scenarios
-// (include/uavip/app/bench.h).
+// (include/uavip/bench/runner.h).
 
 #include <unistd.h>
 
@@ -12,8 +12,9 @@
 #include "planners/harness.h"
 #include "planners/registry.h"
 #include "src/cli/commands.h"
-#include "uavip/app/bench.h"
 #include "uavip/app/scenario.h"
+#include "uavip/bench/report.h"
+#include "uavip/bench/runner.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 
@@ -61,7 +62,7 @@ std::string sibling(const std::string& log, const std::string& ext) {
 }
 
 int benchCommand(const BenchArgs& a, const Verbosity& v) {
-  app::BenchOptions options;
+  bench::BenchOptions options;
   if (!a.planners.empty()) options.planners = splitList(a.planners);
   options.runs = a.runs;
   options.max_total_s = a.max_total_s;
@@ -82,18 +83,18 @@ int benchCommand(const BenchArgs& a, const Verbosity& v) {
   const fs::path parent = fs::path(a.out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());
 
-  const app::BenchResult r = app::runBench(scenarios, options, progressPrinter(v));
+  const bench::BenchResult r = bench::runBench(scenarios, options, progressPrinter(v));
   std::string name = "uavip_bench";
   for (const auto& s : r.scenarios) name += "_" + s;
   io::StagedOutputs outputs;  // the log, CSV, table and plot are written together
-  outputs.write(a.out, app::benchLog(r, name, hostName()));
+  outputs.write(a.out, bench::benchLog(r, name, hostName()));
   const std::string csv = sibling(a.out, ".csv");
   const std::string md = sibling(a.out, ".md");
-  outputs.write(csv, app::benchCsv(r));
-  const std::string markdown = app::benchMarkdown(r);
+  outputs.write(csv, bench::benchCsv(r));
+  const std::string markdown = bench::benchMarkdown(r);
   outputs.write(md, markdown);
   const std::string png = sibling(a.out, ".png");
-  outputs.write(png, app::benchPlot(r).png());
+  outputs.write(png, bench::benchPlot(r).png());
   outputs.commit();
   if (!v.quiet) {
     std::cout << markdown;

@@ -93,7 +93,7 @@ struct Config {
   planning::FlightOptions flightOptions() const;
 };
 
-/// The optional `bench:` section: the legs `uavip bench` plans (app/bench.h).
+/// The optional `bench:` section: the legs `uavip bench` plans (bench/runner.h).
 struct BenchSpec {
   /// Explicit legs (start, goal) [m]; empty = sampled from the photo stops.
   std::vector<std::pair<Vec3, Vec3>> legs;

@@ -1,10 +1,8 @@
 #pragma once
 /// \file
-/// The bench's records (options, legs, runs, summaries, target checks) and the one
-/// owner of its four report formats: the OMPL benchmark log that
-/// `ompl_benchmark_statistics LOG -d DB` loads (Planner Arena), a CSV and a Markdown
-/// summary per scenario and planner, and a plot of time against path length.
-/// app/bench.h measures; app/bench_stats.h summarises; this file writes.
+/// The bench's records: options, legs, runs, per-planner summaries, target checks
+/// and the whole result (the model: ompl::tools::Benchmark's experiment records).
+/// bench/runner.h fills them, bench/stats.h summarises, bench/report.h writes.
 
 #include <cstddef>
 #include <cstdint>
@@ -12,9 +10,8 @@
 #include <vector>
 
 #include "uavip/core/types.h"
-#include "uavip/render/figure.h"
 
-namespace uavip::app {
+namespace uavip::bench {
 
 /// Options of a benchmark.
 struct BenchOptions {
@@ -114,20 +111,4 @@ struct BenchResult {
   std::string start_time;  ///< local time the benchmark started, "YYYY-MM-DD HH:MM:SS"
 };
 
-/// The OMPL benchmark log (format of ompl::tools::Benchmark, one experiment; the
-/// first line is "OMPL version <OMPL's version>" since Debian's OMPL_VERSION is empty).
-std::string benchLog(const BenchResult& result, const std::string& experiment_name,
-                     const std::string& host);
-
-/// One CSV row per summary entry, with a header.
-std::string benchCsv(const BenchResult& result);
-
-/// The Markdown summary: the table per scenario, ratios to the A*, the target check,
-/// and the legs.
-std::string benchMarkdown(const BenchResult& result);
-
-/// Time (solve + simplification, log axis) against path length relative to the
-/// shortest solved run of the same leg, one series per planner (solved runs only).
-render::Figure benchPlot(const BenchResult& result);
-
-}  // namespace uavip::app
+}  // namespace uavip::bench

@@ -1,4 +1,4 @@
-#include "uavip/app/bench_stats.h"
+#include "uavip/bench/stats.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,12 +7,8 @@
 
 #include "uavip/core/math.h"
 
-namespace uavip::app {
+namespace uavip::bench {
 namespace {
-
-using app::BenchRun;
-using app::PlannerSummary;
-using app::TargetCheck;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
@@ -136,4 +132,4 @@ std::optional<TargetCheck> checkTarget(const std::string& scenario,
   return t;
 }
 
-}  // namespace uavip::app
+}  // namespace uavip::bench

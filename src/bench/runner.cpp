@@ -1,4 +1,4 @@
-#include "uavip/app/bench.h"
+#include "uavip/bench/runner.h"
 
 #include <algorithm>
 #include <ctime>
@@ -10,7 +10,8 @@
 #include <sstream>
 
 #include "planners/harness.h"
-#include "uavip/app/bench_stats.h"
+#include "planners/registry.h"
+#include "uavip/bench/stats.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/stopwatch.h"
@@ -19,12 +20,35 @@
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/voxel_grid.h"
 
-namespace uavip::app {
+namespace uavip::bench {
+
+void BenchOptions::validate() const {
+  const auto names = planners::plannerNames();
+  for (const auto& p : planners) {
+    if (std::find(names.begin(), names.end(), p) == names.end()) {
+      std::string valid;
+      for (const auto& n : names) {
+        if (!valid.empty()) valid += ", ";
+        valid += n;
+      }
+      throw InputError("--planners: unknown planner '" + p + "'; valid names: " + valid);
+    }
+  }
+  std::set<std::string> seen(planners.begin(), planners.end());
+  require(seen.size() == planners.size(), "--planners", "lists a planner twice");
+  if (runs < 1 || runs > 10000)
+    throw InputError("--runs: must be in [1, 10000], got " + std::to_string(runs));
+  requirePositive(time_limit_s, "--time-limit", "the time limit [s]");
+  require(time_limit_s <= 3600.0, "--time-limit",
+          "must be <= 3600 s, got " + formatNumber(time_limit_s));
+  requirePositive(max_total_s, "--max-total", "the worst-case planning time [s]");
+}
+
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-void report(const Progress& progress, const std::string& message) {
+void report(const app::Progress& progress, const std::string& message) {
   if (progress) progress(message);
 }
 
@@ -107,9 +131,9 @@ struct PreparedScenario {
 PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index,
                                  const BenchOptions& options, BenchResult& result) {
   const PointList raw = sense(sc);
-  CloudIndex index;
-  const preprocess::CloudStats measured = measure(raw, &sc, &index);
-  const DetectResult d = detect(raw, sc.config, measured, {}, index);
+  app::CloudIndex index;
+  const preprocess::CloudStats measured = app::measure(raw, &sc, &index);
+  const app::DetectResult d = app::detect(raw, sc.config, measured, {}, index);
   PreparedScenario out;
   out.config = d.resolved.config;
   const std::vector<PointList> stops_by_surface = stopsBySurface(d.scene, out.config.coverage);
@@ -187,7 +211,7 @@ BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const Prepared
 }  // namespace
 
 BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOptions& options,
-                     const Progress& progress) {
+                     const app::Progress& progress) {
   options.validate();
   if (scenarios.empty()) throw InputError("bench: give at least one scenario");
   BenchResult result;
@@ -248,4 +272,4 @@ BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOpt
   return result;
 }
 
-}  // namespace uavip::app
+}  // namespace uavip::bench

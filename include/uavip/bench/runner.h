@@ -4,9 +4,9 @@
 /// on the legs of benchmark scenarios, all through the ompl::base::Planner interface
 /// (planners/harness.h). For each scenario: sense, stages 3–5, stage 6 for every
 /// surface, the inflated grid over the cloud, the stops and the legs; then every leg
-/// with every planner `runs` times, then the statistics (app/bench_stats.h). The
-/// records and their four report formats (OMPL log, CSV, Markdown, plot) are owned
-/// by app/bench_report.h. Nothing here prints.
+/// with every planner `runs` times, then the statistics (bench/stats.h). The records
+/// are bench/records.h; their four report formats (OMPL log, CSV, Markdown, plot)
+/// are written by bench/report.h. Nothing here prints.
 
 #include <cstddef>
 #include <cstdint>
@@ -14,19 +14,11 @@
 #include <vector>
 
 #include "planners/registry.h"
-#include "uavip/app/bench_report.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
+#include "uavip/bench/records.h"
 
-namespace uavip::app {
-
-// The records and report writers live in app/bench_report.h (their one owner).
-using app::BenchLeg;
-using app::BenchOptions;
-using app::BenchResult;
-using app::BenchRun;
-using app::PlannerSummary;
-using app::TargetCheck;
+namespace uavip::bench {
 
 /// Each surface's photo-stop positions (stage 6, planFlightStrategy), in scene order
 /// [m]: what sampleLegs draws its legs between.
@@ -43,6 +35,6 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
 
 /// Runs the benchmark. Throws InputError for bad options or scenarios.
 BenchResult runBench(const std::vector<app::Scenario>& scenarios, const BenchOptions& options,
-                     const Progress& progress = {});
+                     const app::Progress& progress = {});
 
-}  // namespace uavip::app
+}  // namespace uavip::bench

@@ -1,8 +1,6 @@
 // uavip bench: runs, summaries against counts made here, the OMPL log
 // loaded by ompl_benchmark_statistics into SQLite, leg sampling, the CLI.
 
-#include "uavip/app/bench.h"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,10 +15,12 @@
 
 #include "planners/harness.h"
 #include "uavip/app/scenario.h"
+#include "uavip/bench/report.h"
+#include "uavip/bench/runner.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 
-namespace uavip::app {
+namespace uavip::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -249,4 +249,4 @@ TEST(Bench, CommandLineWritesLogCsvMarkdownAndPlot) {
 }
 
 }  // namespace
-}  // namespace uavip::app
+}  // namespace uavip::bench

@@ -1,4 +1,4 @@
-#include "uavip/app/bench_report.h"
+#include "uavip/bench/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,7 @@
 #define UAVIP_VERSION "dev"
 #endif
 
-namespace uavip::app {
+namespace uavip::bench {
 namespace {
 
 /// A report cell: the number with 10 significant digits, blank when missing (nan/inf:
@@ -29,28 +29,6 @@ std::string shown(double v, int decimals) {
 }
 
 }  // namespace
-
-void BenchOptions::validate() const {
-  const auto names = planners::plannerNames();
-  for (const auto& p : planners) {
-    if (std::find(names.begin(), names.end(), p) == names.end()) {
-      std::string valid;
-      for (const auto& n : names) {
-        if (!valid.empty()) valid += ", ";
-        valid += n;
-      }
-      throw InputError("--planners: unknown planner '" + p + "'; valid names: " + valid);
-    }
-  }
-  std::set<std::string> seen(planners.begin(), planners.end());
-  require(seen.size() == planners.size(), "--planners", "lists a planner twice");
-  if (runs < 1 || runs > 10000)
-    throw InputError("--runs: must be in [1, 10000], got " + std::to_string(runs));
-  requirePositive(time_limit_s, "--time-limit", "the time limit [s]");
-  require(time_limit_s <= 3600.0, "--time-limit",
-          "must be <= 3600 s, got " + formatNumber(time_limit_s));
-  requirePositive(max_total_s, "--max-total", "the worst-case planning time [s]");
-}
 
 std::string benchLog(const BenchResult& result, const std::string& experiment_name,
                      const std::string& host) {
@@ -227,4 +205,4 @@ render::Figure benchPlot(const BenchResult& result) {
   return render::plot(series, o);
 }
 
-}  // namespace uavip::app
+}  // namespace uavip::bench
