@@ -619,7 +619,7 @@ void Config::validate(const std::string& where) const {
     planners::requireKnownPlanner(planner);  // creates nothing, so OMPL stays unseeded
     missionOptions().validate("mission");
     if (flight.home) require(flight.home->allFinite(), "mission", "home must be finite");
-    flight.model.validate("flight");
+    flightOptions().validate("flight");
     assembly.validate("assembly");
     registration.validate("registration");
   });

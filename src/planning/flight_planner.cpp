@@ -442,12 +442,19 @@ void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missio
 
 }  // namespace
 
+void FlightOptions::validate(const std::string& where) const {
+  if (home) require(home->allFinite(), where, "home must be finite");
+  if (start) require(start->allFinite(), where, "start must be finite");
+  model.validate(where);
+  requireThat(max_rounds >= 1, where, "max_rounds", ">= 1", max_rounds);
+}
+
 FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
                       const PathValidator& validator, Planner& planner,
                       const FlightOptions& options) {
   const auto t0 = SteadyClock::now();
   FlightPlan plan;
-  options.model.validate("flight");
+  options.validate("flight");
   auto fail = [&](FlightPlan::Status status, const std::string& reason) {
     plan.status = status;
     plan.reason = reason;

@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "uavip/core/error.h"
+
 namespace uavip::planning {
 
 namespace {
@@ -483,8 +485,13 @@ Tour naiveTour(const std::vector<TourCluster>& clusters, const PointCost& cost) 
   return optimiseVariants(model, indexOrder(model));
 }
 
+void TourOptions::validate(const std::string& where) const {
+  requireThat(max_passes >= 0, where, "max_passes", ">= 0", max_passes);
+}
+
 Tour solveTour(const std::vector<TourCluster>& clusters, const PointCost& cost,
                const TourOptions& options) {
+  options.validate();
   checkClusters(clusters);
   TourModel model(clusters, cost);
   const int to_visit = model.clusterCount() - 1;
@@ -495,6 +502,7 @@ Tour solveTour(const std::vector<TourCluster>& clusters, const PointCost& cost,
 
 Tour heuristicTour(const std::vector<TourCluster>& clusters, const PointCost& cost,
                    const TourOptions& options) {
+  options.validate();
   checkClusters(clusters);
   TourModel model(clusters, cost);
   return heuristic(model, options);

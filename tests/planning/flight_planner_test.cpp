@@ -9,6 +9,7 @@
 #include "planners/registry.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/planning/tour.h"
 
 namespace uavip::planning {
 namespace {
@@ -181,6 +182,24 @@ TEST(FlightPlanner, HomeInsideObstacleSpaceIsRefused) {
   FlightOptions o;
   o.home = Vec3(0.1, 2.0, 1.0);
   EXPECT_THROW(planFlight(w.missions, w.grid, w.validator, *planner, o), InputError);
+}
+
+TEST(FlightPlanner, OptionsBuiltInCodeAreValidated) {
+  std::unique_ptr<Planner> planner;
+  const World w = twoSidedWall(planner);
+  FlightOptions o;
+  o.max_rounds = 0;
+  EXPECT_THROW(planFlight(w.missions, w.grid, w.validator, *planner, o), InputError);
+  o = FlightOptions{};
+  o.home = Vec3(std::numeric_limits<double>::infinity(), 0.0, 1.0);
+  EXPECT_THROW(o.validate(), InputError);
+  o = FlightOptions{};
+  o.model.reserve = 1.5;  // FlightModel::validate: a reserve in [0, 1)
+  EXPECT_THROW(o.validate(), InputError);
+  EXPECT_NO_THROW(FlightOptions{}.validate());
+  TourOptions t;
+  t.max_passes = -1;
+  EXPECT_THROW(t.validate(), InputError);
 }
 
 TEST(FlightPlanner, BlockedSurfacesAreListedNotFlown) {

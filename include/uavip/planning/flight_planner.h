@@ -73,6 +73,10 @@ struct FlightOptions {
   bool compare_naive{false};
   int max_rounds{
       50};  ///< lazy re-solves with newly planned legs (each plans the new legs of its tour)
+
+  /// Throws InputError "<where>: …" for a non-finite home or start, a bad flight
+  /// model (FlightModel::validate) or max_rounds < 1. planFlight calls it.
+  void validate(const std::string& where = "flight") const;
 };
 
 /// A photo stop in a sortie.

@@ -15,6 +15,7 @@
 /// O(P²) doubles for P distinct point ids.
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "uavip/core/types.h"
@@ -45,6 +46,9 @@ struct TourOptions {
   /// Improvement passes of the heuristic (each: every 2-opt and Or-opt move once);
   /// 0 = construction only.
   int max_passes{50};
+
+  /// Throws InputError "<where>: max_passes must be >= 0, got …".
+  void validate(const std::string& where = "tour") const;
 };
 
 /// A tour: home → order[0] → … → order.back() → home.
