@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "uavip/core/memory.h"
@@ -18,6 +20,21 @@ namespace uavip::bench_util {
 inline void prepareProcess() {
   keepFreedMemoryForReuse();
   io::setPclConsole(false);
+}
+
+/// A benchmark's command line: `[SCENARIO.yaml] [RUNS]`.
+struct BenchArgs {
+  std::string scenario;
+  int runs{1};
+};
+
+/// prepareProcess(), then the command line: the scenario (default `scenario`) and the
+/// number of runs (default `runs`, at least 1).
+inline BenchArgs startBench(int argc, char** argv, const char* scenario, int runs) {
+  prepareProcess();
+  BenchArgs args{argc > 1 ? argv[1] : scenario, runs};
+  if (argc > 2) args.runs = std::max(1, std::atoi(argv[2]));
+  return args;
 }
 
 /// Median of the values (the mean of the middle two for an even count; 0 if empty).

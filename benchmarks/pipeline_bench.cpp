@@ -23,9 +23,8 @@ using uavip::bench_util::peakRssMiB;
 }  // namespace
 
 int main(int argc, char** argv) {
-  uavip::bench_util::prepareProcess();
-  const std::string path = argc > 1 ? argv[1] : "scenarios/single_cube.yaml";
-  const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
+  const auto [path, runs] =
+      uavip::bench_util::startBench(argc, argv, "scenarios/single_cube.yaml", 5);
   try {
     const uavip::app::Scenario sc = uavip::app::loadScenario(path);
     std::vector<double> sense, pre, perc, cov, grid, planning, total;

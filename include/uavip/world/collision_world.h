@@ -9,7 +9,8 @@
 ///  - every Obstacle cluster (paper §II-E) as the 3D convex hull of its points (qhull),
 ///    or its oriented bounding box (PCA axes) when the cluster is flat, linear or
 ///    tiny, see WorldOptions::obstacle_min_thickness_m; a cluster wider than
-///    obstacle_piece_m is cut into pieces of that size, one solid each;
+///    obstacle_piece_m is cut into pieces of that size, one solid each (the solids
+///    and their exact distances: world/solids.h);
 ///  - every measured point (the clean cloud and the safety cloud, core/geometry.h
 ///    safetyPoints) as one fcl::OcTree built from an octomap::OcTree.
 ///

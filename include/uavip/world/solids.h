@@ -1,0 +1,78 @@
+#pragma once
+/// \file
+/// The solids of the collision world (world/collision_world.h): convex polyhedra with
+/// exact segment distances, built from what perception found:
+///  - a Surface (paper §II-D) becomes a thin slab: its boundary's 2D convex hull on the
+///    plane, extruded `thickness` behind the plane (against the normal);
+///  - an Obstacle cluster (paper §II-E) becomes the 3D convex hull of its points
+///    (qhull), or its oriented bounding box (PCA axes) when it is flat, linear or tiny;
+///    a wide cluster is first cut into pieces, one solid each;
+///  - the shell of the solids, sampled on a voxel lattice, marks them in a planning
+///    grid (§II-G).
+/// Plain geometry: no FCL, no kd-tree; every function is exact in double precision.
+
+#include <array>
+#include <vector>
+
+#include "uavip/core/geometry.h"
+#include "uavip/core/types.h"
+
+namespace uavip::world {
+
+/// A convex polyhedron as triangles with outward normals (empty: no triangles).
+struct Polyhedron {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<Vec3> normals;       ///< outward unit normal per triangle
+  std::vector<double> offsets;     ///< n·x + offset = 0 per triangle
+  std::vector<Vec3> ball_centres;  ///< a ball holding each triangle: its box centre…
+  std::vector<double> ball_radii;  ///< …and the farthest vertex from it, plus slack [m]
+
+  /// Orients every triangle outward (the solid is convex: away from the centroid)
+  /// and caches its plane.
+  void finish();
+  /// True when p lies inside or on the solid.
+  bool contains(const Vec3& p) const;
+  /// Exact distance from segment [a, b] (a point if a == b) to the solid [m], 0 when
+  /// they meet; `q` gets the solid's nearest point.
+  double distance(const Vec3& a, const Vec3& b, Vec3& q) const;
+  /// Axis-aligned bounds of the vertices [m].
+  Aabb bounds() const;
+};
+
+/// A prism: the convex polygon `top` (in order) and `top − depth` as its bottom.
+Polyhedron prism(const std::vector<Vec3>& top, const Vec3& depth);
+
+/// The slab of a surface: the 2D convex hull of its boundary on its plane, extruded
+/// `thickness` [m] against the normal, so the face the UAV sees is the plane itself.
+/// Empty if the boundary is degenerate (fewer than 3 hull vertices, no area).
+Polyhedron surfaceSlab(const Surface& s, double thickness);
+
+/// The 3D convex hull of `pts` (qhull, on the points relative to `centre`) as a
+/// polyhedron that contains every point: its planes are checked against every point
+/// and the solid scaled about its centre by the tiny factor any rounding needs.
+/// Empty if qhull fails or the hull is degenerate (flat, fewer than 4 points).
+Polyhedron hullSolid(const PointList& pts, const Vec3& centre);
+
+/// The solid of an obstacle cluster; empty if it has no points. The 3D convex hull
+/// of its points when they span a volume at least `min_edge` [m] thick along every
+/// PCA axis; otherwise (1–3 points, flat sheets, rods) or when qhull fails, the
+/// oriented bounding box, every edge at least `min_edge` long. Either contains every
+/// point.
+Polyhedron obstacleSolid(const Obstacle& o, double min_edge);
+
+/// A cluster larger than `edge` [m] on some axis, cut into cells of that edge (64-bit
+/// voxel keys): a sparse, concave real cluster (a tree line, a podium wrapping round a
+/// tower) then becomes several tight solids instead of one hull over the free space
+/// between its parts. Each piece keeps the cluster's id; a smaller cluster is
+/// returned whole.
+std::vector<Obstacle> obstaclePieces(const Obstacle& o, double edge);
+
+/// Voxel centres (edge `spacing` [m]) on the shell of every non-empty solid, each
+/// triangle sampled in rows at most `spacing` apart, leaving out the voxels that
+/// already hold a point of `occupied`. Only solids whose bounds meet `region` (when
+/// given) are sampled, and only their samples inside it. Sorted by voxel key.
+PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
+                       const PointList& occupied = {}, const Aabb* region = nullptr);
+
+}  // namespace uavip::world
