@@ -30,6 +30,7 @@
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::registration {
 namespace {
@@ -45,17 +46,14 @@ using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 /// the bridge's sequential RANSAC finds 9 surfaces instead of 14 (measured): the
 /// order sensitivity is the detector's to fix, not a reason to change outputs here.
 PointList voxelDownsample(const PointList& points, double leaf) {
-  if (leaf <= 0.0) return points;
+  if (leaf <= 0.0 || points.empty()) return points;
+  // Keys in the world lattice's order (as this stage always sorted); the keyer checks
+  // that the cloud spans at most 2^21 voxels per axis, so no two voxels share a key.
+  (void)VoxelKeyer::forPointsOnLattice(points, leaf, "registration.downsample_m/output_voxel_m");
   std::vector<KeyedIndex> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    const auto ix =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff);
-    const auto iy =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.y() / leaf)) & 0x1fffff);
-    const auto iz =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff);
-    keyed[i] = {(ix << 42) | (iy << 21) | iz, static_cast<std::uint32_t>(i)};
+    keyed[i] = {VoxelKeyer::wrappedKey(VoxelKeyer::latticeIndex(points[i], leaf)),
+                static_cast<std::uint32_t>(i)};
   }
   sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
   PointList out;
