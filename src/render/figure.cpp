@@ -856,7 +856,9 @@ Raster decodePng(const std::string& bytes) {
   for (int y = 0; y < r.height; ++y) {
     for (int x = 0; x < r.width; ++x) {
       std::uint32_t v = 0;
-      std::memcpy(&v, data + static_cast<std::ptrdiff_t>(y) * stride + 4 * x, 4);
+      std::memcpy(
+          &v, data + static_cast<std::ptrdiff_t>(y) * stride + 4 * static_cast<std::ptrdiff_t>(x),
+          4);
       if (format != CAIRO_FORMAT_ARGB32) v |= 0xFF000000u;  // RGB24: opaque
       r.argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width) +
              static_cast<std::size_t>(x)] = v;

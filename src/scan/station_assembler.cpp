@@ -776,8 +776,7 @@ DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack
   o.iterations = options.drift_iterations;
   o.voxel_m = options.drift_voxel_m;
   o.tuning = tn.drift;
-  const DriftRefinement r =
-      refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
+  DriftRefinement r = refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
   for (std::size_t k = 0; k < track.times_s.size(); ++k)
     track.positions[k] += r.at(track.times_s[k]);
   return r;
