@@ -9,8 +9,6 @@
 // OUT/<scene>/mission.json, OUT/results.json and OUT/results.md.
 // DATA_DIR defaults to ../shared/data/real from the repository root.
 
-#include <pcl/kdtree/kdtree_flann.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -26,7 +24,7 @@
 #include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
-#include "uavip/core/pcl_cloud.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/coverage/pixel_coverage.h"
 #include "uavip/io/atomic_file.h"
@@ -164,22 +162,16 @@ double pathToLastPhoto(const planning::FlightPlan& f) {
 /// Minimum distance from every sortie segment to every input point [m], the segments
 /// sampled every 2 cm (the nearest point by a kd-tree).
 double minClearance(const planning::FlightPlan& f, const PointList& raw) {
-  const Vec3& origin = raw.front();
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(toPclCloud(raw, origin));
+  const NeighbourIndex tree(raw, raw.front());
   double best = std::numeric_limits<double>::infinity();
-  std::vector<int> idx(1);
-  std::vector<float> d2(1);
   for (const auto& s : f.sorties) {
     for (std::size_t i = 0; i + 1 < s.waypoints.size(); ++i) {
-      const Vec3 a = s.waypoints[i] - origin, b = s.waypoints[i + 1] - origin;
+      const Vec3 a = s.waypoints[i], b = s.waypoints[i + 1];
       const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.02)));
       for (int k = 0; k <= steps; ++k) {
         const Vec3 q = a + (b - a) * (static_cast<double>(k) / steps);
-        pcl::PointXYZ p(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                        static_cast<float>(q.z()));
-        if (tree.nearestKSearch(p, 1, idx, d2) == 1)
-          best = std::min(best, std::sqrt(static_cast<double>(d2[0])));
+        float d2 = 0.0f;
+        if (tree.nearestTo(q, &d2) >= 0) best = std::min(best, std::sqrt(static_cast<double>(d2)));
       }
     }
   }

@@ -91,8 +91,7 @@ preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenar
     if (!raw[i].allFinite())
       throw InputError("cloud: point " + std::to_string(i) + " is not finite");
   }
-  CloudIndex tree =
-      raw.size() >= 2 ? std::make_shared<const preprocess::NeighbourIndex>(raw) : nullptr;
+  CloudIndex tree = raw.size() >= 2 ? std::make_shared<const NeighbourIndex>(raw) : nullptr;
   preprocess::CloudStats stats = preprocess::measureCloud(raw, {}, tree.get());
   if (index != nullptr) *index = std::move(tree);
   if (scenario != nullptr) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 
 namespace uavip {
 
@@ -39,6 +40,49 @@ double polygonArea(const PointList& polygon) {
     sum += (polygon[i] - polygon[0]).cross(polygon[i + 1] - polygon[0]);
   }
   return 0.5 * sum.norm();
+}
+
+double polygonTwiceSignedArea2d(const std::vector<Eigen::Vector2d>& polygon) {
+  if (polygon.size() < 3) return 0.0;
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const auto& a = polygon[i];
+    const auto& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - b.x() * a.y();
+  }
+  return twice;
+}
+
+double polygonArea2d(const std::vector<Eigen::Vector2d>& polygon) {
+  return 0.5 * std::abs(polygonTwiceSignedArea2d(polygon));
+}
+
+namespace {
+
+/// z of (a − o) × (b − o): > 0 when o → a → b turns left.
+double turn(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const auto& l, const auto& r) {
+    return l.x() < r.x() || (l.x() == r.x() && l.y() < r.y());
+  });
+  if (points.size() < 3) return points;
+  std::vector<Eigen::Vector2d> h(2 * points.size());
+  std::size_t k = 0;
+  for (const auto& p : points) {  // lower chain
+    while (k >= 2 && turn(h[k - 2], h[k - 1], p) <= 0.0) --k;
+    h[k++] = p;
+  }
+  for (std::size_t i = points.size() - 1, t = k + 1; i-- > 0;) {  // upper chain
+    while (k >= t && turn(h[k - 2], h[k - 1], points[i]) <= 0.0) --k;
+    h[k++] = points[i];
+  }
+  h.resize(k - 1);
+  return h;
 }
 
 bool allFinite(const PointList& points) {

@@ -11,6 +11,22 @@
 
 namespace uavip {
 
+namespace {
+
+/// |lattice index| bound: below 2^52 every index is a distinct, exact double.
+constexpr double kMaxLatticeIndex = 4503599627370496.0;  // 2^52
+
+[[noreturn]] void throwTooSmall(const std::string& what, double edge, const Vec3& extent,
+                                double cells) {
+  std::ostringstream os;
+  os << what << " " << edge << " m is too small for the extent " << extent.x() << " x "
+     << extent.y() << " x " << extent.z() << " m (" << cells << " voxels on one axis > 2^21)"
+     << "; use a larger " << what;
+  throw InputError(os.str());
+}
+
+}  // namespace
+
 VoxelKeyer::VoxelKeyer(const Vec3& lo, const Vec3& hi, double edge, const std::string& what)
     : edge_(edge) {
   requirePositive(edge, "voxel grid", what);
@@ -19,15 +35,68 @@ VoxelKeyer::VoxelKeyer(const Vec3& lo, const Vec3& hi, double edge, const std::s
   origin_ = (lo / edge).array().floor().matrix() * edge;
   for (int a = 0; a < 3; ++a) {
     const double cells = std::floor((hi[a] - origin_[a]) / edge) + 1.0;
-    if (!(cells <= static_cast<double>(kCells))) {
-      const Vec3 extent = hi - lo;
+    if (!(cells <= static_cast<double>(kCells))) throwTooSmall(what, edge, hi - lo, cells);
+  }
+}
+
+std::array<std::int64_t, 3> VoxelKeyer::latticeIndex(const Vec3& p, double edge,
+                                                     const std::string& what) {
+  std::array<std::int64_t, 3> c{};
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::floor(p[a] / edge);
+    if (!(std::abs(f) < kMaxLatticeIndex)) {
       std::ostringstream os;
-      os << what << " " << edge << " m is too small for the extent " << extent.x() << " x "
-         << extent.y() << " x " << extent.z() << " m (" << cells << " voxels on one axis > 2^21)"
-         << "; use a larger " << what;
+      os << "voxel grid: point (" << p.transpose() << ") is not finite or too far from the origin"
+         << " for " << what << " " << edge << " m (|index| must be < 2^52)";
       throw InputError(os.str());
     }
+    c[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(f);
   }
+  return c;
+}
+
+VoxelKeyer VoxelKeyer::forIndexBox(const std::array<std::int64_t, 3>& lo,
+                                   const std::array<std::int64_t, 3>& hi, double edge,
+                                   const std::string& what) {
+  requirePositive(edge, "voxel grid", what);
+  Vec3 origin;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double cells = static_cast<double>(hi[a] - lo[a]) + 1.0;
+    if (!(cells <= static_cast<double>(kCells))) {
+      const Vec3 extent(static_cast<double>(hi[0] - lo[0] + 1),
+                        static_cast<double>(hi[1] - lo[1] + 1),
+                        static_cast<double>(hi[2] - lo[2] + 1));
+      throwTooSmall(what, edge, extent * edge, cells);
+    }
+    origin[static_cast<Eigen::Index>(a)] = static_cast<double>(lo[a]) * edge;
+  }
+  return VoxelKeyer(origin, edge, lo);
+}
+
+VoxelKeyer VoxelKeyer::forPointsOnLattice(const PointList& points, double edge,
+                                          const std::string& what) {
+  requirePositive(edge, "voxel grid", what);
+  if (points.empty()) throw InputError("voxel grid: no points for " + what);
+  std::array<std::int64_t, 3> lo{}, hi{};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto c = latticeIndex(points[i], edge, what);
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = i == 0 ? c[a] : std::min(lo[a], c[a]);
+      hi[a] = i == 0 ? c[a] : std::max(hi[a], c[a]);
+    }
+  }
+  return forIndexBox(lo, hi, edge, what);
+}
+
+std::uint64_t VoxelKeyer::indexKey(const std::array<std::int64_t, 3>& c) const {
+  return pack(c[0] - lo_index_[0], c[1] - lo_index_[1], c[2] - lo_index_[2]);
+}
+
+std::uint64_t VoxelKeyer::wrappedKey(const std::array<std::int64_t, 3>& c) {
+  constexpr std::uint64_t mask = (std::uint64_t{1} << kBits) - 1;
+  return pack(static_cast<std::int64_t>(static_cast<std::uint64_t>(c[0]) & mask),
+              static_cast<std::int64_t>(static_cast<std::uint64_t>(c[1]) & mask),
+              static_cast<std::int64_t>(static_cast<std::uint64_t>(c[2]) & mask));
 }
 
 VoxelKeyer VoxelKeyer::forPoints(const PointList& points, double edge, const std::string& what) {
@@ -102,6 +171,28 @@ std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
+}
+
+std::uint64_t planeCellKey(std::int64_t x, std::int64_t y, const char* what) {
+  constexpr std::int64_t half = std::int64_t{1} << 31;
+  if (!inPlaneCellRange(x) || !inPlaneCellRange(y)) {
+    std::ostringstream os;
+    os << what << ": cell (" << x << ", " << y << ") is outside [-2^31, 2^31)";
+    throw InputError(os.str());
+  }
+  return static_cast<std::uint64_t>(x + half) << 32 | static_cast<std::uint64_t>(y + half);
+}
+
+std::int64_t planeCellIndex(double v, double cell, const char* what) {
+  const double f = std::floor(v / cell);
+  constexpr double half = 2147483648.0;  // 2^31
+  if (!(f >= -half && f < half)) {
+    std::ostringstream os;
+    os << what << ": coordinate " << v << " is not finite or too far from the origin for cell "
+       << cell << " m (|index| must be < 2^31)";
+    throw InputError(os.str());
+  }
+  return static_cast<std::int64_t>(f);
 }
 
 }  // namespace uavip

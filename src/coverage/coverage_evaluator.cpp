@@ -10,6 +10,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/parallel.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::coverage {
 
@@ -17,8 +18,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Voxel indices of VoxelLineOfSight must satisfy |i| < 2^20 (21 bits per axis).
-constexpr std::int64_t kKeyHalfRange = std::int64_t{1} << 20;
 constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
 /// Most bricks of VoxelLineOfSight's empty-space bitmap (8 MB of bits).
 constexpr double kMaxBricks = 67108864.0;
@@ -30,11 +29,10 @@ void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
               "max_gsd_mm_per_px", ">= 0 and finite", max_gsd_mm_per_px);
 }
 
-/// Pack of three voxel indices, each in [−2^20, 2^20), into 63 bits.
+/// Key of voxel (i, j, k) of VoxelLineOfSight, which must lie in its index box (≤ 2^21
+/// voxels per axis, checked by its VoxelKeyer: the keys are unique there).
 std::uint64_t packKey(std::int64_t i, std::int64_t j, std::int64_t k) {
-  return static_cast<std::uint64_t>(i + kKeyHalfRange) |
-         (static_cast<std::uint64_t>(j + kKeyHalfRange) << 21) |
-         (static_cast<std::uint64_t>(k + kKeyHalfRange) << 42);
+  return VoxelKeyer::wrappedKey({i, j, k});
 }
 
 /// SplitMix64 finaliser: spreads packed keys over the table.
@@ -315,20 +313,11 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
   while (capacity < 2 * occupied_points.size()) capacity *= 2;
   table_.assign(capacity, kEmptySlot);
   mask_ = capacity - 1;
-  for (std::size_t n = 0; n < occupied_points.size(); ++n) {
-    const Vec3& p = occupied_points[n];
-    std::int64_t idx[3];
-    for (int a = 0; a < 3; ++a) {
-      const double f = std::floor(p[a] / voxel_m);
-      if (!(f >= -static_cast<double>(kKeyHalfRange) && f < static_cast<double>(kKeyHalfRange))) {
-        std::ostringstream os;
-        os << where << ": point " << n << " (" << p.transpose()
-           << ") is non-finite or too far from the origin for voxel_m " << voxel_m
-           << " (|index| must be < 2^20)";
-        throw InputError(os.str());
-      }
-      idx[a] = static_cast<std::int64_t>(f);
-    }
+  if (occupied_points.empty()) return;
+  // Checks every point and that the box spans at most 2^21 voxels per axis.
+  (void)VoxelKeyer::forPointsOnLattice(occupied_points, voxel_m, where + ".voxel_m");
+  for (const Vec3& p : occupied_points) {
+    const auto idx = VoxelKeyer::latticeIndex(p, voxel_m);
     if (count_ == 0) {
       for (int a = 0; a < 3; ++a) lo_[a] = hi_[a] = idx[a];
     } else {
@@ -355,11 +344,8 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
   while (brick_count(brick_shift_) > kMaxBricks) ++brick_shift_;
   for (int a = 0; a < 3; ++a) brick_dims_[a] = ((hi_[a] - lo_[a]) >> brick_shift_) + 1;
   brick_bits_.assign(static_cast<std::size_t>(brick_count(brick_shift_) / 64.0) + 1, 0);
-  for (std::uint64_t key : table_) {
-    if (key == kEmptySlot) continue;
-    const std::int64_t i = static_cast<std::int64_t>(key & 0x1FFFFF) - kKeyHalfRange;
-    const std::int64_t j = static_cast<std::int64_t>((key >> 21) & 0x1FFFFF) - kKeyHalfRange;
-    const std::int64_t k = static_cast<std::int64_t>((key >> 42) & 0x1FFFFF) - kKeyHalfRange;
+  for (const Vec3& p : occupied_points) {
+    const auto [i, j, k] = VoxelKeyer::latticeIndex(p, voxel_m);
     const std::uint64_t b = brickIndex(i, j, k);
     brick_bits_[b >> 6] |= std::uint64_t{1} << (b & 63);
   }

@@ -115,8 +115,11 @@ std::vector<Index> largestCluster(const PointList& cloud, const std::vector<Inde
 }
 
 /// 2D convex hull (PCL ConvexHull, dimension 2) of planar coordinates, as (u, v)
-/// pairs counter-clockwise. Empty when the points span no area.
-std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv) {
+/// pairs counter-clockwise. Empty when the points span no area. Kept apart from
+/// core's convexHull2d on purpose: its vertices are float-rounded, start where qhull's
+/// angular sort about their centroid starts, and qhull merges nearly collinear ones;
+/// all three reach scene.json, so core's exact chain would change outputs.
+std::vector<Eigen::Vector2d> qhullBoundary2d(const std::vector<Eigen::Vector2d>& uv) {
   if (uv.size() < 3) return {};
   // Degenerate (collinear) sets make qhull fail noisily: detect them first.
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
@@ -147,13 +150,7 @@ std::vector<Eigen::Vector2d> convexHull2d(const std::vector<Eigen::Vector2d>& uv
   std::vector<Eigen::Vector2d> out;
   out.reserve(hull_points.size());
   for (const auto& p : hull_points.points) out.emplace_back(p.x, p.y);
-  double twice_area = 0.0;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const auto& a = out[i];
-    const auto& b = out[(i + 1) % out.size()];
-    twice_area += a.x() * b.y() - b.x() * a.y();
-  }
-  if (twice_area < 0.0) std::reverse(out.begin(), out.end());
+  if (polygonTwiceSignedArea2d(out) < 0.0) std::reverse(out.begin(), out.end());
   return out;
 }
 
@@ -414,7 +411,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     const Vec3 d = p - s.centroid;
     uv.emplace_back(s.axis_u.dot(d), s.axis_v.dot(d));
   }
-  for (const auto& q : convexHull2d(uv)) {
+  for (const auto& q : qhullBoundary2d(uv)) {
     s.boundary.push_back(s.centroid + q.x() * s.axis_u + q.y() * s.axis_v);
   }
   s.area_m2 = polygonArea(s.boundary);

@@ -9,7 +9,6 @@
 #include "uavip/registration/station_registration.h"
 
 #include <pcl/features/normal_3d.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
@@ -26,10 +25,12 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/parallel.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::registration {
 namespace {
@@ -45,17 +46,14 @@ using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 /// the bridge's sequential RANSAC finds 9 surfaces instead of 14 (measured): the
 /// order sensitivity is the detector's to fix, not a reason to change outputs here.
 PointList voxelDownsample(const PointList& points, double leaf) {
-  if (leaf <= 0.0) return points;
+  if (leaf <= 0.0 || points.empty()) return points;
+  // Keys in the world lattice's order (as this stage always sorted); the keyer checks
+  // that the cloud spans at most 2^21 voxels per axis, so no two voxels share a key.
+  (void)VoxelKeyer::forPointsOnLattice(points, leaf, "registration.downsample_m/output_voxel_m");
   std::vector<KeyedIndex> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    const auto ix =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / leaf)) & 0x1fffff);
-    const auto iy =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.y() / leaf)) & 0x1fffff);
-    const auto iz =
-        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.z() / leaf)) & 0x1fffff);
-    keyed[i] = {(ix << 42) | (iy << 21) | iz, static_cast<std::uint32_t>(i)};
+    keyed[i] = {VoxelKeyer::wrappedKey(VoxelKeyer::latticeIndex(points[i], leaf)),
+                static_cast<std::uint32_t>(i)};
   }
   sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
   PointList out;
@@ -299,13 +297,11 @@ struct IcpOutcome {
 IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& source_normals,
                           const PointList& target, const std::vector<Vec3>& target_normals,
                           double gate, int iterations) {
-  const Cloud::Ptr tgt = toPclCloud(target, Vec3::Zero());
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(tgt);
+  if (target.empty()) return {};
+  // Floats in the world frame (origin 0), as this stage always searched.
+  const NeighbourIndex tree(target, Vec3::Zero());
   const std::vector<std::size_t> sample = balancedSample(source_normals, 2000);
   IcpOutcome out;
-  pcl::Indices idx(1);
-  std::vector<float> d2(1);
   for (int it = 0; it < iterations; ++it) {
     const double c = it < 5 ? gate : std::max(0.1, 0.3 * gate);  // Tukey scale: wide, then tight
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
@@ -314,10 +310,10 @@ IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& sour
     std::size_t pairs = 0;
     for (const std::size_t i : sample) {
       const Vec3 p = source[i] + out.t;
-      const pcl::PointXYZ q(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                            static_cast<float>(p.z()));
-      if (tree.nearestKSearch(q, 1, idx, d2) < 1 || d2[0] > gate * gate) continue;
-      const auto j = static_cast<std::size_t>(idx[0]);
+      float d2 = 0.0f;
+      const int nearest = tree.nearestTo(p, &d2);
+      if (nearest < 0 || d2 > gate * gate) continue;
+      const auto j = static_cast<std::size_t>(nearest);
       const Vec3& n = target_normals[j];
       if (!n.allFinite() || !(n.dot(source_normals[i]) > 0.7)) continue;
       const double e = n.dot(p - target[j]);

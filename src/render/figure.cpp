@@ -21,6 +21,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/voxel_key.h"
 
 namespace uavip::render {
 namespace {
@@ -124,11 +125,10 @@ void markerPath(cairo_t* cr, Marker m, double x, double y, double size) {
   }
 }
 
-/// Exact key of a cell of a 2D lattice (whole-number coordinates within ±2^31, which
+/// Exact key of a cell of a 2D lattice (whole-number coordinates within ±1e9, which
 /// callers ensure by clamping or skipping).
 std::uint64_t cellKey(double x, double y) {
-  return static_cast<std::uint64_t>(static_cast<std::int64_t>(x) + (1LL << 31)) << 32 |
-         static_cast<std::uint32_t>(static_cast<std::int64_t>(y) + (1LL << 31));
+  return planeCellKey(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y), "figure");
 }
 
 /// Hash of a pair of cell keys (a segment between two cells).
@@ -856,7 +856,9 @@ Raster decodePng(const std::string& bytes) {
   for (int y = 0; y < r.height; ++y) {
     for (int x = 0; x < r.width; ++x) {
       std::uint32_t v = 0;
-      std::memcpy(&v, data + static_cast<std::ptrdiff_t>(y) * stride + 4 * x, 4);
+      std::memcpy(
+          &v, data + static_cast<std::ptrdiff_t>(y) * stride + 4 * static_cast<std::ptrdiff_t>(x),
+          4);
       if (format != CAIRO_FORMAT_ARGB32) v |= 0xFF000000u;  // RGB24: opaque
       r.argb[static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width) +
              static_cast<std::size_t>(x)] = v;

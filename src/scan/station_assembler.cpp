@@ -25,17 +25,11 @@
 #include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
+#include "uavip/core/voxel_key.h"
 #include "uavip/scan/drift_refinement.h"
 
 namespace uavip::scan {
 namespace {
-
-/// Hash key of a 2D cell. Unsigned arithmetic: shifting a negative index is undefined
-/// behaviour (UBSan).
-std::int64_t cellKey(std::int64_t x, std::int64_t y) {
-  return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^
-                                   (static_cast<std::uint64_t>(y) & 0xffffffffULL));
-}
 
 using Vec2 = Eigen::Vector2d;
 
@@ -60,6 +54,7 @@ class Grid2D {
     int best_i = -1;
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        if (!inPlaneCellRange(cx + dx) || !inPlaneCellRange(cy + dy)) continue;
         const auto it = cells_.find(key(cx + dx, cy + dy));
         if (it == cells_.end()) continue;
         for (const int i : it->second) {
@@ -75,11 +70,11 @@ class Grid2D {
   }
 
  private:
-  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
-  static std::int64_t key(std::int64_t x, std::int64_t y) { return cellKey(x, y); }
+  std::int64_t cellOf(double v) const { return planeCellIndex(v, cell_, "scan grid"); }
+  static std::uint64_t key(std::int64_t x, std::int64_t y) { return planeCellKey(x, y); }
   const std::vector<Vec2>& points_;
   double cell_;
-  std::unordered_map<std::int64_t, std::vector<int>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
 /// A horizontal scan as 2D points (in beam order) in some frame, with the line
@@ -297,13 +292,12 @@ class HeightMap {
   }
 
  private:
-  std::int64_t key(const Vec3& p) const {
-    const auto x = static_cast<std::int64_t>(std::floor(p.x() / cell_));
-    const auto y = static_cast<std::int64_t>(std::floor(p.y() / cell_));
-    return cellKey(x, y);
+  std::uint64_t key(const Vec3& p) const {
+    return planeCellKey(planeCellIndex(p.x(), cell_, "height map"),
+                        planeCellIndex(p.y(), cell_, "height map"));
   }
   double cell_;
-  std::unordered_map<std::int64_t, std::pair<double, int>> cells_;
+  std::unordered_map<std::uint64_t, std::pair<double, int>> cells_;
 };
 
 }  // namespace
@@ -782,8 +776,7 @@ DriftRefinement refineTrack(const RawLog& log, const Station& st, const ImuTrack
   o.iterations = options.drift_iterations;
   o.voxel_m = options.drift_voxel_m;
   o.tuning = tn.drift;
-  const DriftRefinement r =
-      refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
+  DriftRefinement r = refineDrift(driftPoints(log, st, imu, tn), track, nodes, loop_start_s, o);
   for (std::size_t k = 0; k < track.times_s.size(); ++k)
     track.positions[k] += r.at(track.times_s[k]);
   return r;

@@ -4,8 +4,6 @@
 
 #include "uavip/view/mission_page.h"
 
-#include <pcl/kdtree/kdtree_flann.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,13 +11,14 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
-#include "uavip/core/pcl_cloud.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/text.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/render/figure.h"
@@ -173,24 +172,18 @@ double numberOr(const json& j, const char* key, double fallback) {
 /// The nearest cloud point's distance for many query points [m].
 class Clearance {
  public:
-  Clearance(const PointList& cloud, const Vec3& origin) : origin_(origin), empty_(cloud.empty()) {
-    if (!empty_) tree_.setInputCloud(toPclCloud(cloud, origin));
+  Clearance(const PointList& cloud, const Vec3& origin) {
+    if (!cloud.empty()) tree_ = std::make_unique<NeighbourIndex>(cloud, origin);
   }
   double at(const Vec3& p) const {
-    if (empty_) return std::numeric_limits<double>::infinity();
-    const Vec3 q = p - origin_;
-    pcl::PointXYZ s(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                    static_cast<float>(q.z()));
-    std::vector<int> idx(1);
-    std::vector<float> d2(1);
-    if (tree_.nearestKSearch(s, 1, idx, d2) < 1) return std::numeric_limits<double>::infinity();
-    return std::sqrt(static_cast<double>(d2[0]));
+    if (!tree_) return std::numeric_limits<double>::infinity();
+    float d2 = 0.0f;
+    if (tree_->nearestTo(p, &d2) < 0) return std::numeric_limits<double>::infinity();
+    return std::sqrt(static_cast<double>(d2));
   }
 
  private:
-  Vec3 origin_;
-  bool empty_;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree_;
+  std::unique_ptr<NeighbourIndex> tree_;  ///< floats relative to the page's origin
 };
 
 /// One polyline of the flight: a sortie, or a surface's own path.

@@ -2,9 +2,6 @@
 
 #include <fcl/fcl.h>
 #include <octomap/OcTree.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -19,6 +16,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/world/solids.h"
 
@@ -36,33 +34,26 @@ constexpr double kMinPrune = 1e-12;
 
 /// Exact point distances through a kd-tree. Stored in float relative to `offset`
 /// (keeps precision for large coordinates); exact distances use the double copy.
+/// Not movable: the tree refers to `points`.
 struct PointIndex {
   PointList points;
   Vec3 offset{Vec3::Zero()};
   Aabb box;  ///< of the points
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  std::unique_ptr<NeighbourIndex> tree;
   double pad{1e-3};  ///< slack added to search radii for the float kd-tree [m]
+
+  PointIndex() = default;
+  PointIndex(PointIndex&&) = delete;
+  PointIndex& operator=(PointIndex&&) = delete;
 
   void build(const PointList& pts) {
     points = pts;
+    tree.reset();
     if (pts.empty()) return;
     box = boundingBox(pts);
     offset = 0.5 * (box.min + box.max);
     pad = 1e-3 + 1e-6 * (box.max - box.min).norm();
-    cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-    cloud->points.reserve(pts.size());
-    for (const auto& p : pts) cloud->points.push_back(toPcl(p));
-    cloud->width = static_cast<std::uint32_t>(pts.size());
-    cloud->height = 1;
-    cloud->is_dense = true;
-    tree.setSortedResults(false);
-    tree.setInputCloud(cloud);
-  }
-
-  pcl::PointXYZ toPcl(const Vec3& p) const {
-    const Vec3 q = p - offset;
-    return {static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())};
+    tree = std::make_unique<NeighbourIndex>(points, offset);
   }
 
   /// Indices of the points within `radius` of c (plus the float slack `pad`).
@@ -71,16 +62,13 @@ struct PointIndex {
   const std::vector<int>& within(const Vec3& c, double radius) const {
     thread_local std::vector<int> idx;
     thread_local std::vector<float> d2;
-    tree.radiusSearch(toPcl(c), radius + pad, idx, d2);
+    idx.clear();
+    if (tree) tree->within(c, radius + pad, idx, d2, /*sorted=*/false);
     return idx;
   }
 
   /// The cloud point nearest to c (approximately: float kd-tree); -1 if none.
-  int nearest(const Vec3& c) const {
-    thread_local std::vector<int> idx(1);
-    thread_local std::vector<float> d2(1);
-    return tree.nearestKSearch(toPcl(c), 1, idx, d2) == 1 ? idx[0] : -1;
-  }
+  int nearest(const Vec3& c) const { return tree ? tree->nearestTo(c) : -1; }
 
   /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
   /// The segment is cut into pieces of kPieceLength; a piece whose mid-point lies

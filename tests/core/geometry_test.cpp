@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -100,6 +101,97 @@ TEST(Geometry, AllFinite) {
   EXPECT_TRUE(allFinite({Vec3(1, 2, 3), Vec3(-1e300, 0, 0)}));
   EXPECT_FALSE(allFinite({Vec3(1, 2, 3), Vec3(0, std::numeric_limits<double>::quiet_NaN(), 0)}));
   EXPECT_FALSE(allFinite({Vec3(0, 0, std::numeric_limits<double>::infinity())}));
+}
+
+using Vec2 = Eigen::Vector2d;
+
+/// z of (a − o) × (b − o), written out independently of the code under test.
+double turnOf(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+/// Brute force: the extreme points are the tails of the ordered pairs (a, b) with
+/// every point strictly left of a → b or on the segment [a, b] (O(n³)).
+std::vector<Vec2> bruteExtremePoints(const std::vector<Vec2>& pts) {
+  std::vector<Vec2> out;
+  for (const auto& a : pts) {
+    bool extreme = false;
+    for (const auto& b : pts) {
+      if (a == b) continue;
+      bool edge = true;
+      for (const auto& q : pts) {
+        const double t = turnOf(a, b, q);
+        const bool on_segment = t == 0.0 && (q - a).dot(b - a) >= 0.0 && (q - b).dot(a - b) >= 0.0;
+        if (!(t > 0.0 || on_segment)) {
+          edge = false;
+          break;
+        }
+      }
+      if (edge) extreme = true;
+    }
+    const auto same = [&](const Vec2& v) { return v == a; };
+    if (extreme && std::none_of(out.begin(), out.end(), same)) out.push_back(a);
+  }
+  return out;
+}
+
+TEST(Geometry, ConvexHull2dMatchesBruteForce) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  for (int trial = 0; trial < 30; ++trial) {
+    std::vector<Vec2> pts;
+    for (int i = 0; i < 40 + trial; ++i) pts.emplace_back(u(rng), u(rng));
+    // Collinear points on a square's edges and duplicates: not hull vertices.
+    const double h = 12.0;
+    for (double t : {-h, -0.5 * h, 0.0, 0.5 * h, h}) {
+      pts.emplace_back(t, -h);
+      pts.emplace_back(h, t);
+    }
+    pts.push_back(pts.front());
+    const auto hull = convexHull2d(pts);
+    ASSERT_GE(hull.size(), 3u);
+    // Every point inside or on; the hull strictly convex and counter-clockwise.
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+      const Vec2& a = hull[i];
+      const Vec2& b = hull[(i + 1) % hull.size()];
+      EXPECT_GT(turnOf(hull[(i + hull.size() - 1) % hull.size()], a, b), 0.0);
+      for (const auto& q : pts) EXPECT_GE(turnOf(a, b, q), 0.0);
+    }
+    // Its vertices are exactly the extreme points.
+    auto brute = bruteExtremePoints(pts);
+    auto less = [](const Vec2& l, const Vec2& r) {
+      return l.x() < r.x() || (l.x() == r.x() && l.y() < r.y());
+    };
+    auto sorted_hull = hull;
+    std::sort(sorted_hull.begin(), sorted_hull.end(), less);
+    std::sort(brute.begin(), brute.end(), less);
+    EXPECT_EQ(sorted_hull, brute);
+    // Starts at the lowest x.
+    EXPECT_EQ(hull.front(), sorted_hull.front());
+  }
+  // Degenerate sets.
+  EXPECT_EQ(convexHull2d({Vec2(1, 1), Vec2(0, 0)}), (std::vector<Vec2>{Vec2(0, 0), Vec2(1, 1)}));
+  EXPECT_EQ(convexHull2d({Vec2(0, 0), Vec2(2, 2), Vec2(1, 1)}),
+            (std::vector<Vec2>{Vec2(0, 0), Vec2(2, 2)}));
+}
+
+TEST(Geometry, PolygonArea2dOfKnownPolygons) {
+  // An L of 3 × 3 less 2 × 2 = 5 m², counter-clockwise then clockwise.
+  std::vector<Vec2> l{Vec2(0, 0), Vec2(3, 0), Vec2(3, 1), Vec2(1, 1), Vec2(1, 3), Vec2(0, 3)};
+  EXPECT_DOUBLE_EQ(polygonTwiceSignedArea2d(l), 10.0);
+  EXPECT_DOUBLE_EQ(polygonArea2d(l), 5.0);
+  std::reverse(l.begin(), l.end());
+  EXPECT_DOUBLE_EQ(polygonTwiceSignedArea2d(l), -10.0);
+  EXPECT_DOUBLE_EQ(polygonArea2d(l), 5.0);
+  // A regular 64-gon of radius 2 off the origin: (n/2)·r²·sin(2π/n).
+  std::vector<Vec2> ngon;
+  const int n = 64;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * M_PI * i / n;
+    ngon.emplace_back(50.0 + 2.0 * std::cos(a), -30.0 + 2.0 * std::sin(a));
+  }
+  EXPECT_NEAR(polygonArea2d(ngon), 0.5 * n * 4.0 * std::sin(2.0 * M_PI / n), 1e-9);
+  EXPECT_EQ(polygonArea2d({Vec2(0, 0), Vec2(1, 1)}), 0.0);
 }
 
 TEST(Text, ControlCharactersAreEscapedOnOneLine) {

@@ -496,7 +496,15 @@ TEST(VoxelLineOfSight, EndSlackAndStartVoxel) {
   EXPECT_FALSE(tight.occupied(Vec3(-0.01, 0.05, 0.05)));
   EXPECT_THROW(VoxelLineOfSight(cloud, 0.0, 0.1), InputError);
   EXPECT_THROW(VoxelLineOfSight(cloud, 0.1, -0.1), InputError);
-  EXPECT_THROW(VoxelLineOfSight({Vec3(1e6, 0, 0)}, 0.1, 0.1), InputError);  // index ≥ 2^20
+  // More than 2^21 voxels on an axis throws; far from the origin (UTM-like) does not.
+  EXPECT_THROW(VoxelLineOfSight({Vec3(0, 0, 0), Vec3(3e5, 0, 0)}, 0.1, 0.1), InputError);
+  const Vec3 far(500000.05, 5000000.05, 100.05);  // mid-voxel
+  const VoxelLineOfSight utm({far, far + Vec3(1.0, 0, 0)}, 0.1, 0.0);
+  EXPECT_EQ(utm.occupiedVoxels(), 2u);
+  EXPECT_TRUE(utm.occupied(far + Vec3(0.01, 0.01, 0.01)));
+  EXPECT_FALSE(utm.occupied(far + Vec3(0.51, 0.01, 0.01)));
+  EXPECT_FALSE(utm.clear(far - Vec3(1.0, 0, 0), far + Vec3(2.0, 0, 0)));
+  EXPECT_TRUE(utm.clear(far + Vec3(-1.0, 0.5, 0), far + Vec3(2.0, 0.5, 0)));
   EXPECT_THROW(tight.clear(Vec3(NAN, 0, 0), cam), InputError);
 }
 

@@ -1,4 +1,4 @@
-#include "uavip/preprocess/neighbour_index.h"
+#include "uavip/core/neighbour_index.h"
 
 #include <gtest/gtest.h>
 

@@ -63,8 +63,8 @@ struct PlanResult {
 };
 
 /// The raw cloud's kd-tree: built by measure(), searched again by detect()'s
-/// outlier removal (preprocess/neighbour_index.h). Refers to the raw cloud.
-using CloudIndex = std::shared_ptr<const preprocess::NeighbourIndex>;
+/// outlier removal (core/neighbour_index.h). Refers to the raw cloud.
+using CloudIndex = std::shared_ptr<const NeighbourIndex>;
 
 /// Measures the raw cloud (preprocess/cloud_stats.h). With a scenario, its known
 /// sampling is used: mode sample gives the lattice spacing, mode scan a lattice

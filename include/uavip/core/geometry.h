@@ -3,6 +3,7 @@
 /// Small geometric helpers used by several stages.
 
 #include <limits>
+#include <vector>
 
 #include "uavip/core/types.h"
 
@@ -34,6 +35,20 @@ double polylineLength(const PointList& path);
 
 /// Area of a planar polygon given in 3D (any orientation) [m²]; 0 for < 3 vertices.
 double polygonArea(const PointList& polygon);
+
+/// Twice the signed area of the 2D polygon (shoelace formula) [m²]: positive when its
+/// vertices run counter-clockwise; 0 for < 3 vertices. Summed in vertex order from
+/// vertex 0 (the closing edge last), so the result is reproducible to the bit.
+double polygonTwiceSignedArea2d(const std::vector<Eigen::Vector2d>& polygon);
+
+/// Area of a simple 2D polygon, either orientation [m²]; 0 for < 3 vertices.
+double polygonArea2d(const std::vector<Eigen::Vector2d>& polygon);
+
+/// 2D convex hull (Andrew's monotone chain, exact in double): the extreme points,
+/// counter-clockwise, starting at the lowest x (then lowest y); collinear and
+/// duplicate points dropped. Fewer than 3 input points are returned sorted; a
+/// collinear set gives its two ends. O(n log n).
+std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points);
 
 /// True when every coordinate of every point is finite.
 bool allFinite(const PointList& points);

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "uavip/core/types.h"
 
@@ -45,10 +46,47 @@ class VoxelKeyer {
   /// Centre of the voxel with this key [m].
   Vec3 centre(std::uint64_t key) const;
 
+  // World-lattice indices: for grids whose voxel borders must be floor(p / edge)
+  // exactly (the line-of-sight grid walks rays on it, registration keeps its order).
+
+  /// Lattice index floor(p / edge) on each axis, unclamped. Throws InputError when p
+  /// is not finite or an index reaches ±2^52 (beyond it int64 casts lose voxels).
+  static std::array<std::int64_t, 3> latticeIndex(const Vec3& p, double edge,
+                                                  const std::string& what = "voxel_m");
+  /// Keyer for the voxels with lattice indices in [lo, hi] (from latticeIndex); voxel
+  /// (0,0,0) is lattice index lo. Throws like the constructor beyond 2^21 per axis.
+  static VoxelKeyer forIndexBox(const std::array<std::int64_t, 3>& lo,
+                                const std::array<std::int64_t, 3>& hi, double edge,
+                                const std::string& what = "voxel_m");
+  /// Keyer for the lattice indices of `points` (non-empty).
+  static VoxelKeyer forPointsOnLattice(const PointList& points, double edge,
+                                       const std::string& what = "voxel_m");
+  /// Key of lattice index c, which must lie in the keyer's index box: pack(c − lo).
+  std::uint64_t indexKey(const std::array<std::int64_t, 3>& c) const;
+  /// Key of lattice index c in the world lattice's own order: the low 21 bits of each
+  /// axis (two's complement), so on an axis negative indices sort after positive
+  /// ones. Unique for the indices of the keyer's box (≤ 2^21 per axis, checked at
+  /// construction), which c must lie in.
+  static std::uint64_t wrappedKey(const std::array<std::int64_t, 3>& c);
+
  private:
+  VoxelKeyer(const Vec3& origin, double edge, const std::array<std::int64_t, 3>& lo_index)
+      : origin_(origin), edge_(edge), lo_index_(lo_index) {}
   Vec3 origin_;
   double edge_;
+  std::array<std::int64_t, 3> lo_index_{};  ///< lattice index of voxel (0,0,0)
 };
+
+/// True when a 2D cell index is in planeCellKey's range [−2^31, 2^31).
+inline bool inPlaneCellRange(std::int64_t v) {
+  return v >= -(std::int64_t{1} << 31) && v < (std::int64_t{1} << 31);
+}
+/// Exact key of a cell (x, y) of a 2D lattice, both in [−2^31, 2^31): the two
+/// offset-binary 32-bit halves. Throws InputError ("<what>: …") outside that range.
+std::uint64_t planeCellKey(std::int64_t x, std::int64_t y, const char* what = "plane cell");
+/// 2D cell index floor(v / cell), checked: throws InputError when v / cell is not
+/// finite or outside [−2^31, 2^31) (planeCellKey's range).
+std::int64_t planeCellIndex(double v, double cell, const char* what = "plane cell");
 
 /// Voxel-grid down-sampling (paper §II-C): each occupied voxel of edge `edge` [m]
 /// is replaced by the centroid of its points (double precision). Output ordered

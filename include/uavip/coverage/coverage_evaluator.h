@@ -177,8 +177,8 @@ class LineOfSight {
 
 /// Line of sight through the occupied voxels of a cloud. Voxel (i, j, k) is the cube
 /// [i·v, (i+1)·v) × … with v = voxel_m (grid anchored at the world origin); it is
-/// occupied when it holds a point. Keys are 64-bit (21 bits per axis, |index| < 2^20)
-/// in an open-addressing hash set.
+/// occupied when it holds a point. Keys are VoxelKeyer's (64-bit, 21 bits per axis: the
+/// occupied box may span 2^21 voxels per axis, anywhere) in an open-addressing hash set.
 ///
 /// clear(from, to): with L = |to − from|, the segment from + t·(to − from)/L,
 /// t ∈ [0, L − end_slack_m], is walked voxel by voxel (exact 3D DDA,
@@ -194,7 +194,7 @@ class LineOfSight {
 class VoxelLineOfSight final : public LineOfSight {
  public:
   /// Throws InputError for voxel_m ≤ 0, end_slack_m < 0 (or non-finite), a
-  /// non-finite point, or a point whose voxel index is out of ±2^20.
+  /// non-finite point, or points spanning more than 2^21 voxels on an axis.
   VoxelLineOfSight(const PointList& occupied_points, double voxel_m, double end_slack_m);
 
   bool clear(const Vec3& from, const Vec3& to) const override;

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <string>
 
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/types.h"
-#include "uavip/preprocess/neighbour_index.h"
 
 namespace uavip::preprocess {
 

@@ -10,8 +10,8 @@
 #include <cstddef>
 #include <string>
 
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/types.h"
-#include "uavip/preprocess/neighbour_index.h"
 
 namespace uavip::preprocess {
 
