@@ -221,34 +221,6 @@ Polyhedron prism(const std::vector<Vec3>& top, const Vec3& depth) {
 
 // ---------------------------------------------------------------- surface slabs
 
-namespace {
-
-double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-/// Counter-clockwise convex hull (Andrew's monotone chain), collinear points dropped.
-std::vector<Eigen::Vector2d> hull2d(std::vector<Eigen::Vector2d> pts) {
-  std::sort(pts.begin(), pts.end(), [](const auto& l, const auto& r) {
-    return l.x() < r.x() || (l.x() == r.x() && l.y() < r.y());
-  });
-  if (pts.size() < 3) return pts;
-  std::vector<Eigen::Vector2d> h(2 * pts.size());
-  std::size_t k = 0;
-  for (const auto& p : pts) {
-    while (k >= 2 && cross2(h[k - 2], h[k - 1], p) <= 0.0) --k;
-    h[k++] = p;
-  }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross2(h[k - 2], h[k - 1], pts[i]) <= 0.0) --k;
-    h[k++] = pts[i];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
-}  // namespace
-
 Polyhedron surfaceSlab(const Surface& s, double thickness) {
   const Vec3 n = s.plane.normal.normalized();
   Vec3 u = s.axis_u - s.axis_u.dot(n) * n;
@@ -261,14 +233,8 @@ Polyhedron surfaceSlab(const Surface& s, double thickness) {
     const Vec3 d = p - origin;
     uv.emplace_back(d.dot(u), d.dot(v));
   }
-  const auto h = hull2d(uv);
-  double area2 = 0.0;
-  for (std::size_t i = 0; i < h.size(); ++i) {
-    const auto& p = h[i];
-    const auto& q = h[(i + 1) % h.size()];
-    area2 += p.x() * q.y() - q.x() * p.y();
-  }
-  if (h.size() < 3 || area2 <= 1e-12) return {};
+  const auto h = convexHull2d(uv);  // counter-clockwise, collinear points dropped
+  if (h.size() < 3 || polygonTwiceSignedArea2d(h) <= 1e-12) return {};
   std::vector<Vec3> top;
   top.reserve(h.size());
   for (const auto& p : h) top.push_back(origin + p.x() * u + p.y() * v);
