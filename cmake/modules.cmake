@@ -27,3 +27,14 @@ function(uavip_system_library name)
     target_compile_definitions(uavip_${name} INTERFACE ${L_DEFINITIONS})
   endif()
 endfunction()
+
+# uavip_unity_build(targets...): with UAVIP_UNITY_BUILD, compiles each target's sources as
+# one unity source (CMake UNITY_BUILD), so their shared headers are parsed and their inline
+# functions compiled once per target instead of once per source (benchmarks/README.md,
+# "Build time"). Sources in one target must then not define the same name in an anonymous
+# namespace.
+function(uavip_unity_build)
+  if(UAVIP_UNITY_BUILD)
+    set_target_properties(${ARGN} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+  endif()
+endfunction()

@@ -2,7 +2,9 @@
 # Installs what uavip needs on Debian 12 (scripts/packages.txt; as root, or with sudo),
 # then configures and builds. Environment: BUILD_DIR (default build), BUILD_TYPE
 # (Release), BUILD_TARGET (default: all), UAVIP_SANITIZE=ON for AddressSanitizer +
-# UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, SKIP_APT=1 to skip apt-get.
+# UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, UAVIP_UNITY_BUILD=ON for
+# the quicker unity build of the CLI and io/ (scripts/demo.sh; CMakeLists.txt), SKIP_APT=1
+# to skip apt-get. Prints a `setup:` line at each step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -17,15 +19,27 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
   if [ ${#missing[@]} -gt 0 ]; then
     SUDO=""
     [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-    echo "setup: installing ${missing[*]}" >&2
+    echo "setup: installing ${#missing[@]} packages (about 2.5 min on a fresh Debian 12): ${missing[*]}" >&2
+    echo "setup: apt-get update" >&2
     $SUDO apt-get update -q
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+    # -qq: dpkg's line per package as it is unpacked and set up, not apt's download
+    # table; pipefail keeps apt-get's failure.
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+      -o Dpkg::Use-Pty=0 "${missing[@]}" | { grep -E '^(Unpacking|Setting up) ' || true; }
+    echo "setup: installed ${#missing[@]} packages after ${SECONDS} s" >&2
+  else
+    echo "setup: all ${#PACKAGES[@]} packages of scripts/packages.txt are installed" >&2
   fi
 fi
 
 BUILD_DIR=${BUILD_DIR:-build}
+echo "setup: configuring $BUILD_DIR (cmake)" >&2
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
-  -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" -DUAVIP_WERROR="${UAVIP_WERROR:-OFF}" >/dev/null
-# BUILD_TARGET (e.g. uavip) builds only that target and what it needs.
-echo "setup: building ${BUILD_TARGET:-everything} in $BUILD_DIR" >&2
+  -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" -DUAVIP_WERROR="${UAVIP_WERROR:-OFF}" \
+  -DUAVIP_UNITY_BUILD="${UAVIP_UNITY_BUILD:-OFF}" >/dev/null
+# BUILD_TARGET (e.g. uavip) builds only that target and what it needs; make's [ NN%]
+# lines show the progress (about 4 min for uavip from a clean directory on 2 cores).
+build_start=$SECONDS
+echo "setup: building ${BUILD_TARGET:-everything} in $BUILD_DIR with $(nproc) jobs" >&2
 cmake --build "$BUILD_DIR" -j"$(nproc)" ${BUILD_TARGET:+--target "$BUILD_TARGET"}
+echo "setup: built ${BUILD_TARGET:-everything} in $((SECONDS - build_start)) s" >&2
