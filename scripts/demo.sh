@@ -3,8 +3,8 @@
 # scenarios/single_cube.yaml) and prints where the results are.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# The CLI only (scripts/test.sh builds the rest), as a unity build: the first build is
+# The CLI only (scripts/test.sh builds the rest); the unity build (CMakeLists.txt) makes the first build
 # about a fifth quicker (benchmarks/README.md "Build time").
-BUILD_TARGET=${BUILD_TARGET:-uavip} UAVIP_UNITY_BUILD=${UAVIP_UNITY_BUILD:-ON} bash scripts/setup.sh
+BUILD_TARGET=${BUILD_TARGET:-uavip} bash scripts/setup.sh
 BUILD_DIR=${BUILD_DIR:-build}
 "$BUILD_DIR"/uavip run "${1:-scenarios/single_cube.yaml}" -o "${2:-out/single_cube}"

@@ -2,8 +2,8 @@
 # Installs what uavip needs on Debian 12 (scripts/packages.txt; as root, or with sudo),
 # then configures and builds. Environment: BUILD_DIR (default build), BUILD_TYPE
 # (Release), BUILD_TARGET (default: all), UAVIP_SANITIZE=ON for AddressSanitizer +
-# UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, UAVIP_UNITY_BUILD=ON for
-# the quicker unity build of the CLI and io/ (scripts/demo.sh; CMakeLists.txt), SKIP_APT=1
+# UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, UAVIP_UNITY_BUILD=OFF to
+# compile the CLI and io/ unit by unit (default ON, the quicker unity build; CMakeLists.txt), SKIP_APT=1
 # to skip apt-get. Prints a `setup:` line at each step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,7 +36,7 @@ BUILD_DIR=${BUILD_DIR:-build}
 echo "setup: configuring $BUILD_DIR (cmake)" >&2
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
   -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" -DUAVIP_WERROR="${UAVIP_WERROR:-OFF}" \
-  -DUAVIP_UNITY_BUILD="${UAVIP_UNITY_BUILD:-OFF}" >/dev/null
+  -DUAVIP_UNITY_BUILD="${UAVIP_UNITY_BUILD:-ON}" >/dev/null
 # BUILD_TARGET (e.g. uavip) builds only that target and what it needs; make's [ NN%]
 # lines show the progress (about 4 min for uavip from a clean directory on 2 cores).
 build_start=$SECONDS
