@@ -47,6 +47,11 @@ class CommandRegistry {
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands_;
 };
 
+/// Subcommand `name` of cli that reads a mission: its required first argument
+/// "mission" (OUT/mission.json written by run or plan) is stored in `mission`.
+CLI::App* addMissionCommand(CLI::App& cli, const std::string& name, const std::string& description,
+                            std::string& mission);
+
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 

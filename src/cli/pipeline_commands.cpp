@@ -454,29 +454,37 @@ struct PipelineArgs {
   bool no_views{false};
 };
 
-}  // namespace
+/// Help of --no-views (run, detect, plan).
+constexpr const char* kNoViewsHelp =
+    "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second "
+    "thread)";
 
-void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<PipelineArgs>();
+/// Help of --planner (run, plan).
+std::string plannerHelp() {
+  return "Point-to-point planner (" + plannerList() + "); default: the file's";
+}
+
+/// run: stages 1-7 on a scenario.
+void addRunCommand(CLI::App& cli, CommandRegistry& registry,
+                   const std::shared_ptr<PipelineArgs>& a) {
   const Verbosity& v = registry.verbosity();
-  const std::string planner_help =
-      "Point-to-point planner (" + plannerList() + "); default: the file's";
-  const std::string views_help =
-      "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second "
-      "thread)";
-
   auto* run = cli.add_subcommand(
       "run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
   run->add_option("scenario", a->scenario, "Scenario YAML (default: the bundled single_cube.yaml)");
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
-  run->add_option("--planner", a->planner, planner_help);
-  run->add_flag("--no-views", a->no_views, views_help);
+  run->add_option("--planner", a->planner, plannerHelp());
+  run->add_flag("--no-views", a->no_views, kNoViewsHelp);
   registry.add(run, [a, &v] {
     return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface,
                       !a->surface.empty(), a->planner, !a->no_views, v);
   });
+}
 
+/// detect: stages 3-5 on a cloud file.
+void addDetectCommand(CLI::App& cli, CommandRegistry& registry,
+                      const std::shared_ptr<PipelineArgs>& a) {
+  const Verbosity& v = registry.verbosity();
   auto* det = cli.add_subcommand(
       "detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
   det->footer(
@@ -491,10 +499,15 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   det->add_option("-c,--config", a->config,
                   "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();
-  det->add_flag("--no-views", a->no_views, views_help);
+  det->add_flag("--no-views", a->no_views, kNoViewsHelp);
   registry.add(det,
                [a, &v] { return detectCommand(a->cloud, a->config, a->out, !a->no_views, v); });
+}
 
+/// plan: stages 6-7 on a scene.json.
+void addPlanCommand(CLI::App& cli, CommandRegistry& registry,
+                    const std::shared_ptr<PipelineArgs>& a) {
+  const Verbosity& v = registry.verbosity();
   auto* pl = cli.add_subcommand(
       "plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
   pl->footer(
@@ -530,13 +543,22 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   pl->add_option("--cover", a->cover,
                  "'structure': cover the whole structure (instead of --surface)");
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
-  pl->add_option("--planner", a->planner, planner_help);
+  pl->add_option("--planner", a->planner, plannerHelp());
   pl->add_option("-o,--out", a->out, "Output directory")->required();
-  pl->add_flag("--no-views", a->no_views, views_help);
+  pl->add_flag("--no-views", a->no_views, kNoViewsHelp);
   registry.add(pl, [a, &v] {
     return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->out, !a->no_views,
                        v);
   });
+}
+
+}  // namespace
+
+void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
+  auto a = std::make_shared<PipelineArgs>();
+  addRunCommand(cli, registry, a);
+  addDetectCommand(cli, registry, a);
+  addPlanCommand(cli, registry, a);
 }
 
 }  // namespace uavip::cli

@@ -49,10 +49,10 @@ struct ViewArgs {
 void addViewCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<ViewArgs>();
   const Verbosity& v = registry.verbosity();
-  auto* view = cli.add_subcommand(
-      "view",
-      "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)");
-  view->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
+  auto* view = addMissionCommand(
+      cli, "view",
+      "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)",
+      a->mission);
   view->add_option("--scene", a->scene, "Its scene (default: scene.json next to the mission)");
   view->add_option("-o,--out", a->out, "Page to write (default: mission.html next to the mission)");
   registry.add(view, [a, &v] { return viewCommand(a->mission, a->scene, a->out, v); });
