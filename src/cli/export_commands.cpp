@@ -258,14 +258,12 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
 }  // namespace
 
 void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ExportArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* ex = addMissionCommand(
+  const auto [ex, a] = missionCommand<ExportArgs>(
       cli, "export",
       "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 "
       "about --origin, or by the cloud's CRS (--crs); "
-      "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home",
-      a->mission);
+      "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home");
+  const Verbosity& v = registry.verbosity();
   ex->add_option("--format", a->format, "qgc-plan, wpl or csv")->required();
   ex->add_option("--origin", a->origin,
                  "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
@@ -290,7 +288,7 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
       ->capture_default_str();
   ex->add_option("--speed", a->speed_m_s, "Flight speed (hoverSpeed of the .plan) [m/s]")
       ->capture_default_str();
-  registry.add(ex, [a, &v] { return exportCommand(*a, v); });
+  registry.add(ex, [a = a, &v] { return exportCommand(*a, v); });
 }
 
 }  // namespace uavip::cli

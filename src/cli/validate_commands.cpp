@@ -248,13 +248,11 @@ struct ValidateArgs {
 }  // namespace
 
 void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ValidateArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* val = addMissionCommand(
+  const auto [val, a] = missionCommand<ValidateArgs>(
       cli, "validate",
       "Re-check a mission.json against its scene: sweep the UAV along every waypoint path "
-      "(exit 3 if any ok surface comes closer than the clearance)",
-      a->mission);
+      "(exit 3 if any ok surface comes closer than the clearance)");
+  const Verbosity& v = registry.verbosity();
   val->add_option("--scene", a->scene,
                   "Scene to check against (default: scene.json next to the mission)");
   a->clearance_opt =
@@ -264,7 +262,7 @@ void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
                   "Input cloud to measure every path against, point by point (default: the file "
                   "scene.json names, "
                   "if unchanged)");
-  registry.add(val, [a, &v] {
+  registry.add(val, [a = a, &v] {
     return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0,
                            a->cloud, v);
   });

@@ -47,15 +47,13 @@ struct ViewArgs {
 }  // namespace
 
 void addViewCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ViewArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* view = addMissionCommand(
+  const auto [view, a] = missionCommand<ViewArgs>(
       cli, "view",
-      "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)",
-      a->mission);
+      "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)");
+  const Verbosity& v = registry.verbosity();
   view->add_option("--scene", a->scene, "Its scene (default: scene.json next to the mission)");
   view->add_option("-o,--out", a->out, "Page to write (default: mission.html next to the mission)");
-  registry.add(view, [a, &v] { return viewCommand(a->mission, a->scene, a->out, v); });
+  registry.add(view, [a = a, &v] { return viewCommand(a->mission, a->scene, a->out, v); });
 }
 
 }  // namespace uavip::cli

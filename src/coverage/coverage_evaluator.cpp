@@ -296,8 +296,9 @@ Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& poi
 }
 
 double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {
-  return cappedRange(k_.max_range_m > 0.0 ? k_.max_range_m : kInf, max_gsd_mm_per_px,
-                     "pinhole.maxRange");
+  double r = kInf;  // the model's own range limit; none: +inf
+  if (k_.max_range_m > 0.0) r = k_.max_range_m;
+  return cappedRange(r, max_gsd_mm_per_px, "pinhole.maxRange");
 }
 
 // ---------------------------------------------------------------- voxel line of sight

@@ -351,60 +351,63 @@ IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& sour
   return out;
 }
 
-/// PCL's ICP or GICP on XYZ clouds with the options' gate and iterations; returns
-/// the transform, and sets converged and the fitness (mean squared pair distance).
-template <typename Registration>
-Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, const Cloud::Ptr& tgt,
-                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+/// Sets a PCL registration's clouds, iteration limit and convergence epsilon.
+template <typename Registration, typename CloudPtr>
+void setUp(Registration& reg, const CloudPtr& src, const CloudPtr& tgt, int iterations,
+           double epsilon) {
   reg.setInputSource(src);
   reg.setInputTarget(tgt);
-  reg.setMaxCorrespondenceDistance(o.max_correspondence_m);
-  reg.setMaximumIterations(o.max_iterations);
-  reg.setTransformationEpsilon(1e-8);
-  Cloud out;
-  reg.align(out);
+  reg.setMaximumIterations(iterations);
+  reg.setTransformationEpsilon(epsilon);
+}
+
+/// A PCL registration's outcome: returns the transform, and sets converged and the
+/// fitness (mean squared pair distance within the options' gate).
+template <typename Registration>
+Eigen::Matrix4f outcome(Registration& reg, const RegistrationOptions& o, bool& converged,
+                        double& fitness) {
   converged = reg.hasConverged();
   fitness = reg.getFitnessScore(o.max_correspondence_m);
   return reg.getFinalTransformation();
+}
+
+/// PCL's ICP or GICP on XYZ clouds with the options' gate and iterations.
+template <typename Registration>
+Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, const Cloud::Ptr& tgt,
+                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+  setUp(reg, src, tgt, o.max_iterations, 1e-8);
+  reg.setMaxCorrespondenceDistance(o.max_correspondence_m);
+  Cloud out;
+  reg.align(out);
+  return outcome(reg, o, converged, fitness);
 }
 
 /// PCL's point-to-plane ICP on the clouds with normals (pcl_normal_k neighbours),
 /// coarse to fine: the configured gate, then a quarter of it.
 Eigen::Matrix4f alignPointToPlane(const Cloud::Ptr& src, const Cloud::Ptr& tgt,
                                   const RegistrationOptions& o, bool& converged, double& fitness) {
-  const NormalCloud::Ptr sn = withNormals(src, o.pcl_normal_k),
-                         tn = withNormals(tgt, o.pcl_normal_k);
   pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
-  icp.setInputSource(sn);
-  icp.setInputTarget(tn);
-  icp.setMaximumIterations(o.max_iterations);
-  icp.setTransformationEpsilon(1e-8);
+  setUp(icp, withNormals(src, o.pcl_normal_k), withNormals(tgt, o.pcl_normal_k), o.max_iterations,
+        1e-8);
   NormalCloud out;
   icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
   icp.align(out);
   Eigen::Matrix4f guess = icp.getFinalTransformation();
   icp.setMaxCorrespondenceDistance(0.25 * o.max_correspondence_m);
   icp.align(out, guess);
-  converged = icp.hasConverged();
-  fitness = icp.getFitnessScore(o.max_correspondence_m);
-  return icp.getFinalTransformation();
+  return outcome(icp, o, converged, fitness);
 }
 
 /// PCL's NDT at the options' resolution.
 Eigen::Matrix4f alignNdt(const Cloud::Ptr& src, const Cloud::Ptr& tgt, const RegistrationOptions& o,
                          bool& converged, double& fitness) {
   pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
-  ndt.setInputSource(src);
-  ndt.setInputTarget(tgt);
+  setUp(ndt, src, tgt, o.max_iterations, 1e-6);
   ndt.setResolution(static_cast<float>(o.ndt_resolution_m));
   ndt.setStepSize(0.1);
-  ndt.setMaximumIterations(o.max_iterations);
-  ndt.setTransformationEpsilon(1e-6);
   Cloud out;
   ndt.align(out);
-  converged = ndt.hasConverged();
-  fitness = ndt.getFitnessScore(o.max_correspondence_m);
-  return ndt.getFinalTransformation();
+  return outcome(ndt, o, converged, fitness);
 }
 
 /// One of PCL's registrations (o.method) of src onto tgt; identity for the methods

@@ -55,14 +55,14 @@ constexpr double kBytesPerVoxel = 5.0;
 double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec3& origin,
                  std::array<int, 3>& dims) {
   const double res = options.resolution_m;
+  constexpr int kMaxCells = std::numeric_limits<int>::max() / 2;  // voxels per axis, at most
   double count = 1.0;
   for (int a = 0; a < 3; ++a) {
     const double o = std::floor(lo[a] / res) * res;
     origin[a] = o;
     const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
     count *= n;
-    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2))
-      count = std::numeric_limits<double>::infinity();
+    if (n > static_cast<double>(kMaxCells)) count = std::numeric_limits<double>::infinity();
     dims[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
   }
   if (!(count <= static_cast<double>(options.max_voxels))) {
