@@ -48,7 +48,8 @@ double hitSphere(const Vec3& o, const Vec3& d, const Vec3& c, double r) {
   const double h = b * b - (oc.squaredNorm() - r * r);
   if (h < 0.0) return kInf;
   const double t = -b - std::sqrt(h);
-  return t > kMinHit ? t : kInf;
+  if (t > kMinHit) return t;
+  return kInf;
 }
 
 /// Ray–capsule (segment pa–pb, radius r): entry distance, or +inf. The body is the
@@ -247,7 +248,8 @@ double intersectRayRect(const Vec3& origin, const Vec3& dir, const Rect& rect) {
   const Vec3 q = origin + t * dir - rect.corner;
   const double s = q.dot(rect.edge_u) / rect.edge_u.squaredNorm();
   const double r = q.dot(rect.edge_v) / rect.edge_v.squaredNorm();
-  return (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) ? t : kInf;
+  if (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) return t;
+  return kInf;
 }
 
 RayCaster::RayCaster(const WorldModel& world, double thin_radius_m) : radius_(thin_radius_m) {
@@ -354,7 +356,8 @@ double RayCaster::hitShape(int i, const Vec3& o, const Vec3& d, double best) con
       const Vec3 q = o + t * d - a_[k];
       const double s = q.dot(b_[k]);
       const double r = q.dot(c_[k]);
-      return (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) ? t : kInf;
+      if (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) return t;
+      return kInf;
     }
     case Kind::Capsule:
       return hitCapsule(o, d, a_[k], b_[k], radius_);
@@ -388,7 +391,8 @@ double RayCaster::cast(const Vec3& origin, const Vec3& dir, double max_range_m) 
       stack[top++] = node.first;
     }
   }
-  return hit ? best : kInf;
+  if (hit) return best;
+  return kInf;
 }
 
 // ---------------------------------------------------------------- simulation
