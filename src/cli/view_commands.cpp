@@ -35,7 +35,8 @@ int viewCommand(const std::string& mission_path, std::string scene_path, std::st
   const std::string page = view::missionPage(scene, &mission, options, mission_path);
   io::writeFileAtomic(out, page);
   if (!v.quiet)
-    std::cout << "view: " << out << " (" << (page.size() + 512 * 1024) / (1024 * 1024) << " MB)\n";
+    std::cout << "view: " << out << " ("
+              << (page.size() + std::size_t{512} * 1024) / (std::size_t{1024} * 1024) << " MB)\n";
   return kExitOk;
 }
 
