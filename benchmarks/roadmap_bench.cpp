@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "command_line.h"
 #include "planners/harness.h"
 #include "planners/registry.h"
 #include "uavip/app/pipeline.h"
@@ -90,20 +91,11 @@ ModeRun runKept(const std::string& name, const Legs& l,
 
 int main(int argc, char** argv) {
   uavip::bench_util::prepareProcess();
-  std::vector<std::string> paths;
-  int max_legs = 30;
-  double time_s = 0.2;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--legs" && i + 1 < argc) {
-      max_legs = std::max(1, std::atoi(argv[++i]));
-    } else if (a == "--time" && i + 1 < argc) {
-      time_s = std::atof(argv[++i]);
-    } else {
-      paths.push_back(a);
-    }
-  }
-  if (paths.empty()) paths = {"scenarios/bench_cluttered.yaml", "scenarios/bridge.yaml"};
+  const auto args = uavip::bench_util::parseCommandLine(
+      argc, argv, {"--legs", "--time"},
+      {"scenarios/bench_cluttered.yaml", "scenarios/bridge.yaml"});
+  const int max_legs = args.count("--legs", 30);
+  const double time_s = args.number("--time", 0.2);
   try {
     uavip::planners::PlannerSettings settings;
     settings.time_limit_s = time_s;
@@ -113,7 +105,7 @@ int main(int argc, char** argv) {
         "/ kept (kept/fresh) "
         "| median s per leg: fresh / kept | graph states after the last leg: fresh / kept |\n"
         "|---|---|---|---|---|---|---|\n");
-    for (const auto& path : paths) {
+    for (const auto& path : args.paths) {
       const uavip::app::Scenario sc = uavip::app::loadScenario(path);
       const Legs l = prepare(sc, max_legs);
       for (const char* name : {"prmstar", "lazyprmstar", "rrtstar"}) {

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,20 @@ class CommandRegistry {
   const Verbosity& verbosity_;
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands_;
 };
+
+/// Subcommand `name` of cli that reads a mission: its required first argument
+/// "mission" (OUT/mission.json written by run or plan) is stored in `mission`.
+CLI::App* addMissionCommand(CLI::App& cli, const std::string& name, const std::string& description,
+                            std::string& mission);
+
+/// addMissionCommand with the subcommand's options, `Args` (which has a `mission`
+/// string), made here and shared with its action so that they live until dispatch.
+template <typename Args>
+std::pair<CLI::App*, std::shared_ptr<Args>> missionCommand(CLI::App& cli, const std::string& name,
+                                                           const std::string& description) {
+  auto args = std::make_shared<Args>();
+  return {addMissionCommand(cli, name, description, args->mission), args};
+}
 
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);

@@ -108,7 +108,8 @@ Vec3 sourceOffset(const ExportArgs& a) {
   return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
 }
 
-int exportCommand(const ExportArgs& a, const Verbosity& v) {
+/// The export options of the command line (one of --origin and --crs), validated.
+io::ExportOptions exportOptions(const ExportArgs& a) {
   if (!a.origin.empty() && !a.crs.empty())
     throw InputError(
         "--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin "
@@ -129,25 +130,109 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   options.acceptance_m = a.acceptance_m;
   options.speed_m_s = a.speed_m_s;
   options.validate();
+  return options;
+}
+
+/// The flights to export: one surface's path, or the ordered flight's sorties (all,
+/// or --sortie's).
+std::vector<io::Flight> flightsToExport(const io::MissionRecord& mission, const ExportArgs& a) {
+  if (a.surface == "all" || a.sortie != 0) {
+    if (!a.surface.empty() && a.surface != "all")
+      throw InputError("--sortie: sorties belong to the flight over all surfaces; drop --surface " +
+                       a.surface);
+    std::vector<io::Flight> flights = io::sortiesFromMission(mission, a.mission);
+    if (a.sortie < 0 || a.sortie > static_cast<int>(flights.size()))
+      throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission +
+                       " has " + std::to_string(flights.size()) + " sortie(s), numbered from 1");
+    if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
+    return flights;
+  }
+  return {io::flightFromMission(mission, a.mission, a.surface)};
+}
+
+/// Home in local coordinates: the ordered flight's (every sortie starts there), else
+/// the first flight's first waypoint, else the origin.
+Vec3 homeOf(const io::MissionRecord& mission, const std::vector<io::Flight>& flights) {
+  return mission.flight && !mission.flight->sorties.empty() &&
+                 !mission.flight->sorties[0].waypoints.empty()
+             ? mission.flight->sorties[0].waypoints.front()
+         : !flights.empty() && !flights.front().waypoints.empty()
+             ? flights.front().waypoints.front().enu
+             : Vec3::Zero();
+}
+
+/// Warns on stderr when a waypoint lies below home.
+void warnBelowHome(const std::vector<io::Flight>& flights, const io::ExportOptions& options) {
+  double min_up = 0.0;
+  for (const auto& f : flights) {
+    for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z() - options.home_m.z());
+  }
+  if (min_up < 0.0) {
+    std::cerr
+        << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2)
+        << -min_up
+        << (options.crs
+                ? " m below home; QGroundControl altitudes are relative to home: take off there\n"
+                : " m below the origin (home); check that the origin's altitude is that of the "
+                  "ground or lower\n");
+  }
+}
+
+/// The output file of each flight: OUT, or for several sorties one file each, OUT
+/// with _sortieN before the extension.
+std::vector<std::string> outputPaths(const std::vector<io::Flight>& flights,
+                                     const std::string& out_arg) {
+  std::vector<std::string> paths;
+  for (const auto& f : flights) {
+    if (flights.size() == 1) {
+      paths.push_back(out_arg);
+    } else {
+      const fs::path out(out_arg);
+      paths.push_back((out.parent_path() / (out.stem().string() + "_sortie" +
+                                            std::to_string(f.sortie) + out.extension().string()))
+                          .string());
+    }
+  }
+  return paths;
+}
+
+/// What was written: the georeference (--crs) and a line per file.
+void reportExport(const ExportArgs& a, const io::ExportOptions& options, io::ExportFormat format,
+                  const std::vector<io::Flight>& flights, const std::vector<std::string>& paths) {
+  if (options.crs) {
+    const io::GeoPoint home = io::homeGeo(options);
+    std::cout << "georeferenced by " << options.crs->name() << " (" << a.crs
+              << ") with the scene's source_offset_m ("
+              << formatFixed(options.source_offset_m.x(), 3) << ", "
+              << formatFixed(options.source_offset_m.y(), 3) << ", "
+              << formatFixed(options.source_offset_m.z(), 3) << ") m; home "
+              << formatPoint(options.home_m) << " local = " << formatFixed(home.lat_deg, 8) << ", "
+              << formatFixed(home.lon_deg, 8) << ", " << formatFixed(home.alt_m, 2)
+              << " m (the cloud's height datum); waypoint altitudes are relative to "
+                 "home, as QGroundControl expects\n";
+  }
+  for (std::size_t i = 0; i < flights.size(); ++i) {
+    const io::Flight& f = flights[i];
+    std::string ids;
+    for (int id : f.surface_ids) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    const std::size_t items =
+        format == io::ExportFormat::Csv ? f.waypoints.size() : io::missionItems(f, options).size();
+    std::cout << "exported "
+              << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) + " (surfaces " : "surface ")
+              << ids << (f.sortie > 0 ? ")" : "") << ": " << f.waypoints.size() << " waypoints, "
+              << f.stopCount() << " photo stops, " << items
+              << (format == io::ExportFormat::Csv ? " rows" : " mission items")
+              << ", validated against the scene -> " << paths[i] << "\n";
+  }
+}
+
+int exportCommand(const ExportArgs& a, const Verbosity& v) {
+  io::ExportOptions options = exportOptions(a);
   const io::ExportFormat format = io::parseExportFormat(a.format);
-
   const io::MissionRecord mission = io::loadMission(a.mission);
-
   std::vector<io::Flight> flights;
   try {
-    if (a.surface == "all" || a.sortie != 0) {
-      if (!a.surface.empty() && a.surface != "all")
-        throw InputError(
-            "--sortie: sorties belong to the flight over all surfaces; drop --surface " +
-            a.surface);
-      flights = io::sortiesFromMission(mission, a.mission);
-      if (a.sortie < 0 || a.sortie > static_cast<int>(flights.size()))
-        throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission +
-                         " has " + std::to_string(flights.size()) + " sortie(s), numbered from 1");
-      if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
-    } else {
-      flights = {io::flightFromMission(mission, a.mission, a.surface)};
-    }
+    flights = flightsToExport(mission, a);
     if (!options.crs)
       requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
     checkAgainstScene(flights, mission, a);
@@ -157,88 +242,28 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   }
   if (options.crs) {
     options.source_offset_m = sourceOffset(a);
-    // Home: the ordered flight's (every sortie starts there), else the path's first waypoint.
-    options.home_m = mission.flight && !mission.flight->sorties.empty() &&
-                             !mission.flight->sorties[0].waypoints.empty()
-                         ? mission.flight->sorties[0].waypoints.front()
-                     : !flights.empty() && !flights.front().waypoints.empty()
-                         ? flights.front().waypoints.front().enu
-                         : Vec3::Zero();
+    options.home_m = homeOf(mission, flights);
   }
-  double min_up = 0.0;
-  for (const auto& f : flights) {
-    for (const auto& w : f.waypoints) min_up = std::min(min_up, w.enu.z() - options.home_m.z());
-  }
-  if (min_up < 0.0 && !v.quiet) {
-    std::cerr
-        << "uavip: warning: the lowest waypoint is " << std::fixed << std::setprecision(2)
-        << -min_up
-        << (options.crs
-                ? " m below home; QGroundControl altitudes are relative to home: take off there\n"
-                : " m below the origin (home); check that the origin's altitude is that of the "
-                  "ground or lower\n");
-  }
-
-  // Several sorties: one file each, OUT with _sortieN before the extension.
-  std::vector<std::string> paths;
-  for (const auto& f : flights) {
-    if (flights.size() == 1) {
-      paths.push_back(a.out);
-    } else {
-      const fs::path out(a.out);
-      paths.push_back((out.parent_path() / (out.stem().string() + "_sortie" +
-                                            std::to_string(f.sortie) + out.extension().string()))
-                          .string());
-    }
-  }
+  if (!v.quiet) warnBelowHome(flights, options);
+  const std::vector<std::string> paths = outputPaths(flights, a.out);
   io::requireDistinctOutputs({a.mission, sceneFor(a)}, paths);
   io::StagedOutputs outputs;  // every sortie's file, or none
   for (std::size_t i = 0; i < flights.size(); ++i)
     outputs.write(paths[i], io::exportFlight(flights[i], format, options));
   outputs.commit();
-  if (!v.quiet) {
-    if (options.crs) {
-      const io::GeoPoint home = io::homeGeo(options);
-      std::cout << "georeferenced by " << options.crs->name() << " (" << a.crs
-                << ") with the scene's source_offset_m ("
-                << formatFixed(options.source_offset_m.x(), 3) << ", "
-                << formatFixed(options.source_offset_m.y(), 3) << ", "
-                << formatFixed(options.source_offset_m.z(), 3) << ") m; home "
-                << formatPoint(options.home_m) << " local = " << formatFixed(home.lat_deg, 8)
-                << ", " << formatFixed(home.lon_deg, 8) << ", " << formatFixed(home.alt_m, 2)
-                << " m (the cloud's height datum); waypoint altitudes are relative to "
-                   "home, as QGroundControl expects\n";
-    }
-    for (std::size_t i = 0; i < flights.size(); ++i) {
-      const io::Flight& f = flights[i];
-      std::string ids;
-      for (int id : f.surface_ids) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
-      const std::size_t items = format == io::ExportFormat::Csv
-                                    ? f.waypoints.size()
-                                    : io::missionItems(f, options).size();
-      std::cout << "exported "
-                << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie) + " (surfaces "
-                                 : "surface ")
-                << ids << (f.sortie > 0 ? ")" : "") << ": " << f.waypoints.size() << " waypoints, "
-                << f.stopCount() << " photo stops, " << items
-                << (format == io::ExportFormat::Csv ? " rows" : " mission items")
-                << ", validated against the scene -> " << paths[i] << "\n";
-    }
-  }
+  if (!v.quiet) reportExport(a, options, format, flights, paths);
   return kExitOk;
 }
 
 }  // namespace
 
 void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ExportArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* ex = cli.add_subcommand(
-      "export",
+  const auto [ex, a] = missionCommand<ExportArgs>(
+      cli, "export",
       "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 "
       "about --origin, or by the cloud's CRS (--crs); "
       "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home");
-  ex->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
+  const Verbosity& v = registry.verbosity();
   ex->add_option("--format", a->format, "qgc-plan, wpl or csv")->required();
   ex->add_option("--origin", a->origin,
                  "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
@@ -263,7 +288,7 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
       ->capture_default_str();
   ex->add_option("--speed", a->speed_m_s, "Flight speed (hoverSpeed of the .plan) [m/s]")
       ->capture_default_str();
-  registry.add(ex, [a, &v] { return exportCommand(*a, v); });
+  registry.add(ex, [a = a, &v] { return exportCommand(*a, v); });
 }
 
 }  // namespace uavip::cli

@@ -27,6 +27,13 @@ app::Progress progressPrinter(const Verbosity& v) {
   return [](const std::string& msg) { std::cerr << "uavip: " << msg << "\n"; };
 }
 
+CLI::App* addMissionCommand(CLI::App& cli, const std::string& name, const std::string& description,
+                            std::string& mission) {
+  CLI::App* sub = cli.add_subcommand(name, description);
+  sub->add_option("mission", mission, "OUT/mission.json written by run or plan")->required();
+  return sub;
+}
+
 int CommandRegistry::dispatch() const {
   for (const auto& [sub, action] : commands_) {
     if (sub->parsed()) return action();

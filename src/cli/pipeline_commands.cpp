@@ -391,6 +391,46 @@ std::string plannerList() {
   return names;
 }
 
+/// detect --help: how the parameters follow the cloud.
+constexpr const char* kDetectFooter =
+    "Parameters follow the cloud: its spacing, extent and noise are measured first, and every\n"
+    "parameter the config does not set is chosen from them ('auto': the voxel, the RANSAC band,\n"
+    "the cluster tolerances, the area cell, the planning grid). On a dense scan (spacing <= 5 "
+    "cm)\n"
+    "they are the paper's values. The chosen values are printed and written to scene.json.\n"
+    "LAS files: metres from the file's CRS unit, recentred (source_offset_m in scene.json);\n"
+    "'input: {drop_classes: [3, 4, 5, 7]}' in the config drops vegetation and noise.";
+
+/// plan --help: the flight, stop repair, coverage and --cover structure.
+constexpr const char* kPlanFooter =
+    "The flight: the flyable surfaces ordered from home and back (each forward or reversed),\n"
+    "every connecting leg planned on the grid, split into battery sorties, each validated.\n"
+    "Home: mission.home, else mission.start, else the lowest photo stop. Flight model: section\n"
+    "'flight: {cruise_speed_m_s: 3, climb_speed_m_s: 2, descent_speed_m_s: 1.5, hover_s: 2,\n"
+    "settle_s: 1, endurance_s: 1200, reserve: 0.25}'. Export it with 'uavip export --surface "
+    "all'.\n"
+    "Stop repair: a photo stop too close to something (the ground under a facade) is moved to a\n"
+    "free pose that still sees its photo centre: tilted from above/below/the sides, or up to\n"
+    "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it "
+    "off.\n"
+    "Coverage: the share of the surface's points that some flown photo images (in the photo,\n"
+    "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a "
+    "surface\n"
+    "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.\n"
+    "\n"
+    "--cover structure: photos of the whole structure in one flight, not plane by plane. The\n"
+    "structure is every point of the clean cloud except the ground (horizontal surfaces at the\n"
+    "site's lowest level spanning a quarter of its footprint, and every point below\n"
+    "coverage.ground_z_m). Candidate views at the viewing distance (coverage.standoff_m, else "
+    "the\n"
+    "camera's GSD) along each seed point's normal, tilted 35 deg up and down, free by the UAV's\n"
+    "clearance from every input point; chosen by set cover until coverage.structure_target "
+    "(0.99)\n"
+    "of what can be seen, then pruned. Camera: 'camera: {fx: 417, fy: 461, cx: 320, cy: 240,\n"
+    "image_px: [640, 480], max_range_m: 11}' (a pinhole), or the footprint/sensor keys.\n"
+    "Coverage: rule (a) FC-Planner's pixel rule; rule (b) GSD and range <= 1.25 x the viewing\n"
+    "distance, <= 75 deg incidence, clear line of sight.";
+
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
   std::string scenario, out, surface, planner, cloud, config, scene, cover;
@@ -422,14 +462,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
 
   auto* det = cli.add_subcommand(
       "detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
-  det->footer(
-      "Parameters follow the cloud: its spacing, extent and noise are measured first, and every\n"
-      "parameter the config does not set is chosen from them ('auto': the voxel, the RANSAC band,\n"
-      "the cluster tolerances, the area cell, the planning grid). On a dense scan (spacing <= 5 "
-      "cm)\n"
-      "they are the paper's values. The chosen values are printed and written to scene.json.\n"
-      "LAS files: metres from the file's CRS unit, recentred (source_offset_m in scene.json);\n"
-      "'input: {drop_classes: [3, 4, 5, 7]}' in the config drops vegetation and noise.");
+  det->footer(kDetectFooter);
   det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt, .las)")->required();
   det->add_option("-c,--config", a->config,
                   "Config YAML (scenario sections; default: auto from the cloud, see below)");
@@ -440,34 +473,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
 
   auto* pl = cli.add_subcommand(
       "plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");
-  pl->footer(
-      "The flight: the flyable surfaces ordered from home and back (each forward or reversed),\n"
-      "every connecting leg planned on the grid, split into battery sorties, each validated.\n"
-      "Home: mission.home, else mission.start, else the lowest photo stop. Flight model: section\n"
-      "'flight: {cruise_speed_m_s: 3, climb_speed_m_s: 2, descent_speed_m_s: 1.5, hover_s: 2,\n"
-      "settle_s: 1, endurance_s: 1200, reserve: 0.25}'. Export it with 'uavip export --surface "
-      "all'.\n"
-      "Stop repair: a photo stop too close to something (the ground under a facade) is moved to a\n"
-      "free pose that still sees its photo centre: tilted from above/below/the sides, or up to\n"
-      "mission.max_standoff_factor (1.25) x farther; 'mission: {repair_stops: false}' turns it "
-      "off.\n"
-      "Coverage: the share of the surface's points that some flown photo images (in the photo,\n"
-      "<= 75 deg off the normal, clear line of sight); below mission.min_coverage (0.95) a "
-      "surface\n"
-      "is 'partial'. Parameters not in the config follow the cloud numbers stored in scene.json.\n"
-      "\n"
-      "--cover structure: photos of the whole structure in one flight, not plane by plane. The\n"
-      "structure is every point of the clean cloud except the ground (horizontal surfaces at the\n"
-      "site's lowest level spanning a quarter of its footprint, and every point below\n"
-      "coverage.ground_z_m). Candidate views at the viewing distance (coverage.standoff_m, else "
-      "the\n"
-      "camera's GSD) along each seed point's normal, tilted 35 deg up and down, free by the UAV's\n"
-      "clearance from every input point; chosen by set cover until coverage.structure_target "
-      "(0.99)\n"
-      "of what can be seen, then pruned. Camera: 'camera: {fx: 417, fy: 461, cx: 320, cy: 240,\n"
-      "image_px: [640, 480], max_range_m: 11}' (a pinhole), or the footprint/sensor keys.\n"
-      "Coverage: rule (a) FC-Planner's pixel rule; rule (b) GSD and range <= 1.25 x the viewing\n"
-      "distance, <= 75 deg incidence, clear line of sight.");
+  pl->footer(kPlanFooter);
   pl->add_option("scene", a->scene, "OUT/scene.json written by run or detect")->required();
   pl->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all'");
   pl->add_option("--cover", a->cover,

@@ -126,8 +126,52 @@ nlohmann::json reportJson(const app::AssembleResult& r, const app::AssembleOptio
   return j;
 }
 
-int assembleCommand(const std::string& dir, const std::string& out, const std::string& config_path,
-                    bool no_imu_prior, const std::string& method, const Verbosity& v) {
+/// One station's line of the assembly summary (and its warning when its position is
+/// not fixed by the scans).
+void printStation(const app::StationReport& s) {
+  std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
+            << (s.loop_closure_m >= 0.0 ? formatFixed(100.0 * s.loop_closure_m, 1) + " cm"
+                                        : std::string("n/a (unobservable)"))
+            << ", drift " << formatFixed(100.0 * s.drift_max_m, 1) << " cm max, "
+            << (s.registered ? "registered" : "NOT registered");
+  if (s.pose_error_m) {
+    std::cout << "; truth: drift error "
+              << formatFixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
+              << " cm max, position error " << formatFixed(100.0 * *s.initial_pose_error_m, 1)
+              << " cm recorded -> " << formatFixed(100.0 * *s.pose_error_m, 1) << " cm registered";
+  }
+  std::cout << "\n";
+  if (!s.position_observed) {
+    std::cout << "  warning: station " << s.id << "'s position along ("
+              << formatFixed(s.weakest_direction.x(), 2) << ", "
+              << formatFixed(s.weakest_direction.y(), 2) << ", "
+              << formatFixed(s.weakest_direction.z(), 2) << ") is not fixed by the scans ("
+              << formatFixed(s.registration_information.x(), 1)
+              << " effective pairs): it is the recorded (GPS) one; add a station that sees a "
+                 "surface facing it\n";
+  }
+}
+
+/// The assembly's summary on stdout.
+void printAssembly(const app::AssembleResult& r, const app::AssembleOptions& options,
+                   const std::string& out, const std::string& report_path) {
+  std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> "
+            << r.cloud.size() << " merged (voxel "
+            << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";
+  for (const auto& s : r.stations) printStation(s);
+  if (r.rms_to_truth_m) {
+    std::cout << "merged cloud to the true surfaces: RMS "
+              << formatFixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
+              << formatFixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
+  }
+  std::cout << "time: assembly " << formatFixed(r.assembly_s, 2) << " s, registration "
+            << formatFixed(r.registration_s, 2) << " s\n";
+  std::cout << "results: " << out << ", " << report_path << "\n";
+}
+
+/// The assembly options: the config file's, then the flags.
+app::AssembleOptions assembleOptions(const std::string& config_path, bool no_imu_prior,
+                                     const std::string& method) {
   app::AssembleOptions options;
   if (!config_path.empty()) {
     const app::Config config = app::loadConfigOrScenario(config_path);
@@ -145,6 +189,12 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
       throw InputError(pos == std::string::npos ? msg : "--registration" + msg.substr(pos));
     }
   }
+  return options;
+}
+
+int assembleCommand(const std::string& dir, const std::string& out, const std::string& config_path,
+                    bool no_imu_prior, const std::string& method, const Verbosity& v) {
+  const app::AssembleOptions options = assembleOptions(config_path, no_imu_prior, method);
   namespace fs = std::filesystem;
   const std::string report_path = fs::path(out).replace_extension(".report.json").string();
   if (fs::path(out).extension() != ".pcd")
@@ -172,43 +222,7 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   outputs.write(report_path,
                 reportJson(r, options, dir, config_path, read, truth.has_value()).dump(1) + "\n");
   outputs.commit();
-  if (!v.quiet) {
-    std::cout << "stations: " << r.stations.size() << ", " << r.station_points << " points -> "
-              << r.cloud.size() << " merged (voxel "
-              << formatFixed(options.registration.output_voxel_m, 3) << " m)\n";
-    for (const auto& s : r.stations) {
-      std::cout << "  station " << s.id << ": " << s.points << " points, loop closure "
-                << (s.loop_closure_m >= 0.0 ? formatFixed(100.0 * s.loop_closure_m, 1) + " cm"
-                                            : std::string("n/a (unobservable)"))
-                << ", drift " << formatFixed(100.0 * s.drift_max_m, 1) << " cm max, "
-                << (s.registered ? "registered" : "NOT registered");
-      if (s.pose_error_m) {
-        std::cout << "; truth: drift error "
-                  << formatFixed(100.0 * s.drift_error_max_m.value_or(0.0), 1)
-                  << " cm max, position error " << formatFixed(100.0 * *s.initial_pose_error_m, 1)
-                  << " cm recorded -> " << formatFixed(100.0 * *s.pose_error_m, 1)
-                  << " cm registered";
-      }
-      std::cout << "\n";
-      if (!s.position_observed) {
-        std::cout << "  warning: station " << s.id << "'s position along ("
-                  << formatFixed(s.weakest_direction.x(), 2) << ", "
-                  << formatFixed(s.weakest_direction.y(), 2) << ", "
-                  << formatFixed(s.weakest_direction.z(), 2) << ") is not fixed by the scans ("
-                  << formatFixed(s.registration_information.x(), 1)
-                  << " effective pairs): it is the recorded (GPS) one; add a station that sees a "
-                     "surface facing it\n";
-      }
-    }
-    if (r.rms_to_truth_m) {
-      std::cout << "merged cloud to the true surfaces: RMS "
-                << formatFixed(100.0 * *r.rms_to_truth_m, 2) << " cm, 95 % "
-                << formatFixed(100.0 * r.p95_to_truth_m.value_or(0.0), 2) << " cm\n";
-    }
-    std::cout << "time: assembly " << formatFixed(r.assembly_s, 2) << " s, registration "
-              << formatFixed(r.registration_s, 2) << " s\n";
-    std::cout << "results: " << out << ", " << report_path << "\n";
-  }
+  if (!v.quiet) printAssembly(r, options, out, report_path);
   return kExitOk;
 }
 

@@ -98,106 +98,141 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
   return in;
 }
 
+/// The clearance to check at [m]: --clearance, else the mission's inflation radius.
+double clearanceOf(const io::MissionRecord& mission, const std::string& mission_path,
+                   double clearance_arg, bool clearance_given) {
+  if (clearance_given) {
+    requirePositive(clearance_arg, "--clearance", "the clearance");
+    return clearance_arg;
+  }
+  if (std::isnan(mission.inflation_radius_m)) {
+    throw InputError(mission_path +
+                     ": inflation_radius_m is missing; give the clearance with --clearance");
+  }
+  return mission.inflation_radius_m;
+}
+
+/// The checks of one validation: the collision world (at the clearance plus the
+/// safety margin when there is no input file) and, with the input file, every input
+/// point at the clearance.
+struct Checkers {
+  std::shared_ptr<const world::CollisionWorld> world;
+  double margin{0.0};  ///< added to the clearance in the world check [m]
+  std::unique_ptr<const planning::PathValidator> validator;
+  std::unique_ptr<const planning::PathValidator> raw;  ///< null without the input file
+  double clearance{0.0};                               ///< [m]
+};
+
+/// The path's validation, and the clearance it was checked at [m].
+planning::ValidationResult checkPath(const Checkers& c, const PointList& waypoints,
+                                     double& required) {
+  planning::ValidationResult r = c.validator->validate(waypoints);
+  required = c.validator->requiredClearance();
+  if (r.collision_free && c.raw) {  // then every input point, exactly
+    planning::ValidationResult to_input = c.raw->validate(waypoints);
+    if (!to_input.collision_free) {
+      to_input.violation_object = "input point";
+      r = std::move(to_input);
+      required = c.clearance;
+    } else {
+      r.min_clearance_m = std::min(r.min_clearance_m, to_input.min_clearance_m);
+    }
+  }
+  return r;
+}
+
+/// What the paths' checks found: a line each, and the first violation.
+struct Tally {
+  int checked{0};
+  int violated{0};
+  std::ostringstream out;
+  std::string first_error;
+};
+
+/// Checks path s and adds its line to the tally.
+void validatePath(const Checkers& c, const NamedPath& s, Tally& t) {
+  t.out << "  " << s.label << ": ";
+  if (s.status != "ok") {
+    t.out << "status " << s.status << ", not validated\n";
+    return;
+  }
+  ++t.checked;
+  double required = 0.0;
+  const planning::ValidationResult r = checkPath(c, s.waypoints, required);
+  std::size_t bad = 0;
+  for (const double x : r.segment_clearance_m) bad += x < required - 1e-9;
+  const std::string min = std::isfinite(r.min_clearance_m)
+                              ? formatFixed(r.min_clearance_m, 3) + " m"
+                              : std::string("unbounded");
+  if (r.collision_free) {
+    t.out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min
+          << "\n";
+    return;
+  }
+  ++t.violated;
+  const auto seg = static_cast<std::size_t>(r.first_violation_segment);
+  const Vec3& a = s.waypoints[seg];
+  const Vec3& b = s.waypoints.size() > 1 ? s.waypoints[seg + 1] : a;
+  std::ostringstream msg;
+  msg << "segment " << seg << " " << formatPoint(a) << " -> " << formatPoint(b) << " comes "
+      << formatFixed(r.segment_clearance_m[seg], 3) << " m from " << r.violation_object << " at "
+      << formatPoint(r.violation_point) << " (required " << formatFixed(required, 3) << " m)";
+  t.out << "VIOLATION: " << msg.str() << "; " << bad << " of " << r.segment_clearance_m.size()
+        << " segments too close, min clearance " << min << "\n";
+  if (t.first_error.empty()) t.first_error = s.label + ": " + msg.str();
+}
+
 int validateCommand(const std::string& mission_path, std::string scene_path, double clearance_arg,
                     bool clearance_given, const std::string& cloud_arg, const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   const std::vector<NamedPath> paths = pathsOf(mission);
   if (scene_path.empty())
     scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
-  double clearance = mission.inflation_radius_m;
-  if (clearance_given) {
-    requirePositive(clearance_arg, "--clearance", "the clearance");
-    clearance = clearance_arg;
-  } else if (std::isnan(clearance)) {
-    throw InputError(mission_path +
-                     ": inflation_radius_m is missing; give the clearance with --clearance");
-  }
+  Checkers c;
+  c.clearance = clearanceOf(mission, mission_path, clearance_arg, clearance_given);
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();  // parsed once
   const Scene scene = io::sceneFromJson(scene_json, scene_path);
 
   const auto t0 = SteadyClock::now();
   const InputCloud input = inputCloud(scene_path, scene_json, scene, cloud_arg);
-  auto world = std::make_shared<const world::CollisionWorld>(scene);
+  c.world = std::make_shared<const world::CollisionWorld>(scene);
   // Without the input file, the safety cloud stands for it: every input point lies
   // within its margin of a safety point, so the world check keeps that much more.
-  const double margin = input.points.empty() && scene.safety ? scene.safety->margin_m : 0.0;
-  const planning::PathValidator validator(world, clearance + margin);
-  std::unique_ptr<const planning::PathValidator> raw;
+  c.margin = input.points.empty() && scene.safety ? scene.safety->margin_m : 0.0;
+  c.validator = std::make_unique<const planning::PathValidator>(c.world, c.clearance + c.margin);
   if (!input.points.empty())
-    raw = std::make_unique<const planning::PathValidator>(input.points, clearance);
+    c.raw = std::make_unique<const planning::PathValidator>(input.points, c.clearance);
   const double build_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
-  int checked = 0, violated = 0;
-  std::ostringstream out;
-  std::string first_error;
-  for (const auto& s : paths) {
-    out << "  " << s.label << ": ";
-    if (s.status != "ok") {
-      out << "status " << s.status << ", not validated\n";
-      continue;
-    }
-    ++checked;
-    planning::ValidationResult r = validator.validate(s.waypoints);
-    double required = validator.requiredClearance();
-    if (r.collision_free && raw) {  // then every input point, exactly
-      planning::ValidationResult to_input = raw->validate(s.waypoints);
-      if (!to_input.collision_free) {
-        to_input.violation_object = "input point";
-        r = std::move(to_input);
-        required = clearance;
-      } else {
-        r.min_clearance_m = std::min(r.min_clearance_m, to_input.min_clearance_m);
-      }
-    }
-    std::size_t bad = 0;
-    for (const double c : r.segment_clearance_m) bad += c < required - 1e-9;
-    const std::string min = std::isfinite(r.min_clearance_m)
-                                ? formatFixed(r.min_clearance_m, 3) + " m"
-                                : std::string("unbounded");
-    if (r.collision_free) {
-      out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min
-          << "\n";
-      continue;
-    }
-    ++violated;
-    const auto seg = static_cast<std::size_t>(r.first_violation_segment);
-    const Vec3& a = s.waypoints[seg];
-    const Vec3& b = s.waypoints.size() > 1 ? s.waypoints[seg + 1] : a;
-    std::ostringstream msg;
-    msg << "segment " << seg << " " << formatPoint(a) << " -> " << formatPoint(b) << " comes "
-        << formatFixed(r.segment_clearance_m[seg], 3) << " m from " << r.violation_object << " at "
-        << formatPoint(r.violation_point) << " (required " << formatFixed(required, 3) << " m)";
-    out << "VIOLATION: " << msg.str() << "; " << bad << " of " << r.segment_clearance_m.size()
-        << " segments too close, min clearance " << min << "\n";
-    if (first_error.empty()) first_error = s.label + ": " + msg.str();
-  }
+  Tally t;
+  for (const auto& s : paths) validatePath(c, s, t);
   const double check_s = secondsSince(t1);
 
   if (!v.quiet) {
     std::cout << "mission " << mission_path << " against " << scene_path << " (clearance "
-              << formatFixed(clearance, 3) << " m"
+              << formatFixed(c.clearance, 3) << " m"
               << (clearance_given ? ", from --clearance" : ", inflation_radius_m of the mission")
               << ")\n";
-    std::cout << "world: " << world->objects().size() << " objects (" << scene.surfaces.size()
+    std::cout << "world: " << c.world->objects().size() << " objects (" << scene.surfaces.size()
               << " surfaces, " << scene.obstacles.size() << " obstacles, cloud of "
-              << world->cloudSize() << " points)"
-              << (margin > 0.0 ? ", checked at clearance + the safety margin " +
-                                     formatFixed(margin, 3) + " m"
-                               : "")
+              << c.world->cloudSize() << " points)"
+              << (c.margin > 0.0 ? ", checked at clearance + the safety margin " +
+                                       formatFixed(c.margin, 3) + " m"
+                                 : "")
               << "\n";
     std::cout << input.note << "\n";
-    std::cout << out.str();
-    std::cout << "validated " << checked << " of " << paths.size()
+    std::cout << t.out.str();
+    std::cout << "validated " << t.checked << " of " << paths.size()
               << " paths (surfaces and sorties): "
-              << (violated == 0 ? std::string("all collision-free")
-                                : std::to_string(violated) + " with violations")
+              << (t.violated == 0 ? std::string("all collision-free")
+                                  : std::to_string(t.violated) + " with violations")
               << "\n";
     std::cout << "time: world " << formatFixed(build_s, 3) << " s, validation "
               << formatFixed(check_s, 3) << " s\n";
   }
-  if (violated > 0) {
-    std::cerr << "uavip: " << first_error << "\n";
+  if (t.violated > 0) {
+    std::cerr << "uavip: " << t.first_error << "\n";
     return kExitNoMission;
   }
   return kExitOk;
@@ -213,13 +248,11 @@ struct ValidateArgs {
 }  // namespace
 
 void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ValidateArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* val = cli.add_subcommand(
-      "validate",
+  const auto [val, a] = missionCommand<ValidateArgs>(
+      cli, "validate",
       "Re-check a mission.json against its scene: sweep the UAV along every waypoint path "
       "(exit 3 if any ok surface comes closer than the clearance)");
-  val->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
+  const Verbosity& v = registry.verbosity();
   val->add_option("--scene", a->scene,
                   "Scene to check against (default: scene.json next to the mission)");
   a->clearance_opt =
@@ -229,7 +262,7 @@ void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
                   "Input cloud to measure every path against, point by point (default: the file "
                   "scene.json names, "
                   "if unchanged)");
-  registry.add(val, [a, &v] {
+  registry.add(val, [a = a, &v] {
     return validateCommand(a->mission, a->scene, a->clearance, a->clearance_opt->count() > 0,
                            a->cloud, v);
   });

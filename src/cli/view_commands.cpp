@@ -35,7 +35,8 @@ int viewCommand(const std::string& mission_path, std::string scene_path, std::st
   const std::string page = view::missionPage(scene, &mission, options, mission_path);
   io::writeFileAtomic(out, page);
   if (!v.quiet)
-    std::cout << "view: " << out << " (" << (page.size() + 512 * 1024) / (1024 * 1024) << " MB)\n";
+    std::cout << "view: " << out << " ("
+              << (page.size() + std::size_t{512} * 1024) / (std::size_t{1024} * 1024) << " MB)\n";
   return kExitOk;
 }
 
@@ -47,15 +48,13 @@ struct ViewArgs {
 }  // namespace
 
 void addViewCommands(CLI::App& cli, CommandRegistry& registry) {
-  auto a = std::make_shared<ViewArgs>();
-  const Verbosity& v = registry.verbosity();
-  auto* view = cli.add_subcommand(
-      "view",
+  const auto [view, a] = missionCommand<ViewArgs>(
+      cli, "view",
       "Write the mission as one self-contained 3D page (HTML, opens offline in any browser)");
-  view->add_option("mission", a->mission, "OUT/mission.json written by run or plan")->required();
+  const Verbosity& v = registry.verbosity();
   view->add_option("--scene", a->scene, "Its scene (default: scene.json next to the mission)");
   view->add_option("-o,--out", a->out, "Page to write (default: mission.html next to the mission)");
-  registry.add(view, [a, &v] { return viewCommand(a->mission, a->scene, a->out, v); });
+  registry.add(view, [a = a, &v] { return viewCommand(a->mission, a->scene, a->out, v); });
 }
 
 }  // namespace uavip::cli

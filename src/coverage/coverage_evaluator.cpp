@@ -245,8 +245,15 @@ Projection centralProjection(const ViewFrame& frame, const Vec3& point, double f
 
 }  // namespace
 
-Projection FootprintCamera::project(const ViewPose& pose, const Vec3& point) const {
+Projection CentralCamera::project(const ViewPose& pose, const Vec3& point) const {
   return projectInFrame(makeViewFrame(pose), point);
+}
+
+double CentralCamera::cappedRange(double r, double max_gsd_mm_per_px,
+                                  const std::string& where) const {
+  requireGsd(max_gsd_mm_per_px, where);
+  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
+  return r;
 }
 
 Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
@@ -256,10 +263,8 @@ Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& p
 }
 
 double FootprintCamera::maxRange(double max_gsd_mm_per_px) const {
-  requireGsd(max_gsd_mm_per_px, "footprint_camera.maxRange");
-  double r = geometry_.standoff_m * options_.range_slack;
-  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
-  return r;
+  return cappedRange(geometry_.standoff_m * options_.range_slack, max_gsd_mm_per_px,
+                     "footprint_camera.maxRange");
 }
 
 // ---------------------------------------------------------------- pinhole camera
@@ -280,10 +285,6 @@ PinholeCamera::PinholeCamera(const PinholeIntrinsics& intrinsics) : k_(intrinsic
   focal_px_ = std::min(k_.fx_px, k_.fy_px);
 }
 
-Projection PinholeCamera::project(const ViewPose& pose, const Vec3& point) const {
-  return projectInFrame(makeViewFrame(pose), point);
-}
-
 Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
   return centralProjection(frame, point, focal_px_, [this](double x, double y, double z) {
     const double u = k_.cx_px + k_.fx_px * x / z;
@@ -293,11 +294,9 @@ Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& poi
 }
 
 double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {
-  requireGsd(max_gsd_mm_per_px, "pinhole.maxRange");
-  double r = kInf;
+  double r = kInf;  // the model's own range limit; none: +inf
   if (k_.max_range_m > 0.0) r = k_.max_range_m;
-  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
-  return r;
+  return cappedRange(r, max_gsd_mm_per_px, "pinhole.maxRange");
 }
 
 // ---------------------------------------------------------------- voxel line of sight
@@ -378,8 +377,118 @@ bool VoxelLineOfSight::occupied(const Vec3& p) const {
   return occupiedIndex(idx[0], idx[1], idx[2]);
 }
 
-// Long (97 lines): one 3D DDA traversal (Amanatides–Woo): its setup and its stepping share per-axis
-// state in the hot loop.
+namespace {
+
+/// Clips [t0, t1] (t along the unit direction `dir` from `from` [m]) to the box of
+/// voxels lo..hi (edge v) by the slab test; false when the segment misses the box.
+inline bool clipToBox(const Vec3& from, const Vec3& dir, double v, const std::int64_t (&lo)[3],
+                      const std::int64_t (&hi)[3], double& t0, double& t1) {
+  for (int a = 0; a < 3; ++a) {
+    const double bmin = static_cast<double>(lo[a]) * v;
+    const double bmax = static_cast<double>(hi[a] + 1) * v;
+    if (dir[a] == 0.0) {
+      if (from[a] < bmin || from[a] > bmax) return false;
+      continue;
+    }
+    double ta = (bmin - from[a]) / dir[a];
+    double tb = (bmax - from[a]) / dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return !(t0 > t1);
+}
+
+/// The state of an Amanatides–Woo walk: the current voxel, the step along each axis,
+/// the t at which each axis's next boundary is crossed and the t between boundaries
+/// (t measured from the segment's start along its unit direction).
+struct DdaWalk {
+  std::int64_t idx[3];
+  std::int64_t step[3];
+  double t_max[3];
+  double t_delta[3];
+};
+
+/// The walk from the voxel holding from + t0·dir (clamped into the box lo..hi).
+inline DdaWalk startWalk(const Vec3& from, const Vec3& dir, double t0, double v,
+                         const std::int64_t (&lo)[3], const std::int64_t (&hi)[3]) {
+  const Vec3 p0 = from + t0 * dir;
+  DdaWalk w;
+  for (int a = 0; a < 3; ++a) {
+    // p0 is on or inside the box; clamping absorbs rounding at its faces.
+    const double f = std::floor(p0[a] / v);
+    w.idx[a] = static_cast<std::int64_t>(
+        std::clamp(f, static_cast<double>(lo[a]), static_cast<double>(hi[a])));
+    if (dir[a] > 0.0) {
+      w.step[a] = 1;
+      w.t_max[a] = (static_cast<double>(w.idx[a] + 1) * v - from[a]) / dir[a];
+      w.t_delta[a] = v / dir[a];
+    } else if (dir[a] < 0.0) {
+      w.step[a] = -1;
+      w.t_max[a] = (static_cast<double>(w.idx[a]) * v - from[a]) / dir[a];
+      w.t_delta[a] = -v / dir[a];
+    } else {
+      w.step[a] = 0;
+      w.t_max[a] = kInf;
+      w.t_delta[a] = kInf;
+    }
+  }
+  return w;
+}
+
+/// Moves the walk out of its current (empty) brick, of 2^shift voxels per edge over
+/// the box lo..hi, to the voxel where the ray leaves it; false when that is beyond t1
+/// or outside the box (the walk is over). rem[a] = voxels of the brick (within the
+/// box) still ahead along axis a; the brick is left through the face of the axis whose
+/// (rem + 1)-th boundary comes first.
+inline bool leaveBrick(DdaWalk& w, double t1, const std::int64_t (&lo)[3],
+                       const std::int64_t (&hi)[3], int shift) {
+  const std::int64_t brick_edge = std::int64_t{1} << shift;
+  std::int64_t rem[3]{0, 0, 0};
+  double t_exit = kInf;
+  int exit_axis = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (w.step[a] == 0) continue;
+    const std::int64_t start = lo[a] + (((w.idx[a] - lo[a]) >> shift) << shift);
+    const std::int64_t end = std::min(start + brick_edge - 1, hi[a]);
+    rem[a] = w.step[a] > 0 ? end - w.idx[a] : w.idx[a] - start;
+    const double t_face = w.t_max[a] + static_cast<double>(rem[a]) * w.t_delta[a];
+    if (t_face < t_exit) {
+      t_exit = t_face;
+      exit_axis = a;
+    }
+  }
+  if (t_exit > t1) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (a == exit_axis || w.step[a] == 0) continue;
+    std::int64_t n = 0;
+    while (n < rem[a] && w.t_max[a] < t_exit) {
+      w.t_max[a] += w.t_delta[a];
+      ++n;
+    }
+    w.idx[a] += n * w.step[a];
+  }
+  w.idx[exit_axis] += (rem[exit_axis] + 1) * w.step[exit_axis];
+  w.t_max[exit_axis] = t_exit + w.t_delta[exit_axis];
+  return w.idx[exit_axis] >= lo[exit_axis] && w.idx[exit_axis] <= hi[exit_axis];
+}
+
+/// One voxel step of the walk; false when the next voxel is entered beyond t1 or
+/// lies outside the box lo..hi.
+inline bool stepVoxel(DdaWalk& w, double t1, const std::int64_t (&lo)[3],
+                      const std::int64_t (&hi)[3]) {
+  int a = 0;
+  if (w.t_max[1] < w.t_max[a]) a = 1;
+  if (w.t_max[2] < w.t_max[a]) a = 2;
+  if (w.t_max[a] > t1) return false;  // the next voxel is entered beyond the tested part
+  w.idx[a] += w.step[a];
+  if (w.idx[a] < lo[a] || w.idx[a] > hi[a]) return false;  // left the occupied box
+  w.t_max[a] += w.t_delta[a];
+  return true;
+}
+
+}  // namespace
+
 bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
   require(from.allFinite() && to.allFinite(), "voxel_line_of_sight",
           "clear() needs finite end points");
@@ -389,92 +498,19 @@ bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
   const double t_end = len - end_slack_m_;
   if (!(t_end > 0.0)) return true;  // the whole segment is within the slack
   const Vec3 dir = delta / len;
-  const double v = voxel_m_;
-
-  // Clip [0, t_end] to the bounding box of the occupied voxels (slab test).
+  // Clip [0, t_end] to the bounding box of the occupied voxels.
   double t0 = 0.0, t1 = t_end;
-  for (int a = 0; a < 3; ++a) {
-    const double bmin = static_cast<double>(lo_[a]) * v;
-    const double bmax = static_cast<double>(hi_[a] + 1) * v;
-    if (dir[a] == 0.0) {
-      if (from[a] < bmin || from[a] > bmax) return true;
-      continue;
-    }
-    double ta = (bmin - from[a]) / dir[a];
-    double tb = (bmax - from[a]) / dir[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  if (t0 > t1) return true;
-
-  // Amanatides–Woo: parameters t measured from `from` along the unit direction.
-  const Vec3 p0 = from + t0 * dir;
-  std::int64_t idx[3], step[3];
-  double t_max[3], t_delta[3];
-  for (int a = 0; a < 3; ++a) {
-    // p0 is on or inside the box; clamping absorbs rounding at its faces.
-    const double f = std::floor(p0[a] / v);
-    idx[a] = static_cast<std::int64_t>(
-        std::clamp(f, static_cast<double>(lo_[a]), static_cast<double>(hi_[a])));
-    if (dir[a] > 0.0) {
-      step[a] = 1;
-      t_max[a] = (static_cast<double>(idx[a] + 1) * v - from[a]) / dir[a];
-      t_delta[a] = v / dir[a];
-    } else if (dir[a] < 0.0) {
-      step[a] = -1;
-      t_max[a] = (static_cast<double>(idx[a]) * v - from[a]) / dir[a];
-      t_delta[a] = -v / dir[a];
-    } else {
-      step[a] = 0;
-      t_max[a] = kInf;
-      t_delta[a] = kInf;
-    }
-  }
-  const std::int64_t brick_edge = std::int64_t{1} << brick_shift_;
+  if (!clipToBox(from, dir, voxel_m_, lo_, hi_, t0, t1)) return true;
+  // Amanatides–Woo, skipping empty bricks whole.
+  DdaWalk w = startWalk(from, dir, t0, voxel_m_, lo_, hi_);
   while (true) {
-    const std::uint64_t b = brickIndex(idx[0], idx[1], idx[2]);
+    const std::uint64_t b = brickIndex(w.idx[0], w.idx[1], w.idx[2]);
     if ((brick_bits_[b >> 6] >> (b & 63) & 1) == 0) {
-      // Empty brick: jump to the voxel where the ray leaves it. rem[a] = voxels of the
-      // brick (within the box) still ahead along axis a; the brick is left through the
-      // face of the axis whose (rem + 1)-th boundary comes first.
-      std::int64_t rem[3]{0, 0, 0};
-      double t_exit = kInf;
-      int exit_axis = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (step[a] == 0) continue;
-        const std::int64_t start = lo_[a] + (((idx[a] - lo_[a]) >> brick_shift_) << brick_shift_);
-        const std::int64_t end = std::min(start + brick_edge - 1, hi_[a]);
-        rem[a] = step[a] > 0 ? end - idx[a] : idx[a] - start;
-        const double t_face = t_max[a] + static_cast<double>(rem[a]) * t_delta[a];
-        if (t_face < t_exit) {
-          t_exit = t_face;
-          exit_axis = a;
-        }
-      }
-      if (t_exit > t1) return true;
-      for (int a = 0; a < 3; ++a) {
-        if (a == exit_axis || step[a] == 0) continue;
-        std::int64_t n = 0;
-        while (n < rem[a] && t_max[a] < t_exit) {
-          t_max[a] += t_delta[a];
-          ++n;
-        }
-        idx[a] += n * step[a];
-      }
-      idx[exit_axis] += (rem[exit_axis] + 1) * step[exit_axis];
-      t_max[exit_axis] = t_exit + t_delta[exit_axis];
-      if (idx[exit_axis] < lo_[exit_axis] || idx[exit_axis] > hi_[exit_axis]) return true;
+      if (!leaveBrick(w, t1, lo_, hi_, brick_shift_)) return true;
       continue;
     }
-    if (tableHas(table_, mask_, packKey(idx[0], idx[1], idx[2]))) return false;
-    int a = 0;
-    if (t_max[1] < t_max[a]) a = 1;
-    if (t_max[2] < t_max[a]) a = 2;
-    if (t_max[a] > t1) return true;  // the next voxel is entered beyond the tested part
-    idx[a] += step[a];
-    if (idx[a] < lo_[a] || idx[a] > hi_[a]) return true;  // left the occupied box
-    t_max[a] += t_delta[a];
+    if (tableHas(table_, mask_, packKey(w.idx[0], w.idx[1], w.idx[2]))) return false;
+    if (!stepVoxel(w, t1, lo_, hi_)) return true;
   }
 }
 

@@ -120,61 +120,69 @@ void CoverageOptions::validate(const std::string& where) const {
               gimbal.pitch_min_deg);
 }
 
-// Long (103 lines): the steps of §II-F in order (surface frame, footprint, steps, rows, gimbal and
-// yaw per stop) on a dozen shared frame variables; pieces would each take most of them.
-FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options) {
-  options.validate();
-  FlightStrategy fs;
-  fs.surface_id = surface.id;
-  fs.camera = solveCamera(options.camera, options.standoff_m);
-  fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
-  fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
+namespace {
 
-  const double nnorm = surface.plane.normal.norm();
-  if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
-  const Vec3 n = surface.plane.normal / nnorm;
-  const bool horizontal = std::abs(n.z()) >= kHorizontalNz;
-
-  // Image axes on the surface (see the conventions at the top of this file).
+/// A surface's unit normal and its image axes on the surface (see the conventions at
+/// the top of this file).
+struct SurfaceFrame {
+  Vec3 n;
   Vec3 axis_w;
-  if (!horizontal) {
-    axis_w = Vec3::UnitZ().cross(n).normalized();
+  Vec3 axis_h;
+  bool horizontal{false};
+};
+
+SurfaceFrame surfaceFrame(const Surface& surface, const Vec3& n) {
+  SurfaceFrame f;
+  f.n = n;
+  f.horizontal = std::abs(n.z()) >= kHorizontalNz;
+  if (!f.horizontal) {
+    f.axis_w = Vec3::UnitZ().cross(n).normalized();
   } else {
-    axis_w = surface.axis_u - surface.axis_u.dot(n) * n;
-    axis_w = axis_w.norm() > 1e-9 ? axis_w.normalized() : anyOrthogonal(n);
+    f.axis_w = surface.axis_u - surface.axis_u.dot(n) * n;
+    f.axis_w = f.axis_w.norm() > 1e-9 ? f.axis_w.normalized() : anyOrthogonal(n);
   }
-  const Vec3 axis_h = n.cross(axis_w).normalized();
-  fs.axis_w = axis_w;
-  fs.axis_h = axis_h;
+  f.axis_h = n.cross(f.axis_w).normalized();
+  return f;
+}
 
-  // Orientation, the same for every stop of a planar surface.
-  const double pitch = std::asin(std::clamp(-n.z(), -1.0, 1.0)) * kRadToDeg;
-  double yaw = 0.0;
-  if (!horizontal) {
-    yaw = std::atan2(-n.y(), -n.x()) * kRadToDeg;
+/// Orientation, the same for every stop of a planar surface [deg].
+struct Attitude {
+  double pitch{0.0};
+  double yaw{0.0};
+  bool gimbal_ok{false};  ///< the pitch is within the gimbal's range
+};
+
+Attitude stopAttitude(const SurfaceFrame& f, const GimbalLimits& gimbal) {
+  Attitude at;
+  const Vec3& n = f.n;
+  at.pitch = std::asin(std::clamp(-n.z(), -1.0, 1.0)) * kRadToDeg;
+  if (!f.horizontal) {
+    at.yaw = std::atan2(-n.y(), -n.x()) * kRadToDeg;
   } else {
-    const double sign = pitch < 0.0 ? 1.0 : -1.0;
-    yaw = std::atan2(sign * axis_h.y(), sign * axis_h.x()) * kRadToDeg;
+    const double sign = at.pitch < 0.0 ? 1.0 : -1.0;
+    at.yaw = std::atan2(sign * f.axis_h.y(), sign * f.axis_h.x()) * kRadToDeg;
   }
-  yaw = wrapDeg(yaw);
-  const bool gimbal_ok =
-      pitch >= options.gimbal.pitch_min_deg - 1e-9 && pitch <= options.gimbal.pitch_max_deg + 1e-9;
+  at.yaw = wrapDeg(at.yaw);
+  at.gimbal_ok = at.pitch >= gimbal.pitch_min_deg - 1e-9 && at.pitch <= gimbal.pitch_max_deg + 1e-9;
+  return at;
+}
 
-  if (surface.boundary.size() < 3 || !allFinite(surface.boundary) ||
-      !surface.centroid.allFinite()) {
-    return fs;
-  }
-
-  // Boundary in (axis_w, axis_h) coordinates about the centroid.
-  const Vec3 origin = surface.plane.project(surface.centroid);
+/// The boundary in (axis_w, axis_h) coordinates about origin [m].
+std::vector<Vec2> boundaryInFrame(const Surface& surface, const SurfaceFrame& f,
+                                  const Vec3& origin) {
   std::vector<Vec2> poly;
   poly.reserve(surface.boundary.size());
   for (const auto& p : surface.boundary) {
     const Vec3 d = p - origin;
-    poly.emplace_back(d.dot(axis_w), d.dot(axis_h));
+    poly.emplace_back(d.dot(f.axis_w), d.dot(f.axis_h));
   }
-  const auto [wlo, whi] = projectRange(poly, Vec2::UnitX());
-  const auto [hlo, hhi] = projectRange(poly, Vec2::UnitY());
+  return poly;
+}
+
+/// Sets fs.cols and fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi];
+/// throws InputError beyond options.max_stops.
+void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions& options,
+              double wlo, double whi, double hlo, double hhi) {
   // Cells per axis: max(⌈extent/spacing⌉, 1), tolerant of rounding (4.8/0.48 = 10),
   // counted in double first: a tiny footprint or a huge boundary must not overflow.
   const double cols = std::max(1.0, std::ceil((whi - wlo) / fs.spacing_w_m - 1e-9));
@@ -189,32 +197,44 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   }
   fs.cols = static_cast<int>(cols);
   fs.rows = static_cast<int>(rows);
-  const double wc = 0.5 * (wlo + whi);
-  const double hc = 0.5 * (hlo + hhi);
+}
+
+/// Row r's stops, centred on (wc, hc) in the frame about origin, whose footprints
+/// overlap poly, in column order.
+std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
+                           const Vec3& origin, const std::vector<Vec2>& poly, const Attitude& at,
+                           double wc, double hc, int r) {
   const double half_w = 0.5 * fs.camera.footprint_w_m;
   const double half_h = 0.5 * fs.camera.footprint_h_m;
+  const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;
+  std::vector<Stop> row;
+  for (int c = 0; c < fs.cols; ++c) {
+    const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
+    const std::vector<Vec2> footprint = {Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h),
+                                         Vec2(a + half_w, b + half_h),
+                                         Vec2(a - half_w, b + half_h)};
+    if (!convexOverlap(footprint, poly)) continue;
+    Stop s;
+    s.surface_id = surface.id;
+    s.row = r;
+    s.col = c;
+    s.target = surface.plane.project(origin + a * f.axis_w + b * f.axis_h);
+    s.position = s.target + fs.camera.standoff_m * f.n;
+    s.yaw_deg = at.yaw;
+    s.gimbal_pitch_deg = at.pitch;
+    s.gimbal_ok = at.gimbal_ok;
+    row.push_back(s);
+  }
+  return row;
+}
 
+/// The boustrophedon of stops over the surface's boundary (fs.cols, fs.rows set).
+void placeStops(FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
+                const Vec3& origin, const std::vector<Vec2>& poly, const Attitude& at, double wc,
+                double hc) {
   bool left_to_right = true;
   for (int r = 0; r < fs.rows; ++r) {
-    const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;
-    std::vector<Stop> row;
-    for (int c = 0; c < fs.cols; ++c) {
-      const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
-      const std::vector<Vec2> footprint = {
-          Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h), Vec2(a + half_w, b + half_h),
-          Vec2(a - half_w, b + half_h)};
-      if (!convexOverlap(footprint, poly)) continue;
-      Stop s;
-      s.surface_id = surface.id;
-      s.row = r;
-      s.col = c;
-      s.target = surface.plane.project(origin + a * axis_w + b * axis_h);
-      s.position = s.target + fs.camera.standoff_m * n;
-      s.yaw_deg = yaw;
-      s.gimbal_pitch_deg = pitch;
-      s.gimbal_ok = gimbal_ok;
-      row.push_back(s);
-    }
+    std::vector<Stop> row = rowStops(fs, surface, f, origin, poly, at, wc, hc, r);
     if (row.empty()) continue;
     if (!left_to_right) std::reverse(row.begin(), row.end());
     left_to_right = !left_to_right;
@@ -223,6 +243,34 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
       fs.stops.push_back(s);
     }
   }
+}
+
+}  // namespace
+
+FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options) {
+  options.validate();
+  FlightStrategy fs;
+  fs.surface_id = surface.id;
+  fs.camera = solveCamera(options.camera, options.standoff_m);
+  fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
+  fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
+
+  const double nnorm = surface.plane.normal.norm();
+  if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
+  const SurfaceFrame f = surfaceFrame(surface, surface.plane.normal / nnorm);
+  fs.axis_w = f.axis_w;
+  fs.axis_h = f.axis_h;
+  const Attitude at = stopAttitude(f, options.gimbal);
+  if (surface.boundary.size() < 3 || !allFinite(surface.boundary) ||
+      !surface.centroid.allFinite()) {
+    return fs;
+  }
+  const Vec3 origin = surface.plane.project(surface.centroid);
+  const std::vector<Vec2> poly = boundaryInFrame(surface, f, origin);
+  const auto [wlo, whi] = projectRange(poly, Vec2::UnitX());
+  const auto [hlo, hhi] = projectRange(poly, Vec2::UnitY());
+  sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
+  placeStops(fs, surface, f, origin, poly, at, 0.5 * (wlo + whi), 0.5 * (hlo + hhi));
   return fs;
 }
 

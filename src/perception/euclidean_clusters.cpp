@@ -35,10 +35,104 @@ class DisjointSets {
   std::vector<std::size_t> parent_;
 };
 
+/// Points sorted by cell; each cell is a run [begin[c], begin[c + 1]) of `order`.
+struct CellRuns {
+  std::vector<std::pair<std::uint64_t, int>> order;  ///< (cell key, point index), sorted
+  std::vector<std::uint64_t> keys;                   ///< occupied cells, ascending
+  std::vector<std::size_t> begin;                    ///< keys.size() + 1 offsets into order
+
+  /// Index of the cell with `key`, or −1 when it holds no point.
+  std::ptrdiff_t cellOf(std::uint64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it != keys.end() && *it == key ? it - keys.begin() : -1;
+  }
+};
+
+CellRuns cellRuns(const PointList& points, const std::vector<int>& indices,
+                  const VoxelKeyer& keyer) {
+  CellRuns runs;
+  auto& order = runs.order;
+  order.reserve(indices.size());
+  for (const int i : indices) order.emplace_back(keyer.key(points[static_cast<std::size_t>(i)]), i);
+  std::sort(order.begin(), order.end());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || order[k].first != order[k - 1].first) {
+      runs.keys.push_back(order[k].first);
+      runs.begin.push_back(k);
+    }
+  }
+  runs.begin.push_back(order.size());
+  return runs;
+}
+
+/// True when a point of cell a is closer than √tol2 to one of cell b.
+bool pointsLinked(const PointList& points, const CellRuns& runs, std::size_t a, std::size_t b,
+                  double tol2) {
+  for (std::size_t i = runs.begin[a]; i < runs.begin[a + 1]; ++i) {
+    const Vec3& p = points[static_cast<std::size_t>(runs.order[i].second)];
+    for (std::size_t j = runs.begin[b]; j < runs.begin[b + 1]; ++j) {
+      if ((p - points[static_cast<std::size_t>(runs.order[j].second)]).squaredNorm() < tol2)
+        return true;
+    }
+  }
+  return false;
+}
+
+/// Joins cell a with every occupied cell of a higher key (each pair is visited once,
+/// from its lower key) that holds a point within the tolerance of one of a's. Cells
+/// up to two apart can (3 × edge > tolerance).
+void linkNeighbours(const PointList& points, const CellRuns& runs, std::size_t a, double cell,
+                    double tol2, DisjointSets& sets) {
+  const auto [ax, ay, az] = VoxelKeyer::unpack(runs.keys[a]);
+  for (int dx = -2; dx <= 2; ++dx) {
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dz = -2; dz <= 2; ++dz) {
+        const std::int64_t bx = ax + dx, by = ay + dy, bz = az + dz;
+        if (bx < 0 || by < 0 || bz < 0 || bx >= VoxelKeyer::kCells || by >= VoxelKeyer::kCells ||
+            bz >= VoxelKeyer::kCells) {
+          continue;
+        }
+        const std::uint64_t kb = VoxelKeyer::pack(bx, by, bz);
+        if (kb <= runs.keys[a]) continue;
+        // Closest and farthest possible distances between the two cells.
+        const double gx = std::max(0, std::abs(dx) - 1), gy = std::max(0, std::abs(dy) - 1),
+                     gz = std::max(0, std::abs(dz) - 1);
+        if ((gx * gx + gy * gy + gz * gz) * cell * cell >= tol2) continue;
+        const std::ptrdiff_t b = runs.cellOf(kb);
+        if (b < 0) continue;
+        const auto bu = static_cast<std::size_t>(b);
+        if (sets.find(a) == sets.find(bu)) continue;
+        const double fx = std::abs(dx) + 1, fy = std::abs(dy) + 1, fz = std::abs(dz) + 1;
+        const bool linked = (fx * fx + fy * fy + fz * fz) * cell * cell < tol2 ||
+                            pointsLinked(points, runs, a, bu, tol2);
+        if (linked) sets.unite(a, bu);
+      }
+    }
+  }
+}
+
+/// The components' point indices, each sorted, ordered by their smallest index.
+std::vector<std::vector<int>> gatherClusters(const CellRuns& runs, DisjointSets& sets) {
+  const std::size_t cells = runs.keys.size();
+  std::vector<std::vector<int>> by_root(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    auto& dst = by_root[sets.find(c)];
+    for (std::size_t k = runs.begin[c]; k < runs.begin[c + 1]; ++k)
+      dst.push_back(runs.order[k].second);
+  }
+  std::vector<std::vector<int>> clusters;
+  for (auto& c : by_root) {
+    if (c.empty()) continue;
+    std::sort(c.begin(), c.end());
+    clusters.push_back(std::move(c));
+  }
+  std::sort(clusters.begin(), clusters.end(),
+            [](const auto& x, const auto& y) { return x.front() < y.front(); });
+  return clusters;
+}
+
 }  // namespace
 
-// Long (92 lines): cell keying, the union-find over neighbouring cells and the gather of clusters
-// are passes over the same sorted key array.
 std::vector<std::vector<int>> euclideanClusters(const PointList& points,
                                                 const std::vector<int>& indices,
                                                 double tolerance_m) {
@@ -55,83 +149,11 @@ std::vector<std::vector<int>> euclideanClusters(const PointList& points,
   const double cell = tolerance_m / std::sqrt(3.0) * (1.0 - 1e-9);
   const double tol2 = tolerance_m * tolerance_m;
   const VoxelKeyer keyer(lo, hi, cell, "perception.cluster_tolerance_m / sqrt(3)");
-
-  // Points sorted by cell; each cell is a run [begin, end) of `order`.
-  std::vector<std::pair<std::uint64_t, int>> order;
-  order.reserve(indices.size());
-  for (const int i : indices) order.emplace_back(keyer.key(points[static_cast<std::size_t>(i)]), i);
-  std::sort(order.begin(), order.end());
-  std::vector<std::uint64_t> keys;
-  std::vector<std::size_t> begin;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k == 0 || order[k].first != order[k - 1].first) {
-      keys.push_back(order[k].first);
-      begin.push_back(k);
-    }
-  }
-  begin.push_back(order.size());
-  const std::size_t cells = keys.size();
-
-  auto cellOf = [&](std::uint64_t key) -> std::ptrdiff_t {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it != keys.end() && *it == key ? it - keys.begin() : -1;
-  };
-
-  DisjointSets sets(cells);
-  for (std::size_t a = 0; a < cells; ++a) {
-    const auto [ax, ay, az] = VoxelKeyer::unpack(keys[a]);
-    // Cells up to two apart can hold points within the tolerance (3 × edge > tolerance);
-    // each pair is visited once, from its lower key.
-    for (int dx = -2; dx <= 2; ++dx) {
-      for (int dy = -2; dy <= 2; ++dy) {
-        for (int dz = -2; dz <= 2; ++dz) {
-          const std::int64_t bx = ax + dx, by = ay + dy, bz = az + dz;
-          if (bx < 0 || by < 0 || bz < 0 || bx >= VoxelKeyer::kCells || by >= VoxelKeyer::kCells ||
-              bz >= VoxelKeyer::kCells) {
-            continue;
-          }
-          const std::uint64_t kb = VoxelKeyer::pack(bx, by, bz);
-          if (kb <= keys[a]) continue;
-          // Closest and farthest possible distances between the two cells.
-          const double gx = std::max(0, std::abs(dx) - 1), gy = std::max(0, std::abs(dy) - 1),
-                       gz = std::max(0, std::abs(dz) - 1);
-          if ((gx * gx + gy * gy + gz * gz) * cell * cell >= tol2) continue;
-          const std::ptrdiff_t b = cellOf(kb);
-          if (b < 0) continue;
-          const auto bu = static_cast<std::size_t>(b);
-          if (sets.find(a) == sets.find(bu)) continue;
-          const double fx = std::abs(dx) + 1, fy = std::abs(dy) + 1, fz = std::abs(dz) + 1;
-          bool linked = (fx * fx + fy * fy + fz * fz) * cell * cell < tol2;
-          for (std::size_t i = begin[a]; !linked && i < begin[a + 1]; ++i) {
-            const Vec3& p = points[static_cast<std::size_t>(order[i].second)];
-            for (std::size_t j = begin[bu]; j < begin[bu + 1]; ++j) {
-              if ((p - points[static_cast<std::size_t>(order[j].second)]).squaredNorm() < tol2) {
-                linked = true;
-                break;
-              }
-            }
-          }
-          if (linked) sets.unite(a, bu);
-        }
-      }
-    }
-  }
-
-  // Components, each sorted, ordered by their smallest index.
-  std::vector<std::vector<int>> by_root(cells);
-  for (std::size_t c = 0; c < cells; ++c) {
-    auto& dst = by_root[sets.find(c)];
-    for (std::size_t k = begin[c]; k < begin[c + 1]; ++k) dst.push_back(order[k].second);
-  }
-  std::vector<std::vector<int>> clusters;
-  for (auto& c : by_root) {
-    if (c.empty()) continue;
-    std::sort(c.begin(), c.end());
-    clusters.push_back(std::move(c));
-  }
-  std::sort(clusters.begin(), clusters.end(),
-            [](const auto& x, const auto& y) { return x.front() < y.front(); });
-  return clusters;
+  const CellRuns runs = cellRuns(points, indices, keyer);
+  DisjointSets sets(runs.keys.size());
+  for (std::size_t a = 0; a < runs.keys.size(); ++a)
+    linkNeighbours(points, runs, a, cell, tol2, sets);
+  return gatherClusters(runs, sets);
 }
 
 }  // namespace uavip::perception

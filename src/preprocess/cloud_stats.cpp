@@ -24,10 +24,83 @@ constexpr double kStationSpreadRatio = 0.6;
 /// The upper median, 0 for no values.
 double medianOf(const std::vector<double>& v) { return v.empty() ? 0.0 : upperMedian(v); }
 
+/// Robust spread of v: MAD / median (0 when the median is not positive).
+double spread(const std::vector<double>& v) {
+  const double med = medianOf(v);
+  if (!(med > 0.0)) return 0.0;
+  std::vector<double> dev(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) dev[k] = std::abs(v[k] - med);
+  return medianOf(dev) / med;
+}
+
+/// The indices of at most options.sample_points points (all, or a seeded shuffle).
+std::vector<std::size_t> samplePoints(std::size_t n, const CloudStatsOptions& options) {
+  std::vector<std::size_t> sample(n);
+  std::iota(sample.begin(), sample.end(), std::size_t{0});
+  if (sample.size() > options.sample_points) {
+    std::mt19937 rng(options.seed);
+    std::shuffle(sample.begin(), sample.end(), rng);
+    sample.resize(options.sample_points);
+  }
+  return sample;
+}
+
+/// Per sampled point: the distance to its nearest distinct neighbour [m], that over
+/// the point's range (angular spacing, for the one-station test) and the local noise
+/// (√ of the smallest eigenvalue of its neighbourhood's covariance) [m].
+struct Samples {
+  std::vector<double> nearest, noise, angular;
+};
+
+/// Adds point i's nearest distinct neighbour distance (duplicates and the point itself
+/// are at ~0) and its angular spacing; idx are its neighbours, nearest first.
+void addNearest(const PointList& cloud, std::size_t i, const std::vector<int>& idx, Samples& out) {
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    const double d = (cloud[static_cast<std::size_t>(idx[j])] - cloud[i]).norm();
+    if (d > 1e-9) {
+      out.nearest.push_back(d);
+      const double range = cloud[i].norm();
+      if (range > 1e-6) out.angular.push_back(d / range);
+      break;
+    }
+  }
+}
+
+/// √ of the smallest eigenvalue of the covariance of the points idx [m].
+double localNoise(const PointList& cloud, const std::vector<int>& idx) {
+  Vec3 mean = Vec3::Zero();
+  for (const auto j : idx) mean += cloud[static_cast<std::size_t>(j)];
+  mean /= static_cast<double>(idx.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto j : idx) {
+    const Vec3 d = cloud[static_cast<std::size_t>(j)] - mean;
+    cov += d * d.transpose();
+  }
+  cov /= static_cast<double>(idx.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov, Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(solver.eigenvalues()[0], 0.0));
+}
+
+/// One neighbour query (k + 1 nearest) per sampled point feeds all three statistics.
+Samples sampleNeighbourhoods(const PointList& cloud, const NeighbourIndex& index,
+                             const std::vector<std::size_t>& sample, int k) {
+  Samples out;
+  out.nearest.reserve(sample.size());
+  out.noise.reserve(sample.size());
+  std::vector<int> idx;
+  std::vector<float> d2;
+  for (const auto i : sample) {
+    index.nearest(i, k + 1, idx, d2);
+    if (idx.size() < 2) continue;
+    addNearest(cloud, i, idx, out);
+    if (idx.size() < 4) continue;
+    out.noise.push_back(localNoise(cloud, idx));
+  }
+  return out;
+}
+
 }  // namespace
 
-// Long (83 lines): one neighbour query per sampled point feeds all three statistics (spacing,
-// noise, the one-station test); the robust spreads of the last are computed here for it.
 CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options,
                         const NeighbourIndex* index) {
   if (index != nullptr && &index->cloud() != &cloud) {
@@ -47,64 +120,18 @@ CloudStats measureCloud(const PointList& cloud, const CloudStatsOptions& options
     own = std::make_unique<NeighbourIndex>(cloud);
     index = own.get();
   }
-
-  std::vector<std::size_t> sample(cloud.size());
-  std::iota(sample.begin(), sample.end(), std::size_t{0});
-  if (sample.size() > options.sample_points) {
-    std::mt19937 rng(options.seed);
-    std::shuffle(sample.begin(), sample.end(), rng);
-    sample.resize(options.sample_points);
-  }
-
-  const int k = std::max(options.noise_k, 8);
-  std::vector<double> nearest, noise, angular;
-  nearest.reserve(sample.size());
-  noise.reserve(sample.size());
-  std::vector<int> idx;
-  std::vector<float> d2;
-  for (const auto i : sample) {
-    index->nearest(i, k + 1, idx, d2);
-    if (idx.size() < 2) continue;
-    // Nearest distinct neighbour (duplicates and the point itself are at ~0).
-    for (std::size_t j = 0; j < idx.size(); ++j) {
-      const double d = (cloud[static_cast<std::size_t>(idx[j])] - cloud[i]).norm();
-      if (d > 1e-9) {
-        nearest.push_back(d);
-        const double range = cloud[i].norm();
-        if (range > 1e-6) angular.push_back(d / range);
-        break;
-      }
-    }
-    if (idx.size() < 4) continue;
-    Vec3 mean = Vec3::Zero();
-    for (const auto j : idx) mean += cloud[static_cast<std::size_t>(j)];
-    mean /= static_cast<double>(idx.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto j : idx) {
-      const Vec3 d = cloud[static_cast<std::size_t>(j)] - mean;
-      cov += d * d.transpose();
-    }
-    cov /= static_cast<double>(idx.size());
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov, Eigen::EigenvaluesOnly);
-    noise.push_back(std::sqrt(std::max(solver.eigenvalues()[0], 0.0)));
-  }
-  stats.spacing_m = medianOf(nearest);
-  stats.noise_m = medianOf(noise);
-  // One station at the origin: spacing ∝ range. Compare the robust spread (MAD /
-  // median) of spacing/range with that of the spacing; the spread of a uniformly
-  // sampled model grows when divided by the range, a station scan's shrinks.
-  const auto spread = [](const std::vector<double>& v) {
-    const double med = medianOf(v);
-    if (!(med > 0.0)) return 0.0;
-    std::vector<double> dev(v.size());
-    for (std::size_t k = 0; k < v.size(); ++k) dev[k] = std::abs(v[k] - med);
-    return medianOf(dev) / med;
-  };
+  const Samples s = sampleNeighbourhoods(cloud, *index, samplePoints(cloud.size(), options),
+                                         std::max(options.noise_k, 8));
+  stats.spacing_m = medianOf(s.nearest);
+  stats.noise_m = medianOf(s.noise);
+  // One station at the origin: spacing ∝ range. Compare the robust spread of
+  // spacing/range with that of the spacing; the spread of a uniformly sampled model
+  // grows when divided by the range, a station scan's shrinks.
   const Vec3 origin_margin = (Vec3::Zero() - box.min).cwiseMin(box.max - Vec3::Zero());
   const bool origin_inside = (origin_margin.array() > 0.0).all();
-  const double base = spread(nearest);
-  stats.station_ratio = base > 0.0 ? spread(angular) / base : 0.0;
-  stats.scanned_from_origin = origin_inside && angular.size() >= 100 && base > 0.0 &&
+  const double base = spread(s.nearest);
+  stats.station_ratio = base > 0.0 ? spread(s.angular) / base : 0.0;
+  stats.scanned_from_origin = origin_inside && s.angular.size() >= 100 && base > 0.0 &&
                               stats.station_ratio < kStationSpreadRatio;
   return stats;
 }

@@ -68,13 +68,21 @@ PointList voxelDownsample(const PointList& points, double leaf) {
   return out;
 }
 
-NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud, int k) {
+/// PCA normals of a cloud from its k nearest neighbours (PCL NormalEstimation on a
+/// kd-tree); unoriented, NaN where undefined.
+pcl::PointCloud<pcl::Normal> pclNormals(const Cloud::Ptr& cloud, int k) {
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(cloud);
   ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
   ne.setKSearch(k);
   pcl::PointCloud<pcl::Normal> normals;
   ne.compute(normals);
+  return normals;
+}
+
+/// The points of cloud with finite normals (k neighbours), as PointNormals.
+NormalCloud::Ptr withNormals(const Cloud::Ptr& cloud, int k) {
+  const pcl::PointCloud<pcl::Normal> normals = pclNormals(cloud, k);
   auto out = std::make_shared<NormalCloud>();
   out->points.reserve(cloud->size());
   for (std::size_t i = 0; i < cloud->size(); ++i) {
@@ -166,13 +174,7 @@ class Occupancy {
 /// PCA normals (k neighbours) of a cloud, oriented toward `viewpoint` (the station
 /// that saw the points); NaN where undefined.
 std::vector<Vec3> normalsOf(const PointList& points, const Vec3& viewpoint, int k) {
-  const Cloud::Ptr cloud = toPclCloud(points, Vec3::Zero());
-  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
-  ne.setInputCloud(cloud);
-  ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
-  ne.setKSearch(k);
-  pcl::PointCloud<pcl::Normal> normals;
-  ne.compute(normals);
+  const pcl::PointCloud<pcl::Normal> normals = pclNormals(toPclCloud(points, Vec3::Zero()), k);
   std::vector<Vec3> out(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     out[i] = Vec3(normals[i].normal_x, normals[i].normal_y, normals[i].normal_z);
@@ -345,107 +347,113 @@ IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& sour
   return out;
 }
 
-/// PCL's ICP or GICP on XYZ clouds with the options' gate and iterations; returns
-/// the transform, and sets converged and the fitness (mean squared pair distance).
-template <typename Registration>
-Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, const Cloud::Ptr& tgt,
-                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+/// Sets a PCL registration's clouds, iteration limit and convergence epsilon.
+template <typename Registration, typename CloudPtr>
+void setUp(Registration& reg, const CloudPtr& src, const CloudPtr& tgt, int iterations,
+           double epsilon) {
   reg.setInputSource(src);
   reg.setInputTarget(tgt);
-  reg.setMaxCorrespondenceDistance(o.max_correspondence_m);
-  reg.setMaximumIterations(o.max_iterations);
-  reg.setTransformationEpsilon(1e-8);
-  Cloud out;
-  reg.align(out);
+  reg.setMaximumIterations(iterations);
+  reg.setTransformationEpsilon(epsilon);
+}
+
+/// A PCL registration's outcome: returns the transform, and sets converged and the
+/// fitness (mean squared pair distance within the options' gate).
+template <typename Registration>
+Eigen::Matrix4f outcome(Registration& reg, const RegistrationOptions& o, bool& converged,
+                        double& fitness) {
   converged = reg.hasConverged();
   fitness = reg.getFitnessScore(o.max_correspondence_m);
   return reg.getFinalTransformation();
 }
 
-/// Aligns source onto target (both in world coordinates, source at its guess).
-// Long (87 lines): one robust ICP loop (correspondences, Huber weights, the normal equations,
-// convergence and the information matrix) on shared per-iteration arrays.
-Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals,
-                const PointList& target, const std::vector<Vec3>& target_normals,
-                const RegistrationOptions& o) {
-  Alignment a;
-  if (source_in.size() < 10 || target.size() < 10) return a;
-  // Coarse: translation only (rotation known from the IMU), then ICP from there.
-  const Vec3 coarse = o.search_radius_m > 0.0
-                          ? searchTranslation(source_in, source_normals, target, target_normals,
-                                              o.search_radius_m, o.search_step_m)
-                          : Vec3::Zero();
-  PointList source = source_in;
-  for (auto& p : source) p += coarse;
-  if (o.method == Method::PointToPlaneTranslation) {
-    const IcpOutcome r = icpTranslation(source, source_normals, target, target_normals,
-                                        o.max_correspondence_m, o.max_iterations);
-    a.delta = Eigen::Translation3d(coarse + r.t) * Eigen::Isometry3d::Identity();
-    a.converged = r.converged;
-    a.rms = r.rms;
-    a.iterations = r.iterations;
-    a.pairs = r.pairs;
-    a.information = r.information;
-    a.directions = r.directions;
-    return a;
+/// PCL's ICP or GICP on XYZ clouds with the options' gate and iterations.
+template <typename Registration>
+Eigen::Matrix4f alignPointToPoint(Registration& reg, const Cloud::Ptr& src, const Cloud::Ptr& tgt,
+                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+  setUp(reg, src, tgt, o.max_iterations, 1e-8);
+  reg.setMaxCorrespondenceDistance(o.max_correspondence_m);
+  Cloud out;
+  reg.align(out);
+  return outcome(reg, o, converged, fitness);
+}
+
+/// PCL's point-to-plane ICP on the clouds with normals (pcl_normal_k neighbours),
+/// coarse to fine: the configured gate, then a quarter of it.
+Eigen::Matrix4f alignPointToPlane(const Cloud::Ptr& src, const Cloud::Ptr& tgt,
+                                  const RegistrationOptions& o, bool& converged, double& fitness) {
+  pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
+  setUp(icp, withNormals(src, o.pcl_normal_k), withNormals(tgt, o.pcl_normal_k), o.max_iterations,
+        1e-8);
+  NormalCloud out;
+  icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
+  icp.align(out);
+  Eigen::Matrix4f guess = icp.getFinalTransformation();
+  icp.setMaxCorrespondenceDistance(0.25 * o.max_correspondence_m);
+  icp.align(out, guess);
+  return outcome(icp, o, converged, fitness);
+}
+
+/// PCL's NDT at the options' resolution.
+Eigen::Matrix4f alignNdt(const Cloud::Ptr& src, const Cloud::Ptr& tgt, const RegistrationOptions& o,
+                         bool& converged, double& fitness) {
+  pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
+  setUp(ndt, src, tgt, o.max_iterations, 1e-6);
+  ndt.setResolution(static_cast<float>(o.ndt_resolution_m));
+  ndt.setStepSize(0.1);
+  Cloud out;
+  ndt.align(out);
+  return outcome(ndt, o, converged, fitness);
+}
+
+/// One of PCL's registrations (o.method) of src onto tgt; identity for the methods
+/// that are not PCL's.
+Eigen::Matrix4f alignWithPcl(const Cloud::Ptr& src, const Cloud::Ptr& tgt,
+                             const RegistrationOptions& o, bool& converged, double& fitness) {
+  switch (o.method) {
+    case Method::None:
+    case Method::PointToPlaneTranslation:
+      break;
+    case Method::Icp: {
+      pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+      return alignPointToPoint(icp, src, tgt, o, converged, fitness);
+    }
+    case Method::IcpPointToPlane:
+      return alignPointToPlane(src, tgt, o, converged, fitness);
+    case Method::Gicp: {
+      pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+      return alignPointToPoint(icp, src, tgt, o, converged, fitness);
+    }
+    case Method::Ndt:
+      return alignNdt(src, tgt, o, converged, fitness);
   }
-  // Work around the target's centroid: floats keep sub-millimetre precision.
+  return Eigen::Matrix4f::Identity();
+}
+
+/// The translation-only ICP's result as an alignment, after the coarse offset.
+Alignment translationAlignment(const Vec3& coarse, const IcpOutcome& r) {
+  Alignment a;
+  a.delta = Eigen::Translation3d(coarse + r.t) * Eigen::Isometry3d::Identity();
+  a.converged = r.converged;
+  a.rms = r.rms;
+  a.iterations = r.iterations;
+  a.pairs = r.pairs;
+  a.information = r.information;
+  a.directions = r.directions;
+  return a;
+}
+
+/// PCL's registration of source (moved by coarse) onto target, worked around the
+/// target's centroid (floats keep sub-millimetre precision there).
+Alignment pclAlignment(const PointList& source, const PointList& target, const Vec3& coarse,
+                       const RegistrationOptions& o) {
+  Alignment a;
   Vec3 origin = Vec3::Zero();
   for (const auto& p : target) origin += p;
   origin /= static_cast<double>(target.size());
   const Cloud::Ptr src = toPclCloud(source, origin), tgt = toPclCloud(target, origin);
-  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
   double fitness = 0.0;
-  switch (o.method) {
-    case Method::None:
-    case Method::PointToPlaneTranslation:
-      return a;
-    case Method::Icp: {
-      pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-      m = alignPointToPoint(icp, src, tgt, o, a.converged, fitness);
-      break;
-    }
-    case Method::IcpPointToPlane: {
-      const NormalCloud::Ptr sn = withNormals(src, o.pcl_normal_k),
-                             tn = withNormals(tgt, o.pcl_normal_k);
-      pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
-      icp.setInputSource(sn);
-      icp.setInputTarget(tn);
-      icp.setMaximumIterations(o.max_iterations);
-      icp.setTransformationEpsilon(1e-8);
-      NormalCloud out;
-      // Coarse to fine: the configured gate, then a quarter of it.
-      icp.setMaxCorrespondenceDistance(o.max_correspondence_m);
-      icp.align(out);
-      Eigen::Matrix4f guess = icp.getFinalTransformation();
-      icp.setMaxCorrespondenceDistance(0.25 * o.max_correspondence_m);
-      icp.align(out, guess);
-      m = icp.getFinalTransformation();
-      a.converged = icp.hasConverged();
-      fitness = icp.getFitnessScore(o.max_correspondence_m);
-      break;
-    }
-    case Method::Gicp: {
-      pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-      m = alignPointToPoint(icp, src, tgt, o, a.converged, fitness);
-      break;
-    }
-    case Method::Ndt: {
-      pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
-      ndt.setInputSource(src);
-      ndt.setInputTarget(tgt);
-      ndt.setResolution(static_cast<float>(o.ndt_resolution_m));
-      ndt.setStepSize(0.1);
-      ndt.setMaximumIterations(o.max_iterations);
-      ndt.setTransformationEpsilon(1e-6);
-      Cloud out;
-      ndt.align(out);
-      m = ndt.getFinalTransformation();
-      a.converged = ndt.hasConverged();
-      fitness = ndt.getFitnessScore(o.max_correspondence_m);
-      break;
-    }
-  }
+  const Eigen::Matrix4f m = alignWithPcl(src, tgt, o, a.converged, fitness);
   const Eigen::Isometry3d d(m.cast<double>());
   // Back from centroid coordinates: x_world' = origin + d·(x_world − origin).
   a.delta = Eigen::Translation3d(origin) * d * Eigen::Translation3d(-origin) *
@@ -455,6 +463,27 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
   a.delta.linear() = q.normalized().toRotationMatrix();
   a.rms = std::sqrt(std::max(0.0, fitness));
   return a;
+}
+
+/// Aligns source onto target (both in world coordinates, source at its guess):
+/// coarse translation only (rotation known from the IMU), then ICP from there.
+Alignment align(const PointList& source_in, const std::vector<Vec3>& source_normals,
+                const PointList& target, const std::vector<Vec3>& target_normals,
+                const RegistrationOptions& o) {
+  if (source_in.size() < 10 || target.size() < 10) return {};
+  const Vec3 coarse = o.search_radius_m > 0.0
+                          ? searchTranslation(source_in, source_normals, target, target_normals,
+                                              o.search_radius_m, o.search_step_m)
+                          : Vec3::Zero();
+  PointList source = source_in;
+  for (auto& p : source) p += coarse;
+  if (o.method == Method::PointToPlaneTranslation) {
+    return translationAlignment(coarse,
+                                icpTranslation(source, source_normals, target, target_normals,
+                                               o.max_correspondence_m, o.max_iterations));
+  }
+  if (o.method == Method::None) return {};
+  return pclAlignment(source, target, coarse, o);
 }
 
 PointList transformed(const PointList& points, const Eigen::Isometry3d& pose) {
@@ -539,94 +568,133 @@ Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool 
   return pose;
 }
 
-// Long (85 lines): the parallel preparation, the sequential placement of stations against those
-// already placed, and the merge, on shared per-station arrays.
-RegistrationResult registerStations(const std::vector<StationInput>& stations,
-                                    const RegistrationOptions& options) {
-  options.validate();
-  const auto t0 = SteadyClock::now();
-  RegistrationResult result;
-  std::size_t ref = stations.size();
-  for (std::size_t i = 0; i < stations.size(); ++i) {
-    if (!stations[i].points.empty()) {
-      ref = i;
-      break;
-    }
-  }
-  if (ref == stations.size())
-    throw InputError("registration: every station cloud is empty, nothing to register");
+namespace {
 
-  // Down-sampling and normals do not depend on the registration order: every
-  // station's at once, `threads` at a time (each is independent).
-  std::vector<PointList> downsampled(stations.size());
-  std::vector<std::vector<Vec3>> station_normals(stations.size());
-  std::vector<double> prep_s(stations.size(), 0.0);
+/// Index of the first station with points (the reference); throws InputError when
+/// there is none.
+std::size_t referenceStation(const std::vector<StationInput>& stations) {
+  for (std::size_t i = 0; i < stations.size(); ++i) {
+    if (!stations[i].points.empty()) return i;
+  }
+  throw InputError("registration: every station cloud is empty, nothing to register");
+}
+
+/// Every station's down-sampled cloud and its normals (station frame, oriented toward
+/// the station), and the time each took [s].
+struct Prepared {
+  std::vector<PointList> downsampled;
+  std::vector<std::vector<Vec3>> normals;
+  std::vector<double> seconds;
+};
+
+/// Down-sampling and normals do not depend on the registration order: every
+/// station's at once, `threads` at a time (each is independent).
+Prepared prepareStations(const std::vector<StationInput>& stations,
+                         const RegistrationOptions& options) {
+  Prepared p;
+  p.downsampled.resize(stations.size());
+  p.normals.resize(stations.size());
+  p.seconds.assign(stations.size(), 0.0);
   parallelFor(stations.size(), options.threads, [&](std::size_t i, std::size_t) {
     const auto tp = SteadyClock::now();
     if (stations[i].points.empty()) return;
-    downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
+    p.downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
     // In the station frame, oriented toward the station (its origin).
-    station_normals[i] = normalsOf(downsampled[i], Vec3::Zero(), options.normal_k);
-    prep_s[i] = secondsSince(tp);
+    p.normals[i] = normalsOf(p.downsampled[i], Vec3::Zero(), options.normal_k);
+    p.seconds[i] = secondsSince(tp);
   });
+  return p;
+}
 
-  PointList placed;                  // down-sampled world points of the stations placed so far
-  std::vector<Vec3> placed_normals;  // their normals, oriented toward their station
-  for (std::size_t i = 0; i < stations.size(); ++i) {
-    const auto ts = SteadyClock::now();
-    const StationInput& in = stations[i];
-    StationResult r;
-    r.id = in.id;
-    r.initial_pose = in.initial_pose;
-    r.pose = in.initial_pose;
-    r.points = in.points.size();
-    if (in.points.empty()) {
-      result.stations.push_back(r);
-      continue;
-    }
-    const PointList& ds = downsampled[i];
-    PointList guess = transformed(ds, in.initial_pose);
-    std::vector<Vec3> normals = std::move(station_normals[i]);  // rotated with the points
-    for (auto& n : normals) n = in.initial_pose.linear() * n;
-    if (i == ref || options.method == Method::None) {
-      r.converged = true;
-    } else {
-      // Overlap predicted from the initial poses.
-      PointList src, tgt;
-      std::vector<Vec3> src_n, tgt_n;
-      insideBox(guess, normals, grown(boundingBox(placed), options.overlap_margin_m), src, src_n);
-      insideBox(placed, placed_normals, grown(boundingBox(guess), options.overlap_margin_m), tgt,
-                tgt_n);
-      r.overlap_points = src.size();
-      const Alignment a = align(src, src_n, tgt, tgt_n, options);
-      r.converged = a.converged;
-      r.fitness_rms_m = a.rms;
-      r.iterations = a.iterations;
-      r.pairs = a.pairs;
-      r.information = a.information;
-      r.weakest_direction = a.directions.col(0);
-      if (a.converged) {
-        r.pose = a.delta * in.initial_pose;
-        guess = transformed(ds, r.pose);
-        for (auto& n : normals) n = a.delta.linear() * n;
-      }
-    }
-    placed.insert(placed.end(), guess.begin(), guess.end());
-    placed_normals.insert(placed_normals.end(), normals.begin(), normals.end());
-    r.time_s = prep_s[i] + secondsSince(ts);
-    result.stations.push_back(r);
+/// The stations placed so far: their down-sampled world points and normals (oriented
+/// toward their station).
+struct Placed {
+  PointList points;
+  std::vector<Vec3> normals;
+};
+
+/// Registers the overlap (predicted from the initial poses) of guess onto the placed
+/// stations into r; on convergence moves guess and normals by the correction.
+void registerOverlap(const StationInput& in, const PointList& ds, const Placed& placed,
+                     const RegistrationOptions& options, PointList& guess,
+                     std::vector<Vec3>& normals, StationResult& r) {
+  PointList src, tgt;
+  std::vector<Vec3> src_n, tgt_n;
+  insideBox(guess, normals, grown(boundingBox(placed.points), options.overlap_margin_m), src,
+            src_n);
+  insideBox(placed.points, placed.normals, grown(boundingBox(guess), options.overlap_margin_m), tgt,
+            tgt_n);
+  r.overlap_points = src.size();
+  const Alignment a = align(src, src_n, tgt, tgt_n, options);
+  r.converged = a.converged;
+  r.fitness_rms_m = a.rms;
+  r.iterations = a.iterations;
+  r.pairs = a.pairs;
+  r.information = a.information;
+  r.weakest_direction = a.directions.col(0);
+  if (a.converged) {
+    r.pose = a.delta * in.initial_pose;
+    guess = transformed(ds, r.pose);
+    for (auto& n : normals) n = a.delta.linear() * n;
   }
+}
 
+/// Places station i against those already placed (the reference, or every station
+/// without registration, stays at its initial pose) and adds it to them.
+StationResult placeStation(const StationInput& in, std::size_t i, bool reference,
+                           Prepared& prepared, const RegistrationOptions& options, Placed& placed) {
+  const auto ts = SteadyClock::now();
+  StationResult r;
+  r.id = in.id;
+  r.initial_pose = in.initial_pose;
+  r.pose = in.initial_pose;
+  r.points = in.points.size();
+  if (in.points.empty()) return r;
+  const PointList& ds = prepared.downsampled[i];
+  PointList guess = transformed(ds, in.initial_pose);
+  std::vector<Vec3> normals = std::move(prepared.normals[i]);  // rotated with the points
+  for (auto& n : normals) n = in.initial_pose.linear() * n;
+  if (reference || options.method == Method::None) {
+    r.converged = true;
+  } else {
+    registerOverlap(in, ds, placed, options, guess, normals, r);
+  }
+  placed.points.insert(placed.points.end(), guess.begin(), guess.end());
+  placed.normals.insert(placed.normals.end(), normals.begin(), normals.end());
+  r.time_s = prepared.seconds[i] + secondsSince(ts);
+  return r;
+}
+
+/// Every station's full cloud at its registered pose, down-sampled to
+/// output_voxel_m when that is set.
+PointList mergeStations(const std::vector<StationInput>& stations,
+                        const std::vector<StationResult>& placed,
+                        const RegistrationOptions& options) {
   PointList all;
   std::size_t total = 0;
   for (const auto& s : stations) total += s.points.size();
   all.reserve(total);
   for (std::size_t i = 0; i < stations.size(); ++i) {
-    const Eigen::Isometry3d& pose = result.stations[i].pose;
+    const Eigen::Isometry3d& pose = placed[i].pose;
     for (const auto& p : stations[i].points) all.push_back(pose * p);
   }
-  result.merged =
-      options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m) : std::move(all);
+  return options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m)
+                                      : std::move(all);
+}
+
+}  // namespace
+
+RegistrationResult registerStations(const std::vector<StationInput>& stations,
+                                    const RegistrationOptions& options) {
+  options.validate();
+  const auto t0 = SteadyClock::now();
+  const std::size_t ref = referenceStation(stations);
+  Prepared prepared = prepareStations(stations, options);
+  RegistrationResult result;
+  Placed placed;
+  for (std::size_t i = 0; i < stations.size(); ++i)
+    result.stations.push_back(placeStation(stations[i], i, i == ref, prepared, options, placed));
+  result.merged = mergeStations(stations, result.stations, options);
   result.time_s = secondsSince(t0);
   return result;
 }

@@ -28,6 +28,12 @@ void requireNonNegative(double v, const std::string& where, const std::string& n
   }
 }
 
+/// Throws InputError unless v <= max: "<where>: <name> must be <= <max_text>, got <v>".
+void requireAtMost(double v, double max, const char* max_text, const std::string& where,
+                   const std::string& name) {
+  require(v <= max, where, name + " must be <= " + max_text + ", got " + std::to_string(v));
+}
+
 Eigen::Matrix3d rpy(const Vec3& rpy_deg) {
   return (Eigen::AngleAxisd(rpy_deg.z() * kDeg, Vec3::UnitZ()) *
           Eigen::AngleAxisd(rpy_deg.y() * kDeg, Vec3::UnitY()) *
@@ -42,7 +48,8 @@ double hitSphere(const Vec3& o, const Vec3& d, const Vec3& c, double r) {
   const double h = b * b - (oc.squaredNorm() - r * r);
   if (h < 0.0) return kInf;
   const double t = -b - std::sqrt(h);
-  return t > kMinHit ? t : kInf;
+  if (t > kMinHit) return t;
+  return kInf;
 }
 
 /// Ray–capsule (segment pa–pb, radius r): entry distance, or +inf. The body is the
@@ -160,7 +167,7 @@ void ScannerModel::validate(const std::string& where) const {
           "min_range_m must be < max_range_m, got " + std::to_string(min_range_m) + " and " +
               std::to_string(max_range_m));
   requirePositive(fov_deg, where, "fov_deg");
-  require(fov_deg <= 360.0, where, "fov_deg must be <= 360, got " + std::to_string(fov_deg));
+  requireAtMost(fov_deg, 360.0, "360", where, "fov_deg");
   requirePositive(step_deg, where, "step_deg");
   require(fov_deg / step_deg <= 100000.0, where, "fov_deg / step_deg must be <= 100000 beams");
   requirePositive(period_s, where, "period_s");
@@ -217,17 +224,14 @@ void ScanSimOptions::validate(const std::string& where) const {
           "horizontal_time_offset_s must be < the scan period " + std::to_string(scanner.period_s) +
               " s");
   requirePositive(imu_rate_hz, where, "imu_rate_hz");
-  require(imu_rate_hz <= 10000.0, where,
-          "imu_rate_hz must be <= 10000, got " + std::to_string(imu_rate_hz));
+  requireAtMost(imu_rate_hz, 10000.0, "10000", where, "imu_rate_hz");
   requireNonNegative(imu_error_deg, where, "imu_error_deg");
-  require(imu_error_deg <= 45.0, where,
-          "imu_error_deg must be <= 45, got " + std::to_string(imu_error_deg));
+  requireAtMost(imu_error_deg, 45.0, "45", where, "imu_error_deg");
   requireNonNegative(wind_step_m, where, "wind_step_m");
   requireNonNegative(wind_bound_m, where, "wind_bound_m");
   requireNonNegative(tilt_step_deg, where, "tilt_step_deg");
   requireNonNegative(tilt_bound_deg, where, "tilt_bound_deg");
-  require(tilt_bound_deg <= 30.0, where,
-          "tilt_bound_deg must be <= 30, got " + std::to_string(tilt_bound_deg));
+  requireAtMost(tilt_bound_deg, 30.0, "30", where, "tilt_bound_deg");
   requireNonNegative(gps_sigma_m, where, "gps_sigma_m");
   requireNonNegative(thin_radius_m, where, "thin_radius_m");
   requireNonNegative(station_gap_s, where, "station_gap_s");
@@ -244,7 +248,8 @@ double intersectRayRect(const Vec3& origin, const Vec3& dir, const Rect& rect) {
   const Vec3 q = origin + t * dir - rect.corner;
   const double s = q.dot(rect.edge_u) / rect.edge_u.squaredNorm();
   const double r = q.dot(rect.edge_v) / rect.edge_v.squaredNorm();
-  return (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) ? t : kInf;
+  if (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) return t;
+  return kInf;
 }
 
 RayCaster::RayCaster(const WorldModel& world, double thin_radius_m) : radius_(thin_radius_m) {
@@ -351,7 +356,8 @@ double RayCaster::hitShape(int i, const Vec3& o, const Vec3& d, double best) con
       const Vec3 q = o + t * d - a_[k];
       const double s = q.dot(b_[k]);
       const double r = q.dot(c_[k]);
-      return (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) ? t : kInf;
+      if (s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0) return t;
+      return kInf;
     }
     case Kind::Capsule:
       return hitCapsule(o, d, a_[k], b_[k], radius_);
@@ -385,124 +391,175 @@ double RayCaster::cast(const Vec3& origin, const Vec3& dir, double max_range_m) 
       stack[top++] = node.first;
     }
   }
-  return hit ? best : kInf;
+  if (hit) return best;
+  return kInf;
 }
 
 // ---------------------------------------------------------------- simulation
 
-// Long (106 lines): one pass over the sweep whose per-scan state (station motion, both scanners'
-// noise streams, the IMU clock, progress) is shared; ray casting and motion already live in
-// RayCaster and StationMotion.
+namespace {
+
+/// What every station of one sweep shares: the options, the caster, the timing and
+/// the two distributions (drawn from in the original order: the normal distribution
+/// keeps a spare value between calls, so it is one object for the whole sweep).
+struct Sweep {
+  Sweep(const ScanSimOptions& options, const RayCaster& ray_caster)
+      : o(options),
+        caster(ray_caster),
+        beams(options.scanner.beamCount()),
+        scans(options.scansPerStation()),
+        mounts{options.bodyTVertical(), options.bodyTHorizontal()} {
+    const ScannerModel& sc = o.scanner;
+    const double turn_s = o.turn_deg / o.yaw_rate_deg_s;
+    span_s = (scans - 1) * sc.period_s + o.horizontal_time_offset_s + sc.sweepDurationS();
+    station_s = turn_s + sc.period_s + o.station_gap_s;
+  }
+
+  const ScanSimOptions& o;
+  const RayCaster& caster;
+  int beams;
+  int scans;
+  Eigen::Isometry3d mounts[2];  ///< body ← vertical, body ← horizontal scanner
+  double span_s{0.0};           ///< first scan start to past the last beam [s]
+  double station_s{0.0};        ///< station start to the next one's [s]
+  std::uniform_real_distribution<double> unit{0.0, 1.0};
+  std::normal_distribution<double> gauss{0.0, 1.0};
+};
+
+/// Recorded (GPS-like) position and heading of station s at `position` (log frame).
+void recordStation(Sweep& w, std::size_t s, const Vec3& position, Station& st) {
+  const ScanSimOptions& o = w.o;
+  std::seed_seq gps_seed{o.seed, static_cast<std::uint32_t>(s), 1u};
+  std::mt19937 gps_rng(gps_seed);
+  auto& gauss = w.gauss;
+  const Vec3 gps_error(gauss(gps_rng), gauss(gps_rng), gauss(gps_rng));
+  st.recorded_position = s == 0 ? Vec3::Zero() : Vec3(position + o.gps_sigma_m * gps_error);
+  st.recorded_yaw_rad =
+      o.start_yaw_deg * kDeg + o.imu_error_deg * kDeg * (2.0 * w.unit(gps_rng) - 1.0);
+}
+
+/// Scan i of scanner k (0 vertical, 1 horizontal) of station s starting at t0; its
+/// start pose goes to `poses`. `dirs` are the beam directions in the body frame.
+LaserScan simulateScan(Sweep& w, std::size_t s, int k, int i, double t0,
+                       const StationMotion& motion, const std::vector<Vec3>& dirs,
+                       std::vector<Eigen::Isometry3d>& poses, SimulatedLog& out) {
+  const ScanSimOptions& o = w.o;
+  const ScannerModel& sc = o.scanner;
+  const bool vertical = k == 0;
+  LaserScan scan;
+  scan.t_start_s = t0 + i * sc.period_s + (vertical ? 0.0 : o.horizontal_time_offset_s);
+  scan.duration_s = sc.sweepDurationS();
+  scan.angle_min_rad = sc.angleMinRad();
+  scan.angle_step_rad = sc.angleStepRad();
+  scan.ranges_m.assign(static_cast<std::size_t>(w.beams), 0.0f);
+  std::seed_seq noise_seed{o.seed, static_cast<std::uint32_t>(s), 2u, static_cast<std::uint32_t>(k),
+                           static_cast<std::uint32_t>(i)};
+  std::mt19937 noise_rng(noise_seed);
+  const Eigen::Isometry3d start_pose = motion.pose(scan.t_start_s);
+  poses.push_back(start_pose);
+  Eigen::Isometry3d body = start_pose;
+  for (int b = 0; b < w.beams; ++b) {
+    const double noise = sc.range_noise_m * w.gauss(noise_rng);  // one draw per beam, always
+    if (o.deskew && b > 0) body = motion.pose(scan.beamTime(static_cast<std::size_t>(b)));
+    const Vec3 from =
+        out.origin_m + body * w.mounts[k].translation();  // the world is in scenario coordinates
+    const Vec3 d = body.linear() * dirs[static_cast<std::size_t>(b)];
+    const double r = w.caster.cast(from, d, sc.max_range_m);
+    ++out.rays;
+    if (r < sc.min_range_m || r > sc.max_range_m) continue;
+    const double rho = r + noise;
+    if (rho < sc.min_range_m || rho > sc.max_range_m) continue;
+    scan.ranges_m[static_cast<std::size_t>(b)] = static_cast<float>(rho);
+    ++out.returns;
+  }
+  return scan;
+}
+
+/// Every scan of scanner k (0 vertical, 1 horizontal) of station s starting at t0.
+void simulateScanner(Sweep& w, std::size_t s, int k, double t0, const StationMotion& motion,
+                     Station& st, RawLogTruth::StationTruth& truth, SimulatedLog& out) {
+  const ScannerModel& sc = w.o.scanner;
+  const bool vertical = k == 0;
+  auto& list = vertical ? st.vertical : st.horizontal;
+  auto& poses = vertical ? truth.vertical_poses : truth.horizontal_poses;
+  list.reserve(static_cast<std::size_t>(w.scans));
+  // Beam directions in the body frame (the mount rotation applied once).
+  std::vector<Vec3> dirs(static_cast<std::size_t>(w.beams));
+  for (int b = 0; b < w.beams; ++b) {
+    dirs[static_cast<std::size_t>(b)] =
+        w.mounts[k].linear() * beamDir(vertical, sc.angleMinRad() + b * sc.angleStepRad());
+  }
+  for (int i = 0; i < w.scans; ++i)
+    list.push_back(simulateScan(w, s, k, i, t0, motion, dirs, poses, out));
+}
+
+/// IMU of station s: from the first scan start (t0) to past the last beam, one
+/// sample every 1/rate.
+void simulateImu(Sweep& w, std::size_t s, double t0, const StationMotion& motion,
+                 std::vector<ImuSample>& imu) {
+  const ScanSimOptions& o = w.o;
+  std::seed_seq imu_seed{o.seed, static_cast<std::uint32_t>(s), 3u};
+  std::mt19937 imu_rng(imu_seed);
+  auto& gauss = w.gauss;
+  const double dt = 1.0 / o.imu_rate_hz;
+  const int samples = static_cast<int>(std::ceil(w.span_s / dt)) + 2;
+  imu.reserve(static_cast<std::size_t>(samples));
+  for (int j = 0; j < samples; ++j) {
+    ImuSample m;
+    m.t_s = t0 + j * dt;
+    Vec3 axis(gauss(imu_rng), gauss(imu_rng), gauss(imu_rng));
+    if (axis.norm() < 1e-12) axis = Vec3::UnitZ();
+    const double angle = o.imu_error_deg * kDeg * w.unit(imu_rng);
+    const Eigen::Quaterniond q_true(motion.pose(m.t_s).linear());
+    m.world_q_body =
+        (q_true * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
+    imu.push_back(m);
+  }
+}
+
+/// Station s of the sweep: its motion, recorded pose, both scanners and the IMU.
+void simulateStation(Sweep& w, std::size_t s, SimulatedLog& out) {
+  const ScanSimOptions& o = w.o;
+  const int sid = static_cast<int>(s);
+  const double t0 = static_cast<double>(s) * w.station_s;
+  const Vec3 position = o.stations[s] - out.origin_m;
+  std::seed_seq motion_seed{o.seed, static_cast<std::uint32_t>(s), 0u};
+  std::mt19937 motion_rng(motion_seed);
+  const StationMotion motion(o, position, t0, w.span_s, motion_rng);
+
+  Station st;
+  st.id = sid;
+  RawLogTruth::StationTruth truth;
+  truth.id = sid;
+  recordStation(w, s, position, st);
+  // Scans: vertical (k = 0) and horizontal (k = 1).
+  for (int k = 0; k < 2; ++k) simulateScanner(w, s, k, t0, motion, st, truth, out);
+  simulateImu(w, s, t0, motion, st.imu);
+  out.log.stations.push_back(std::move(st));
+  out.truth.stations.push_back(std::move(truth));
+}
+
+}  // namespace
+
 SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o,
                            const SimProgress& progress) {
   o.validate();
   const RayCaster caster(world, o.thin_radius_m);
   const ScannerModel& sc = o.scanner;
-  const int beams = sc.beamCount();
-  const int scans = o.scansPerStation();
-  const double turn_s = o.turn_deg / o.yaw_rate_deg_s;
-  const double span_s =
-      (scans - 1) * sc.period_s + o.horizontal_time_offset_s + sc.sweepDurationS();
-  const double station_s = turn_s + sc.period_s + o.station_gap_s;
-  const Eigen::Isometry3d mounts[2] = {o.bodyTVertical(), o.bodyTHorizontal()};
-
+  Sweep w(o, caster);
   SimulatedLog out;
   out.origin_m = o.stations.front();
-  out.log.body_T_vertical = mounts[0];
-  out.log.body_T_horizontal = mounts[1];
+  out.log.body_T_vertical = w.mounts[0];
+  out.log.body_T_horizontal = w.mounts[1];
   out.log.max_range_m = sc.max_range_m;
   out.log.min_range_m = sc.min_range_m;
-
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
   for (std::size_t s = 0; s < o.stations.size(); ++s) {
-    const int sid = static_cast<int>(s);
     if (progress) {
       progress("simulating station " + std::to_string(s + 1) + "/" +
-               std::to_string(o.stations.size()) + ": " + std::to_string(scans) +
-               " scans x 2 scanners x " + std::to_string(beams) + " beams");
+               std::to_string(o.stations.size()) + ": " + std::to_string(w.scans) +
+               " scans x 2 scanners x " + std::to_string(w.beams) + " beams");
     }
-    const double t0 = static_cast<double>(s) * station_s;
-    const Vec3 position = o.stations[s] - out.origin_m;
-    std::seed_seq motion_seed{o.seed, static_cast<std::uint32_t>(s), 0u};
-    std::mt19937 motion_rng(motion_seed);
-    const StationMotion motion(o, position, t0, span_s, motion_rng);
-
-    Station st;
-    st.id = sid;
-    RawLogTruth::StationTruth truth;
-    truth.id = sid;
-
-    // Recorded (GPS-like) position and heading.
-    std::seed_seq gps_seed{o.seed, static_cast<std::uint32_t>(s), 1u};
-    std::mt19937 gps_rng(gps_seed);
-    const Vec3 gps_error(gauss(gps_rng), gauss(gps_rng), gauss(gps_rng));
-    st.recorded_position = s == 0 ? Vec3::Zero() : Vec3(position + o.gps_sigma_m * gps_error);
-    st.recorded_yaw_rad =
-        o.start_yaw_deg * kDeg + o.imu_error_deg * kDeg * (2.0 * unit(gps_rng) - 1.0);
-
-    // Scans: vertical (k = 0) and horizontal (k = 1).
-    for (int k = 0; k < 2; ++k) {
-      const bool vertical = k == 0;
-      auto& list = vertical ? st.vertical : st.horizontal;
-      auto& poses = vertical ? truth.vertical_poses : truth.horizontal_poses;
-      list.reserve(static_cast<std::size_t>(scans));
-      // Beam directions in the body frame (the mount rotation applied once).
-      std::vector<Vec3> dirs(static_cast<std::size_t>(beams));
-      for (int b = 0; b < beams; ++b) {
-        dirs[static_cast<std::size_t>(b)] =
-            mounts[k].linear() * beamDir(vertical, sc.angleMinRad() + b * sc.angleStepRad());
-      }
-      for (int i = 0; i < scans; ++i) {
-        LaserScan scan;
-        scan.t_start_s = t0 + i * sc.period_s + (vertical ? 0.0 : o.horizontal_time_offset_s);
-        scan.duration_s = sc.sweepDurationS();
-        scan.angle_min_rad = sc.angleMinRad();
-        scan.angle_step_rad = sc.angleStepRad();
-        scan.ranges_m.assign(static_cast<std::size_t>(beams), 0.0f);
-        std::seed_seq noise_seed{o.seed, static_cast<std::uint32_t>(s), 2u,
-                                 static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i)};
-        std::mt19937 noise_rng(noise_seed);
-        const Eigen::Isometry3d start_pose = motion.pose(scan.t_start_s);
-        poses.push_back(start_pose);
-        Eigen::Isometry3d body = start_pose;
-        for (int b = 0; b < beams; ++b) {
-          const double noise = sc.range_noise_m * gauss(noise_rng);  // one draw per beam, always
-          if (o.deskew && b > 0) body = motion.pose(scan.beamTime(static_cast<std::size_t>(b)));
-          const Vec3 from = out.origin_m +
-                            body * mounts[k].translation();  // the world is in scenario coordinates
-          const Vec3 d = body.linear() * dirs[static_cast<std::size_t>(b)];
-          const double r = caster.cast(from, d, sc.max_range_m);
-          ++out.rays;
-          if (r < sc.min_range_m || r > sc.max_range_m) continue;
-          const double rho = r + noise;
-          if (rho < sc.min_range_m || rho > sc.max_range_m) continue;
-          scan.ranges_m[static_cast<std::size_t>(b)] = static_cast<float>(rho);
-          ++out.returns;
-        }
-        list.push_back(std::move(scan));
-      }
-    }
-
-    // IMU: from the first scan start to past the last beam, one sample every 1/rate.
-    std::seed_seq imu_seed{o.seed, static_cast<std::uint32_t>(s), 3u};
-    std::mt19937 imu_rng(imu_seed);
-    const double dt = 1.0 / o.imu_rate_hz;
-    const int samples = static_cast<int>(std::ceil(span_s / dt)) + 2;
-    st.imu.reserve(static_cast<std::size_t>(samples));
-    for (int j = 0; j < samples; ++j) {
-      ImuSample m;
-      m.t_s = t0 + j * dt;
-      Vec3 axis(gauss(imu_rng), gauss(imu_rng), gauss(imu_rng));
-      if (axis.norm() < 1e-12) axis = Vec3::UnitZ();
-      const double angle = o.imu_error_deg * kDeg * unit(imu_rng);
-      const Eigen::Quaterniond q_true(motion.pose(m.t_s).linear());
-      m.world_q_body =
-          (q_true * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
-      st.imu.push_back(m);
-    }
-    out.log.stations.push_back(std::move(st));
-    out.truth.stations.push_back(std::move(truth));
+    simulateStation(w, s, out);
   }
   return out;
 }

@@ -55,14 +55,14 @@ constexpr double kBytesPerVoxel = 5.0;
 double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec3& origin,
                  std::array<int, 3>& dims) {
   const double res = options.resolution_m;
+  constexpr int kMaxCells = std::numeric_limits<int>::max() / 2;  // voxels per axis, at most
   double count = 1.0;
   for (int a = 0; a < 3; ++a) {
     const double o = std::floor(lo[a] / res) * res;
     origin[a] = o;
     const double n = std::max(1.0, std::ceil((hi[a] - o) / res));
     count *= n;
-    if (n > static_cast<double>(std::numeric_limits<int>::max() / 2))
-      count = std::numeric_limits<double>::infinity();
+    if (n > static_cast<double>(kMaxCells)) count = std::numeric_limits<double>::infinity();
     dims[static_cast<std::size_t>(a)] = static_cast<int>(std::min(n, 1.0e9));
   }
   if (!(count <= static_cast<double>(options.max_voxels))) {
@@ -139,8 +139,6 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
                      box.max.array() + options.padding_m, options);
 }
 
-// Long (101 lines): checks, dimensions, occupancy and inflation each run once over the same dense
-// arrays; the inflation's sphere offsets are computed here for that loop.
 VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
                                  const GridOptions& options) {
   require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
@@ -149,65 +147,70 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
   g.content_id_ = ++last_id;
   g.reach_cache_ = std::make_shared<ReachCache>();
   g.options_ = options;
-  const double res = options.resolution_m;
 
   // The origin sits on a multiple of the resolution so that OctoMap's leaves (whose
   // boundaries are multiples of the resolution) coincide with the dense voxels.
   const double count = gridShape(lo, hi, options, g.origin_, g.dims_);
   g.blocked_.assign(static_cast<std::size_t>(count), kFree);
+  if (!cloud.empty()) g.markOccupied(cloud);
+  g.inflate();
+  g.blocked_count_ = static_cast<std::size_t>(std::count_if(
+      g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));
+  return g;
+}
 
-  auto markRange = [&g](const Vec3& a, const Vec3& b) {
-    const Index3 i0 = g.indexOf(a);
-    const Index3 i1 = g.indexOf(b);
-    for (int z = std::max(i0.z, 0); z <= std::min(i1.z, g.dims_[2] - 1); ++z) {
-      for (int y = std::max(i0.y, 0); y <= std::min(i1.y, g.dims_[1] - 1); ++y) {
-        for (int x = std::max(i0.x, 0); x <= std::min(i1.x, g.dims_[0] - 1); ++x) {
-          g.blocked_[g.linear({x, y, z})] = kOccupied;
-        }
+void VoxelGrid::markRange(const Vec3& a, const Vec3& b) {
+  const Index3 i0 = indexOf(a);
+  const Index3 i1 = indexOf(b);
+  for (int z = std::max(i0.z, 0); z <= std::min(i1.z, dims_[2] - 1); ++z) {
+    for (int y = std::max(i0.y, 0); y <= std::min(i1.y, dims_[1] - 1); ++y) {
+      for (int x = std::max(i0.x, 0); x <= std::min(i1.x, dims_[0] - 1); ++x) {
+        blocked_[linear({x, y, z})] = kOccupied;
       }
     }
-  };
-
-  // Occupancy (paper §II-G): an OcTree at the grid resolution filled with the cloud.
-  if (!cloud.empty()) {
-    octomap::OcTree tree(res);
-    for (const auto& p : cloud) {
-      octomap::OcTreeKey key;
-      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                               static_cast<float>(p.z()));
-      if (tree.coordToKeyChecked(q, key)) tree.updateNode(key, true, true);
-    }
-    tree.updateInnerOccupancy();
-    tree.prune();
-    // Leaves may be pruned into bigger cubes: cover every dense voxel inside each one.
-    const double eps = 1e-3 * res;
-    for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-      if (!tree.isNodeOccupied(*it)) continue;
-      const double half = 0.5 * it.getSize();
-      const Vec3 c(it.getX(), it.getY(), it.getZ());
-      markRange(c.array() - half + eps, c.array() + half - eps);
-    }
-    // Every measured point lies in an occupied voxel (the safety argument needs it,
-    // and it covers points outside OctoMap's key range or float rounding).
-    for (const auto& p : cloud) {
-      const Index3 i = g.indexOf(p);
-      if (g.inBounds(i)) g.blocked_[g.linear(i)] = kOccupied;
-    }
   }
+}
 
-  // Inflation: block every voxel whose centre is within r + √3·res of an occupied centre.
-  const std::vector<Index3> offsets = sphereOffsets(g.effectiveInflation() / res);
-  const int nx = g.dims_[0], ny = g.dims_[1], nz = g.dims_[2];
+void VoxelGrid::markOccupied(const PointList& cloud) {
+  const double res = options_.resolution_m;
+  // An OcTree at the grid resolution filled with the cloud.
+  octomap::OcTree tree(res);
+  for (const auto& p : cloud) {
+    octomap::OcTreeKey key;
+    const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                             static_cast<float>(p.z()));
+    if (tree.coordToKeyChecked(q, key)) tree.updateNode(key, true, true);
+  }
+  tree.updateInnerOccupancy();
+  tree.prune();
+  // Leaves may be pruned into bigger cubes: cover every dense voxel inside each one.
+  const double eps = 1e-3 * res;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const double half = 0.5 * it.getSize();
+    const Vec3 c(it.getX(), it.getY(), it.getZ());
+    markRange(c.array() - half + eps, c.array() + half - eps);
+  }
+  // Every measured point lies in an occupied voxel (the safety argument needs it,
+  // and it covers points outside OctoMap's key range or float rounding).
+  for (const auto& p : cloud) {
+    const Index3 i = indexOf(p);
+    if (inBounds(i)) blocked_[linear(i)] = kOccupied;
+  }
+}
+
+std::vector<Index3> VoxelGrid::occupiedSeeds() {
+  const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
   auto occupiedAt = [&](int x, int y, int z) {
     return x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz &&
-           g.blocked_[g.linear({x, y, z})] == kOccupied;
+           blocked_[linear({x, y, z})] == kOccupied;
   };
   std::vector<Index3> seeds;
   for (int z = 0; z < nz; ++z) {
     for (int y = 0; y < ny; ++y) {
       for (int x = 0; x < nx; ++x) {
-        if (g.blocked_[g.linear({x, y, z})] != kOccupied) continue;
-        ++g.occupied_count_;
+        if (blocked_[linear({x, y, z})] != kOccupied) continue;
+        ++occupied_count_;
         // An occupied voxel whose six face neighbours are occupied adds nothing: every
         // offset point at distance >= 1 voxel is at least as close to one of them.
         const bool interior = occupiedAt(x - 1, y, z) && occupiedAt(x + 1, y, z) &&
@@ -217,17 +220,19 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
       }
     }
   }
-  for (const auto& s : seeds) {
+  return seeds;
+}
+
+void VoxelGrid::inflate() {
+  const std::vector<Index3> offsets = sphereOffsets(effectiveInflation() / options_.resolution_m);
+  for (const auto& s : occupiedSeeds()) {
     for (const auto& o : offsets) {
       const Index3 t{s.x + o.x, s.y + o.y, s.z + o.z};
-      if (!g.inBounds(t)) continue;
-      auto& v = g.blocked_[g.linear(t)];
+      if (!inBounds(t)) continue;
+      auto& v = blocked_[linear(t)];
       if (v == kFree) v = kInflated;
     }
   }
-  g.blocked_count_ = static_cast<std::size_t>(std::count_if(
-      g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));
-  return g;
 }
 
 double VoxelGrid::effectiveInflation() const {

@@ -104,6 +104,21 @@ struct FootprintCameraOptions {
   void validate(const std::string& where = "footprint_camera") const;
 };
 
+/// A central camera: one focal length for the GSD (range·1000 / focal_px) and a
+/// projection done in the view's frame (project() makes the frame and forwards).
+class CentralCamera : public CameraModel {
+ public:
+  Projection project(const ViewPose& pose, const Vec3& point) const final;
+  double focalPx() const { return focal_px_; }  ///< focal length of the GSD rule [px]
+
+ protected:
+  /// r [m] capped by the range where the GSD reaches max_gsd_mm_per_px (0 = no cap);
+  /// throws InputError, naming `where`, for a negative or non-finite GSD.
+  double cappedRange(double r, double max_gsd_mm_per_px, const std::string& where) const;
+
+  double focal_px_{0.0};  ///< [px]
+};
+
 /// The flight strategy's camera (paper §II-F): a frustum whose footprint at the
 /// standoff D is footprint_w × footprint_h (solveCamera), i.e. a point is in the
 /// image when z > 0, |x| ≤ z·footprint_w/(2D) and |y| ≤ z·footprint_h/(2D).
@@ -111,24 +126,20 @@ struct FootprintCameraOptions {
 /// axes, as in solveCamera); with a direct footprint, the equivalent focal length of
 /// FootprintCameraOptions::assumed_image_w_px. Own range limit: D × range_slack.
 /// Immutable; thread-safe.
-class FootprintCamera final : public CameraModel {
+class FootprintCamera final : public CentralCamera {
  public:
   /// Validates the options (InputError) and solves the camera.
   explicit FootprintCamera(const FootprintCameraOptions& options);
 
-  Projection project(const ViewPose& pose, const Vec3& point) const override;
   Projection projectInFrame(const ViewFrame& frame, const Vec3& point) const override;
   double maxRange(double max_gsd_mm_per_px) const override;
-
   const CameraGeometry& geometry() const { return geometry_; }  ///< footprint and standoff
-  double focalPx() const { return focal_px_; }                  ///< equivalent focal length [px]
 
  private:
   FootprintCameraOptions options_;
   CameraGeometry geometry_;
   double tan_half_w_{0.0};  ///< footprint_w / (2·standoff)
   double tan_half_h_{0.0};  ///< footprint_h / (2·standoff)
-  double focal_px_{0.0};
 };
 
 /// Intrinsics of a pinhole camera (defaults: FC-Planner's 640 × 480 camera).
@@ -150,20 +161,17 @@ struct PinholeIntrinsics {
 
 /// Pinhole camera. GSD = range·1000 / min(fx, fy) (the worse axis). Immutable;
 /// thread-safe.
-class PinholeCamera final : public CameraModel {
+class PinholeCamera final : public CentralCamera {
  public:
   /// Validates the intrinsics (InputError).
   explicit PinholeCamera(const PinholeIntrinsics& intrinsics);
 
-  Projection project(const ViewPose& pose, const Vec3& point) const override;
   Projection projectInFrame(const ViewFrame& frame, const Vec3& point) const override;
   double maxRange(double max_gsd_mm_per_px) const override;
-
   const PinholeIntrinsics& intrinsics() const { return k_; }
 
  private:
   PinholeIntrinsics k_;
-  double focal_px_{0.0};  ///< min(fx, fy)
 };
 
 /// Line of sight between a camera and a surface point. Implementations are immutable

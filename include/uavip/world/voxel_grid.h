@@ -123,6 +123,15 @@ class VoxelGrid final : public FreeSpace {
   /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
   static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
                                const GridOptions& options);
+  /// Marks every voxel inside [a, b] (clipped to the grid) occupied.
+  void markRange(const Vec3& a, const Vec3& b);
+  /// Occupancy (paper §II-G): the cloud's OcTree leaves and every point's own voxel.
+  void markOccupied(const PointList& cloud);
+  /// Counts the occupied voxels; returns those with a free face neighbour (the
+  /// inflation's seeds, z-major order).
+  std::vector<Index3> occupiedSeeds();
+  /// Blocks every free voxel whose centre is within r + √3·res of an occupied centre.
+  void inflate();
 
   GridOptions options_;
   Vec3 origin_{Vec3::Zero()};
