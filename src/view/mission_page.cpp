@@ -195,103 +195,118 @@ struct PagePath {
   std::vector<std::pair<std::size_t, int>> entries;
 };
 
-}  // namespace
+// ---- the recorded mission (strict), and what the page shows beyond MissionRecord
 
-void MissionPageOptions::validate() const {
-  if (max_cloud_points < 1)
-    throw InputError("mission page: max_cloud_points is 0; give at least 1 point to draw");
-  if (!std::isnan(clearance_m) && !(clearance_m > 0.0 && std::isfinite(clearance_m)))
-    throw InputError("mission page: clearance_m " + std::to_string(clearance_m) +
-                     " must be a positive number of metres");
-  if (max_path_samples < 2)
-    throw InputError("mission page: max_path_samples is " + std::to_string(max_path_samples) +
-                     "; give at least 2");
-}
-
-const std::string& embeddedThreeJs() {
-  static const std::string text =
-      std::string(page_assets::kThreeJs, page_assets::kThreeJsSize) + "\n" +
-      std::string(page_assets::kOrbitControlsJs, page_assets::kOrbitControlsJsSize);
-  return text;
-}
-
-std::string missionPage(const Scene& scene, const json* mission, const MissionPageOptions& options,
-                        const std::string& mission_path) {
-  options.validate();
-
-  // ---- the recorded mission (strict), and what the page shows beyond MissionRecord
+/// A mission record with the extras the page shows (stop targets, camera, coverage, flight).
+struct RecordedMission {
   io::MissionRecord rec;
-  std::vector<std::vector<StopExtra>> stop_extra;
-  std::vector<json> surface_extra;
-  json flight_extra = json::object();
-  if (mission != nullptr) {
-    rec = io::missionFromJson(*mission, mission_path);
-    const json& surfaces = mission->at("surfaces");
-    for (std::size_t i = 0; i < rec.surfaces.size(); ++i) {
-      const json& sj = surfaces[i];
-      std::vector<StopExtra> extras(rec.surfaces[i].stops.size());
-      const json& stops = sj.at("stops");
-      for (std::size_t k = 0; k < extras.size(); ++k) {
-        const json& t = stops[k].contains("target") ? stops[k].at("target") : json();
-        if (t.is_array() && t.size() == 3 && t[0].is_number() && t[1].is_number() &&
-            t[2].is_number()) {
-          extras[k].target = {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
-          extras[k].has_target = extras[k].target.allFinite();
-        }
-      }
-      stop_extra.push_back(std::move(extras));
-      json e = json::object();
-      if (sj.contains("camera")) e["camera"] = sj.at("camera");
-      if (sj.contains("coverage")) e["coverage"] = sj.at("coverage");
-      e["path_length_m"] = numberOr(sj, "path_length_m", 0.0);
-      surface_extra.push_back(e);
-    }
-    if (mission->contains("flight") && mission->at("flight").is_object()) {
-      const json& f = mission->at("flight");
-      for (const char* k : {"length_m", "duration_s"})
-        if (f.contains(k) && f.at(k).is_number()) flight_extra[k] = f.at(k);
-      const bool ok = f.contains("status") && f.at("status") == "ok";
-      if (ok && f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3)
-        flight_extra["home"] = f.at("home");
-      if (f.contains("home_source") && f.at("home_source").is_string())
-        flight_extra["home_source"] = f.at("home_source");
+  std::vector<std::vector<StopExtra>> stop_extra;  ///< [surface][stop], as rec.surfaces
+  std::vector<json> surface_extra;                 ///< camera, coverage, path_length_m
+  json flight_extra = json::object();              ///< length_m, duration_s, home, home_source
+};
+
+/// The aimed-at point of each of n stops, where the JSON gives a finite one.
+std::vector<StopExtra> stopExtras(const json& stops, std::size_t n) {
+  std::vector<StopExtra> extras(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const json& t = stops[k].contains("target") ? stops[k].at("target") : json();
+    if (t.is_array() && t.size() == 3 && t[0].is_number() && t[1].is_number() && t[2].is_number()) {
+      extras[k].target = {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
+      extras[k].has_target = extras[k].target.allFinite();
     }
   }
+  return extras;
+}
 
-  // ---- the paths: sorties of an ordered flight, else each flyable surface's own path
+/// A surface mission's camera, coverage and path length [m] as the page lists them.
+json surfaceExtra(const json& sj) {
+  json e = json::object();
+  if (sj.contains("camera")) e["camera"] = sj.at("camera");
+  if (sj.contains("coverage")) e["coverage"] = sj.at("coverage");
+  e["path_length_m"] = numberOr(sj, "path_length_m", 0.0);
+  return e;
+}
+
+/// The flight's length [m], duration [s] and home (only for an "ok" flight).
+json flightExtra(const json& mission) {
+  json extra = json::object();
+  if (!mission.contains("flight") || !mission.at("flight").is_object()) return extra;
+  const json& f = mission.at("flight");
+  for (const char* k : {"length_m", "duration_s"})
+    if (f.contains(k) && f.at(k).is_number()) extra[k] = f.at(k);
+  const bool ok = f.contains("status") && f.at("status") == "ok";
+  if (ok && f.contains("home") && f.at("home").is_array() && f.at("home").size() == 3)
+    extra["home"] = f.at("home");
+  if (f.contains("home_source") && f.at("home_source").is_string())
+    extra["home_source"] = f.at("home_source");
+  return extra;
+}
+
+/// The mission JSON read strictly (empty without one), with its extras.
+RecordedMission readMission(const json* mission, const std::string& mission_path) {
+  RecordedMission m;
+  if (mission == nullptr) return m;
+  m.rec = io::missionFromJson(*mission, mission_path);
+  const json& surfaces = mission->at("surfaces");
+  for (std::size_t i = 0; i < m.rec.surfaces.size(); ++i) {
+    const json& sj = surfaces[i];
+    m.stop_extra.push_back(stopExtras(sj.at("stops"), m.rec.surfaces[i].stops.size()));
+    m.surface_extra.push_back(surfaceExtra(sj));
+  }
+  m.flight_extra = flightExtra(*mission);
+  return m;
+}
+
+// ---- the paths: sorties of an ordered flight, else each flyable surface's own path
+
+/// Whether the mission has an ordered flight ("ok", at least one sortie).
+bool flownInOrder(const io::MissionRecord& rec) {
+  return rec.flight && rec.flight->status == "ok" && !rec.flight->sorties.empty();
+}
+
+/// Colour of path k: palette colour darkened by 35 %.
+std::string pathColor(int k) { return hex(render::palette(k).mix(render::kBlack, 0.35)); }
+
+/// One path per sortie, with an entry wherever the next stop's surface changes.
+std::vector<PagePath> sortiePaths(const io::FlightRecord& flight) {
   std::vector<PagePath> paths;
-  const bool flown = rec.flight && rec.flight->status == "ok" && !rec.flight->sorties.empty();
-  if (flown) {
-    int current = -1;
-    for (std::size_t k = 0; k < rec.flight->sorties.size(); ++k) {
-      const auto& s = rec.flight->sorties[k];
-      PagePath p{"sortie " + std::to_string(k + 1),
-                 hex(render::palette(static_cast<int>(k)).mix(render::kBlack, 0.35)),
-                 s.waypoints,
-                 {}};
-      for (const auto& st : s.stops) {
-        if (st.surface_id == current) continue;
-        current = st.surface_id;
-        p.entries.emplace_back(st.waypoint, st.surface_id);
-      }
-      paths.push_back(std::move(p));
+  int current = -1;
+  for (std::size_t k = 0; k < flight.sorties.size(); ++k) {
+    const auto& s = flight.sorties[k];
+    PagePath p{"sortie " + std::to_string(k + 1), pathColor(static_cast<int>(k)), s.waypoints, {}};
+    for (const auto& st : s.stops) {
+      if (st.surface_id == current) continue;
+      current = st.surface_id;
+      p.entries.emplace_back(st.waypoint, st.surface_id);
     }
-  } else {
-    for (const auto& s : rec.surfaces) {
-      if (!s.flyable() || s.waypoints.size() < 2) continue;
-      paths.push_back({"surface " + std::to_string(s.surface_id),
-                       hex(render::palette(s.surface_id).mix(render::kBlack, 0.35)),
-                       s.waypoints,
-                       {{0, s.surface_id}}});
-    }
+    paths.push_back(std::move(p));
   }
+  return paths;
+}
 
-  // ---- the box of everything drawn, and its quantiser
+/// One path per flyable surface with at least two waypoints.
+std::vector<PagePath> surfacePaths(const io::MissionRecord& rec) {
+  std::vector<PagePath> paths;
+  for (const auto& s : rec.surfaces) {
+    if (!s.flyable() || s.waypoints.size() < 2) continue;
+    paths.push_back({"surface " + std::to_string(s.surface_id),
+                     pathColor(s.surface_id),
+                     s.waypoints,
+                     {{0, s.surface_id}}});
+  }
+  return paths;
+}
+
+// ---- the box of everything drawn, and its quantiser
+
+/// Box of the cloud, the stops and their targets, the paths and the surface boundaries;
+/// [-1, 1]³ when there is nothing to draw.
+Aabb drawnBox(const Scene& scene, const RecordedMission& m, const std::vector<PagePath>& paths) {
   Aabb box = boundingBox(scene.cloud);
-  for (std::size_t i = 0; i < rec.surfaces.size(); ++i) {
-    for (std::size_t k = 0; k < rec.surfaces[i].stops.size(); ++k) {
-      box.extend(rec.surfaces[i].stops[k].position);
-      if (stop_extra[i][k].has_target) box.extend(stop_extra[i][k].target);
+  for (std::size_t i = 0; i < m.rec.surfaces.size(); ++i) {
+    for (std::size_t k = 0; k < m.rec.surfaces[i].stops.size(); ++k) {
+      box.extend(m.rec.surfaces[i].stops[k].position);
+      if (m.stop_extra[i][k].has_target) box.extend(m.stop_extra[i][k].target);
     }
   }
   for (const auto& p : paths)
@@ -300,11 +315,29 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
     for (const auto& b : s.boundary) box.extend(b);
   if (box.empty())
     box = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};  // nothing to draw: an empty page
+  return box;
+}
+
+/// The quantiser over a box, each side at least 1 mm.
+Quantiser quantiserOver(const Aabb& box) {
   Quantiser q;
   q.min = box.min;
   q.size = (box.max - box.min).cwiseMax(Vec3::Constant(1e-3));
+  return q;
+}
 
-  // ---- the cloud: class and surface of each point, evenly decimated
+// ---- the cloud: class and surface of each point, evenly decimated
+
+/// The page's cloud layer: every stride-th point with its class and surface.
+struct CloudLayer {
+  Bytes pos, cls, sid;
+  std::size_t stride{1};
+  std::size_t drawn{0};
+  std::array<std::size_t, 3> class_count{0, 0, 0};
+};
+
+/// Surface inliers (class 1) and obstacle points (class 2), sorted by position.
+std::vector<PointClass> pointClasses(const Scene& scene) {
   std::vector<PointClass> classes;
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
     for (const auto& p : scene.surfaces[i].inliers)
@@ -314,28 +347,36 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   for (const auto& o : scene.obstacles)
     for (const auto& p : o.points) classes.push_back({{p.x(), p.y(), p.z()}, 2, kNoSurface});
   std::sort(classes.begin(), classes.end());
+  return classes;
+}
+
+/// The cloud decimated to at most max_points, each point classed by exact position.
+CloudLayer cloudLayer(const Scene& scene, const Quantiser& q, std::size_t max_points) {
+  const std::vector<PointClass> classes = pointClasses(scene);
+  CloudLayer c;
   const std::size_t n = scene.cloud.size();
-  const std::size_t stride = (n + options.max_cloud_points - 1) / options.max_cloud_points;
-  Bytes cloud_pos, cloud_cls, cloud_sid;
-  std::size_t drawn = 0;
-  std::array<std::size_t, 3> class_count{0, 0, 0};
-  for (std::size_t i = 0; i < n; i += stride) {
+  c.stride = (n + max_points - 1) / max_points;
+  for (std::size_t i = 0; i < n; i += c.stride) {
     const Vec3& p = scene.cloud[i];
     const PointClass probe{{p.x(), p.y(), p.z()}, 0, kNoSurface};
     auto it = std::lower_bound(classes.begin(), classes.end(), probe);
     const bool found = it != classes.end() && it->key == probe.key;
-    const PointClass& c = found ? *it : probe;
-    q.put(cloud_pos, p);
-    cloud_cls.u8(c.cls);
-    cloud_sid.u16(c.surface);
-    ++class_count[c.cls];
-    ++drawn;
+    const PointClass& pc = found ? *it : probe;
+    q.put(c.pos, p);
+    c.cls.u8(pc.cls);
+    c.sid.u16(pc.surface);
+    ++c.class_count[pc.cls];
+    ++c.drawn;
   }
+  return c;
+}
 
-  // ---- surfaces: boundary, status from the mission
+// ---- surfaces: boundary, status from the mission
+
+/// Each scene surface with its boundary and its status in the mission.
+json surfacesJson(const Scene& scene, const io::MissionRecord& rec, const Quantiser& q) {
   json surfaces = json::array();
-  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-    const Surface& s = scene.surfaces[i];
+  for (const Surface& s : scene.surfaces) {
     Bytes b;
     for (const auto& p : s.boundary) q.put(b, p);
     const io::SurfaceRecord* r = rec.surface(s.id);
@@ -351,161 +392,237 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
               {"boundary_n", s.boundary.size()}};
     surfaces.push_back(e);
   }
+  return surfaces;
+}
 
-  // ---- photo stops
-  Bytes stop_pos, stop_tgt, stop_ang, stop_sid, stop_idx, stop_flown;
-  std::size_t photos = 0, photos_flown = 0, waypoints = 0;
+// ---- photo stops
+
+/// The photo stops of all surface missions, and the missions' list entries.
+struct StopLayer {
+  Bytes pos, tgt, ang, sid, idx, flown;
+  std::size_t photos{0}, photos_flown{0}, waypoints{0};
   json missions = json::array();
-  for (std::size_t i = 0; i < rec.surfaces.size(); ++i) {
-    const io::SurfaceRecord& s = rec.surfaces[i];
-    waypoints += s.waypoints.size();
-    json m = surface_extra[i];
-    m["surface_id"] = s.surface_id;
-    m["status"] = s.status;
-    m["reason"] = s.reason;
-    m["color"] = hex(render::palette(s.surface_id));
-    m["stops"] = s.stops.size();
-    m["waypoints"] = s.waypoints.size();
-    missions.push_back(m);
+};
+
+/// A surface mission's entry in the page's list.
+json missionJson(const io::SurfaceRecord& s, const json& extra) {
+  json m = extra;
+  m["surface_id"] = s.surface_id;
+  m["status"] = s.status;
+  m["reason"] = s.reason;
+  m["color"] = hex(render::palette(s.surface_id));
+  m["stops"] = s.stops.size();
+  m["waypoints"] = s.waypoints.size();
+  return m;
+}
+
+/// Position, target, yaw and gimbal pitch [deg], mission, index and flown flag of every stop.
+StopLayer stopLayer(const RecordedMission& m, const Quantiser& q) {
+  StopLayer l;
+  for (std::size_t i = 0; i < m.rec.surfaces.size(); ++i) {
+    const io::SurfaceRecord& s = m.rec.surfaces[i];
+    l.waypoints += s.waypoints.size();
+    l.missions.push_back(missionJson(s, m.surface_extra[i]));
     for (std::size_t k = 0; k < s.stops.size(); ++k) {
       const io::StopRecord& st = s.stops[k];
-      q.put(stop_pos, st.position);
-      q.put(stop_tgt, stop_extra[i][k].has_target ? stop_extra[i][k].target : st.position);
-      stop_ang.f32(st.yaw_deg);
-      stop_ang.f32(st.gimbal_pitch_deg);
-      stop_sid.u16(static_cast<unsigned>(std::min<std::size_t>(i, kNoSurface)));
-      stop_idx.u32(static_cast<std::uint32_t>(k));
-      stop_flown.u8(st.flown() ? 1 : 0);
-      ++photos;
-      photos_flown += st.flown();
+      const StopExtra& x = m.stop_extra[i][k];
+      q.put(l.pos, st.position);
+      q.put(l.tgt, x.has_target ? x.target : st.position);
+      l.ang.f32(st.yaw_deg);
+      l.ang.f32(st.gimbal_pitch_deg);
+      l.sid.u16(static_cast<unsigned>(std::min<std::size_t>(i, kNoSurface)));
+      l.idx.u32(static_cast<std::uint32_t>(k));
+      l.flown.u8(st.flown() ? 1 : 0);
+      ++l.photos;
+      l.photos_flown += st.flown();
     }
   }
+  return l;
+}
 
-  // ---- paths resampled with the clearance at each sample
-  double total_length = 0.0;
+// ---- paths resampled with the clearance at each sample
+
+/// The page's paths, and what the summary counts of them.
+struct PathLayer {
+  json list = json::array();
+  std::size_t flight_waypoints{0};
+  double min_clearance{std::numeric_limits<double>::infinity()};  ///< [m]
+};
+
+/// Summed length of all paths [m].
+double totalLength(const std::vector<PagePath>& paths) {
+  double total = 0.0;
   for (const auto& p : paths)
     for (std::size_t k = 1; k < p.waypoints.size(); ++k)
-      total_length += (p.waypoints[k] - p.waypoints[k - 1]).norm();
-  const double step =
-      std::max(total_length / static_cast<double>(options.max_path_samples), 0.05);  // [m]
-  const Clearance clearance(scene.cloud, box.min);
-  json path_list = json::array();
-  std::size_t flight_waypoints = 0;
-  double min_clearance = std::numeric_limits<double>::infinity();
-  for (const auto& p : paths) {
-    flight_waypoints += p.waypoints.size();
-    Bytes wp, samples, clear, sample_of_waypoint;
-    std::size_t count = 0;
-    auto sample = [&](const Vec3& x) {
-      q.put(samples, x);
-      const double c = clearance.at(x);
-      min_clearance = std::min(min_clearance, c);
-      clear.u16(static_cast<unsigned>(std::min(std::lround(c * 100.0), 65535L)));  // [cm]
-      ++count;
-    };
-    for (std::size_t k = 0; k < p.waypoints.size(); ++k) {
-      q.put(wp, p.waypoints[k]);
-      sample_of_waypoint.u32(static_cast<std::uint32_t>(count));
-      sample(p.waypoints[k]);
-      if (k + 1 == p.waypoints.size()) break;
-      const Vec3 a = p.waypoints[k], b = p.waypoints[k + 1];
-      const auto pieces = static_cast<std::size_t>(std::ceil((b - a).norm() / step));
-      for (std::size_t j = 1; j < pieces; ++j)
-        sample(a + (b - a) * (static_cast<double>(j) / static_cast<double>(pieces)));
-    }
-    json entries = json::array();
-    for (const auto& [w, id] : p.entries) entries.push_back({w, id});
-    path_list.push_back({{"label", p.label},
-                         {"color", p.color},
-                         {"waypoints", wp.str()},
-                         {"waypoint_n", p.waypoints.size()},
-                         {"sample_of_waypoint", sample_of_waypoint.str()},
-                         {"samples", samples.str()},
-                         {"sample_n", count},
-                         {"clearance_cm", clear.str()},
-                         {"entries", entries}});
-  }
+      total += (p.waypoints[k] - p.waypoints[k - 1]).norm();
+  return total;
+}
 
-  // ---- the summary line and the counts
-  const std::size_t sorties = flown ? rec.flight->sorties.size() : 0;
+/// One path's JSON: its waypoints, and samples at most step [m] apart with their clearance
+/// [cm]; lowers min_clearance [m] to the least clearance sampled.
+json resampledPath(const PagePath& p, const Quantiser& q, const Clearance& clearance, double step,
+                   double& min_clearance) {
+  Bytes wp, samples, clear, sample_of_waypoint;
+  std::size_t count = 0;
+  auto sample = [&](const Vec3& x) {
+    q.put(samples, x);
+    const double c = clearance.at(x);
+    min_clearance = std::min(min_clearance, c);
+    clear.u16(static_cast<unsigned>(std::min(std::lround(c * 100.0), 65535L)));  // [cm]
+    ++count;
+  };
+  for (std::size_t k = 0; k < p.waypoints.size(); ++k) {
+    q.put(wp, p.waypoints[k]);
+    sample_of_waypoint.u32(static_cast<std::uint32_t>(count));
+    sample(p.waypoints[k]);
+    if (k + 1 == p.waypoints.size()) break;
+    const Vec3 a = p.waypoints[k], b = p.waypoints[k + 1];
+    const auto pieces = static_cast<std::size_t>(std::ceil((b - a).norm() / step));
+    for (std::size_t j = 1; j < pieces; ++j)
+      sample(a + (b - a) * (static_cast<double>(j) / static_cast<double>(pieces)));
+  }
+  json entries = json::array();
+  for (const auto& [w, id] : p.entries) entries.push_back({w, id});
+  return {{"label", p.label},
+          {"color", p.color},
+          {"waypoints", wp.str()},
+          {"waypoint_n", p.waypoints.size()},
+          {"sample_of_waypoint", sample_of_waypoint.str()},
+          {"samples", samples.str()},
+          {"sample_n", count},
+          {"clearance_cm", clear.str()},
+          {"entries", entries}};
+}
+
+/// All paths resampled to about max_samples samples in all (steps of at least 5 cm), with
+/// the clearance to the scene's cloud.
+PathLayer pathLayer(const std::vector<PagePath>& paths, const Scene& scene, const Quantiser& q,
+                    std::size_t max_samples) {
+  const double step = std::max(totalLength(paths) / static_cast<double>(max_samples), 0.05);  // [m]
+  const Clearance clearance(scene.cloud, q.min);
+  PathLayer l;
+  for (const auto& p : paths) {
+    l.flight_waypoints += p.waypoints.size();
+    l.list.push_back(resampledPath(p, q, clearance, step, l.min_clearance));
+  }
+  return l;
+}
+
+// ---- the summary line and the counts
+
+/// What the page draws, as the summary and the data both need it.
+struct PageLayers {
+  const Scene& scene;
+  const RecordedMission& m;
+  bool has_mission;
+  bool flown;
+  const CloudLayer& cloud;
+  const StopLayer& stops;
+  const PathLayer& paths;
+  std::size_t sorties() const { return flown ? m.rec.flight->sorties.size() : 0; }
+};
+
+/// The one-line summary under the heading.
+std::string summaryLine(const PageLayers& l) {
+  const Scene& scene = l.scene;
   std::ostringstream line;
   line << scene.cloud.size() << " cloud points"
-       << (drawn < scene.cloud.size() ? " (" + std::to_string(drawn) + " in the page)"
-                                      : std::string())
+       << (l.cloud.drawn < scene.cloud.size()
+               ? " (" + std::to_string(l.cloud.drawn) + " in the page)"
+               : std::string())
        << ", " << scene.surfaces.size() << " surfaces, " << scene.obstacles.size()
        << " obstacle clusters";
-  if (mission != nullptr) {
+  if (l.has_mission) {
+    const io::MissionRecord& rec = l.m.rec;
     std::size_t ok = 0;
     for (const auto& s : rec.surfaces) ok += s.flyable();
     line << " | " << rec.surfaces.size() << " surfaces planned, " << ok
-         << " with a flight: " << photos << " photo stops, " << waypoints << " waypoints";
-    if (flown) {
-      line << " | flight " << formatFixed(numberOr(flight_extra, "length_m", 0.0), 1) << " m, "
-           << formatFixed(numberOr(flight_extra, "duration_s", 0.0) / 60.0, 1) << " min, "
+         << " with a flight: " << l.stops.photos << " photo stops, " << l.stops.waypoints
+         << " waypoints";
+    if (l.flown) {
+      const std::size_t sorties = l.sorties();
+      line << " | flight " << formatFixed(numberOr(l.m.flight_extra, "length_m", 0.0), 1) << " m, "
+           << formatFixed(numberOr(l.m.flight_extra, "duration_s", 0.0) / 60.0, 1) << " min, "
            << sorties << " sortie" << (sorties == 1 ? "" : "s");
     } else if (rec.flight) {
       line << " | no ordered flight (" << rec.flight->status << ")";
     }
   }
   line << " | local ENU frame, metres";
+  return line.str();
+}
 
-  json summary = {{"format", "uavip-mission-page"},
-                  {"version", 1},
-                  {"photos", photos},
-                  {"photos_flown", photos_flown},
-                  {"waypoints", waypoints},
-                  {"flight_waypoints", flight_waypoints},
-                  {"sorties", sorties},
-                  {"surfaces_planned", rec.surfaces.size()},
-                  {"scene_surfaces", scene.surfaces.size()},
-                  {"obstacles", scene.obstacles.size()},
-                  {"cloud_points", scene.cloud.size()},
-                  {"cloud_points_drawn", drawn},
-                  {"min_clearance_m", std::isfinite(min_clearance)
-                                          ? json(std::round(min_clearance * 1000.0) / 1000.0)
-                                          : json(nullptr)}};
+/// The counts the page's test and tools read (uavip-summary).
+json summaryJson(const PageLayers& l) {
+  const double c = l.paths.min_clearance;
+  return {{"format", "uavip-mission-page"},
+          {"version", 1},
+          {"photos", l.stops.photos},
+          {"photos_flown", l.stops.photos_flown},
+          {"waypoints", l.stops.waypoints},
+          {"flight_waypoints", l.paths.flight_waypoints},
+          {"sorties", l.sorties()},
+          {"surfaces_planned", l.m.rec.surfaces.size()},
+          {"scene_surfaces", l.scene.surfaces.size()},
+          {"obstacles", l.scene.obstacles.size()},
+          {"cloud_points", l.scene.cloud.size()},
+          {"cloud_points_drawn", l.cloud.drawn},
+          {"min_clearance_m",
+           std::isfinite(c) ? json(std::round(c * 1000.0) / 1000.0) : json(nullptr)}};
+}
 
-  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
-  json data = {
-      {"title", options.title},
-      {"summary_line", line.str()},
-      {"box_min", vec(q.min)},
-      {"box_size", vec(q.size)},
-      {"spacing_m", spacing},
-      {"inflation_radius_m", std::isfinite(options.clearance_m)      ? json(options.clearance_m)
-                             : std::isfinite(rec.inflation_radius_m) ? json(rec.inflation_radius_m)
-                                                                     : json(nullptr)},
-      {"colors",
-       {{"other", hex(render::Color{0.78, 0.78, 0.78})},
-        {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
-      {"cloud",
-       {{"n", drawn},
-        {"stride", stride},
-        {"by_class", class_count},
-        {"pos", cloud_pos.str()},
-        {"cls", cloud_cls.str()},
-        {"sid", cloud_sid.str()}}},
-      {"surfaces", surfaces},
-      {"missions", missions},
-      {"stops",
-       {{"n", photos},
-        {"pos", stop_pos.str()},
-        {"target", stop_tgt.str()},
-        {"angles", stop_ang.str()},
-        {"mission", stop_sid.str()},
-        {"index", stop_idx.str()},
-        {"flown", stop_flown.str()}}},
-      {"flown", flown},
-      {"flight", flight_extra},
-      {"paths", path_list}};
+// ---- the data the page's script draws
 
-  std::string html;
-  html.reserve(embeddedThreeJs().size() + cloud_pos.b.size() * 2 + 100000);
-  html +=
-      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" "
-      "content=\"width=device-width, initial-scale=1\">\n<title>";
-  html += htmlEscape(options.title);
-  html += R"(</title>
+/// Everything the page's script draws (uavip-data).
+json dataJson(const PageLayers& l, const json& surfaces, const Quantiser& q,
+              const MissionPageOptions& options) {
+  const double spacing = l.scene.measured ? l.scene.measured->spacing_m : 0.0;
+  const double inflation = l.m.rec.inflation_radius_m;
+  const CloudLayer& c = l.cloud;
+  const StopLayer& s = l.stops;
+  return {{"title", options.title},
+          {"summary_line", summaryLine(l)},
+          {"box_min", vec(q.min)},
+          {"box_size", vec(q.size)},
+          {"spacing_m", spacing},
+          {"inflation_radius_m", std::isfinite(options.clearance_m) ? json(options.clearance_m)
+                                 : std::isfinite(inflation)         ? json(inflation)
+                                                                    : json(nullptr)},
+          {"colors",
+           {{"other", hex(render::Color{0.78, 0.78, 0.78})},
+            {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
+          {"cloud",
+           {{"n", c.drawn},
+            {"stride", c.stride},
+            {"by_class", c.class_count},
+            {"pos", c.pos.str()},
+            {"cls", c.cls.str()},
+            {"sid", c.sid.str()}}},
+          {"surfaces", surfaces},
+          {"missions", s.missions},
+          {"stops",
+           {{"n", s.photos},
+            {"pos", s.pos.str()},
+            {"target", s.tgt.str()},
+            {"angles", s.ang.str()},
+            {"mission", s.sid.str()},
+            {"index", s.idx.str()},
+            {"flown", s.flown.str()}}},
+          {"flown", l.flown},
+          {"flight", l.m.flight_extra},
+          {"paths", l.paths.list}};
+}
+
+// ---- the HTML document
+
+/// The page up to the title text.
+constexpr const char* kHeadOpen =
+    "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" "
+    "content=\"width=device-width, initial-scale=1\">\n<title>";
+
+/// The page from the end of the title to the summary JSON: style and the side panel's
+/// and the view's markup, which the page's script fills.
+constexpr const char* kHeadRestAndBody = R"(</title>
 <!-- uavip mission page (issue 22): three.js r111 (MIT licence, threejs.org) and the data are inlined; no network. -->
 <style>
 html,body{margin:0;height:100%;overflow:hidden;font:13px/1.35 sans-serif;background:#fff;color:#222}
@@ -548,6 +665,15 @@ label{display:block;white-space:nowrap}
 </div>
 <div id="uavip-state" hidden></div>
 <script type="application/json" id="uavip-summary">)";
+
+/// The self-contained page: markup, the summary and data JSON, three.js and the page's script.
+std::string htmlDocument(const std::string& title, const json& summary, const json& data,
+                         std::size_t cloud_bytes) {
+  std::string html;
+  html.reserve(embeddedThreeJs().size() + cloud_bytes * 2 + 100000);
+  html += kHeadOpen;
+  html += htmlEscape(title);
+  html += kHeadRestAndBody;
   html += scriptJson(summary);
   html += "</script>\n<script type=\"application/json\" id=\"uavip-data\">";
   html += scriptJson(data);
@@ -557,6 +683,42 @@ label{display:block;white-space:nowrap}
   html += std::string(page_assets::kPageJs, page_assets::kPageJsSize);
   html += "\n</script>\n</body></html>\n";
   return html;
+}
+
+}  // namespace
+
+void MissionPageOptions::validate() const {
+  if (max_cloud_points < 1)
+    throw InputError("mission page: max_cloud_points is 0; give at least 1 point to draw");
+  if (!std::isnan(clearance_m) && !(clearance_m > 0.0 && std::isfinite(clearance_m)))
+    throw InputError("mission page: clearance_m " + std::to_string(clearance_m) +
+                     " must be a positive number of metres");
+  if (max_path_samples < 2)
+    throw InputError("mission page: max_path_samples is " + std::to_string(max_path_samples) +
+                     "; give at least 2");
+}
+
+const std::string& embeddedThreeJs() {
+  static const std::string text =
+      std::string(page_assets::kThreeJs, page_assets::kThreeJsSize) + "\n" +
+      std::string(page_assets::kOrbitControlsJs, page_assets::kOrbitControlsJsSize);
+  return text;
+}
+
+std::string missionPage(const Scene& scene, const json* mission, const MissionPageOptions& options,
+                        const std::string& mission_path) {
+  options.validate();
+  const RecordedMission m = readMission(mission, mission_path);
+  const bool flown = flownInOrder(m.rec);
+  const std::vector<PagePath> paths = flown ? sortiePaths(*m.rec.flight) : surfacePaths(m.rec);
+  const Quantiser q = quantiserOver(drawnBox(scene, m, paths));
+  const CloudLayer cloud = cloudLayer(scene, q, options.max_cloud_points);
+  const json surfaces = surfacesJson(scene, m.rec, q);
+  const StopLayer stops = stopLayer(m, q);
+  const PathLayer path_layer = pathLayer(paths, scene, q, options.max_path_samples);
+  const PageLayers layers{scene, m, mission != nullptr, flown, cloud, stops, path_layer};
+  return htmlDocument(options.title, summaryJson(layers), dataJson(layers, surfaces, q, options),
+                      cloud.pos.b.size());
 }
 
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
