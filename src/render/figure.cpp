@@ -722,35 +722,19 @@ Panel& Figure::addPanel(double x_px, double y_px, double w_px, double h_px,
 }
 
 void Figure::text(double x_px, double y_px, const std::string& text, const TextStyle& style) {
-  Item it;
-  it.kind = Kind::Text;
-  it.x = x_px;
-  it.y = y_px;
-  it.text = text;
-  it.text_style = style;
-  items_.push_back(std::move(it));
+  // {kind, x, y, w, h, text, text_style, style, entries}
+  items_.push_back(Item{Kind::Text, x_px, y_px, 0.0, 0.0, text, style, Style{}, {}});
 }
 
 void Figure::rectangle(double x_px, double y_px, double w_px, double h_px, const Style& style) {
-  Item it;
-  it.kind = Kind::Rectangle;
-  it.x = x_px;
-  it.y = y_px;
-  it.w = w_px;
-  it.h = h_px;
-  it.style = style;
-  items_.push_back(std::move(it));
+  items_.push_back(Item{Kind::Rectangle, x_px, y_px, w_px, h_px, {}, TextStyle{}, style, {}});
 }
 
 void Figure::legend(double x_px, double y_px, const std::vector<LegendEntry>& entries,
                     double size_px) {
-  Item it;
-  it.kind = Kind::Legend;
-  it.x = x_px;
-  it.y = y_px;
-  it.entries = entries;
-  it.text_style.size_px = size_px;
-  items_.push_back(std::move(it));
+  TextStyle text_style;
+  text_style.size_px = size_px;
+  items_.push_back(Item{Kind::Legend, x_px, y_px, 0.0, 0.0, {}, text_style, Style{}, entries});
 }
 
 void Figure::draw(void* cairo) const {
