@@ -65,6 +65,7 @@ void countGraph(const ob::Planner& planner, const ob::SpaceInformationPtr& si, b
 
 std::vector<std::string> plannerStatusNames() {
   std::vector<std::string> names;
+  names.reserve(ob::PlannerStatus::TYPE_COUNT);
   for (int i = 0; i < ob::PlannerStatus::TYPE_COUNT; ++i) {
     names.push_back(ob::PlannerStatus(static_cast<ob::PlannerStatus::StatusType>(i)).asString());
   }

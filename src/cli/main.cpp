@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <iostream>
 #include <new>
 #include <set>
@@ -43,7 +44,11 @@ int CommandRegistry::dispatch() const {
 
 }  // namespace uavip::cli
 
-int main(int argc, char** argv) {
+namespace {
+
+/// The CLI: parses the command line and runs the command; every error it can report
+/// becomes one line and an exit code (src/cli/commands.h).
+int runUavip(int argc, char** argv) {
   uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages
                                      // 1-2
   using namespace uavip::cli;
@@ -112,6 +117,18 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "uavip: internal error: " << uavip::escapeControl(e.what()) << "\n";
+    return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return runUavip(argc, argv);
+  } catch (...) {
+    // Only setting up the commands (CLI11, memory) can still throw here.
+    std::fputs("uavip: error: the command line could not be set up\n", stderr);
     return 1;
   }
 }
