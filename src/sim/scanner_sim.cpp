@@ -8,13 +8,13 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/random.h"
 #include "uavip/core/text.h"
 
 namespace uavip::sim {
 namespace {
 
 constexpr double kDeg = kDegToRad;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Hits closer than this to the ray origin are ignored (self-intersection guard) [m].
 constexpr double kMinHit = 1e-9;
 /// Leaves of the BVH hold at most this many shapes.
@@ -432,7 +432,7 @@ void recordStation(Sweep& w, std::size_t s, const Vec3& position, Station& st) {
   std::seed_seq gps_seed{o.seed, static_cast<std::uint32_t>(s), 1u};
   std::mt19937 gps_rng(gps_seed);
   auto& gauss = w.gauss;
-  const Vec3 gps_error(gauss(gps_rng), gauss(gps_rng), gauss(gps_rng));
+  const Vec3 gps_error = drawVec3(gauss, gps_rng);
   st.recorded_position = s == 0 ? Vec3::Zero() : Vec3(position + o.gps_sigma_m * gps_error);
   st.recorded_yaw_rad =
       o.start_yaw_deg * kDeg + o.imu_error_deg * kDeg * (2.0 * w.unit(gps_rng) - 1.0);
@@ -507,7 +507,7 @@ void simulateImu(Sweep& w, std::size_t s, double t0, const StationMotion& motion
   for (int j = 0; j < samples; ++j) {
     ImuSample m;
     m.t_s = t0 + j * dt;
-    Vec3 axis(gauss(imu_rng), gauss(imu_rng), gauss(imu_rng));
+    Vec3 axis = drawVec3(gauss, imu_rng);
     if (axis.norm() < 1e-12) axis = Vec3::UnitZ();
     const double angle = o.imu_error_deg * kDeg * w.unit(imu_rng);
     const Eigen::Quaterniond q_true(motion.pose(m.t_s).linear());

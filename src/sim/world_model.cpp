@@ -10,6 +10,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/random.h"
 
 namespace uavip::sim {
 
@@ -159,7 +160,7 @@ void WorldModel::addTree(const std::string& name, const Vec3& base, const TreeOp
   for (int i = 0; i < o.crown_boxes; ++i) {
     Vec3 d;
     do {
-      d = Vec3(unit(rng), unit(rng), unit(rng));
+      d = drawVec3(unit, rng);
     } while (d.squaredNorm() > 1.0);
     const Vec3 c = crown_centre + o.crown_radius_m * d;
     addBox(name + "/crown" + std::to_string(i), c - h, c + h);

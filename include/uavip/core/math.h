@@ -13,6 +13,10 @@ namespace uavip {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;  ///< [rad/deg]
 constexpr double kRadToDeg = 180.0 / kPi;  ///< [deg/rad]
+/// +∞, the "nothing found yet" distance of the nearest-point searches.
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Quiet NaN, "no value" in records and statistics.
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 /// The element at index n/2 after sorting (the upper median for an even count),
 /// found with nth_element; NaN for an empty vector.
