@@ -13,10 +13,6 @@
 namespace uavip::app {
 namespace {
 
-void report(const Progress& progress, const std::string& message) {
-  if (progress) progress(message);
-}
-
 /// Stage 1 on every station, `threads` at a time (each station is independent).
 std::vector<scan::StationCloud> assembleAll(const RawLog& log,
                                             const scan::AssemblerOptions& options, int threads,
@@ -91,15 +87,15 @@ AssembleResult assemble(const RawLog& log, const AssembleOptions& options, const
   AssembleResult result;
   const auto t0 = SteadyClock::now();
 
-  report(progress, "stage 1: assembling " + std::to_string(log.stations.size()) +
-                       " stations (eq. (1), IMU, ICP)");
+  reportProgress(progress, "stage 1: assembling " + std::to_string(log.stations.size()) +
+                               " stations (eq. (1), IMU, ICP)");
   std::vector<double> seconds;
   const std::vector<scan::StationCloud> clouds =
       assembleAll(log, options.scan, options.threads, seconds);
   result.assembly_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
-  report(progress, "stage 2: registering the stations");
+  reportProgress(progress, "stage 2: registering the stations");
   registration::RegistrationResult reg =
       registerAll(log, clouds, options.registration, result.station_points);
   result.registration_s = secondsSince(t1);
@@ -120,7 +116,7 @@ AssembleResult senseScans(const app::Scenario& scenario, const Progress& progres
     throw InputError(scenario.path + ": sensing.mode must be 'scan' for raw scans, got '" +
                      scenario.sensing_mode + "'");
   }
-  report(progress, "simulating the two 2D scanners and the IMU");
+  reportProgress(progress, "simulating the two 2D scanners and the IMU");
   const sim::SimulatedLog s = sim::simulateScans(scenario.world, scenario.scan, progress);
   const sim::WorldModel world = worldInLogFrame(scenario.world, s.origin_m);  // to score
   AssembleOptions options;

@@ -31,10 +31,6 @@
 namespace uavip::app {
 namespace {
 
-void report(const Progress& progress, const std::string& message) {
-  if (progress) progress(message);
-}
-
 /// Free space kept around the photo stops when the planning grid is cropped to them [m].
 constexpr double kLocalMarginM = 6.0;
 
@@ -110,8 +106,8 @@ DetectResult detect(const PointList& raw, const app::Config& config,
   result.resolved = resolveConfig(config, cloud);
   const app::Config& resolved = result.resolved.config;
   const auto t0 = SteadyClock::now();
-  report(progress,
-         "stage 3: outlier removal and voxel grid on " + std::to_string(raw.size()) + " points");
+  reportProgress(progress, "stage 3: outlier removal and voxel grid on " +
+                               std::to_string(raw.size()) + " points");
   PointList clean =
       preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
   // Safety keeps every input point, whatever stage 3 dropped or merged.
@@ -120,8 +116,8 @@ DetectResult detect(const PointList& raw, const app::Config& config,
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
-  report(progress,
-         "stages 4-5: planes and obstacle clusters on " + std::to_string(clean.size()) + " points");
+  reportProgress(progress, "stages 4-5: planes and obstacle clusters on " +
+                               std::to_string(clean.size()) + " points");
   result.scene = perception::buildScene(clean, resolved.perception);
   result.scene.measured = cloud;
   result.scene.safety = std::move(safety);
@@ -233,9 +229,9 @@ std::vector<planning::SurfaceMission> planMissions(
   if (threads > 1) {
     std::size_t stops = 0;
     for (const auto& s : strategies) stops += s.stops.size();
-    report(progress, "stage 7: " + std::to_string(strategies.size()) + " surfaces, " +
-                         std::to_string(stops) + " stops, on " + std::to_string(threads) +
-                         " threads");
+    reportProgress(progress, "stage 7: " + std::to_string(strategies.size()) + " surfaces, " +
+                                 std::to_string(stops) + " stops, on " + std::to_string(threads) +
+                                 " threads");
   }
   std::vector<std::unique_ptr<planning::Planner>> worker_planners(
       static_cast<std::size_t>(threads));
@@ -245,9 +241,9 @@ std::vector<planning::SurfaceMission> planMissions(
     if (worker > 0 && !own) own = planners::makePlanner(config.planner, config.planner_settings);
     planning::Planner& mine = worker == 0 ? planner : *own;
     if (threads == 1) {
-      report(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
-                           std::to_string(i + 1) + "/" + std::to_string(strategies.size()) + "), " +
-                           std::to_string(strategies[i].stops.size()) + " stops");
+      reportProgress(progress, "stage 7: surface " + std::to_string(surface_ids[i]) + " (" +
+                                   std::to_string(i + 1) + "/" + std::to_string(strategies.size()) +
+                                   "), " + std::to_string(strategies[i].stops.size()) + " stops");
     }
     missions[i] =
         planning::planSurfaceMission(strategies[i], grid, validator, mine, mission_options);
@@ -314,7 +310,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   if (surface_ids.empty()) return result;
 
   const auto t1 = SteadyClock::now();
-  report(progress, "stage 7: inflated voxel grid");
+  reportProgress(progress, "stage 7: inflated voxel grid");
   const auto world = std::make_shared<const world::CollisionWorld>(scene);
   result.clearance_m = safetyClearance(scene, config);
   const world::VoxelGrid grid =
@@ -331,7 +327,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   result.missions =
       planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
-  report(progress, "coverage: what the flown photos image");
+  reportProgress(progress, "coverage: what the flown photos image");
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
@@ -341,7 +337,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.times.planning_s = secondsSince(t2);
 
   const auto t3 = SteadyClock::now();
-  report(progress, "flight: order, connecting legs, sorties");
+  reportProgress(progress, "flight: order, connecting legs, sorties");
   result.flight = flyMissions(result.missions, grid, validator, *planner, config);
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);

@@ -29,10 +29,6 @@ constexpr double kRangeAllowance = 1.25;   ///< photos count up to 1.25 × the v
 constexpr std::size_t kMaxScoredPoints = 40000;
 constexpr int kNormalNeighbours = 12;
 
-void report(const Progress& progress, const std::string& message) {
-  if (progress) progress(message);
-}
-
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
 /// structure points; `ground` counts the others, `ground_z` gets the height of the
 /// highest ground surface found (none: unset).
@@ -239,7 +235,7 @@ StructurePoints prepareStructure(const Scene& scene, const app::Config& config,
   }
   s.points = thinForScoring(structure, scene.measured ? scene.measured->spacing_m : 0.0);
   summary.points = s.points.size();
-  report(progress, "structure: normals of " + std::to_string(s.points.size()) + " points");
+  reportProgress(progress, "structure: normals of " + std::to_string(s.points.size()) + " points");
   s.normals = preprocess::estimateNormals(s.points, s.points, kNormalNeighbours);
   return s;
 }
@@ -348,7 +344,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   summary.standoff_m = checkedStandoff(config, result.clearance_m);
   const double standoff = summary.standoff_m;
   StructurePoints s = prepareStructure(scene, config, summary, progress);
-  report(progress, "structure: inflated voxel grid");
+  reportProgress(progress, "structure: inflated voxel grid");
   std::unique_ptr<planning::PathValidator> validator;
   const world::VoxelGrid grid = structureGrid(scene, config, s.points, standoff, result, validator);
   result.times.grid_s = secondsSince(t0);
@@ -364,7 +360,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
                               result.clearance_m + 2.0 * grid.resolution());
   const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
   const auto t1 = SteadyClock::now();
-  report(progress, "structure: choosing photos");
+  reportProgress(progress, "structure: choosing photos");
   const coverage::StructureViews views = selectStructureViews(
       s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
   summary.select_s = secondsSince(t1);
@@ -380,8 +376,8 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
     summary.surface_id = std::max(summary.surface_id, surface.id + 1);
   const coverage::FlightStrategy strategy = structureStrategy(
       views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
-  report(progress,
-         "structure: " + std::to_string(strategy.stops.size()) + " photos, legs between them");
+  reportProgress(progress, "structure: " + std::to_string(strategy.stops.size()) +
+                               " photos, legs between them");
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   planning::MissionOptions mission_options = config.missionOptions();
   mission_options.direct_legs = true;
@@ -398,7 +394,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   result.times.planning_s = secondsSince(t2);
 
   const auto t3 = SteadyClock::now();
-  report(progress, "flight: connecting legs, sorties");
+  reportProgress(progress, "flight: connecting legs, sorties");
   result.flight = flyMissions(result.missions, grid, *validator, *planner, config);
   result.times.flight_s = secondsSince(t3);
   result.times.total_s = secondsSince(t0);

@@ -14,6 +14,7 @@
 #include "uavip/bench/stats.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 #include "uavip/coverage/flight_strategy.h"
@@ -45,8 +46,6 @@ void BenchOptions::validate() const {
 }
 
 namespace {
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 void report(const app::Progress& progress, const std::string& message) {
   if (progress) progress(message);

@@ -10,8 +10,6 @@
 namespace uavip::bench {
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 /// Our planners: the paper's grid A* and its Euclidean variant.
 bool isOurs(const std::string& planner) { return planner == "astar" || planner == "astar-euclid"; }
 

@@ -16,8 +16,6 @@ namespace uavip::coverage {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
 /// Most bricks of VoxelLineOfSight's empty-space bitmap (8 MB of bits).
 constexpr double kMaxBricks = 67108864.0;

@@ -4,13 +4,12 @@
 #include <cmath>
 #include <limits>
 
+#include "json_numbers.h"
+
 namespace uavip::io {
 namespace {
 
 using nlohmann::json;
-
-double round4(double v) { return std::round(v * 1e4) / 1e4; }
-json vec(const Vec3& p) { return json::array({round4(p.x()), round4(p.y()), round4(p.z())}); }
 
 /// JSON has no infinity: an unbounded clearance is written as null.
 json finiteOrNull(double v) { return std::isfinite(v) ? json(round4(v)) : json(nullptr); }

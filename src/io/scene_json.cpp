@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "json_numbers.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/io/cloud_io.h"
@@ -14,10 +15,6 @@ namespace uavip::io {
 namespace {
 
 using nlohmann::json;
-
-double round4(double v) { return std::round(v * 1e4) / 1e4; }
-
-json vec(const Vec3& p) { return json::array({round4(p.x()), round4(p.y()), round4(p.z())}); }
 
 json points(const PointList& pts) {
   json arr = json::array();

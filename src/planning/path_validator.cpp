@@ -6,13 +6,13 @@
 #include <utility>
 #include <vector>
 
+#include "uavip/core/math.h"
 #include "uavip/core/parallel.h"
 
 namespace uavip::planning {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Tolerance of the clearance test [m].
 constexpr double kTolerance = 1e-9;
 /// Paths of at least this many segments are validated on all cores.

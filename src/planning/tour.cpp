@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 
 namespace uavip::planning {
 
@@ -20,7 +21,6 @@ namespace {
 /// Slot, cluster and point numbers are ints; this is their vector index.
 constexpr std::size_t index(int number) { return static_cast<std::size_t>(number); }
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Cache mark of a pair not evaluated yet (checkedCost never returns NaN).
 constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 /// Largest Held–Karp instance: 2^16 subsets × ΣV slots of a double and an int each.

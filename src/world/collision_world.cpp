@@ -16,19 +16,18 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/core/neighbour_index.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/world/solids.h"
 
 namespace uavip::world {
-namespace {
+/// The cloud index lives in a named namespace: CollisionWorld::Impl (external linkage)
+/// holds one, and a unity build includes this file from another unit.
+namespace detail {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// The cloud's segment distance is computed piece by piece, at most this long [m].
 constexpr double kPieceLength = 0.5;
-/// Smallest pruning bound handed back to FCL's broadphase: objects whose AABB
-/// overlaps the query capsule (AABB distance 0) are always visited [m].
-constexpr double kMinPrune = 1e-12;
 
 // ---------------------------------------------------------------- cloud index
 
@@ -119,6 +118,14 @@ struct PointIndex {
   }
 };
 
+}  // namespace detail
+
+namespace {
+
+/// Smallest pruning bound handed back to FCL's broadphase: objects whose AABB
+/// overlaps the query capsule (AABB distance 0) are always visited [m].
+constexpr double kMinPrune = 1e-12;
+
 /// The object index stored as an FCL object's user data.
 int objectOf(const fcl::CollisionObjectd* o) { return *static_cast<const int*>(o->getUserData()); }
 
@@ -151,7 +158,7 @@ fcl::CollisionObjectd sweptVolume(const Vec3& a, const Vec3& b, double radius) {
 
 struct CollisionWorld::Impl {
   std::vector<Polyhedron> solids;  ///< per object; empty for the cloud
-  PointIndex points;
+  detail::PointIndex points;
   std::shared_ptr<octomap::OcTree> octree;
   std::size_t octree_leaves{0};
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> fcl_objects;  ///< per object
@@ -274,7 +281,7 @@ namespace {
 
 struct ProximityQuery {
   const std::vector<Polyhedron>* solids{nullptr};
-  const PointIndex* points{nullptr};
+  const detail::PointIndex* points{nullptr};
   const fcl::CollisionObjectd* query{nullptr};
   Vec3 a, b;
   double radius{0.0};

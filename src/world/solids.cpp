@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/core/voxel_key.h"
 
 // qhull (reentrant), the library behind PCL's ConvexHull, linked through PCL. Last:
@@ -21,8 +22,6 @@
 
 namespace uavip::world {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---------------------------------------------------------------- exact distances
 

@@ -27,6 +27,11 @@ namespace uavip::app {
 /// Progress messages for long work (the CLI shows them on a terminal).
 using Progress = std::function<void(const std::string&)>;
 
+/// Hands `message` to `progress` when one is set.
+inline void reportProgress(const Progress& progress, const std::string& message) {
+  if (progress) progress(message);
+}
+
 /// Wall time per stage [s].
 struct StageTimes {
   double sense_s{0.0};
