@@ -13,6 +13,7 @@ function(uavip_module name)
   if(M_SYSTEM_DEPS)
     target_link_libraries(uavip_${name} PRIVATE ${M_SYSTEM_DEPS})
   endif()
+  uavip_unity_build(uavip_${name})
 endfunction()
 
 # uavip_system_library(NAME INCLUDES dirs... LIBRARIES libs... DEFINITIONS defs...): an

@@ -3,8 +3,8 @@
 # then configures and builds. Environment: BUILD_DIR (default build), BUILD_TYPE
 # (Release), BUILD_TARGET (default: all), UAVIP_SANITIZE=ON for AddressSanitizer +
 # UBSan, UAVIP_WERROR=ON to stop on a warning in uavip's code, UAVIP_UNITY_BUILD=OFF to
-# compile the CLI and io/ unit by unit (default ON, the quicker unity build; CMakeLists.txt), SKIP_APT=1
-# to skip apt-get. Prints a `setup:` line at each step.
+# compile source by source (default ON: one unit per module, quicker; CMakeLists.txt),
+# SKIP_APT=1 to skip apt-get. Prints a `setup:` line at each step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,12 +33,19 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
 fi
 
 BUILD_DIR=${BUILD_DIR:-build}
-echo "setup: configuring $BUILD_DIR (cmake)" >&2
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
+# Ninja (ninja-build) keeps both cores busy across the module libraries, where make
+# finishes one library before the next; a build directory configured before keeps the
+# generator it has.
+generator=()
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ] && command -v ninja >/dev/null; then
+  generator=(-G Ninja)
+fi
+echo "setup: configuring $BUILD_DIR (cmake${generator[*]:+ ${generator[*]}})" >&2
+cmake "${generator[@]}" -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" \
   -DUAVIP_SANITIZE="${UAVIP_SANITIZE:-OFF}" -DUAVIP_WERROR="${UAVIP_WERROR:-OFF}" \
   -DUAVIP_UNITY_BUILD="${UAVIP_UNITY_BUILD:-ON}" >/dev/null
-# BUILD_TARGET (e.g. uavip) builds only that target and what it needs; make's [ NN%]
-# lines show the progress (about 4 min for uavip from a clean directory on 2 cores).
+# BUILD_TARGET (e.g. uavip) builds only that target and what it needs; Ninja's [N/M]
+# lines show the progress (benchmarks/README.md, "Build time", for how long it takes).
 build_start=$SECONDS
 echo "setup: building ${BUILD_TARGET:-everything} in $BUILD_DIR with $(nproc) jobs" >&2
 cmake --build "$BUILD_DIR" -j"$(nproc)" ${BUILD_TARGET:+--target "$BUILD_TARGET"}

@@ -11,6 +11,7 @@
 
 #include "planners/registry.h"
 #include "src/cli/commands.h"
+#include "src/cli/scenario_dir.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
@@ -22,10 +23,6 @@
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/view/views.h"
-
-#ifndef UAVIP_SCENARIO_DIR
-#define UAVIP_SCENARIO_DIR "scenarios"
-#endif
 
 namespace uavip::cli {
 namespace {
@@ -239,7 +236,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
                bool surface_given, const std::string& planner, bool views, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
-    path = std::string(UAVIP_SCENARIO_DIR) + "/single_cube.yaml";
+    path = bundledScenarioDir() + "/single_cube.yaml";
     if (!v.quiet)
       std::cerr << "uavip: no scenario given, using the bundled default " << path << "\n";
   }
