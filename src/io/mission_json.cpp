@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "json_numbers.h"
+#include "uavip/io/json_numbers.h"
 
 namespace uavip::io {
 namespace {

@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "json_numbers.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/io/cloud_io.h"
+#include "uavip/io/json_numbers.h"
 #include "uavip/io/json_reader.h"
 
 namespace uavip::io {

@@ -20,6 +20,7 @@
 #include "uavip/core/geometry.h"
 #include "uavip/core/neighbour_index.h"
 #include "uavip/core/text.h"
+#include "uavip/io/json_numbers.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/render/figure.h"
 
@@ -103,10 +104,7 @@ std::string hex(const render::Color& c) {
   return s;
 }
 
-json vec(const Vec3& p) {
-  auto r = [](double v) { return std::round(v * 1e4) / 1e4; };
-  return json::array({r(p.x()), r(p.y()), r(p.z())});
-}
+using io::vec;  // [x, y, z] rounded to 4 decimals, as in mission.json
 
 /// Text for inside an HTML element.
 std::string htmlEscape(const std::string& s) {

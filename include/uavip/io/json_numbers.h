@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// How scene.json and mission.json write numbers: metres, degrees and seconds rounded
-/// to 4 decimals (0.1 mm), which keeps the files short and diffable. Private to src/io.
+/// How scene.json, mission.json and the mission page write numbers: metres, degrees and
+/// seconds rounded to 4 decimals (0.1 mm), which keeps the files short and diffable.
 
 #include <cmath>
 #include <nlohmann/json.hpp>
