@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "src/cli/commands.h"
@@ -14,9 +15,12 @@
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
+#include "uavip/io/geodesy.h"
 #include "uavip/io/json_reader.h"
+#include "uavip/io/map_export.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/scene_json.h"
+#include "uavip/io/wpml_export.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
 
@@ -32,9 +36,17 @@ constexpr double kMaxDistanceFromOriginM = 50e3;
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
   std::string mission, format, origin, crs, out, surface, autopilot{"px4"}, scene;
+  std::string drone{"m350"}, height_mode{"relative"}, vertical;
   int sortie{0};
-  double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0};
+  double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
+  std::size_t max_waypoints{io::kWpmlMaxWaypoints};
 };
+
+/// The formats placed on the Earth with true heights (io/geodesy.h): one file per
+/// sortie (dji-kmz) or one for the whole flight (kml, geojson).
+bool isGeographicFormat(const std::string& format) {
+  return format == "dji-kmz" || format == "kml" || format == "geojson";
+}
 
 /// The scene.json export checks against: --scene, else the one beside the mission.
 std::string sceneFor(const ExportArgs& a) {
@@ -56,10 +68,9 @@ void requireNearOrigin(const std::vector<io::Flight>& flights, const std::string
   }
 }
 
-/// Every exported path is checked again against the scene with the FCL validator:
-/// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
-void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission,
-                       const ExportArgs& a) {
+/// The FCL validator of the scene the mission was planned in (--scene, else beside it).
+std::unique_ptr<planning::PathValidator> sceneValidator(const io::MissionRecord& mission,
+                                                        const ExportArgs& a) {
   const std::string scene_path = sceneFor(a);
   if (!fs::is_regular_file(scene_path))
     throw InputError("--scene: " + scene_path +
@@ -69,22 +80,40 @@ void checkAgainstScene(const std::vector<io::Flight>& flights, const io::Mission
     throw InputError(a.mission +
                      ": inflation_radius_m is missing (not a mission.json of uavip run or plan)");
   const Scene scene = io::loadScene(scene_path);
-  const planning::PathValidator validator(std::make_shared<const world::CollisionWorld>(scene),
-                                          mission.inflation_radius_m);
+  return std::make_unique<planning::PathValidator>(
+      std::make_shared<const world::CollisionWorld>(scene), mission.inflation_radius_m);
+}
+
+/// Throws NoMissionError (exit 3) naming `what` and its first segment that comes
+/// closer to the scene (surfaces, obstacles, every measured point) than required.
+void requireClear(const planning::PathValidator& validator, const PointList& path,
+                  const std::string& what, const ExportArgs& a) {
+  const planning::ValidationResult v = validator.validate(path);
+  if (v.collision_free) return;
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(3) << what << ", segment " << v.first_violation_segment
+     << " comes " << v.segment_clearance_m[static_cast<std::size_t>(v.first_violation_segment)]
+     << " m from " << v.violation_object << " of " << sceneFor(a) << " (required "
+     << validator.requiredClearance() << " m); not exported: re-run uavip plan";
+  throw io::NoMissionError(os.str());
+}
+
+/// A flight's name in messages: "mission.json: sortie 2" or "…: surface 3".
+std::string flightLabel(const io::Flight& f, const ExportArgs& a) {
+  return a.mission + ": " +
+         (f.sortie > 0 ? "sortie " + std::to_string(f.sortie)
+                       : "surface " + std::to_string(f.surface_ids.front()));
+}
+
+/// Every exported path is checked again against the scene with the FCL validator:
+/// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
+void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission,
+                       const ExportArgs& a) {
+  const auto validator = sceneValidator(mission, a);
   for (const auto& f : flights) {
     PointList path;
     for (const auto& w : f.waypoints) path.push_back(w.enu);
-    const planning::ValidationResult v = validator.validate(path);
-    if (v.collision_free) continue;
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(3) << a.mission << ": "
-       << (f.sortie > 0 ? "sortie " + std::to_string(f.sortie)
-                        : "surface " + std::to_string(f.surface_ids.front()))
-       << ", segment " << v.first_violation_segment << " comes "
-       << v.segment_clearance_m[static_cast<std::size_t>(v.first_violation_segment)] << " m from "
-       << v.violation_object << " of " << scene_path << " (required "
-       << validator.requiredClearance() << " m); not exported: re-run uavip plan";
-    throw io::NoMissionError(os.str());
+    requireClear(*validator, path, flightLabel(f, a), a);
   }
 }
 
@@ -108,23 +137,52 @@ Vec3 sourceOffset(const ExportArgs& a) {
   return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
 }
 
-/// The export options of the command line (one of --origin and --crs), validated.
+/// scene.json's record of the cloud's CRS ("crs": definition, vertical datum, source).
+struct SceneCrs {
+  std::string definition, vertical, source;
+};
+
+/// The CRS scene.json records, if the scene is there and has one.
+std::optional<SceneCrs> sceneCrs(const ExportArgs& a) {
+  const std::string path = sceneFor(a);
+  if (!fs::is_regular_file(path)) return std::nullopt;
+  const io::JsonReader reader(path);
+  const nlohmann::json scene = reader.load();
+  if (!scene.is_object() || !scene.contains("crs")) return std::nullopt;
+  const nlohmann::json& crs = scene.at("crs");
+  if (!crs.is_object() || !crs.contains("definition") || !crs.at("definition").is_string())
+    throw InputError(path + ": crs.definition must be a string (the cloud's CRS, e.g. EPSG:32650)");
+  SceneCrs out;
+  out.definition = crs.at("definition").get<std::string>();
+  if (crs.contains("vertical") && crs.at("vertical").is_string())
+    out.vertical = crs.at("vertical").get<std::string>();
+  if (crs.contains("source") && crs.at("source").is_string())
+    out.source = crs.at("source").get<std::string>();
+  return out;
+}
+
+/// The export options of the command line (one of --origin and --crs, else the CRS
+/// scene.json records), validated.
 io::ExportOptions exportOptions(const ExportArgs& a) {
   if (!a.origin.empty() && !a.crs.empty())
     throw InputError(
         "--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin "
-        "by a "
-        "WGS84 position of the local origin)");
-  if (a.origin.empty() && a.crs.empty())
-    throw InputError(
-        "--origin: missing; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, "
-        "metres above "
-        "sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs EPSG:CODE, "
-        "the "
-        "projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
+        "by a WGS84 position of the local origin)");
   io::ExportOptions options;
-  if (!a.origin.empty()) options.origin = io::parseOrigin(a.origin);
-  if (!a.crs.empty()) options.crs = std::make_shared<const io::CrsTransform>(a.crs);
+  if (!a.origin.empty()) {
+    options.origin = io::parseOrigin(a.origin);
+  } else if (!a.crs.empty()) {
+    options.crs = std::make_shared<const io::CrsTransform>(a.crs);
+  } else if (const std::optional<SceneCrs> scene = sceneCrs(a)) {
+    options.crs =
+        std::make_shared<const io::CrsTransform>(scene->definition, sceneFor(a) + ": crs");
+  } else {
+    throw InputError(
+        "--origin: missing, and " + sceneFor(a) +
+        " records no CRS; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, metres "
+        "above sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs "
+        "EPSG:CODE, the projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
+  }
   options.autopilot = io::parseAutopilot(a.autopilot);
   options.hold_s = a.hold_s;
   options.acceptance_m = a.acceptance_m;
@@ -226,7 +284,182 @@ void reportExport(const ExportArgs& a, const io::ExportOptions& options, io::Exp
   }
 }
 
+/// Where the local frame lies, and home (the take-off point heights are relative to).
+struct Placement {
+  std::unique_ptr<io::Georeference> geo;
+  Vec3 home{Vec3::Zero()};
+};
+
+/// The vertical datum of the cloud's heights: --vertical, else the compound CRS's
+/// vertical part, else scene.json's record, else EGM96 (docs/formats.md).
+io::VerticalDatum verticalDatum(const ExportArgs& a, const io::CrsTransform& crs,
+                                const std::optional<SceneCrs>& scene, const Verbosity& v) {
+  const std::optional<io::VerticalDatum> of_crs = io::verticalDatumOfEpsg(crs.verticalEpsg());
+  if (!a.vertical.empty()) {
+    const io::VerticalDatum d = io::parseVerticalDatum(a.vertical);
+    if (!v.quiet && !crs.verticalName().empty() && (!of_crs || *of_crs != d))
+      std::cerr << "uavip: warning: --vertical " << a.vertical << " overrides the CRS's vertical "
+                << crs.verticalName() << " (EPSG:" << crs.verticalEpsg() << ")\n";
+    return d;
+  }
+  if (!crs.verticalName().empty()) {
+    if (!of_crs)
+      throw InputError("the CRS's vertical part " + crs.verticalName() +
+                       " (EPSG:" + std::to_string(crs.verticalEpsg()) +
+                       ") is not EGM96 height (5773) or EGM2008 height (3855); pass --vertical "
+                       "egm96|egm2008|ellipsoid for what the cloud's z is measured from");
+    return *of_crs;
+  }
+  if (scene && !scene->vertical.empty())
+    return io::parseVerticalDatum(scene->vertical, sceneFor(a) + ": crs.vertical");
+  return io::VerticalDatum::Egm96;
+}
+
+/// --origin, or the cloud's CRS (--crs or scene.json's crs) with its vertical datum.
+Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
+                    const std::vector<io::Flight>& flights, const Verbosity& v) {
+  if (!a.origin.empty() && !a.crs.empty())
+    throw InputError(
+        "--origin and --crs: choose one (--crs places the flight by the cloud's own "
+        "CRS, --origin by a WGS84 position of the local origin)");
+  Placement p;
+  if (!a.origin.empty()) {
+    requireNearOrigin(flights, a.mission);
+    p.geo = std::make_unique<io::Georeference>(io::parseOrigin(a.origin));
+    return p;
+  }
+  const std::optional<SceneCrs> scene = sceneCrs(a);
+  std::string definition = a.crs;
+  if (definition.empty()) {
+    if (!scene)
+      throw InputError(
+          "--origin: missing, and " + sceneFor(a) +
+          " records no CRS (the cloud did not state one, and detect had no --crs); pass --origin "
+          "LAT,LON,ALT (ALT above mean sea level) or --crs EPSG:CODE (the cloud's projected CRS)");
+    definition = scene->definition;
+  } else if (scene && scene->definition != definition && !v.quiet) {
+    std::cerr << "uavip: warning: --crs " << definition << " differs from the scene's CRS "
+              << scene->definition << " (from " << scene->source << "); using --crs " << definition
+              << "\n";
+  }
+  const auto crs = std::make_shared<const io::CrsTransform>(
+      definition, a.crs.empty() ? sceneFor(a) + ": crs" : "--crs");
+  const io::VerticalDatum vertical = verticalDatum(a, *crs, scene, v);
+  // A CRS the scene records needs no offset when the cloud was not recentred; a --crs
+  // given by hand does (sourceOffset says why).
+  const bool has_offset = fs::is_regular_file(sceneFor(a)) && [&] {
+    const nlohmann::json j = io::JsonReader(sceneFor(a)).load();
+    return j.is_object() && j.contains("source_offset_m");
+  }();
+  const Vec3 offset = has_offset || !a.crs.empty() ? sourceOffset(a) : Vec3::Zero();
+  p.geo = std::make_unique<io::Georeference>(crs, offset, vertical);
+  p.home = homeOf(mission, flights);
+  return p;
+}
+
+/// OUT with _partK before the extension, when a flight is split into several routes.
+std::string partPath(const std::string& path, std::size_t k, std::size_t parts) {
+  if (parts == 1) return path;
+  const fs::path p(path);
+  return (p.parent_path() /
+          (p.stem().string() + "_part" + std::to_string(k + 1) + p.extension().string()))
+      .string();
+}
+
+/// export --format dji-kmz|kml|geojson: placed on the Earth with true heights; each
+/// KMZ is read back, converted to the local frame and validated as the aircraft
+/// will fly it before anything is renamed into place.
+int geographicExport(const ExportArgs& a, const Verbosity& v) {
+  const io::MissionRecord mission = io::loadMission(a.mission);
+  std::vector<io::Flight> flights;
+  std::unique_ptr<planning::PathValidator> validator;
+  try {
+    flights = flightsToExport(mission, a);
+    validator = sceneValidator(mission, a);
+    for (const auto& f : flights) {
+      PointList path;
+      for (const auto& w : f.waypoints) path.push_back(w.enu);
+      requireClear(*validator, path, flightLabel(f, a), a);
+    }
+  } catch (const io::NoMissionError& e) {
+    std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
+    return kExitNoMission;
+  }
+  const Placement place = placement(a, mission, flights, v);
+  const std::string name = fs::path(a.out).stem().string();
+  io::StagedOutputs outputs;
+  std::vector<std::string> lines;  // the report, printed once everything is in place
+  if (a.format != "dji-kmz") {
+    io::requireDistinctOutputs({a.mission, sceneFor(a)}, {a.out});
+    outputs.write(a.out,
+                  a.format == "kml"
+                      ? io::flightsKml(flights, *place.geo, place.home, name)
+                      : io::flightsGeoJson(flights, *place.geo, place.home, name).dump(1) + "\n");
+    outputs.commit();
+    if (!v.quiet)
+      std::cout << "exported " << flights.size() << " flight(s) as " << a.format << " ("
+                << place.geo->describe() << ") -> " << a.out << "\n";
+    return kExitOk;
+  }
+  io::WpmlOptions o;
+  o.drone = io::findDjiDrone(a.drone);
+  o.height_mode = io::parseWpmlHeightMode(a.height_mode);
+  o.speed_m_s = a.speed_m_s;
+  o.hold_s = a.hold_s;
+  o.takeoff_security_height_m = a.takeoff_height_m;
+  o.max_waypoints = a.max_waypoints;
+  o.validate();
+  const std::vector<std::string> paths = outputPaths(flights, a.out);
+  std::vector<std::string> all_paths;
+  try {
+    for (std::size_t i = 0; i < flights.size(); ++i) {
+      const std::vector<io::Flight> parts = io::splitForWpml(flights[i], o.max_waypoints);
+      if (parts.size() > 1 && !v.quiet)
+        std::cerr << "uavip: " << flightLabel(flights[i], a) << " has "
+                  << flights[i].waypoints.size() << " waypoints, more than " << o.max_waypoints
+                  << " per WPML route: split into " << parts.size()
+                  << " routes flown one after another\n";
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        const std::string path = partPath(paths[i], k, parts.size());
+        all_paths.push_back(path);
+        const io::WpmlDocuments docs = io::wpmlDocuments(parts[k], *place.geo, place.home, o);
+        double worst = 0.0;
+        outputs.writeWith(path, [&](const std::string& tmp) {
+          io::writeKmz(tmp, docs);
+          const PointList flown = io::routeToLocal(io::readKmzRoute(tmp), *place.geo, place.home);
+          if (flown.size() != parts[k].waypoints.size())
+            throw InputError(path + ": read back " + std::to_string(flown.size()) +
+                             " waypoints of " + std::to_string(parts[k].waypoints.size()));
+          for (std::size_t j = 0; j < flown.size(); ++j)
+            worst = std::max(worst, (flown[j] - parts[k].waypoints[j].enu).norm());
+          requireClear(*validator, flown, flightLabel(parts[k], a) + " as written in " + path, a);
+        });
+        lines.push_back("exported " + flightLabel(parts[k], a) + ": " +
+                        std::to_string(parts[k].waypoints.size()) + " waypoints, " +
+                        std::to_string(parts[k].stopCount()) + " photo stops -> " + path +
+                        "; read back (largest difference " + formatFixed(worst * 1000.0, 2) +
+                        " mm) and validated against the scene as flown");
+      }
+    }
+    io::requireDistinctOutputs({a.mission, sceneFor(a)}, all_paths);
+  } catch (const io::NoMissionError& e) {
+    std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
+    return kExitNoMission;
+  }
+  outputs.commit();
+  if (!v.quiet) {
+    std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload << "), heights "
+              << (o.height_mode == io::WpmlHeightMode::Relative
+                      ? "relativeToStartPoint (above home: take off there)"
+                      : "WGS84 (above the ellipsoid)")
+              << "; " << place.geo->describe() << "\n";
+    for (const auto& line : lines) std::cout << line << "\n";
+  }
+  return kExitOk;
+}
+
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
+  if (isGeographicFormat(a.format)) return geographicExport(a, v);
   io::ExportOptions options = exportOptions(a);
   const io::ExportFormat format = io::parseExportFormat(a.format);
   const io::MissionRecord mission = io::loadMission(a.mission);
@@ -260,17 +493,37 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
 void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   const auto [ex, a] = missionCommand<ExportArgs>(
       cli, "export",
-      "Write a mission.json as a QGroundControl .plan, QGC WPL 110 or CSV file. Local ENU -> WGS84 "
-      "about --origin, or by the cloud's CRS (--crs); "
-      "headings are compass (0 = north, clockwise) = 90 - ENU yaw; altitudes relative to home");
+      "Write a mission.json as a DJI WPML route (KMZ for DJI Pilot 2 / FlightHub 2), a "
+      "QGroundControl .plan, QGC WPL 110, CSV, or KML / GeoJSON to check it on a map. Local ENU -> "
+      "WGS84 about --origin, or by the cloud's CRS (--crs, else the one scene.json records); "
+      "headings are compass (0 = north, clockwise) = 90 - ENU yaw");
   const Verbosity& v = registry.verbosity();
-  ex->add_option("--format", a->format, "qgc-plan, wpl or csv")->required();
+  ex->add_option("--format", a->format,
+                 "dji-kmz (one .kmz per sortie), qgc-plan, wpl, csv, kml (Google Earth) or geojson")
+      ->required();
   ex->add_option("--origin", a->origin,
-                 "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above sea level]");
+                 "LAT,LON,ALT of the local origin (0,0,0) = home [deg, deg, m above mean sea "
+                 "level (EGM96)]");
   ex->add_option("--crs", a->crs,
-                 "The cloud's projected CRS (e.g. EPSG:32631, UTM 31N): waypoint + the scene's "
-                 "source_offset_m -> WGS84 "
-                 "by PROJ; home is the flight's first waypoint. Instead of --origin");
+                 "The cloud's projected CRS (e.g. EPSG:32631, UTM 31N; EPSG:32650+5773 with EGM96 "
+                 "heights): waypoint + the scene's source_offset_m -> WGS84 by PROJ; home is the "
+                 "flight's first waypoint. Default: the CRS scene.json records (detect reads it "
+                 "from a LAS file or takes detect --crs)");
+  ex->add_option("--vertical", a->vertical,
+                 "What the cloud's z is measured from: egm96, egm2008 or ellipsoid (default: the "
+                 "CRS's vertical part, else egm96); dji-kmz, kml, geojson");
+  ex->add_option("--drone", a->drone, "dji-kmz: the DJI model: " + io::djiDroneList())
+      ->capture_default_str();
+  ex->add_option("--height-mode", a->height_mode,
+                 "dji-kmz: relative (relativeToStartPoint: metres above home, take off there) or "
+                 "ellipsoid (WGS84: metres above the WGS84 ellipsoid; needs RTK-grade heights)")
+      ->capture_default_str();
+  ex->add_option("--takeoff-height", a->takeoff_height_m,
+                 "dji-kmz: takeOffSecurityHeight, the climb after take-off [m, 1.2-1500]")
+      ->capture_default_str();
+  ex->add_option("--max-waypoints", a->max_waypoints,
+                 "dji-kmz: waypoints per route; a longer sortie is split into _partK files")
+      ->capture_default_str();
   ex->add_option("-o,--out", a->out, "Output file")->required();
   ex->add_option("--surface", a->surface,
                  "Surface id (its own path), or 'all' (the ordered flight's sorties, one file each "
@@ -286,7 +539,8 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   ex->add_option("--hold", a->hold_s, "Hover time at each photo stop [s]")->capture_default_str();
   ex->add_option("--acceptance", a->acceptance_m, "Waypoint acceptance radius [m]")
       ->capture_default_str();
-  ex->add_option("--speed", a->speed_m_s, "Flight speed (hoverSpeed of the .plan) [m/s]")
+  ex->add_option("--speed", a->speed_m_s,
+                 "Flight speed (hoverSpeed of the .plan; every waypoint's of a KMZ) [m/s]")
       ->capture_default_str();
   registry.add(ex, [a = a, &v] { return exportCommand(*a, v); });
 }

@@ -20,6 +20,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
+#include "uavip/io/geodesy.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/view/views.h"
@@ -311,13 +312,56 @@ bool structureCover(const std::string& cover, bool surface_given) {
   return true;
 }
 
+/// The CRS scene.json records: --crs for a cloud that does not state one (a
+/// contradiction of the file's is a warning naming both), the vertical datum from
+/// --vertical, else from a compound CRS's vertical part (EGM96 / EGM2008 height).
+void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const std::string& crs,
+                const std::string& vertical, const Verbosity& v) {
+  if (!crs.empty()) {
+    if (!read.crs.empty() && read.crs != crs && !v.quiet)
+      std::cerr << "uavip: warning: --crs " << crs << " differs from the CRS " << cloud_path
+                << " states (" << read.crs_source << ": " << read.crs.substr(0, 80)
+                << (read.crs.size() > 80 ? "…" : "") << "); recording --crs " << crs << "\n";
+    read.crs = crs;
+    read.crs_source = "detect --crs";
+  }
+  if (read.crs.empty()) {
+    if (!vertical.empty())
+      throw InputError("--vertical: " + cloud_path +
+                       " states no CRS; give --crs too (e.g. --crs EPSG:32631 --vertical egm96)");
+    return;
+  }
+  int vertical_epsg = 0;
+  try {
+    vertical_epsg = io::CrsTransform(read.crs, "--crs").verticalEpsg();
+  } catch (const InputError& e) {
+    if (!crs.empty()) throw;  // what the user typed must be a CRS PROJ knows
+    if (!v.quiet)
+      std::cerr << "uavip: warning: " << cloud_path << ": PROJ cannot use the CRS the file states ("
+                << e.what() << "); export will need --crs or --origin\n";
+  }
+  if (!vertical.empty()) {
+    read.crs_vertical = io::verticalDatumName(io::parseVerticalDatum(vertical));
+  } else if (const auto d = io::verticalDatumOfEpsg(vertical_epsg)) {
+    read.crs_vertical = io::verticalDatumName(*d);
+  }
+}
+
 int detectCommand(const std::string& cloud_path, const std::string& config_path,
-                  const std::string& out, bool views, const Verbosity& v) {
+                  const std::string& out, const std::string& crs, const std::string& vertical,
+                  bool views, const Verbosity& v) {
   const app::Config config =
       config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
   io::CloudReadInfo read;
   const PointList raw = io::loadCloud(cloud_path, config.input, &read);
+  resolveCrs(read, cloud_path, crs, vertical, v);
   if (!v.quiet && !read.note.empty()) std::cout << read.note << "\n";
+  if (!v.quiet && !read.crs.empty())
+    std::cout << "CRS: " << read.crs.substr(0, 80) << (read.crs.size() > 80 ? "…" : "") << " ("
+              << read.crs_source << "), heights above "
+              << (read.crs_vertical.empty() ? "EGM96 unless export --vertical says otherwise"
+                                            : read.crs_vertical)
+              << "\n";
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
   if (progress)
@@ -430,7 +474,7 @@ constexpr const char* kPlanFooter =
 
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
-  std::string scenario, out, surface, planner, cloud, config, scene, cover;
+  std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical;
   bool no_views{false};
 };
 
@@ -464,9 +508,16 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   det->add_option("-c,--config", a->config,
                   "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();
+  det->add_option("--crs", a->crs,
+                  "The cloud's CRS when the file does not state it (e.g. EPSG:32631, or "
+                  "EPSG:32650+5773 with EGM96 heights); recorded in scene.json for export");
+  det->add_option("--vertical", a->vertical,
+                  "What the cloud's z is measured from: egm96, egm2008 or ellipsoid (default: the "
+                  "CRS's vertical part, else unknown: export assumes egm96)");
   det->add_flag("--no-views", a->no_views, views_help);
-  registry.add(det,
-               [a, &v] { return detectCommand(a->cloud, a->config, a->out, !a->no_views, v); });
+  registry.add(det, [a, &v] {
+    return detectCommand(a->cloud, a->config, a->out, a->crs, a->vertical, !a->no_views, v);
+  });
 
   auto* pl = cli.add_subcommand(
       "plan", "Stages 6-7 for the chosen surfaces of a scene.json, and one flight over them");

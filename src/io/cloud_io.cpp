@@ -656,8 +656,11 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       os << "; recentred by (" << formatNumber(las.origin_m.x(), 12) << ", "
          << formatNumber(las.origin_m.y(), 12) << ", " << formatNumber(las.origin_m.z(), 12)
          << ") m";  // every metre of a UTM northing
+      if (!las.crs.empty()) os << "; CRS from " << las.crs_source;
       info->note = os.str();
       info->origin_m = las.origin_m;
+      info->crs = las.crs;
+      info->crs_source = las.crs_source;
     }
     origin = las.origin_m;
     points = std::move(las.points);

@@ -40,7 +40,8 @@ constexpr std::uint16_t kKeyModelType = 1024;        // GTModelTypeGeoKey
 constexpr std::uint16_t kKeyProjectedCsType = 3072;  // ProjectedCSTypeGeoKey
 constexpr std::uint16_t kKeyProjLinearUnits = 3076;  // ProjLinearUnitsGeoKey
 constexpr std::uint16_t kKeyProjLinearUnitSize = 3077;
-constexpr std::uint16_t kKeyVerticalUnits = 4099;  // VerticalUnitsGeoKey
+constexpr std::uint16_t kKeyVerticalUnits = 4099;   // VerticalUnitsGeoKey
+constexpr std::uint16_t kKeyVerticalCsType = 4096;  // VerticalCSTypeGeoKey
 constexpr std::uint16_t kModelTypeGeographic = 2;
 constexpr std::uint16_t kUserDefined = 32767;
 constexpr std::uint16_t kTagGeoDoubleParams = 34736;
@@ -556,6 +557,30 @@ std::optional<Unit> epsgUnit(std::uint16_t code) {
            kReproject);
 }
 
+/// The file's CRS as PROJ reads it: the WKT of record 2112, else "EPSG:P" from
+/// ProjectedCSTypeGeoKey 3072, with "+V" from VerticalCSTypeGeoKey 4096.
+void resolveCrs(const Projection& proj, const std::string& path, LasCloud& cloud) {
+  if (proj.wkt && proj.wkt->find_first_not_of(" \t\r\n") != std::string::npos) {
+    cloud.crs = *proj.wkt;
+    while (!cloud.crs.empty() && (cloud.crs.back() == '\0' ||
+                                  std::isspace(static_cast<unsigned char>(cloud.crs.back())) != 0))
+      cloud.crs.pop_back();
+    cloud.crs_source = "LAS WKT record 2112";
+    return;
+  }
+  if (!proj.keys) return;
+  const GeoKeys keys = parseGeoKeys(*proj.keys, proj.doubles, path);
+  const auto it = keys.shorts.find(kKeyProjectedCsType);
+  if (it == keys.shorts.end() || it->second == kUserDefined || it->second == 0) return;
+  cloud.crs = "EPSG:" + str(it->second);
+  cloud.crs_source = "LAS GeoTIFF key 3072 (ProjectedCSTypeGeoKey)";
+  const auto v = keys.shorts.find(kKeyVerticalCsType);
+  if (v != keys.shorts.end() && v->second != kUserDefined && v->second != 0) {
+    cloud.crs += "+" + str(v->second);
+    cloud.crs_source += " and 4096 (VerticalCSTypeGeoKey)";
+  }
+}
+
 /// Fills the unit fields of `cloud` from the projection records (order in las_reader.h).
 void resolveUnits(const Projection& proj, const std::string& path, LasCloud& cloud) {
   const std::string kNone = "none in file (metres assumed)";
@@ -624,6 +649,7 @@ void resolveUnits(const Projection& proj, const std::string& path, LasCloud& clo
   cloud.unit_name = h.name;
   cloud.z_unit_to_m = v.to_m;
   cloud.z_unit_name = v.name;
+  resolveCrs(proj, path, cloud);
 }
 
 /// Reads the point block in chunks of whole records and keeps the points not dropped.

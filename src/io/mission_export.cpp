@@ -1,10 +1,6 @@
 #include "uavip/io/mission_export.h"
 
-#include <proj.h>
-
-#include <GeographicLib/LocalCartesian.hpp>
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -28,21 +24,6 @@ constexpr int kFrameGlobal = 0;
 constexpr int kFrameMission = 2;
 constexpr int kFrameGlobalRelativeAlt = 3;
 constexpr double kGimbalFlagsRollPitchLock = 4 + 8;  // GIMBAL_MANAGER_FLAGS_ROLL_LOCK | PITCH_LOCK
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  const auto e = s.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-bool parseDouble(const std::string& text, double& out) {
-  const std::string t = trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  out = std::strtod(t.c_str(), &end);
-  return errno == 0 && end == t.c_str() + t.size() && std::isfinite(out);
-}
 
 /// Between stops a waypoint takes the surface and orientation of the next stop
 /// (after the last stop: of the last).
@@ -101,130 +82,6 @@ std::string describe(const SurfaceRecord& s) {
 
 }  // namespace
 
-GeoOrigin parseOrigin(const std::string& text, const std::string& where) {
-  const std::string shown = "got '" + text + "'";
-  std::vector<std::string> parts;
-  std::string cur;
-  for (char c : text) {
-    if (c == ',') {
-      parts.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  parts.push_back(cur);
-  GeoOrigin o;
-  if (parts.size() != 3 || !parseDouble(parts[0], o.lat_deg) || !parseDouble(parts[1], o.lon_deg) ||
-      !parseDouble(parts[2], o.alt_m))
-    throw InputError(where +
-                     ": expected LAT,LON,ALT (degrees, degrees, metres above sea level, e.g. "
-                     "47.3977,8.5456,488), " +
-                     shown);
-  require(o.lat_deg >= -90.0 && o.lat_deg <= 90.0, where,
-          "latitude must be in [-90, 90] degrees, " + shown);
-  require(o.lon_deg >= -180.0 && o.lon_deg <= 180.0, where,
-          "longitude must be in [-180, 180] degrees, " + shown);
-  require(o.alt_m >= -500.0 && o.alt_m <= 9000.0, where,
-          "altitude must be in [-500, 9000] m, " + shown);
-  return o;
-}
-
-GeoPoint enuToGeodetic(const GeoOrigin& origin, const Vec3& enu) {
-  const GeographicLib::LocalCartesian lc(origin.lat_deg, origin.lon_deg, origin.alt_m);
-  GeoPoint g;
-  lc.Reverse(enu.x(), enu.y(), enu.z(), g.lat_deg, g.lon_deg, g.alt_m);
-  return g;
-}
-
-struct CrsTransform::Impl {
-  PJ_CONTEXT* ctx{nullptr};
-  PJ* to_wgs84{nullptr};
-  double unit_to_m{1.0};
-  std::string name;
-  std::string text;
-  ~Impl() {
-    if (to_wgs84 != nullptr) proj_destroy(to_wgs84);
-    if (ctx != nullptr) proj_context_destroy(ctx);
-  }
-};
-
-CrsTransform::CrsTransform(const std::string& crs, const std::string& where)
-    : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
-  m.text = crs;
-  m.ctx = proj_context_create();
-  if (m.ctx == nullptr) throw InputError(where + ": PROJ could not start (no memory?)");
-  proj_log_level(m.ctx, PJ_LOG_NONE);  // errors are ours, on one line
-  const std::string shown = "'" + crs.substr(0, 80) + (crs.size() > 80 ? "…" : "") + "'";
-  const auto why = [&] {
-    return std::string(proj_context_errno_string(m.ctx, proj_context_errno(m.ctx)));
-  };
-  // The PJ objects are destroyed on every path: a small owner.
-  struct Owned {
-    PJ* p;
-    ~Owned() {
-      if (p != nullptr) proj_destroy(p);
-    }
-  };
-  Owned source{proj_create(m.ctx, crs.c_str())};
-  if (source.p == nullptr || !proj_is_crs(source.p))
-    throw InputError(where + ": PROJ does not know the CRS " + shown +
-                     (source.p == nullptr ? " (" + why() + ")" : "") +
-                     "; give the cloud's projected CRS, e.g. EPSG:32631 (WGS 84 / UTM zone 31N)");
-  Owned horizontal{proj_get_type(source.p) == PJ_TYPE_COMPOUND_CRS
-                       ? proj_crs_get_sub_crs(m.ctx, source.p, 0)
-                       : nullptr};
-  PJ* h = horizontal.p != nullptr ? horizontal.p : source.p;
-  if (proj_get_type(h) != PJ_TYPE_PROJECTED_CRS)
-    throw InputError(
-        where + ": " + shown +
-        " is not a projected CRS (a geographic CRS gives degrees, the cloud is in "
-        "metres); give its projected CRS, e.g. the UTM zone (EPSG:326NN north, 327NN south)");
-  const char* name = proj_get_name(h);
-  m.name = name != nullptr ? name : crs;
-  Owned cs{proj_crs_get_coordinate_system(m.ctx, h)};
-  double factor = 1.0;
-  if (cs.p == nullptr ||
-      !proj_cs_get_axis_info(m.ctx, cs.p, 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr,
-                             nullptr) ||
-      !(factor > 0.0 && std::isfinite(factor)))
-    throw InputError(where + ": " + shown + " has no linear unit PROJ can read");
-  m.unit_to_m = factor;
-  Owned op{proj_create_crs_to_crs(m.ctx, crs.c_str(), "EPSG:4326", nullptr)};
-  if (op.p == nullptr)
-    throw InputError(where + ": PROJ finds no transformation from " + shown + " to WGS84 (" +
-                     why() + ")");
-  m.to_wgs84 =
-      proj_normalize_for_visualization(m.ctx, op.p);  // east, north in; longitude, latitude out
-  if (m.to_wgs84 == nullptr)
-    throw InputError(where + ": PROJ cannot order the axes of " + shown + " (" + why() + ")");
-}
-
-CrsTransform::~CrsTransform() = default;
-
-GeoPoint CrsTransform::toWgs84(double east_m, double north_m) const {
-  const Impl& m = *impl_;
-  PJ_COORD c = proj_coord(east_m / m.unit_to_m, north_m / m.unit_to_m, 0.0, 0.0);
-  proj_errno_reset(m.to_wgs84);
-  const PJ_COORD g = proj_trans(m.to_wgs84, PJ_FWD, c);
-  GeoPoint out;
-  out.lon_deg = g.lp.lam;
-  out.lat_deg = g.lp.phi;
-  if (!(std::isfinite(out.lat_deg) && std::isfinite(out.lon_deg) && std::abs(out.lat_deg) <= 90.0 &&
-        std::abs(out.lon_deg) <= 180.0 && out.lat_deg != HUGE_VAL))
-    throw InputError("--crs: the point (" + formatFixed(east_m, 3) + ", " +
-                     formatFixed(north_m, 3) + ") m of " + m.name +
-                     " has no WGS84 position (PROJ: " +
-                     proj_context_errno_string(m.ctx, proj_errno(m.to_wgs84)) + "); is " + m.text +
-                     " the cloud's CRS?");
-  return out;
-}
-
-const std::string& CrsTransform::name() const { return impl_->name; }
-
-double CrsTransform::unitToMetres() const { return impl_->unit_to_m; }
-
 GeoPoint waypointGeo(const ExportOptions& options, const Vec3& enu) {
   if (options.crs) {
     const Vec3 p = enu + options.source_offset_m;
@@ -258,7 +115,8 @@ ExportFormat parseExportFormat(const std::string& text) {
   if (text == "qgc-plan") return ExportFormat::QgcPlan;
   if (text == "wpl") return ExportFormat::Wpl;
   if (text == "csv") return ExportFormat::Csv;
-  throw InputError("--format: must be qgc-plan, wpl or csv, got '" + text + "'");
+  throw InputError("--format: must be dji-kmz, qgc-plan, wpl, csv, kml or geojson, got '" + text +
+                   "'");
 }
 
 Autopilot parseAutopilot(const std::string& text) {

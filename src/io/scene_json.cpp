@@ -128,6 +128,10 @@ std::string sceneJsonText(const Scene& scene, const SceneExtras& extras) {
   if (extras.input_read) {
     const InputReadRecord& read = *extras.input_read;
     j["input_read"] = {{"scale", read.scale}, {"drop_classes", read.drop_classes}};
+    // The cloud's CRS, as the file or detect --crs states it (export places the flight by it).
+    if (!read.crs.empty())
+      j["crs"] = {
+          {"definition", read.crs}, {"vertical", read.crs_vertical}, {"source", read.crs_source}};
     // A recentred input (LAS, UTM): add source_offset_m to a point for the file's metres.
     if (read.source_offset_m != Vec3::Zero()) {
       const Vec3& o = read.source_offset_m;

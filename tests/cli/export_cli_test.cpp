@@ -104,7 +104,7 @@ TEST_F(ExportCli, BadInputIsOneLineAndExit2) {
   expectBadInput(base, "pass --origin");
   expectBadInput(base + " --origin 47.3,8.5", "'47.3,8.5'");
   expectBadInput(base + " --origin 95,8.5,400", "latitude");
-  expectBadInput("export " + mission() + " --format kml --origin 1,2,3 -o " + path("x"), "kml");
+  expectBadInput("export " + mission() + " --format kmz --origin 1,2,3 -o " + path("x"), "kmz");
   expectBadInput("export " + path("nope.json") + " --format wpl --origin 1,2,3 -o " + path("x"),
                  "nope.json");
   std::ofstream(path("bad.json")) << "{ not json";

@@ -28,6 +28,12 @@ struct CloudReadOptions {
 /// What reading did besides returning points (for the printout and scene.json).
 struct CloudReadInfo {
   std::string note;  ///< one line, e.g. the unit conversion of a LAS file; empty if none
+  /// The cloud's CRS as PROJ reads it (a LAS file's WKT or EPSG code; detect --crs);
+  /// empty when nothing states one.
+  std::string crs;
+  std::string crs_source;  ///< where crs came from ("LAS WKT record 2112", "detect --crs")
+  /// What heights are measured from: "egm96", "egm2008", "ellipsoid", or empty (unknown).
+  std::string crs_vertical;
   Vec3 origin_m{
       Vec3::Zero()};  ///< subtracted from the file's coordinates (after unit conversion) [m]
 };

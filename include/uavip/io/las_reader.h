@@ -64,6 +64,11 @@ struct LasCloud {
   /// Where the z unit came from: "WKT VERT_CS", "GeoTIFF key 4099 (VerticalUnitsGeoKey)",
   /// "horizontal unit" (none given for z) or "none in file (metres assumed)".
   std::string z_unit_source;
+  /// The file's coordinate reference system as PROJ reads it: the OGC WKT of record
+  /// 2112, else "EPSG:P" (GeoTIFF key 3072 ProjectedCSTypeGeoKey) with "+V" for key
+  /// 4096 VerticalCSTypeGeoKey; empty when the file states none.
+  std::string crs;
+  std::string crs_source;  ///< where crs came from, e.g. "LAS WKT record 2112"; empty if none
   int version_major{1};
   int version_minor{0};
   int point_format{0};  ///< 0..10

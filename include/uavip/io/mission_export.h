@@ -49,58 +49,10 @@
 #include <vector>
 
 #include "uavip/core/types.h"
+#include "uavip/io/geodesy.h"
 #include "uavip/io/mission_json.h"
 
 namespace uavip::io {
-
-/// WGS84 origin of the local ENU frame.
-struct GeoOrigin {
-  double lat_deg{0.0};  ///< latitude [deg], −90…90
-  double lon_deg{0.0};  ///< longitude [deg], −180…180
-  double alt_m{0.0};    ///< altitude of the origin (home) above mean sea level [m]
-};
-
-/// A geographic position.
-struct GeoPoint {
-  double lat_deg{0.0};
-  double lon_deg{0.0};
-  double alt_m{0.0};  ///< altitude in the origin's datum [m]
-};
-
-/// Parses "LAT,LON,ALT" (degrees, degrees, metres). Throws InputError
-/// "<where>: … got '<text>'" if malformed, not finite or out of range.
-GeoOrigin parseOrigin(const std::string& text, const std::string& where = "--origin");
-
-/// Local ENU [m] relative to `origin` → WGS84 (GeographicLib LocalCartesian).
-GeoPoint enuToGeodetic(const GeoOrigin& origin, const Vec3& enu);
-
-/// The projected coordinate reference system (CRS) of a cloud's file coordinates,
-/// transformed to WGS84 latitude and longitude by PROJ (`export --crs`). Not
-/// thread-safe (one PROJ context per object).
-class CrsTransform {
- public:
-  /// `crs`: what PROJ reads, e.g. "EPSG:32631" (WGS 84 / UTM zone 31N), a WKT or a
-  /// PROJ string. Throws InputError "<where>: …" naming the text when PROJ does not
-  /// know it, or when it is not a projected CRS (a geographic CRS is in degrees, a
-  /// cloud in metres).
-  explicit CrsTransform(const std::string& crs, const std::string& where = "--crs");
-  ~CrsTransform();
-  CrsTransform(const CrsTransform&) = delete;
-  CrsTransform& operator=(const CrsTransform&) = delete;
-
-  /// WGS84 latitude and longitude [deg] of the point (east, north) [m] of the CRS
-  /// (divided by the CRS's own unit, e.g. a US survey foot, before PROJ). Throws
-  /// InputError naming the point when PROJ cannot transform it.
-  GeoPoint toWgs84(double east_m, double north_m) const;
-  /// The CRS's name as PROJ gives it (e.g. "WGS 84 / UTM zone 31N").
-  const std::string& name() const;
-  /// Metres per unit of the CRS's first axis.
-  double unitToMetres() const;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
 
 /// Compass heading [deg, 0 = north, clockwise, in [0, 360)] of an ENU yaw [deg,
 /// counter-clockwise from east]: 90 − yaw, wrapped.

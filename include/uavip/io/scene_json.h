@@ -33,6 +33,10 @@ struct InputReadRecord {
   double scale{1.0};                   ///< factor to metres applied to the coordinates
   std::vector<int> drop_classes;       ///< LAS classes left out
   Vec3 source_offset_m{Vec3::Zero()};  ///< add to a point to get the file's coordinates [m]
+  /// The cloud's CRS (scene.json "crs": definition, vertical, source); empty if unknown.
+  std::string crs;
+  std::string crs_vertical;  ///< "egm96", "egm2008", "ellipsoid" or empty
+  std::string crs_source;
 };
 
 /// What scene.json holds beside the scene itself.
