@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -152,6 +153,41 @@ TEST_F(ExportCli, TheOrderedFlightIsExportedAndALegMovedIntoTheStructureIsRefuse
   EXPECT_NE(bad.out.find("sortie 1, segment 0"), std::string::npos) << bad.out;
   EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
   EXPECT_FALSE(fs::exists(dir_ / "bad.plan"));
+  const Result bad_kmz =
+      uavip("export " + (dir_ / "out/changed.json").string() +
+            " --surface all --format dji-kmz --origin 47.3977,8.5456,488 -o " + path("bad.kmz"));
+  EXPECT_EQ(bad_kmz.code, 3) << bad_kmz.out;
+  EXPECT_NE(bad_kmz.out.find("sortie 1, segment 0"), std::string::npos) << bad_kmz.out;
+  EXPECT_FALSE(fs::exists(dir_ / "bad.kmz"));
+}
+
+TEST_F(ExportCli, DjiKmzPerSortieAndItsMistakes) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  const std::string base = "export " + mission() + " --surface all --format dji-kmz ";
+  Result r = uavip(base + "--origin 47.3977,8.5456,488 --drone m30t -o " + path("site.kmz"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("Matrice 30T"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("validated against the scene as flown"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "site.kmz"));
+  // A sortie longer than --max-waypoints: routes of at most that many, with a message.
+  r = uavip(base + "--origin 47.3977,8.5456,488 --max-waypoints 100 -o " + path("split.kmz"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("split into"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "split_part1.kmz"));
+  EXPECT_TRUE(fs::exists(dir_ / "split_part2.kmz"));
+  // Mistakes: one line, exit 2, nothing written.
+  expectBadInput(base + "--origin 47.3977,8.5456,488 --drone phantom4 -o " + path("x.kmz"), "m4t");
+  expectBadInput(base + "--origin 47.3977,8.5456,488 --height-mode msl -o " + path("x.kmz"),
+                 "--height-mode");
+  expectBadInput(base + "-o " + path("x.kmz"), "pass --origin");
+  expectBadInput(base + "--origin 47.3977,8.5456,488 --takeoff-height 0.5 -o " + path("x.kmz"),
+                 "--takeoff-height");
+  // Without the geoid grid the heights cannot be right: refused, never a zero undulation.
+  fs::create_directories(dir_ / "no_grids");
+  ::setenv("PROJ_DATA", path("no_grids").c_str(), 1);  // the child's PROJ finds no grid there
+  expectBadInput(base + "--origin 47.3977,8.5456,488 -o " + path("x.kmz"), "proj-data");
+  ::unsetenv("PROJ_DATA");
+  EXPECT_FALSE(fs::exists(dir_ / "x.kmz"));
 }
 
 TEST_F(ExportCli, BlockedSurfaceExits3) {

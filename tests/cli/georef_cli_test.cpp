@@ -5,11 +5,15 @@
 // conversion (an independent implementation of the same projection) puts it.
 
 #include <gtest/gtest.h>
+#include <tinyxml2.h>
 #include <unistd.h>
+#include <unzip.h>
 
 #include <GeographicLib/UTMUPS.hpp>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -155,6 +159,90 @@ TEST_F(GeorefCli, AUtmCubeDetectsPlansValidatesAndExportsAtItsTrueLatitudeAndLon
     EXPECT_NEAR(plan["mission"]["plannedHomePosition"][1].get<double>(), lon, 1e-8);
     EXPECT_NEAR(plan["mission"]["plannedHomePosition"][2].get<double>(), home_z, 1e-6);
   }
+}
+
+/// The entries of a KMZ (minizip, read here).
+std::string unzipEntry(const std::string& kmz, const char* entry) {
+  unzFile z = unzOpen64(kmz.c_str());
+  if (z == nullptr || unzLocateFile(z, entry, 1) != UNZ_OK) {
+    if (z != nullptr) unzClose(z);
+    return "";
+  }
+  unz_file_info64 info{};
+  unzGetCurrentFileInfo64(z, &info, nullptr, 0, nullptr, 0, nullptr, 0);
+  std::string text(static_cast<std::size_t>(info.uncompressed_size), '\0');
+  unzOpenCurrentFile(z);
+  unzReadCurrentFile(z, text.data(), static_cast<unsigned>(text.size()));
+  unzCloseCurrentFile(z);
+  unzClose(z);
+  return text;
+}
+
+/// lon, lat and the named height of each Placemark of a WPML document.
+std::vector<std::array<double, 3>> placemarks(const std::string& xml, const char* height) {
+  tinyxml2::XMLDocument doc;
+  std::vector<std::array<double, 3>> out;
+  if (doc.Parse(xml.c_str()) != tinyxml2::XML_SUCCESS) return out;
+  const auto* folder =
+      doc.FirstChildElement("kml")->FirstChildElement("Document")->FirstChildElement("Folder");
+  for (const auto* pm = folder->FirstChildElement("Placemark"); pm != nullptr;
+       pm = pm->NextSiblingElement("Placemark")) {
+    std::array<double, 3> p{};
+    std::sscanf(pm->FirstChildElement("Point")->FirstChildElement("coordinates")->GetText(),
+                " %lf,%lf", &p[0], &p[1]);
+    p[2] = std::stod(pm->FirstChildElement(height)->GetText());
+    out.push_back(p);
+  }
+  return out;
+}
+
+TEST_F(GeorefCli, DetectRecordsTheCrsAndADjiRouteNeedsNoCrsOrOriginAfterIt) {
+  const double off_e = std::round(kEast + 0.5 * kSide), off_n = std::round(kNorth + 0.5 * kSide);
+  std::ofstream(path("cube.xyz")) << cubeText(' ');
+  Result r = uavip("detect " + path("cube.xyz") + " --crs EPSG:32631+5773 -o " + path("d"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto scene = nlohmann::json::parse(slurp(path("d/scene.json")));
+  EXPECT_EQ(scene["crs"]["definition"], "EPSG:32631+5773");
+  EXPECT_EQ(scene["crs"]["vertical"], "egm96");  // from the compound CRS's vertical part
+  EXPECT_EQ(scene["crs"]["source"], "detect --crs");
+  ASSERT_EQ(uavip("plan " + path("d/scene.json") + " --surface all -o " + path("d")).code, 0);
+  r = uavip("export " + path("d/mission.json") +
+            " --surface all --sortie 1 --format dji-kmz --height-mode ellipsoid -o " +
+            path("site.kmz"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto mission = nlohmann::json::parse(slurp(path("d/mission.json")));
+  const auto& wps = mission["flight"]["sorties"][0]["waypoints"];
+  const auto flown = placemarks(unzipEntry(path("site.kmz"), "wpmz/waylines.wpml"),
+                                "wpml:executeHeight");  // above the ellipsoid
+  const auto shown = placemarks(unzipEntry(path("site.kmz"), "wpmz/template.kml"),
+                                "wpml:height");  // above EGM96, as Pilot 2 shows them
+  ASSERT_EQ(flown.size(), wps.size());
+  ASSERT_EQ(shown.size(), wps.size());
+  double undulation = 0.0;
+  for (std::size_t i = 0; i < wps.size(); ++i) {
+    double lat = 0.0, lon = 0.0;
+    GeographicLib::UTMUPS::Reverse(31, true, wps[i][0].get<double>() + off_e,
+                                   wps[i][1].get<double>() + off_n, lat, lon);
+    EXPECT_NEAR(flown[i][0], lon, 2e-9) << i;  // ≈ 0.2 mm
+    EXPECT_NEAR(flown[i][1], lat, 2e-9) << i;
+    // The cloud's heights are EGM96 heights (EPSG:5773): the template gives them back.
+    EXPECT_NEAR(shown[i][2], wps[i][2].get<double>(), 1e-3) << i;
+    // Ellipsoidal = EGM96 + N, the same N over a 10 m site.
+    if (i == 0) undulation = flown[0][2] - shown[0][2];
+    EXPECT_NEAR(flown[i][2] - shown[i][2], undulation, 0.01) << i;
+  }
+  EXPECT_GT(std::abs(undulation), 1.0);  // N is tens of metres in Europe, never silently 0
+  // A --crs that contradicts the scene's is a warning naming both.
+  r = uavip("export " + path("d/mission.json") +
+            " --surface all --sortie 1 --format geojson --crs EPSG:32631 -o " + path("g.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: --crs EPSG:32631 differs from the scene's CRS EPSG:32631+5773"),
+            std::string::npos)
+      << r.out;
+  // A CRS PROJ does not know is refused at detect.
+  r = uavip("detect " + path("cube.xyz") + " --crs EPSG:99999 -o " + path("e"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("EPSG:99999"), std::string::npos) << r.out;
 }
 
 TEST_F(GeorefCli, CrsMistakesAreOneLineAndExit2) {

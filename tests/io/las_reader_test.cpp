@@ -18,6 +18,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/io/cloud_io.h"
+#include "uavip/io/geodesy.h"
 
 #ifndef UAVIP_SOURCE_DIR
 #define UAVIP_SOURCE_DIR "."  // standalone build from the repository root
@@ -291,6 +292,8 @@ TEST_F(LasReader, GeoTiffUsSurveyFeet) {
   EXPECT_EQ(c.unit_source, "GeoTIFF key 3076 (ProjLinearUnitsGeoKey)");
   EXPECT_DOUBLE_EQ(c.z_unit_to_m, kUsFoot);
   EXPECT_EQ(c.z_unit_source, "horizontal unit");
+  EXPECT_EQ(c.crs, "EPSG:2285");  // ProjectedCSTypeGeoKey, for export's CRS
+  EXPECT_EQ(c.crs_source, "LAS GeoTIFF key 3072 (ProjectedCSTypeGeoKey)");
   for (std::size_t i = 0; i < s.points.size(); ++i) {
     const Vec3 e = expected(s, s.points[i], kUsFoot, kUsFoot);
     EXPECT_NEAR((c.points[i] - e).norm(), 0.0, 1e-8) << i;
@@ -307,6 +310,21 @@ TEST_F(LasReader, GeoTiffVerticalUnitAppliesToZOnly) {
   EXPECT_EQ(c.z_unit_name, "international foot");
   EXPECT_EQ(c.z_unit_source, "GeoTIFF key 4099 (VerticalUnitsGeoKey)");
   EXPECT_NEAR(c.points[0].z(), (98765 * 0.01) * kFoot, 1e-9);
+}
+
+TEST_F(LasReader, GeoTiffProjectedAndVerticalCrsKeysGiveACompoundCrs) {
+  LasSpec s;
+  s.points = samplePoints(0);
+  s.vlrs.push_back({"LASF_Projection", 34735,
+                    geoKeys({{1024, 0, 1, 1}, {3072, 0, 1, 32650}, {4096, 0, 1, 5773}})});
+  const LasCloud c = readLas(write("compound.las", s));
+  EXPECT_EQ(c.crs, "EPSG:32650+5773");
+  EXPECT_NE(c.crs_source.find("4096"), std::string::npos) << c.crs_source;
+  const CrsTransform t(c.crs);  // PROJ reads what the reader records
+  EXPECT_EQ(t.verticalEpsg(), 5773);
+  LasSpec none;
+  none.points = samplePoints(0);
+  EXPECT_EQ(readLas(write("nocrs.las", none)).crs, "");
 }
 
 TEST_F(LasReader, GeoTiffUserDefinedUnitSize) {
@@ -340,6 +358,8 @@ TEST_F(LasReader, WktInMetresIsPreferredOverGeoTiffKeys) {
   EXPECT_EQ(c.unit_name, "metre");
   EXPECT_EQ(c.unit_source, "WKT");
   EXPECT_EQ(c.z_unit_to_m, 1.0);
+  EXPECT_EQ(c.crs, kWktUtmMetre);  // the WKT wins over the keys for the CRS too
+  EXPECT_EQ(c.crs_source, "LAS WKT record 2112");
   for (std::size_t i = 0; i < s.points.size(); ++i)
     EXPECT_NEAR((c.points[i] - expected(s, s.points[i], 1.0, 1.0)).norm(), 0.0, 1e-9) << i;
 }
@@ -571,6 +591,13 @@ TEST(LasAutzen, RealAirborneScanInInternationalFeet) {
   EXPECT_NEAR(extent_m.z(), 35.0, 1.0);
   // Recentred on whole metres; elevations kept.
   EXPECT_EQ(c.origin_m, Vec3(194033.0, 258841.0, 0.0));
+  // Its WKT (Oregon Lambert, NAD83 HARN, feet) places the centre on Autzen Stadium,
+  // Eugene, Oregon (44.058 N, 123.069 W).
+  EXPECT_EQ(c.crs_source, "LAS WKT record 2112");
+  const CrsTransform crs(c.crs);
+  const GeoPoint centre = crs.toWgs84(c.origin_m.x(), c.origin_m.y());
+  EXPECT_NEAR(centre.lat_deg, 44.058, 0.01);
+  EXPECT_NEAR(centre.lon_deg, -123.069, 0.01);
   EXPECT_NEAR(lo.z(), 406.26 * kFoot, 1e-6);
   EXPECT_LT(lo.head<2>().cwiseAbs().maxCoeff(), 200.0);
 
