@@ -36,7 +36,7 @@ constexpr double kMaxDistanceFromOriginM = 50e3;
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
   std::string mission, format, origin, crs, out, surface, autopilot{"px4"}, scene;
-  std::string drone{"m350"}, height_mode{"relative"}, vertical;
+  std::string drone{"m350"}, payload, height_mode{"relative"}, vertical;
   int sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
   std::size_t max_waypoints{io::kWpmlMaxWaypoints};
@@ -402,7 +402,7 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
     return kExitOk;
   }
   io::WpmlOptions o;
-  o.drone = io::findDjiDrone(a.drone);
+  o.drone = io::withPayload(io::findDjiDrone(a.drone), a.payload);
   o.height_mode = io::parseWpmlHeightMode(a.height_mode);
   o.speed_m_s = a.speed_m_s;
   o.hold_s = a.hold_s;
@@ -514,6 +514,9 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
                  "CRS's vertical part, else egm96); dji-kmz, kml, geojson");
   ex->add_option("--drone", a->drone, "dji-kmz: the DJI model: " + io::djiDroneList())
       ->capture_default_str();
+  ex->add_option("--payload", a->payload,
+                 "dji-kmz, m300/m350 only: the Zenmuse camera, h20 (default), h20t, h20n, h30 or "
+                 "h30t (each its own enum value and gimbal pitch range)");
   ex->add_option("--height-mode", a->height_mode,
                  "dji-kmz: relative (relativeToStartPoint: metres above home, take off there) or "
                  "ellipsoid (WGS84: metres above the WGS84 ellipsoid; needs RTK-grade heights)")

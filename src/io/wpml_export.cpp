@@ -165,8 +165,10 @@ void requireReachablePitch(const Flight& flight, const DjiDrone& d) {
                        formatFixed(w.gimbal_pitch_deg, 1) + "°, beyond the " + d.model + "'s " +
                        d.payload + " (" + formatNumber(d.pitch_min_deg) + "° to " +
                        formatNumber(d.pitch_max_deg) +
-                       "°); choose a drone whose gimbal reaches it, or re-plan with "
-                       "mission.gimbal_pitch limits");
+                       "°); choose a drone or --payload whose gimbal reaches it, or plan with "
+                       "coverage: {gimbal_pitch_deg: [" +
+                       formatNumber(d.pitch_min_deg) + ", " + formatNumber(d.pitch_max_deg) +
+                       "]} in the config (uavip plan -c)");
   }
 }
 
@@ -220,6 +222,35 @@ const std::vector<DjiDrone>& djiDrones() {
       {"m4t", "Matrice 4T", 99, 1, 89, "M4T Camera", -90.0, 35.0, true},
   };
   return drones;
+}
+
+const std::vector<DjiPayload>& djiPayloads() {
+  // Zenmuse cameras of the M300 RTK / M350 RTK (Cloud API camera enumeration;
+  // pitch: PSDK "Gimbal Management", mounted below, default limits).
+  static const std::vector<DjiPayload> payloads = {
+      {"h20", "Zenmuse H20", 42, -120.0, 45.0},   {"h20t", "Zenmuse H20T", 43, -120.0, 30.0},
+      {"h20n", "Zenmuse H20N", 61, -120.0, 30.0}, {"h30", "Zenmuse H30", 82, -120.0, 60.0},
+      {"h30t", "Zenmuse H30T", 83, -120.0, 60.0},
+  };
+  return payloads;
+}
+
+DjiDrone withPayload(const DjiDrone& drone, const std::string& payload) {
+  if (payload.empty()) return drone;
+  if (drone.name != "m300" && drone.name != "m350")
+    throw InputError("--payload: the " + drone.model + " has its own camera (" + drone.payload +
+                     "); --payload is for the m300 and m350 (h20, h20t, h20n, h30, h30t)");
+  for (const DjiPayload& p : djiPayloads()) {
+    if (p.name != payload) continue;
+    DjiDrone d = drone;
+    d.payload = p.model;
+    d.payload_enum = p.payload_enum;
+    d.pitch_min_deg = p.pitch_min_deg;
+    d.pitch_max_deg = p.pitch_max_deg;
+    return d;
+  }
+  throw InputError("--payload: unknown camera '" + payload +
+                   "'; one of h20, h20t, h20n, h30, h30t");
 }
 
 std::string djiDroneList() {

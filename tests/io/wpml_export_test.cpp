@@ -271,6 +271,15 @@ TEST(WpmlLimits, APitchBeyondTheGimbalAnUnknownDroneAndBadOptionsAreRefused) {
   } catch (const uavip::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("m4t"), std::string::npos) << e.what();
   }
+  // An M350 with the H30 reaches +60, the H20T only +30 (PSDK gimbal limits).
+  f.waypoints[2].gimbal_pitch_deg = 50.0;
+  o.drone = io::withPayload(io::findDjiDrone("m350"), "h30");
+  EXPECT_EQ(o.drone.payload_enum, 82);
+  EXPECT_NO_THROW(io::wpmlDocuments(f, geo, Vec3::Zero(), o));
+  o.drone = io::withPayload(io::findDjiDrone("m350"), "h20t");
+  EXPECT_THROW(io::wpmlDocuments(f, geo, Vec3::Zero(), o), uavip::InputError);
+  EXPECT_THROW(io::withPayload(io::findDjiDrone("m3e"), "h30"), uavip::InputError);
+  EXPECT_THROW(io::withPayload(io::findDjiDrone("m300"), "p1"), uavip::InputError);
   o.takeoff_security_height_m = 0.5;
   EXPECT_THROW(o.validate(), uavip::InputError);
 }

@@ -45,6 +45,20 @@ struct DjiDrone {
 const std::vector<DjiDrone>& djiDrones();
 /// The model named `name`; throws InputError "--drone: … (one of …)" listing the names.
 const DjiDrone& findDjiDrone(const std::string& name);
+/// A Zenmuse camera the M300 RTK and M350 RTK carry (`--payload`).
+struct DjiPayload {
+  std::string name;              ///< --payload value, e.g. "h30"
+  std::string model;             ///< "Zenmuse H30"
+  int payload_enum{0};           ///< wpml:payloadEnumValue
+  double pitch_min_deg{-120.0};  ///< [deg], up positive
+  double pitch_max_deg{45.0};    ///< [deg]
+};
+/// The cameras --payload takes.
+const std::vector<DjiPayload>& djiPayloads();
+/// `drone` carrying `payload` ("" keeps its default camera); throws InputError for an
+/// unknown name or a drone with a built-in camera.
+DjiDrone withPayload(const DjiDrone& drone, const std::string& payload);
+
 /// "m300 (Matrice 300 RTK, Zenmuse H20, pitch -120..45), …": for --help and errors.
 std::string djiDroneList();
 
