@@ -12,12 +12,15 @@ UAVIP="$BUILD/uavip"
 OUT=$(mktemp -d /tmp/uavip_export_bench.XXXXXX)
 trap 'rm -rf "$OUT"' EXIT
 
-# name | how the mission is made | how it is placed on the Earth
+# Structure missions are planned within the Mavic 3E's gimbal (-90..35 deg), so that
+# every photo can be flown by it.
+printf 'coverage:\n  gimbal_pitch_deg: [-90, 35]\n' >"$OUT/m3e.yaml"
+# name | how the mission is made | how it is placed on the Earth and flown
 cases=(
-  "single_plane|run scenarios/single_plane.yaml|--origin 47.3977,8.5456,488"
-  "wall_on_ground|run scenarios/wall_on_ground.yaml|--origin 22.3364,114.2655,12 --payload h30"
-  "tower|run scenarios/tower.yaml|--origin 48.8584,2.2945,35 --payload h30"
-  "fcplanner_pipe (structure)|detect+plan tests/data/fcplanner_pipe.pcd|--origin 31.0256,121.4364,6"
+  "single_plane|run scenarios/single_plane.yaml|--origin 47.3977,8.5456,488 --drone m350"
+  "wall_on_ground|run scenarios/wall_on_ground.yaml|--origin 22.3364,114.2655,12 --drone m350 --payload h30"
+  "fcplanner_pipe (structure)|detect+plan tests/data/fcplanner_pipe.pcd|--origin 31.0256,121.4364,6 --drone m3e"
+  "fcplanner_MBS (structure)|detect+plan tests/data/fcplanner_MBS.pcd|--origin 31.0256,121.4364,6 --drone m3e"
 )
 
 median() { python3 -c 'import statistics,sys; print(f"{statistics.median(float(x) for x in sys.argv[1:]):.2f}")' "$@"; }
@@ -33,11 +36,11 @@ for c in "${cases[@]}"; do
   else
     cloud=${make#detect+plan }
     "$UAVIP" detect "$cloud" -o "$dir" -q --no-views
-    "$UAVIP" plan "$dir/scene.json" --cover structure -o "$dir" -q --no-views
+    "$UAVIP" plan "$dir/scene.json" --cover structure -c "$OUT/m3e.yaml" -o "$dir" -q --no-views
   fi
   m="$dir/mission.json"
-  rel=$("$UAVIP" export "$m" --surface all --format dji-kmz $place --drone m350 -o "$dir/rel.kmz")
-  "$UAVIP" export "$m" --surface all --format dji-kmz $place --drone m350 --height-mode ellipsoid \
+  rel=$("$UAVIP" export "$m" --surface all --format dji-kmz $place -o "$dir/rel.kmz")
+  "$UAVIP" export "$m" --surface all --format dji-kmz $place --height-mode ellipsoid \
     -o "$dir/ell.kmz" -q
   "$UAVIP" export "$m" --surface all --format kml $place -o "$dir/site.kml" -q
   "$UAVIP" export "$m" --surface all --format geojson $place -o "$dir/site.geojson" -q

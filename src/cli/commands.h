@@ -8,11 +8,14 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "uavip/app/pipeline.h"
+#include "uavip/io/geodesy.h"
+#include "uavip/io/scene_json.h"
 
 namespace uavip::cli {
 
@@ -61,6 +64,12 @@ std::pair<CLI::App*, std::shared_ptr<Args>> missionCommand(CLI::App& cli, const 
   auto args = std::make_shared<Args>();
   return {addMissionCommand(cli, name, description, args->mission), args};
 }
+
+/// The scene's CRS in closed form for mission.html (io::fitGeoreference over the
+/// cloud's box), or none: no CRS, or one PROJ cannot use (a warning says so; the page
+/// is a convenience, the exports check the CRS themselves). view_commands.cpp.
+std::optional<io::GeoFit> pageGeoFit(const std::optional<io::SceneCrsRecord>& crs,
+                                     const Scene& scene, const Verbosity& v);
 
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);

@@ -137,28 +137,11 @@ Vec3 sourceOffset(const ExportArgs& a) {
   return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
 }
 
-/// scene.json's record of the cloud's CRS ("crs": definition, vertical datum, source).
-struct SceneCrs {
-  std::string definition, vertical, source;
-};
-
 /// The CRS scene.json records, if the scene is there and has one.
-std::optional<SceneCrs> sceneCrs(const ExportArgs& a) {
+std::optional<io::SceneCrsRecord> sceneCrs(const ExportArgs& a) {
   const std::string path = sceneFor(a);
   if (!fs::is_regular_file(path)) return std::nullopt;
-  const io::JsonReader reader(path);
-  const nlohmann::json scene = reader.load();
-  if (!scene.is_object() || !scene.contains("crs")) return std::nullopt;
-  const nlohmann::json& crs = scene.at("crs");
-  if (!crs.is_object() || !crs.contains("definition") || !crs.at("definition").is_string())
-    throw InputError(path + ": crs.definition must be a string (the cloud's CRS, e.g. EPSG:32650)");
-  SceneCrs out;
-  out.definition = crs.at("definition").get<std::string>();
-  if (crs.contains("vertical") && crs.at("vertical").is_string())
-    out.vertical = crs.at("vertical").get<std::string>();
-  if (crs.contains("source") && crs.at("source").is_string())
-    out.source = crs.at("source").get<std::string>();
-  return out;
+  return io::sceneCrsFromJson(io::JsonReader(path).load(), path);
 }
 
 /// The export options of the command line (one of --origin and --crs, else the CRS
@@ -173,7 +156,7 @@ io::ExportOptions exportOptions(const ExportArgs& a) {
     options.origin = io::parseOrigin(a.origin);
   } else if (!a.crs.empty()) {
     options.crs = std::make_shared<const io::CrsTransform>(a.crs);
-  } else if (const std::optional<SceneCrs> scene = sceneCrs(a)) {
+  } else if (const std::optional<io::SceneCrsRecord> scene = sceneCrs(a)) {
     options.crs =
         std::make_shared<const io::CrsTransform>(scene->definition, sceneFor(a) + ": crs");
   } else {
@@ -290,10 +273,11 @@ struct Placement {
   Vec3 home{Vec3::Zero()};
 };
 
-/// The vertical datum of the cloud's heights: --vertical, else the compound CRS's
-/// vertical part, else scene.json's record, else EGM96 (docs/formats.md).
+/// The vertical datum of the cloud's heights: --vertical, else scene.json's record,
+/// else the compound CRS's vertical part, else EGM96 (docs/formats.md).
 io::VerticalDatum verticalDatum(const ExportArgs& a, const io::CrsTransform& crs,
-                                const std::optional<SceneCrs>& scene, const Verbosity& v) {
+                                const std::optional<io::SceneCrsRecord>& scene,
+                                const Verbosity& v) {
   const std::optional<io::VerticalDatum> of_crs = io::verticalDatumOfEpsg(crs.verticalEpsg());
   if (!a.vertical.empty()) {
     const io::VerticalDatum d = io::parseVerticalDatum(a.vertical);
@@ -302,17 +286,7 @@ io::VerticalDatum verticalDatum(const ExportArgs& a, const io::CrsTransform& crs
                 << crs.verticalName() << " (EPSG:" << crs.verticalEpsg() << ")\n";
     return d;
   }
-  if (!crs.verticalName().empty()) {
-    if (!of_crs)
-      throw InputError("the CRS's vertical part " + crs.verticalName() +
-                       " (EPSG:" + std::to_string(crs.verticalEpsg()) +
-                       ") is not EGM96 height (5773) or EGM2008 height (3855); pass --vertical "
-                       "egm96|egm2008|ellipsoid for what the cloud's z is measured from");
-    return *of_crs;
-  }
-  if (scene && !scene->vertical.empty())
-    return io::parseVerticalDatum(scene->vertical, sceneFor(a) + ": crs.vertical");
-  return io::VerticalDatum::Egm96;
+  return io::defaultVerticalDatum(crs, scene ? scene->vertical : "", sceneFor(a));
 }
 
 /// --origin, or the cloud's CRS (--crs or scene.json's crs) with its vertical datum.
@@ -328,7 +302,7 @@ Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
     p.geo = std::make_unique<io::Georeference>(io::parseOrigin(a.origin));
     return p;
   }
-  const std::optional<SceneCrs> scene = sceneCrs(a);
+  const std::optional<io::SceneCrsRecord> scene = sceneCrs(a);
   std::string definition = a.crs;
   if (definition.empty()) {
     if (!scene)
@@ -345,13 +319,9 @@ Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
   const auto crs = std::make_shared<const io::CrsTransform>(
       definition, a.crs.empty() ? sceneFor(a) + ": crs" : "--crs");
   const io::VerticalDatum vertical = verticalDatum(a, *crs, scene, v);
-  // A CRS the scene records needs no offset when the cloud was not recentred; a --crs
-  // given by hand does (sourceOffset says why).
-  const bool has_offset = fs::is_regular_file(sceneFor(a)) && [&] {
-    const nlohmann::json j = io::JsonReader(sceneFor(a)).load();
-    return j.is_object() && j.contains("source_offset_m");
-  }();
-  const Vec3 offset = has_offset || !a.crs.empty() ? sourceOffset(a) : Vec3::Zero();
+  // A CRS the scene records comes with its offset (zero when the cloud was not
+  // recentred); a --crs given by hand needs the scene's offset (sourceOffset says why).
+  const Vec3 offset = a.crs.empty() ? scene->source_offset_m : sourceOffset(a);
   p.geo = std::make_unique<io::Georeference>(crs, offset, vertical);
   p.home = homeOf(mission, flights);
   return p;

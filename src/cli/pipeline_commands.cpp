@@ -21,6 +21,7 @@
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/view/views.h"
@@ -373,8 +374,12 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   d.scene.safety->source = fs::absolute(cloud_path).lexically_normal().string();
   d.scene.safety->sha256 = io::sha256File(cloud_path);
   const std::vector<planning::SurfaceMission> no_missions;
-  auto rendered = renderViewsAsync(views, d.scene, no_missions,
-                                   overviewOptions(fs::path(cloud_path).stem().string()), nullptr);
+  view::OverviewOptions view_options = overviewOptions(fs::path(cloud_path).stem().string());
+  if (views && !read.crs.empty())
+    view_options.geo =
+        pageGeoFit(io::SceneCrsRecord{read.crs, read.crs_vertical, read.crs_source, read.origin_m},
+                   d.scene, v);
+  auto rendered = renderViewsAsync(views, d.scene, no_missions, view_options, nullptr);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d, &read);
   stageViews(outputs, out, rendered);
@@ -400,17 +405,17 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
     config.planner = planner;
     config.validate("--planner");
   }
-  const Scene scene = io::loadScene(scene_path);
+  const nlohmann::json scene_json = io::JsonReader(scene_path).load();
+  const Scene scene = io::sceneFromJson(scene_json, scene_path);
   const std::vector<int> ids = structure ? std::vector<int>{} : app::selectSurfaces(scene, surface);
   io::ensureDirectory(out);
   const app::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = structure ? app::planStructure(scene, resolved, progressPrinter(v))
                                       : app::plan(scene, resolved, ids, progressPrinter(v));
-  auto rendered =
-      renderViewsAsync(views, scene, p.missions,
-                       overviewOptions(fs::path(scene_path).parent_path().filename().string(),
-                                       resolved.uav.inflationRadius()),
-                       &p.flight);
+  view::OverviewOptions view_options = overviewOptions(
+      fs::path(scene_path).parent_path().filename().string(), resolved.uav.inflationRadius());
+  if (views) view_options.geo = pageGeoFit(io::sceneCrsFromJson(scene_json, scene_path), scene, v);
+  auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, resolved, scene_path);
   stageViews(outputs, out, rendered);

@@ -7,6 +7,7 @@
 
 #include "src/cli/commands.h"
 #include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/json_reader.h"
 #include "uavip/io/scene_json.h"
@@ -16,6 +17,26 @@ namespace uavip::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+}  // namespace
+
+std::optional<io::GeoFit> pageGeoFit(const std::optional<io::SceneCrsRecord>& crs,
+                                     const Scene& scene, const Verbosity& v) {
+  if (!crs || scene.cloud.empty()) return std::nullopt;
+  try {
+    const auto transform = std::make_shared<const io::CrsTransform>(crs->definition, "crs");
+    const io::Georeference geo(transform, crs->source_offset_m,
+                               io::defaultVerticalDatum(*transform, crs->vertical, "scene.json"));
+    const Aabb box = boundingBox(scene.cloud);
+    return io::fitGeoreference(geo, box.min, box.max);
+  } catch (const InputError& e) {
+    if (!v.quiet)
+      std::cerr << "uavip: warning: mission.html shows local metres only: " << e.what() << "\n";
+    return std::nullopt;
+  }
+}
+
+namespace {
 
 int viewCommand(const std::string& mission_path, std::string scene_path, std::string out,
                 const Verbosity& v) {
@@ -27,9 +48,11 @@ int viewCommand(const std::string& mission_path, std::string scene_path, std::st
     throw InputError(
         mission_path + ": its scene " + scene_path +
         " does not exist; give the scene.json the mission was planned on with --scene");
-  const Scene scene = io::loadScene(scene_path);
+  const nlohmann::json scene_json = io::JsonReader(scene_path).load();
+  const Scene scene = io::sceneFromJson(scene_json, scene_path);
   io::requireDistinctOutputs({mission_path, scene_path}, {out});
   view::MissionPageOptions options;
+  options.geo = pageGeoFit(io::sceneCrsFromJson(scene_json, scene_path), scene, v);
   options.title = fs::path(mission_path).parent_path().filename().string();
   options.title = (options.title.empty() ? std::string() : options.title + ": ") + "uavip mission";
   const std::string page = view::missionPage(scene, &mission, options, mission_path);

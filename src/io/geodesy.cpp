@@ -2,6 +2,7 @@
 
 #include <proj.h>
 
+#include <Eigen/Dense>
 #include <GeographicLib/LocalCartesian.hpp>
 #include <cerrno>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/core/text.h"
 
 namespace uavip::io {
@@ -214,6 +216,21 @@ std::optional<VerticalDatum> verticalDatumOfEpsg(int code) {
   return std::nullopt;
 }
 
+VerticalDatum defaultVerticalDatum(const CrsTransform& crs, const std::string& recorded,
+                                   const std::string& where) {
+  if (!recorded.empty()) return parseVerticalDatum(recorded, where + ": crs.vertical");
+  if (!crs.verticalName().empty()) {
+    const std::optional<VerticalDatum> d = verticalDatumOfEpsg(crs.verticalEpsg());
+    if (!d)
+      throw InputError(where + ": the CRS's vertical part " + crs.verticalName() +
+                       " (EPSG:" + std::to_string(crs.verticalEpsg()) +
+                       ") is not EGM96 height (5773) or EGM2008 height (3855); pass --vertical "
+                       "egm96|egm2008|ellipsoid for what the cloud's z is measured from");
+    return *d;
+  }
+  return VerticalDatum::Egm96;
+}
+
 struct GeoidModel::Impl {
   VerticalDatum datum{VerticalDatum::Ellipsoid};
   PJ_CONTEXT* ctx{nullptr};
@@ -272,7 +289,6 @@ GeoidModel::~GeoidModel() = default;
 double GeoidModel::undulation(double lat_deg, double lon_deg) const {
   const Impl& m = *impl_;
   if (m.shift == nullptr) return 0.0;
-  constexpr double kDegToRad = 0.017453292519943295;
   const PJ_COORD c =
       proj_trans(m.shift, PJ_FWD, proj_coord(lon_deg * kDegToRad, lat_deg * kDegToRad, 0.0, 0.0));
   if (!std::isfinite(c.xyz.z) || c.xyz.z == HUGE_VAL)
@@ -363,6 +379,66 @@ std::string Georeference::describe() const {
          (m.vertical->gridName().empty() ? "" : " (" + m.vertical->gridName() + ")") +
          ", source_offset_m (" + formatFixed(m.offset.x(), 3) + ", " +
          formatFixed(m.offset.y(), 3) + ", " + formatFixed(m.offset.z(), 3) + ")";
+}
+
+namespace {
+
+/// The basis of GeoFit at normalised (u, v, w).
+Eigen::Matrix<double, 10, 1> geoBasis(const Vec3& q) {
+  Eigen::Matrix<double, 10, 1> b;
+  b << 1.0, q.x(), q.y(), q.z(), q.x() * q.x(), q.y() * q.y(), q.z() * q.z(), q.x() * q.y(),
+      q.x() * q.z(), q.y() * q.z();
+  return b;
+}
+
+}  // namespace
+
+GeoFit fitGeoreference(const Georeference& geo, const Vec3& lo, const Vec3& hi) {
+  GeoFit fit;
+  fit.centre = 0.5 * (lo + hi);
+  fit.half = (0.5 * (hi - lo)).cwiseMax(Vec3::Ones());
+  const auto lattice = [&](int n_xy, int n_z, double shift) {
+    std::vector<Vec3> q;
+    for (int i = 0; i < n_xy; ++i)
+      for (int j = 0; j < n_xy; ++j)
+        for (int k = 0; k < n_z; ++k)
+          q.emplace_back(-1.0 + 2.0 * (i + shift) / (n_xy - 1),
+                         -1.0 + 2.0 * (j + shift) / (n_xy - 1),
+                         n_z == 1 ? 0.0 : -1.0 + 2.0 * (k + shift) / (n_z - 1));
+    return q;
+  };
+  const std::vector<Vec3> samples = lattice(7, 3, 0.0);
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(samples.size()), 10);
+  Eigen::MatrixXd b(static_cast<Eigen::Index>(samples.size()), 3);
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const Geodetic g = geo.toGeodetic(fit.centre + samples[s].cwiseProduct(fit.half));
+    a.row(static_cast<Eigen::Index>(s)) = geoBasis(samples[s]).transpose();
+    b.row(static_cast<Eigen::Index>(s)) << g.lat_deg, g.lon_deg, g.h_ellipsoid_m;
+  }
+  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  for (int k = 0; k < 10; ++k) {
+    fit.lat[static_cast<std::size_t>(k)] = c(k, 0);
+    fit.lon[static_cast<std::size_t>(k)] = c(k, 1);
+    fit.h[static_cast<std::size_t>(k)] = c(k, 2);
+  }
+  // Checked where it was not fitted: the centres of the lattice's cells.
+  constexpr double kMetresPerDegree = 111320.0;
+  for (const Vec3& q : lattice(6, 2, 0.5)) {
+    if (q.cwiseAbs().maxCoeff() > 1.0) continue;
+    const Geodetic g = geo.toGeodetic(fit.centre + q.cwiseProduct(fit.half));
+    const Eigen::Matrix<double, 10, 1> basis = geoBasis(q);
+    double lat = 0.0, lon = 0.0, h = 0.0;
+    for (int k = 0; k < 10; ++k) {
+      lat += fit.lat[static_cast<std::size_t>(k)] * basis(k);
+      lon += fit.lon[static_cast<std::size_t>(k)] * basis(k);
+      h += fit.h[static_cast<std::size_t>(k)] * basis(k);
+    }
+    const Vec3 error((lon - g.lon_deg) * kMetresPerDegree * std::cos(g.lat_deg * kDegToRad),
+                     (lat - g.lat_deg) * kMetresPerDegree, h - g.h_ellipsoid_m);
+    fit.max_error_m = std::max(fit.max_error_m, error.norm());
+  }
+  fit.crs = geo.describe();
+  return fit;
 }
 
 }  // namespace uavip::io

@@ -215,6 +215,20 @@ Scene sceneFromJson(const json& j, const std::string& path) {
   return scene;
 }
 
+std::optional<SceneCrsRecord> sceneCrsFromJson(const json& j, const std::string& path) {
+  if (!j.is_object() || !j.contains("crs")) return std::nullopt;
+  const JsonReader r(path);
+  const json& crs = j.at("crs");
+  SceneCrsRecord out;
+  out.definition = r.text(r.at(crs, "definition", "crs"), "crs.definition");
+  if (out.definition.empty()) r.fail("crs.definition", "must not be empty (the cloud's CRS)");
+  if (crs.contains("vertical")) out.vertical = r.text(crs.at("vertical"), "crs.vertical");
+  if (crs.contains("source")) out.source = r.text(crs.at("source"), "crs.source");
+  if (j.contains("source_offset_m"))
+    out.source_offset_m = r.vec3(j.at("source_offset_m"), "source_offset_m", false);
+  return out;
+}
+
 Scene loadScene(const std::string& path) { return sceneFromJson(JsonReader(path).load(), path); }
 
 }  // namespace uavip::io

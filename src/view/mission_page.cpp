@@ -665,8 +665,20 @@ label{display:block;white-space:nowrap}
 <script type="application/json" id="uavip-summary">)";
 
 /// The self-contained page: markup, the summary and data JSON, three.js and the page's script.
+/// The #uavip-geo block of a page (io::GeoFit), or null.
+json geoJson(const std::optional<io::GeoFit>& geo) {
+  if (!geo) return nullptr;
+  return {{"centre", {geo->centre.x(), geo->centre.y(), geo->centre.z()}},
+          {"half", {geo->half.x(), geo->half.y(), geo->half.z()}},
+          {"lat", geo->lat},
+          {"lon", geo->lon},
+          {"h", geo->h},
+          {"max_error_m", geo->max_error_m},
+          {"crs", geo->crs}};
+}
+
 std::string htmlDocument(const std::string& title, const json& summary, const json& data,
-                         std::size_t cloud_bytes) {
+                         const json& geo, std::size_t cloud_bytes) {
   std::string html;
   html.reserve(embeddedThreeJs().size() + cloud_bytes * 2 + 100000);
   html += kHeadOpen;
@@ -675,6 +687,10 @@ std::string htmlDocument(const std::string& title, const json& summary, const js
   html += scriptJson(summary);
   html += "</script>\n<script type=\"application/json\" id=\"uavip-data\">";
   html += scriptJson(data);
+  if (!geo.is_null()) {
+    html += "</script>\n<script type=\"application/json\" id=\"uavip-geo\">";
+    html += scriptJson(geo);
+  }
   html += "</script>\n<script>\n";
   html += embeddedThreeJs();
   html += "\n</script>\n<script>\n";
@@ -716,7 +732,7 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   const PathLayer path_layer = pathLayer(paths, scene, q, options.max_path_samples);
   const PageLayers layers{scene, m, mission != nullptr, flown, cloud, stops, path_layer};
   return htmlDocument(options.title, summaryJson(layers), dataJson(layers, surfaces, q, options),
-                      cloud.pos.b.size());
+                      geoJson(options.geo), cloud.pos.b.size());
 }
 
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,

@@ -596,6 +596,16 @@
     pickObj.renderOrder = 13;
     scene.add(pickObj);
   }
+  // ---- a picked point's WGS84 position (#uavip-geo: io::GeoFit, the scene's CRS as a
+  // quadratic in local metres; the page has no PROJ)
+  var GEO = (function () { var e = document.getElementById('uavip-geo'); return e ? JSON.parse(e.textContent) : null; })();
+  function geoText(p) {
+    if (!GEO) return '';
+    var u = (p[0] - GEO.centre[0]) / GEO.half[0], v = (p[1] - GEO.centre[1]) / GEO.half[1], w = (p[2] - GEO.centre[2]) / GEO.half[2];
+    var b = [1, u, v, w, u * u, v * v, w * w, u * v, u * w, v * w];
+    var f = function (c) { var s = 0; for (var k = 0; k < 10; ++k) s += c[k] * b[k]; return s; };
+    return '\n  lat ' + fmt(f(GEO.lat), 8) + '\u00b0, lon ' + fmt(f(GEO.lon), 8) + '\u00b0, h ' + fmt(f(GEO.h), 2) + ' m above the WGS84 ellipsoid';
+  }
   function pickPoint(x, y) {
     var w = renderer.domElement.clientWidth, h = renderer.domElement.clientHeight, v = new THREE.Vector3();
     var best = null, bestD = 8 * 8, bestZ = Infinity;
@@ -611,7 +621,7 @@
     if (!best) return;
     if (picked.length === 2) picked = [];
     picked.push(best);
-    var world = function (p) { return '(' + [p[0] + origin[0], p[1] + origin[1], p[2] + origin[2]].map(function (q) { return fmt(q, 2); }).join(', ') + ')'; };
+    var world = function (p) { var l = [p[0] + origin[0], p[1] + origin[1], p[2] + origin[2]]; return '(' + l.map(function (q) { return fmt(q, 2); }).join(', ') + ')' + geoText(l); };
     var txt = 'point ' + world(picked[0]);
     if (measureObj) { scene.remove(measureObj); measureObj = null; }
     if (picked.length === 2) {

@@ -569,6 +569,7 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
                                    suffix) == 0)
       page_options.title.resize(page_options.title.size() - suffix.size());
     page_options.clearance_m = options.clearance_m;
+    page_options.geo = options.geo;
     const bool scene_only = missions.empty() && flight == nullptr;
     return scene_only ? missionPage(scene, nullptr, page_options)
                       : missionPage(scene, missions, flight, page_options);

@@ -232,6 +232,32 @@ TEST_F(GeorefCli, DetectRecordsTheCrsAndADjiRouteNeedsNoCrsOrOriginAfterIt) {
     EXPECT_NEAR(flown[i][2] - shown[i][2], undulation, 0.01) << i;
   }
   EXPECT_GT(std::abs(undulation), 1.0);  // N is tens of metres in Europe, never silently 0
+  // mission.html carries the CRS in closed form: a picked point shows where it is.
+  const std::string html = slurp(path("d/mission.html"));
+  const std::string open = "<script type=\"application/json\" id=\"uavip-geo\">";
+  const auto at = html.find(open);
+  ASSERT_NE(at, std::string::npos);
+  const auto geo = nlohmann::json::parse(
+      html.substr(at + open.size(), html.find("</script>", at) - at - open.size()));
+  EXPECT_LT(geo["max_error_m"].get<double>(), 0.01);
+  for (std::size_t i = 0; i < wps.size(); i += 7) {  // the page's polynomial, evaluated here
+    std::array<double, 3> q{};
+    for (int k = 0; k < 3; ++k)
+      q[k] =
+          (wps[i][k].get<double>() - geo["centre"][k].get<double>()) / geo["half"][k].get<double>();
+    const std::array<double, 10> b = {1.0,         q[0],        q[1],        q[2],
+                                      q[0] * q[0], q[1] * q[1], q[2] * q[2], q[0] * q[1],
+                                      q[0] * q[2], q[1] * q[2]};
+    double lat = 0.0, lon = 0.0, h = 0.0;
+    for (std::size_t k = 0; k < 10; ++k) {
+      lat += geo["lat"][k].get<double>() * b[k];
+      lon += geo["lon"][k].get<double>() * b[k];
+      h += geo["h"][k].get<double>() * b[k];
+    }
+    EXPECT_NEAR(lon, flown[i][0], 1e-7) << i;  // 1e-7 deg ≈ 1 cm
+    EXPECT_NEAR(lat, flown[i][1], 1e-7) << i;
+    EXPECT_NEAR(h, flown[i][2], 0.01) << i;
+  }
   // A --crs that contradicts the scene's is a warning naming both.
   r = uavip("export " + path("d/mission.json") +
             " --surface all --sortie 1 --format geojson --crs EPSG:32631 -o " + path("g.json"));

@@ -26,6 +26,7 @@
 /// Thread safety: none of these classes may be used from two threads at once (one
 /// PROJ context each).
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -127,6 +128,12 @@ class GeoidModel {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The datum of a cloud's heights when no --vertical overrides it: `recorded`
+/// (scene.json's crs.vertical) if set, else the compound CRS's vertical part, else
+/// EGM96. Throws InputError for a vertical CRS that is neither EGM96 nor EGM2008 height.
+VerticalDatum defaultVerticalDatum(const CrsTransform& crs, const std::string& recorded,
+                                   const std::string& where);
+
 /// A WGS84 position with its ellipsoidal height.
 struct Geodetic {
   double lat_deg{0.0};
@@ -160,5 +167,23 @@ class Georeference {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A Georeference in closed form for a page that has no PROJ (the 3D mission page):
+/// latitude, longitude [deg] and ellipsoidal height [m] each Σ c_k b_k(u, v, w), with
+/// b = (1, u, v, w, u², v², w², uv, uw, vw) and (u, v, w) = (p − centre) / half the
+/// box's extent, least squares over a 7 × 7 × 3 lattice of the box.
+struct GeoFit {
+  Vec3 centre{Vec3::Zero()};  ///< [m], local
+  Vec3 half{Vec3::Ones()};    ///< half extents [m] (≥ 1 m)
+  std::array<double, 10> lat{};
+  std::array<double, 10> lon{};
+  std::array<double, 10> h{};
+  /// Largest distance [m] between the fit and the Georeference at the lattice's
+  /// cell centres (points the fit did not see).
+  double max_error_m{0.0};
+  std::string crs;  ///< the CRS's name and vertical datum, one line
+};
+/// Fits `geo` over the local box [lo, hi].
+GeoFit fitGeoreference(const Georeference& geo, const Vec3& lo, const Vec3& hi);
 
 }  // namespace uavip::io

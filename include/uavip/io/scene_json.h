@@ -56,6 +56,17 @@ nlohmann::json sceneToJson(const Scene& scene);
 /// JSON → Scene; throws InputError naming `path` and the bad field. A `safety`
 /// block's points are read from its file in the directory of `path`.
 Scene sceneFromJson(const nlohmann::json& j, const std::string& path);
+/// The cloud's CRS as scene.json records it (`crs` and `source_offset_m`).
+struct SceneCrsRecord {
+  std::string definition;  ///< what PROJ reads: WKT or "EPSG:N[+V]"
+  std::string vertical;    ///< "egm96", "egm2008", "ellipsoid" or "" (not recorded)
+  std::string source;      ///< where it came from ("LAS WKT record 2112", "detect --crs")
+  Vec3 source_offset_m{Vec3::Zero()};  ///< add to a local point for the CRS point [m]
+};
+/// The CRS record of a scene.json document; nullopt when it has none. Throws
+/// InputError naming `path` for a malformed record.
+std::optional<SceneCrsRecord> sceneCrsFromJson(const nlohmann::json& j, const std::string& path);
+
 /// Reads OUT/scene.json.
 Scene loadScene(const std::string& path);
 

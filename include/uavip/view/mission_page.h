@@ -26,10 +26,12 @@
 #include <cstddef>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "uavip/core/types.h"
+#include "uavip/io/geodesy.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 
@@ -44,6 +46,9 @@ struct MissionPageOptions {
   /// Required clearance for the path colouring [m]; NaN: the mission's
   /// inflation_radius_m, else 1 m.
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
+  /// The scene's CRS in closed form (io::fitGeoreference): a picked point also shows
+  /// its latitude, longitude and ellipsoidal height. None: local metres only.
+  std::optional<io::GeoFit> geo;
   /// Throws InputError naming a bad value.
   void validate() const;
 };

@@ -19,11 +19,13 @@
 
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "uavip/core/types.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/geodesy.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/render/figure.h"
@@ -57,6 +59,8 @@ struct OverviewOptions {
       60000};  ///< cloud points drawn per view (evenly subsampled above this)
   /// The mission's required clearance [m], for mission.html's path colouring (NaN: 1 m).
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
+  /// The scene's CRS for mission.html's picked points (MissionPageOptions::geo).
+  std::optional<io::GeoFit> geo;
 };
 
 /// The overview figure (encode it with png() or svg()).
