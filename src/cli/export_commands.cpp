@@ -297,6 +297,9 @@ Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
         "--origin and --crs: choose one (--crs places the flight by the cloud's own "
         "CRS, --origin by a WGS84 position of the local origin)");
   Placement p;
+  // Home is the take-off and landing point of every sortie (mission.home): relative
+  // heights are above it, with --origin too.
+  p.home = homeOf(mission, flights);
   if (!a.origin.empty()) {
     requireNearOrigin(flights, a.mission);
     p.geo = std::make_unique<io::Georeference>(io::parseOrigin(a.origin));
@@ -323,7 +326,6 @@ Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
   // recentred); a --crs given by hand needs the scene's offset (sourceOffset says why).
   const Vec3 offset = a.crs.empty() ? scene->source_offset_m : sourceOffset(a);
   p.geo = std::make_unique<io::Georeference>(crs, offset, vertical);
-  p.home = homeOf(mission, flights);
   return p;
 }
 
@@ -418,11 +420,15 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
   }
   outputs.commit();
   if (!v.quiet) {
+    const io::Geodetic home = place.geo->toGeodetic(place.home);
     std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload << "), heights "
               << (o.height_mode == io::WpmlHeightMode::Relative
                       ? "relativeToStartPoint (above home: take off there)"
                       : "WGS84 (above the ellipsoid)")
-              << "; " << place.geo->describe() << "\n";
+              << "; home " << formatPoint(place.home) << " local = " << formatFixed(home.lat_deg, 8)
+              << ", " << formatFixed(home.lon_deg, 8) << ", "
+              << formatFixed(place.geo->egm96Height(home), 2) << " m above EGM96; "
+              << place.geo->describe() << "\n";
     for (const auto& line : lines) std::cout << line << "\n";
   }
   return kExitOk;
