@@ -338,41 +338,25 @@ std::string partPath(const std::string& path, std::size_t k, std::size_t parts) 
       .string();
 }
 
-/// export --format dji-kmz|kml|geojson: placed on the Earth with true heights; each
-/// KMZ is read back, converted to the local frame and validated as the aircraft
-/// will fly it before anything is renamed into place.
-int geographicExport(const ExportArgs& a, const Verbosity& v) {
-  const io::MissionRecord mission = io::loadMission(a.mission);
-  std::vector<io::Flight> flights;
-  std::unique_ptr<planning::PathValidator> validator;
-  try {
-    flights = flightsToExport(mission, a);
-    validator = sceneValidator(mission, a);
-    for (const auto& f : flights) {
-      PointList path;
-      for (const auto& w : f.waypoints) path.push_back(w.enu);
-      requireClear(*validator, path, flightLabel(f, a), a);
-    }
-  } catch (const io::NoMissionError& e) {
-    std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
-    return kExitNoMission;
-  }
-  const Placement place = placement(a, mission, flights, v);
+/// --format kml|geojson: the whole flight in one file.
+int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
+              const Placement& place) {
   const std::string name = fs::path(a.out).stem().string();
+  io::requireDistinctOutputs({a.mission, sceneFor(a)}, {a.out});
   io::StagedOutputs outputs;
-  std::vector<std::string> lines;  // the report, printed once everything is in place
-  if (a.format != "dji-kmz") {
-    io::requireDistinctOutputs({a.mission, sceneFor(a)}, {a.out});
-    outputs.write(a.out,
-                  a.format == "kml"
-                      ? io::flightsKml(flights, *place.geo, place.home, name)
-                      : io::flightsGeoJson(flights, *place.geo, place.home, name).dump(1) + "\n");
-    outputs.commit();
-    if (!v.quiet)
-      std::cout << "exported " << flights.size() << " flight(s) as " << a.format << " ("
-                << place.geo->describe() << ") -> " << a.out << "\n";
-    return kExitOk;
-  }
+  outputs.write(a.out,
+                a.format == "kml"
+                    ? io::flightsKml(flights, *place.geo, place.home, name)
+                    : io::flightsGeoJson(flights, *place.geo, place.home, name).dump(1) + "\n");
+  outputs.commit();
+  if (!v.quiet)
+    std::cout << "exported " << flights.size() << " flight(s) as " << a.format << " ("
+              << place.geo->describe() << ") -> " << a.out << "\n";
+  return kExitOk;
+}
+
+/// The DJI options of the command line, validated.
+io::WpmlOptions wpmlOptions(const ExportArgs& a) {
   io::WpmlOptions o;
   o.drone = io::withPayload(io::findDjiDrone(a.drone), a.payload);
   o.height_mode = io::parseWpmlHeightMode(a.height_mode);
@@ -381,9 +365,41 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
   o.takeoff_security_height_m = a.takeoff_height_m;
   o.max_waypoints = a.max_waypoints;
   o.validate();
+  return o;
+}
+
+/// Stages one route's KMZ at `path`: written, read back, converted to the local frame
+/// and validated as the aircraft will fly it. Returns the report line.
+std::string stageRoute(io::StagedOutputs& outputs, const std::string& path, const io::Flight& route,
+                       const Placement& place, const io::WpmlOptions& o,
+                       const planning::PathValidator& validator, const ExportArgs& a) {
+  const io::WpmlDocuments docs = io::wpmlDocuments(route, *place.geo, place.home, o);
+  double worst = 0.0;
+  outputs.writeWith(path, [&](const std::string& tmp) {
+    io::writeKmz(tmp, docs);
+    const PointList flown = io::routeToLocal(io::readKmzRoute(tmp), *place.geo, place.home);
+    if (flown.size() != route.waypoints.size())
+      throw InputError(path + ": read back " + std::to_string(flown.size()) + " waypoints of " +
+                       std::to_string(route.waypoints.size()));
+    for (std::size_t j = 0; j < flown.size(); ++j)
+      worst = std::max(worst, (flown[j] - route.waypoints[j].enu).norm());
+    requireClear(validator, flown, flightLabel(route, a) + " as written in " + path, a);
+  });
+  return "exported " + flightLabel(route, a) + ": " + std::to_string(route.waypoints.size()) +
+         " waypoints, " + std::to_string(route.stopCount()) + " photo stops -> " + path +
+         "; read back (largest difference " + formatFixed(worst * 1000.0, 2) +
+         " mm) and validated against the scene as flown";
+}
+
+/// --format dji-kmz: one KMZ per sortie (and per part of a sortie too long for WPML).
+int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
+              const Placement& place, const planning::PathValidator& validator) {
+  const io::WpmlOptions o = wpmlOptions(a);
   const std::vector<std::string> paths = outputPaths(flights, a.out);
-  std::vector<std::string> all_paths;
+  io::StagedOutputs outputs;
+  std::vector<std::string> lines;  // the report, printed once everything is in place
   try {
+    std::vector<std::string> all_paths;
     for (std::size_t i = 0; i < flights.size(); ++i) {
       const std::vector<io::Flight> parts = io::splitForWpml(flights[i], o.max_waypoints);
       if (parts.size() > 1 && !v.quiet)
@@ -392,28 +408,11 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
                   << " per WPML route: split into " << parts.size()
                   << " routes flown one after another\n";
       for (std::size_t k = 0; k < parts.size(); ++k) {
-        const std::string path = partPath(paths[i], k, parts.size());
-        all_paths.push_back(path);
-        const io::WpmlDocuments docs = io::wpmlDocuments(parts[k], *place.geo, place.home, o);
-        double worst = 0.0;
-        outputs.writeWith(path, [&](const std::string& tmp) {
-          io::writeKmz(tmp, docs);
-          const PointList flown = io::routeToLocal(io::readKmzRoute(tmp), *place.geo, place.home);
-          if (flown.size() != parts[k].waypoints.size())
-            throw InputError(path + ": read back " + std::to_string(flown.size()) +
-                             " waypoints of " + std::to_string(parts[k].waypoints.size()));
-          for (std::size_t j = 0; j < flown.size(); ++j)
-            worst = std::max(worst, (flown[j] - parts[k].waypoints[j].enu).norm());
-          requireClear(*validator, flown, flightLabel(parts[k], a) + " as written in " + path, a);
-        });
-        lines.push_back("exported " + flightLabel(parts[k], a) + ": " +
-                        std::to_string(parts[k].waypoints.size()) + " waypoints, " +
-                        std::to_string(parts[k].stopCount()) + " photo stops -> " + path +
-                        "; read back (largest difference " + formatFixed(worst * 1000.0, 2) +
-                        " mm) and validated against the scene as flown");
+        all_paths.push_back(partPath(paths[i], k, parts.size()));
+        io::requireDistinctOutputs({a.mission, sceneFor(a)}, all_paths);
+        lines.push_back(stageRoute(outputs, all_paths.back(), parts[k], place, o, validator, a));
       }
     }
-    io::requireDistinctOutputs({a.mission, sceneFor(a)}, all_paths);
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
     return kExitNoMission;
@@ -432,6 +431,30 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
     for (const auto& line : lines) std::cout << line << "\n";
   }
   return kExitOk;
+}
+
+/// export --format dji-kmz|kml|geojson: placed on the Earth with true heights; each
+/// KMZ is read back, converted to the local frame and validated as the aircraft will
+/// fly it before anything is renamed into place.
+int geographicExport(const ExportArgs& a, const Verbosity& v) {
+  const io::MissionRecord mission = io::loadMission(a.mission);
+  std::vector<io::Flight> flights;
+  std::unique_ptr<planning::PathValidator> validator;
+  try {
+    flights = flightsToExport(mission, a);
+    validator = sceneValidator(mission, a);
+    for (const auto& f : flights) {
+      PointList path;
+      for (const auto& w : f.waypoints) path.push_back(w.enu);
+      requireClear(*validator, path, flightLabel(f, a), a);
+    }
+  } catch (const io::NoMissionError& e) {
+    std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
+    return kExitNoMission;
+  }
+  const Placement place = placement(a, mission, flights, v);
+  return a.format == "dji-kmz" ? djiExport(a, v, flights, place, *validator)
+                               : mapExport(a, v, flights, place);
 }
 
 int exportCommand(const ExportArgs& a, const Verbosity& v) {

@@ -172,6 +172,106 @@ void requireReachablePitch(const Flight& flight, const DjiDrone& d) {
   }
 }
 
+/// The Point and index of a Placemark (both documents).
+void placemarkPoint(std::ostringstream& os, const Placed& p, std::size_t index) {
+  os << "      <Placemark>\n"
+     << "        <Point>\n"
+     << "          <coordinates>" << formatFixed(p.g.lon_deg, kDegDecimals) << ","
+     << formatFixed(p.g.lat_deg, kDegDecimals) << "</coordinates>\n"
+     << "        </Point>\n"
+     << "        <wpml:index>" << index << "</wpml:index>\n";
+}
+
+/// template.kml: the waypoint template DJI Pilot 2 shows, with EGM96 (or relative) and
+/// ellipsoidal heights.
+std::string templateKml(const Flight& flight, const std::vector<Placed>& placed,
+                        const Georeference& geo, const Vec3& home, const WpmlOptions& o) {
+  const bool relative = o.height_mode == WpmlHeightMode::Relative;
+  std::ostringstream os;
+  header(os);
+  os << "    <wpml:author>uavip</wpml:author>\n";
+  missionConfig(os, flight, geo, home, o);
+  os << "    <Folder>\n"
+     << "      <wpml:templateType>waypoint</wpml:templateType>\n"
+     << "      <wpml:templateId>0</wpml:templateId>\n"
+     << "      <wpml:waylineCoordinateSysParam>\n"
+     << "        <wpml:coordinateMode>WGS84</wpml:coordinateMode>\n"
+     << "        <wpml:heightMode>" << (relative ? "relativeToStartPoint" : "EGM96")
+     << "</wpml:heightMode>\n"
+     << "        <wpml:positioningType>GPS</wpml:positioningType>\n"
+     << "      </wpml:waylineCoordinateSysParam>\n"
+     << "      <wpml:autoFlightSpeed>" << formatFixed(o.speed_m_s, 2) << "</wpml:autoFlightSpeed>\n"
+     << "      <wpml:globalHeight>"
+     << formatFixed(placed.empty() ? 0.0 : placed.front().template_height, kHeightDecimals)
+     << "</wpml:globalHeight>\n"
+     << "      <wpml:gimbalPitchMode>usePointSetting</wpml:gimbalPitchMode>\n"
+     << "      <wpml:globalWaypointHeadingParam>\n"
+     << "        <wpml:waypointHeadingMode>smoothTransition</wpml:waypointHeadingMode>\n"
+     << "        <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
+     << "      </wpml:globalWaypointHeadingParam>\n"
+     << "      <wpml:globalWaypointTurnMode>toPointAndStopWithDiscontinuityCurvature</"
+        "wpml:globalWaypointTurnMode>\n"
+     << "      <wpml:globalUseStraightLine>1</wpml:globalUseStraightLine>\n";
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const Placed& p = placed[i];
+    placemarkPoint(os, p, i);
+    os << "        <wpml:ellipsoidHeight>" << formatFixed(p.g.h_ellipsoid_m, kHeightDecimals)
+       << "</wpml:ellipsoidHeight>\n"
+       << "        <wpml:height>" << formatFixed(p.template_height, kHeightDecimals)
+       << "</wpml:height>\n"
+       << "        <wpml:useGlobalHeight>0</wpml:useGlobalHeight>\n"
+       << "        <wpml:useGlobalSpeed>1</wpml:useGlobalSpeed>\n"
+       << "        <wpml:useGlobalHeadingParam>0</wpml:useGlobalHeadingParam>\n";
+    headingAndTurn(os, p.heading);
+    os << "        <wpml:useGlobalTurnParam>0</wpml:useGlobalTurnParam>\n"
+       << "        <wpml:gimbalPitchAngle>" << formatFixed(flight.waypoints[i].gimbal_pitch_deg, 2)
+       << "</wpml:gimbalPitchAngle>\n"
+       << "      </Placemark>\n";
+  }
+  os << "    </Folder>\n  </Document>\n</kml>\n";
+  return os.str();
+}
+
+/// waylines.wpml: what the aircraft executes.
+std::string waylinesWpml(const Flight& flight, const std::vector<Placed>& placed,
+                         const Georeference& geo, const Vec3& home, const WpmlOptions& o) {
+  double distance = 0.0;
+  for (std::size_t i = 1; i < flight.waypoints.size(); ++i)
+    distance += (flight.waypoints[i].enu - flight.waypoints[i - 1].enu).norm();
+  const double duration =
+      distance / o.speed_m_s + static_cast<double>(flight.stopCount()) * o.hold_s;
+  std::ostringstream os;
+  header(os);
+  missionConfig(os, flight, geo, home, o);
+  os << "    <Folder>\n"
+     << "      <wpml:templateId>0</wpml:templateId>\n"
+     << "      <wpml:executeHeightMode>"
+     << (o.height_mode == WpmlHeightMode::Relative ? "relativeToStartPoint" : "WGS84")
+     << "</wpml:executeHeightMode>\n"
+     << "      <wpml:waylineId>0</wpml:waylineId>\n"
+     << "      <wpml:distance>" << formatFixed(distance, 1) << "</wpml:distance>\n"
+     << "      <wpml:duration>" << formatFixed(duration, 1) << "</wpml:duration>\n"
+     << "      <wpml:autoFlightSpeed>" << formatFixed(o.speed_m_s, 2)
+     << "</wpml:autoFlightSpeed>\n";
+  int group = 0;
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const Placed& p = placed[i];
+    const FlightWaypoint& w = flight.waypoints[i];
+    placemarkPoint(os, p, i);
+    os << "        <wpml:executeHeight>" << formatFixed(p.execute_height, kHeightDecimals)
+       << "</wpml:executeHeight>\n"
+       << "        <wpml:waypointSpeed>" << formatFixed(o.speed_m_s, 2)
+       << "</wpml:waypointSpeed>\n";
+    headingAndTurn(os, p.heading);
+    if (w.isStop())
+      stopActions(os, group++, static_cast<int>(i), w, p.heading,
+                  i > 0 ? placed[i - 1].heading : p.heading, o);
+    os << "      </Placemark>\n";
+  }
+  os << "    </Folder>\n  </Document>\n</kml>\n";
+  return os.str();
+}
+
 std::string xmlFrom(unzFile z, const std::string& path, const char* entry) {
   if (unzLocateFile(z, entry, 1) != UNZ_OK)
     throw InputError(path + ": no " + entry + " in the KMZ (not a DJI WPML route)");
@@ -327,102 +427,7 @@ WpmlDocuments wpmlDocuments(const Flight& flight, const Georeference& geo, const
                      " waypoints is beyond " + std::to_string(o.max_waypoints) +
                      "; split it first (splitForWpml)");
   const std::vector<Placed> placed = place(flight, geo, home, o);
-  double distance = 0.0;
-  for (std::size_t i = 1; i < flight.waypoints.size(); ++i)
-    distance += (flight.waypoints[i].enu - flight.waypoints[i - 1].enu).norm();
-  const double duration =
-      distance / o.speed_m_s + static_cast<double>(flight.stopCount()) * o.hold_s;
-  const bool relative = o.height_mode == WpmlHeightMode::Relative;
-
-  WpmlDocuments docs;
-  {  // template.kml: the waypoint template Pilot 2 shows.
-    std::ostringstream os;
-    header(os);
-    os << "    <wpml:author>uavip</wpml:author>\n";
-    missionConfig(os, flight, geo, home, o);
-    os << "    <Folder>\n"
-       << "      <wpml:templateType>waypoint</wpml:templateType>\n"
-       << "      <wpml:templateId>0</wpml:templateId>\n"
-       << "      <wpml:waylineCoordinateSysParam>\n"
-       << "        <wpml:coordinateMode>WGS84</wpml:coordinateMode>\n"
-       << "        <wpml:heightMode>" << (relative ? "relativeToStartPoint" : "EGM96")
-       << "</wpml:heightMode>\n"
-       << "        <wpml:positioningType>GPS</wpml:positioningType>\n"
-       << "      </wpml:waylineCoordinateSysParam>\n"
-       << "      <wpml:autoFlightSpeed>" << formatFixed(o.speed_m_s, 2)
-       << "</wpml:autoFlightSpeed>\n"
-       << "      <wpml:globalHeight>"
-       << formatFixed(placed.empty() ? 0.0 : placed.front().template_height, kHeightDecimals)
-       << "</wpml:globalHeight>\n"
-       << "      <wpml:gimbalPitchMode>usePointSetting</wpml:gimbalPitchMode>\n"
-       << "      <wpml:globalWaypointHeadingParam>\n"
-       << "        <wpml:waypointHeadingMode>smoothTransition</wpml:waypointHeadingMode>\n"
-       << "        <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
-       << "      </wpml:globalWaypointHeadingParam>\n"
-       << "      <wpml:globalWaypointTurnMode>toPointAndStopWithDiscontinuityCurvature</"
-          "wpml:globalWaypointTurnMode>\n"
-       << "      <wpml:globalUseStraightLine>1</wpml:globalUseStraightLine>\n";
-    for (std::size_t i = 0; i < placed.size(); ++i) {
-      const Placed& p = placed[i];
-      os << "      <Placemark>\n"
-         << "        <Point>\n"
-         << "          <coordinates>" << formatFixed(p.g.lon_deg, kDegDecimals) << ","
-         << formatFixed(p.g.lat_deg, kDegDecimals) << "</coordinates>\n"
-         << "        </Point>\n"
-         << "        <wpml:index>" << i << "</wpml:index>\n"
-         << "        <wpml:ellipsoidHeight>" << formatFixed(p.g.h_ellipsoid_m, kHeightDecimals)
-         << "</wpml:ellipsoidHeight>\n"
-         << "        <wpml:height>" << formatFixed(p.template_height, kHeightDecimals)
-         << "</wpml:height>\n"
-         << "        <wpml:useGlobalHeight>0</wpml:useGlobalHeight>\n"
-         << "        <wpml:useGlobalSpeed>1</wpml:useGlobalSpeed>\n"
-         << "        <wpml:useGlobalHeadingParam>0</wpml:useGlobalHeadingParam>\n";
-      headingAndTurn(os, p.heading);
-      os << "        <wpml:useGlobalTurnParam>0</wpml:useGlobalTurnParam>\n"
-         << "        <wpml:gimbalPitchAngle>"
-         << formatFixed(flight.waypoints[i].gimbal_pitch_deg, 2) << "</wpml:gimbalPitchAngle>\n"
-         << "      </Placemark>\n";
-    }
-    os << "    </Folder>\n  </Document>\n</kml>\n";
-    docs.template_kml = os.str();
-  }
-  {  // waylines.wpml: what the aircraft executes.
-    std::ostringstream os;
-    header(os);
-    missionConfig(os, flight, geo, home, o);
-    os << "    <Folder>\n"
-       << "      <wpml:templateId>0</wpml:templateId>\n"
-       << "      <wpml:executeHeightMode>" << (relative ? "relativeToStartPoint" : "WGS84")
-       << "</wpml:executeHeightMode>\n"
-       << "      <wpml:waylineId>0</wpml:waylineId>\n"
-       << "      <wpml:distance>" << formatFixed(distance, 1) << "</wpml:distance>\n"
-       << "      <wpml:duration>" << formatFixed(duration, 1) << "</wpml:duration>\n"
-       << "      <wpml:autoFlightSpeed>" << formatFixed(o.speed_m_s, 2)
-       << "</wpml:autoFlightSpeed>\n";
-    int group = 0;
-    for (std::size_t i = 0; i < placed.size(); ++i) {
-      const Placed& p = placed[i];
-      const FlightWaypoint& w = flight.waypoints[i];
-      os << "      <Placemark>\n"
-         << "        <Point>\n"
-         << "          <coordinates>" << formatFixed(p.g.lon_deg, kDegDecimals) << ","
-         << formatFixed(p.g.lat_deg, kDegDecimals) << "</coordinates>\n"
-         << "        </Point>\n"
-         << "        <wpml:index>" << i << "</wpml:index>\n"
-         << "        <wpml:executeHeight>" << formatFixed(p.execute_height, kHeightDecimals)
-         << "</wpml:executeHeight>\n"
-         << "        <wpml:waypointSpeed>" << formatFixed(o.speed_m_s, 2)
-         << "</wpml:waypointSpeed>\n";
-      headingAndTurn(os, p.heading);
-      if (w.isStop())
-        stopActions(os, group++, static_cast<int>(i), w, p.heading,
-                    i > 0 ? placed[i - 1].heading : p.heading, o);
-      os << "      </Placemark>\n";
-    }
-    os << "    </Folder>\n  </Document>\n</kml>\n";
-    docs.waylines_wpml = os.str();
-  }
-  return docs;
+  return {templateKml(flight, placed, geo, home, o), waylinesWpml(flight, placed, geo, home, o)};
 }
 
 void writeKmz(const std::string& path, const WpmlDocuments& documents) {
