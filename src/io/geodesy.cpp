@@ -174,7 +174,7 @@ Eigen::Vector2d CrsTransform::fromWgs84(double lat_deg, double lon_deg) const {
   const Impl& m = *impl_;
   proj_errno_reset(m.to_wgs84);
   const PJ_COORD c = proj_trans(m.to_wgs84, PJ_INV, proj_coord(lon_deg, lat_deg, 0.0, 0.0));
-  const Eigen::Vector2d out(c.xy.x * m.unit_to_m, c.xy.y * m.unit_to_m);
+  Eigen::Vector2d out(c.xy.x * m.unit_to_m, c.xy.y * m.unit_to_m);
   if (!(std::isfinite(out.x()) && std::isfinite(out.y()) && c.xy.x != HUGE_VAL))
     throw InputError("the WGS84 position " + formatFixed(lat_deg, 9) + ", " +
                      formatFixed(lon_deg, 9) + " has no point in " + m.name +
