@@ -9,23 +9,6 @@
 namespace uavip::io {
 namespace {
 
-/// The text of a KML element, '&', '<' and '>' escaped.
-std::string kmlEscaped(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '&') {
-      out += "&amp;";
-    } else if (c == '<') {
-      out += "&lt;";
-    } else if (c == '>') {
-      out += "&gt;";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 /// "lon,lat,alt" of KML, alt above EGM96.
 std::string kmlCoordinate(const Georeference& geo, const Geodetic& g) {
   return formatFixed(g.lon_deg, 9) + "," + formatFixed(g.lat_deg, 9) + "," +
@@ -53,7 +36,7 @@ std::string flightsKml(const std::vector<Flight>& flights, const Georeference& g
   os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
      << "<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n"
      << "  <Document>\n"
-     << "    <name>" << kmlEscaped(name) << "</name>\n"
+     << "    <name>" << markupEscaped(name) << "</name>\n"
      << "    <description>uavip flight; altitudes absolute (above EGM96 mean sea level)"
         "</description>\n"
      << "    <Style id=\"path\"><LineStyle><color>ff00a5ff</color><width>3</width></LineStyle>"

@@ -106,30 +106,6 @@ std::string hex(const render::Color& c) {
 
 using io::vec;  // [x, y, z] rounded to 4 decimals, as in mission.json
 
-/// Text for inside an HTML element.
-std::string htmlEscape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 /// JSON text safe inside <script>: no "</" (which could close the element).
 std::string scriptJson(const json& j) {
   std::string s = j.dump();
@@ -682,7 +658,7 @@ std::string htmlDocument(const std::string& title, const json& summary, const js
   std::string html;
   html.reserve(embeddedThreeJs().size() + cloud_bytes * 2 + 100000);
   html += kHeadOpen;
-  html += htmlEscape(title);
+  html += markupEscaped(title);
   html += kHeadRestAndBody;
   html += scriptJson(summary);
   html += "</script>\n<script type=\"application/json\" id=\"uavip-data\">";

@@ -37,6 +37,31 @@ inline std::string formatRawPoint(const Vec3& p) {
   return "(" + formatNumber(p.x()) + ", " + formatNumber(p.y()) + ", " + formatNumber(p.z()) + ")";
 }
 
+/// `text` for inside an XML or HTML element or attribute: '&', '<', '>' and '"' as
+/// entities (the mission page's title, a KML name).
+inline std::string markupEscaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
 /// `text` with every control character (bytes 0x00-0x1F and 0x7F) written as an
 /// escape (\n, \r, \t, else \xNN), so that a message naming a file whose name holds
 /// a newline stays one line. Other bytes (UTF-8 included) are kept.
