@@ -67,6 +67,8 @@ SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& p
 json sceneToJson(const Scene& scene) {
   json surfaces = json::array();
   for (const auto& s : scene.surfaces) {
+    json holes = json::array();
+    for (const auto& h : s.holes) holes.push_back(points(h));
     surfaces.push_back({{"id", s.id},
                         {"normal", vec(s.plane.normal)},
                         {"offset", round4(s.plane.offset)},
@@ -75,6 +77,7 @@ json sceneToJson(const Scene& scene) {
                         {"centroid", vec(s.centroid)},
                         {"axis_u", vec(s.axis_u)},
                         {"boundary", points(s.boundary)},
+                        {"holes", holes},
                         {"point_count", s.inliers.size()},
                         {"points", points(s.inliers)}});
   }
@@ -169,6 +172,15 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     s.axis_v = s.plane.normal.cross(s.axis_u);
     s.boundary = r.points(r.at(js, "boundary", f), f + ".boundary");
     if (s.boundary.size() < 3) r.fail(f + ".boundary", "needs at least 3 vertices");
+    if (js.contains("holes")) {  // absent in scenes written before outlines
+      const json& holes = js["holes"];
+      if (!holes.is_array()) r.fail(f + ".holes", "must be a list of polygons");
+      for (std::size_t h = 0; h < holes.size(); ++h) {
+        const std::string fh = f + ".holes[" + std::to_string(h) + "]";
+        s.holes.push_back(r.points(holes[h], fh));
+        if (s.holes.back().size() < 3) r.fail(fh, "needs at least 3 vertices");
+      }
+    }
     s.inliers = r.points(r.at(js, "points", f), f + ".points");
     scene.cloud.insert(scene.cloud.end(), s.inliers.begin(), s.inliers.end());
     scene.surfaces.push_back(std::move(s));
