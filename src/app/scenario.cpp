@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -565,6 +566,14 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
     sc.config.file_values.viewpoint = sc.config.perception.planes.viewpoint;
 
     if (top.has("bench")) parseBench(top.child("bench"), sc.bench);
+    // `edits:` the operator's corrections (app/edits.h), relative to the scenario's folder.
+    if (top.has("edits")) {
+      sc.edits = top.text("edits");
+      if (sc.edits.empty()) top.fail("edits", "must name an edits file");
+      const std::filesystem::path e(sc.edits);
+      if (e.is_relative())
+        sc.edits = (std::filesystem::path(path).parent_path() / e).lexically_normal().string();
+    }
 
     // `expect:` (the paper's outcome) is for the tests (tests/app/expectation.h).
     if (top.has("expect") && !top.node()["expect"].IsMap())
