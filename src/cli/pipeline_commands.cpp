@@ -88,8 +88,7 @@ EditedScene applyEditsFile(const Scene& detected, const std::string& edits_path,
 void printEdits(const std::optional<io::EditsSummary>& edits) {
   if (!edits) return;
   std::cout << "edits: " << edits->file << " (sha256 " << edits->sha256.substr(0, 12) << "…), "
-            << edits->applied.size() << " applied
-";
+            << edits->applied.size() << " applied\n";
   for (const auto& line : edits->applied) std::cout << "  edit " << line << "\n";
 }
 

@@ -97,6 +97,15 @@
     draw();
     phases.first_frame = performance.now();
     finishReady();
+    exposeForEditing();
+  }
+
+  // What the edit mode (mission_edit.js, a script of its own) may use of the page.
+  function exposeForEditing() {
+    window.uavipPage = {
+      data: D, origin: origin, scene: scene, camera: camera, controls: controls,
+      canvas: renderer.domElement, requestDraw: requestDraw, addToLayer: addToLayer
+    };
   }
 
   // ---- layers
