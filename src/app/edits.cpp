@@ -134,7 +134,9 @@ std::string num(double v) {
   return buf;
 }
 
-std::string point(const Vec3& p) { return "[" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + "]"; }
+std::string point(const Vec3& p) {
+  return "[" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + "]";
+}
 
 std::string pointList(const PointList& pts) {
   std::string out = "[";
@@ -181,8 +183,7 @@ std::vector<Vec2> checkedPolygon(const Surface& s, const PointList& poly, const 
   if (i >= 0)
     throw InputError(where + ": the polygon intersects itself (edges " + std::to_string(i) +
                      " and " + std::to_string(j) + " cross or touch); draw it without crossings");
-  if (!(polygonArea2d(uv) > 1e-6))
-    throw InputError(where + ": the polygon has no area");
+  if (!(polygonArea2d(uv) > 1e-6)) throw InputError(where + ": the polygon has no area");
   if (polygonTwiceSignedArea2d(uv) < 0.0) std::reverse(uv.begin(), uv.end());
   return uv;
 }
@@ -495,11 +496,12 @@ std::vector<std::string> applyEdits(Scene& scene, const Edits& edits) {
   for (std::size_t i = 0; i < edits.keep_out.size(); ++i) {
     const KeepOut& k = edits.keep_out[i].volume;
     out.keep_out.push_back(k);
-    lines.push_back("keep_out[" + std::to_string(i) + "] (" + at(edits.file, edits.keep_out[i].line) +
-                    "): '" + k.name + "' " +
+    lines.push_back("keep_out[" + std::to_string(i) + "] (" +
+                    at(edits.file, edits.keep_out[i].line) + "): '" + k.name + "' " +
                     (k.shape == KeepOut::Shape::Box
-                         ? "box " + formatFixed(k.size.x(), 1) + " x " + formatFixed(k.size.y(), 1) +
-                               " x " + formatFixed(k.size.z(), 1) + " m at " + formatPoint(k.center)
+                         ? "box " + formatFixed(k.size.x(), 1) + " x " +
+                               formatFixed(k.size.y(), 1) + " x " + formatFixed(k.size.z(), 1) +
+                               " m at " + formatPoint(k.center)
                          : "cylinder r " + formatFixed(0.5 * k.size.x(), 1) + " m, " +
                                formatFixed(k.size.z(), 1) + " m tall at " + formatPoint(k.center)) +
                     " is solid");

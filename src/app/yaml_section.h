@@ -177,5 +177,4 @@ class Section {
   std::set<std::string> known_;
 };
 
-
 }  // namespace uavip::app::yaml

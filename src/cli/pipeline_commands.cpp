@@ -3,22 +3,22 @@
 #include <algorithm>
 #include <filesystem>
 #include <future>
-#include <optional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "planners/registry.h"
 #include "src/cli/commands.h"
 #include "src/cli/scenario_dir.h"
+#include "uavip/app/edits.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
-#include "uavip/app/edits.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
@@ -301,10 +301,10 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   // scene.json keeps the detection; the edits (scenario `edits:`) change what is planned.
   const EditedScene edited =
       applyEditsFile(d.scene, scenario.edits, d.resolved.config, structure ? "" : surface);
-  const app::PlanResult p =
-      structure ? app::planStructure(edited.scene, d.resolved.config, progress)
-                : app::plan(edited.scene, d.resolved.config,
-                            app::selectSurfaces(edited.scene, surface), progress);
+  const app::PlanResult p = structure
+                                ? app::planStructure(edited.scene, d.resolved.config, progress)
+                                : app::plan(edited.scene, d.resolved.config,
+                                            app::selectSurfaces(edited.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
   auto rendered = renderViewsAsync(

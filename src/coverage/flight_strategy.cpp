@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -221,7 +221,8 @@ Region regionInFrame(const Surface& surface, const SurfaceFrame& f, const Vec3& 
 /// centre when it lies on the region at least kInsetFraction of the spacing inside its
 /// edges (a boundary traced around the points may reach a little past them), else
 /// the point of the region nearest to the centroid of what the cell (or, if the cell
-/// holds none, the footprint) holds, that far inside when the footprint allows. Empty when no sample of the footprint lies on the region.
+/// holds none, the footprint) holds, that far inside when the footprint allows. Empty when no
+/// sample of the footprint lies on the region.
 std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, double a,
                                 double b) {
   const Vec2 centre(a, b);
@@ -277,8 +278,8 @@ void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions&
 /// footprints overlap the region, in column order; each looks at the region
 /// (photoCentre).
 std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
-                           const Vec3& origin, const Region& region, const Attitude& at,
-                           double wc, double hc, int r) {
+                           const Vec3& origin, const Region& region, const Attitude& at, double wc,
+                           double hc, int r) {
   const double half_w = 0.5 * fs.camera.footprint_w_m;
   const double half_h = 0.5 * fs.camera.footprint_h_m;
   const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;

@@ -77,8 +77,9 @@ bool isDegenerate(const Pca& pca) {
 /// (median ± band_sigmas · 1.4826 · MAD of the plane distances, between
 /// band_floor × threshold and threshold) around their plane. Not inlined: inlined into
 /// detectPlanes, GCC 12 reports a false -Wfree-nonheap-object on its vectors.
-[[gnu::noinline]] std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& candidate,
-                              double threshold, const PlaneTuning& tuning) {
+[[gnu::noinline]] std::vector<Index> refineBand(const PointList& cloud,
+                                                const std::vector<Index>& candidate,
+                                                double threshold, const PlaneTuning& tuning) {
   std::vector<Index> current = candidate;
   for (int iter = 0; iter < tuning.band_iterations && current.size() >= 3; ++iter) {
     const Pca pca = computePca(cloud, current);
@@ -545,8 +546,8 @@ void PlaneTuning::validate(const std::string& where) const {
   fraction(open_margin, "open_margin");
   requireThat(outline_cell_fraction > 0.0 && outline_cell_fraction <= 1.0, where,
               "outline_cell_fraction", "in (0, 1]", outline_cell_fraction);
-  requireThat(outline_close_cells >= 0 && outline_close_cells <= 64, where,
-              "outline_close_cells", "in [0, 64]", outline_close_cells);
+  requireThat(outline_close_cells >= 0 && outline_close_cells <= 64, where, "outline_close_cells",
+              "in [0, 64]", outline_close_cells);
   nonNegative(outline_min_hole_m2, "outline_min_hole_m2");
 }
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <string>
 #include <limits>
+#include <string>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -201,7 +201,8 @@ Outline2d outlineOfCells(CellGrid g, const Vec2& origin, double cell, const Vec2
   std::vector<int> labels;
   const std::vector<std::size_t> sizes = label(g, 1, false, labels);
   if (sizes.size() < 2) return out;
-  const auto keep = static_cast<int>(std::max_element(sizes.begin() + 1, sizes.end()) - sizes.begin());
+  const auto keep =
+      static_cast<int>(std::max_element(sizes.begin() + 1, sizes.end()) - sizes.begin());
   for (std::size_t i = 0; i < g.on.size(); ++i) g.on[i] = labels[i] == keep ? 1 : 0;
 
   // Openings: 8-connected empty components that do not touch the grid's border.
@@ -217,8 +218,7 @@ Outline2d outlineOfCells(CellGrid g, const Vec2& origin, double cell, const Vec2
   }
   for (std::size_t i = 0; i < g.on.size(); ++i) {
     const auto l = static_cast<std::size_t>(labels[i]);
-    if (g.on[i] == 0 && !outside[l] &&
-        static_cast<double>(gaps[l]) * cell * cell < min_hole_m2) {
+    if (g.on[i] == 0 && !outside[l] && static_cast<double>(gaps[l]) * cell * cell < min_hole_m2) {
       g.on[i] = 1;
     }
   }
@@ -295,10 +295,10 @@ Outline2d occupiedOutline2d(const std::vector<Vec2>& uv, const OutlineOptions& o
   g.h = ny + 2 * pad;
   g.on.assign(static_cast<std::size_t>(g.w) * static_cast<std::size_t>(g.h), 0);
   for (const auto& p : uv) {
-    const int x = std::clamp(static_cast<int>(std::floor((p.dot(ex) - origin.x()) / cell)), 0,
-                             g.w - 1);
-    const int y = std::clamp(static_cast<int>(std::floor((p.dot(ey) - origin.y()) / cell)), 0,
-                             g.h - 1);
+    const int x =
+        std::clamp(static_cast<int>(std::floor((p.dot(ex) - origin.x()) / cell)), 0, g.w - 1);
+    const int y =
+        std::clamp(static_cast<int>(std::floor((p.dot(ey) - origin.y()) / cell)), 0, g.h - 1);
     g.on[g.index(x, y)] = 1;
   }
   if (options.close_cells > 0) {

@@ -390,6 +390,12 @@ json surfacesJson(const Scene& scene, const io::MissionRecord& rec, const Quanti
   for (const Surface& s : scene.surfaces) {
     Bytes b;
     for (const auto& p : s.boundary) q.put(b, p);
+    json holes = json::array();
+    for (const auto& h : s.holes) {
+      Bytes hb;
+      for (const auto& p : h) q.put(hb, p);
+      holes.push_back(hb.str());
+    }
     const io::SurfaceRecord* r = rec.surface(s.id);
     json e = {{"id", s.id},
               {"color", hex(render::palette(s.id))},
@@ -401,6 +407,7 @@ json surfacesJson(const Scene& scene, const io::MissionRecord& rec, const Quanti
               {"centroid", vec(s.centroid)},
               {"boundary", b.str()},
               {"boundary_n", s.boundary.size()},
+              {"holes", holes},
               {"edit", editJson(s)}};
     surfaces.push_back(e);
   }

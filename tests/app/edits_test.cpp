@@ -122,16 +122,18 @@ TEST(Edits, BoundaryReplacedCutAndMergedMatchIndependentAreas) {
   Scene sc = twoWalls();
   // Replace: a 3 × 1.5 rectangle (0.1 m in front of the plane: projected onto it).
   Scene a = sc;
-  applyEdits(a, parseEdits(editFor(sc.surfaces[0], "    boundary: [[0.5, -0.1, 0.2], [3.5, -0.1, "
-                                                   "0.2], [3.5, 0.1, 1.7], [0.5, 0, 1.7]]\n"),
+  applyEdits(a, parseEdits(editFor(sc.surfaces[0],
+                                   "    boundary: [[0.5, -0.1, 0.2], [3.5, -0.1, "
+                                   "0.2], [3.5, 0.1, 1.7], [0.5, 0, 1.7]]\n"),
                            "e.yaml"));
   EXPECT_NEAR(a.surfaces[0].area_m2, 3.0 * 1.5, 1e-9);
   EXPECT_NEAR(polygonArea(a.surfaces[0].boundary), 4.5, 1e-9);
   for (const auto& p : a.surfaces[0].boundary) EXPECT_NEAR(p.y(), 0.0, 1e-9);
   // Cut a 1 × 1 square out of the 4 × 2 wall's middle: a hole of 1 m².
   Scene b = sc;
-  applyEdits(b, parseEdits(editFor(sc.surfaces[0], "    cut:\n      - [[1.5, 0, 0.5], [2.5, 0, "
-                                                   "0.5], [2.5, 0, 1.5], [1.5, 0, 1.5]]\n"),
+  applyEdits(b, parseEdits(editFor(sc.surfaces[0],
+                                   "    cut:\n      - [[1.5, 0, 0.5], [2.5, 0, "
+                                   "0.5], [2.5, 0, 1.5], [1.5, 0, 1.5]]\n"),
                            "e.yaml"));
   EXPECT_NEAR(b.surfaces[0].area_m2, 8.0 - 1.0, 0.05 * 0.05 * 4 * 12);  // cells along the edges
   EXPECT_EQ(b.surfaces[0].holes.size(), 1u);
@@ -141,7 +143,8 @@ TEST(Edits, BoundaryReplacedCutAndMergedMatchIndependentAreas) {
       applyEdits(c, parseEdits(editFor(sc.surfaces[0], "    merge: [1]\n"), "e.yaml"));
   ASSERT_EQ(c.surfaces.size(), 2u);
   EXPECT_NEAR(c.surfaces[0].area_m2, 12.0, 0.05 * 0.05 * 4 * 20);
-  EXPECT_EQ(c.surfaces[0].inliers.size(), sc.surfaces[0].inliers.size() + sc.surfaces[1].inliers.size());
+  EXPECT_EQ(c.surfaces[0].inliers.size(),
+            sc.surfaces[0].inliers.size() + sc.surfaces[1].inliers.size());
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_NE(lines[0].find("merged with 1"), std::string::npos);
   // Delete: the surface goes, its points become an obstacle.
@@ -176,9 +179,9 @@ TEST(Edits, BadEditsNameTheEditAndWhyAndLeaveTheSceneAlone) {
           "off the plane of surface 0");
   refused(editFor(sc.surfaces[0], "    merge: [2]\n"), "not coplanar");
   // Strict format: an unknown key names the key.
-  EXPECT_NE(errorOf([] { parseEdits("uavip-edits: 1\nsurfacez: []\n", "e.yaml"); })
-                .find("surfacez"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([] { parseEdits("uavip-edits: 1\nsurfacez: []\n", "e.yaml"); }).find("surfacez"),
+      std::string::npos);
   EXPECT_NE(errorOf([] { parseEdits("uavip-edits: 2\n", "e.yaml"); }).find("uavip-edits"),
             std::string::npos);
 }
@@ -261,8 +264,7 @@ TEST(Edits, KeepOutOverHomeOrEveryStopIsRefused) {
   e.keep_out.push_back({7, all});
   Scene edited = d.scene;
   applyEdits(edited, e);
-  const std::string msg =
-      errorOf([&] { checkKeepOuts(edited, d.resolved.config, {0}, e); });
+  const std::string msg = errorOf([&] { checkKeepOuts(edited, d.resolved.config, {0}, e); });
   EXPECT_NE(msg.find("e.yaml:7: keep_out[0] 'everything' contains every photo stop"),
             std::string::npos)
       << msg;

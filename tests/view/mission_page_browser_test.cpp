@@ -438,16 +438,16 @@ TEST_F(MissionPageCli, ChromiumDragsABoundaryVertexAndTheEditsReplan) {
     GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set "
                     "UAVIP_CHROMIUM): no browser test";
   const fs::path wall = dir_ / "wall_l";
-  const Result run = uavip("run " + std::string(UAVIP_SOURCE_DIR) + "/scenarios/wall_l.yaml -q -o " +
-                           wall.string());
+  const Result run = uavip("run " + std::string(UAVIP_SOURCE_DIR) +
+                           "/scenarios/wall_l.yaml -q -o " + wall.string());
   ASSERT_EQ(run.code, 0) << run.out;
   const uavip::Scene scene = io::loadScene((wall / "scene.json").string());
   ASSERT_EQ(scene.surfaces.size(), 1u);
   const auto& before = scene.surfaces[0].boundary;
   ASSERT_GT(before.size(), 2u);
   const double dx = 60.0, dy = -40.0;
-  const std::string dom = browse(wall / "mission.html",
-                                 "#view=front&canvas=900x600&edit=0:2:60:-40", "--dump-dom");
+  const std::string dom =
+      browse(wall / "mission.html", "#view=front&canvas=900x600&edit=0:2:60:-40", "--dump-dom");
   ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
   EXPECT_EQ(stateAttribute(dom, "data-edit-on"), "true");
   const nlohmann::json after = nlohmann::json::parse(stateAttribute(dom, "data-edit-boundary"));
@@ -470,8 +470,9 @@ TEST_F(MissionPageCli, ChromiumDragsABoundaryVertexAndTheEditsReplan) {
     std::ofstream f(wall / "edits.yaml");
     f << yaml;
   }
-  const Result plan = uavip("plan " + (wall / "scene.json").string() + " --surface all --edits " +
-                            (wall / "edits.yaml").string() + " -q -o " + (wall / "edited").string());
+  const Result plan =
+      uavip("plan " + (wall / "scene.json").string() + " --surface all --edits " +
+            (wall / "edits.yaml").string() + " -q -o " + (wall / "edited").string());
   ASSERT_EQ(plan.code, 0) << plan.out;
   const nlohmann::json mission = readJson(wall / "edited" / "mission.json");
   ASSERT_EQ(mission["edits"]["applied"].size(), 1u);

@@ -63,7 +63,7 @@ struct MissionExtras {
   double planning_s{0.0};                               ///< stage 7 [s]
   double flight_s{0.0};                                 ///< order, legs, sorties [s]
   std::optional<planning::StructureSummary> structure;  ///< plan --cover structure
-  std::optional<EditsSummary> edits;                     ///< plan --edits, scenario edits:
+  std::optional<EditsSummary> edits;                    ///< plan --edits, scenario edits:
 };
 
 /// The text of mission.json: missionToJson with the extras, `flight` and (structure

@@ -9,19 +9,18 @@
 /// `min_hole_m2` are filled, and its outline (outer polygon and holes) is traced along
 /// the cell edges, collinear vertices merged.
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace uavip::perception {
 
 /// Options of the outline.
 struct OutlineOptions {
-  double cell_m{0.1};        ///< cell edge on the plane (perception.area_cell_m) [m]
-  int close_cells{1};        ///< closing radius: gaps up to 2 × this many cells are bridged
-  double min_hole_m2{0.25};  ///< openings smaller than this are filled (missing points) [m²]
+  double cell_m{0.1};             ///< cell edge on the plane (perception.area_cell_m) [m]
+  int close_cells{1};             ///< closing radius: gaps up to 2 × this many cells are bridged
+  double min_hole_m2{0.25};       ///< openings smaller than this are filled (missing points) [m²]
   long long max_cells{20000000};  ///< the cell grid over the surface's extent may hold no more
 
   /// Throws InputError naming the bad field (prefix `where`).
