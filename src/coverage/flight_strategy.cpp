@@ -69,16 +69,20 @@ std::pair<double, double> projectRange(const std::vector<Vec2>& pts, const Vec2&
 struct Region {
   std::vector<Vec2> outer;
   std::vector<std::vector<Vec2>> holes;
+  /// The edges a traced outline may overshoot into air: every hole edge and every
+  /// edge of the outline off its convex hull (a concave corner), as segments.
+  std::vector<std::pair<Vec2, Vec2>> inner_edges;
 
   bool contains(const Vec2& p) const {
     if (!pointInPolygon2d(p, outer)) return false;
     return std::none_of(holes.begin(), holes.end(),
                         [&](const auto& h) { return pointInPolygon2d(p, h); });
   }
-  /// Distance from p to the nearest edge of the outline or of a hole [m].
+  /// Distance from p to the nearest inner edge (inf when there is none: a convex
+  /// boundary keeps the paper's regular grid) [m].
   double depth(const Vec2& p) const {
-    double d = distanceToPolygonEdges2d(p, outer);
-    for (const auto& h : holes) d = std::min(d, distanceToPolygonEdges2d(p, h));
+    double d = kInf;
+    for (const auto& [a, b] : inner_edges) d = std::min(d, distanceToPolygonEdges2d(p, {a, b}));
     return d;
   }
   /// Area of the part of the convex counter-clockwise polygon `window` inside the
@@ -213,13 +217,29 @@ Region regionInFrame(const Surface& surface, const SurfaceFrame& f, const Vec3& 
   for (const auto& h : surface.holes) {
     if (h.size() >= 3 && allFinite(h)) region.holes.push_back(toFrame(h));
   }
+  const std::size_t n = region.outer.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = region.outer[i];
+    const Vec2& b = region.outer[(i + 1) % n];
+    const Vec2 e = b - a;
+    const double len = e.norm();
+    const bool on_hull = std::all_of(region.outer.begin(), region.outer.end(), [&](const Vec2& q) {
+      return e.x() * (q.y() - a.y()) - e.y() * (q.x() - a.x()) >= -1e-9 * len;
+    });
+    if (!on_hull) region.inner_edges.emplace_back(a, b);
+  }
+  for (const auto& h : region.holes) {
+    for (std::size_t i = 0; i < h.size(); ++i)
+      region.inner_edges.emplace_back(h[i], h[(i + 1) % h.size()]);
+  }
   return region;
 }
 
 /// The photo centre of the cell about (a, b) whose footprint meets the region by
 /// `area` (> 0) (paper §II-F; the stop must look at the surface, not at air): the cell
-/// centre when it lies on the region at least kInsetFraction of the spacing inside its
-/// edges (a boundary traced around the points may reach a little past them), else
+/// centre when it lies on the region at least kInsetFraction of the spacing from its
+/// inner edges (holes, concave corners: a boundary traced around the points may reach
+/// a little past them there), else
 /// the point of the region nearest to the centroid of what the cell (or, if the cell
 /// holds none, the footprint) holds, that far inside when the footprint allows. Empty when no
 /// sample of the footprint lies on the region.

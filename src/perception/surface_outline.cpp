@@ -280,7 +280,11 @@ Outline2d occupiedOutline2d(const std::vector<Vec2>& uv, const OutlineOptions& o
   }
   const int pad = options.close_cells + 1;
   double cell = options.cell_m;
-  const auto cellsAlong = [&](double extent) { return std::floor(extent / cell) + 1.0; };
+  // ⌈extent / cell⌉ cells (at least 1): the outline reaches at most half a cell past
+  // the outermost points, and not at all when the extent is a whole number of cells.
+  const auto cellsAlong = [&](double extent) {
+    return std::max(1.0, std::ceil(extent / cell - 1e-9));
+  };
   while ((cellsAlong(hi.x() - lo.x()) + 2.0 * pad) * (cellsAlong(hi.y() - lo.y()) + 2.0 * pad) >
          static_cast<double>(options.max_cells)) {
     cell *= 2.0;
@@ -295,10 +299,10 @@ Outline2d occupiedOutline2d(const std::vector<Vec2>& uv, const OutlineOptions& o
   g.h = ny + 2 * pad;
   g.on.assign(static_cast<std::size_t>(g.w) * static_cast<std::size_t>(g.h), 0);
   for (const auto& p : uv) {
-    const int x =
-        std::clamp(static_cast<int>(std::floor((p.dot(ex) - origin.x()) / cell)), 0, g.w - 1);
-    const int y =
-        std::clamp(static_cast<int>(std::floor((p.dot(ey) - origin.y()) / cell)), 0, g.h - 1);
+    const int x = std::clamp(static_cast<int>(std::floor((p.dot(ex) - origin.x()) / cell)), pad,
+                             pad + nx - 1);
+    const int y = std::clamp(static_cast<int>(std::floor((p.dot(ey) - origin.y()) / cell)), pad,
+                             pad + ny - 1);
     g.on[g.index(x, y)] = 1;
   }
   if (options.close_cells > 0) {
