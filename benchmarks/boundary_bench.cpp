@@ -1,7 +1,7 @@
 // Boundaries that follow the surface (issue 33) against the paper's convex hull, on
 // the concave walls of scenarios/ (L, U, window): photo stops whose view ray meets no
 // true rectangle, coverage of the true wall by the footprints, the boundary's area
-// against the truth (app/boundary_truth.h), and the time of stages 4 and 6.
+// against the truth (app/boundary_truth.h), and the time of detect + plan (stages 3-7).
 // Usage: uavip_boundary_bench [SCENARIO.yaml ...]
 //        (default scenarios/wall_l.yaml, wall_u.yaml, wall_window.yaml)
 // Numbers go in benchmarks/README.md, never in tests.
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "| wall | boundary | vertices / holes | photo stops | over air | coverage | area (truth) | "
-      "area error | stage 4 + 6 |\n|---|---|---|---|---|---|---|---|---|\n");
+      "area error | detect + plan |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& file : files) {
     for (const char* kind : {"convex", "outline"}) {
       uavip::app::Scenario sc = uavip::app::loadScenario(file);
