@@ -272,6 +272,119 @@ std::string describe(const SurfaceEdit& e) {
   return what;
 }
 
+Surface* findSurface(Scene& scene, int id) {
+  for (auto& s : scene.surfaces) {
+    if (s.id == id) return &s;
+  }
+  return nullptr;
+}
+
+/// Throws unless `s` is the surface the edit was made on (centroid and normal).
+void checkFingerprint(const Surface& s, const SurfaceEdit& e, const std::string& where,
+                      const EditsOptions& o) {
+  const double moved = (s.centroid - e.centroid).norm();
+  const double turned = std::acos(std::clamp(s.plane.normal.dot(e.normal), -1.0, 1.0)) * kRadToDeg;
+  if (moved > o.fingerprint_centroid_m || turned > o.fingerprint_normal_deg)
+    throw InputError(where + ": surface " + std::to_string(e.id) +
+                     " does not match the fingerprint (centroid " + formatFixed(moved, 3) +
+                     " m away, normal " + formatFixed(turned, 1) +
+                     " deg off): the edit was made on another detection; redo it on this scene");
+}
+
+/// Surface `id` leaves the scene; its points become an obstacle (a hedge, a truck).
+void removeSurface(Scene& scene, int id) {
+  const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                               [&](const Surface& x) { return x.id == id; });
+  Obstacle ob;
+  for (const auto& x : scene.obstacles) ob.id = std::max(ob.id, x.id + 1);
+  ob.points = it->inliers;
+  const Aabb box = boundingBox(ob.points);
+  ob.aabb_min = box.empty() ? Vec3::Zero() : box.min;
+  ob.aabb_max = box.empty() ? Vec3::Zero() : box.max;
+  scene.obstacles.push_back(std::move(ob));
+  scene.surfaces.erase(it);
+}
+
+/// The regions of the surfaces `e` merges into `s`, in s's plane coordinates; throws
+/// for an id that is not a surface (or s itself) and for one that is not coplanar.
+std::vector<Region2d> mergedRegions(Scene& scene, const Surface& s, const SurfaceEdit& e,
+                                    const std::map<int, std::string>& gone,
+                                    const std::string& where, const EditsOptions& o) {
+  std::vector<Region2d> merged;
+  for (const int m : e.merge) {
+    const Surface* other = findSurface(scene, m);
+    if (m == e.id || other == nullptr || gone.count(m))
+      throw InputError(where + ".merge: " + std::to_string(m) + " is " +
+                       (m == e.id ? "the surface itself" : "not a surface of the scene"));
+    const double angle =
+        std::acos(std::min(1.0, std::abs(s.plane.normal.dot(other->plane.normal)))) * kRadToDeg;
+    const double offset = std::abs(s.plane.signedDistance(other->centroid));
+    if (angle > o.coplanar_deg || offset > o.plane_tolerance_m)
+      throw InputError(where + ".merge: surface " + std::to_string(m) +
+                       " is not coplanar with surface " + std::to_string(e.id) + " (normals " +
+                       formatFixed(angle, 1) + " deg apart, centroid " + formatFixed(offset, 3) +
+                       " m off its plane; limits " + formatFixed(o.coplanar_deg, 1) + " deg, " +
+                       formatFixed(o.plane_tolerance_m, 2) + " m)");
+    Region2d r;
+    r.outer = loopUv(s, other->boundary);
+    if (polygonTwiceSignedArea2d(r.outer) < 0.0) std::reverse(r.outer.begin(), r.outer.end());
+    for (const auto& h : other->holes) r.holes.push_back(loopUv(s, h));
+    merged.push_back(std::move(r));
+  }
+  return merged;
+}
+
+/// The new outline of `s`: its boundary replaced (exact; the holes inside it kept), then
+/// the added polygons and the merged regions joined and the cut ones removed, traced
+/// on cells of raster_cell_m.
+void reshape(Surface& s, const SurfaceEdit& e, const std::vector<Region2d>& merged,
+             const std::string& where, const EditsOptions& o) {
+  Region2d region = regionOf(s);
+  if (!e.boundary.empty()) {
+    region.outer = checkedPolygon(s, e.boundary, where + ".boundary", o);
+    std::vector<std::vector<Vec2>> kept;
+    for (auto& h : region.holes) {
+      if (std::all_of(h.begin(), h.end(),
+                      [&](const Vec2& q) { return pointInPolygon2d(q, region.outer); }))
+        kept.push_back(std::move(h));
+    }
+    region.holes = std::move(kept);
+  }
+  std::vector<std::vector<Vec2>> loops{region.outer};
+  std::vector<std::vector<Vec2>> adds;
+  std::vector<std::vector<Vec2>> cuts;
+  for (std::size_t k = 0; k < e.add.size(); ++k) {
+    adds.push_back(checkedPolygon(s, e.add[k], where + ".add[" + std::to_string(k) + "]", o));
+    loops.push_back(adds.back());
+  }
+  for (std::size_t k = 0; k < e.cut.size(); ++k)
+    cuts.push_back(checkedPolygon(s, e.cut[k], where + ".cut[" + std::to_string(k) + "]", o));
+  for (const auto& r : merged) loops.push_back(r.outer);
+  if (merged.empty() && adds.empty() && cuts.empty()) {
+    setOutline(s, region.outer, region.holes, regionArea(region.outer, region.holes));
+    return;
+  }
+  const auto inside = [&](const Vec2& q) {
+    const auto in = [&](const std::vector<Vec2>& p) { return pointInPolygon2d(q, p); };
+    if (std::any_of(cuts.begin(), cuts.end(), in)) return false;
+    if (onSurface(region.outer, region.holes, q) || std::any_of(adds.begin(), adds.end(), in))
+      return true;
+    return std::any_of(merged.begin(), merged.end(),
+                       [&](const Region2d& r) { return onSurface(r.outer, r.holes, q); });
+  };
+  rasterise(s, loops, inside, rasterAxis(region.outer), o.raster_cell_m, where);
+}
+
+std::string describe(const KeepOut& k) {
+  const std::string shape =
+      k.shape == KeepOut::Shape::Box
+          ? "box " + formatFixed(k.size.x(), 1) + " x " + formatFixed(k.size.y(), 1) + " x " +
+                formatFixed(k.size.z(), 1) + " m at " + formatPoint(k.center)
+          : "cylinder r " + formatFixed(0.5 * k.size.x(), 1) + " m, " + formatFixed(k.size.z(), 1) +
+                " m tall at " + formatPoint(k.center);
+  return "'" + k.name + "' " + shape + " is solid";
+}
+
 }  // namespace
 
 void EditsOptions::validate(const std::string& where) const {
@@ -376,135 +489,48 @@ std::vector<std::string> applyEdits(Scene& scene, const Edits& edits) {
   Scene out = scene;
   std::vector<std::string> lines;
   std::map<int, std::string> gone;  // id → the edit that removed it
-  const auto find = [&](int id) -> Surface* {
-    for (auto& s : out.surfaces) {
-      if (s.id == id) return &s;
-    }
-    return nullptr;
-  };
   for (std::size_t i = 0; i < edits.surfaces.size(); ++i) {
     const SurfaceEdit& e = edits.surfaces[i];
-    const std::string where = at(edits.file, e.line) + ": surfaces[" + std::to_string(i) + "]";
+    const std::string name = "surfaces[" + std::to_string(i) + "]";
+    const std::string where = at(edits.file, e.line) + ": " + name;
     if (gone.count(e.id))
       throw InputError(where + ": surface " + std::to_string(e.id) + " was removed by " +
                        gone[e.id] + "; edit it there");
-    Surface* s = find(e.id);
+    Surface* s = findSurface(out, e.id);
     if (s == nullptr)
       throw InputError(where + ": no surface with id " + std::to_string(e.id) +
                        " in the scene (ids are in scene.json); check the id or detect again");
-    const double moved = (s->centroid - e.centroid).norm();
-    const double turned =
-        std::acos(std::clamp(s->plane.normal.dot(e.normal), -1.0, 1.0)) * kRadToDeg;
-    if (moved > o.fingerprint_centroid_m || turned > o.fingerprint_normal_deg)
-      throw InputError(where + ": surface " + std::to_string(e.id) +
-                       " does not match the fingerprint (centroid " + formatFixed(moved, 3) +
-                       " m away, normal " + formatFixed(turned, 1) +
-                       " deg off): the edit was made on another detection; redo it on this scene");
-    const double area_before = s->area_m2;
-    Region2d region = regionOf(*s);
-    std::vector<std::vector<Vec2>> loops{region.outer};
-    // merge: the union of coplanar surfaces, their points joined
-    std::vector<Region2d> merged;
-    for (const int m : e.merge) {
-      const Surface* other = find(m);
-      if (m == e.id || other == nullptr || gone.count(m))
-        throw InputError(where + ".merge: " + std::to_string(m) + " is " +
-                         (m == e.id ? "the surface itself" : "not a surface of the scene"));
-      const double angle =
-          std::acos(std::min(1.0, std::abs(s->plane.normal.dot(other->plane.normal)))) * kRadToDeg;
-      const double offset = std::abs(s->plane.signedDistance(other->centroid));
-      if (angle > o.coplanar_deg || offset > o.plane_tolerance_m)
-        throw InputError(where + ".merge: surface " + std::to_string(m) +
-                         " is not coplanar with surface " + std::to_string(e.id) + " (normals " +
-                         formatFixed(angle, 1) + " deg apart, centroid " + formatFixed(offset, 3) +
-                         " m off its plane; limits " + formatFixed(o.coplanar_deg, 1) + " deg, " +
-                         formatFixed(o.plane_tolerance_m, 2) + " m)");
-      Region2d r;
-      for (const auto& p : other->boundary) r.outer.push_back(planeUv(*s, p));
-      if (polygonTwiceSignedArea2d(r.outer) < 0.0) std::reverse(r.outer.begin(), r.outer.end());
-      for (const auto& h : other->holes) r.holes.push_back(loopUv(*s, h));
-      loops.push_back(r.outer);
-      merged.push_back(std::move(r));
-    }
-    if (!e.boundary.empty()) {
-      region.outer = checkedPolygon(*s, e.boundary, where + ".boundary", o);
-      std::vector<std::vector<Vec2>> kept;
-      for (auto& h : region.holes) {
-        if (std::all_of(h.begin(), h.end(),
-                        [&](const Vec2& q) { return pointInPolygon2d(q, region.outer); }))
-          kept.push_back(std::move(h));
-      }
-      region.holes = std::move(kept);
-      loops.front() = region.outer;
-    }
-    std::vector<std::vector<Vec2>> adds;
-    std::vector<std::vector<Vec2>> cuts;
-    for (std::size_t k = 0; k < e.add.size(); ++k) {
-      adds.push_back(checkedPolygon(*s, e.add[k], where + ".add[" + std::to_string(k) + "]", o));
-      loops.push_back(adds.back());
-    }
-    for (std::size_t k = 0; k < e.cut.size(); ++k)
-      cuts.push_back(checkedPolygon(*s, e.cut[k], where + ".cut[" + std::to_string(k) + "]", o));
-
+    checkFingerprint(*s, e, where, o);
+    const std::string line = name + " (" + at(edits.file, e.line) + "): surface " +
+                             std::to_string(e.id) + " " + describe(e);
     if (e.remove) {
-      Obstacle ob;
-      ob.id = 0;
-      for (const auto& x : out.obstacles) ob.id = std::max(ob.id, x.id + 1);
-      ob.points = s->inliers;
-      const Aabb box = boundingBox(ob.points);
-      ob.aabb_min = box.empty() ? Vec3::Zero() : box.min;
-      ob.aabb_max = box.empty() ? Vec3::Zero() : box.max;
-      out.obstacles.push_back(std::move(ob));
-      gone[e.id] = "surfaces[" + std::to_string(i) + "]";
-      out.surfaces.erase(out.surfaces.begin() + (s - out.surfaces.data()));
-      lines.push_back("surfaces[" + std::to_string(i) + "] (" + at(edits.file, e.line) +
-                      "): surface " + std::to_string(e.id) + " " + describe(e));
+      removeSurface(out, e.id);
+      gone[e.id] = name;
+      lines.push_back(line);
       continue;
     }
-    if (merged.empty() && adds.empty() && cuts.empty()) {
-      setOutline(*s, region.outer, region.holes, regionArea(region.outer, region.holes));
-    } else {
-      const auto inside = [&](const Vec2& q) {
-        if (std::any_of(cuts.begin(), cuts.end(),
-                        [&](const auto& c) { return pointInPolygon2d(q, c); }))
-          return false;
-        if (onSurface(region.outer, region.holes, q)) return true;
-        if (std::any_of(adds.begin(), adds.end(),
-                        [&](const auto& a) { return pointInPolygon2d(q, a); }))
-          return true;
-        return std::any_of(merged.begin(), merged.end(),
-                           [&](const Region2d& r) { return onSurface(r.outer, r.holes, q); });
-      };
-      rasterise(*s, loops, inside, rasterAxis(region.outer), o.raster_cell_m, where);
-    }
+    const double area_before = s->area_m2;
+    const std::vector<Region2d> merged = mergedRegions(out, *s, e, gone, where, o);
+    reshape(*s, e, merged, where, o);
     for (const int m : e.merge) {
-      Surface* other = find(m);
+      const Surface* other = findSurface(out, m);
       s->inliers.insert(s->inliers.end(), other->inliers.begin(), other->inliers.end());
-      gone[m] = "surfaces[" + std::to_string(i) + "] (merged into " + std::to_string(e.id) + ")";
+      gone[m] = name + " (merged into " + std::to_string(e.id) + ")";
     }
-    const int id = s->id;
+    const double area_after = s->area_m2;
     for (const int m : e.merge) {
       out.surfaces.erase(std::remove_if(out.surfaces.begin(), out.surfaces.end(),
                                         [&](const Surface& x) { return x.id == m; }),
                          out.surfaces.end());
     }
-    const Surface* after = find(id);
-    lines.push_back("surfaces[" + std::to_string(i) + "] (" + at(edits.file, e.line) +
-                    "): surface " + std::to_string(id) + " " + describe(e) + ", area " +
-                    formatFixed(area_before, 1) + " -> " + formatFixed(after->area_m2, 1) + " m2");
+    lines.push_back(line + ", area " + formatFixed(area_before, 1) + " -> " +
+                    formatFixed(area_after, 1) + " m2");
   }
   for (std::size_t i = 0; i < edits.keep_out.size(); ++i) {
-    const KeepOut& k = edits.keep_out[i].volume;
-    out.keep_out.push_back(k);
+    out.keep_out.push_back(edits.keep_out[i].volume);
     lines.push_back("keep_out[" + std::to_string(i) + "] (" +
-                    at(edits.file, edits.keep_out[i].line) + "): '" + k.name + "' " +
-                    (k.shape == KeepOut::Shape::Box
-                         ? "box " + formatFixed(k.size.x(), 1) + " x " +
-                               formatFixed(k.size.y(), 1) + " x " + formatFixed(k.size.z(), 1) +
-                               " m at " + formatPoint(k.center)
-                         : "cylinder r " + formatFixed(0.5 * k.size.x(), 1) + " m, " +
-                               formatFixed(k.size.z(), 1) + " m tall at " + formatPoint(k.center)) +
-                    " is solid");
+                    at(edits.file, edits.keep_out[i].line) +
+                    "): " + describe(edits.keep_out[i].volume));
   }
   scene = std::move(out);
   return lines;

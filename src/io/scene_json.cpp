@@ -140,6 +140,24 @@ std::string sceneJsonText(const Scene& scene, const SceneExtras& extras) {
   return j.dump(1) + "\n";
 }
 
+namespace {
+
+/// Surface `f`'s `holes` (absent in scenes written before outlines: none).
+std::vector<PointList> readHoles(const JsonReader& r, const json& js, const std::string& f) {
+  std::vector<PointList> out;
+  if (!js.contains("holes")) return out;
+  const json& holes = js["holes"];
+  if (!holes.is_array()) r.fail(f + ".holes", "must be a list of polygons");
+  for (std::size_t h = 0; h < holes.size(); ++h) {
+    const std::string fh = f + ".holes[" + std::to_string(h) + "]";
+    out.push_back(r.points(holes[h], fh));
+    if (out.back().size() < 3) r.fail(fh, "needs at least 3 vertices");
+  }
+  return out;
+}
+
+}  // namespace
+
 Scene sceneFromJson(const json& j, const std::string& path) {
   const JsonReader r(path);
   Scene scene;
@@ -172,15 +190,7 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     s.axis_v = s.plane.normal.cross(s.axis_u);
     s.boundary = r.points(r.at(js, "boundary", f), f + ".boundary");
     if (s.boundary.size() < 3) r.fail(f + ".boundary", "needs at least 3 vertices");
-    if (js.contains("holes")) {  // absent in scenes written before outlines
-      const json& holes = js["holes"];
-      if (!holes.is_array()) r.fail(f + ".holes", "must be a list of polygons");
-      for (std::size_t h = 0; h < holes.size(); ++h) {
-        const std::string fh = f + ".holes[" + std::to_string(h) + "]";
-        s.holes.push_back(r.points(holes[h], fh));
-        if (s.holes.back().size() < 3) r.fail(fh, "needs at least 3 vertices");
-      }
-    }
+    s.holes = readHoles(r, js, f);
     s.inliers = r.points(r.at(js, "points", f), f + ".points");
     scene.cloud.insert(scene.cloud.end(), s.inliers.begin(), s.inliers.end());
     scene.surfaces.push_back(std::move(s));

@@ -180,9 +180,9 @@ std::vector<Vec2> simplifyLoop(const std::vector<Vec2>& loop) {
   std::vector<Vec2> out;
   const std::size_t n = loop.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 a = loop[(i + n - 1) % n];
-    const Vec2 b = loop[i];
-    const Vec2 c = loop[(i + 1) % n];
+    const Vec2& a = loop[(i + n - 1) % n];
+    const Vec2& b = loop[i];
+    const Vec2& c = loop[(i + 1) % n];
     const Vec2 u = b - a;
     const Vec2 v = c - b;
     if (std::abs(u.x() * v.y() - u.y() * v.x()) > 1e-12 * (u.norm() * v.norm() + 1e-300))
@@ -232,8 +232,10 @@ Outline2d outlineOfCells(CellGrid g, const Vec2& origin, double cell, const Vec2
     std::vector<Vec2> loop;
     loop.reserve(ids.size());
     for (const auto id : ids) {
-      const double x = origin.x() + static_cast<double>(id % stride) * cell;
-      const double y = origin.y() + static_cast<double>(id / stride) * cell;
+      const std::int64_t column = id % stride;
+      const std::int64_t row = id / stride;  // corner ids are row-major
+      const double x = origin.x() + static_cast<double>(column) * cell;
+      const double y = origin.y() + static_cast<double>(row) * cell;
       loop.push_back(x * ex + y * ey);
     }
     loop = simplifyLoop(loop);
