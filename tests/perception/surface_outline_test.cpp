@@ -102,6 +102,7 @@ TEST(SurfaceOutline, TurnedPointsGiveTheSameAreaAndOrderDoesNotMatter) {
   const Outline2d straight = occupiedOutline2d(pts, o);
   const double a = 0.6;  // turned by 34°: the grid follows the rectangle
   std::vector<Vec2> turned;
+  turned.reserve(pts.size());
   for (const auto& p : pts)
     turned.emplace_back(std::cos(a) * p.x() - std::sin(a) * p.y(),
                         std::sin(a) * p.x() + std::cos(a) * p.y());

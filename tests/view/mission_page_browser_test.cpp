@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -213,8 +214,8 @@ Image readPng(const fs::path& p) {
     img.px.resize(static_cast<std::size_t>(img.w) * img.h);
     for (int y = 0; y < img.h; ++y)
       for (int x = 0; x < img.w; ++x)
-        img.px[static_cast<std::size_t>(y) * img.w + x] =
-            reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
+        img.px[static_cast<std::size_t>(y) * img.w + x] = reinterpret_cast<const std::uint32_t*>(
+            data + static_cast<std::ptrdiff_t>(y) * stride)[x];
   }
   cairo_surface_destroy(s);
   return img;
@@ -263,7 +264,8 @@ struct Projection {
     double c[4] = {0, 0, 0, 0};
     for (int r = 0; r < 4; ++r)
       for (int k = 0; k < 4; ++k)
-        c[r] += m[static_cast<std::size_t>(k * 4 + r)] * q[k];  // column-major
+        c[r] += m[static_cast<std::size_t>(k) * 4 + static_cast<std::size_t>(r)] *
+                q[k];  // column-major
     return {canvas[0] + (c[0] / c[3] + 1.0) / 2.0 * canvas[2],
             canvas[1] + (1.0 - c[1] / c[3]) / 2.0 * canvas[3], c[2] / c[3]};
   }
