@@ -22,6 +22,7 @@
 #include "uavip/preprocess/safety_cloud.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/world/collision_world.h"
+#include "uavip/world/solids.h"
 #include "uavip/world/voxel_grid.h"
 
 #ifndef UAVIP_VERSION
@@ -209,6 +210,11 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   reach.max.array() += reach_m;
   const PointList solids = world.solidSamples(0.5 * grid_options.resolution_m, occupied, &reach);
   occupied.insert(occupied.end(), solids.begin(), solids.end());
+  for (const auto& k : scene.keep_out) {  // the operator's volumes are solid inside too
+    const PointList inside =
+        world::interiorSamples(world::keepOutSolid(k), grid_options.resolution_m, &reach);
+    occupied.insert(occupied.end(), inside.begin(), inside.end());
+  }
   return world::VoxelGrid::build(occupied, {}, grid_options, region);
 }
 

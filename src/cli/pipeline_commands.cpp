@@ -7,11 +7,13 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "planners/registry.h"
 #include "src/cli/commands.h"
 #include "src/cli/scenario_dir.h"
+#include "uavip/app/edits.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
 #include "uavip/core/error.h"
@@ -48,12 +50,48 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
                 io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
 }
 
-/// Stages mission.json (`source`: the scenario or scene.json planned).
+/// Stages mission.json (`source`: the scenario or scene.json planned; `edits`: the
+/// edits file applied, if any).
 void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
-                  const app::Config& config, const std::string& source) {
+                  const app::Config& config, const std::string& source,
+                  const std::optional<io::EditsSummary>& edits = std::nullopt) {
+  io::MissionExtras extras = app::missionExtras(plan, config, source);
+  extras.edits = edits;
   outputs.write((fs::path(out) / "mission.json").string(),
-                io::missionJsonText(plan.missions, plan.flight, config.flight.model,
-                                    app::missionExtras(plan, config, source)));
+                io::missionJsonText(plan.missions, plan.flight, config.flight.model, extras));
+}
+
+/// The operator's edits (app/edits.h) applied to a copy of `scene`, checked against
+/// the plan `config` asks for: the scene to plan, and what mission.json records.
+/// Without a file, the scene as it is and nothing to record.
+struct EditedScene {
+  Scene scene;
+  std::optional<io::EditsSummary> summary;
+};
+
+EditedScene applyEditsFile(const Scene& detected, const std::string& edits_path,
+                           const app::Config& config, const std::string& surface) {
+  EditedScene out{detected, std::nullopt};
+  if (edits_path.empty()) return out;
+  const app::Edits edits = app::loadEdits(edits_path);
+  io::EditsSummary summary;
+  summary.file = edits_path;
+  summary.sha256 = edits.sha256;
+  summary.applied = app::applyEdits(out.scene, edits);
+  summary.keep_out = out.scene.keep_out;
+  const std::vector<int> ids =
+      surface.empty() ? std::vector<int>{} : app::selectSurfaces(out.scene, surface);
+  app::checkKeepOuts(out.scene, config, ids, edits);
+  out.summary = std::move(summary);
+  return out;
+}
+
+/// One line per applied edit (nothing without an edits file).
+void printEdits(const std::optional<io::EditsSummary>& edits) {
+  if (!edits) return;
+  std::cout << "edits: " << edits->file << " (sha256 " << edits->sha256.substr(0, 12) << "…), "
+            << edits->applied.size() << " applied\n";
+  for (const auto& line : edits->applied) std::cout << "  edit " << line << "\n";
 }
 
 void printDetectSummary(const app::DetectResult& d) {
@@ -262,17 +300,21 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     throw InputError(
         "--surface: the scenario's coverage.mode is structure, which covers the whole structure; "
         "leave out --surface");
-  const app::PlanResult p = structure ? app::planStructure(d.scene, d.resolved.config, progress)
-                                      : app::plan(d.scene, d.resolved.config,
-                                                  app::selectSurfaces(d.scene, surface), progress);
+  // scene.json keeps the detection; the edits (scenario `edits:`) change what is planned.
+  const EditedScene edited =
+      applyEditsFile(d.scene, scenario.edits, d.resolved.config, structure ? "" : surface);
+  const app::PlanResult p = structure
+                                ? app::planStructure(edited.scene, d.resolved.config, progress)
+                                : app::plan(edited.scene, d.resolved.config,
+                                            app::selectSurfaces(edited.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
   auto rendered = renderViewsAsync(
-      views, d.scene, p.missions,
+      views, edited.scene, p.missions,
       overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d);
-  writeMission(outputs, out, p, d.resolved.config, path);
+  writeMission(outputs, out, p, d.resolved.config, path, edited.summary);
   stageViews(outputs, out, rendered);
   outputs.commit();
   const double total = secondsSince(t0);
@@ -280,6 +322,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   if (!v.quiet) {
     std::cout << "scenario " << scenario.name << " (" << path << ")\n";
     printDetectSummary(d);
+    printEdits(edited.summary);
     printPlanSummary(p);
     std::cout << "time: " << formatFixed(total, 2) << " s (perception "
               << formatFixed(d.times.total_s, 2) << " s, grid " << formatFixed(p.times.grid_s, 2)
@@ -397,7 +440,8 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
 
 int planCommand(const std::string& scene_path, const std::string& config_path,
                 const std::string& surface, const std::string& cover, const std::string& planner,
-                const std::string& out, bool views, const Verbosity& v) {
+                const std::string& edits_path, const std::string& out, bool views,
+                const Verbosity& v) {
   const bool structure = structureCover(cover, !surface.empty());
   app::Config config =
       config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
@@ -406,10 +450,13 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
     config.validate("--planner");
   }
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();
-  const Scene scene = io::sceneFromJson(scene_json, scene_path);
+  const Scene detected = io::sceneFromJson(scene_json, scene_path);
+  const app::Config resolved = app::resolveForScene(detected, config).config;
+  const EditedScene edited =
+      applyEditsFile(detected, edits_path, resolved, structure ? "" : surface);
+  const Scene& scene = edited.scene;
   const std::vector<int> ids = structure ? std::vector<int>{} : app::selectSurfaces(scene, surface);
   io::ensureDirectory(out);
-  const app::Config resolved = app::resolveForScene(scene, config).config;
   const app::PlanResult p = structure ? app::planStructure(scene, resolved, progressPrinter(v))
                                       : app::plan(scene, resolved, ids, progressPrinter(v));
   view::OverviewOptions view_options = overviewOptions(
@@ -417,10 +464,11 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
   if (views) view_options.geo = pageGeoFit(io::sceneCrsFromJson(scene_json, scene_path), scene, v);
   auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight);
   io::StagedOutputs outputs;
-  writeMission(outputs, out, p, resolved, scene_path);
+  writeMission(outputs, out, p, resolved, scene_path, edited.summary);
   stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {
+    printEdits(edited.summary);
     printPlanSummary(p);
     printTotals(p);
     std::cout << "results: " << out << "/mission.json\n"
@@ -479,7 +527,7 @@ constexpr const char* kPlanFooter =
 
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
-  std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical;
+  std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical, edits;
   bool no_views{false};
 };
 
@@ -533,11 +581,14 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
                  "'structure': cover the whole structure (instead of --surface)");
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
+  pl->add_option("--edits", a->edits,
+                 "Edits YAML (uavip-edits: 1): boundaries, deleted or merged surfaces, keep-out "
+                 "volumes; mission.html's edit mode saves one");
   pl->add_option("-o,--out", a->out, "Output directory")->required();
   pl->add_flag("--no-views", a->no_views, views_help);
   registry.add(pl, [a, &v] {
-    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->out, !a->no_views,
-                       v);
+    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->edits, a->out,
+                       !a->no_views, v);
   });
 }
 

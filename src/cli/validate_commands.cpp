@@ -191,7 +191,8 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   Checkers c;
   c.clearance = clearanceOf(mission, mission_path, clearance_arg, clearance_given);
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();  // parsed once
-  const Scene scene = io::sceneFromJson(scene_json, scene_path);
+  Scene scene = io::sceneFromJson(scene_json, scene_path);
+  scene.keep_out = mission.keep_out;  // the operator's volumes the plan kept out of
 
   const auto t0 = SteadyClock::now();
   const InputCloud input = inputCloud(scene_path, scene_json, scene, cloud_arg);
@@ -216,7 +217,11 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
               << ")\n";
     std::cout << "world: " << c.world->objects().size() << " objects (" << scene.surfaces.size()
               << " surfaces, " << scene.obstacles.size() << " obstacles, cloud of "
-              << c.world->cloudSize() << " points)"
+              << c.world->cloudSize() << " points"
+              << (scene.keep_out.empty()
+                      ? std::string()
+                      : ", " + std::to_string(scene.keep_out.size()) + " keep-out volumes")
+              << ")"
               << (c.margin > 0.0 ? ", checked at clearance + the safety margin " +
                                        formatFixed(c.margin, 3) + " m"
                                  : "")

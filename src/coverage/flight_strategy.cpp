@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -41,8 +43,13 @@ namespace {
 
 /// |n_z| at and above which a surface counts as horizontal (roof, ceiling).
 constexpr double kHorizontalNz = 0.95;
-/// Overlap of a footprint with the boundary below this [m] counts as touching only.
+/// Overlap of a footprint with the boundary below this [m²] counts as touching only.
 constexpr double kOverlapTol = 1e-9;
+/// A photo centre moved off air onto the surface lies at least this fraction of the
+/// smaller stop spacing inside the surface's edges, when the footprint allows.
+constexpr double kInsetFraction = 0.25;
+/// Samples per footprint side searched for a photo centre on the surface.
+constexpr int kCentreSamples = 24;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -58,22 +65,47 @@ std::pair<double, double> projectRange(const std::vector<Vec2>& pts, const Vec2&
   return {lo, hi};
 }
 
-/// Separating-axis test of two convex polygons (any vertex order): true when their
-/// interiors overlap by more than kOverlapTol along every candidate axis.
-bool convexOverlap(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
-  for (const auto* poly : {&a, &b}) {
-    const size_t n = poly->size();
-    for (size_t i = 0; i < n; ++i) {
-      const Vec2 e = (*poly)[(i + 1) % n] - (*poly)[i];
-      const double len = e.norm();
-      if (len <= 0.0) continue;
-      const Vec2 axis(-e.y() / len, e.x() / len);
-      const auto [alo, ahi] = projectRange(a, axis);
-      const auto [blo, bhi] = projectRange(b, axis);
-      if (std::min(ahi, bhi) - std::max(alo, blo) <= kOverlapTol) return false;
-    }
+/// The surface's region in the frame of its stops: the boundary minus its holes.
+struct Region {
+  std::vector<Vec2> outer;
+  std::vector<std::vector<Vec2>> holes;
+  /// The edges a traced outline may overshoot into air: every hole edge and every
+  /// edge of the outline off its convex hull (a concave corner), as segments.
+  std::vector<std::pair<Vec2, Vec2>> inner_edges;
+
+  bool contains(const Vec2& p) const {
+    if (!pointInPolygon2d(p, outer)) return false;
+    return std::none_of(holes.begin(), holes.end(),
+                        [&](const auto& h) { return pointInPolygon2d(p, h); });
   }
-  return true;
+  /// Distance from p to the nearest inner edge (inf when there is none: a convex
+  /// boundary keeps the paper's regular grid) [m].
+  double depth(const Vec2& p) const {
+    double d = kInf;
+    for (const auto& [a, b] : inner_edges) d = std::min(d, distanceToPolygonEdges2d(p, {a, b}));
+    return d;
+  }
+  /// Area of the part of the convex counter-clockwise polygon `window` inside the
+  /// region [m²] and that part's centroid.
+  std::pair<double, Vec2> overlap(const std::vector<Vec2>& window) const {
+    const auto part = [&](const std::vector<Vec2>& poly) {
+      const std::vector<Vec2> clipped = clipPolygonConvex2d(poly, window);
+      return std::make_pair(polygonArea2d(clipped), polygonCentroid2d(clipped));
+    };
+    auto [area, c] = part(outer);
+    Vec2 moment = area * c;
+    for (const auto& h : holes) {
+      const auto [ha, hc] = part(h);
+      area -= ha;
+      moment -= ha * hc;
+    }
+    return {area, area > 0.0 ? Vec2(moment / area) : c};
+  }
+};
+
+/// The axis-aligned rectangle of half sizes (hw, hh) about (a, b), counter-clockwise.
+std::vector<Vec2> rectangle(double a, double b, double hw, double hh) {
+  return {Vec2(a - hw, b - hh), Vec2(a + hw, b - hh), Vec2(a + hw, b + hh), Vec2(a - hw, b + hh)};
 }
 
 /// Angle in degrees wrapped to (−180, 180] (atan2 gives −180 for a −0 y component).
@@ -167,16 +199,79 @@ Attitude stopAttitude(const SurfaceFrame& f, const GimbalLimits& gimbal) {
   return at;
 }
 
-/// The boundary in (axis_w, axis_h) coordinates about origin [m].
-std::vector<Vec2> boundaryInFrame(const Surface& surface, const SurfaceFrame& f,
-                                  const Vec3& origin) {
-  std::vector<Vec2> poly;
-  poly.reserve(surface.boundary.size());
-  for (const auto& p : surface.boundary) {
-    const Vec3 d = p - origin;
-    poly.emplace_back(d.dot(f.axis_w), d.dot(f.axis_h));
+/// The boundary and its holes in (axis_w, axis_h) coordinates about origin [m].
+Region regionInFrame(const Surface& surface, const SurfaceFrame& f, const Vec3& origin) {
+  const auto toFrame = [&](const PointList& loop) {
+    std::vector<Vec2> poly;
+    poly.reserve(loop.size());
+    for (const auto& p : loop) {
+      const Vec3 d = p - origin;
+      poly.emplace_back(d.dot(f.axis_w), d.dot(f.axis_h));
+    }
+    return poly;
+  };
+  Region region;
+  region.outer = toFrame(surface.boundary);
+  if (polygonTwiceSignedArea2d(region.outer) < 0.0)
+    std::reverse(region.outer.begin(), region.outer.end());
+  for (const auto& h : surface.holes) {
+    if (h.size() >= 3 && allFinite(h)) region.holes.push_back(toFrame(h));
   }
-  return poly;
+  const std::size_t n = region.outer.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = region.outer[i];
+    const Vec2& b = region.outer[(i + 1) % n];
+    const Vec2 e = b - a;
+    const double len = e.norm();
+    const bool on_hull = std::all_of(region.outer.begin(), region.outer.end(), [&](const Vec2& q) {
+      return e.x() * (q.y() - a.y()) - e.y() * (q.x() - a.x()) >= -1e-9 * len;
+    });
+    if (!on_hull) region.inner_edges.emplace_back(a, b);
+  }
+  for (const auto& h : region.holes) {
+    for (std::size_t i = 0; i < h.size(); ++i)
+      region.inner_edges.emplace_back(h[i], h[(i + 1) % h.size()]);
+  }
+  return region;
+}
+
+/// The photo centre of the cell about (a, b) whose footprint meets the region by
+/// `area` (> 0) (paper §II-F; the stop must look at the surface, not at air): the cell
+/// centre when it lies on the region at least kInsetFraction of the spacing from its
+/// inner edges (holes, concave corners: a boundary traced around the points may reach
+/// a little past them there), else
+/// the point of the region nearest to the centroid of what the cell (or, if the cell
+/// holds none, the footprint) holds, that far inside when the footprint allows. Empty when no
+/// sample of the footprint lies on the region.
+std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, double a,
+                                double b) {
+  const Vec2 centre(a, b);
+  const double inset = kInsetFraction * std::min(fs.spacing_w_m, fs.spacing_h_m);
+  if (region.contains(centre) && region.depth(centre) >= inset) return centre;
+  const double half_w = 0.5 * fs.camera.footprint_w_m;
+  const double half_h = 0.5 * fs.camera.footprint_h_m;
+  auto [cell_area, goal] =
+      region.overlap(rectangle(a, b, 0.5 * fs.spacing_w_m, 0.5 * fs.spacing_h_m));
+  if (!(cell_area > kOverlapTol)) goal = region.overlap(rectangle(a, b, half_w, half_h)).second;
+  if (region.contains(goal) && region.depth(goal) >= inset) return goal;
+  std::optional<Vec2> best;
+  double best_d = kInf;
+  bool best_deep = false;
+  for (int i = 0; i <= kCentreSamples; ++i) {
+    for (int j = 0; j <= kCentreSamples; ++j) {
+      const Vec2 q(a - half_w + 2.0 * half_w * i / kCentreSamples,
+                   b - half_h + 2.0 * half_h * j / kCentreSamples);
+      if (!region.contains(q)) continue;
+      const bool deep = region.depth(q) >= inset;
+      const double d = (q - goal).squaredNorm();
+      if ((deep && !best_deep) || (deep == best_deep && d < best_d)) {
+        best = q;
+        best_d = d;
+        best_deep = deep;
+      }
+    }
+  }
+  return best;
 }
 
 /// Sets fs.cols and fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi];
@@ -199,26 +294,26 @@ void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions&
   fs.rows = static_cast<int>(rows);
 }
 
-/// Row r's stops, centred on (wc, hc) in the frame about origin, whose footprints
-/// overlap poly, in column order.
+/// Row r's stops, on the grid centred on (wc, hc) in the frame about origin, whose
+/// footprints overlap the region, in column order; each looks at the region
+/// (photoCentre).
 std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
-                           const Vec3& origin, const std::vector<Vec2>& poly, const Attitude& at,
-                           double wc, double hc, int r) {
+                           const Vec3& origin, const Region& region, const Attitude& at, double wc,
+                           double hc, int r) {
   const double half_w = 0.5 * fs.camera.footprint_w_m;
   const double half_h = 0.5 * fs.camera.footprint_h_m;
   const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;
   std::vector<Stop> row;
   for (int c = 0; c < fs.cols; ++c) {
     const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
-    const std::vector<Vec2> footprint = {Vec2(a - half_w, b - half_h), Vec2(a + half_w, b - half_h),
-                                         Vec2(a + half_w, b + half_h),
-                                         Vec2(a - half_w, b + half_h)};
-    if (!convexOverlap(footprint, poly)) continue;
+    if (!(region.overlap(rectangle(a, b, half_w, half_h)).first > kOverlapTol)) continue;
+    const std::optional<Vec2> centre = photoCentre(region, fs, a, b);
+    if (!centre) continue;
     Stop s;
     s.surface_id = surface.id;
     s.row = r;
     s.col = c;
-    s.target = surface.plane.project(origin + a * f.axis_w + b * f.axis_h);
+    s.target = surface.plane.project(origin + centre->x() * f.axis_w + centre->y() * f.axis_h);
     s.position = s.target + fs.camera.standoff_m * f.n;
     s.yaw_deg = at.yaw;
     s.gimbal_pitch_deg = at.pitch;
@@ -230,11 +325,11 @@ std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, con
 
 /// The boustrophedon of stops over the surface's boundary (fs.cols, fs.rows set).
 void placeStops(FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
-                const Vec3& origin, const std::vector<Vec2>& poly, const Attitude& at, double wc,
+                const Vec3& origin, const Region& region, const Attitude& at, double wc,
                 double hc) {
   bool left_to_right = true;
   for (int r = 0; r < fs.rows; ++r) {
-    std::vector<Stop> row = rowStops(fs, surface, f, origin, poly, at, wc, hc, r);
+    std::vector<Stop> row = rowStops(fs, surface, f, origin, region, at, wc, hc, r);
     if (row.empty()) continue;
     if (!left_to_right) std::reverse(row.begin(), row.end());
     left_to_right = !left_to_right;
@@ -266,11 +361,11 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
     return fs;
   }
   const Vec3 origin = surface.plane.project(surface.centroid);
-  const std::vector<Vec2> poly = boundaryInFrame(surface, f, origin);
-  const auto [wlo, whi] = projectRange(poly, Vec2::UnitX());
-  const auto [hlo, hhi] = projectRange(poly, Vec2::UnitY());
+  const Region region = regionInFrame(surface, f, origin);
+  const auto [wlo, whi] = projectRange(region.outer, Vec2::UnitX());
+  const auto [hlo, hhi] = projectRange(region.outer, Vec2::UnitY());
   sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
-  placeStops(fs, surface, f, origin, poly, at, 0.5 * (wlo + whi), 0.5 * (hlo + hhi));
+  placeStops(fs, surface, f, origin, region, at, 0.5 * (wlo + whi), 0.5 * (hlo + hhi));
   return fs;
 }
 

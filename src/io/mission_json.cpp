@@ -171,6 +171,21 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
     meta["structure"] = structureToJson(*e.structure);
     meta["timings"]["select_s"] = e.structure->select_s;
   }
+  if (e.edits) {
+    json volumes = json::array();
+    for (const auto& k : e.edits->keep_out) {
+      const bool box = k.shape == KeepOut::Shape::Box;
+      volumes.push_back({{"name", k.name},
+                         {"shape", box ? "box" : "cylinder"},
+                         {"center", vec(k.center)},
+                         {"size", vec(k.size)},
+                         {"yaw_deg", k.yaw_deg}});
+    }
+    meta["edits"] = {{"file", e.edits->file},
+                     {"sha256", e.edits->sha256},
+                     {"applied", e.edits->applied},
+                     {"keep_out", volumes}};
+  }
   json doc = missionToJson(missions, meta);
   doc["flight"] = flightToJson(flight, model);
   return doc.dump(1) + "\n";

@@ -97,6 +97,22 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
       flight.sorties.push_back(readSortie(r, sorties[i], JsonReader::item("flight.sorties", i), m));
     m.flight = std::move(flight);
   }
+  if (j.contains("edits")) {
+    const json& volumes = r.list(r.at(j.at("edits"), "keep_out", "edits"), "edits.keep_out");
+    for (std::size_t i = 0; i < volumes.size(); ++i) {
+      const std::string f = JsonReader::item("edits.keep_out", i);
+      KeepOut k;
+      k.name = r.text(r.at(volumes[i], "name", f), f + ".name");
+      const std::string shape = r.text(r.at(volumes[i], "shape", f), f + ".shape");
+      if (shape != "box" && shape != "cylinder") r.fail(f + ".shape", "must be box or cylinder");
+      k.shape = shape == "box" ? KeepOut::Shape::Box : KeepOut::Shape::Cylinder;
+      k.center = r.vec3(r.at(volumes[i], "center", f), f + ".center");
+      k.size = r.vec3(r.at(volumes[i], "size", f), f + ".size");
+      if (!(k.size.minCoeff() > 0.0)) r.fail(f + ".size", "must be > 0 on every axis");
+      k.yaw_deg = r.number(r.at(volumes[i], "yaw_deg", f), f + ".yaw_deg", -360.0, 360.0, "deg");
+      m.keep_out.push_back(std::move(k));
+    }
+  }
   return m;
 }
 

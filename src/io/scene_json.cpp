@@ -67,6 +67,8 @@ SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& p
 json sceneToJson(const Scene& scene) {
   json surfaces = json::array();
   for (const auto& s : scene.surfaces) {
+    json holes = json::array();
+    for (const auto& h : s.holes) holes.push_back(points(h));
     surfaces.push_back({{"id", s.id},
                         {"normal", vec(s.plane.normal)},
                         {"offset", round4(s.plane.offset)},
@@ -75,6 +77,7 @@ json sceneToJson(const Scene& scene) {
                         {"centroid", vec(s.centroid)},
                         {"axis_u", vec(s.axis_u)},
                         {"boundary", points(s.boundary)},
+                        {"holes", holes},
                         {"point_count", s.inliers.size()},
                         {"points", points(s.inliers)}});
   }
@@ -141,6 +144,24 @@ std::string sceneJsonText(const Scene& scene, const SceneExtras& extras) {
   return j.dump(1) + "\n";
 }
 
+namespace {
+
+/// Surface `f`'s `holes` (absent in scenes written before outlines: none).
+std::vector<PointList> readHoles(const JsonReader& r, const json& js, const std::string& f) {
+  std::vector<PointList> out;
+  if (!js.contains("holes")) return out;
+  const json& holes = js["holes"];
+  if (!holes.is_array()) r.fail(f + ".holes", "must be a list of polygons");
+  for (std::size_t h = 0; h < holes.size(); ++h) {
+    const std::string fh = f + ".holes[" + std::to_string(h) + "]";
+    out.push_back(r.points(holes[h], fh));
+    if (out.back().size() < 3) r.fail(fh, "needs at least 3 vertices");
+  }
+  return out;
+}
+
+}  // namespace
+
 Scene sceneFromJson(const json& j, const std::string& path) {
   const JsonReader r(path);
   Scene scene;
@@ -173,6 +194,7 @@ Scene sceneFromJson(const json& j, const std::string& path) {
     s.axis_v = s.plane.normal.cross(s.axis_u);
     s.boundary = r.points(r.at(js, "boundary", f), f + ".boundary");
     if (s.boundary.size() < 3) r.fail(f + ".boundary", "needs at least 3 vertices");
+    s.holes = readHoles(r, js, f);
     s.inliers = r.points(r.at(js, "points", f), f + ".points");
     scene.cloud.insert(scene.cloud.end(), s.inliers.begin(), s.inliers.end());
     scene.surfaces.push_back(std::move(s));

@@ -26,6 +26,7 @@
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/perception/euclidean_clusters.h"
+#include "uavip/perception/surface_outline.h"
 
 namespace uavip::perception {
 namespace {
@@ -74,9 +75,11 @@ bool isDegenerate(const Pca& pca) {
 
 /// Tightens the RANSAC inliers `candidate` to the points within a robust band
 /// (median ± band_sigmas · 1.4826 · MAD of the plane distances, between
-/// band_floor × threshold and threshold) around their plane.
-std::vector<Index> refineBand(const PointList& cloud, const std::vector<Index>& candidate,
-                              double threshold, const PlaneTuning& tuning) {
+/// band_floor × threshold and threshold) around their plane. Not inlined: inlined into
+/// detectPlanes, GCC 12 reports a false -Wfree-nonheap-object on its vectors.
+[[gnu::noinline]] std::vector<Index> refineBand(const PointList& cloud,
+                                                const std::vector<Index>& candidate,
+                                                double threshold, const PlaneTuning& tuning) {
   std::vector<Index> current = candidate;
   for (int iter = 0; iter < tuning.band_iterations && current.size() >= 3; ++iter) {
     const Pca pca = computePca(cloud, current);
@@ -377,8 +380,34 @@ double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
   return cells * cell * cell;
 }
 
+/// The boundary of `s` from its inliers' plane coordinates `uv` (options.boundary):
+/// the outline of the occupied cells with its holes, or the paper's convex hull;
+/// and the area it encloses.
+void setBoundary(Surface& s, const std::vector<Eigen::Vector2d>& uv,
+                 const PlaneDetectionOptions& options) {
+  const auto to3d = [&](const std::vector<Eigen::Vector2d>& loop) {
+    PointList out;
+    out.reserve(loop.size());
+    for (const auto& q : loop) out.push_back(s.centroid + q.x() * s.axis_u + q.y() * s.axis_v);
+    return out;
+  };
+  if (options.boundary == "convex") {
+    s.boundary = to3d(qhullBoundary2d(uv));
+    s.area_m2 = polygonArea(s.boundary);
+    return;
+  }
+  OutlineOptions outline;
+  outline.cell_m = options.tuning.outline_cell_fraction * options.cell_size_m;
+  outline.close_cells = options.tuning.outline_close_cells;
+  outline.min_hole_m2 = options.tuning.outline_min_hole_m2;
+  const Outline2d o = occupiedOutline2d(uv, outline);
+  s.boundary = to3d(o.outer);
+  for (const auto& h : o.holes) s.holes.push_back(to3d(h));
+  s.area_m2 = o.area_m2;
+}
+
 /// Builds the surface of the kept inliers: PCA plane, oriented normal, axes,
-/// convex-hull boundary and both areas.
+/// boundary (setBoundary) and both areas.
 Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
                     const PlaneDetectionOptions& options, const OccupiedVoxels* occupied) {
   const Pca pca = computePca(cloud, kept);
@@ -411,10 +440,7 @@ Surface makeSurface(const PointList& cloud, const std::vector<Index>& kept,
     const Vec3 d = p - s.centroid;
     uv.emplace_back(s.axis_u.dot(d), s.axis_v.dot(d));
   }
-  for (const auto& q : qhullBoundary2d(uv)) {
-    s.boundary.push_back(s.centroid + q.x() * s.axis_u + q.y() * s.axis_v);
-  }
-  s.area_m2 = polygonArea(s.boundary);
+  setBoundary(s, uv, options);
   s.density_area_m2 = occupiedArea(uv, options.cell_size_m);
   return s;
 }
@@ -518,6 +544,11 @@ void PlaneTuning::validate(const std::string& where) const {
   fraction(sight_fraction, "sight_fraction");
   atLeastOne(open_samples, "open_samples");
   fraction(open_margin, "open_margin");
+  requireThat(outline_cell_fraction > 0.0 && outline_cell_fraction <= 1.0, where,
+              "outline_cell_fraction", "in (0, 1]", outline_cell_fraction);
+  requireThat(outline_close_cells >= 0 && outline_close_cells <= 64, where, "outline_close_cells",
+              "in [0, 64]", outline_close_cells);
+  nonNegative(outline_min_hole_m2, "outline_min_hole_m2");
 }
 
 void PlaneDetectionOptions::validate(const std::string& where) const {
@@ -544,6 +575,9 @@ void PlaneDetectionOptions::validate(const std::string& where) const {
     throw InputError(where + ": max_failures must be >= 1, got " + std::to_string(max_failures));
   }
   tuning.validate(where + ".tuning");
+  if (boundary != "outline" && boundary != "convex")
+    throw InputError(where + ": boundary '" + boundary +
+                     "' is not a boundary kind; use outline or convex");
   if (!viewpoint.allFinite()) {
     std::ostringstream os;
     os << where << ": viewpoint must be finite, got (" << viewpoint.x() << ", " << viewpoint.y()

@@ -34,6 +34,8 @@ extern const char kOrbitControlsJs[];
 extern const std::size_t kOrbitControlsJsSize;
 extern const char kPageJs[];
 extern const std::size_t kPageJsSize;
+extern const char kEditJs[];
+extern const std::size_t kEditJsSize;
 }  // namespace page_assets
 
 namespace {
@@ -347,12 +349,29 @@ CloudLayer cloudLayer(const Scene& scene, const Quantiser& q, std::size_t max_po
 
 // ---- surfaces: boundary, status from the mission
 
+/// What the edit mode (mission_edit.js) needs of a surface: its boundary in metres
+/// (the edits file's coordinates), its in-plane axes and its holes' count.
+json editJson(const Surface& s) {
+  json boundary = json::array();
+  for (const auto& p : s.boundary) boundary.push_back(vec(p));
+  return {{"boundary_m", boundary},
+          {"axis_u", vec(s.axis_u)},
+          {"axis_v", vec(s.axis_v)},
+          {"holes", s.holes.size()}};
+}
+
 /// Each scene surface with its boundary and its status in the mission.
 json surfacesJson(const Scene& scene, const io::MissionRecord& rec, const Quantiser& q) {
   json surfaces = json::array();
   for (const Surface& s : scene.surfaces) {
     Bytes b;
     for (const auto& p : s.boundary) q.put(b, p);
+    json holes = json::array();
+    for (const auto& h : s.holes) {
+      Bytes hb;
+      for (const auto& p : h) q.put(hb, p);
+      holes.push_back(hb.str());
+    }
     const io::SurfaceRecord* r = rec.surface(s.id);
     json e = {{"id", s.id},
               {"color", hex(render::palette(s.id))},
@@ -363,7 +382,9 @@ json surfacesJson(const Scene& scene, const io::MissionRecord& rec, const Quanti
               {"normal", vec(s.plane.normal)},
               {"centroid", vec(s.centroid)},
               {"boundary", b.str()},
-              {"boundary_n", s.boundary.size()}};
+              {"boundary_n", s.boundary.size()},
+              {"holes", holes},
+              {"edit", editJson(s)}};
     surfaces.push_back(e);
   }
   return surfaces;
@@ -631,6 +652,8 @@ label{display:block;white-space:nowrap}
 <div id="legend-path"></div>
 <h2>Picked</h2>
 <div id="pick">Click a photo (frustum) to see it; shift-click two cloud points for their distance.</div>
+<h2>Edit</h2>
+<div id="edit"></div>
 </div>
 <div id="view"><div id="labels"></div>
 <svg id="north" width="46" height="56" viewBox="-23 -30 46 56"><circle r="20" fill="#fff" fill-opacity="0.8" stroke="#888"/><g id="northarrow"><path d="M0,-17 L6,4 L0,0 L-6,4 Z" fill="#c00"/><text y="18" text-anchor="middle" font-size="11" font-weight="bold">N</text></g></svg>
@@ -671,6 +694,8 @@ std::string htmlDocument(const std::string& title, const json& summary, const js
   html += embeddedThreeJs();
   html += "\n</script>\n<script>\n";
   html += std::string(page_assets::kPageJs, page_assets::kPageJsSize);
+  html += "\n</script>\n<script>\n";
+  html += std::string(page_assets::kEditJs, page_assets::kEditJsSize);
   html += "\n</script>\n</body></html>\n";
   return html;
 }

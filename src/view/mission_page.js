@@ -97,6 +97,15 @@
     draw();
     phases.first_frame = performance.now();
     finishReady();
+    exposeForEditing();
+  }
+
+  // What the edit mode (mission_edit.js, a script of its own) may use of the page.
+  function exposeForEditing() {
+    window.uavipPage = {
+      data: D, origin: origin, scene: scene, camera: camera, controls: controls,
+      canvas: renderer.domElement, requestDraw: requestDraw, addToLayer: addToLayer
+    };
   }
 
   // ---- layers
@@ -169,8 +178,13 @@
       if (s.boundary_n < 2) return;
       var p = positions(s.boundary), g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(p, 3));
-      var line = new THREE.LineLoop(g, new THREE.LineBasicMaterial({ color: new THREE.Color(s.color).multiplyScalar(0.6) }));
-      addToLayer('boundaries', line);
+      var mat = new THREE.LineBasicMaterial({ color: new THREE.Color(s.color).multiplyScalar(0.6) });
+      addToLayer('boundaries', new THREE.LineLoop(g, mat));
+      (s.holes || []).forEach(function (h) {  // openings (a window) in the outline
+        var hg = new THREE.BufferGeometry();
+        hg.setAttribute('position', new THREE.BufferAttribute(positions(h), 3));
+        addToLayer('boundaries', new THREE.LineLoop(hg, mat));
+      });
       var c = s.centroid;
       addLabel('surface ' + s.id + ' \u00b7 ' + s.status, new THREE.Vector3(c[0] - origin[0], c[1] - origin[1], c[2] - origin[2]),
         'labels', s.color, s.reason);

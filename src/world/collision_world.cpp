@@ -174,6 +174,8 @@ std::string WorldObject::name() const {
       return "obstacle " + std::to_string(id);
     case ObjectKind::Cloud:
       return "cloud";
+    case ObjectKind::KeepOut:
+      return "keep-out " + std::to_string(id);
   }
   return "object";
 }
@@ -233,6 +235,8 @@ void CollisionWorld::build(const Scene& scene) {
       }
     }
   }
+  for (std::size_t k = 0; k < scene.keep_out.size(); ++k)  // always: the operator's word
+    addSolid(ObjectKind::KeepOut, static_cast<int>(k), keepOutSolid(scene.keep_out[k]));
   const PointList cloud = safetyPoints(scene);
   if (options_.include_cloud && !cloud.empty()) {
     im.points.build(cloud);

@@ -506,4 +506,49 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
   return out;
 }
 
+Polyhedron keepOutSolid(const KeepOut& k) {
+  const double h = k.size.z();
+  const Vec3 top_centre = k.center + Vec3(0.0, 0.0, 0.5 * h);
+  std::vector<Vec3> top;
+  if (k.shape == KeepOut::Shape::Cylinder) {
+    constexpr int kSides = 32;
+    const double r = 0.5 * k.size.x() / std::cos(kPi / kSides);
+    for (int i = 0; i < kSides; ++i) {
+      const double a = 2.0 * kPi * i / kSides;
+      top.push_back(top_centre + Vec3(r * std::cos(a), r * std::sin(a), 0.0));
+    }
+  } else {
+    const double yaw = k.yaw_deg * kDegToRad;
+    const Vec3 ex(std::cos(yaw), std::sin(yaw), 0.0);
+    const Vec3 ey(-std::sin(yaw), std::cos(yaw), 0.0);
+    const double a = 0.5 * k.size.x();
+    const double b = 0.5 * k.size.y();
+    top = {top_centre - a * ex - b * ey, top_centre + a * ex - b * ey, top_centre + a * ex + b * ey,
+           top_centre - a * ex + b * ey};
+  }
+  return prism(top, Vec3(0.0, 0.0, h));
+}
+
+PointList interiorSamples(const Polyhedron& solid, double spacing, const Aabb* region) {
+  PointList out;
+  if (solid.triangles.empty() || !(spacing > 0.0)) return out;
+  Aabb box = solid.bounds();
+  if (region != nullptr) {
+    box.min = box.min.cwiseMax(region->min);
+    box.max = box.max.cwiseMin(region->max);
+  }
+  if (box.empty()) return out;
+  const Eigen::Array3d steps = ((box.max - box.min) / spacing).array().floor() + 1.0;
+  if (steps.prod() > 5e7) return out;  // the shell still marks it; a grid that fine is refused
+  for (int i = 0; i < static_cast<int>(steps.x()); ++i) {
+    for (int j = 0; j < static_cast<int>(steps.y()); ++j) {
+      for (int k = 0; k < static_cast<int>(steps.z()); ++k) {
+        const Vec3 p = box.min + spacing * Vec3(i, j, k);
+        if (solid.contains(p)) out.push_back(p);
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace uavip::world

@@ -58,6 +58,26 @@ class BadInput : public ::testing::Test {
       auto negative = j;
       negative["surfaces"][0]["area_m2"] = -3.0;
       write("scene_negative.json", negative.dump());
+      // Edits files (issue 33) for the wall, fingerprinted from this scene.
+      const auto& c = j["surfaces"][0]["centroid"];
+      const auto& n = j["surfaces"][0]["normal"];
+      const auto entry = [&](int id, double shift, const std::string& body) {
+        return "uavip-edits: 1\nsurfaces:\n  - id: " + std::to_string(id) +
+               "\n    fingerprint: {centroid: [" + std::to_string(c[0].get<double>() + shift) +
+               ", " + std::to_string(c[1].get<double>()) + ", " +
+               std::to_string(c[2].get<double>()) + "], normal: [" + n[0].dump() + ", " +
+               n[1].dump() + ", " + n[2].dump() + "]}\n" + body;
+      };
+      write("edits_id.yaml", entry(7, 0.0, "    delete: true\n"));
+      write("edits_fingerprint.yaml", entry(0, 1.0, "    delete: true\n"));
+      write("edits_bowtie.yaml",
+            entry(0, 0.0, "    boundary: [[0, 0, 1], [2, 0, 3], [2, 0, 1], [0, 0, 3]]\n"));
+      write("edits_off_plane.yaml",
+            entry(0, 0.0, "    boundary: [[0, 0, 1], [2, 0, 1], [2, 2, 3]]\n"));
+      write("edits_keep_out.yaml",
+            "uavip-edits: 1\nkeep_out:\n  - name: all\n    box: {center: [4, -1.5, 2.5], size: "
+            "[12, 2, 7]}\n");
+      write("edits_key.yaml", "uavip-edits: 1\nkeep_outs: []\n");
     }
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -404,6 +424,24 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"standoff 2 km without max_range_m",
        "plan " + scene + " --surface 0 -c $D/standoff_2km.yaml -o $D/prev", 2, "standoff_m 2000"},
       {"a newline in a file name", "detect '$D/two\nlines.xyz' -o $D/prev", 2, "two\\nlines.xyz"},
+      // Edits files (issue 33): plan writes into prev/, nothing there may change.
+      {"edits unknown surface",
+       "plan " + scene + " --surface all --edits $D/edits_id.yaml -o $D/prev", 2,
+       "edits_id.yaml:3: surfaces[0]: no surface with id 7"},
+      {"edits of another detection",
+       "plan " + scene + " --surface all --edits $D/edits_fingerprint.yaml -o $D/prev", 2,
+       "does not match the fingerprint"},
+      {"edits self-intersecting boundary",
+       "plan " + scene + " --surface all --edits $D/edits_bowtie.yaml -o $D/prev", 2,
+       "intersects itself"},
+      {"edits vertex off the plane",
+       "plan " + scene + " --surface all --edits $D/edits_off_plane.yaml -o $D/prev", 2,
+       "off the plane of surface 0"},
+      {"edits keep-out over every stop",
+       "plan " + scene + " --surface all --edits $D/edits_keep_out.yaml -o $D/prev", 2,
+       "keep_out[0] 'all' contains every photo stop of surface 0"},
+      {"edits unknown key", "plan " + scene + " --surface all --edits $D/edits_key.yaml -o $D/prev",
+       2, "keep_outs"},
       // Command line.
       {"unknown command", "fly", 2, "fly"},
       {"unknown option", "run --warp 9", 2, "--warp"},

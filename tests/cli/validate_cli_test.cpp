@@ -85,6 +85,34 @@ TEST_F(ValidateCli, SortieWaypointMovedIntoTheCubeFails) {
   EXPECT_NE(r.out.find("sortie 1: segment 1 "), std::string::npos) << r.out;
 }
 
+TEST_F(ValidateCli, KeepOutRecordedInTheMissionIsChecked) {
+  // Issue 33: mission.json's edits.keep_out are solid for validate too. A 0.4 m box on
+  // the middle of the first sortie's first segment makes the flight fail.
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  auto mission = readJson(out() / "mission.json");
+  const auto& wps = mission["flight"]["sorties"][0]["waypoints"];
+  ASSERT_GT(wps.size(), 2u);
+  nlohmann::json centre = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k)
+    centre.push_back(0.5 * (wps[0][k].get<double>() + wps[1][k].get<double>()));
+  mission["edits"] = {{"file", "e.yaml"},
+                      {"sha256", "0"},
+                      {"applied", nlohmann::json::array()},
+                      {"keep_out",
+                       {{{"name", "box"},
+                         {"shape", "box"},
+                         {"center", centre},
+                         {"size", {0.4, 0.4, 0.4}},
+                         {"yaw_deg", 0.0}}}}};
+  const fs::path edited = dir_ / "edited_keep_out";
+  fs::create_directories(edited);
+  writeJson(edited / "mission.json", mission);
+  const Result r = uavip("validate -q " + (edited / "mission.json").string() + " --scene " +
+                         (out() / "scene.json").string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("keep-out 0"), std::string::npos) << r.out;
+}
+
 TEST_F(ValidateCli, WaypointMovedIntoTheCubeFailsNamingTheSegment) {
   ASSERT_EQ(run_.code, 0) << run_.out;
   auto mission = readJson(out() / "mission.json");

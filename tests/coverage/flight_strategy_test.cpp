@@ -363,7 +363,17 @@ TEST(FlightStrategy, TriangleKeepsOnlyCellsMeetingIt) {
   const Vec3 w = fs.axis_w, h = fs.axis_h;
   ASSERT_NEAR(std::abs(w.y()), 1.0, 1e-12);
   ASSERT_NEAR(h.z(), 1.0, 1e-12);
-  const Stop& ref = fs.stops.front();
+  // A stop whose cell centre lies on the triangle keeps it as its photo centre; one
+  // whose centre is air looks at the triangle instead (its photo centre moved onto it).
+  const Stop* ref = nullptr;
+  for (const Stop& st : fs.stops) {
+    const bool on = inTriangle(st.target.y(), st.target.z(), tri);
+    EXPECT_TRUE(on || std::abs(st.target.y() / 3.0 + st.target.z() / 2.0 - 1.0) < 1e-6 ||
+                st.target.y() < 1e-9 || st.target.z() < 1e-9)
+        << "photo centre off the triangle: " << st.target.transpose();
+    if (on && ref == nullptr) ref = &st;
+  }
+  ASSERT_NE(ref, nullptr);
   std::set<std::pair<int, int>> kept;
   for (const Stop& st : fs.stops) kept.insert({st.row, st.col});
   const double fw = fs.camera.footprint_w_m, fh = fs.camera.footprint_h_m;
@@ -371,7 +381,7 @@ TEST(FlightStrategy, TriangleKeepsOnlyCellsMeetingIt) {
   for (int r = 0; r < fs.rows; ++r) {
     for (int c = 0; c < fs.cols; ++c) {
       const Vec3 centre =
-          ref.target + (c - ref.col) * fs.spacing_w_m * w + (r - ref.row) * fs.spacing_h_m * h;
+          ref->target + (c - ref->col) * fs.spacing_w_m * w + (r - ref->row) * fs.spacing_h_m * h;
       int inside = 0;
       for (int i = 0; i <= n; ++i) {
         for (int j = 0; j <= n; ++j) {

@@ -53,6 +53,14 @@ PointList cube(const Vec3& center, double half, double step, double sigma, std::
   return pts;
 }
 
+/// The area of the outline of an l × w rectangle sampled up to its edges: at least 95 %
+/// of it, at most the rectangle grown by one cell (the outline is traced on whole
+/// cells centred on the points' extent: at most half a cell past them on each side).
+void expectOutlineArea(double area, double l, double w, double cell) {
+  EXPECT_GE(area, 0.95 * l * w);
+  EXPECT_LE(area, (l + cell) * (w + cell) + 1e-6);
+}
+
 /// Checks the invariants of one surface: unit normal, axes, boundary on the plane
 /// and counter-clockwise seen from +normal, areas, centroid.
 void expectConsistent(const Surface& s, double cell) {
@@ -67,7 +75,17 @@ void expectConsistent(const Surface& s, double cell) {
     vector_area += s.boundary[i].cross(s.boundary[(i + 1) % s.boundary.size()]);
   }
   EXPECT_GT(vector_area.dot(s.plane.normal), 0.0) << "boundary not counter-clockwise";
-  EXPECT_NEAR(0.5 * vector_area.norm(), s.area_m2, 1e-6 * std::max(1.0, s.area_m2));
+  double holes = 0.0;  // openings run clockwise and lie on the plane too
+  for (const auto& h : s.holes) {
+    Vec3 hole_area = Vec3::Zero();
+    for (std::size_t i = 0; i < h.size(); ++i) {
+      EXPECT_LT(std::abs(s.plane.signedDistance(h[i])), 1e-5);
+      hole_area += h[i].cross(h[(i + 1) % h.size()]);
+    }
+    EXPECT_LT(hole_area.dot(s.plane.normal), 0.0) << "hole not clockwise";
+    holes += 0.5 * hole_area.norm();
+  }
+  EXPECT_NEAR(0.5 * vector_area.norm() - holes, s.area_m2, 1e-6 * std::max(1.0, s.area_m2));
   // Occupied cells: never more cells than points, never (much) more than the hull.
   EXPECT_LE(s.density_area_m2, static_cast<double>(s.inliers.size()) * cell * cell + 1e-9);
   EXPECT_LE(s.density_area_m2,
@@ -101,8 +119,15 @@ TEST(PlaneDetector, RecoversAnInclinedPlane) {
   EXPECT_NEAR(s.plane.offset, d_true, 0.01);
   EXPECT_GE(s.inliers.size(), 41u * 41u - 2u);
   EXPECT_EQ(s.inliers.size() + r.remaining.size(), cloud.size());
-  EXPECT_NEAR(s.area_m2, 16.0, 16.0 * 0.05);
+  expectOutlineArea(s.area_m2, 4.0, 4.0, o.cell_size_m);
   expectConsistent(s, o.cell_size_m);
+  // The paper's convex hull (perception.boundary: convex) of the same points.
+  PlaneDetectionOptions convex = o;
+  convex.boundary = "convex";
+  const auto rc = detectPlanes(cloud, convex);
+  ASSERT_EQ(rc.surfaces.size(), 1u);
+  EXPECT_NEAR(rc.surfaces[0].area_m2, 16.0, 16.0 * 0.05);
+  EXPECT_TRUE(rc.surfaces[0].holes.empty());
   // The first principal axis of a square is ambiguous; it must lie in the plane.
   EXPECT_NEAR(angleDeg(s.axis_u, n_true), 90.0, 1.0);
 }
@@ -121,7 +146,7 @@ TEST(PlaneDetector, LoneWallPointsTowardTheViewpoint) {
   EXPECT_NEAR(s.plane.offset, 5.0, 0.01);
   // Principal axis of a 6 x 3 wall: along y.
   EXPECT_LT(angleDeg(s.axis_u, Vec3::UnitY()), 2.0);
-  EXPECT_NEAR(s.area_m2, 18.0, 18.0 * 0.05);
+  expectOutlineArea(s.area_m2, 6.0, 3.0, o.cell_size_m);
   expectConsistent(s, o.cell_size_m);
 
   // Seen from the other side, the same wall faces +x.
@@ -268,7 +293,7 @@ TEST(PlaneDetector, TrimsAnIsolatedPatchOfTheSamePlane) {
     EXPECT_LT(std::abs(b.y()), 2.1);
   }
   EXPECT_GE(g.inliers.size(), 41u * 41u - 2u);
-  EXPECT_NEAR(g.area_m2, 16.0, 0.8);
+  expectOutlineArea(g.area_m2, 4.0, 4.0, o.cell_size_m);
   // The isolated patch is returned to the remaining points (and rejected: 1 m² < 2 m²).
   EXPECT_GE(r.stats.trimmed_points, 121u);
   EXPECT_GE(r.stats.rejected_small, 1);
@@ -296,7 +321,7 @@ TEST(PlaneDetector, RejectsASmallPatch) {
   o.min_area_m2 = 0.5;
   const auto r2 = detectPlanes(cloud, o);
   ASSERT_EQ(r2.surfaces.size(), 1u);
-  EXPECT_NEAR(r2.surfaces[0].area_m2, 1.0, 0.1);
+  expectOutlineArea(r2.surfaces[0].area_m2, 1.0, 1.0, o.cell_size_m);
 }
 
 TEST(PlaneDetector, ManySmallCoplanarPatchesDoNotHideALargerPlane) {
@@ -317,7 +342,7 @@ TEST(PlaneDetector, ManySmallCoplanarPatchesDoNotHideALargerPlane) {
   const auto r = detectPlanes(cloud, o);
   ASSERT_EQ(r.surfaces.size(), 1u);
   EXPECT_NEAR(r.surfaces[0].centroid.z(), 5.0, 0.01);
-  EXPECT_NEAR(r.surfaces[0].area_m2, 16.0, 0.8);
+  expectOutlineArea(r.surfaces[0].area_m2, 4.0, 4.0, o.cell_size_m);
   EXPECT_GE(r.stats.rejected_small, 1);
   EXPECT_EQ(r.remaining.size(), cloud.size() - r.surfaces[0].inliers.size());
 }

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -213,8 +214,8 @@ Image readPng(const fs::path& p) {
     img.px.resize(static_cast<std::size_t>(img.w) * img.h);
     for (int y = 0; y < img.h; ++y)
       for (int x = 0; x < img.w; ++x)
-        img.px[static_cast<std::size_t>(y) * img.w + x] =
-            reinterpret_cast<const std::uint32_t*>(data + y * stride)[x];
+        img.px[static_cast<std::size_t>(y) * img.w + x] = reinterpret_cast<const std::uint32_t*>(
+            data + static_cast<std::ptrdiff_t>(y) * stride)[x];
   }
   cairo_surface_destroy(s);
   return img;
@@ -263,7 +264,8 @@ struct Projection {
     double c[4] = {0, 0, 0, 0};
     for (int r = 0; r < 4; ++r)
       for (int k = 0; k < 4; ++k)
-        c[r] += m[static_cast<std::size_t>(k * 4 + r)] * q[k];  // column-major
+        c[r] += m[static_cast<std::size_t>(k) * 4 + static_cast<std::size_t>(r)] *
+                q[k];  // column-major
     return {canvas[0] + (c[0] / c[3] + 1.0) / 2.0 * canvas[2],
             canvas[1] + (1.0 - c[1] / c[3]) / 2.0 * canvas[3], c[2] / c[3]};
   }
@@ -419,6 +421,90 @@ TEST_F(MissionPageCli, ChromiumOpensEveryView) {
     EXPECT_EQ(stateAttribute(dom, "data-view"), view);
     EXPECT_FALSE(stateAttribute(dom, "data-frame-ms").empty()) << view;
   }
+}
+
+/// The text of the element with id `id` in a DOM dump (its first text node).
+std::string elementText(const std::string& dom, const std::string& id) {
+  const auto at = dom.find("id=\"" + id + "\"");
+  if (at == std::string::npos) return "";
+  const auto start = dom.find('>', at) + 1;
+  return dom.substr(start, dom.find('<', start) - start);
+}
+
+// Issue 33: the edit mode. The hash hook drags vertex 2 of the L-shaped wall's boundary
+// with pointer events on the canvas and saves; the vertex must land where the pointer
+// went (the page's own projection, data-matrix), the saved file must re-plan, and the
+// new flight's photo centres must lie in the dragged boundary, some in what it added.
+TEST_F(MissionPageCli, ChromiumDragsABoundaryVertexAndTheEditsReplan) {
+  if (chromium().empty())
+    GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set "
+                    "UAVIP_CHROMIUM): no browser test";
+  const fs::path wall = dir_ / "wall_l";
+  const Result run = uavip("run " + std::string(UAVIP_SOURCE_DIR) +
+                           "/scenarios/wall_l.yaml -q -o " + wall.string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  const uavip::Scene scene = io::loadScene((wall / "scene.json").string());
+  ASSERT_EQ(scene.surfaces.size(), 1u);
+  const auto& before = scene.surfaces[0].boundary;
+  ASSERT_GT(before.size(), 2u);
+  const double dx = 60.0, dy = -40.0;
+  const std::string dom =
+      browse(wall / "mission.html", "#view=front&canvas=900x600&edit=0:2:60:-40", "--dump-dom");
+  ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
+  EXPECT_EQ(stateAttribute(dom, "data-edit-on"), "true");
+  const nlohmann::json after = nlohmann::json::parse(stateAttribute(dom, "data-edit-boundary"));
+  ASSERT_EQ(after.size(), before.size());
+  const Projection proj{numbers(stateAttribute(dom, "data-matrix")),
+                        numbers(stateAttribute(dom, "data-origin")),
+                        numbers(stateAttribute(dom, "data-canvas"))};
+  ASSERT_TRUE(proj.valid());
+  const Vec3 moved(after[2][0].get<double>(), after[2][1].get<double>(), after[2][2].get<double>());
+  const auto from = proj(before[2]);
+  const auto to = proj(moved);
+  EXPECT_NEAR(to[0] - from[0], dx, 1.5);  // where the pointer went, in its plane
+  EXPECT_NEAR(to[1] - from[1], dy, 1.5);
+  EXPECT_NEAR(scene.surfaces[0].plane.signedDistance(moved), 0.0, 1e-3);
+
+  const std::string yaml = elementText(dom, "edit-yaml");
+  ASSERT_NE(yaml.find("uavip-edits: 1"), std::string::npos) << yaml;
+  EXPECT_NE(elementText(dom, "edit-cmd").find("--edits edits.yaml"), std::string::npos);
+  {
+    std::ofstream f(wall / "edits.yaml");
+    f << yaml;
+  }
+  const Result plan =
+      uavip("plan " + (wall / "scene.json").string() + " --surface all --edits " +
+            (wall / "edits.yaml").string() + " -q -o " + (wall / "edited").string());
+  ASSERT_EQ(plan.code, 0) << plan.out;
+  const nlohmann::json mission = readJson(wall / "edited" / "mission.json");
+  ASSERT_EQ(mission["edits"]["applied"].size(), 1u);
+  EXPECT_NE(mission["edits"]["applied"][0].get<std::string>().find("boundary replaced"),
+            std::string::npos);
+  // The wall lies in y = 0: its boundaries as (x, z) polygons, tested by even-odd rule.
+  const auto inside = [](const std::vector<std::array<double, 2>>& poly, double x, double z) {
+    bool in = false;
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+      if ((poly[i][1] > z) != (poly[j][1] > z) &&
+          x < (poly[j][0] - poly[i][0]) * (z - poly[i][1]) / (poly[j][1] - poly[i][1]) + poly[i][0])
+        in = !in;
+    }
+    return in;
+  };
+  std::vector<std::array<double, 2>> old_poly, new_poly;
+  for (const auto& p : before) old_poly.push_back({p.x(), p.z()});
+  for (const auto& p : after) new_poly.push_back({p[0].get<double>(), p[2].get<double>()});
+  std::size_t stops = 0, in_new = 0, in_added = 0;
+  for (const auto& s : mission["surfaces"]) {
+    for (const auto& st : s["stops"]) {
+      const double x = st["target"][0].get<double>(), z = st["target"][2].get<double>();
+      ++stops;
+      in_new += inside(new_poly, x, z);
+      in_added += inside(new_poly, x, z) && !inside(old_poly, x, z);
+    }
+  }
+  EXPECT_GT(stops, 0u);
+  EXPECT_EQ(in_new, stops) << "every photo centre on the edited boundary";
+  EXPECT_GT(in_added, 0u) << "the dragged part of the boundary gets photos";
 }
 
 }  // namespace

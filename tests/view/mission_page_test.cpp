@@ -189,12 +189,13 @@ TEST(MissionPage, ScriptsStayWholeAndOutputIsDeterministic) {
   view::MissionPageOptions o;
   o.title = "a </script><b> title";
   const std::string html = view::missionPage(f.scene, f.missions, &f.flight, o);
-  // Four script elements: summary, data, three.js, the page; a title cannot close one.
+  // Five script elements: summary, data, three.js, the page, its edit mode; a title
+  // cannot close one.
   std::size_t closes = 0;
   for (auto at = html.find("</script>"); at != std::string::npos;
        at = html.find("</script>", at + 1))
     ++closes;
-  EXPECT_EQ(closes, 4u);
+  EXPECT_EQ(closes, 5u);
   EXPECT_NE(html.find("<title>a &lt;/script&gt;&lt;b&gt; title</title>"), std::string::npos);
   EXPECT_EQ(html, view::missionPage(f.scene, f.missions, &f.flight, o));
 }

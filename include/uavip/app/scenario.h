@@ -114,6 +114,9 @@ struct Scenario {
   sim::ScanSimOptions scan;   ///< options of mode "scan"
   Config config;
   BenchSpec bench;
+  /// `edits:` an edits file (app/edits.h) `uavip run` applies after detection; a
+  /// relative name is resolved against the scenario's folder. Empty: none.
+  std::string edits;
 };
 
 /// Reads and validates a scenario file. Throws InputError on any problem.

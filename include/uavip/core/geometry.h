@@ -3,6 +3,7 @@
 /// Small geometric helpers used by several stages.
 
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "uavip/core/types.h"
@@ -49,6 +50,28 @@ double polygonArea2d(const std::vector<Eigen::Vector2d>& polygon);
 /// duplicate points dropped. Fewer than 3 input points are returned sorted; a
 /// collinear set gives its two ends. O(n log n).
 std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points);
+
+/// True when p lies inside the 2D polygon (either orientation), by the even-odd rule;
+/// a point exactly on an edge may go either way.
+bool pointInPolygon2d(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& polygon);
+
+/// Distance from p to the nearest edge of the closed 2D polygon [m] (inf when empty).
+double distanceToPolygonEdges2d(const Eigen::Vector2d& p,
+                                const std::vector<Eigen::Vector2d>& polygon);
+
+/// The part of `subject` (any simple polygon) inside the convex counter-clockwise
+/// polygon `clip` (Sutherland–Hodgman). For a concave subject the result may hold
+/// zero-width bridges; its signed area and area centroid are still exact.
+std::vector<Eigen::Vector2d> clipPolygonConvex2d(const std::vector<Eigen::Vector2d>& subject,
+                                                 const std::vector<Eigen::Vector2d>& clip);
+
+/// Area centroid of a 2D polygon; the vertex mean when its area is 0.
+Eigen::Vector2d polygonCentroid2d(const std::vector<Eigen::Vector2d>& polygon);
+
+/// The first pair (i, j), i < j, of non-adjacent edges (edge k runs from vertex k to
+/// k + 1) that cross or touch, or of adjacent edges that fold back onto each other;
+/// {-1, -1} when the polygon is simple. Fewer than 3 vertices: {-1, -1}. O(n²).
+std::pair<int, int> polygonSelfIntersection2d(const std::vector<Eigen::Vector2d>& polygon);
 
 /// True when every coordinate of every point is finite.
 bool allFinite(const PointList& points);

@@ -29,16 +29,22 @@ struct Plane {
 };
 
 /// A planar surface to inspect (paper §II-D): RANSAC plane, the inliers of its
-/// largest cluster, and the convex-hull boundary of the projected inliers.
+/// largest cluster, and its boundary on the plane: by default the outline of the
+/// cells its projected inliers occupy (outer outline and holes, so an L-shaped wall or
+/// a window is not covered as air); with `perception.boundary: convex` the paper's
+/// convex hull of the projected inliers (then no holes).
 struct Surface {
   int id{0};           ///< 0-based, stable for the same input and options
   Plane plane;         ///< normal oriented toward free space
   PointList inliers;   ///< inliers of the largest cluster [m]
-  PointList boundary;  ///< convex hull on the plane, counter-clockwise seen from +normal [m]
+  PointList boundary;  ///< outer outline on the plane, counter-clockwise seen from +normal [m]
+  /// Openings inside the outline (a window), each a polygon on the plane, clockwise
+  /// seen from +normal; empty for a convex-hull boundary [m].
+  std::vector<PointList> holes;
   Vec3 centroid{Vec3::Zero()};  ///< mean of the inliers [m]
   Vec3 axis_u{Vec3::UnitX()};   ///< first principal in-plane axis (unit)
   Vec3 axis_v{Vec3::UnitY()};   ///< second in-plane axis, axis_u × axis_v = normal
-  double area_m2{0.0};          ///< area of the boundary polygon [m²]
+  double area_m2{0.0};          ///< area of the boundary polygon minus its holes [m²]
   double density_area_m2{
       0.0};  ///< area the inliers occupy: cells of a spacing-sized grid in the plane × cell² [m²]
 };
@@ -49,6 +55,25 @@ struct Obstacle {
   PointList points;             ///< [m]
   Vec3 aabb_min{Vec3::Zero()};  ///< axis-aligned bounding box [m]
   Vec3 aabb_max{Vec3::Zero()};
+};
+
+/// A volume the operator forbids (an edits file's `keep_out`, app/edits.h): what the
+/// scan cannot show — a crane's swing, a road with traffic, a power line, a no-fly
+/// box. Planning and validation treat it as solid: no stop, waypoint or leg inside,
+/// and the UAV keeps its clearance from it.
+struct KeepOut {
+  enum class Shape { Box, Cylinder };
+  std::string name;
+  Shape shape{Shape::Box};
+  /// Box: its centre; cylinder: the point of its axis at mid-height [m].
+  Vec3 center{Vec3::Zero()};
+  /// Box: edge lengths along its own x and y (turned by yaw_deg about z) and z [m].
+  /// Cylinder: (2 r, 2 r, height) [m].
+  Vec3 size{Vec3::Ones()};
+  double yaw_deg{0.0};  ///< box: turn about the vertical axis, counter-clockwise [deg]
+
+  /// True when p lies inside the volume grown by `margin` [m].
+  bool contains(const Vec3& p, double margin = 0.0) const;
 };
 
 /// Measured properties of a cloud.
@@ -104,6 +129,8 @@ struct Scene {
   /// Every measured point (absent in scenes written before it): planning and the
   /// validator keep clear of these too, with its margin added.
   std::optional<SafetyCloud> safety;
+  /// Volumes the operator forbids (edits file `keep_out`); solid for planning.
+  std::vector<KeepOut> keep_out;
 };
 
 }  // namespace uavip

@@ -3,8 +3,11 @@
 /// Stage 6 (paper §II-F): photo stops over a surface. Spacing = footprint ×
 /// (1 − overlap) on each axis; a grid aligned with the surface's in-plane axes,
 /// centred on the surface's extent, one stop per cell whose footprint meets the
-/// boundary polygon; each stop offset by the standoff along the outward normal,
-/// ordered boustrophedon, with yaw and gimbal pitch for a 2-DOF gimbal.
+/// boundary polygon minus its holes (by area); its photo centre lies on the surface (the
+/// cell centre, or the nearest point of the surface to what the cell holds: no photo of
+/// air beside a concave outline or in a window); each stop offset by the standoff
+/// along the outward normal, ordered boustrophedon, with yaw and gimbal pitch for a
+/// 2-DOF gimbal.
 
 #include <optional>
 #include <string>

@@ -36,6 +36,14 @@ nlohmann::json missionToJson(const std::vector<planning::SurfaceMission>& missio
 
 /// What mission.json holds beside the missions and the flight: how it was planned
 /// and how long each stage took.
+/// The edits file a plan applied (app/edits.h): mission.json `edits`.
+struct EditsSummary {
+  std::string file;                  ///< as given
+  std::string sha256;                ///< of its bytes
+  std::vector<std::string> applied;  ///< one line per applied edit
+  std::vector<KeepOut> keep_out;     ///< the volumes planning kept out of (validate does too)
+};
+
 struct MissionExtras {
   std::string uavip_version;
   std::string source;               ///< the scenario or scene.json planned
@@ -55,6 +63,7 @@ struct MissionExtras {
   double planning_s{0.0};                               ///< stage 7 [s]
   double flight_s{0.0};                                 ///< order, legs, sorties [s]
   std::optional<planning::StructureSummary> structure;  ///< plan --cover structure
+  std::optional<EditsSummary> edits;                    ///< plan --edits, scenario edits:
 };
 
 /// The text of mission.json: missionToJson with the extras, `flight` and (structure
@@ -109,6 +118,8 @@ struct MissionRecord {
   double inflation_radius_m{std::numeric_limits<double>::quiet_NaN()};  ///< NaN when absent [m]
   std::vector<SurfaceRecord> surfaces;
   std::optional<FlightRecord> flight;  ///< absent in files of older versions
+  /// The keep-out volumes of the edits the plan applied (`edits.keep_out`; none without).
+  std::vector<KeepOut> keep_out;
   /// The surface with `id`, or nullptr.
   const SurfaceRecord* surface(int id) const;
 };

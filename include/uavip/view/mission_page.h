@@ -21,6 +21,12 @@
 /// hash chooses: `view=top|front|side|orbit`, `layers=cloud,flight` (the layers shown, of
 /// cloud, boundaries, labels, photos, flight, home, order), `path=sortie|clearance` (the
 /// path's colouring), `points=all`, `canvas=WxH` (a fixed drawing size in CSS pixels).
+/// Edit mode (issue 33, `src/view/mission_edit.js`, a script of its own that uses only
+/// what the page exposes as `window.uavipPage`): pick a surface, drag, insert and remove
+/// its boundary vertices in its plane, delete or merge surfaces, add keep-out boxes;
+/// "Save edits" downloads edits.yaml (app/edits.h) and shows the `uavip plan … --edits`
+/// command. Test hook: hash `edit=S:V:DX:DY` drags vertex V of surface S by (DX, DY)
+/// CSS pixels with pointer events and saves (#edit-yaml; data-edit-* of #uavip-state).
 /// Deterministic: the same scene and mission give the same bytes.
 
 #include <cstddef>

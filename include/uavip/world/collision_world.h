@@ -64,12 +64,13 @@ struct WorldOptions {
 };
 
 /// What a collision object stands for.
-enum class ObjectKind { Surface, Obstacle, Cloud };
+enum class ObjectKind { Surface, Obstacle, Cloud, KeepOut };
 
 /// One collision object of the world.
 struct WorldObject {
   ObjectKind kind{ObjectKind::Cloud};
-  int id{-1};  ///< Surface::id or Obstacle::id; −1 for the cloud
+  int id{-1};  ///< Surface::id or Obstacle::id, a keep-out's index in Scene::keep_out; −1 for the
+               ///< cloud
   Aabb box;    ///< axis-aligned bounds of the object's geometry [m]
   /// "surface 3", "obstacle 12" or "cloud".
   std::string name() const;

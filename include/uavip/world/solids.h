@@ -68,6 +68,15 @@ Polyhedron obstacleSolid(const Obstacle& o, double min_edge);
 /// returned whole.
 std::vector<Obstacle> obstaclePieces(const Obstacle& o, double edge);
 
+/// The solid of a keep-out volume (issue 33): its box, or for a cylinder the prism
+/// over the 32-gon circumscribed about its circle (contains the cylinder).
+Polyhedron keepOutSolid(const KeepOut& k);
+
+/// Points of a lattice of edge `spacing` [m] inside the solid and inside `region` (when
+/// given): with the shell samples they mark a solid's inside in a planning grid, so no
+/// stop or waypoint is put in a large one.
+PointList interiorSamples(const Polyhedron& solid, double spacing, const Aabb* region = nullptr);
+
 /// Voxel centres (edge `spacing` [m]) on the shell of every non-empty solid, each
 /// triangle sampled in rows at most `spacing` apart, leaving out the voxels that
 /// already hold a point of `occupied`. Only solids whose bounds meet `region` (when
