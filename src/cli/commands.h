@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "uavip/app/pipeline.h"
+#include "uavip/io/atomic_file.h"
 
 namespace uavip::cli {
 
@@ -62,6 +63,15 @@ std::pair<CLI::App*, std::shared_ptr<Args>> missionCommand(CLI::App& cli, const 
   return {addMissionCommand(cli, name, description, args->mission), args};
 }
 
+/// Stages scene.json and the clean and safety clouds beside it in `out` (`read`: how
+/// a cloud file was read; null for a scenario) (pipeline_commands.cpp).
+void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
+                const io::CloudReadInfo* read = nullptr);
+
+/// Stages `out`/mission.json (`source`: the scenario or scene.json planned).
+void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
+                  const app::Config& config, const std::string& source);
+
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 
@@ -79,5 +89,8 @@ void addScanCommands(CLI::App& cli, CommandRegistry& registry);
 
 /// view: the 3D mission page (view_commands.cpp).
 void addViewCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// tile, run-tile, merge: a large cloud in tiles (tile_commands.cpp).
+void addTileCommands(CLI::App& cli, CommandRegistry& registry);
 
 }  // namespace uavip::cli

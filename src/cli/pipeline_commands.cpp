@@ -29,31 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Stages scene.json and the clean and safety clouds beside it (`read`: how a cloud
-/// file was read; null for a scenario).
-void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
-                const io::CloudReadInfo* read = nullptr) {
-  const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
-  outputs.writeWith(
-      pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
-  if (d.scene.safety) {
-    const std::string safety = (fs::path(out) / io::kSafetyCloudFile).string();
-    outputs.writeWith(safety, [&](const std::string& tmp) {
-      io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
-    });
-  }
-  outputs.write((fs::path(out) / "scene.json").string(),
-                io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
-}
-
-/// Stages mission.json (`source`: the scenario or scene.json planned).
-void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
-                  const app::Config& config, const std::string& source) {
-  outputs.write((fs::path(out) / "mission.json").string(),
-                io::missionJsonText(plan.missions, plan.flight, config.flight.model,
-                                    app::missionExtras(plan, config, source)));
-}
-
 void printDetectSummary(const app::DetectResult& d) {
   const CloudStats& c = *d.scene.measured;  // set by app::detect
   std::cout << "measured: " << c.points << " points, spacing " << formatFixed(c.spacing_m, 3)
@@ -435,6 +410,32 @@ struct PipelineArgs {
 };
 
 }  // namespace
+
+// Declared in commands.h.
+/// Stages scene.json and the clean and safety clouds beside it (`read`: how a cloud
+/// file was read; null for a scenario).
+void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
+                const io::CloudReadInfo* read) {
+  const std::string pcd = (std::filesystem::path(out) / "cloud_clean.pcd").string();
+  outputs.writeWith(
+      pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
+  if (d.scene.safety) {
+    const std::string safety = (std::filesystem::path(out) / io::kSafetyCloudFile).string();
+    outputs.writeWith(safety, [&](const std::string& tmp) {
+      io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
+    });
+  }
+  outputs.write((std::filesystem::path(out) / "scene.json").string(),
+                io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
+}
+
+/// Stages mission.json (`source`: the scenario or scene.json planned).
+void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
+                  const app::Config& config, const std::string& source) {
+  outputs.write((std::filesystem::path(out) / "mission.json").string(),
+                io::missionJsonText(plan.missions, plan.flight, config.flight.model,
+                                    app::missionExtras(plan, config, source)));
+}
 
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();
