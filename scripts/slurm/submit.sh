@@ -37,7 +37,9 @@ UAVIP=$(realpath "$UAVIP")
 # The manifest (manifest.json, one key a line): tiles, and the largest tile's points.
 TILE_COUNT=$(grep -c '"index":' "$MANIFEST" || true)
 [[ $TILE_COUNT -gt 0 ]] || { echo "submit: error: $MANIFEST holds no tile" >&2; exit 2; }
-LARGEST=$(awk -F'[:,]' '/"core_points":/ {c=$2} /"buffer_points":/ {t=c+$2; if (t>m) m=t} END {printf "%d", m}' "$MANIFEST")
+# Within a tile's object the keys are sorted: buffer_points, ..., core_points, index.
+LARGEST=$(awk -F'[:,]' '/"buffer_points":/ {b = $2; nb = 1} /"core_points":/ {c = $2; nc = 1}
+  /"index":/ {if (nb && nc && b + c > m) m = b + c; nb = nc = 0} END {printf "%d", m}' "$MANIFEST")
 # Memory per task [MB]: 400 MB + 1.5 kB per point of the largest tile (measured peak
 # RSS of run-tile: benchmarks/README.md, "Tiles on Slurm"), at most 2 GB beyond it.
 MEM_MB=$(( 400 + LARGEST * 3 / 2000 ))

@@ -146,7 +146,8 @@ std::string manifestJsonText(const Manifest& m) {
       {"tile_size_m", m.tile_size_m},
       {"buffer_m", m.buffer_m},
       {"grid",
-       {{"origin", {io::round4(m.grid_origin.x()), io::round4(m.grid_origin.y())}},
+       // Unrounded: ownership (Manifest::cellOf) is computed from it at every step.
+       {{"origin", {m.grid_origin.x(), m.grid_origin.y()}},
         {"columns", m.columns},
         {"rows", m.rows}}},
       {"bounds", {{"min", io::vec(m.min)}, {"max", io::vec(m.max)}}},
