@@ -25,6 +25,7 @@ install_packages() {
   done
   if ((${#missing[@]})); then
     say "installing ${missing[*]}"
+    apt-get update -qq >/dev/null
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
   fi
 }
