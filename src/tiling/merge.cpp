@@ -228,8 +228,20 @@ Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& ti
       out.safety->cell_m = std::max(out.safety->cell_m, sc.cell_m);
       out.safety->margin_m = std::max(out.safety->margin_m, sc.margin_m);
       out.safety->perception_dropped += sc.perception_dropped;
-      for (const Vec3& p : sc.points)
-        if (owns(manifest, ts.tile, p)) out.safety->points.push_back(p);
+      for (const Vec3& p : sc.points) {
+        if (owns(manifest, ts.tile, p)) {
+          out.safety->points.push_back(p);
+        } else if (options.keep_buffer_safety) {
+          // Past the section's border: kept by the first given tile whose box holds it.
+          const auto [c, r] = manifest.cellOf(p);
+          bool given = false, earlier = false;
+          for (std::size_t u = 0; u < tiles.size() && !given; ++u) {
+            given = tiles[u].tile.column == c && tiles[u].tile.row == r;
+            earlier = earlier || (u < t && tiles[u].tile.buffered.contains(p));
+          }
+          if (!given && !earlier) out.safety->points.push_back(p);
+        }
+      }
     }
     if (ts.scene.measured && ts.scene.measured->points > largest_points) {
       largest = &*ts.scene.measured;

@@ -30,6 +30,10 @@ struct MergeOptions {
   double join_gap_m{0.3};            ///< parts closer than this touch [m]
   double min_area_m2{2.0};           ///< a surface smaller than this becomes an obstacle [m²]
   double area_cell_m{0.1};           ///< cell of the density area [m]
+  /// Also keep the safety points the given tiles' buffers saw in cores of tiles not
+  /// given (each once): a section of the site planned apart from its neighbours then
+  /// keeps clear of what lies just past its border.
+  bool keep_buffer_safety{false};
   /// Throws InputError "<where>: …" naming the bad value.
   void validate(const std::string& where = "merge") const;
 };
@@ -51,7 +55,8 @@ struct MergeStats {
   std::size_t safety_points{0};
 };
 
-/// The site's scene from the tiles' scenes (each tile at most once). `measured` of
+/// The scene of the given tiles (the whole site, or a section of it) from their scenes
+/// (each tile at most once). `measured` of
 /// the result: the largest tile's (spacing, noise), with the points and bounds of all.
 Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& tiles,
                       const MergeOptions& options, MergeStats* stats = nullptr);
