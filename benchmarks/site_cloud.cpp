@@ -44,8 +44,8 @@ int viaduct(double km, double spacing, const std::string& path) {
     uavip::sim::WorldModel span;
     const uavip::Vec3 shift(kSpanM * static_cast<double>(k), 0.0, 0.0);
     for (uavip::sim::Rect r : bridge.world.rects()) {
-      if (r.name == "ground") continue;                              // one strip per span below
-      if (r.name.rfind("abutment", 0) == 0 && k > 0) continue;       // at the start only
+      if (r.name == "ground") continue;                         // one strip per span below
+      if (r.name.rfind("abutment", 0) == 0 && k > 0) continue;  // at the start only
       r.corner += shift;
       span.addPlane(r);
     }
@@ -58,8 +58,8 @@ int viaduct(double km, double spacing, const std::string& path) {
     write(out, points);
     total += points.size();
   }
-  std::cout << path << ": viaduct of " << spans << " spans (" << kSpanM * spans / 1000.0
-            << " km), " << total << " points\n";
+  std::cout << path << ": viaduct of " << spans << " spans ("
+            << kSpanM * static_cast<double>(spans) / 1000.0 << " km), " << total << " points\n";
   return out ? 0 : 1;
 }
 

@@ -3,14 +3,14 @@
 // (issue 34; tiling/tiles.h, tiling/merge.h, scripts/slurm/).
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "src/cli/commands.h"
@@ -47,7 +47,8 @@ app::Config tileConfig(const std::string& path) {
 /// The least overlap buffer [m]: a photo stop of a surface at a tile border lies the
 /// standoff out, and the UAV keeps its inflation radius from every point there.
 double leastBuffer(const app::Config& c) {
-  const double standoff = coverage::solveCamera(c.coverage.camera, c.coverage.standoff_m).standoff_m;
+  const double standoff =
+      coverage::solveCamera(c.coverage.camera, c.coverage.standoff_m).standoff_m;
   return standoff * c.mission.max_standoff_factor + c.uav.inflationRadius();
 }
 
@@ -82,10 +83,13 @@ int tileCommand(const std::string& cloud, double tile_size, double buffer, bool 
   if (!v.quiet) {
     std::uint64_t largest = 0;
     for (const auto& t : m.tiles) largest = std::max(largest, t.core_points + t.buffer_points);
-    std::cout << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows << " cells of "
-              << formatNumber(m.tile_size_m) << " m, buffer " << formatNumber(m.buffer_m)
-              << " m; " << m.input_points << " points, largest tile " << largest
-              << " points (core + buffer)" << (io::streamsInBoundedMemory(cloud) ? "" : "; note: PCD and PLY are read whole, LAS and text are streamed")
+    std::cout << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows
+              << " cells of " << formatNumber(m.tile_size_m) << " m, buffer "
+              << formatNumber(m.buffer_m) << " m; " << m.input_points << " points, largest tile "
+              << largest << " points (core + buffer)"
+              << (io::streamsInBoundedMemory(cloud)
+                      ? ""
+                      : "; note: PCD and PLY are read whole, LAS and text are streamed")
               << "\n";
     std::cout << "time: " << formatFixed(secondsSince(t0), 2) << " s\n";
     std::cout << "results: " << pathIn(out, "manifest.json") << "\n";
@@ -95,7 +99,7 @@ int tileCommand(const std::string& cloud, double tile_size, double buffer, bool 
 
 /// The tile's cloud, checked against the manifest: present, with points, unchanged.
 std::string tileCloudChecked(const tiling::Manifest& m, const tiling::TileRecord& t) {
-  const std::string path = pathIn(m.dir(), t.cloud);
+  std::string path = pathIn(m.dir(), t.cloud);
   if (t.core_points == 0)
     throw InputError(m.path + ": tile " + std::to_string(t.index) +
                      " has no points of its own; tile the cloud again (uavip tile)");
@@ -137,8 +141,8 @@ int runTileCommand(const std::string& manifest_path, long index, const std::stri
   }
   outputs.commit();
   if (!v.quiet)
-    std::cout << "tile " << t.index << " (column " << t.column << ", row " << t.row << "): "
-              << raw.size() << " points, " << d.scene.surfaces.size() << " surfaces, "
+    std::cout << "tile " << t.index << " (column " << t.column << ", row " << t.row
+              << "): " << raw.size() << " points, " << d.scene.surfaces.size() << " surfaces, "
               << d.scene.obstacles.size() << " obstacles, " << formatFixed(secondsSince(t0), 2)
               << " s -> " << pathIn(out, "scene.json") << "\n";
   return kExitOk;
@@ -165,10 +169,11 @@ std::vector<tiling::TileScene> tileScenes(const tiling::Manifest& m,
     const tiling::TileRecord& t = m.tiles[i];
     tiling::TileScene ts{t, io::loadScene(pathIn(pathIn(m.dir(), t.out), "scene.json"))};
     if (!ts.scene.safety || ts.scene.safety->sha256 != t.sha256)
-      throw InputError(pathIn(m.dir(), t.out) + "/scene.json: the result of another tiling for tile " +
-                       std::to_string(t.index) + "; run it again: uavip run-tile " + m.path +
-                       " --index " + std::to_string(t.index) + " (Slurm: sbatch --array=" +
-                       std::to_string(t.index) + " ...), then merge again");
+      throw InputError(
+          pathIn(m.dir(), t.out) + "/scene.json: the result of another tiling for tile " +
+          std::to_string(t.index) + "; run it again: uavip run-tile " + m.path + " --index " +
+          std::to_string(t.index) + " (Slurm: sbatch --array=" + std::to_string(t.index) +
+          " ...), then merge again");
     out.push_back(std::move(ts));
   }
   return out;
@@ -187,6 +192,7 @@ std::vector<std::vector<std::size_t>> sections(const tiling::Manifest& m, int ti
     for (std::size_t i = 0; i < m.tiles.size(); ++i)
       by_block[{m.tiles[i].row / k, m.tiles[i].column / k}].push_back(i);
     std::vector<std::vector<std::size_t>> out;
+    out.reserve(by_block.size());
     for (auto& [key, list] : by_block) out.push_back(std::move(list));
     return out;
   };
@@ -223,7 +229,8 @@ StreamedCheck checkAgainstInput(const tiling::Manifest& m,
         const planning::PathValidator validator(points, clearance);
         for (std::size_t f = 0; f < flights.size(); ++f)
           for (std::size_t s = 0; s < flights[f].sorties.size(); ++s) {
-            const planning::ValidationResult r = validator.validate(flights[f].sorties[s].waypoints);
+            const planning::ValidationResult r =
+                validator.validate(flights[f].sorties[s].waypoints);
             c.min_clearance_m[f][s] = std::min(c.min_clearance_m[f][s], r.min_clearance_m);
           }
       });
@@ -254,9 +261,9 @@ SectionResult mergeSection(const tiling::Manifest& m, const std::vector<std::siz
   const std::vector<tiling::TileScene> tiles = tileScenes(m, which);
   for (const auto& t : tiles) r.tiles.push_back(t.tile.index);
   // The join follows the detector's thresholds, resolved as the largest tile had them.
-  const auto largest = std::max_element(tiles.begin(), tiles.end(), [](const auto& a, const auto& b) {
-    return a.scene.cloud.size() < b.scene.cloud.size();
-  });
+  const auto largest = std::max_element(
+      tiles.begin(), tiles.end(),
+      [](const auto& a, const auto& b) { return a.scene.cloud.size() < b.scene.cloud.size(); });
   const perception::PlaneDetectionOptions& planes =
       app::resolveForScene(largest->scene, config).config.perception.planes;
   tiling::MergeOptions mo;
@@ -305,25 +312,91 @@ std::string siteJsonText(const tiling::Manifest& m, const std::vector<SectionRes
     const SectionResult& s = sections[i];
     double min_clear = std::numeric_limits<double>::infinity();
     for (const double c : check.min_clearance_m[i]) min_clear = std::min(min_clear, c);
-    list.push_back({{"folder", std::filesystem::path(s.out).filename().string()},
-                    {"tiles", s.tiles},
-                    {"surfaces", s.surfaces},
-                    {"photo_stops", s.stops},
-                    {"flight_status", planning::toString(s.flight.status)},
-                    {"home", io::vec(s.flight.home)},
-                    {"length_m", io::round4(s.flight.length_m)},
-                    {"sorties", s.flight.sorties.size()},
-                    {"min_clearance_to_input_m",
-                     std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
+    list.push_back(
+        {{"folder", std::filesystem::path(s.out).filename().string()},
+         {"tiles", s.tiles},
+         {"surfaces", s.surfaces},
+         {"photo_stops", s.stops},
+         {"flight_status", planning::toString(s.flight.status)},
+         {"home", io::vec(s.flight.home)},
+         {"length_m", io::round4(s.flight.length_m)},
+         {"sorties", s.flight.sorties.size()},
+         {"min_clearance_to_input_m",
+          std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
   }
-  const nlohmann::json j = {{"format", "uavip site 1"},
-                            {"manifest", m.path},
-                            {"input", m.input},
-                            {"input_points", check.points},
-                            {"clearance_m", clearance},
-                            {"source_offset_m", io::vec(m.source_offset_m)},
-                            {"sections", list}};
+  const nlohmann::json j = {
+      {"format", "uavip site 1"}, {"manifest", m.path},
+      {"input", m.input},         {"input_points", check.points},
+      {"clearance_m", clearance}, {"source_offset_m", io::vec(m.source_offset_m)},
+      {"sections", list}};
   return j.dump(1) + "\n";
+}
+
+/// Validates every sortie of every section against every input point (streamed once);
+/// InputError naming the sortie when one comes closer than `radius`, so that nothing
+/// is written. Returns the check and the smallest clearance [m].
+StreamedCheck validateSections(const tiling::Manifest& m, const std::vector<SectionResult>& results,
+                               bool alone, double radius, double& min_clear) {
+  std::vector<planning::FlightPlan> flights;
+  flights.reserve(results.size());
+  for (const auto& r : results) flights.push_back(r.flight);
+  StreamedCheck check = checkAgainstInput(m, flights, radius);
+  min_clear = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < flights.size(); ++f)
+    for (std::size_t s = 0; s < check.min_clearance_m[f].size(); ++s) {
+      const double c = check.min_clearance_m[f][s];
+      min_clear = std::min(min_clear, c);
+      if (c < radius)
+        throw InputError((alone ? std::string() : results[f].out + ": ") + "sortie " +
+                         std::to_string(s + 1) + " comes " + formatFixed(c, 3) +
+                         " m from an input point of " + m.input + " (required " +
+                         formatFixed(radius, 3) + " m); nothing written");
+    }
+  return check;
+}
+
+void printMergeSummary(const tiling::Manifest& m, const std::vector<SectionResult>& results,
+                       const StreamedCheck& check, double min_clear, double radius, double check_s,
+                       const std::string& out, bool views) {
+  const bool alone = results.size() == 1;
+  double merge_s = 0.0, plan_s = 0.0, length = 0.0;
+  std::size_t stops = 0, sorties = 0, surfaces = 0;
+  tiling::MergeStats ms;
+  for (const auto& r : results) {
+    merge_s += r.merge_s;
+    plan_s += r.plan_s;
+    length += r.flight.length_m;
+    stops += r.stops;
+    sorties += r.flight.sorties.size();
+    surfaces += r.surfaces;
+    ms.surface_parts += r.stats.surface_parts;
+    ms.surfaces_joined += r.stats.surfaces_joined;
+    ms.surfaces_dropped += r.stats.surfaces_dropped;
+    ms.surfaces_demoted += r.stats.surfaces_demoted;
+    ms.obstacle_parts += r.stats.obstacle_parts;
+    ms.obstacles_joined += r.stats.obstacles_joined;
+  }
+  std::cout << "merged " << m.tiles.size() << " tiles"
+            << (alone ? std::string() : " in " + std::to_string(results.size()) + " sections")
+            << ": " << surfaces << " surfaces (" << ms.surface_parts << " parts, "
+            << ms.surfaces_joined << " joined across borders, " << ms.surfaces_dropped
+            << " owned by another tile, " << ms.surfaces_demoted << " too small once cut); "
+            << ms.obstacle_parts << " obstacle parts, " << ms.obstacles_joined << " joined\n";
+  std::cout << (alone ? "flight: " + std::string(planning::toString(results[0].flight.status))
+                      : std::to_string(results.size()) + " flights (one per section)")
+            << ", " << formatFixed(length, 1) << " m, " << sorties << " sorties, " << stops
+            << " photo stops; against all " << check.points
+            << " input points (streamed): min clearance "
+            << (std::isfinite(min_clear) ? formatFixed(min_clear, 3) + " m" : std::string("-"))
+            << " (required " << formatFixed(radius, 3) << " m)\n";
+  std::cout << "time: merge " << formatFixed(merge_s, 2) << " s, plan " << formatFixed(plan_s, 2)
+            << " s, validation " << formatFixed(check_s, 2) << " s\n";
+  std::cout << "results: "
+            << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
+                            (views ? ", " + pathIn(out, "mission.html") : std::string())
+                      : pathIn(out, "site.json") + ", " + pathIn(out, "section_NNN") +
+                            "/{mission,scene}.json")
+            << "\n";
 }
 
 int mergeCommand(const std::string& manifest_path, const std::string& config_path,
@@ -353,67 +426,15 @@ int mergeCommand(const std::string& manifest_path, const std::string& config_pat
     if (!alone && v.showProgress())
       std::cerr << "uavip: section " << i + 1 << " of " << parts.size() << " planned\n";
   }
-
   const auto t2 = SteadyClock::now();
   const double radius = config.uav.inflationRadius();
-  std::vector<planning::FlightPlan> flights;
-  for (const auto& r : results) flights.push_back(r.flight);
-  const StreamedCheck check = checkAgainstInput(m, flights, radius);
+  double min_clear = 0.0;
+  const StreamedCheck check = validateSections(m, results, alone, radius, min_clear);
   const double check_s = secondsSince(t2);
-  double min_clear = std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < flights.size(); ++f)
-    for (std::size_t s = 0; s < check.min_clearance_m[f].size(); ++s) {
-      const double c = check.min_clearance_m[f][s];
-      min_clear = std::min(min_clear, c);
-      if (c < radius)
-        throw InputError((alone ? std::string() : results[f].out + ": ") + "sortie " +
-                         std::to_string(s + 1) + " comes " + formatFixed(c, 3) +
-                         " m from an input point of " + m.input + " (required " +
-                         formatFixed(radius, 3) + " m); nothing written");
-    }
   if (!alone) outputs.write(pathIn(out, "site.json"), siteJsonText(m, results, check, radius));
   outputs.commit();
+  if (!v.quiet) printMergeSummary(m, results, check, min_clear, radius, check_s, out, views);
 
-  if (!v.quiet) {
-    double merge_s = 0.0, plan_s = 0.0, length = 0.0;
-    std::size_t stops = 0, sorties = 0, surfaces = 0;
-    tiling::MergeStats ms;
-    for (const auto& r : results) {
-      merge_s += r.merge_s;
-      plan_s += r.plan_s;
-      length += r.flight.length_m;
-      stops += r.stops;
-      sorties += r.flight.sorties.size();
-      surfaces += r.surfaces;
-      ms.surface_parts += r.stats.surface_parts;
-      ms.surfaces_joined += r.stats.surfaces_joined;
-      ms.surfaces_dropped += r.stats.surfaces_dropped;
-      ms.surfaces_demoted += r.stats.surfaces_demoted;
-      ms.obstacle_parts += r.stats.obstacle_parts;
-      ms.obstacles_joined += r.stats.obstacles_joined;
-    }
-    std::cout << "merged " << m.tiles.size() << " tiles"
-              << (alone ? std::string() : " in " + std::to_string(results.size()) + " sections")
-              << ": " << surfaces << " surfaces (" << ms.surface_parts << " parts, "
-              << ms.surfaces_joined << " joined across borders, " << ms.surfaces_dropped
-              << " owned by another tile, " << ms.surfaces_demoted << " too small once cut); "
-              << ms.obstacle_parts << " obstacle parts, " << ms.obstacles_joined << " joined\n";
-    std::cout << (alone ? "flight: " + std::string(planning::toString(results[0].flight.status))
-                        : std::to_string(results.size()) + " flights (one per section)")
-              << ", " << formatFixed(length, 1) << " m, " << sorties << " sorties, " << stops
-              << " photo stops; against all " << check.points
-              << " input points (streamed): min clearance "
-              << (std::isfinite(min_clear) ? formatFixed(min_clear, 3) + " m" : std::string("-"))
-              << " (required " << formatFixed(radius, 3) << " m)\n";
-    std::cout << "time: merge " << formatFixed(merge_s, 2) << " s, plan " << formatFixed(plan_s, 2)
-              << " s, validation " << formatFixed(check_s, 2) << " s\n";
-    std::cout << "results: "
-              << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
-                              (views ? ", " + pathIn(out, "mission.html") : std::string())
-                        : pathIn(out, "site.json") + ", " + pathIn(out, "section_NNN") +
-                              "/{mission,scene}.json")
-              << "\n";
-  }
   std::size_t flying = 0, with_surfaces = 0;
   for (const auto& r : results) {
     flying += r.flyable;
@@ -465,19 +486,20 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
       ->required();
   run->add_option("-c,--config", a->config, "Config YAML (default: the one given to uavip tile)");
   run->add_flag("--views", a->views, "Also write the tile's overview.png, scene.ply, mission.html");
-  registry.add(run, [a, &v] {
-    return runTileCommand(a->manifest, a->index, a->config, a->views, v);
-  });
+  registry.add(run,
+               [a, &v] { return runTileCommand(a->manifest, a->index, a->config, a->views, v); });
 
   auto* merge = cli.add_subcommand(
       "merge", "Join the tiles' scenes, plan one flight, validate it against every input point");
-  merge->add_option("manifest", a->manifest, "TILES/manifest.json written by uavip tile")->required();
+  merge->add_option("manifest", a->manifest, "TILES/manifest.json written by uavip tile")
+      ->required();
   merge->add_option("-c,--config", a->config, "Config YAML (default: the one given to uavip tile)");
   merge->add_option("-o,--out", a->out, "Output folder")->required();
   merge->add_option("--section-tiles", a->section_tiles,
                     "Plan the site in sections of K x K tiles, one flight each (0: one flight "
                     "when the site holds at most 2 M points, else sections that do)");
-  merge->add_flag("--no-views", a->no_views, "Skip overview.png, scene.ply, path.obj, mission.html");
+  merge->add_flag("--no-views", a->no_views,
+                  "Skip overview.png, scene.ply, path.obj, mission.html");
   registry.add(merge, [a, &v] {
     return mergeCommand(a->manifest, a->config, a->out, a->section_tiles, !a->no_views, v);
   });

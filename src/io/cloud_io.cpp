@@ -737,9 +737,10 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
-    las = streamLas(path, las_options, [&](const PointList& points, const std::vector<std::uint8_t>&) {
-      for (const Vec3& p : points) add(p);
-    });
+    las = streamLas(path, las_options,
+                    [&](const PointList& points, const std::vector<std::uint8_t>&) {
+                      for (const Vec3& p : points) add(p);
+                    });
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the file, check its permissions");

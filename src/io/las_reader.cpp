@@ -659,7 +659,8 @@ void readPoints(LasFile& file, const Header& h, const LasOptions& options, const
         ++cloud.dropped;
         continue;
       }
-      points.emplace_back((i32(r) * sx + ox) * hu - origin.x(), (i32(r + 4) * sy + oy) * hu - origin.y(),
+      points.emplace_back((i32(r) * sx + ox) * hu - origin.x(),
+                          (i32(r + 4) * sy + oy) * hu - origin.y(),
                           (i32(r + 8) * sz + oz) * vu - origin.z());
       classes.push_back(cls);
     }

@@ -53,7 +53,8 @@ bool touches(Part& a, const Part& b, double gap) {
   Aabb grown = a.box;
   grown.min -= Vec3::Constant(gap);
   grown.max += Vec3::Constant(gap);
-  if ((grown.min.array() > b.box.max.array()).any() || (grown.max.array() < b.box.min.array()).any())
+  if ((grown.min.array() > b.box.max.array()).any() ||
+      (grown.max.array() < b.box.min.array()).any())
     return false;
   if (!a.index) a.index = std::make_unique<NeighbourIndex>(a.points);
   const float gap2 = static_cast<float>(gap * gap);
@@ -104,7 +105,8 @@ Surface refit(PointList points, const Vec3& like, const MergeOptions& o) {
     uv.emplace_back(s.axis_u.dot(d), s.axis_v.dot(d));
     flat.emplace_back(uv.back().x(), uv.back().y(), 0.0);
   }
-  for (const auto& q : convexHull2d(uv)) s.boundary.push_back(c + q.x() * s.axis_u + q.y() * s.axis_v);
+  for (const auto& q : convexHull2d(uv))
+    s.boundary.push_back(c + q.x() * s.axis_u + q.y() * s.axis_v);
   s.area_m2 = polygonArea(s.boundary);
   const auto cells = static_cast<double>(
       occupiedKeys(flat, VoxelKeyer::forPoints(flat, o.area_cell_m, "area_cell_m")).size());
@@ -177,83 +179,82 @@ void MergeOptions::validate(const std::string& where) const {
     throw InputError(where + ": min_area_m2 must be >= 0, got " + formatNumber(min_area_m2));
 }
 
-Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& tiles,
-                      const MergeOptions& options, MergeStats* stats) {
-  options.validate();
-  MergeStats st;
-  std::vector<Part> surfaces, obstacles;
-  Scene out;
-  const CloudStats* largest = nullptr;
-  std::size_t largest_points = 0;
-  for (std::size_t t = 0; t < tiles.size(); ++t) {
-    const TileScene& ts = tiles[t];
-    const auto cut = [&](const PointList& points, Part& part) {
-      for (const Vec3& p : points) {
-        if (owns(manifest, ts.tile, p)) {
-          part.points.push_back(p);
-          part.box.extend(p);
-        }
-      }
-      part.whole = part.points.size() == points.size();
-    };
-    for (const Surface& s : ts.scene.surfaces) {
-      ++st.surface_parts;
-      Part part;
-      part.tile = t;
-      part.id = s.id;
-      part.surface = &s;
-      cut(s.inliers, part);
-      if (part.points.empty()) {
-        ++st.surfaces_dropped;
-        continue;
-      }
-      surfaces.push_back(std::move(part));
-    }
-    for (const Obstacle& o : ts.scene.obstacles) {
-      ++st.obstacle_parts;
-      Part part;
-      part.tile = t;
-      part.id = o.id;
-      cut(o.points, part);
-      if (!part.points.empty()) obstacles.push_back(std::move(part));
-    }
-    if (ts.scene.safety) {
-      const SafetyCloud& sc = *ts.scene.safety;
-      if (!out.safety) {
-        out.safety = SafetyCloud{};
-        out.safety->source = manifest.input;
-        out.safety->sha256 = manifest.input_sha256;
-        out.safety->input_points = manifest.input_points;
-      }
-      out.safety->cell_m = std::max(out.safety->cell_m, sc.cell_m);
-      out.safety->margin_m = std::max(out.safety->margin_m, sc.margin_m);
-      out.safety->perception_dropped += sc.perception_dropped;
-      for (const Vec3& p : sc.points) {
-        if (owns(manifest, ts.tile, p)) {
-          out.safety->points.push_back(p);
-        } else if (options.keep_buffer_safety) {
-          // Past the section's border: kept by the first given tile whose box holds it.
-          const auto [c, r] = manifest.cellOf(p);
-          bool given = false, earlier = false;
-          for (std::size_t u = 0; u < tiles.size() && !given; ++u) {
-            given = tiles[u].tile.column == c && tiles[u].tile.row == r;
-            earlier = earlier || (u < t && tiles[u].tile.buffered.contains(p));
-          }
-          if (!given && !earlier) out.safety->points.push_back(p);
-        }
+namespace {
+
+/// The tile's surfaces and obstacles cut to its core, appended to the parts.
+void cutTile(const Manifest& manifest, const TileScene& ts, std::size_t t,
+             std::vector<Part>& surfaces, std::vector<Part>& obstacles, MergeStats& st) {
+  const auto cut = [&](const PointList& points, Part& part) {
+    for (const Vec3& p : points) {
+      if (owns(manifest, ts.tile, p)) {
+        part.points.push_back(p);
+        part.box.extend(p);
       }
     }
-    if (ts.scene.measured && ts.scene.measured->points > largest_points) {
-      largest = &*ts.scene.measured;
-      largest_points = ts.scene.measured->points;
+    part.whole = part.points.size() == points.size();
+  };
+  for (const Surface& s : ts.scene.surfaces) {
+    ++st.surface_parts;
+    Part part;
+    part.tile = t;
+    part.id = s.id;
+    part.surface = &s;
+    cut(s.inliers, part);
+    if (part.points.empty()) {
+      ++st.surfaces_dropped;
+      continue;
+    }
+    surfaces.push_back(std::move(part));
+  }
+  for (const Obstacle& o : ts.scene.obstacles) {
+    ++st.obstacle_parts;
+    Part part;
+    part.tile = t;
+    part.id = o.id;
+    cut(o.points, part);
+    if (!part.points.empty()) obstacles.push_back(std::move(part));
+  }
+}
+
+/// Adds tile t's owned safety points (and, with keep_buffer_safety, those of cores not
+/// given, each by the first given tile whose box holds it).
+void addSafety(const Manifest& manifest, const std::vector<TileScene>& tiles, std::size_t t,
+               const MergeOptions& options, Scene& out) {
+  const TileScene& ts = tiles[t];
+  if (!ts.scene.safety) return;
+  const SafetyCloud& sc = *ts.scene.safety;
+  if (!out.safety) {
+    out.safety = SafetyCloud{};
+    out.safety->source = manifest.input;
+    out.safety->sha256 = manifest.input_sha256;
+    out.safety->input_points = manifest.input_points;
+  }
+  out.safety->cell_m = std::max(out.safety->cell_m, sc.cell_m);
+  out.safety->margin_m = std::max(out.safety->margin_m, sc.margin_m);
+  out.safety->perception_dropped += sc.perception_dropped;
+  for (const Vec3& p : sc.points) {
+    if (owns(manifest, ts.tile, p)) {
+      out.safety->points.push_back(p);
+    } else if (options.keep_buffer_safety) {
+      const auto [c, r] = manifest.cellOf(p);
+      bool given = false, earlier = false;
+      for (std::size_t u = 0; u < tiles.size() && !given; ++u) {
+        given = tiles[u].tile.column == c && tiles[u].tile.row == r;
+        earlier = earlier || (u < t && tiles[u].tile.buffered.contains(p));
+      }
+      if (!given && !earlier) out.safety->points.push_back(p);
     }
   }
+}
 
+/// The joined surfaces into out.surfaces; those too small once cut into `demoted`.
+void joinSurfaces(std::vector<Part>& surfaces, const std::vector<TileScene>& tiles,
+                  const MergeOptions& options, Scene& out, std::vector<PointList>& demoted,
+                  MergeStats& st) {
   Groups sg = groupParts(
       surfaces, tiles, options.join_gap_m,
       [&](const Part& a, const Part& b) { return samePlane(*a.surface, *b.surface, options); },
       st.surfaces_joined);
-  std::vector<PointList> demoted;
   for (const auto& group : members(sg, surfaces.size())) {
     const Part& lead = surfaces[group.front()];
     Surface s;
@@ -276,7 +277,28 @@ Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& ti
     s.id = static_cast<int>(out.surfaces.size());
     out.surfaces.push_back(std::move(s));
   }
+}
 
+}  // namespace
+
+Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& tiles,
+                      const MergeOptions& options, MergeStats* stats) {
+  options.validate();
+  MergeStats st;
+  std::vector<Part> surfaces, obstacles;
+  Scene out;
+  const CloudStats* largest = nullptr;
+  std::uint64_t owned = 0;
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    cutTile(manifest, tiles[t], t, surfaces, obstacles, st);
+    addSafety(manifest, tiles, t, options, out);
+    owned += tiles[t].tile.core_points;
+    const auto& measured = tiles[t].scene.measured;
+    if (measured && (largest == nullptr || measured->points > largest->points))
+      largest = &*measured;
+  }
+  std::vector<PointList> demoted;
+  joinSurfaces(surfaces, tiles, options, out, demoted, st);
   Groups og = groupParts(
       obstacles, tiles, options.join_gap_m, [](const Part&, const Part&) { return true; },
       st.obstacles_joined);
@@ -284,19 +306,25 @@ Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& ti
     PointList points;
     for (const std::size_t i : group)
       points.insert(points.end(), obstacles[i].points.begin(), obstacles[i].points.end());
-    out.obstacles.push_back(makeObstacle(std::move(points), static_cast<int>(out.obstacles.size())));
+    out.obstacles.push_back(
+        makeObstacle(std::move(points), static_cast<int>(out.obstacles.size())));
   }
   for (PointList& points : demoted)
-    out.obstacles.push_back(makeObstacle(std::move(points), static_cast<int>(out.obstacles.size())));
+    out.obstacles.push_back(
+        makeObstacle(std::move(points), static_cast<int>(out.obstacles.size())));
 
-  for (const Surface& s : out.surfaces) out.cloud.insert(out.cloud.end(), s.inliers.begin(), s.inliers.end());
-  for (const Obstacle& o : out.obstacles) out.cloud.insert(out.cloud.end(), o.points.begin(), o.points.end());
-  if (largest != nullptr) {
+  for (const Surface& s : out.surfaces)
+    out.cloud.insert(out.cloud.end(), s.inliers.begin(), s.inliers.end());
+  for (const Obstacle& o : out.obstacles)
+    out.cloud.insert(out.cloud.end(), o.points.begin(), o.points.end());
+  if (largest != nullptr && !out.cloud.empty()) {
+    // The largest tile's spacing and noise; the points and box of what is merged.
     CloudStats m = *largest;
-    m.points = static_cast<std::size_t>(manifest.input_points);
-    m.min = manifest.min;
-    m.max = manifest.max;
-    m.extent_m = manifest.max - manifest.min;
+    const Aabb box = boundingBox(out.cloud);
+    m.points = static_cast<std::size_t>(owned);
+    m.min = box.min;
+    m.max = box.max;
+    m.extent_m = box.max - box.min;
     out.measured = m;
   }
   st.safety_points = out.safety ? out.safety->points.size() : 0;

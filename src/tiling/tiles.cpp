@@ -41,8 +41,8 @@ class RawFiles {
     }
   }
   std::string name(long cell, bool core) const {
-    return (fs::path(dir_) / (".tile_" + std::to_string(cell) + (core ? ".core" : ".extra") +
-                              ".raw.tmp"))
+    return (fs::path(dir_) /
+            (".tile_" + std::to_string(cell) + (core ? ".core" : ".extra") + ".raw.tmp"))
         .string();
   }
   void append(long cell, bool core, std::vector<float>& values) {
@@ -132,26 +132,25 @@ std::string manifestJsonText(const Manifest& m) {
                      {"sha256", t.sha256},
                      {"out", t.out}});
   }
-  nlohmann::json j = {
-      {"format", "uavip tiles 1"},
-      {"input",
-       {{"path", m.input},
-        {"sha256", m.input_sha256},
-        {"points", m.input_points},
-        {"scale", m.read.scale},
-        {"drop_classes", m.read.drop_classes},
-        {"source_offset_m", io::vec(m.source_offset_m)},
-        {"crs_unit", m.crs_unit}}},
-      {"config", m.config},
-      {"tile_size_m", m.tile_size_m},
-      {"buffer_m", m.buffer_m},
-      {"grid",
-       // Unrounded: ownership (Manifest::cellOf) is computed from it at every step.
-       {{"origin", {m.grid_origin.x(), m.grid_origin.y()}},
-        {"columns", m.columns},
-        {"rows", m.rows}}},
-      {"bounds", {{"min", io::vec(m.min)}, {"max", io::vec(m.max)}}},
-      {"tiles", tiles}};
+  nlohmann::json j = {{"format", "uavip tiles 1"},
+                      {"input",
+                       {{"path", m.input},
+                        {"sha256", m.input_sha256},
+                        {"points", m.input_points},
+                        {"scale", m.read.scale},
+                        {"drop_classes", m.read.drop_classes},
+                        {"source_offset_m", io::vec(m.source_offset_m)},
+                        {"crs_unit", m.crs_unit}}},
+                      {"config", m.config},
+                      {"tile_size_m", m.tile_size_m},
+                      {"buffer_m", m.buffer_m},
+                      {"grid",
+                       // Unrounded: ownership (Manifest::cellOf) is computed from it at every step.
+                       {{"origin", {m.grid_origin.x(), m.grid_origin.y()}},
+                        {"columns", m.columns},
+                        {"rows", m.rows}}},
+                      {"bounds", {{"min", io::vec(m.min)}, {"max", io::vec(m.max)}}},
+                      {"tiles", tiles}};
   return j.dump(1) + "\n";
 }
 
@@ -210,78 +209,62 @@ Manifest loadManifest(const std::string& path) {
   return m;
 }
 
-Manifest tileCloud(const std::string& cloud, const io::CloudReadOptions& read,
-                   const TileOptions& options, const std::string& out_dir,
-                   io::StagedOutputs& outputs) {
-  options.validate();
-  io::ensureDirectory(out_dir);
-  Manifest m;
-  m.input = fs::absolute(cloud).lexically_normal().string();
-  m.read = read;
-  m.tile_size_m = options.tile_size_m;
-  m.buffer_m = options.buffer_m;
+namespace {
 
-  RawFiles raw(out_dir);
-  std::map<long, Pending> pending;  // by cell row × columns + column, in that order
-  const std::size_t flush_at = 3 * std::max<std::size_t>(16, options.chunk_points / 8);
-  bool grid_set = false;
-  const auto place = [&](const PointList& points) {
-    if (!grid_set) throw InputError(cloud + ": internal: the tile grid is not set");
-    const double s = m.tile_size_m, b = m.buffer_m;
-    for (const Vec3& p : points) {
-      const auto [cx, cy] = m.cellOf(p);
-      // Every tile whose buffered box holds p: its cell and the neighbours within b.
-      const auto range = [&](double v, double o, int n, int& lo, int& hi) {
-        lo = static_cast<int>(std::clamp(std::floor((v - o - b) / s), 0.0, n - 1.0));
-        hi = static_cast<int>(std::clamp(std::floor((v - o + b) / s), 0.0, n - 1.0));
-      };
-      int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-      range(p.x(), m.grid_origin.x(), m.columns, x0, x1);
-      range(p.y(), m.grid_origin.y(), m.rows, y0, y1);
-      for (int r = y0; r <= y1; ++r) {
-        for (int c = x0; c <= x1; ++c) {
-          const long cell = static_cast<long>(r) * m.columns + c;
-          Pending& t = pending[cell];
-          const bool core = c == cx && r == cy;
-          if (!core) {  // the closed buffered box: (core min − b, core max + b)
-            const double lx = m.grid_origin.x() + c * s - b, hx = lx + s + 2 * b;
-            const double ly = m.grid_origin.y() + r * s - b, hy = ly + s + 2 * b;
-            if (p.x() < lx || p.x() > hx || p.y() < ly || p.y() > hy) continue;
-          }
-          std::vector<float>& into = core ? t.core : t.extra;
-          push(into, p);
-          ++(core ? t.core_count : t.extra_count);
-          if (into.size() >= flush_at) raw.append(cell, core, into);
-        }
+/// The grid of the manifest from the cloud's count, bounds and frame.
+void setGrid(Manifest& m, const io::CloudStreamInfo& info, const std::string& cloud) {
+  m.input_points = info.points;
+  m.min = info.min;
+  m.max = info.max;
+  m.source_offset_m = info.read.origin_m;
+  m.crs_unit = info.crs_unit;
+  m.grid_origin = Eigen::Vector2d(info.min.x(), info.min.y());
+  const double cols = std::max(1.0, std::ceil((info.max.x() - info.min.x()) / m.tile_size_m));
+  const double rows = std::max(1.0, std::ceil((info.max.y() - info.min.y()) / m.tile_size_m));
+  if (cols * rows > static_cast<double>(kMaxTiles))
+    throw InputError(cloud + ": --tile-size " + formatNumber(m.tile_size_m) + " m gives " +
+                     formatNumber(cols * rows) + " tiles over " +
+                     formatNumber(info.max.x() - info.min.x(), 4) + " x " +
+                     formatNumber(info.max.y() - info.min.y(), 4) + " m, more than " +
+                     std::to_string(kMaxTiles) + "; give a larger --tile-size");
+  m.columns = static_cast<int>(cols);
+  m.rows = static_cast<int>(rows);
+}
+
+/// Hands p to its owner's core and to the buffer of every other tile whose closed box
+/// [core − b, core + b] holds it.
+void place(const Manifest& m, const Vec3& p, std::map<long, Pending>& pending, RawFiles& raw,
+           std::size_t flush_at) {
+  const double s = m.tile_size_m, b = m.buffer_m;
+  const auto [cx, cy] = m.cellOf(p);
+  const auto range = [&](double v, double o, int n, int& lo, int& hi) {
+    lo = static_cast<int>(std::clamp(std::floor((v - o - b) / s), 0.0, n - 1.0));
+    hi = static_cast<int>(std::clamp(std::floor((v - o + b) / s), 0.0, n - 1.0));
+  };
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  range(p.x(), m.grid_origin.x(), m.columns, x0, x1);
+  range(p.y(), m.grid_origin.y(), m.rows, y0, y1);
+  for (int r = y0; r <= y1; ++r) {
+    for (int c = x0; c <= x1; ++c) {
+      const bool core = c == cx && r == cy;
+      if (!core) {
+        const double lx = m.grid_origin.x() + c * s - b, hx = lx + s + 2 * b;
+        const double ly = m.grid_origin.y() + r * s - b, hy = ly + s + 2 * b;
+        if (p.x() < lx || p.x() > hx || p.y() < ly || p.y() > hy) continue;
       }
+      const long cell = static_cast<long>(r) * m.columns + c;
+      Pending& t = pending[cell];
+      std::vector<float>& into = core ? t.core : t.extra;
+      push(into, p);
+      ++(core ? t.core_count : t.extra_count);
+      if (into.size() >= flush_at) raw.append(cell, core, into);
     }
-  };
-  // The bounds come between streamCloud's two passes, before any point.
-  const auto set_grid = [&](const io::CloudStreamInfo& info) {
-    m.input_points = info.points;
-    m.min = info.min;
-    m.max = info.max;
-    m.source_offset_m = info.read.origin_m;
-    m.crs_unit = info.crs_unit;
-    m.grid_origin = Eigen::Vector2d(info.min.x(), info.min.y());
-    const double cols = std::max(1.0, std::ceil((info.max.x() - info.min.x()) / m.tile_size_m));
-    const double rows = std::max(1.0, std::ceil((info.max.y() - info.min.y()) / m.tile_size_m));
-    if (cols * rows > static_cast<double>(kMaxTiles))
-      throw InputError(cloud + ": --tile-size " + formatNumber(m.tile_size_m) + " m gives " +
-                       formatNumber(cols * rows) + " tiles over " +
-                       formatNumber(info.max.x() - info.min.x(), 4) + " x " +
-                       formatNumber(info.max.y() - info.min.y(), 4) + " m, more than " +
-                       std::to_string(kMaxTiles) + "; give a larger --tile-size");
-    m.columns = static_cast<int>(cols);
-    m.rows = static_cast<int>(rows);
-    grid_set = true;
-  };
-  io::streamCloud(cloud, read, options.chunk_points, place, set_grid);
-  for (auto& [cell, t] : pending) {
-    raw.append(cell, true, t.core);
-    raw.append(cell, false, t.extra);
   }
+}
 
+/// Stages the cloud of every tile with a core point and lists it in the manifest.
+void writeTiles(Manifest& m, const std::map<long, Pending>& pending, const RawFiles& raw,
+                const std::string& out_dir, io::StagedOutputs& outputs) {
   for (const auto& [cell, t] : pending) {
     if (t.core_count == 0) continue;  // buffer points only: another tile owns them all
     TileRecord rec;
@@ -309,6 +292,41 @@ Manifest tileCloud(const std::string& cloud, const io::CloudReadOptions& read,
     });
     m.tiles.push_back(std::move(rec));
   }
+}
+
+}  // namespace
+
+Manifest tileCloud(const std::string& cloud, const io::CloudReadOptions& read,
+                   const TileOptions& options, const std::string& out_dir,
+                   io::StagedOutputs& outputs) {
+  options.validate();
+  io::ensureDirectory(out_dir);
+  Manifest m;
+  m.input = fs::absolute(cloud).lexically_normal().string();
+  m.read = read;
+  m.tile_size_m = options.tile_size_m;
+  m.buffer_m = options.buffer_m;
+
+  RawFiles raw(out_dir);
+  std::map<long, Pending> pending;  // by cell row × columns + column, in that order
+  const std::size_t flush_at = 3 * std::max<std::size_t>(16, options.chunk_points / 8);
+  bool grid_set = false;
+  // The bounds come between streamCloud's two passes, before any point.
+  io::streamCloud(
+      cloud, read, options.chunk_points,
+      [&](const PointList& points) {
+        if (!grid_set) throw InputError(cloud + ": internal: the tile grid is not set");
+        for (const Vec3& p : points) place(m, p, pending, raw, flush_at);
+      },
+      [&](const io::CloudStreamInfo& info) {
+        setGrid(m, info, cloud);
+        grid_set = true;
+      });
+  for (auto& [cell, t] : pending) {
+    raw.append(cell, true, t.core);
+    raw.append(cell, false, t.extra);
+  }
+  writeTiles(m, pending, raw, out_dir, outputs);
   return m;
 }
 

@@ -58,8 +58,8 @@ class TileCli : public ::testing::Test {
     manifest_ = nlohmann::json::parse(slurp(dir_ / "T/manifest.json"), nullptr, false);
     if (manifest_.is_object())
       for (std::size_t i = 0; i < manifest_["tiles"].size(); ++i)
-        tile_codes_ += uavip("-q run-tile " + p("T/manifest.json") + " --index " + std::to_string(i))
-                           .code;
+        tile_codes_ +=
+            uavip("-q run-tile " + p("T/manifest.json") + " --index " + std::to_string(i)).code;
     merged_ = uavip("-q merge " + p("T/manifest.json") + " -o " + p("out") + " --no-views");
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -99,7 +99,8 @@ TEST_F(TileCli, MergedSceneMatchesTruthAndTheWholeCloudRun) {
   // The block's long faces cross every border: one surface each of the truth's 40 x 3 m.
   int long_faces = 0;
   for (const auto& t : merged["surfaces"])
-    long_faces += std::abs(double(t["normal"][1])) > 0.99 && std::abs(double(t["area_m2"]) - 120.0) < 6.0;
+    long_faces +=
+        std::abs(double(t["normal"][1])) > 0.99 && std::abs(double(t["area_m2"]) - 120.0) < 6.0;
   EXPECT_EQ(long_faces, 2);
 }
 
@@ -109,6 +110,28 @@ TEST_F(TileCli, MergedFlightKeepsClearOfEveryInputPoint) {
   EXPECT_EQ(v.code, 0) << v.out;
   const auto mission = nlohmann::json::parse(slurp(dir_ / "out/mission.json"));
   EXPECT_GE(mission["flight"]["sorties"].size(), 1U);
+}
+
+TEST_F(TileCli, SectionsEachKeepClearOfEveryInputPoint) {
+  ASSERT_EQ(tile_codes_, 0);
+  const Result r = uavip("-q merge " + p("T/manifest.json") + " -o " + p("sections") +
+                         " --section-tiles 1 --no-views");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto site = nlohmann::json::parse(slurp(dir_ / "sections/site.json"));
+  ASSERT_EQ(site["sections"].size(), manifest_["tiles"].size());  // one tile a section
+  std::size_t surfaces = 0;
+  for (const auto& s : site["sections"]) {
+    const std::string folder = p("sections/" + std::string(s["folder"]));
+    const auto scene = nlohmann::json::parse(slurp(fs::path(folder) / "scene.json"));
+    EXPECT_EQ(scene["surfaces"].size(), s["surfaces"].get<std::size_t>());
+    surfaces += scene["surfaces"].size();
+    if (s["flight_status"] != "ok") continue;
+    const Result v = uavip("validate " + folder + "/mission.json --cloud " + p("site.xyz"));
+    EXPECT_EQ(v.code, 0) << folder << ": " << v.out;
+  }
+  // Cut at every section border, the block's long faces are pieces of the one surface.
+  const auto whole = nlohmann::json::parse(slurp(dir_ / "out/scene.json"));
+  EXPECT_GE(surfaces, whole["surfaces"].size());
 }
 
 TEST_F(TileCli, BufferSmallerThanTheStandoffIsRefused) {

@@ -26,7 +26,8 @@ namespace tiling = uavip::tiling;
 namespace io = uavip::io;
 
 fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("uavip_tiles_" + name + "_" + std::to_string(::getpid()));
+  fs::path d =
+      fs::temp_directory_path() / ("uavip_tiles_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -89,7 +90,8 @@ TEST(TileCloud, EveryPointInItsOwnerAndEveryBufferedTile) {
   options.chunk_points = 1000;  // many flushes of the per-tile buffers
   io::StagedOutputs outputs;
   const fs::path tiles = d / "tiles";
-  tiling::Manifest m = tiling::tileCloud((d / "site.csv").string(), {}, options, tiles.string(), outputs);
+  tiling::Manifest m =
+      tiling::tileCloud((d / "site.csv").string(), {}, options, tiles.string(), outputs);
   outputs.commit();
   m.path = (tiles / "manifest.json").string();
   EXPECT_EQ(m.input_points, input.size());

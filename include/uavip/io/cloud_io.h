@@ -80,11 +80,11 @@ using CloudChunkSink = std::function<void(const PointList& points)>;
 
 /// What streamCloud read.
 struct CloudStreamInfo {
-  std::uint64_t points{0};       ///< points handed on (after drop_classes)
-  Vec3 min{Vec3::Zero()};        ///< bounding box of the handed-on points [m]
-  Vec3 max{Vec3::Zero()};        ///< [m]
-  CloudReadInfo read;            ///< origin_m: as loadCloud's; note: a LAS file's summary
-  std::string crs_unit;          ///< a LAS file's unit and where it came from; else empty
+  std::uint64_t points{0};  ///< points handed on (after drop_classes)
+  Vec3 min{Vec3::Zero()};   ///< bounding box of the handed-on points [m]
+  Vec3 max{Vec3::Zero()};   ///< [m]
+  CloudReadInfo read;       ///< origin_m: as loadCloud's; note: a LAS file's summary
+  std::string crs_unit;     ///< a LAS file's unit and where it came from; else empty
 };
 
 /// True when streamCloud reads `path` in bounded memory (LAS and x y z text); PCD and

@@ -46,18 +46,18 @@ struct TileScene {
 
 /// What the merge did.
 struct MergeStats {
-  int surface_parts{0};      ///< surfaces read from the tiles
-  int surfaces_dropped{0};   ///< with no owned point
-  int surfaces_joined{0};    ///< parts joined into another
-  int surfaces_demoted{0};   ///< too small once cut to the core: obstacles
-  int obstacle_parts{0};     ///< obstacles read from the tiles
-  int obstacles_joined{0};   ///< parts joined into another
+  int surface_parts{0};     ///< surfaces read from the tiles
+  int surfaces_dropped{0};  ///< with no owned point
+  int surfaces_joined{0};   ///< parts joined into another
+  int surfaces_demoted{0};  ///< too small once cut to the core: obstacles
+  int obstacle_parts{0};    ///< obstacles read from the tiles
+  int obstacles_joined{0};  ///< parts joined into another
   std::size_t safety_points{0};
 };
 
 /// The scene of the given tiles (the whole site, or a section of it) from their scenes
-/// (each tile at most once). `measured` of
-/// the result: the largest tile's (spacing, noise), with the points and bounds of all.
+/// (each tile at most once). `measured` of the result: the largest tile's (spacing,
+/// noise), with the count of the tiles' owned points and the box of the merged cloud.
 Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& tiles,
                       const MergeOptions& options, MergeStats* stats = nullptr);
 

@@ -49,11 +49,11 @@ struct Box2 {
 
 /// One tile of the manifest.
 struct TileRecord {
-  int index{0};   ///< 0-based position in Manifest::tiles (the Slurm array index)
-  int column{0};  ///< grid cell in x
-  int row{0};     ///< grid cell in y
-  Box2 core;      ///< what the tile owns [m]
-  Box2 buffered;  ///< core grown by the buffer: what its cloud holds [m]
+  int index{0};                    ///< 0-based position in Manifest::tiles (the Slurm array index)
+  int column{0};                   ///< grid cell in x
+  int row{0};                      ///< grid cell in y
+  Box2 core;                       ///< what the tile owns [m]
+  Box2 buffered;                   ///< core grown by the buffer: what its cloud holds [m]
   std::uint64_t core_points{0};    ///< points owned
   std::uint64_t buffer_points{0};  ///< points of other cores within the buffer
   std::string cloud;               ///< file name of its cloud beside the manifest
@@ -63,8 +63,8 @@ struct TileRecord {
 
 /// TILES/manifest.json.
 struct Manifest {
-  std::string path;        ///< the manifest file read (not written)
-  std::string input;       ///< the input cloud, absolute path
+  std::string path;   ///< the manifest file read (not written)
+  std::string input;  ///< the input cloud, absolute path
   std::string input_sha256;
   std::uint64_t input_points{0};
   io::CloudReadOptions read;           ///< how the input was read (input: section)
