@@ -6,24 +6,29 @@
 # and prints both job ids. --cpus-per-task and --mem come from the manifest's largest
 # tile (core + buffer points; the memory model is in benchmarks/README.md).
 #
-#   scripts/slurm/submit.sh TILES/ [-o OUT] [--wait] [-- extra sbatch options]
+#   scripts/slurm/submit.sh TILES/ [-o OUT] [--array LIST] [--wait] [-- extra sbatch options]
 #
+# --array LIST (e.g. 3,7 or 2-5) submits only those tiles (a rerun of failed ones; the
+# others keep their results) and the merge after them.
 # OUT defaults to TILES/merged. Logs: TILES/slurm/tile_<index>.out, TILES/slurm/merge.out.
 # --wait: waits for the merge; prints each task's state and time; a failed tile is
 # named with its index and the command that reruns it (exit 1). UAVIP names the uavip
 # binary (default: uavip on PATH, else build/uavip of this checkout).
 set -euo pipefail
-usage() { echo "usage: $0 TILES/ [-o OUT] [--wait] [-- sbatch options]" >&2; exit 2; }
+usage() { echo "usage: $0 TILES/ [-o OUT] [--array LIST] [--wait] [-- sbatch options]" >&2; exit 2; }
 [[ $# -ge 1 ]] || usage
 TILES=$(cd "$1" && pwd) || usage
 shift
 OUT="$TILES/merged"
 WAIT=0
 EXTRA=()
+LIST=""
 while [[ $# -gt 0 ]]; do
   case $1 in
     -o) OUT=$(realpath -m "$2"); shift 2 ;;
     --wait) WAIT=1; shift ;;
+    --array) LIST=$2; shift 2 ;;
+    --array=*) LIST=${1#--array=}; shift ;;
     --) shift; EXTRA=("$@"); break ;;
     *) usage ;;
   esac
@@ -46,7 +51,8 @@ MEM_MB=$(( 400 + LARGEST * 3 / 2000 ))
 CPUS=${UAVIP_TILE_CPUS:-2}  # stage 3 runs 2 threads
 mkdir -p "$TILES/slurm"
 
-ARRAY=$(sbatch --parsable --job-name=uavip-tile --array="0-$((TILE_COUNT - 1))" \
+LIST=${LIST:-0-$((TILE_COUNT - 1))}
+ARRAY=$(sbatch --parsable --job-name=uavip-tile --array="$LIST" \
   --cpus-per-task="$CPUS" --mem="${MEM_MB}M" --output="$TILES/slurm/tile_%a.out" \
   "${EXTRA[@]}" --wrap="exec '$UAVIP' -v run-tile '$MANIFEST' --index \$SLURM_ARRAY_TASK_ID")
 ARRAY=${ARRAY%%;*}
@@ -54,7 +60,7 @@ MERGE=$(sbatch --parsable --job-name=uavip-merge --dependency="afterok:$ARRAY" \
   --kill-on-invalid-dep=yes --cpus-per-task="$CPUS" --output="$TILES/slurm/merge.out" \
   "${EXTRA[@]}" --wrap="exec '$UAVIP' -v merge '$MANIFEST' -o '$OUT'")
 MERGE=${MERGE%%;*}
-echo "tiles: job $ARRAY (array 0-$((TILE_COUNT - 1)), $CPUS CPUs and ${MEM_MB} MB per task, largest tile $LARGEST points)"
+echo "tiles: job $ARRAY (array $LIST of $TILE_COUNT tiles, $CPUS CPUs and ${MEM_MB} MB per task, largest tile $LARGEST points)"
 echo "merge: job $MERGE (after every tile succeeded) -> $OUT"
 printf 'ARRAY_JOB=%s\nMERGE_JOB=%s\n' "$ARRAY" "$MERGE" >"$TILES/slurm/jobs.env"
 [[ $WAIT == 1 ]] || exit 0
@@ -77,8 +83,7 @@ echo "  merge: ${mstate:-gone}, ${mrun:-}"
 if ((${#failed[@]})); then
   list=$(IFS=,; echo "${failed[*]}")
   echo "submit: tile(s) $list failed (logs $TILES/slurm/tile_<index>.out); the merge did not run." \
-    "Rerun them: sbatch --array=$list ... (or $0 again after fixing), then the merge:" \
-    "$UAVIP merge $MANIFEST -o $OUT" >&2
+    "Rerun them and the merge: $0 $TILES -o $OUT --array $list" >&2
   exit 1
 fi
 [[ $mstate == COMPLETED ]] || { echo "submit: the merge ended $mstate (log $TILES/slurm/merge.out)" >&2; exit 1; }

@@ -157,8 +157,8 @@ void requireTileResults(const tiling::Manifest& m) {
       missing += (missing.empty() ? "" : ",") + std::to_string(t.index);
   if (!missing.empty())
     throw InputError(m.path + ": no result for tile(s) " + missing + "; run them: uavip run-tile " +
-                     m.path + " --index I (Slurm: sbatch --array=" + missing +
-                     " ...), then merge again");
+                     m.path + " --index I (Slurm: scripts/slurm/submit.sh " + m.dir() +
+                     " --array=" + missing + "), then merge again");
 }
 
 /// The scenes of the given tiles; InputError when one is from another tiling.
@@ -169,11 +169,11 @@ std::vector<tiling::TileScene> tileScenes(const tiling::Manifest& m,
     const tiling::TileRecord& t = m.tiles[i];
     tiling::TileScene ts{t, io::loadScene(pathIn(pathIn(m.dir(), t.out), "scene.json"))};
     if (!ts.scene.safety || ts.scene.safety->sha256 != t.sha256)
-      throw InputError(
-          pathIn(m.dir(), t.out) + "/scene.json: the result of another tiling for tile " +
-          std::to_string(t.index) + "; run it again: uavip run-tile " + m.path + " --index " +
-          std::to_string(t.index) + " (Slurm: sbatch --array=" + std::to_string(t.index) +
-          " ...), then merge again");
+      throw InputError(pathIn(m.dir(), t.out) +
+                       "/scene.json: the result of another tiling for tile " +
+                       std::to_string(t.index) + "; run it again: uavip run-tile " + m.path +
+                       " --index " + std::to_string(t.index) + " (Slurm: scripts/slurm/submit.sh " +
+                       m.dir() + " --array=" + std::to_string(t.index) + "), then merge again");
     out.push_back(std::move(ts));
   }
   return out;
