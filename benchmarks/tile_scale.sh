@@ -8,9 +8,11 @@
 # 100 m; airborne: autzen_trim.las repeated 3 x 6 (1 km², 1.98 M points), tiles of
 # 250 m, no config. Per case: uavip tile, every run-tile one after another (each its own
 # process, as a Slurm task would be), merge; wall time and peak RSS of each (GNU time).
-# Prints one Markdown row per case: points, tiles, the times, the largest peak RSS of a
-# tile task and of the merge, s per km, and the projected wall time on N nodes of 2
-# cores (tile + the per-tile times scheduled longest first on N nodes + merge).
+# Prints one Markdown row per case: points, tiles, the wall times, the largest peak RSS
+# of a tile task and of the merge, the CPU time (user + system) of all steps and per
+# km (CPU time is what a shared machine's load disturbs least), and the projected wall
+# time on N nodes of 2 cores (tile + the per-tile times scheduled longest first on N
+# nodes + merge).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD_DIR:-build}
@@ -19,12 +21,8 @@ NODES="1 4 16"
 [[ ${1:-} == --nodes ]] && { NODES=$2; shift 2; }
 W=${UAVIP_BENCH_DIR:-/tmp/uavip-tile-scale}
 mkdir -p "$W"
-timed() {  # timed LOG cmd...: runs cmd, appends "seconds peak_kB" to LOG
-  /usr/bin/time -o "$W/.t" -f "%e %M" "$@" >/dev/null
-  cat "$W/.t" >>"$1.log" 2>/dev/null || true
-}
-echo "| case | points | tiles | tile s | run-tile s (sum / max) | merge s | peak RSS tile task MB | peak RSS merge MB | one machine s | s per km | projected on $(echo $NODES | sed 's/ / \/ /g') nodes s |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| case | points | tiles | tile s | run-tile s (sum / max) | merge s | peak RSS tile task MB | peak RSS merge MB | one machine s | CPU s | CPU s per km | projected on $(echo $NODES | sed 's/ / \/ /g') nodes s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for case in "$@"; do
   d="$W/$case"
   rm -rf "$d"
@@ -45,17 +43,17 @@ for case in "$@"; do
     exit 2
   fi
   points=$(wc -l <"$d/cloud.xyz")
-  /usr/bin/time -o "$d/tile.t" -f "%e %M" "$UAVIP" -q tile "$d/cloud.xyz" --tile-size "$size" "${config[@]}" -o "$d/T"
+  /usr/bin/time -o "$d/tile.t" -f "%e %M %U %S" "$UAVIP" -q tile "$d/cloud.xyz" --tile-size "$size" "${config[@]}" -o "$d/T"
   n=$(grep -c '"index":' "$d/T/manifest.json")
   : >"$d/tiles.t"
   for ((i = 0; i < n; i++)); do
-    /usr/bin/time -o "$d/one.t" -f "%e %M" "$UAVIP" -q run-tile "$d/T/manifest.json" --index "$i"
+    /usr/bin/time -o "$d/one.t" -f "%e %M %U %S" "$UAVIP" -q run-tile "$d/T/manifest.json" --index "$i"
     cat "$d/one.t" >>"$d/tiles.t"
   done
-  /usr/bin/time -o "$d/merge.t" -f "%e %M" "$UAVIP" merge "$d/T/manifest.json" -o "$d/out" --no-views >"$d/merge.txt"
+  /usr/bin/time -o "$d/merge.t" -f "%e %M %U %S" "$UAVIP" merge "$d/T/manifest.json" -o "$d/out" --no-views >"$d/merge.txt"
   awk -v name="$case" -v points="$points" -v n="$n" -v km="$km" -v nodes="$NODES" \
       -v tile="$(cat "$d/tile.t")" -v merge="$(cat "$d/merge.t")" '
-    { t[NR] = $1; sum += $1; if ($1 > max) max = $1; if ($2 > rss) rss = $2 }
+    { t[NR] = $1; sum += $1; cpu += $3 + $4; if ($1 > max) max = $1; if ($2 > rss) rss = $2 }
     END {
       split(tile, a, " "); split(merge, b, " ");
       # longest first onto the least loaded of N nodes
@@ -68,7 +66,8 @@ for case in "$@"; do
         proj = proj (q > 1 ? " / " : "") sprintf("%.0f", a[1] + span + b[1]);
       }
       total = a[1] + sum + b[1];
-      printf "| %s | %d | %d | %.1f | %.1f / %.1f | %.1f | %.0f | %.0f | %.0f | %.0f | %s |\n",
-        name, points, n, a[1], sum, max, b[1], rss / 1024, b[2] / 1024, total, total / km, proj
+      cpu += a[3] + a[4] + b[3] + b[4];
+      printf "| %s | %d | %d | %.1f | %.1f / %.1f | %.1f | %.0f | %.0f | %.0f | %.0f | %.0f | %s |\n",
+        name, points, n, a[1], sum, max, b[1], rss / 1024, b[2] / 1024, total, cpu, cpu / km, proj
     }' "$d/tiles.t"
 done

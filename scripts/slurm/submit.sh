@@ -45,9 +45,10 @@ TILE_COUNT=$(grep -c '"index":' "$MANIFEST" || true)
 # Within a tile's object the keys are sorted: buffer_points, ..., core_points, index.
 LARGEST=$(awk -F'[:,]' '/"buffer_points":/ {b = $2; nb = 1} /"core_points":/ {c = $2; nc = 1}
   /"index":/ {if (nb && nc && b + c > m) m = b + c; nb = nc = 0} END {printf "%d", m}' "$MANIFEST")
-# Memory per task [MB]: 400 MB + 1.5 kB per point of the largest tile (measured peak
-# RSS of run-tile: benchmarks/README.md, "Tiles on Slurm"), at most 2 GB beyond it.
-MEM_MB=$(( 400 + LARGEST * 3 / 2000 ))
+# Memory per task [MB]: 300 MB + 1 kB per point of the largest tile, about twice the
+# measured peak RSS of run-tile (90 MB + 0.5-0.6 kB a point; benchmarks/README.md,
+# "Tiles on Slurm").
+MEM_MB=$(( 300 + LARGEST / 1000 ))
 CPUS=${UAVIP_TILE_CPUS:-2}  # stage 3 runs 2 threads
 mkdir -p "$TILES/slurm"
 
