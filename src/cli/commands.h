@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "uavip/app/pipeline.h"
+#include "uavip/io/atomic_file.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 
 namespace uavip::cli {
@@ -71,6 +73,17 @@ std::pair<CLI::App*, std::shared_ptr<Args>> missionCommand(CLI::App& cli, const 
 std::optional<io::GeoFit> pageGeoFit(const std::optional<io::SceneCrsRecord>& crs,
                                      const Scene& scene, const Verbosity& v);
 
+/// Stages scene.json and the clean and safety clouds beside it in `out` (`read`: how
+/// a cloud file was read; null for a scenario) (pipeline_commands.cpp).
+void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
+                const io::CloudReadInfo* read = nullptr);
+
+/// Stages `out`/mission.json (`source`: the scenario or scene.json planned; `edits`:
+/// the edits file applied, if any) (pipeline_commands.cpp).
+void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
+                  const app::Config& config, const std::string& source,
+                  const std::optional<io::EditsSummary>& edits = std::nullopt);
+
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 
@@ -88,5 +101,8 @@ void addScanCommands(CLI::App& cli, CommandRegistry& registry);
 
 /// view: the 3D mission page (view_commands.cpp).
 void addViewCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// tile, run-tile, merge: a large cloud in tiles (tile_commands.cpp).
+void addTileCommands(CLI::App& cli, CommandRegistry& registry);
 
 }  // namespace uavip::cli

@@ -71,6 +71,7 @@ int runUavip(int argc, char** argv) {
   addExportCommands(cli, registry);
   addScanCommands(cli, registry);
   addViewCommands(cli, registry);
+  addTileCommands(cli, registry);
 
   try {
     cli.parse(argc, argv);

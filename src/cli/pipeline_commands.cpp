@@ -33,34 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Stages scene.json and the clean and safety clouds beside it (`read`: how a cloud
-/// file was read; null for a scenario).
-void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
-                const io::CloudReadInfo* read = nullptr) {
-  const std::string pcd = (fs::path(out) / "cloud_clean.pcd").string();
-  outputs.writeWith(
-      pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
-  if (d.scene.safety) {
-    const std::string safety = (fs::path(out) / io::kSafetyCloudFile).string();
-    outputs.writeWith(safety, [&](const std::string& tmp) {
-      io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
-    });
-  }
-  outputs.write((fs::path(out) / "scene.json").string(),
-                io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
-}
-
-/// Stages mission.json (`source`: the scenario or scene.json planned; `edits`: the
-/// edits file applied, if any).
-void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
-                  const app::Config& config, const std::string& source,
-                  const std::optional<io::EditsSummary>& edits = std::nullopt) {
-  io::MissionExtras extras = app::missionExtras(plan, config, source);
-  extras.edits = edits;
-  outputs.write((fs::path(out) / "mission.json").string(),
-                io::missionJsonText(plan.missions, plan.flight, config.flight.model, extras));
-}
-
 /// The operator's edits (app/edits.h) applied to a copy of `scene`, checked against
 /// the plan `config` asks for: the scene to plan, and what mission.json records.
 /// Without a file, the scene as it is and nothing to record.
@@ -532,6 +504,31 @@ struct PipelineArgs {
 };
 
 }  // namespace
+
+// Declared in commands.h.
+void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,
+                const io::CloudReadInfo* read) {
+  const std::string pcd = (std::filesystem::path(out) / "cloud_clean.pcd").string();
+  outputs.writeWith(
+      pcd, [&](const std::string& tmp) { io::writeCloudPcdFile(tmp, d.scene.cloud, pcd); });
+  if (d.scene.safety) {
+    const std::string safety = (std::filesystem::path(out) / io::kSafetyCloudFile).string();
+    outputs.writeWith(safety, [&](const std::string& tmp) {
+      io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
+    });
+  }
+  outputs.write((std::filesystem::path(out) / "scene.json").string(),
+                io::sceneJsonText(d.scene, app::sceneExtras(d, read)));
+}
+
+void writeMission(io::StagedOutputs& outputs, const std::string& out, const app::PlanResult& plan,
+                  const app::Config& config, const std::string& source,
+                  const std::optional<io::EditsSummary>& edits) {
+  io::MissionExtras extras = app::missionExtras(plan, config, source);
+  extras.edits = edits;
+  outputs.write((std::filesystem::path(out) / "mission.json").string(),
+                io::missionJsonText(plan.missions, plan.flight, config.flight.model, extras));
+}
 
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto a = std::make_shared<PipelineArgs>();

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <set>
@@ -33,9 +34,10 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-PointList loadXyz(const std::string& path) {
-  std::istringstream in(readFile(path));
-  PointList out;
+/// Parses an x y z text cloud from `in` line by line, handing each point to `point`
+/// (the one parser of .xyz/.txt/.csv; loadXyz and streamCloud use it).
+void parseXyz(std::istream& in, const std::string& path,
+              const std::function<void(const Vec3&)>& point) {
   std::string line;
   std::size_t line_no = 0;
   bool header_allowed = true;  // until the first line that is not blank or a comment
@@ -74,8 +76,14 @@ PointList loadXyz(const std::string& path) {
       throw InputError(path + ":" + std::to_string(line_no) + ": point " + formatRawPoint(p) +
                        " is not finite; remove the line");
     }
-    out.push_back(p);
+    point(p);
   }
+}
+
+PointList loadXyz(const std::string& path) {
+  std::istringstream in(readFile(path));
+  PointList out;
+  parseXyz(in, path, [&](const Vec3& p) { out.push_back(p); });
   return out;
 }
 
@@ -705,6 +713,112 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     }
   }
   return points;
+}
+
+namespace {
+
+/// One pass over the cloud in the frame loadCloud gives before its own recentring
+/// (a LAS file recentred by its header, then input.scale), in chunks to `sink`.
+/// Returns the LAS header information for LAS files (nullopt otherwise).
+std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptions& options,
+                                   std::size_t chunk_points, const CloudChunkSink& sink) {
+  const std::string ext = lowerExtension(path);
+  PointList chunk;
+  chunk.reserve(chunk_points);
+  const auto flush = [&] {
+    if (chunk.empty()) return;
+    if (options.scale != 1.0)
+      for (Vec3& p : chunk) p *= options.scale;
+    sink(chunk);
+    chunk.clear();
+  };
+  const auto add = [&](const Vec3& p) {
+    chunk.push_back(p);
+    if (chunk.size() >= chunk_points) flush();
+  };
+  std::optional<LasCloud> las;
+  if (ext == ".las" || ext == ".laz") {
+    LasOptions las_options;
+    las_options.drop_classes = options.drop_classes;
+    las = streamLas(path, las_options,
+                    [&](const PointList& points, const std::vector<std::uint8_t>&) {
+                      for (const Vec3& p : points) add(p);
+                    });
+  } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot open the file, check its permissions");
+    parseXyz(in, path, add);
+  } else if (ext == ".pcd" || ext == ".ply") {
+    // PCD and PLY are read whole (PCL's blob), then handed on in chunks.
+    for (const Vec3& p : fromBlob(readBlob(path, ext), path)) add(p);
+  } else {
+    throw InputError(path + ": unknown cloud extension '" + ext +
+                     "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
+  }
+  flush();
+  return las;
+}
+
+}  // namespace
+
+bool streamsInBoundedMemory(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  return ext == ".las" || ext == ".xyz" || ext == ".txt" || ext == ".csv";
+}
+
+CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& options,
+                            std::size_t chunk_points, const CloudChunkSink& sink,
+                            const std::function<void(const CloudStreamInfo&)>& on_bounds) {
+  options.validate();
+  requireRegularFile(path);
+  if (chunk_points == 0) throw InputError("streamCloud: chunk_points must be > 0");
+  // Pass 1: count and bounds, so that the frame is loadCloud's before any point is handed on.
+  CloudStreamInfo info;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  const std::optional<LasCloud> las =
+      readChunks(path, options, chunk_points, [&](const PointList& points) {
+        for (const Vec3& p : points) {
+          if (p.cwiseAbs().maxCoeff() > kMaxCoordinateM)
+            throw InputError(path + ": point " + formatRawPoint(p) + " lies beyond " +
+                             formatNumber(kMaxCoordinateM / 1e3) +
+                             " km of the origin; remove it or fix input.scale");
+          lo = lo.cwiseMin(p);
+          hi = hi.cwiseMax(p);
+        }
+        info.points += points.size();
+      });
+  if (info.points == 0)
+    throw InputError(path + (las ? ": no point is left after drop_classes; drop fewer classes"
+                                 : ": the cloud has no points"));
+  if ((hi - lo).maxCoeff() > kMaxCloudExtentM)
+    throw InputError(path + ": the cloud spans " + formatNumber((hi - lo).maxCoeff() / 1e3, 4) +
+                     " km, wider than " + formatNumber(kMaxCloudExtentM / 1e3) +
+                     " km: it is not in metres (set input.scale) or holds a stray point");
+  Vec3 origin = las ? Vec3(las->origin_m * options.scale) : Vec3::Zero();
+  const Vec3 shift = farFromOrigin(lo, hi) ? recentringOrigin(lo, hi) : Vec3::Zero();
+  origin += shift;
+  info.read.origin_m = origin;
+  info.min = lo - shift;
+  info.max = hi - shift;
+  if (las) {
+    info.crs_unit = las->unit_name + " (" + las->unit_source + ")";
+    info.read.note = path + ": LAS " + std::to_string(las->version_major) + "." +
+                     std::to_string(las->version_minor) + ", " +
+                     std::to_string(las->points_in_file) + " points, " +
+                     std::to_string(las->dropped) + " dropped by input.drop_classes";
+  }
+  if (on_bounds) on_bounds(info);
+  // Pass 2: the points in that frame.
+  readChunks(path, options, chunk_points, [&](const PointList& points) {
+    if (shift == Vec3::Zero()) {
+      sink(points);
+      return;
+    }
+    PointList shifted = points;
+    for (Vec3& p : shifted) p -= shift;
+    sink(shifted);
+  });
+  return info;
 }
 
 void writeCloudPcdFile(const std::string& file, const PointList& cloud, const std::string& path) {

@@ -652,8 +652,10 @@ void resolveUnits(const Projection& proj, const std::string& path, LasCloud& clo
   resolveCrs(proj, path, cloud);
 }
 
-/// Reads the point block in chunks of whole records and keeps the points not dropped.
-void readPoints(LasFile& file, const Header& h, const LasOptions& options, LasCloud& cloud) {
+/// Reads the point block in chunks of whole records and hands each chunk's kept points
+/// (metres, minus `origin`) and their classes to `sink`; counts the dropped ones.
+void readPoints(LasFile& file, const Header& h, const LasOptions& options, const Vec3& origin,
+                LasCloud& cloud, const LasChunkSink& sink) {
   std::array<bool, 256> drop{};
   for (const int c : options.drop_classes) drop[static_cast<std::size_t>(c)] = true;
   const bool extended = h.format >= 6;
@@ -662,8 +664,10 @@ void readPoints(LasFile& file, const Header& h, const LasOptions& options, LasCl
   // h.count ≤ kMaxPoints and fits in the file (readHeader), so reserving it is safe.
   const auto count = static_cast<std::size_t>(h.count);
   std::vector<unsigned char> buffer(std::min(chunk, count) * len);
-  cloud.points.reserve(count);
-  cloud.classification.reserve(count);
+  PointList points;
+  std::vector<std::uint8_t> classes;
+  points.reserve(std::min(chunk, count));
+  classes.reserve(std::min(chunk, count));
   const double sx = h.scale[0], sy = h.scale[1], sz = h.scale[2];
   const double ox = h.offset[0], oy = h.offset[1], oz = h.offset[2];
   const double hu = cloud.unit_to_m, vu = cloud.z_unit_to_m;
@@ -672,6 +676,8 @@ void readPoints(LasFile& file, const Header& h, const LasOptions& options, LasCl
   for (std::size_t done = 0; done < count;) {
     const std::size_t n = std::min(chunk, count - done);
     file.read(buffer.data(), n * len);
+    points.clear();
+    classes.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const unsigned char* r = buffer.data() + i * len;
       const std::uint8_t cls = extended ? r[16] : static_cast<std::uint8_t>(r[15] & 0x1Fu);
@@ -679,10 +685,12 @@ void readPoints(LasFile& file, const Header& h, const LasOptions& options, LasCl
         ++cloud.dropped;
         continue;
       }
-      cloud.points.emplace_back((i32(r) * sx + ox) * hu, (i32(r + 4) * sy + oy) * hu,
-                                (i32(r + 8) * sz + oz) * vu);
-      cloud.classification.push_back(cls);
+      points.emplace_back((i32(r) * sx + ox) * hu - origin.x(),
+                          (i32(r + 4) * sy + oy) * hu - origin.y(),
+                          (i32(r + 8) * sz + oz) * vu - origin.z());
+      classes.push_back(cls);
     }
+    if (!points.empty()) sink(points, classes);
     done += n;
   }
 }
@@ -698,7 +706,8 @@ void LasOptions::validate(const std::string& where) const {
 
 bool isLasPath(const std::string& path) { return endsWith(lower(path), ".las"); }
 
-LasCloud readLas(const std::string& path, const LasOptions& options) {
+LasCloud streamLas(const std::string& path, const LasOptions& options, const LasChunkSink& sink,
+                   const std::function<void(const LasCloud&)>& on_header) {
   options.validate(path);
   if (endsWith(lower(path), ".laz"))
     fail(path, "LAZ (LASzip-compressed) files are not read, " + std::string(kDecompress));
@@ -722,10 +731,10 @@ LasCloud readLas(const std::string& path, const LasOptions& options) {
   cloud.point_record_length = static_cast<int>(h.record_length);
   cloud.points_in_file = h.count;
   resolveUnits(readProjection(file, h, path), path, cloud);
-  readPoints(file, h, options, cloud);
 
   // Origin: centre of the header bounds in metres, rounded (io::recentringOrigin, the
-  // rule of every reader); the points' own bounds if the header's are unusable.
+  // rule of every reader); the points' own bounds (one pass more) if the header's are
+  // unusable.
   const bool header_bounds = std::isfinite(h.min[0]) && std::isfinite(h.max[0]) &&
                              std::isfinite(h.min[1]) && std::isfinite(h.max[1]) &&
                              h.min[0] <= h.max[0] && h.min[1] <= h.max[1];
@@ -736,15 +745,40 @@ LasCloud readLas(const std::string& path, const LasOptions& options) {
     const Vec3 hi(h.max[0] * cloud.unit_to_m, h.max[1] * cloud.unit_to_m,
                   z_bounds ? h.max[2] * cloud.z_unit_to_m : 0.0);
     cloud.origin_m = recentringOrigin(lo, hi);
-  } else if (!cloud.points.empty()) {
-    Vec3 lo = cloud.points.front(), hi = cloud.points.front();
-    for (const Vec3& p : cloud.points) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    cloud.origin_m = recentringOrigin(lo, hi);
+  } else {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    LasCloud counted = cloud;
+    readPoints(file, h, options, Vec3::Zero(), counted,
+               [&](const PointList& points, const std::vector<std::uint8_t>&) {
+                 for (const Vec3& p : points) {
+                   lo = lo.cwiseMin(p);
+                   hi = hi.cwiseMax(p);
+                 }
+               });
+    if (lo.allFinite()) cloud.origin_m = recentringOrigin(lo, hi);
   }
-  for (Vec3& p : cloud.points) p -= cloud.origin_m;
+  if (on_header) on_header(cloud);
+  readPoints(file, h, options, cloud.origin_m, cloud, sink);
+  return cloud;
+}
+
+LasCloud readLas(const std::string& path, const LasOptions& options) {
+  PointList points;
+  std::vector<std::uint8_t> classes;
+  const auto reserve = [&](const LasCloud& header) {
+    // points_in_file ≤ 2^31 and fits in the file (readHeader): reserving it is safe.
+    points.reserve(static_cast<std::size_t>(header.points_in_file));
+    classes.reserve(static_cast<std::size_t>(header.points_in_file));
+  };
+  LasCloud cloud = streamLas(
+      path, options,
+      [&](const PointList& chunk, const std::vector<std::uint8_t>& cls) {
+        points.insert(points.end(), chunk.begin(), chunk.end());
+        classes.insert(classes.end(), cls.begin(), cls.end());
+      },
+      reserve);
+  cloud.points = std::move(points);
+  cloud.classification = std::move(classes);
   return cloud;
 }
 

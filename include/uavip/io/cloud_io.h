@@ -3,6 +3,9 @@
 /// Point cloud files: PCD and PLY (PCL readers/writers) and XYZ text
 /// ("x y z" per line, extra columns ignored, '#' comments).
 
+#include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -77,6 +80,33 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// 1 % of the points lie far from it, else pointing at input.scale).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {},
                     CloudReadInfo* info = nullptr);
+
+/// Receives one chunk of points [m] of a streamed cloud.
+using CloudChunkSink = std::function<void(const PointList& points)>;
+
+/// What streamCloud read.
+struct CloudStreamInfo {
+  std::uint64_t points{0};  ///< points handed on (after drop_classes)
+  Vec3 min{Vec3::Zero()};   ///< bounding box of the handed-on points [m]
+  Vec3 max{Vec3::Zero()};   ///< [m]
+  CloudReadInfo read;       ///< origin_m: as loadCloud's; note: a LAS file's summary
+  std::string crs_unit;     ///< a LAS file's unit and where it came from; else empty
+};
+
+/// True when streamCloud reads `path` in bounded memory (LAS and x y z text); PCD and
+/// PLY are read whole and then handed on in chunks.
+bool streamsInBoundedMemory(const std::string& path);
+
+/// The points loadCloud would return, in the same frame (same origin_m, same
+/// doubles), handed to `sink` in file order in chunks of at most `chunk_points`,
+/// without holding the cloud (see streamsInBoundedMemory): one pass for the count and
+/// bounds, one for the points; `on_bounds`, if set, sees the count, bounds and origin
+/// between them. Throws InputError naming the file like loadCloud (an empty cloud, a
+/// non-finite point, a coordinate beyond kMaxCoordinateM, a cloud wider than
+/// kMaxCloudExtentM).
+CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& options,
+                            std::size_t chunk_points, const CloudChunkSink& sink,
+                            const std::function<void(const CloudStreamInfo&)>& on_bounds = {});
 
 /// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too
 /// few inliers, which uavip handles): they are silenced unless `verbose`, so that an

@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,20 @@ struct LasCloud {
 /// GeoKeyDirectory, an unsupported unit code, a geographic CRS, and a bad
 /// LasOptions. All points dropped by drop_classes is not an error (empty points).
 LasCloud readLas(const std::string& path, const LasOptions& options = {});
+
+/// Receives one chunk of kept points [m, recentred] and their ASPRS classes (parallel).
+using LasChunkSink =
+    std::function<void(const PointList& points, const std::vector<std::uint8_t>& classes)>;
+
+/// readLas without holding the points: hands them to `sink` in chunks of at most
+/// 256 KiB of records, in file order, already in metres and recentred (origin_m is
+/// known before the first chunk: from the header bounds, else from one pass more over
+/// the points). The returned LasCloud has every field but `points` and
+/// `classification`. `on_header`, if set, sees that header information (origin_m
+/// included) before the first chunk. Same errors as readLas; memory does not grow
+/// with the file.
+LasCloud streamLas(const std::string& path, const LasOptions& options, const LasChunkSink& sink,
+                   const std::function<void(const LasCloud&)>& on_header = {});
 
 /// True if the path ends in ".las" (case-insensitive). ".laz" is not LAS.
 bool isLasPath(const std::string& path);
