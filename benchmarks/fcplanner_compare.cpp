@@ -2,19 +2,22 @@
 // structure) against FC-Planner's published table on its own three clouds, with its
 // settings (camera, visible range, viewpoint distance, drone radius, start, ground).
 // For each scene: the whole chain from the cloud in memory to the validated flight,
-// median of 3 runs (views off); then, once, the scores: photos, path from home to the
-// last photo (no return, as theirs), coverage by rule (a) (their pixel rule, on the
-// dense cloud they score on, at our photo stops only) and rule (b) (ours), and the
-// minimum distance from the flight to every input point. Writes OUT/<scene>/scene.json,
-// OUT/<scene>/mission.json, OUT/results.json and OUT/results.md.
+// median of 3 runs (views off), with the time split by stage; then, once, the scores: photos, path
+// from home to the last photo (no return, as theirs), coverage by rule (a) (their pixel rule, on
+// the dense cloud they score on, at our photo stops only) and rule (b) (ours), and the minimum
+// distance from the flight to every input point; at the default target and at the smallest target
+// whose rule (a) reaches theirs. Writes OUT/<scene>_<run>/scene.json,
+// OUT/<scene>_<run>/mission.json, OUT/results.json and OUT/results.md.
 // DATA_DIR defaults to ../shared/data/real from the repository root.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -116,10 +119,13 @@ app::Config peerConfig(const Peer& p, bool with_start, double target) {
   return app::parseConfig(y.str(), "(FC-Planner settings for " + p.name + ")");
 }
 
+/// One run of the chain and where its time went [s].
 struct Run {
   app::DetectResult detect;
   app::PlanResult plan;
   double seconds{0.0};
+  double measure_s{0.0};
+  double detect_s{0.0};
 };
 
 Run runChain(const PointList& raw, const app::Config& config) {
@@ -127,10 +133,38 @@ Run runChain(const PointList& raw, const app::Config& config) {
   const auto t0 = SteadyClock::now();
   app::CloudIndex index;
   const preprocess::CloudStats measured = app::measure(raw, nullptr, &index);
+  r.measure_s = secondsSince(t0);
+  const auto t1 = SteadyClock::now();
   r.detect = app::detect(raw, config, measured, {}, index);
+  r.detect_s = secondsSince(t1);
   r.plan = app::planStructure(r.detect.scene, r.detect.resolved.config);
   r.seconds = secondsSince(t0);
   return r;
+}
+
+/// The time split of a run, by stage [s]: measure, detect, grid, prepare (normals,
+/// their orientation, line of sight), views (the selection: candidates, scoring, set
+/// cover), order, legs, score (rules a and b at the stops), flight (home legs,
+/// sorties, validation), total.
+std::vector<std::pair<std::string, double>> timeSplit(const Run& r) {
+  const auto& t = r.plan.times;
+  const planning::StructureSummary none;
+  const auto& s = r.plan.structure ? *r.plan.structure : none;
+  return {{"measure", r.measure_s}, {"detect", r.detect_s}, {"grid", t.grid_s},
+          {"prepare", s.prepare_s}, {"views", s.select_s},  {"order", s.order_s},
+          {"legs", s.legs_s},       {"score", s.score_s},   {"flight", t.flight_s},
+          {"total", r.seconds}};
+}
+
+/// Per stage, the median over the runs [s].
+std::vector<std::pair<std::string, double>> medianSplit(const std::vector<Run>& runs) {
+  std::vector<std::pair<std::string, double>> out = timeSplit(runs.front());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    std::vector<double> v;
+    for (const Run& r : runs) v.push_back(timeSplit(r)[k].second);
+    out[k].second = bench_util::median(v);
+  }
+  return out;
 }
 
 /// Flown photo poses of the structure mission.
@@ -190,53 +224,81 @@ std::string fixed(double v, int digits) {
   return b;
 }
 
-/// One scene: the chain (median of 3), the scores, the scene and mission files; appends
-/// its row to `results` and `md`.
-void runScene(const Peer& p, const std::string& data, const std::string& out, double target,
-              nlohmann::json& results, std::ostringstream& md) {
-  std::cerr << "fcplanner_compare: " << p.name << "\n";
-  const PointList raw = io::loadCloud((fs::path(data) / p.cloud).string());
-  const PointList dense = io::loadCloud((fs::path(data) / p.dense).string());
-  // Their start, unless it lies inside the clearance (the pipe's (0, 0, 0) is 0.07 m
-  // from a pipe): then home is the lowest photo stop, and the note says so.
-  std::string home_note = "their start";
-  app::Config config = peerConfig(p, true, target);
-  Run first;
-  const auto wall0 = SteadyClock::now();
+/// Bold when we miss their figure (`worse`).
+std::string mark(const std::string& v, bool worse) { return worse ? "**" + v + "**" : v; }
+
+/// A scene's inputs, loaded once.
+struct SceneData {
+  PointList raw, dense;
+};
+
+/// The chain `runs` times at `target` (the first also decides home: their start, or
+/// the lowest photo stop when it is not free); `home_note` says which.
+std::vector<Run> runAt(const Peer& p, const SceneData& d, double target, int runs,
+                       std::string& home_note, app::Config& config) {
+  home_note = "their start";
+  config = peerConfig(p, true, target);
+  std::vector<Run> out;
   try {
-    first = runChain(raw, config);
+    out.push_back(runChain(d.raw, config));
   } catch (const InputError& e) {
     home_note = std::string("lowest photo stop (their start is not free: ") + e.what() + ")";
     config = peerConfig(p, false, target);
-    first = runChain(raw, config);
+    out.push_back(runChain(d.raw, config));
   }
-  const double wall = secondsSince(wall0);
-  std::vector<double> times = {first.seconds};
-  for (int k = 0; k < 2; ++k) times.push_back(runChain(raw, config).seconds);
-  const double compute = bench_util::median(times);
-  const auto& plan = first.plan;
-  const auto views = flownViews(plan);
+  for (int k = 1; k < runs; ++k) out.push_back(runChain(d.raw, config));
+  return out;
+}
+
+/// Rule (a) on the dense cloud at the flown stops of `r`.
+double ruleA(const Peer& p, const SceneData& d, const Run& r) {
   coverage::PinholeIntrinsics k;  // FC-Planner's camera (the defaults)
-  const double rule_a =
-      coverage::evaluatePixelCoverage(dense, views, k, p.visible_range_m).fraction;
+  return coverage::evaluatePixelCoverage(d.dense, flownViews(r.plan), k, p.visible_range_m)
+      .fraction;
+}
+
+/// Targets tried, smallest first, when the run is to match their coverage.
+const std::vector<double> kTargetLadder = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99};
+
+/// One scene at one target: the chain `runs` times (median compute), the scores of the
+/// first run, its files under OUT/<scene>[_<label>]; appends its rows.
+void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs,
+                const app::Config& config, double target, const std::string& label,
+                const std::string& home_note, const std::string& out, nlohmann::json& results,
+                std::ostringstream& md, std::ostringstream& split_md) {
+  std::vector<double> times;
+  for (const Run& r : runs) times.push_back(r.seconds);
+  const double compute = bench_util::median(times);
+  const Run& first = runs.front();
+  const auto& plan = first.plan;
+  const std::size_t photos = flownViews(plan).size();
+  const double rule_a = ruleA(p, d, first);
   const double path = pathToLastPhoto(plan.flight);
-  const double clearance = minClearance(plan.flight, raw);
+  const double clearance = minClearance(plan.flight, d.raw);
   const double rule_b = plan.structure ? plan.structure->rule_b : 0.0;
-  const fs::path dir = fs::path(out) / p.name;
+  const fs::path dir = fs::path(out) / (p.name + "_" + label);
   fs::create_directories(dir);
   io::writeFileAtomic((dir / "scene.json").string(),
                       io::sceneToJson(first.detect.scene).dump(1) + "\n");
   nlohmann::json mission = io::missionToJson(plan.missions, {{"scene", p.name}});
   mission["flight"] = io::flightToJson(plan.flight, config.flight.model);
   io::writeFileAtomic((dir / "mission.json").string(), mission.dump(1) + "\n");
+  const auto split = medianSplit(runs);
+  nlohmann::json split_json = nlohmann::json::object();
+  for (const auto& [stage, seconds] : split) split_json[stage] = seconds;
+  const int wins = (static_cast<int>(photos) <= p.fc_views) + (path <= p.fc_path_m) +
+                   (rule_a >= p.fc_coverage) + (compute <= p.fc_time_s);
   results.push_back({{"scene", p.name},
-                     {"photos", views.size()},
+                     {"run", label},
+                     {"target", target},
+                     {"photos", photos},
                      {"path_m", path},
                      {"coverage_rule_a", rule_a},
                      {"coverage_rule_b", rule_b},
                      {"compute_s", compute},
                      {"compute_runs_s", times},
-                     {"wall_s", wall},
+                     {"split_s", split_json},
+                     {"counts_won", wins},
                      {"min_clearance_m", clearance},
                      {"flight_status", planning::toString(plan.flight.status)},
                      {"home", home_note},
@@ -250,52 +312,109 @@ void runScene(const Peer& p, const std::string& data, const std::string& out, do
                        {"path_m", p.sip_path_m},
                        {"coverage", p.sip_coverage},
                        {"time_s", p.sip_time_s}}}});
-  md << "| " << p.name << " | " << views.size() << " (" << p.fc_views << " / " << p.sip_views
-     << ") | " << fixed(path, 1) << " (" << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1)
-     << ") | " << pct(rule_a) << " (" << pct(p.fc_coverage) << " / " << pct(p.sip_coverage)
-     << ") | " << pct(rule_b) << " | " << fixed(compute, 2) << " (" << fixed(p.fc_time_s, 2)
-     << " / " << fixed(p.sip_time_s, 1) << ") | " << fixed(wall, 2) << " | " << fixed(clearance, 3)
-     << " |\n";
+  md << "| " << p.name << " | " << label << " " << fixed(target, 2) << " | "
+     << mark(std::to_string(photos), static_cast<int>(photos) > p.fc_views) << " (" << p.fc_views
+     << " / " << p.sip_views << ") | " << mark(fixed(path, 1), path > p.fc_path_m) << " ("
+     << fixed(p.fc_path_m, 1) << " / " << fixed(p.sip_path_m, 1) << ") | "
+     << mark(pct(rule_a), rule_a < p.fc_coverage) << " (" << pct(p.fc_coverage) << " / "
+     << pct(p.sip_coverage) << ") | " << pct(rule_b) << " | "
+     << mark(fixed(compute, 2), compute > p.fc_time_s) << " (" << fixed(p.fc_time_s, 2) << " / "
+     << fixed(p.sip_time_s, 1) << ") | " << wins << " / 4 | " << fixed(clearance, 3) << " |\n";
+  split_md << "| " << p.name << " | " << label << " " << fixed(target, 2);
+  for (const auto& [stage, seconds] : split) split_md << " | " << fixed(seconds, 2);
+  split_md << " |\n";
+}
+
+/// Options of the comparison.
+struct CompareOptions {
+  std::string data = "../shared/data/real", out;
+  std::optional<double> target;  ///< one fixed target instead of default + matched
+  std::vector<std::string> scenes;
+  int runs{3};
+};
+
+/// One scene: the default target and the smallest target of kTargetLadder whose rule
+/// (a) reaches FC-Planner's coverage (or only `o.target`).
+void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
+              std::ostringstream& md, std::ostringstream& split_md) {
+  std::cerr << "fcplanner_compare: " << p.name << "\n";
+  SceneData d;
+  d.raw = io::loadCloud((fs::path(o.data) / p.cloud).string());
+  d.dense = io::loadCloud((fs::path(o.data) / p.dense).string());
+  std::string home_note;
+  app::Config config;
+  const double default_target = coverage::CoverageOptions{}.structure_target;
+  const double first_target = o.target ? *o.target : default_target;
+  const std::vector<Run> runs = runAt(p, d, first_target, o.runs, home_note, config);
+  reportRuns(p, d, runs, config, first_target, o.target ? "given" : "default", home_note, o.out,
+             results, md, split_md);
+  if (o.target) return;
+  for (const double t : kTargetLadder) {
+    std::vector<Run> one = runAt(p, d, t, 1, home_note, config);
+    if (ruleA(p, d, one.front()) < p.fc_coverage && t != kTargetLadder.back()) continue;
+    std::cerr << "fcplanner_compare: " << p.name << " matched at target " << t << "\n";
+    const std::vector<Run> more = runAt(p, d, t, o.runs - 1, home_note, config);
+    one.insert(one.end(), more.begin(), more.end());
+    reportRuns(p, d, one, config, t, "matched", home_note, o.out, results, md, split_md);
+    return;
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   bench_util::prepareProcess();
-  std::string data = "../shared/data/real", out;
-  double target = coverage::CoverageOptions{}.structure_target;
+  CompareOptions o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "-o" || a == "--out") && i + 1 < argc) {
-      out = argv[++i];
+      o.out = argv[++i];
     } else if (a == "--target" && i + 1 < argc) {
-      target = std::stod(argv[++i]);
+      o.target = std::stod(argv[++i]);
+    } else if (a == "--scene" && i + 1 < argc) {
+      o.scenes.emplace_back(argv[++i]);
+    } else if (a == "--runs" && i + 1 < argc) {
+      o.runs = std::max(1, std::stoi(argv[++i]));
     } else if (a == "-h" || a == "--help") {
-      std::cout << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T]\n"
-                   "  --target T: coverage.structure_target (default 0.99)\n"
-                   "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
-                   "../shared/data/real)\n";
+      std::cout
+          << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T] [--scene NAME]... "
+             "[--runs N]\n"
+             "  without --target: the default coverage.structure_target, and the smallest "
+             "of 0.90 … 0.99 whose rule (a) reaches FC-Planner's\n"
+             "  --target T: that coverage.structure_target only\n"
+             "  --scene NAME: MBS, christ or pipe (default: all three)\n"
+             "  --runs N: runs of the chain per target, the median is reported (default 3)\n"
+             "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
+             "../shared/data/real)\n";
       return 0;
     } else {
-      data = a;
+      o.data = a;
     }
   }
-  if (out.empty()) {
+  if (o.out.empty()) {
     std::cerr << "uavip_fcplanner_compare: give -o OUT (the output directory)\n";
     return 2;
   }
   try {
-    fs::create_directories(out);
+    fs::create_directories(o.out);
     nlohmann::json results = nlohmann::json::array();
-    std::ostringstream md;
-    md << "| scene | photos (FC / SIP) | path home → last photo [m] (FC / SIP) | coverage rule (a) "
-          "(FC / SIP) | rule (b) "
-          "| compute [s] (FC / SIP) | wall [s] | min distance to every input point [m] |\n"
-          "|---|---|---|---|---|---|---|---|\n";
-    for (const Peer& p : kPeers) runScene(p, data, out, target, results, md);
-    io::writeFileAtomic((fs::path(out) / "results.json").string(), results.dump(1) + "\n");
-    io::writeFileAtomic((fs::path(out) / "results.md").string(), md.str());
-    std::cout << md.str();
+    std::ostringstream md, split_md;
+    md << "| scene | run, target | photos (FC / SIP) | path home → last photo [m] (FC / SIP) | "
+          "rule (a) (FC / SIP) | rule (b) | compute [s] (FC / SIP) | counts won | min distance "
+          "to every input point [m] |\n|---|---|---|---|---|---|---|---|---|\n";
+    split_md
+        << "| scene | run, target | measure | detect | grid | prepare | views | order | legs "
+           "| score | flight | total [s] |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Peer& p : kPeers) {
+      if (!o.scenes.empty() &&
+          std::find(o.scenes.begin(), o.scenes.end(), p.name) == o.scenes.end())
+        continue;
+      runScene(p, o, results, md, split_md);
+    }
+    io::writeFileAtomic((fs::path(o.out) / "results.json").string(), results.dump(1) + "\n");
+    io::writeFileAtomic((fs::path(o.out) / "results.md").string(),
+                        md.str() + "\n" + split_md.str());
+    std::cout << md.str() << "\n" << split_md.str();
   } catch (const std::exception& e) {
     std::cerr << "uavip_fcplanner_compare: " << e.what() << "\n";
     return 2;

@@ -1,6 +1,7 @@
 #include "planners/astar.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -143,8 +144,81 @@ double heuristic(const world::Index3& a, const world::Index3& b, const AStarOpti
   return std::sqrt(o.a1 * dx * dx + o.a2 * dy * dy + o.a3 * dz * dz);
 }
 
-template <typename Store>
-GridSearchResult search(Store& store, const world::VoxelGrid& grid, const world::Index3& start,
+/// The fine grid as a search space.
+struct FineSpace {
+  const world::VoxelGrid& grid;
+  bool isBlocked(const world::Index3& i) const { return grid.isBlocked(i); }
+  std::size_t linear(const world::Index3& i) const { return grid.linear(i); }
+  const std::array<int, 3>& dims() const { return grid.dims(); }
+  std::size_t voxelCount() const { return grid.voxelCount(); }
+};
+
+/// Blocks of k×k×k voxels; a block is free when all of its voxels are free (and in
+/// the grid).
+struct CoarseGrid {
+  std::uint64_t content_id{0};
+  int factor{0};
+  std::array<int, 3> dims{0, 0, 0};
+  std::vector<std::uint8_t> free;
+
+  bool inBounds(const world::Index3& i) const {
+    return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < dims[0] && i.y < dims[1] && i.z < dims[2];
+  }
+  std::size_t linear(const world::Index3& i) const {
+    return static_cast<std::size_t>(i.x) +
+           static_cast<std::size_t>(dims[0]) *
+               (static_cast<std::size_t>(i.y) +
+                static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(i.z));
+  }
+  world::Index3 blockOf(const world::Index3& i) const {
+    return {i.x / factor, i.y / factor, i.z / factor};
+  }
+};
+
+/// The blocks of `grid` (one pass over its voxels).
+void buildCoarse(CoarseGrid& c, const world::VoxelGrid& grid, int factor) {
+  const auto& d = grid.dims();
+  c.content_id = grid.contentId();
+  c.factor = factor;
+  for (int a = 0; a < 3; ++a) c.dims[a] = (d[a] + factor - 1) / factor;
+  c.free.assign(static_cast<std::size_t>(c.dims[0]) * static_cast<std::size_t>(c.dims[1]) *
+                    static_cast<std::size_t>(c.dims[2]),
+                1);
+  for (int z = 0; z < c.dims[2] * factor; ++z)
+    for (int y = 0; y < c.dims[1] * factor; ++y)
+      for (int x = 0; x < c.dims[0] * factor; ++x)
+        if (grid.isBlocked({x, y, z})) c.free[c.linear({x / factor, y / factor, z / factor})] = 0;
+}
+
+/// The block grid as a search space; the blocks of the two ends count as free.
+struct CoarseSpace {
+  const CoarseGrid& coarse;
+  std::size_t start, goal;  ///< linear indices of the end blocks
+  bool isBlocked(const world::Index3& i) const {
+    if (!coarse.inBounds(i)) return true;
+    const std::size_t l = coarse.linear(i);
+    return coarse.free[l] == 0 && l != start && l != goal;
+  }
+  std::size_t linear(const world::Index3& i) const { return coarse.linear(i); }
+  const std::array<int, 3>& dims() const { return coarse.dims; }
+  std::size_t voxelCount() const { return coarse.free.size(); }
+};
+
+/// The fine grid inside a corridor of blocks.
+struct CorridorSpace {
+  const world::VoxelGrid& grid;
+  const CoarseGrid& coarse;
+  const std::vector<std::uint8_t>& corridor;  ///< per block: 1 = inside
+  bool isBlocked(const world::Index3& i) const {
+    return grid.isBlocked(i) || corridor[coarse.linear(coarse.blockOf(i))] == 0;
+  }
+  std::size_t linear(const world::Index3& i) const { return grid.linear(i); }
+  const std::array<int, 3>& dims() const { return grid.dims(); }
+  std::size_t voxelCount() const { return grid.voxelCount(); }
+};
+
+template <typename Store, typename Space>
+GridSearchResult search(Store& store, const Space& grid, const world::Index3& start,
                         const world::Index3& goal, const AStarOptions& options) {
   GridSearchResult result;
   if (grid.isBlocked(start) || grid.isBlocked(goal)) return result;
@@ -216,6 +290,8 @@ void AStarOptions::validate(const std::string& where) const {
   requirePositive(a1, where, "a1");
   requirePositive(a2, where, "a2");
   requirePositive(a3, where, "a3");
+  requireThat(coarse_factor == 0 || (coarse_factor >= 2 && coarse_factor <= 16), where,
+              "coarse_factor", "0 or in [2, 16]", coarse_factor);
 }
 
 double stepCost(int dx, int dy, int dz, const AStarOptions& options) {
@@ -223,14 +299,94 @@ double stepCost(int dx, int dy, int dz, const AStarOptions& options) {
   return options.cost == AStarCost::Paper ? c : std::sqrt(c);
 }
 
-GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& start,
+namespace {
+
+/// A* on `space` with a dense scratch per kind of space and thread (fine and coarse
+/// searches do not reallocate each other's), or a hash map on large grids.
+template <typename Space>
+GridSearchResult searchSpace(const Space& space, const world::Index3& start,
                              const world::Index3& goal, const AStarOptions& options) {
-  if (grid.voxelCount() <= kDenseScratchLimit) {
+  if (space.voxelCount() <= kDenseScratchLimit) {
     thread_local DenseStore dense;
-    return search(dense, grid, start, goal, options);
+    return search(dense, space, start, goal, options);
   }
   HashStore hash;
-  return search(hash, grid, start, goal, options);
+  return search(hash, space, start, goal, options);
+}
+
+/// The blocks of `grid` at `factor`, built once per grid content, factor and thread.
+const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor) {
+  thread_local std::vector<CoarseGrid> cache;
+  for (CoarseGrid& c : cache)
+    if (c.factor == factor) {
+      if (c.content_id != grid.contentId() || c.free.empty()) buildCoarse(c, grid, factor);
+      return c;
+    }
+  cache.emplace_back();
+  buildCoarse(cache.back(), grid, factor);
+  return cache.back();
+}
+
+/// One level of coarse to fine: the block path at `factor`, then the fine search in
+/// its corridor. found = false (expansions counted) when either finds nothing.
+GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
+                                const world::Index3& start, const world::Index3& goal,
+                                const AStarOptions& options) {
+  const CoarseGrid& coarse = coarseGrid(grid, factor);
+  const world::Index3 s = coarse.blockOf(start), g = coarse.blockOf(goal);
+  const GridSearchResult blocks =
+      searchSpace(CoarseSpace{coarse, coarse.linear(s), coarse.linear(g)}, s, g, options);
+  if (!blocks.found) return blocks;
+  std::vector<std::uint8_t> corridor(coarse.free.size(), 0);
+  for (const world::Index3& b : blocks.cells)
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const world::Index3 n{b.x + dx, b.y + dy, b.z + dz};
+          if (coarse.inBounds(n)) corridor[coarse.linear(n)] = 1;
+        }
+  AStarOptions fine = options;
+  if (fine.max_expansions > 0)
+    fine.max_expansions -= std::min(fine.max_expansions, blocks.expansions);
+  GridSearchResult r = searchSpace(CorridorSpace{grid, coarse, corridor}, start, goal, fine);
+  r.expansions += blocks.expansions;
+  return r;
+}
+
+/// Coarse to fine (astar.h): blocks of coarse_factor, then of half as many voxels
+/// and so on down to 2 (a passage too narrow for one level may fit the next), then
+/// the whole grid.
+GridSearchResult coarseToFine(const world::VoxelGrid& grid, const world::Index3& start,
+                              const world::Index3& goal, const AStarOptions& options) {
+  if (grid.isBlocked(start) || grid.isBlocked(goal)) return {};
+  std::size_t spent = 0;
+  for (int factor = options.coarse_factor; factor >= 2; factor /= 2) {
+    AStarOptions level = options;
+    if (level.max_expansions > 0) {
+      if (spent >= level.max_expansions) return {false, {}, 0.0, spent, true};
+      level.max_expansions -= spent;
+    }
+    GridSearchResult r = corridorSearch(grid, factor, start, goal, level);
+    r.expansions += spent;
+    if (r.found || r.exhausted_budget) return r;
+    spent = r.expansions;
+  }
+  AStarOptions whole = options;
+  if (whole.max_expansions > 0) {
+    if (spent >= whole.max_expansions) return {false, {}, 0.0, spent, true};
+    whole.max_expansions -= spent;
+  }
+  GridSearchResult r = searchSpace(FineSpace{grid}, start, goal, whole);
+  r.expansions += spent;
+  return r;
+}
+
+}  // namespace
+
+GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& start,
+                             const world::Index3& goal, const AStarOptions& options) {
+  if (options.coarse_factor >= 2) return coarseToFine(grid, start, goal, options);
+  return searchSpace(FineSpace{grid}, start, goal, options);
 }
 
 AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) {
@@ -238,7 +394,8 @@ AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) {
 }
 
 std::string AStarPlanner::name() const {
-  return options_.cost == AStarCost::Paper ? "astar" : "astar-euclid";
+  if (options_.cost == AStarCost::Euclidean) return "astar-euclid";
+  return options_.coarse_factor >= 2 ? "astar-coarse" : "astar";
 }
 
 planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start,

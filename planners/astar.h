@@ -6,6 +6,15 @@
 /// monotone path attains: this weighted L1 distance is the exact heuristic in free
 /// space. The Euclidean mode uses √(a1α² + a2β² + a3γ²) with the weighted Euclidean
 /// distance as heuristic (admissible and consistent).
+///
+/// Coarse to fine (`coarse_factor` k ≥ 2, planner "astar-coarse"): the same search
+/// first on a grid of k×k×k blocks, a block free when all its voxels are free (the
+/// blocks of the two ends always), then on the fine grid inside a corridor: the
+/// blocks of the coarse path and their 26 neighbours. A leg then costs what its
+/// corridor holds, not what the grid holds; the path is the cheapest within the
+/// corridor (not always the cheapest overall). When the blocks hold no path (only
+/// passages narrower than a block) or the corridor holds no fine path, the whole grid
+/// is searched, so a path exists exactly when the paper's A* finds one.
 
 #include <cstddef>
 #include <string>
@@ -26,6 +35,7 @@ struct AStarOptions {
   double a2{1.0};                 ///< weight of y moves
   double a3{1.0};                 ///< weight of z moves
   std::size_t max_expansions{0};  ///< 0 = unlimited; otherwise status Timeout when exceeded
+  int coarse_factor{0};           ///< 0: the whole grid; k in [2, 16]: coarse to fine (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "planner") const;
@@ -48,7 +58,8 @@ GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& 
 /// Step cost of a move (dx, dy, dz) ∈ {−1,0,1}³ under the options.
 double stepCost(int dx, int dy, int dz, const AStarOptions& options);
 
-/// planning::Planner adapter: "astar" (paper cost) or "astar-euclid".
+/// planning::Planner adapter: "astar" (paper cost), "astar-euclid" or "astar-coarse"
+/// (paper cost, coarse to fine).
 class AStarPlanner : public planning::Planner {
  public:
   explicit AStarPlanner(AStarOptions options);

@@ -14,6 +14,7 @@ const std::vector<PlannerInfo>& plannerTable() {
   static const std::vector<PlannerInfo> table{
       {"astar", "AStar", false},
       {"astar-euclid", "AStarEuclid", false},
+      {"astar-coarse", "AStarCoarse", false},
       {"rrtconnect", "RRTConnect", true},
       {"rrtstar", "RRTstar", true},
       {"informed-rrtstar", "InformedRRTstar", true},

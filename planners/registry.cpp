@@ -13,8 +13,9 @@ std::unique_ptr<planning::Planner> makePlanner(const std::string& name,
   requireKnownPlanner(name);
   if (isOmplPlanner(name)) return std::make_unique<OmplPlanner>(name, settings);
   AStarOptions options = settings.astar;
-  if (name == "astar") {
+  if (name == "astar" || name == "astar-coarse") {
     options.cost = AStarCost::Paper;
+    if (name == "astar-coarse" && options.coarse_factor == 0) options.coarse_factor = 4;
   } else {
     options.cost = AStarCost::Euclidean;  // "astar-euclid"
   }

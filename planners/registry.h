@@ -28,7 +28,7 @@ struct PlannerSettings {
 };
 
 /// Names accepted by makePlanner, in a stable order: the grid A* ("astar",
-/// "astar-euclid") first, then the OMPL planners of ompl_planners.h ("rrtconnect",
+/// "astar-euclid", "astar-coarse") first, then the OMPL planners of ompl_planners.h ("rrtconnect",
 /// "rrtstar", "informed-rrtstar", "bitstar", "abitstar", "aitstar", "prmstar",
 /// "lazyprmstar", "fmtstar").
 std::vector<std::string> plannerNames();

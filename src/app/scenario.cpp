@@ -158,6 +158,7 @@ void parsePlanner(Section s, Config& c) {
   if (budget < 0)
     s.fail("max_expansions", "must be >= 0 (0 = unlimited), got " + std::to_string(budget));
   a.max_expansions = static_cast<std::size_t>(budget);
+  a.coarse_factor = s.integer("coarse_factor", a.coarse_factor);
   s.finish();
 }
 

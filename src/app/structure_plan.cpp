@@ -351,6 +351,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
 
   const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
   const coverage::ViewpointFree is_free = viewpointTest(grid, home, s.ground_z, result.clearance_m);
+  const auto t_prepare = SteadyClock::now();
   const coverage::PinholeIntrinsics intrinsics =
       structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera scoring_camera(
@@ -360,6 +361,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
                               result.clearance_m + 2.0 * grid.resolution());
   const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
   const auto t1 = SteadyClock::now();
+  summary.prepare_s = secondsSince(t_prepare);
   reportProgress(progress, "structure: choosing photos");
   const coverage::StructureViews views = selectStructureViews(
       s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
@@ -376,6 +378,8 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
     summary.surface_id = std::max(summary.surface_id, surface.id + 1);
   const coverage::FlightStrategy strategy = structureStrategy(
       views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
+  summary.order_s = secondsSince(t2);
+  const auto t_legs = SteadyClock::now();
   reportProgress(progress, "structure: " + std::to_string(strategy.stops.size()) +
                                " photos, legs between them");
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
@@ -389,7 +393,10 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
                      " m from the structure is clear of every measured point by " +
                      formatFixed(result.clearance_m, 2) + " m and reachable from outside";
   }
+  summary.legs_s = secondsSince(t_legs);
+  const auto t_score = SteadyClock::now();
   scoreFlown(mission, s, intrinsics, options, sight, config, summary);
+  summary.score_s = secondsSince(t_score);
   result.missions.push_back(std::move(mission));
   result.times.planning_s = secondsSince(t2);
 

@@ -169,7 +169,11 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
   meta["safety_clearance_m"] = e.safety_clearance_m;
   if (e.structure) {
     meta["structure"] = structureToJson(*e.structure);
+    meta["timings"]["prepare_s"] = e.structure->prepare_s;
     meta["timings"]["select_s"] = e.structure->select_s;
+    meta["timings"]["order_s"] = e.structure->order_s;
+    meta["timings"]["legs_s"] = e.structure->legs_s;
+    meta["timings"]["score_s"] = e.structure->score_s;
   }
   if (e.edits) {
     json volumes = json::array();

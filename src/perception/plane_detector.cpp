@@ -4,9 +4,8 @@
 #include <pcl/PointIndices.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-#include <pcl/sample_consensus/method_types.h>
-#include <pcl/sample_consensus/model_types.h>
-#include <pcl/segmentation/sac_segmentation.h>
+#include <pcl/sample_consensus/ransac.h>
+#include <pcl/sample_consensus/sac_model_plane.h>
 #include <pcl/surface/convex_hull.h>
 
 #include <Eigen/Eigenvalues>
@@ -453,18 +452,40 @@ void removeFromPool(std::vector<Index>& pool, const std::vector<Index>& drop) {
   pool = std::move(out);
 }
 
-/// pcl::SACSegmentation for planes (paper §II-D: threshold, iterations), with the
-/// least-squares refinement, serial (the result must not depend on scheduling).
-void configureSegmenter(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PclCloud::Ptr& cloud,
-                        const PlaneDetectionOptions& options) {
-  seg.setOptimizeCoefficients(true);
-  seg.setModelType(pcl::SACMODEL_PLANE);
-  seg.setMethodType(pcl::SAC_RANSAC);
-  seg.setDistanceThreshold(options.distance_threshold_m);
-  seg.setMaxIterations(options.max_iterations);
-  seg.setNumberOfThreads(-1);
-  seg.setInputCloud(cloud);
-}
+/// PCL's plane model whose hypothesis count (the inner loop of RANSAC) runs over
+/// the indexed points copied into contiguous arrays. PCL 1.13's generic count reads
+/// each point through the index and a dynamic-size Eigen dot product: about 10 ns a
+/// point on the development machine, against about 1 ns here (benchmarks/README.md,
+/// "Detection"); sampling, the adaptive iteration count, the least-squares refinement
+/// and the inlier selection stay PCL's. The count is the same test as PCL's:
+/// |n·p + d| < threshold, in float, the threshold compared in double.
+class ContiguousPlaneModel final : public pcl::SampleConsensusModelPlane<pcl::PointXYZ> {
+ public:
+  ContiguousPlaneModel(const PclCloud::ConstPtr& cloud, const pcl::Indices& indices)
+      : pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud, indices, false) {
+    x_.reserve(indices.size());
+    y_.reserve(indices.size());
+    z_.reserve(indices.size());
+    for (const auto i : indices) {
+      const pcl::PointXYZ& p = (*cloud)[static_cast<std::size_t>(i)];
+      x_.push_back(p.x);
+      y_.push_back(p.y);
+      z_.push_back(p.z);
+    }
+  }
+
+  std::size_t countWithinDistance(const Eigen::VectorXf& c, const double threshold) const override {
+    if (!isModelValid(c)) return 0;
+    const float a = c[0], b = c[1], e = c[2], d = c[3];
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < x_.size(); ++k)
+      n += static_cast<double>(std::abs(a * x_[k] + b * y_[k] + e * z_[k] + d)) < threshold ? 1 : 0;
+    return n;
+  }
+
+ private:
+  std::vector<float> x_, y_, z_;
+};
 
 /// The line-of-sight grid: for scanned clouds (tuning.sight_voxel_m), and for clouds
 /// with no known sensor position (openness, open_voxel_m); none when the viewpoint is
@@ -478,27 +499,39 @@ std::unique_ptr<OccupiedVoxels> lineOfSightVoxels(const PointList& cloud,
   return nullptr;
 }
 
-/// One RANSAC candidate (paper §II-D): the plane of pcl::SACSegmentation scored on
-/// a random subset of the pool (at most `scoring_points`; the inlier fraction of every
-/// plane is the same in expectation), refined by least squares, then every pool
-/// point within the threshold of it (world frame). Empty when RANSAC finds nothing.
-/// PCL reseeds its sampler with a constant on every segment() call; shuffling the
-/// pool with our seeded generator makes `seed` select the samples.
-std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, const PointList& cloud,
+/// One RANSAC candidate (paper §II-D: threshold, iterations): PCL's RANSAC plane
+/// (ContiguousPlaneModel, probability 0.99, serial: the result must not depend on
+/// scheduling) scored on a random subset of the pool (at most `scoring_points`; the
+/// inlier fraction of every plane is the same in expectation), refined by least
+/// squares as pcl::SACSegmentation does, then every pool point within the threshold
+/// of it (world frame). Empty when RANSAC finds nothing. PCL seeds its sampler with a
+/// constant for every model; shuffling the pool with our seeded generator makes `seed`
+/// select the samples.
+std::vector<Index> ransacCandidate(const PclCloud::ConstPtr& pcl_cloud, const PointList& cloud,
                                    const std::vector<Index>& pool, const Vec3& origin,
-                                   double threshold_m, std::size_t scoring_points,
-                                   std::mt19937& rng) {
-  auto shuffled = std::make_shared<pcl::Indices>(pool.begin(), pool.end());
-  std::shuffle(shuffled->begin(), shuffled->end(), rng);
-  if (shuffled->size() > scoring_points) shuffled->resize(scoring_points);
-  seg.setIndices(shuffled);
-  pcl::PointIndices ransac_inliers;
-  pcl::ModelCoefficients coefficients;
-  seg.segment(ransac_inliers, coefficients);
-  if (ransac_inliers.indices.size() < 3 || coefficients.values.size() != 4) return {};
+                                   const PlaneDetectionOptions& options, std::mt19937& rng) {
+  pcl::Indices shuffled(pool.begin(), pool.end());
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  if (shuffled.size() > options.tuning.ransac_scoring_points)
+    shuffled.resize(options.tuning.ransac_scoring_points);
+  const double threshold_m = options.distance_threshold_m;
+  const auto model = std::make_shared<ContiguousPlaneModel>(pcl_cloud, shuffled);
+  pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, threshold_m);
+  ransac.setMaxIterations(options.max_iterations);
+  ransac.setProbability(0.99);
+  ransac.setNumberOfThreads(-1);
+  pcl::Indices ransac_inliers;
+  Eigen::VectorXf coarse(4), refined(4);
+  if (!ransac.computeModel(0)) return {};
+  ransac.getInliers(ransac_inliers);
+  ransac.getModelCoefficients(coarse);
+  if (ransac_inliers.size() < 3 || coarse.size() != 4) return {};
+  model->optimizeModelCoefficients(ransac_inliers, coarse, refined);
+  model->selectWithinDistance(refined, threshold_m, ransac_inliers);
+  if (ransac_inliers.size() < 3) return {};
 
-  Vec3 n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
-  double d = coefficients.values[3];
+  Vec3 n(refined[0], refined[1], refined[2]);
+  double d = refined[3];
   const double norm = n.norm();
   std::vector<Index> candidate;
   if (norm > 0.0 && std::isfinite(norm)) {
@@ -510,7 +543,7 @@ std::vector<Index> ransacCandidate(pcl::SACSegmentation<pcl::PointXYZ>& seg, con
     }
   }
   if (candidate.size() < 3) {
-    candidate.assign(ransac_inliers.indices.begin(), ransac_inliers.indices.end());
+    candidate.assign(ransac_inliers.begin(), ransac_inliers.end());
     std::sort(candidate.begin(), candidate.end());
   }
   return candidate;
@@ -603,9 +636,6 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   const Vec3 origin = 0.5 * (box.min + box.max);  // PCL works in float near its origin
   const PclCloud::Ptr pcl_cloud = toPclCloud(cloud, origin);
 
-  pcl::SACSegmentation<pcl::PointXYZ> seg;
-  configureSegmenter(seg, pcl_cloud, options);
-
   std::mt19937 rng(options.seed);
   std::vector<Index> pool(cloud.size());
   std::iota(pool.begin(), pool.end(), Index{0});
@@ -618,8 +648,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
 
     const std::vector<Index> candidate =
-        ransacCandidate(seg, cloud, pool, origin, options.distance_threshold_m,
-                        options.tuning.ransac_scoring_points, rng);
+        ransacCandidate(pcl_cloud, cloud, pool, origin, options, rng);
     if (candidate.empty()) break;
     ++result.stats.candidates;
 

@@ -63,7 +63,8 @@ TEST(Scenario, MinimalScenarioGetsThePapersDefaults) {
   EXPECT_DOUBLE_EQ(s.config.coverage.camera.footprint_h_m, 0.4);
   EXPECT_DOUBLE_EQ(s.config.coverage.overlap_w, 0.2);
   EXPECT_DOUBLE_EQ(s.config.uav.inflationRadius(), 0.6);  // largest UAV dimension (paper)
-  EXPECT_EQ(s.config.planner, "astar");
+  // The paper's step cost and weights, searched coarse to fine (planners/astar.h).
+  EXPECT_EQ(s.config.planner, "astar-coarse");
   // The area cell is resolved from the cloud (app/config.h), not by the parser.
   EXPECT_FALSE(s.config.file_values.area_cell_m);
   EXPECT_TRUE(s.config.file_values.viewpoint);  // a scenario knows its sensor
@@ -184,7 +185,7 @@ TEST(Scenario, MissingFileIsNamed) {
 
 TEST(Config, EmptyConfigMeansDefaults) {
   const Config c = parseConfig("", "c.yaml");
-  EXPECT_EQ(c.planner, "astar");
+  EXPECT_EQ(c.planner, "astar-coarse");
   EXPECT_THROW(parseConfig("world: []\n", "c.yaml"), InputError);  // a config has no world
 }
 

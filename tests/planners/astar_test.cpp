@@ -199,6 +199,90 @@ TEST(AStar, EuclideanCostInFreeSpaceMatchesClosedForm) {
   }
 }
 
+/// A grid of nx × ny × nz with a wall of points across x = wall_x (every y, z) but a
+/// 5 × 5 square around (hole_y, hole_z) when hole_y ≥ 0, plus `extra` obstacles. The
+/// grid blocks √3 voxels around a point, so the opening is about 3 voxels wide.
+VoxelGrid walledGrid(int nx, int ny, int nz, int wall_x, int hole_y, int hole_z,
+                     std::vector<Index3> extra) {
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      if (hole_y < 0 || std::abs(y - hole_y) > 2 || std::abs(z - hole_z) > 2)
+        extra.push_back({wall_x, y, z});
+  return unitGrid(nx, ny, nz, extra);
+}
+
+TEST(AStar, CoarseToFineFindsAPathExactlyWhenTheWholeGridHasOne) {
+  // Against the exhaustive reference: found ⇔ a path exists; a valid path; its cost
+  // never below the optimum, equal to it in free space. Grids with random clutter,
+  // and walls whose only opening is narrower than a block (the levels fall back).
+  std::mt19937 rng(7);
+  int compared = 0, unreachable = 0, exact = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    std::vector<Index3> obstacles;
+    const int n_obs = 3 + static_cast<int>(rng() % 10);
+    for (int k = 0; k < n_obs; ++k)
+      obstacles.push_back({static_cast<int>(rng() % 16), static_cast<int>(rng() % 12),
+                           static_cast<int>(rng() % 8)});
+    // Odd trials: a wall at x = 8 (with an opening on trials 1 mod 4, none on 3 mod 4).
+    const VoxelGrid g = trial % 2 == 0 ? unitGrid(16, 12, 8, obstacles)
+                                       : walledGrid(16, 12, 8, 8, trial % 4 == 1 ? 5 : -1,
+                                                    trial % 4 == 1 ? 4 : -1, obstacles);
+    std::vector<Index3> free_cells;
+    for (int z = 0; z < 8; ++z)
+      for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 16; ++x)
+          if (g.isFree(Index3{x, y, z})) free_cells.push_back({x, y, z});
+    ASSERT_GE(free_cells.size(), 2u);
+    for (int pair = 0; pair < 3; ++pair) {
+      const Index3 s = free_cells[rng() % free_cells.size()];
+      const Index3 t = free_cells[rng() % free_cells.size()];
+      for (const int factor : {2, 4}) {
+        AStarOptions o;
+        o.coarse_factor = factor;
+        const double ref = referenceCost(g, s, t, o);
+        const GridSearchResult r = astarSearch(g, s, t, o);
+        if (std::isinf(ref)) {
+          EXPECT_FALSE(r.found);
+          ++unreachable;
+          continue;
+        }
+        ASSERT_TRUE(r.found) << "trial " << trial << " factor " << factor;
+        EXPECT_GE(r.cost, ref - 1e-9);
+        expectValidPath(g, r, s, t, o);
+        exact += std::abs(r.cost - ref) < 1e-9 ? 1 : 0;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 40);
+  EXPECT_GT(unreachable, 0);  // the closed walls
+  EXPECT_GT(exact, compared / 2);
+  // Free space: the corridor holds a monotone path, so the cost is the optimum.
+  const VoxelGrid open = unitGrid(20, 14, 9, {});
+  AStarOptions o;
+  o.coarse_factor = 4;
+  const GridSearchResult r = astarSearch(open, Index3{1, 2, 0}, Index3{18, 11, 8}, o);
+  ASSERT_TRUE(r.found);
+  EXPECT_DOUBLE_EQ(r.cost, referenceCost(open, Index3{1, 2, 0}, Index3{18, 11, 8}, o));
+}
+
+TEST(AStar, CoarseToFineThroughANarrowOpening) {
+  // The only way through the wall is an opening about 3 voxels wide, which no free
+  // block of 4 passes: a finer level or the whole grid finds the way.
+  const VoxelGrid g = walledGrid(16, 12, 8, 8, 5, 4, {});
+  const Index3 s{1, 1, 1}, t{14, 10, 6};
+  ASSERT_TRUE(g.isFree(s) && g.isFree(t));
+  AStarOptions o;
+  o.coarse_factor = 4;
+  const double ref = referenceCost(g, s, t, o);
+  ASSERT_FALSE(std::isinf(ref));
+  const GridSearchResult r = astarSearch(g, s, t, o);
+  ASSERT_TRUE(r.found);
+  expectValidPath(g, r, s, t, o);
+  EXPECT_GE(r.cost, ref - 1e-9);
+  EXPECT_LE(r.cost, 1.25 * ref);
+}
+
 TEST(AStar, WalledOffGoalHasNoPath) {
   // A closed shell of points on the surface of the cube [2, 6]^3 (voxel indices).
   std::vector<Index3> shell;
@@ -274,6 +358,10 @@ TEST(Registry, NamesAndUnknownName) {
   settings.astar.a3 = 2.0;
   EXPECT_EQ(makePlanner("astar", settings)->name(), "astar");
   EXPECT_EQ(makePlanner("astar-euclid", settings)->name(), "astar-euclid");
+  EXPECT_EQ(makePlanner("astar-coarse", settings)->name(), "astar-coarse");
+  settings.astar.coarse_factor = 1;
+  EXPECT_THROW(makePlanner("astar-coarse", settings), InputError);
+  settings.astar.coarse_factor = 0;
   try {
     makePlanner("rrt", settings);
     FAIL() << "expected InputError";

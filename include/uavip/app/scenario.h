@@ -74,7 +74,7 @@ struct Config {
   UavConfig uav;
   world::GridOptions grid;
   coverage::CoverageOptions coverage;
-  std::string planner{"astar"};
+  std::string planner{"astar-coarse"};
   planners::PlannerSettings planner_settings;
   planning::MissionOptions mission;
   /// The flight over all chosen surfaces: `mission.home` and section `flight:`
