@@ -11,7 +11,9 @@ namespace uavip::bench {
 namespace {
 
 /// Our planners: the paper's grid A* and its Euclidean variant.
-bool isOurs(const std::string& planner) { return planner == "astar" || planner == "astar-euclid" || planner == "astar-coarse"; }
+bool isOurs(const std::string& planner) {
+  return planner == "astar" || planner == "astar-euclid" || planner == "astar-coarse";
+}
 
 /// Per-leg median final length of each planner's solved runs.
 using LegMedians = std::map<std::string, std::map<int, double>>;
