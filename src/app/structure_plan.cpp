@@ -31,7 +31,9 @@ constexpr int kNormalNeighbours = 12;
 
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
 /// structure points; `ground` counts the others, `ground_z` gets the height of the
-/// highest ground surface found (none: unset).
+/// highest ground surface found (none: unset). coverage.ground_z_m, when given, alone
+/// says where the ground is (a plinth or a deck at the cloud's lowest level is then
+/// structure); otherwise the level surfaces at the lowest level are the ground.
 PointList structurePoints(const Scene& scene, const app::Config& config, std::size_t& ground,
                           std::optional<double>& ground_z) {
   const Aabb box = boundingBox(scene.cloud);
@@ -39,6 +41,7 @@ PointList structurePoints(const Scene& scene, const app::Config& config, std::si
   const double band = config.perception.planes.distance_threshold_m;
   std::vector<const Surface*> level;
   for (const auto& s : scene.surfaces) {
+    if (config.coverage.ground_z_m) break;
     if (s.plane.normal.z() >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
         s.area_m2 >= 0.25 * footprint) {
       level.push_back(&s);

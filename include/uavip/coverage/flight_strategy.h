@@ -39,8 +39,9 @@ struct CoverageOptions {
   /// selection over the whole structure (structure_views.h).
   std::string mode{"surfaces"};
   /// Structure mode: points below this height are ground, not structure, and no
-  /// photo is taken below it plus the UAV's clearance [m]; unset = the level
-  /// surfaces at the site's lowest level only.
+  /// photo is taken below it plus the UAV's clearance [m]; given, it alone decides
+  /// (level surfaces are not taken as ground); unset = the level surfaces at the
+  /// site's lowest level.
   std::optional<double> ground_z_m;
   /// Structure mode: share of the imageable structure points the photos must image, (0, 1].
   double structure_target{0.99};
