@@ -254,22 +254,24 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
       region.overlap(rectangle(a, b, 0.5 * fs.spacing_w_m, 0.5 * fs.spacing_h_m));
   if (!(cell_area > kOverlapTol)) goal = region.overlap(rectangle(a, b, half_w, half_h)).second;
   if (region.contains(goal) && region.depth(goal) >= inset) return goal;
-  std::optional<Vec2> best;
-  double best_d = kInf;
-  bool best_deep = false;
+  // The samples nearest to the goal first (ties in sampling order): the first deep
+  // sample on the region is the answer, else the nearest sample on it.
+  std::vector<std::pair<double, Vec2>> samples;
+  samples.reserve((kCentreSamples + 1) * (kCentreSamples + 1));
   for (int i = 0; i <= kCentreSamples; ++i) {
     for (int j = 0; j <= kCentreSamples; ++j) {
       const Vec2 q(a - half_w + 2.0 * half_w * i / kCentreSamples,
                    b - half_h + 2.0 * half_h * j / kCentreSamples);
-      if (!region.contains(q)) continue;
-      const bool deep = region.depth(q) >= inset;
-      const double d = (q - goal).squaredNorm();
-      if ((deep && !best_deep) || (deep == best_deep && d < best_d)) {
-        best = q;
-        best_d = d;
-        best_deep = deep;
-      }
+      samples.emplace_back((q - goal).squaredNorm(), q);
     }
+  }
+  std::stable_sort(samples.begin(), samples.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::optional<Vec2> best;
+  for (const auto& [d, q] : samples) {
+    if (!region.contains(q)) continue;
+    if (region.depth(q) >= inset) return q;
+    if (!best) best = q;
   }
   return best;
 }
