@@ -19,6 +19,10 @@ namespace {
 constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
 /// Most bricks of VoxelLineOfSight's empty-space bitmap (8 MB of bits).
 constexpr double kMaxBricks = 67108864.0;
+/// Occupied boxes of at most this many voxels also get a bit per voxel (32 MiB at
+/// most): a ray's step inside an occupied brick is then one load instead of a hash
+/// probe (the view selection is mostly such steps).
+constexpr double kMaxDenseVoxels = 268435456.0;
 /// Cells per axis of the evaluator's point grid are capped at this.
 constexpr double kMaxGridCells = 1.0e6;
 
@@ -346,6 +350,26 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
     const std::uint64_t b = brickIndex(i, j, k);
     brick_bits_[b >> 6] |= std::uint64_t{1} << (b & 63);
   }
+  if (brick_count(0) > kMaxDenseVoxels) return;
+  dense_bits_.assign(static_cast<std::size_t>(brick_count(0) / 64.0) + 1, 0);
+  for (const Vec3& p : occupied_points) {
+    const auto [i, j, k] = VoxelKeyer::latticeIndex(p, voxel_m);
+    const std::uint64_t d = denseIndex(i, j, k);
+    dense_bits_[d >> 6] |= std::uint64_t{1} << (d & 63);
+  }
+}
+
+std::uint64_t VoxelLineOfSight::denseIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  const std::int64_t nx = hi_[0] - lo_[0] + 1, ny = hi_[1] - lo_[1] + 1;
+  return static_cast<std::uint64_t>((i - lo_[0]) + nx * ((j - lo_[1]) + ny * (k - lo_[2])));
+}
+
+bool VoxelLineOfSight::occupiedInBox(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  if (!dense_bits_.empty()) {
+    const std::uint64_t d = denseIndex(i, j, k);
+    return (dense_bits_[d >> 6] >> (d & 63) & 1) != 0;
+  }
+  return tableHas(table_, mask_, packKey(i, j, k));
 }
 
 std::uint64_t VoxelLineOfSight::brickIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -361,7 +385,7 @@ bool VoxelLineOfSight::occupiedIndex(std::int64_t i, std::int64_t j, std::int64_
   }
   const std::uint64_t b = brickIndex(i, j, k);
   if ((brick_bits_[b >> 6] >> (b & 63) & 1) == 0) return false;
-  return tableHas(table_, mask_, packKey(i, j, k));
+  return occupiedInBox(i, j, k);
 }
 
 bool VoxelLineOfSight::occupied(const Vec3& p) const {
@@ -507,7 +531,7 @@ bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
       if (!leaveBrick(w, t1, lo_, hi_, brick_shift_)) return true;
       continue;
     }
-    if (tableHas(table_, mask_, packKey(w.idx[0], w.idx[1], w.idx[2]))) return false;
+    if (occupiedInBox(w.idx[0], w.idx[1], w.idx[2])) return false;
     if (!stepVoxel(w, t1, lo_, hi_)) return true;
   }
 }

@@ -217,6 +217,10 @@ class VoxelLineOfSight final : public LineOfSight {
   bool occupiedIndex(std::int64_t i, std::int64_t j, std::int64_t k) const;
   /// Linear index of the brick holding voxel (i, j, k), which must be in the box.
   std::uint64_t brickIndex(std::int64_t i, std::int64_t j, std::int64_t k) const;
+  /// Linear index of voxel (i, j, k) in the box (dense_bits_).
+  std::uint64_t denseIndex(std::int64_t i, std::int64_t j, std::int64_t k) const;
+  /// Voxel (i, j, k), in the box, is occupied: the dense bits, else the hash table.
+  bool occupiedInBox(std::int64_t i, std::int64_t j, std::int64_t k) const;
 
   double voxel_m_{0.0};
   double end_slack_m_{0.0};
@@ -230,6 +234,8 @@ class VoxelLineOfSight final : public LineOfSight {
   int brick_shift_{3};
   std::int64_t brick_dims_[3]{0, 0, 0};
   std::vector<std::uint64_t> brick_bits_;
+  /// A bit per voxel of the box when it holds at most 2^28 voxels, else empty.
+  std::vector<std::uint64_t> dense_bits_;
 };
 
 /// What counts as "imaged".
