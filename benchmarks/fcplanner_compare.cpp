@@ -161,6 +161,7 @@ std::vector<std::pair<std::string, double>> medianSplit(const std::vector<Run>& 
   std::vector<std::pair<std::string, double>> out = timeSplit(runs.front());
   for (std::size_t k = 0; k < out.size(); ++k) {
     std::vector<double> v;
+    v.reserve(runs.size());
     for (const Run& r : runs) v.push_back(timeSplit(r)[k].second);
     out[k].second = bench_util::median(v);
   }
@@ -267,6 +268,7 @@ void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs,
                 const std::string& home_note, const std::string& out, nlohmann::json& results,
                 std::ostringstream& md, std::ostringstream& split_md) {
   std::vector<double> times;
+  times.reserve(runs.size());
   for (const Run& r : runs) times.push_back(r.seconds);
   const double compute = bench_util::median(times);
   const Run& first = runs.front();

@@ -389,7 +389,7 @@ GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
   const CoarseGrid& coarse = coarseGrid(grid, factor);
   const world::Index3 s = coarse.blockOf(start), g = coarse.blockOf(goal);
   if (!blocksMayJoin(coarse, s, g)) return {};
-  const GridSearchResult blocks =
+  GridSearchResult blocks =
       searchSpace(CoarseSpace{coarse, coarse.linear(s), coarse.linear(g)}, s, g, options);
   if (!blocks.found) return blocks;
   std::vector<std::uint8_t> corridor(coarse.free.size(), 0);

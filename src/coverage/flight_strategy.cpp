@@ -257,7 +257,7 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
   // The samples nearest to the goal first (ties in sampling order): the first deep
   // sample on the region is the answer, else the nearest sample on it.
   std::vector<std::pair<double, Vec2>> samples;
-  samples.reserve((kCentreSamples + 1) * (kCentreSamples + 1));
+  samples.reserve(static_cast<std::size_t>(kCentreSamples + 1) * (kCentreSamples + 1));
   for (int i = 0; i <= kCentreSamples; ++i) {
     for (int j = 0; j <= kCentreSamples; ++j) {
       const Vec2 q(a - half_w + 2.0 * half_w * i / kCentreSamples,

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The planning world of the paper's stage 7 (§II-G): occupancy of the measured points
-/// (OctoMap OcTree at the grid resolution), copied into a dense voxel grid, then
+/// (each point's voxel) in a dense voxel grid, then
 /// every free voxel within the inflation sphere of an occupied one is marked
 /// blocked, so the UAV can be treated as a particle moving between voxel centres.
 ///
@@ -123,9 +123,7 @@ class VoxelGrid final : public FreeSpace {
   /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
   static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
                                const GridOptions& options);
-  /// Marks every voxel inside [a, b] (clipped to the grid) occupied.
-  void markRange(const Vec3& a, const Vec3& b);
-  /// Occupancy (paper §II-G): the cloud's OcTree leaves and every point's own voxel.
+  /// Occupancy (paper §II-G): every point's own voxel.
   void markOccupied(const PointList& cloud);
   /// Counts the occupied voxels; returns those with a free face neighbour (the
   /// inflation's seeds, z-major order).
