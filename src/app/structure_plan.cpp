@@ -182,11 +182,15 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
   const auto at = [&](int i) -> const Vec3& {
     return i < 0 ? start : positions[static_cast<std::size_t>(i)];
   };
-  const std::vector<int> order = planning::orderOpenPath(start, positions, [&](int a, int b) {
-    const PointList hop = planning::straightOrDetour(grid, at(a), at(b));
-    return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
-                       : polylineLength(hop);
-  });
+  // straightOrDetour only reads the grid: the pairs are costed on every core.
+  const std::vector<int> order = planning::orderOpenPath(
+      start, positions,
+      [&](int a, int b) {
+        const PointList hop = planning::straightOrDetour(grid, at(a), at(b));
+        return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
+                           : polylineLength(hop);
+      },
+      50, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   s.cols = static_cast<int>(order.size());
   s.rows = 1;
   for (std::size_t n = 0; n < order.size(); ++n) {

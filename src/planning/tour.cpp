@@ -1,3 +1,4 @@
+#include "uavip/core/parallel.h"
 #include "uavip/planning/tour.h"
 
 #include <algorithm>
@@ -637,17 +638,18 @@ bool orOptPass(const PathCost& c, std::vector<int>& o) {
 }  // namespace
 
 std::vector<int> orderOpenPath(const Vec3& start, const PointList& points, const PointCost& cost,
-                               int max_passes) {
+                               int max_passes, int threads) {
   const std::size_t n = points.size();
   std::vector<double> m((n + 1) * (n + 1), 0.0);
   const auto node = [&](std::size_t i) -> const Vec3& { return i == 0 ? start : points[i - 1]; };
-  for (std::size_t a = 0; a <= n; ++a) {
+  // Row a writes only m[a][b > a] and m[b][a]: no two rows write one slot.
+  parallelFor(n + 1, std::max(1, threads), [&](std::size_t a, std::size_t) {
     for (std::size_t b = a + 1; b <= n; ++b) {
       const double d = cost ? cost(static_cast<int>(a) - 1, static_cast<int>(b) - 1)
                             : (node(a) - node(b)).norm();
       m[a * (n + 1) + b] = m[b * (n + 1) + a] = d;
     }
-  }
+  });
   const PathCost c{m, n + 1};
   std::vector<int> order = nearestNeighbourOrder(c, static_cast<int>(n));
   for (int pass = 0; pass < max_passes; ++pass) {

@@ -120,10 +120,10 @@ namespace uavip::planning {
 /// nearest neighbour from start, then 2-opt (reverse a stretch) and Or-opt (move one
 /// point elsewhere) until no move shortens the path or `max_passes`. Costs:
 /// `cost(i, j)` for point indices, −1 = the start, taken as symmetric and asked once
-/// per pair (empty = straight-line lengths). Returns a permutation of
-/// 0..points.size()−1. Deterministic. O(n²) memory and per pass; meant for a few
-/// thousand photo stops.
+/// per pair (empty = straight-line lengths), on up to `threads` threads (then `cost`
+/// must be safe to call concurrently). Returns a permutation of 0..points.size()−1.
+/// Deterministic. O(n²) memory and per pass; meant for a few thousand photo stops.
 std::vector<int> orderOpenPath(const Vec3& start, const PointList& points,
-                               const PointCost& cost = {}, int max_passes = 50);
+                               const PointCost& cost = {}, int max_passes = 50, int threads = 1);
 
 }  // namespace uavip::planning
