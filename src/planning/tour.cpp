@@ -1,4 +1,3 @@
-#include "uavip/core/parallel.h"
 #include "uavip/planning/tour.h"
 
 #include <algorithm>
@@ -14,6 +13,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 
 namespace uavip::planning {
 

@@ -1,6 +1,5 @@
 #include "uavip/world/voxel_grid.h"
 
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
