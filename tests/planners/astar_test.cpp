@@ -110,6 +110,7 @@ TEST(AStar, OptimalAgainstExhaustiveSearchOnRandomGrids) {
   for (int trial = 0; trial < 12; ++trial) {
     std::vector<Index3> obstacles;
     const int n_obs = 2 + static_cast<int>(rng() % 3);
+    obstacles.reserve(static_cast<std::size_t>(n_obs));
     for (int k = 0; k < n_obs; ++k)
       obstacles.push_back(
           {static_cast<int>(rng() % 8), static_cast<int>(rng() % 8), static_cast<int>(rng() % 6)});
@@ -220,6 +221,7 @@ TEST(AStar, CoarseToFineFindsAPathExactlyWhenTheWholeGridHasOne) {
   for (int trial = 0; trial < 16; ++trial) {
     std::vector<Index3> obstacles;
     const int n_obs = 3 + static_cast<int>(rng() % 10);
+    obstacles.reserve(static_cast<std::size_t>(n_obs));
     for (int k = 0; k < n_obs; ++k)
       obstacles.push_back({static_cast<int>(rng() % 16), static_cast<int>(rng() % 12),
                            static_cast<int>(rng() % 8)});
