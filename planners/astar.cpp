@@ -401,8 +401,10 @@ GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
           if (coarse.inBounds(n)) corridor[coarse.linear(n)] = 1;
         }
   AStarOptions fine = options;
-  if (fine.max_expansions > 0)
-    fine.max_expansions -= std::min(fine.max_expansions, blocks.expansions);
+  if (fine.max_expansions > 0) {  // 0 would mean unlimited: a spent budget is spent
+    if (blocks.expansions >= fine.max_expansions) return {false, {}, 0.0, blocks.expansions, true};
+    fine.max_expansions -= blocks.expansions;
+  }
   GridSearchResult r = searchSpace(CorridorSpace{grid, coarse, corridor}, start, goal, fine);
   r.expansions += blocks.expansions;
   return r;

@@ -318,6 +318,16 @@ TEST(AStar, BudgetGivesTimeout) {
   AStarPlanner planner(o);
   EXPECT_EQ(planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(9.5, 9.5, 9.5)).status,
             planning::PathStatus::Timeout);
+  // Coarse to fine: the budget counts every level's expansions, and a budget the
+  // block search used up is not an unlimited one for the corridor.
+  AStarOptions coarse;
+  coarse.coarse_factor = 4;
+  coarse.max_expansions = 2;
+  const GridSearchResult rc = astarSearch(g, Index3{0, 0, 0}, Index3{9, 9, 9}, coarse);
+  EXPECT_FALSE(rc.found);
+  EXPECT_TRUE(rc.exhausted_budget);
+  coarse.max_expansions = 0;
+  EXPECT_TRUE(astarSearch(g, Index3{0, 0, 0}, Index3{9, 9, 9}, coarse).found);
 }
 
 TEST(AStar, PlannerEndsAndInvalidEnds) {

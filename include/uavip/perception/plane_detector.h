@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Stage 4 (paper §II-D): surfaces and their boundaries. Planes are extracted one
-/// after another by RANSAC (PCL SACSegmentation, SACMODEL_PLANE), refined on their
+/// after another by RANSAC (PCL RandomSampleConsensus on its plane model, whose
+/// hypothesis count runs over contiguous arrays; issue 31), refined on their
 /// inliers; isolated groups are trimmed by keeping the largest Euclidean cluster of
 /// the inliers; small planes (area < min_area_m2) go back to the object points;
 /// the boundary is the outline of the cells the projected inliers occupy, holes
