@@ -353,11 +353,14 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
   if (o.target) return;
   for (const double t : kTargetLadder) {
     std::vector<Run> one = runAt(p, d, t, 1, home_note, config);
-    if (ruleA(p, d, one.front()) < p.fc_coverage && t != kTargetLadder.back()) continue;
-    std::cerr << "fcplanner_compare: " << p.name << " matched at target " << t << "\n";
+    const bool matched = ruleA(p, d, one.front()) >= p.fc_coverage;
+    if (!matched && t != kTargetLadder.back()) continue;
+    std::cerr << "fcplanner_compare: " << p.name << (matched ? " matched" : " not matched even")
+              << " at target " << t << "\n";
     const std::vector<Run> more = runAt(p, d, t, o.runs - 1, home_note, config);
     one.insert(one.end(), more.begin(), more.end());
-    reportRuns(p, d, one, config, t, "matched", home_note, o.out, results, md, split_md);
+    reportRuns(p, d, one, config, t, matched ? "matched" : "unmatched", home_note, o.out, results,
+               md, split_md);
     return;
   }
 }

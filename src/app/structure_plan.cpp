@@ -40,8 +40,8 @@ PointList structurePoints(const Scene& scene, const app::Config& config, std::si
   const double footprint = (box.max.x() - box.min.x()) * (box.max.y() - box.min.y());
   const double band = config.perception.planes.distance_threshold_m;
   std::vector<const Surface*> level;
-  for (const auto& s : scene.surfaces) {
-    if (config.coverage.ground_z_m) break;
+  const std::vector<Surface> none;
+  for (const auto& s : config.coverage.ground_z_m ? none : scene.surfaces) {
     if (s.plane.normal.z() >= 0.95 && s.centroid.z() <= box.min.z() + std::max(1.0, 2.0 * band) &&
         s.area_m2 >= 0.25 * footprint) {
       level.push_back(&s);
