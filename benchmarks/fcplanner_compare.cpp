@@ -158,11 +158,14 @@ std::vector<std::pair<std::string, double>> timeSplit(const Run& r) {
 
 /// Per stage, the median over the runs [s].
 std::vector<std::pair<std::string, double>> medianSplit(const std::vector<Run>& runs) {
-  std::vector<std::pair<std::string, double>> out = timeSplit(runs.front());
+  std::vector<std::vector<std::pair<std::string, double>>> splits;
+  splits.reserve(runs.size());
+  for (const Run& r : runs) splits.push_back(timeSplit(r));
+  std::vector<std::pair<std::string, double>> out = splits.front();
   for (std::size_t k = 0; k < out.size(); ++k) {
     std::vector<double> v;
-    v.reserve(runs.size());
-    for (const Run& r : runs) v.push_back(timeSplit(r)[k].second);
+    v.reserve(splits.size());
+    for (const auto& split : splits) v.push_back(split[k].second);
     out[k].second = bench_util::median(v);
   }
   return out;
@@ -365,36 +368,58 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
   }
 }
 
+/// A numeric command-line value; InputError naming the option otherwise.
+double numberArg(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v))
+    throw InputError(option + ": '" + text + "' is not a number");
+  return v;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bench_util::prepareProcess();
   CompareOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if ((a == "-o" || a == "--out") && i + 1 < argc) {
-      o.out = argv[++i];
-    } else if (a == "--target" && i + 1 < argc) {
-      o.target = std::stod(argv[++i]);
-    } else if (a == "--scene" && i + 1 < argc) {
-      o.scenes.emplace_back(argv[++i]);
-    } else if (a == "--runs" && i + 1 < argc) {
-      o.runs = std::max(1, std::stoi(argv[++i]));
-    } else if (a == "-h" || a == "--help") {
-      std::cout
-          << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T] [--scene NAME]... "
-             "[--runs N]\n"
-             "  without --target: the default coverage.structure_target, and the smallest "
-             "of 0.90 … 0.99 whose rule (a) reaches FC-Planner's\n"
-             "  --target T: that coverage.structure_target only\n"
-             "  --scene NAME: MBS, christ or pipe (default: all three)\n"
-             "  --runs N: runs of the chain per target, the median is reported (default 3)\n"
-             "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
-             "../shared/data/real)\n";
-      return 0;
-    } else {
-      o.data = a;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if ((a == "-o" || a == "--out") && i + 1 < argc) {
+        o.out = argv[++i];
+      } else if (a == "--target" && i + 1 < argc) {
+        o.target = numberArg(argv[++i], "--target");
+      } else if (a == "--scene" && i + 1 < argc) {
+        o.scenes.emplace_back(argv[++i]);
+      } else if (a == "--runs" && i + 1 < argc) {
+        o.runs = std::max(1, static_cast<int>(numberArg(argv[++i], "--runs")));
+      } else if (a == "-h" || a == "--help") {
+        std::cout
+            << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T] [--scene NAME]... "
+               "[--runs N]\n"
+               "  without --target: the default coverage.structure_target, and the smallest "
+               "of 0.90 … 0.99 whose rule (a) reaches FC-Planner's\n"
+               "  --target T: that coverage.structure_target only\n"
+               "  --scene NAME: MBS, christ or pipe (default: all three)\n"
+               "  --runs N: runs of the chain per target, the median is reported (default 3)\n"
+               "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
+               "../shared/data/real)\n";
+        return 0;
+      } else {
+        o.data = a;
+      }
     }
+    for (const auto& name : o.scenes)
+      if (std::none_of(kPeers.begin(), kPeers.end(), [&](const Peer& p) { return p.name == name; }))
+        throw InputError("--scene: '" + name + "' is not one of MBS, christ, pipe");
+  } catch (const InputError& e) {
+    std::cerr << "uavip_fcplanner_compare: " << e.what() << "\n";
+    return 2;
   }
   if (o.out.empty()) {
     std::cerr << "uavip_fcplanner_compare: give -o OUT (the output directory)\n";

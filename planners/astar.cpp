@@ -368,6 +368,15 @@ GridSearchResult searchSpace(const Space& space, const world::Index3& start,
   return search(hash, space, start, goal, options);
 }
 
+/// Takes `spent` expansions off o's budget; false when nothing is left (a budget of 0
+/// means unlimited, so a spent budget must not become 0).
+bool spendBudget(AStarOptions& o, std::size_t spent) {
+  if (o.max_expansions == 0) return true;
+  if (spent >= o.max_expansions) return false;
+  o.max_expansions -= spent;
+  return true;
+}
+
 /// The blocks of `grid` at `factor`, built once per grid content, factor and thread.
 const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor) {
   thread_local std::vector<CoarseGrid> cache;
@@ -401,10 +410,7 @@ GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
           if (coarse.inBounds(n)) corridor[coarse.linear(n)] = 1;
         }
   AStarOptions fine = options;
-  if (fine.max_expansions > 0) {  // 0 would mean unlimited: a spent budget is spent
-    if (blocks.expansions >= fine.max_expansions) return {false, {}, 0.0, blocks.expansions, true};
-    fine.max_expansions -= blocks.expansions;
-  }
+  if (!spendBudget(fine, blocks.expansions)) return {false, {}, 0.0, blocks.expansions, true};
   GridSearchResult r = searchSpace(CorridorSpace{grid, coarse, corridor}, start, goal, fine);
   r.expansions += blocks.expansions;
   return r;
@@ -419,20 +425,14 @@ GridSearchResult coarseToFine(const world::VoxelGrid& grid, const world::Index3&
   std::size_t spent = 0;
   for (int factor = options.coarse_factor; factor >= 2; factor /= 2) {
     AStarOptions level = options;
-    if (level.max_expansions > 0) {
-      if (spent >= level.max_expansions) return {false, {}, 0.0, spent, true};
-      level.max_expansions -= spent;
-    }
+    if (!spendBudget(level, spent)) return {false, {}, 0.0, spent, true};
     GridSearchResult r = corridorSearch(grid, factor, start, goal, level);
     r.expansions += spent;
     if (r.found || r.exhausted_budget) return r;
     spent = r.expansions;
   }
   AStarOptions whole = options;
-  if (whole.max_expansions > 0) {
-    if (spent >= whole.max_expansions) return {false, {}, 0.0, spent, true};
-    whole.max_expansions -= spent;
-  }
+  if (!spendBudget(whole, spent)) return {false, {}, 0.0, spent, true};
   GridSearchResult r = searchSpace(FineSpace{grid}, start, goal, whole);
   r.expansions += spent;
   return r;

@@ -70,6 +70,16 @@ double referenceCost(const VoxelGrid& g, const Index3& s, const Index3& t, const
   return d[g.linear(t)];
 }
 
+/// Every free voxel of g, in z, y, x order.
+std::vector<Index3> freeCells(const VoxelGrid& g) {
+  std::vector<Index3> cells;
+  for (int z = 0; z < g.dims()[2]; ++z)
+    for (int y = 0; y < g.dims()[1]; ++y)
+      for (int x = 0; x < g.dims()[0]; ++x)
+        if (g.isFree(Index3{x, y, z})) cells.push_back({x, y, z});
+  return cells;
+}
+
 void expectValidPath(const VoxelGrid& g, const GridSearchResult& r, const Index3& s,
                      const Index3& t, const AStarOptions& o) {
   ASSERT_FALSE(r.cells.empty());
@@ -115,11 +125,7 @@ TEST(AStar, OptimalAgainstExhaustiveSearchOnRandomGrids) {
       obstacles.push_back(
           {static_cast<int>(rng() % 8), static_cast<int>(rng() % 8), static_cast<int>(rng() % 6)});
     const VoxelGrid g = unitGrid(8, 8, 6, obstacles);
-    std::vector<Index3> free_cells;
-    for (int z = 0; z < 6; ++z)
-      for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x)
-          if (g.isFree(Index3{x, y, z})) free_cells.push_back({x, y, z});
+    const std::vector<Index3> free_cells = freeCells(g);
     ASSERT_GE(free_cells.size(), 2u);
     for (int pair = 0; pair < 3; ++pair) {
       const Index3 s = free_cells[rng() % free_cells.size()];
@@ -229,11 +235,7 @@ TEST(AStar, CoarseToFineFindsAPathExactlyWhenTheWholeGridHasOne) {
     const VoxelGrid g = trial % 2 == 0 ? unitGrid(16, 12, 8, obstacles)
                                        : walledGrid(16, 12, 8, 8, trial % 4 == 1 ? 5 : -1,
                                                     trial % 4 == 1 ? 4 : -1, obstacles);
-    std::vector<Index3> free_cells;
-    for (int z = 0; z < 8; ++z)
-      for (int y = 0; y < 12; ++y)
-        for (int x = 0; x < 16; ++x)
-          if (g.isFree(Index3{x, y, z})) free_cells.push_back({x, y, z});
+    const std::vector<Index3> free_cells = freeCells(g);
     ASSERT_GE(free_cells.size(), 2u);
     for (int pair = 0; pair < 3; ++pair) {
       const Index3 s = free_cells[rng() % free_cells.size()];
