@@ -18,33 +18,46 @@ std::size_t digit(std::uint64_t key, int pass) {
   return static_cast<std::size_t>((key >> (pass * kDigitBits)) & (kBuckets - 1));
 }
 
-}  // namespace
+/// The key of an element: a KeyedIndex's first, or the key itself.
+std::uint64_t keyOf(const KeyedIndex& k) { return k.first; }
+std::uint64_t keyOf(std::uint64_t k) { return k; }
 
-void sortByKey(std::vector<KeyedIndex>& keyed) {
+/// LSD radix sort by keyOf (stable), small inputs by std::stable_sort.
+template <typename T>
+void radixSort(std::vector<T>& keyed) {
   if (keyed.size() < kSmall) {
     std::stable_sort(keyed.begin(), keyed.end(),
-                     [](const KeyedIndex& a, const KeyedIndex& b) { return a.first < b.first; });
+                     [](const T& a, const T& b) { return keyOf(a) < keyOf(b); });
     return;
   }
   // All histograms in one read; a pass whose digit is shared by every key is a no-op.
   std::vector<std::array<std::size_t, kBuckets>> counts(kPasses);
   for (auto& c : counts) c.fill(0);
   for (const auto& k : keyed) {
-    for (int p = 0; p < kPasses; ++p) ++counts[static_cast<std::size_t>(p)][digit(k.first, p)];
+    for (int p = 0; p < kPasses; ++p) ++counts[static_cast<std::size_t>(p)][digit(keyOf(k), p)];
   }
-  std::vector<KeyedIndex> buffer(keyed.size());
+  std::vector<T> buffer(keyed.size());
   for (int p = 0; p < kPasses; ++p) {
     auto& count = counts[static_cast<std::size_t>(p)];
-    if (count[digit(keyed.front().first, p)] == keyed.size()) continue;
+    if (count[digit(keyOf(keyed.front()), p)] == keyed.size()) continue;
     std::size_t offset = 0;
     for (auto& c : count) {
       const std::size_t n = c;
       c = offset;
       offset += n;
     }
-    for (const auto& k : keyed) buffer[count[digit(k.first, p)]++] = k;
+    for (const auto& k : keyed) buffer[count[digit(keyOf(k), p)]++] = k;
     keyed.swap(buffer);
   }
+}
+
+}  // namespace
+
+void sortByKey(std::vector<KeyedIndex>& keyed) { radixSort(keyed); }
+
+void sortUniqueKeys(std::vector<std::uint64_t>& keys) {
+  radixSort(keys);
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
 }  // namespace uavip

@@ -168,8 +168,7 @@ std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer
   std::vector<std::uint64_t> keys;
   keys.reserve(cloud.size());
   for (const auto& p : cloud) keys.push_back(keyer.key(p));
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  sortUniqueKeys(keys);
   return keys;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/key_sort.h"
 #include "uavip/core/math.h"
 #include "uavip/core/voxel_key.h"
 
@@ -487,8 +488,7 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
                      spacing, keyer, region, keys);
     }
   }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  sortUniqueKeys(keys);
   // Voxels the measured points already fill add nothing.
   std::vector<std::uint64_t> measured;
   measured.reserve(occupied.size());
@@ -498,10 +498,14 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
       measured.push_back(keyer.key(q));
     }
   }
-  std::sort(measured.begin(), measured.end());
+  sortUniqueKeys(measured);
   PointList out;
+  out.reserve(keys.size());
+  // Both ascending: one merge-like walk.
+  auto m = measured.begin();
   for (const auto k : keys) {
-    if (!std::binary_search(measured.begin(), measured.end(), k)) out.push_back(keyer.centre(k));
+    while (m != measured.end() && *m < k) ++m;
+    if (m == measured.end() || *m != k) out.push_back(keyer.centre(k));
   }
   return out;
 }

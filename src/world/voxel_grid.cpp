@@ -193,14 +193,43 @@ std::vector<Index3> VoxelGrid::occupiedSeeds() {
 }
 
 void VoxelGrid::inflate() {
-  const std::vector<Index3> offsets = sphereOffsets(effectiveInflation() / options_.resolution_m);
-  for (const auto& s : occupiedSeeds()) {
-    for (const auto& o : offsets) {
-      const Index3 t{s.x + o.x, s.y + o.y, s.z + o.z};
-      if (!inBounds(t)) continue;
-      auto& v = blocked_[linear(t)];
-      if (v == kFree) v = kInflated;
+  // The sphere as x-runs: for each (dy, dz) of the disc, the half-width w of its row.
+  struct RowOffset {
+    int dy, dz, w;
+  };
+  std::vector<RowOffset> rows;
+  for (const auto& o : sphereOffsets(effectiveInflation() / options_.resolution_m)) {
+    if (rows.empty() || rows.back().dy != o.y || rows.back().dz != o.z) {
+      rows.push_back({o.y, o.z, -o.x});  // offsets run dx ascending: the first is −w
     }
+  }
+  const std::vector<Index3> seeds = occupiedSeeds();  // z, then y, then x ascending
+  const int nx = dims_[0];
+  std::uint8_t* const cells = blocked_.data();
+  // Seeds of one (y, z) row stamp each target row with the union of their runs
+  // [x − w, x + w]: overlapping runs are merged before they are written.
+  for (std::size_t b = 0; b < seeds.size();) {
+    std::size_t e = b;
+    while (e < seeds.size() && seeds[e].y == seeds[b].y && seeds[e].z == seeds[b].z) ++e;
+    for (const auto& r : rows) {
+      const Index3 row{0, seeds[b].y + r.dy, seeds[b].z + r.dz};
+      if (!inBounds(row)) continue;
+      std::uint8_t* const line = cells + linear(row);
+      const auto fill = [&](int x0, int x1) {
+        for (int x = std::max(0, x0); x <= std::min(nx - 1, x1); ++x)
+          line[x] = line[x] == kFree ? kInflated : line[x];
+      };
+      int x0 = seeds[b].x - r.w, x1 = seeds[b].x + r.w;
+      for (std::size_t k = b + 1; k < e; ++k) {
+        if (seeds[k].x - r.w > x1 + 1) {
+          fill(x0, x1);
+          x0 = seeds[k].x - r.w;
+        }
+        x1 = seeds[k].x + r.w;
+      }
+      fill(x0, x1);
+    }
+    b = e;
   }
 }
 

@@ -69,6 +69,48 @@ TEST(VoxelGrid, InflationMatchesBruteForceDistances) {
   }
 }
 
+// Dense input (a solid slab, a wall along x with gaps, rows of points that touch):
+// the inflated set equals, voxel for voxel, the brute-force union of the discrete
+// spheres around every occupied voxel (the grid stamps runs of merged rows and skips
+// interior voxels; neither may change a voxel).
+TEST(VoxelGrid, InflationOfDenseRowsEqualsTheUnionOfSpheres) {
+  PointList cloud;
+  for (double x = 0.05; x < 1.2; x += 0.1)
+    for (double y = 0.05; y < 0.6; y += 0.1)
+      for (double z = 0.05; z < 0.4; z += 0.1) cloud.emplace_back(x, y, z);  // solid slab
+  for (double x = 0.05; x < 3.0; x += 0.1)
+    for (double z = 0.05; z < 1.0; z += 0.1)
+      if (std::fmod(x, 0.7) > 0.25) cloud.emplace_back(x, 1.55, z);  // wall with gaps
+  const PointList noise = randomCloud(40, 3.0, 7);
+  cloud.insert(cloud.end(), noise.begin(), noise.end());
+  GridOptions o;
+  o.resolution_m = 0.1;
+  o.inflation_radius_m = 0.25;
+  o.padding_m = 0.5;
+  const VoxelGrid g = VoxelGrid::build(cloud, {}, o);
+  std::vector<Index3> occupied;
+  forEachVoxel(g, [&](const Index3& i) {
+    if (g.isOccupied(i)) occupied.push_back(i);
+  });
+  ASSERT_GT(occupied.size(), 400u);
+  const double r = g.effectiveInflation() / o.resolution_m;
+  const double r2 = r * r * (1.0 + 1e-12) + 1e-9;  // the grid's sphere test
+  std::size_t blocked = 0;
+  forEachVoxel(g, [&](const Index3& i) {
+    bool near = false;
+    for (const auto& q : occupied) {
+      const double dx = i.x - q.x, dy = i.y - q.y, dz = i.z - q.z;
+      if (dx * dx + dy * dy + dz * dz <= r2) {
+        near = true;
+        break;
+      }
+    }
+    EXPECT_EQ(g.isBlocked(i), near) << "voxel " << i.x << "," << i.y << "," << i.z;
+    blocked += near;
+  });
+  EXPECT_EQ(blocked, g.blockedCount());
+}
+
 TEST(VoxelGrid, OccupiedExactlyWhereMeasuredPointsLie) {
   // A solid block (OctoMap prunes it into bigger leaves) plus scattered points.
   PointList cloud;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Sorting (64-bit key, 32-bit index) pairs, the step every voxel down-sampler and
+/// Sorting (64-bit key, 32-bit index) pairs and plain keys, the step every voxel down-sampler and
 /// cell hasher spends most of its time in.
 
 #include <cstdint>
@@ -18,5 +18,9 @@ using KeyedIndex = std::pair<std::uint64_t, std::uint32_t>;
 /// 16 bits per pass, passes whose digit is the same for every key skipped: about
 /// 5× faster than std::sort on 10⁶ pairs. Memory: a second buffer of the same size.
 void sortByKey(std::vector<KeyedIndex>& keyed);
+
+/// Sorts keys ascending and drops repeats; the same radix sort (equal to std::sort
+/// then std::unique).
+void sortUniqueKeys(std::vector<std::uint64_t>& keys);
 
 }  // namespace uavip
