@@ -155,10 +155,12 @@ struct FineSpace {
 };
 
 /// Blocks of k×k×k voxels; a block is free when all of its voxels are free (and in
-/// the grid); `label` numbers the 26-connected regions of free blocks (0: not free).
+/// the grid), or, for an `optimistic` grid, when any of them is; `label` numbers the
+/// 26-connected regions of free blocks (0: not free).
 struct CoarseGrid {
   std::uint64_t content_id{0};
   int factor{0};
+  bool optimistic{false};
   std::array<int, 3> dims{0, 0, 0};
   std::vector<std::uint8_t> free;
   std::vector<std::int32_t> label;
@@ -229,18 +231,20 @@ bool blocksMayJoin(const CoarseGrid& c, const world::Index3& s, const world::Ind
 }
 
 /// The blocks of `grid` (one pass over its voxels).
-void buildCoarse(CoarseGrid& c, const world::VoxelGrid& grid, int factor) {
+void buildCoarse(CoarseGrid& c, const world::VoxelGrid& grid, int factor, bool optimistic) {
   const auto& d = grid.dims();
   c.content_id = grid.contentId();
   c.factor = factor;
+  c.optimistic = optimistic;
   for (int a = 0; a < 3; ++a) c.dims[a] = (d[a] + factor - 1) / factor;
   c.free.assign(static_cast<std::size_t>(c.dims[0]) * static_cast<std::size_t>(c.dims[1]) *
                     static_cast<std::size_t>(c.dims[2]),
-                1);
+                optimistic ? 0 : 1);
   for (int z = 0; z < c.dims[2] * factor; ++z)
     for (int y = 0; y < c.dims[1] * factor; ++y)
       for (int x = 0; x < c.dims[0] * factor; ++x)
-        if (grid.isBlocked({x, y, z})) c.free[c.linear({x / factor, y / factor, z / factor})] = 0;
+        if (grid.isBlocked({x, y, z}) != optimistic)
+          c.free[c.linear({x / factor, y / factor, z / factor})] = optimistic ? 1 : 0;
   labelRegions(c);
 }
 
@@ -377,25 +381,27 @@ bool spendBudget(AStarOptions& o, std::size_t spent) {
   return true;
 }
 
-/// The blocks of `grid` at `factor`, built once per grid content, factor and thread.
-const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor) {
+/// The blocks of `grid` at `factor`, built once per grid content, factor, kind and
+/// thread.
+const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor, bool optimistic) {
   thread_local std::vector<CoarseGrid> cache;
   for (CoarseGrid& c : cache)
-    if (c.factor == factor) {
-      if (c.content_id != grid.contentId() || c.free.empty()) buildCoarse(c, grid, factor);
+    if (c.factor == factor && c.optimistic == optimistic) {
+      if (c.content_id != grid.contentId() || c.free.empty())
+        buildCoarse(c, grid, factor, optimistic);
       return c;
     }
   cache.emplace_back();
-  buildCoarse(cache.back(), grid, factor);
+  buildCoarse(cache.back(), grid, factor, optimistic);
   return cache.back();
 }
 
 /// One level of coarse to fine: the block path at `factor`, then the fine search in
 /// its corridor. found = false (expansions counted) when either finds nothing.
-GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
+GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor, bool optimistic,
                                 const world::Index3& start, const world::Index3& goal,
                                 const AStarOptions& options) {
-  const CoarseGrid& coarse = coarseGrid(grid, factor);
+  const CoarseGrid& coarse = coarseGrid(grid, factor, optimistic);
   const world::Index3 s = coarse.blockOf(start), g = coarse.blockOf(goal);
   if (!blocksMayJoin(coarse, s, g)) return {};
   GridSearchResult blocks =
@@ -418,15 +424,23 @@ GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor,
 
 /// Coarse to fine (astar.h): blocks of coarse_factor, then of half as many voxels
 /// and so on down to 2 (a passage too narrow for one level may fit the next), then
-/// the whole grid.
+/// the same factors again with blocks that count as free when any of their voxels is
+/// (a passage one voxel wide; such a block path may hold no fine path, and the
+/// corridor search then fails), then the whole grid.
 GridSearchResult coarseToFine(const world::VoxelGrid& grid, const world::Index3& start,
                               const world::Index3& goal, const AStarOptions& options) {
-  if (grid.isBlocked(start) || grid.isBlocked(goal)) return {};
+  // The 26 moves join exactly the grid's 26-connected components.
+  if (grid.isBlocked(start) || grid.isBlocked(goal) || !grid.connected(start, goal)) return {};
   std::size_t spent = 0;
-  for (int factor = options.coarse_factor; factor >= 2; factor /= 2) {
+  std::vector<std::pair<int, bool>> levels;
+  for (int factor = options.coarse_factor; factor >= 2; factor /= 2)
+    levels.push_back({factor, false});
+  for (int factor = options.coarse_factor; factor >= 2; factor /= 2)
+    levels.push_back({factor, true});
+  for (const auto& [factor, optimistic] : levels) {
     AStarOptions level = options;
     if (!spendBudget(level, spent)) return {false, {}, 0.0, spent, true};
-    GridSearchResult r = corridorSearch(grid, factor, start, goal, level);
+    GridSearchResult r = corridorSearch(grid, factor, optimistic, start, goal, level);
     r.expansions += spent;
     if (r.found || r.exhausted_budget) return r;
     spent = r.expansions;

@@ -13,8 +13,11 @@
 /// blocks of the coarse path and their 26 neighbours. A leg then costs what its
 /// corridor holds, not what the grid holds; the path is the cheapest within the
 /// corridor (not always the cheapest overall). When the blocks hold no path (only
-/// passages narrower than a block) or the corridor holds no fine path, the whole grid
-/// is searched, so a path exists exactly when the paper's A* finds one.
+/// passages narrower than a block) or the corridor holds no fine path, blocks of k/2,
+/// … 2 are tried, then the same factors with a block free when any of its voxels is
+/// (a passage one voxel wide), then the whole grid, so a path exists exactly when the
+/// paper's A* finds one. Ends in different 26-connected components of the grid
+/// (VoxelGrid::connected) have no path and cost no search.
 
 #include <cstddef>
 #include <string>

@@ -290,7 +290,9 @@ coverage::StructureViewOptions viewOptions(const app::Config& config,
                                            const coverage::PinholeIntrinsics& k, double standoff) {
   coverage::StructureViewOptions options;
   options.standoff_m = standoff;
-  options.distance_factors = {1.0, config.mission.max_standoff_factor};
+  options.distance_factors = {1.0};
+  if (config.mission.max_standoff_factor > 1.0)
+    options.distance_factors.push_back(config.mission.max_standoff_factor);
   options.tilts_deg = {20.0, 45.0};
   // Seeds closer than half the photo's smaller side: a narrow camera leaves no gaps.
   options.seed_spacing_m = std::min(

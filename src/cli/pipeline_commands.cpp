@@ -113,8 +113,8 @@ void printPlanSummary(const app::PlanResult& p) {
     const planning::StructureSummary& st = *p.structure;
     std::cout << "structure: " << st.points << " points (" << st.ground_points
               << " ground left out), " << st.free_candidates << " of " << st.candidates
-              << " candidate views free, " << st.photos << " photos at "
-              << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
+              << " candidate views kept (free, nearest per direction), " << st.photos
+              << " photos at " << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
               << formatFixed(100.0 * st.rule_a, 1) << " %, rule (b) "
               << formatFixed(100.0 * st.rule_b, 1) << " %\n";
   }

@@ -14,10 +14,12 @@ namespace uavip::coverage {
 
 namespace {
 
-/// A candidate pose and the seed it looks at.
+/// A candidate pose, the seed it looks at, and its direction: the candidates of one
+/// seed and direction (one per distance factor, nearest first) share `direction`.
 struct Candidate {
   ViewPose pose;
   Vec3 target;
+  std::size_t direction{0};
 };
 
 /// Viewing directions at a seed with normal n: n (and −n when two-sided), each also
@@ -56,6 +58,7 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
   std::sort(keyed.begin(), keyed.end());
   std::vector<Candidate> out;
   seeds = 0;
+  std::size_t directions = 0;
   for (std::size_t b = 0; b < keyed.size();) {
     std::size_t e = b;
     Vec3 sum = Vec3::Zero();
@@ -71,11 +74,12 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
     ++seeds;
     const Vec3& p = points[best];
     const bool both = !two_sided.empty() && two_sided[best] != 0;
-    for (const double factor : o.distance_factors) {
-      for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
+    for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
+      for (const double factor : o.distance_factors) {
         const Vec3 c = p + factor * o.standoff_m * dir;
-        out.push_back({lookAt(c, p), p});
+        out.push_back({lookAt(c, p), p, directions});
       }
+      ++directions;
     }
     b = e;
   }
@@ -140,9 +144,14 @@ void StructureViewOptions::validate(const std::string& where) const {
               standoff_m);
   require(!distance_factors.empty(), where,
           "distance_factors: give at least one (1 = the standoff)");
-  for (const double f : distance_factors)
+  for (std::size_t i = 0; i < distance_factors.size(); ++i) {
+    const double f = distance_factors[i];
     requireThat(std::isfinite(f) && f >= 1.0 && f <= 3.0, where, "distance_factors", "in [1, 3]",
                 f);
+    if (i > 0)
+      requireThat(f > distance_factors[i - 1], where, "distance_factors",
+                  "ascending (nearest first)", f);
+  }
   for (const double t : tilts_deg)
     requireThat(std::isfinite(t) && t > 0.0 && t < 90.0, where, "tilts_deg", "in (0, 90)", t);
   requireThat(std::isfinite(seed_spacing_m) && seed_spacing_m >= 0.0, where, "seed_spacing_m",
@@ -179,8 +188,12 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   if (points.empty()) return out;
   const std::vector<Candidate> all = makeCandidates(points, normals, two_sided, options, out.seeds);
   out.candidates = all.size();
+  // Per seed and direction the nearest free candidate: a farther one stands in only
+  // where the nearer ones are not free.
   std::vector<Candidate> usable;
-  for (const auto& c : all) {
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const Candidate& c = all[k];
+    if (!usable.empty() && usable.back().direction == c.direction) continue;
     const double pitch = c.pose.pitch_deg;
     if (pitch < options.gimbal.pitch_min_deg || pitch > options.gimbal.pitch_max_deg) continue;
     if (is_free && !is_free(c.pose.position)) continue;

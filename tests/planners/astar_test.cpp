@@ -287,6 +287,29 @@ TEST(AStar, CoarseToFineThroughANarrowOpening) {
   EXPECT_LE(r.cost, 1.25 * ref);
 }
 
+TEST(AStar, CoarseToFineThroughAOneVoxelHole) {
+  // The wall's only opening leaves one free voxel once inflated (√3 voxels): no
+  // block of 4 or 2 is free across it, a block that counts as free when any voxel is
+  // finds it, and the corridor search then has a path (before the whole grid).
+  std::vector<Index3> wall;
+  for (int z = 0; z < 8; ++z)
+    for (int y = 0; y < 12; ++y)
+      if (std::abs(y - 5) > 1 || std::abs(z - 4) > 1) wall.push_back({8, y, z});
+  const VoxelGrid g = unitGrid(16, 12, 8, wall);
+  ASSERT_TRUE(g.isFree(Index3{8, 5, 4}));
+  ASSERT_TRUE(g.isBlocked(Index3{8, 6, 4}) && g.isBlocked(Index3{8, 5, 5}));
+  const Index3 s{1, 1, 1}, t{14, 10, 6};
+  AStarOptions o;
+  o.coarse_factor = 4;
+  const double ref = referenceCost(g, s, t, o);
+  ASSERT_FALSE(std::isinf(ref));
+  const GridSearchResult r = astarSearch(g, s, t, o);
+  ASSERT_TRUE(r.found);
+  expectValidPath(g, r, s, t, o);
+  EXPECT_GE(r.cost, ref - 1e-9);
+  EXPECT_NE(std::find(r.cells.begin(), r.cells.end(), Index3{8, 5, 4}), r.cells.end());
+}
+
 TEST(AStar, WalledOffGoalHasNoPath) {
   // A closed shell of points on the surface of the cube [2, 6]^3 (voxel indices).
   std::vector<Index3> shell;
@@ -303,6 +326,13 @@ TEST(AStar, WalledOffGoalHasNoPath) {
   EXPECT_FALSE(r.found);
   EXPECT_FALSE(r.exhausted_budget);
   EXPECT_GT(r.expansions, 0u);
+  // Coarse to fine knows from the grid's components that no path exists: no search.
+  AStarOptions coarse;
+  coarse.coarse_factor = 4;
+  const GridSearchResult rc = astarSearch(g, outside, inside, coarse);
+  EXPECT_FALSE(rc.found);
+  EXPECT_FALSE(rc.exhausted_budget);
+  EXPECT_EQ(rc.expansions, 0u);
   AStarPlanner planner(AStarOptions{});
   const auto pr = planner.plan(g, Vec3(0.5, 0.5, 0.5), Vec3(4.5, 4.5, 4.5));
   EXPECT_EQ(pr.status, planning::PathStatus::NoPath);

@@ -11,9 +11,10 @@
 /// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
 /// each seed with normal n, a camera is put at the viewing distance D (and each
 /// further `distance_factors` × D) along n (and −n when two-sided), and along those
-/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is kept when it is
-/// free (the caller's test: clear of every measured point by the UAV's clearance, in the free space
-/// reachable from home) and its pitch lies within the gimbal limits.
+/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is usable when it
+/// is free (the caller's test: clear of every measured point by the UAV's clearance, in the free
+/// space reachable from home) and its pitch lies within the gimbal limits; per seed and direction
+/// only the nearest usable one is kept (a farther one stands in where the nearer are not free).
 ///
 /// Scoring: what each candidate images of the structure points by the coverage
 /// evaluator's rule (coverage_evaluator.h: in the image, range, GSD, incidence,
@@ -39,8 +40,8 @@ namespace uavip::coverage {
 struct StructureViewOptions {
   double standoff_m{0.0};               ///< viewing distance D from a seed [m] (> 0)
   std::vector<double> tilts_deg{35.0};  ///< extra tilts of ±n up and down [deg], each in (0, 90)
-  /// Candidates at these multiples of standoff_m, each ≥ 1 (farther ones stand in
-  /// where the nearer one is not free: a pocket, a measured outlier).
+  /// Candidates at these multiples of standoff_m, each ≥ 1, nearest first (a farther
+  /// one is kept only where the nearer ones are not free: a pocket, a measured outlier).
   std::vector<double> distance_factors{1.0};
   double seed_spacing_m{0.0};    ///< seed cell edge [m]; 0 = D / 3
   double target_coverage{0.99};  ///< of the imageable points, in (0, 1]
@@ -61,7 +62,7 @@ struct StructureViews {
   std::vector<Vec3> targets;       ///< the seed each view looks at [m]
   std::size_t seeds{0};            ///< seed points
   std::size_t candidates{0};       ///< candidate poses made
-  std::size_t free_candidates{0};  ///< of which free and within the gimbal limits
+  std::size_t free_candidates{0};  ///< kept: per seed and direction the nearest usable one
   std::size_t points{0};           ///< structure points
   std::size_t imageable{0};        ///< points some free candidate images
   std::size_t covered{0};          ///< points the chosen views image

@@ -73,7 +73,8 @@ struct StructureSummary {
   std::size_t ground_points{0};    ///< points of the clean cloud taken as ground
   std::size_t seeds{0};            ///< seed points of the candidates
   std::size_t candidates{0};       ///< candidate poses
-  std::size_t free_candidates{0};  ///< free, reachable and within the gimbal limits
+  std::size_t free_candidates{0};  ///< kept: free, reachable, within the gimbal limits, and per
+                                   ///< seed and direction the nearest such
   std::size_t imageable{0};        ///< structure points some free candidate images
   std::size_t photos{0};           ///< photos chosen
   double standoff_m{0.0};          ///< viewing distance [m]
