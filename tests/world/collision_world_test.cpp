@@ -237,6 +237,29 @@ TEST(CollisionWorld, SegmentsAlongADenseSurfaceAreExact) {
   }
 }
 
+TEST(CollisionWorld, CloudSpanningMoreCellsThanAKeyHoldsStaysExact) {
+  // A site 300 km across (two clusters): the distance cells grow until the keys hold
+  // the extent; distances, through and beside the clusters, stay exact.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 2.0);
+  PointList cloud;
+  for (int i = 0; i < 400; ++i) {
+    const double x0 = i % 2 == 0 ? 0.0 : 3e5;
+    cloud.emplace_back(x0 + u(rng), u(rng), u(rng));
+  }
+  const CollisionWorld world = CollisionWorld::fromCloud(cloud, WorldOptions{});
+  std::uniform_real_distribution<double> v(-1.0, 3.0);
+  for (int k = 0; k < 40; ++k) {
+    const double x0 = k % 2 == 0 ? 0.0 : 3e5;
+    const Vec3 a(x0 + v(rng), v(rng), v(rng)), b(x0 + v(rng), v(rng), v(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
+    const Proximity p = world.proximity(a, b, 0.5);
+    EXPECT_NEAR(p.distance_m, brute, 1e-9) << k;
+    EXPECT_NEAR(pointSegmentDistance(p.point, a, b), brute, 1e-9) << k;
+  }
+}
+
 TEST(CollisionWorld, NearestPointBetweenProbePositionsIsFound) {
   // Adversarial for a search that probes the cloud from points of the segment: a
   // row of points beside it, every 5 cm, alternately 10.4 cm and 10 cm away, so the
