@@ -212,6 +212,7 @@ void labelRegions(CoarseGrid& c) {
 /// they touch, or some free block next to `s` lies in the region of one next to `g`.
 /// Saves a coarse search that would fail after visiting a whole region.
 bool blocksMayJoin(const CoarseGrid& c, const world::Index3& s, const world::Index3& g) {
+  if (c.label.empty()) return true;  // optimistic: not labelled
   if (std::max({std::abs(s.x - g.x), std::abs(s.y - g.y), std::abs(s.z - g.z)}) <= 1) return true;
   const auto regions = [&c](const world::Index3& b) {
     std::vector<std::int32_t> out;
@@ -230,7 +231,9 @@ bool blocksMayJoin(const CoarseGrid& c, const world::Index3& s, const world::Ind
   return !both.empty();
 }
 
-/// The blocks of `grid` (one pass over its voxels).
+/// The blocks of `grid` (one pass over its voxels). An optimistic grid gets no
+/// region labels: its free blocks join wherever free voxels do, and coarseToFine
+/// has already checked the grid's own components.
 void buildCoarse(CoarseGrid& c, const world::VoxelGrid& grid, int factor, bool optimistic) {
   const auto& d = grid.dims();
   c.content_id = grid.contentId();
@@ -240,12 +243,25 @@ void buildCoarse(CoarseGrid& c, const world::VoxelGrid& grid, int factor, bool o
   c.free.assign(static_cast<std::size_t>(c.dims[0]) * static_cast<std::size_t>(c.dims[1]) *
                     static_cast<std::size_t>(c.dims[2]),
                 optimistic ? 0 : 1);
+  // A free voxel frees its optimistic block; a blocked one (voxels beyond the grid,
+  // in a partial last block, count as blocked) closes its plain block.
+  const std::uint8_t mark = optimistic ? 1 : 0;
   for (int z = 0; z < c.dims[2] * factor; ++z)
-    for (int y = 0; y < c.dims[1] * factor; ++y)
-      for (int x = 0; x < c.dims[0] * factor; ++x)
-        if (grid.isBlocked({x, y, z}) != optimistic)
-          c.free[c.linear({x / factor, y / factor, z / factor})] = optimistic ? 1 : 0;
-  labelRegions(c);
+    for (int y = 0; y < c.dims[1] * factor; ++y) {
+      std::uint8_t* blocks = c.free.data() + c.linear({0, y / factor, z / factor});
+      if (z >= d[2] || y >= d[1]) {
+        if (!optimistic) std::fill(blocks, blocks + c.dims[0], std::uint8_t{0});
+        continue;
+      }
+      for (int x = 0; x < d[0]; ++x)
+        if (grid.isBlocked({x, y, z}) != optimistic) blocks[x / factor] = mark;
+      if (!optimistic && d[0] % factor != 0) blocks[c.dims[0] - 1] = 0;
+    }
+  if (optimistic) {
+    c.label.clear();
+  } else {
+    labelRegions(c);
+  }
 }
 
 /// The block grid as a search space; the blocks of the two ends count as free.
