@@ -25,6 +25,9 @@ constexpr double kMaxBricks = 67108864.0;
 constexpr double kMaxDenseVoxels = 268435456.0;
 /// Cells per axis of the evaluator's point grid are capped at this.
 constexpr double kMaxGridCells = 1.0e6;
+/// Grid cells per range limit: a view reads the cells within its range that meet
+/// the camera's cone, ~(2k + 1)³ cells at most.
+constexpr double kCellsPerRange = 2.0;
 
 void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
   requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
@@ -59,7 +62,7 @@ inline bool tableHas(const std::vector<std::uint64_t>& table, std::uint64_t mask
   }
 }
 
-/// Points bucketed in a uniform grid (cell ≥ the range limit), stored cell by cell
+/// Points bucketed in a uniform grid (cell = the range limit / kCellsPerRange), stored cell by cell
 /// (cells in x-fastest linear order) so a query over a box of cells reads a few
 /// contiguous runs.
 struct PointGrid {
@@ -89,7 +92,7 @@ PointGrid buildGrid(const PointList& points, const std::vector<Vec3>& unit_norma
   const Vec3 extent = hi - lo;
   const double emax = extent.maxCoeff();
   g.origin = lo;
-  g.cell = std::isfinite(range_limit) ? range_limit : emax + 1.0;
+  g.cell = std::isfinite(range_limit) ? range_limit / kCellsPerRange : emax + 1.0;
   if (emax / g.cell > kMaxGridCells) g.cell = emax / kMaxGridCells;
   for (int a = 0; a < 3; ++a) {
     g.dims[a] = static_cast<std::int64_t>(std::floor(extent[a] / g.cell)) + 1;
@@ -132,11 +135,38 @@ struct ViewTally {
 /// The criteria of one evaluation, prepared once.
 struct VisitRule {
   double range_limit{0.0};
+  double cos_cone{-1.0};  ///< cos and sin of the camera's largest off-axis angle
+  double sin_cone{0.0};
   double cos_max_incidence{0.0};
   double max_gsd{0.0};
   bool two_sided{false};
   const LineOfSight* los{nullptr};
 };
+
+/// False when no point of grid cell `key` can be imaged from the view: the ball
+/// around the cell (its circumscribed sphere) lies beyond the range limit, or
+/// outside the cone of the camera's largest off-axis angle (rule.cos_cone,
+/// rule.sin_cone; a point in the image lies inside that cone). With a = the
+/// distance along the axis and b = across it, a point is outside the cone by
+/// b·cos − a·sin, or by its distance to the apex when a·cos + b·sin < 0.
+bool cellMayBeSeen(const PointGrid& g, std::uint64_t key, const ViewFrame& frame,
+                   const VisitRule& rule) {
+  const auto x = static_cast<std::int64_t>(key % static_cast<std::uint64_t>(g.dims[0]));
+  const auto yz = static_cast<std::int64_t>(key / static_cast<std::uint64_t>(g.dims[0]));
+  const std::int64_t y = yz % g.dims[1], z = yz / g.dims[1];
+  const Vec3 centre =
+      g.origin + g.cell * Vec3(static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5,
+                               static_cast<double>(z) + 0.5);
+  const double radius = 0.5 * std::sqrt(3.0) * g.cell;
+  const Vec3 v = centre - frame.pose.position;
+  const double dist = v.norm();
+  if (dist - radius > rule.range_limit) return false;
+  if (rule.cos_cone <= -1.0) return true;
+  const double a = frame.forward.dot(v);
+  const double b = std::sqrt(std::max(0.0, dist * dist - a * a));
+  if (a * rule.cos_cone + b * rule.sin_cone < 0.0) return dist <= radius;
+  return b * rule.cos_cone - a * rule.sin_cone <= radius;
+}
 
 /// Calls on_imaged(input index) for every point within rule.range_limit of one view
 /// that the view images (criteria 1–5, cheap first), in the grid's cell order.
@@ -162,6 +192,7 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
       const std::uint64_t k_last = g.key(hi[0], y, z);
       for (; it != g.keys.end() && *it <= k_last; ++it) {
         const std::size_t cell = static_cast<std::size_t>(it - g.keys.begin());
+        if (!cellMayBeSeen(g, *it, frame, rule)) continue;
         for (std::size_t j = g.begin[cell]; j < g.begin[cell + 1]; ++j) {
           const Vec3 d = g.pos[j] - c;
           const double r2 = d.squaredNorm();
@@ -264,6 +295,10 @@ Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& p
   });
 }
 
+double FootprintCamera::maxOffAxisRad() const {
+  return std::atan(std::hypot(tan_half_w_, tan_half_h_));
+}
+
 double FootprintCamera::maxRange(double max_gsd_mm_per_px) const {
   return cappedRange(geometry_.standoff_m * options_.range_slack, max_gsd_mm_per_px,
                      "footprint_camera.maxRange");
@@ -293,6 +328,12 @@ Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& poi
     const double v = k_.cy_px - k_.fy_px * y / z;  // image y points down
     return u >= 0.0 && u <= k_.width_px && v >= 0.0 && v <= k_.height_px;
   });
+}
+
+double PinholeCamera::maxOffAxisRad() const {
+  const double du = std::max(std::abs(k_.cx_px), std::abs(k_.width_px - k_.cx_px)) / k_.fx_px;
+  const double dv = std::max(std::abs(k_.cy_px), std::abs(k_.height_px - k_.cy_px)) / k_.fy_px;
+  return std::atan(std::hypot(du, dv));
 }
 
 double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {
@@ -595,6 +636,11 @@ VisitRule prepareEvaluation(const PointList& points, const std::vector<Vec3>& no
                                : std::cos(criteria.max_incidence_deg * kDegToRad);
   rule.max_gsd = criteria.max_gsd_mm_per_px;
   rule.two_sided = criteria.two_sided_normals;
+  const double cone = camera.maxOffAxisRad();
+  if (cone < 0.5 * kPi) {  // a wider camera is culled by range only
+    rule.cos_cone = std::cos(cone);
+    rule.sin_cone = std::sin(cone);
+  }
   rule.los = los;
   if (n > 0 && !views.empty()) grid = buildGrid(points, unit_normals, two_sided, rule.range_limit);
   return rule;

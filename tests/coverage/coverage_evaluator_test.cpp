@@ -239,6 +239,42 @@ TEST(PinholeCamera, FieldOfViewEdges) {
   EXPECT_THROW(PinholeCamera{bad}, InputError);
 }
 
+TEST(CameraModels, EveryImagedPointLiesWithinTheLargestOffAxisAngle) {
+  // The evaluators skip cells outside the cone of maxOffAxisRad(): every point in the
+  // image must lie inside it, and the image corners reach it (it is not loose).
+  PinholeIntrinsics off_centre;
+  off_centre.cx_px = 250.0;  // the farthest corner is not symmetric
+  off_centre.cy_px = 300.0;
+  const PinholeCamera pinhole(PinholeIntrinsics{}), shifted(off_centre);
+  const FootprintCamera footprint(narrowCamera());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const ViewPose pose{Vec3(1, 2, 3), 30.0, -20.0};
+  const ViewFrame frame = makeViewFrame(pose);
+  for (const CameraModel* cam :
+       {static_cast<const CameraModel*>(&pinhole), static_cast<const CameraModel*>(&shifted),
+        static_cast<const CameraModel*>(&footprint)}) {
+    const double cone = cam->maxOffAxisRad();
+    ASSERT_GT(cone, 0.0);
+    ASSERT_LT(cone, 0.5 * kPi);
+    double widest = 0.0;
+    int imaged = 0;
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3 d(1.0 + u(rng), 1.5 * u(rng), 1.5 * u(rng));  // mostly ahead, in camera axes
+      const Vec3 p = pose.position + d.x() * frame.forward + d.y() * frame.right + d.z() * frame.up;
+      if (!cam->project(pose, p).in_image) continue;
+      ++imaged;
+      const double angle = std::acos(std::clamp(d.x() / d.norm(), -1.0, 1.0));
+      EXPECT_LE(angle, cone + 1e-12);
+      widest = std::max(widest, angle);
+    }
+    EXPECT_GT(imaged, 1000);
+    EXPECT_GT(widest, cone - 0.02);
+  }
+  EXPECT_NEAR(pinhole.maxOffAxisRad(), std::atan(std::hypot(320.0 / 417.0467, 240.0 / 461.0951)),
+              1e-12);
+}
+
 // ------------------------------------------------------------------ brute force
 
 TEST(CoverageEvaluator, NadirViewsMatchFootprintRectangles) {

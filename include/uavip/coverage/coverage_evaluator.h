@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/math.h"
 #include "uavip/core/types.h"
 #include "uavip/coverage/camera.h"
 
@@ -86,6 +87,10 @@ class CameraModel {
   /// range limit; +infinity when neither applies. Throws InputError for a negative
   /// or non-finite GSD.
   virtual double maxRange(double max_gsd_mm_per_px) const = 0;
+
+  /// Largest angle between the optical axis and the direction of any point in the
+  /// image [rad]; π when the model does not say (evaluations then cull by range only).
+  virtual double maxOffAxisRad() const { return kPi; }
 };
 
 /// Options of FootprintCamera.
@@ -133,6 +138,8 @@ class FootprintCamera final : public CentralCamera {
 
   Projection projectInFrame(const ViewFrame& frame, const Vec3& point) const override;
   double maxRange(double max_gsd_mm_per_px) const override;
+  /// atan of the half footprint's diagonal over the standoff.
+  double maxOffAxisRad() const override;
   const CameraGeometry& geometry() const { return geometry_; }  ///< footprint and standoff
 
  private:
@@ -168,6 +175,8 @@ class PinholeCamera final : public CentralCamera {
 
   Projection projectInFrame(const ViewFrame& frame, const Vec3& point) const override;
   double maxRange(double max_gsd_mm_per_px) const override;
+  /// atan of the image corner farthest from the principal point, in focal lengths.
+  double maxOffAxisRad() const override;
   const PinholeIntrinsics& intrinsics() const { return k_; }
 
  private:
