@@ -358,9 +358,9 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   const world::VoxelGrid grid = structureGrid(scene, config, s.points, standoff, result, validator);
   result.times.grid_s = secondsSince(t0);
 
+  const auto t_prepare = SteadyClock::now();
   const std::optional<Vec3> home = config.mission.start ? config.mission.start : config.flight.home;
   const coverage::ViewpointFree is_free = viewpointTest(grid, home, s.ground_z, result.clearance_m);
-  const auto t_prepare = SteadyClock::now();
   const coverage::PinholeIntrinsics intrinsics =
       structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera scoring_camera(

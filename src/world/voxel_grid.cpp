@@ -43,7 +43,8 @@ std::vector<Index3> sphereOffsets(double radius_vox) {
   return out;
 }
 
-/// Bytes per voxel: the blocked state (1) and the component label (4, on first use).
+/// Bytes per voxel: the blocked state (1) and the component labels (on first use, 12
+/// bytes a run of free voxels; counted as 4 a voxel, which holds for runs ≥ 3 long).
 constexpr double kBytesPerVoxel = 5.0;
 
 /// The dense grid over [lo, hi] at options.resolution_m: its origin (on a multiple of
@@ -314,13 +315,6 @@ bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
   return true;
 }
 
-struct VoxelGrid::ReachCache {
-  std::mutex mutex;
-  /// The 26-connected component of every voxel (0: blocked, 1…: free), labelled on
-  /// the first call; empty until then.
-  std::vector<std::int32_t> label;
-};
-
 namespace {
 
 /// A run of free voxels along x in one row (fixed y, z): x0 … x1 inclusive.
@@ -349,15 +343,29 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 
 }  // namespace
 
-std::vector<std::int32_t> VoxelGrid::labelComponents() const {
+struct VoxelGrid::ReachCache {
+  std::mutex mutex;
+  bool labelled{false};
+  /// The free runs along x, row by row (row r = y + ny·z holds runs row_start[r] …
+  /// row_start[r + 1] − 1), and the 26-connected component of each (1, 2, … in the
+  /// order of their first voxel); filled on the first call. 12 bytes a run, not 4 a
+  /// voxel: no label array the size of the grid to fill.
+  std::vector<Run> runs;
+  std::vector<std::size_t> row_start;
+  std::vector<std::int32_t> run_label;
+};
+
+void VoxelGrid::labelComponents(ReachCache& cache) const {
   // Union-find over runs of free voxels along x. Two runs in rows whose y and z
   // differ by at most one are 26-connected exactly when their x ranges, each grown
   // by one voxel, overlap; within a row a run is connected by construction. Each
   // row is joined to its four earlier neighbour rows, so every pair is seen once.
   const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
   const std::size_t rows = static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz);
-  std::vector<Run> runs;
-  std::vector<std::size_t> row_start(rows + 1, 0);
+  std::vector<Run>& runs = cache.runs;
+  std::vector<std::size_t>& row_start = cache.row_start;
+  runs.clear();
+  row_start.assign(rows + 1, 0);
   for (std::size_t r = 0; r < rows; ++r) {
     const std::uint8_t* row = blocked_.data() + r * static_cast<std::size_t>(nx);
     for (int x = 0; x < nx;) {
@@ -402,28 +410,31 @@ std::vector<std::int32_t> VoxelGrid::labelComponents() const {
   }
   // Number the components in the order their first voxel appears (roots are the
   // smallest run index of their set, and runs are in linear order).
-  std::vector<std::int32_t> label(blocked_.size(), 0);
-  std::vector<std::int32_t> run_label(runs.size(), 0);
+  std::vector<std::int32_t>& run_label = cache.run_label;
+  run_label.assign(runs.size(), 0);
   std::int32_t next = 0;
-  for (std::size_t r = 0; r < rows; ++r) {
-    std::int32_t* row = label.data() + r * static_cast<std::size_t>(nx);
-    for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
-      const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(k));
-      if (root == k)
-        run_label[k] = ++next;
-      else
-        run_label[k] = run_label[root];
-      std::fill(row + runs[k].x0, row + runs[k].x1 + 1, run_label[k]);
-    }
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(k));
+    run_label[k] = root == k ? ++next : run_label[root];
   }
-  return label;
 }
 
 std::int32_t VoxelGrid::component(const Index3& i) const {
   if (isBlocked(i)) return 0;  // also every voxel of a default-constructed grid (no cache)
-  const std::lock_guard<std::mutex> lock(reach_cache_->mutex);
-  if (reach_cache_->label.empty()) reach_cache_->label = labelComponents();
-  return reach_cache_->label[linear(i)];
+  ReachCache& c = *reach_cache_;
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  if (!c.labelled) {
+    labelComponents(c);
+    c.labelled = true;
+  }
+  // The run of i's row that holds it: the last one starting at or before i.x.
+  const std::size_t r = static_cast<std::size_t>(i.y) +
+                        static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z);
+  const auto first = c.runs.begin() + static_cast<std::ptrdiff_t>(c.row_start[r]);
+  const auto last = c.runs.begin() + static_cast<std::ptrdiff_t>(c.row_start[r + 1]);
+  const auto after =
+      std::upper_bound(first, last, i.x, [](int x, const Run& run) { return x < run.x0; });
+  return c.run_label[static_cast<std::size_t>(after - c.runs.begin()) - 1];
 }
 
 }  // namespace uavip::world

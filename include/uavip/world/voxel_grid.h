@@ -135,9 +135,10 @@ class VoxelGrid final : public FreeSpace {
   Vec3 origin_{Vec3::Zero()};
   std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<std::uint8_t> blocked_;  ///< 0 free, 1 inflated, 2 occupied
-  struct ReachCache;                   ///< component labels (mutex + labels)
+  struct ReachCache;                   ///< component labels (mutex + labelled runs)
   /// Labels of the 26-connected components of the free voxels (0 for blocked).
-  std::vector<std::int32_t> labelComponents() const;
+  /// Labels the 26-connected components of the free voxels into `cache` (runs).
+  void labelComponents(ReachCache& cache) const;
   std::shared_ptr<ReachCache> reach_cache_;
   std::size_t occupied_count_{0};
   std::size_t blocked_count_{0};
