@@ -315,6 +315,33 @@ TEST(StructureViews, RejectsBadOptionsAndReportsNoFreeViewpoint) {
   EXPECT_GT(none.candidates, 0u);
 }
 
+TEST(StructureViews, FartherCandidatesStandInOnlyWhereTheNearerAreNotFree) {
+  // A unit sphere, candidates at 2 and 3 m from their seeds (directions within 35° of
+  // the normal: 2.8–3.0 m and 3.8–4.0 m from the centre). All free: only the near ones
+  // are kept. The near ones not free (≤ 3.2 m from the centre): the far ones stand in.
+  const World w = sphere(1.0, 0.25);
+  const Vec3 centre(0, 0, 5);  // sphere() puts it on a mast
+  const PinholeCamera camera(PinholeIntrinsics{});
+  StructureViewOptions o;
+  o.standoff_m = 2.0;
+  o.distance_factors = {1.0, 1.5};
+  o.criteria.max_incidence_deg = 75.0;
+  o.criteria.max_range_m = 4.0;
+  o.target_coverage = 0.95;
+  for (const double keep_out : {0.0, 3.2}) {
+    const double expected = keep_out == 0.0 ? 2.0 : 3.0;
+    const StructureViews v = selectStructureViews(
+        w.points, w.normals, {}, camera, nullptr,
+        [&](const Vec3& c) { return (c - centre).norm() > keep_out; }, o);
+    ASSERT_FALSE(v.views.empty()) << keep_out;
+    EXPECT_EQ(2 * v.free_candidates, v.candidates) << keep_out;  // one of two per direction
+    for (std::size_t k = 0; k < v.views.size(); ++k)
+      EXPECT_NEAR((v.views[k].position - v.targets[k]).norm(), expected, 1e-9) << keep_out;
+  }
+  o.distance_factors = {1.5, 1.0};  // the nearest must come first
+  EXPECT_THROW(selectStructureViews(w.points, w.normals, {}, camera, nullptr, {}, o), InputError);
+}
+
 TEST(LookAt, PointsTheOpticalAxisAtTheTarget) {
   const Vec3 c(1, 2, 3), t(4, -2, 0);
   const ViewPose pose = lookAt(c, t);
