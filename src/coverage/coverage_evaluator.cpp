@@ -62,9 +62,9 @@ inline bool tableHas(const std::vector<std::uint64_t>& table, std::uint64_t mask
   }
 }
 
-/// Points bucketed in a uniform grid (cell = the range limit / kCellsPerRange), stored cell by cell
-/// (cells in x-fastest linear order) so a query over a box of cells reads a few
-/// contiguous runs.
+/// Points bucketed in a uniform grid (cell = the range limit / kCellsPerRange),
+/// stored cell by cell (cells in x-fastest linear order) so a query over a box of
+/// cells reads a few contiguous runs.
 struct PointGrid {
   Vec3 origin{Vec3::Zero()};
   double cell{1.0};

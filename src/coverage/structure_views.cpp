@@ -191,8 +191,7 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   // Per seed and direction the nearest free candidate: a farther one stands in only
   // where the nearer ones are not free.
   std::vector<Candidate> usable;
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    const Candidate& c = all[k];
+  for (const Candidate& c : all) {
     if (!usable.empty() && usable.back().direction == c.direction) continue;
     const double pitch = c.pose.pitch_deg;
     if (pitch < options.gimbal.pitch_min_deg || pitch > options.gimbal.pitch_max_deg) continue;

@@ -452,13 +452,6 @@ void removeFromPool(std::vector<Index>& pool, const std::vector<Index>& drop) {
   pool = std::move(out);
 }
 
-/// PCL's plane model whose hypothesis count (the inner loop of RANSAC) runs over
-/// the indexed points copied into contiguous arrays. PCL 1.13's generic count reads
-/// each point through the index and a dynamic-size Eigen dot product: about 10 ns a
-/// point on the development machine, against about 1 ns here (benchmarks/README.md,
-/// "Detection"); sampling, the adaptive iteration count, the least-squares refinement
-/// and the inlier selection stay PCL's. The count is the same test as PCL's:
-/// |n·p + d| < threshold, in float, the threshold compared in double.
 /// The largest float strictly below t: for any float f, f < t (in double) exactly
 /// when f ≤ largestFloatBelow(t).
 float largestFloatBelow(double t) {
@@ -467,6 +460,14 @@ float largestFloatBelow(double t) {
   return g;
 }
 
+/// PCL's plane model whose hypothesis count (the inner loop of RANSAC) runs over
+/// the indexed points copied into contiguous arrays. PCL 1.13's generic count reads
+/// each point through the index and a dynamic-size Eigen dot product: about 10 ns a
+/// point on the development machine, against about 0.3 ns here (benchmarks/README.md,
+/// "Detection"); sampling, the adaptive iteration count, the least-squares refinement
+/// and the inlier selection stay PCL's. The count selects the same points as PCL's
+/// test |n·p + d| < threshold (float distance, double threshold), compared in float
+/// against largestFloatBelow(threshold) so that it vectorises.
 class ContiguousPlaneModel final : public pcl::SampleConsensusModelPlane<pcl::PointXYZ> {
  public:
   ContiguousPlaneModel(const PclCloud::ConstPtr& cloud, const pcl::Indices& indices)

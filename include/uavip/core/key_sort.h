@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// Sorting (64-bit key, 32-bit index) pairs and plain keys, the step every voxel down-sampler and
-/// cell hasher spends most of its time in.
+/// Sorting (64-bit key, 32-bit index) pairs and plain keys, the step every voxel
+/// down-sampler and cell hasher spends most of its time in.
 
 #include <cstdint>
 #include <utility>

@@ -136,7 +136,6 @@ class VoxelGrid final : public FreeSpace {
   std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<std::uint8_t> blocked_;  ///< 0 free, 1 inflated, 2 occupied
   struct ReachCache;                   ///< component labels (mutex + labelled runs)
-  /// Labels of the 26-connected components of the free voxels (0 for blocked).
   /// Labels the 26-connected components of the free voxels into `cache` (runs).
   void labelComponents(ReachCache& cache) const;
   std::shared_ptr<ReachCache> reach_cache_;
