@@ -278,7 +278,7 @@ GridSearchResult expectCoarseToFinePath(const VoxelGrid& g, const Index3& s, con
   o.coarse_factor = 4;
   ref = referenceCost(g, s, t, o);
   EXPECT_FALSE(std::isinf(ref));
-  const GridSearchResult r = astarSearch(g, s, t, o);
+  GridSearchResult r = astarSearch(g, s, t, o);
   EXPECT_TRUE(r.found);
   if (r.found) expectValidPath(g, r, s, t, o);
   EXPECT_GE(r.cost, ref - 1e-9);
