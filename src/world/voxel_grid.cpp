@@ -317,11 +317,6 @@ bool VoxelGrid::segmentFree(const Vec3& a, const Vec3& b) const {
 
 namespace {
 
-/// A run of free voxels along x in one row (fixed y, z): x0 … x1 inclusive.
-struct Run {
-  int x0, x1;
-};
-
 /// Union-find root with path halving.
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
   while (parent[i] != i) {
@@ -344,6 +339,12 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 }  // namespace
 
 struct VoxelGrid::ReachCache {
+  /// A run of free voxels along x in one row (fixed y, z): x0 … x1 inclusive. Nested
+  /// here, not in an anonymous namespace: a unity build includes this file, and GCC's
+  /// -Wsubobject-linkage rejects a header-declared class with a field of such a type.
+  struct Run {
+    int x0, x1;
+  };
   std::mutex mutex;
   bool labelled{false};
   /// The free runs along x, row by row (row r = y + ny·z holds runs row_start[r] …
@@ -362,7 +363,7 @@ void VoxelGrid::labelComponents(ReachCache& cache) const {
   // row is joined to its four earlier neighbour rows, so every pair is seen once.
   const int nx = dims_[0], ny = dims_[1], nz = dims_[2];
   const std::size_t rows = static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz);
-  std::vector<Run>& runs = cache.runs;
+  std::vector<ReachCache::Run>& runs = cache.runs;
   std::vector<std::size_t>& row_start = cache.row_start;
   runs.clear();
   row_start.assign(rows + 1, 0);
@@ -432,8 +433,8 @@ std::int32_t VoxelGrid::component(const Index3& i) const {
                         static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(i.z);
   const auto first = c.runs.begin() + static_cast<std::ptrdiff_t>(c.row_start[r]);
   const auto last = c.runs.begin() + static_cast<std::ptrdiff_t>(c.row_start[r + 1]);
-  const auto after =
-      std::upper_bound(first, last, i.x, [](int x, const Run& run) { return x < run.x0; });
+  const auto after = std::upper_bound(first, last, i.x,
+                                      [](int x, const ReachCache::Run& run) { return x < run.x0; });
   return c.run_label[static_cast<std::size_t>(after - c.runs.begin()) - 1];
 }
 
