@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "uavip/core/error.h"
@@ -191,12 +192,59 @@ fcl::CollisionObjectd sweptVolume(const Vec3& a, const Vec3& b, double radius) {
 struct CollisionWorld::Impl {
   std::vector<Polyhedron> solids;  ///< per object; empty for the cloud
   detail::PointIndex points;
-  std::shared_ptr<octomap::OcTree> octree;
+  /// The cloud as an fcl::OcTree, built on the first sweepContacts() or octreeLeaves()
+  /// (proximity() reads the points through `points`; building the OcTree cost 0.1 s
+  /// of every bridge plan). Until then the manager holds the cloud object as a box
+  /// with the OcTree's own bounds, so the broadphase is the same either way.
+  PointList octree_points;
+  double octree_resolution_m{0.05};
+  std::once_flag octree_once;
+  std::unique_ptr<fcl::CollisionObjectd> octree_object;
   std::size_t octree_leaves{0};
+  int cloud_object{-1};  ///< index of the cloud object, −1 without one
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> fcl_objects;  ///< per object
   std::vector<int> index;  ///< per fcl object: its object index (stable storage for user data)
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+
+  /// The cloud's OcTree object (built once, thread-safe); null without a cloud.
+  const fcl::CollisionObjectd* octreeObject();
 };
+
+namespace {
+
+/// Octomap's tree depth: every OcTree spans 2^16 leaves per axis around the origin.
+constexpr int kOctreeDepth = 16;
+
+/// The box fcl::OcTree reports as its bounds (OcTree::getRootBV: the whole tree,
+/// centred on the origin), as a stand-in geometry of the same AABB.
+std::shared_ptr<fcl::CollisionGeometryd> octreeBoundsBox(double resolution_m) {
+  const double edge = static_cast<double>(1 << kOctreeDepth) * resolution_m;
+  return std::make_shared<fcl::Boxd>(edge, edge, edge);
+}
+
+}  // namespace
+
+const fcl::CollisionObjectd* CollisionWorld::Impl::octreeObject() {
+  if (cloud_object < 0) return nullptr;
+  std::call_once(octree_once, [this] {
+    auto octree = std::make_shared<octomap::OcTree>(octree_resolution_m);
+    for (const auto& p : octree_points) {
+      octomap::OcTreeKey key;
+      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                               static_cast<float>(p.z()));
+      if (octree->coordToKeyChecked(q, key)) octree->updateNode(key, true, true);
+    }
+    octree->updateInnerOccupancy();
+    for (auto it = octree->begin_leafs(); it != octree->end_leafs(); ++it)
+      octree_leaves += octree->isNodeOccupied(*it) ? 1 : 0;
+    octree_object = std::make_unique<fcl::CollisionObjectd>(
+        std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(octree)));
+    octree_object->setUserData(&index[static_cast<std::size_t>(cloud_object)]);
+    octree_object->computeAABB();
+    PointList().swap(octree_points);
+  });
+  return octree_object.get();
+}
 
 std::string WorldObject::name() const {
   switch (kind) {
@@ -272,19 +320,10 @@ void CollisionWorld::build(const Scene& scene) {
   const PointList cloud = safetyPoints(scene);
   if (options_.include_cloud && !cloud.empty()) {
     im.points.build(cloud);
-    im.octree = std::make_shared<octomap::OcTree>(options_.octree_resolution_m);
-    for (const auto& p : cloud) {
-      octomap::OcTreeKey key;
-      const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                               static_cast<float>(p.z()));
-      if (im.octree->coordToKeyChecked(q, key)) im.octree->updateNode(key, true, true);
-    }
-    im.octree->updateInnerOccupancy();
-    for (auto it = im.octree->begin_leafs(); it != im.octree->end_leafs(); ++it) {
-      im.octree_leaves += im.octree->isNodeOccupied(*it) ? 1 : 0;
-    }
-    geoms.push_back(
-        std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(im.octree)));
+    im.octree_points = cloud;
+    im.octree_resolution_m = options_.octree_resolution_m;
+    im.cloud_object = static_cast<int>(objects_.size());
+    geoms.push_back(octreeBoundsBox(options_.octree_resolution_m));
     objects_.push_back({ObjectKind::Cloud, -1, boundingBox(cloud)});
     im.solids.emplace_back();
   }
@@ -311,7 +350,10 @@ PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied
 }
 
 std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->points.points.size() : 0; }
-std::size_t CollisionWorld::octreeLeaves() const { return impl_ ? impl_->octree_leaves : 0; }
+std::size_t CollisionWorld::octreeLeaves() const {
+  if (!impl_ || !impl_->octreeObject()) return 0;
+  return impl_->octree_leaves;
+}
 
 namespace {
 
@@ -326,6 +368,8 @@ struct ProximityQuery {
 
 struct ContactQuery {
   const fcl::CollisionObjectd* query{nullptr};
+  const fcl::CollisionObjectd* cloud_box{nullptr};  ///< the cloud's stand-in in the manager
+  const fcl::CollisionObjectd* octree{nullptr};     ///< the cloud's OcTree, collided instead
   std::vector<int> hits;
 };
 
@@ -369,12 +413,18 @@ std::vector<int> CollisionWorld::sweepContacts(const Vec3& a, const Vec3& b, dou
   if (!impl_ || objects_.empty()) return q.hits;
   fcl::CollisionObjectd swept = sweptVolume(a, b, std::max(0.0, radius));
   q.query = &swept;
+  if (impl_->cloud_object >= 0) {
+    q.cloud_box = impl_->fcl_objects[static_cast<std::size_t>(impl_->cloud_object)].get();
+    q.octree = impl_->octreeObject();
+  }
   auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data) {
     auto& cq = *static_cast<ContactQuery*>(data);
+    const fcl::CollisionObjectd* other = o1 == cq.query ? o2 : o1;
+    if (other == cq.cloud_box) other = cq.octree;
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
-    fcl::collide(o1, o2, request, result);
-    if (result.isCollision()) cq.hits.push_back(objectOf(o1 == cq.query ? o2 : o1));
+    fcl::collide(cq.query, other, request, result);
+    if (result.isCollision()) cq.hits.push_back(objectOf(other));
     return false;
   };
   impl_->manager->collide(&swept, &q, callback);

@@ -12,7 +12,9 @@
 ///    obstacle_piece_m is cut into pieces of that size, one solid each (the solids
 ///    and their exact distances: world/solids.h);
 ///  - every measured point (the clean cloud and the safety cloud, core/geometry.h
-///    safetyPoints) as one fcl::OcTree built from an octomap::OcTree.
+///    safetyPoints) as one fcl::OcTree built from an octomap::OcTree. proximity() reads
+///    the points themselves, so the OcTree is built on the first sweepContacts() or
+///    octreeLeaves() only; until then the broadphase holds a box of its bounds.
 ///
 /// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
 /// a segment; a capsule contains exactly the points within r of the segment):
@@ -98,7 +100,7 @@ class CollisionWorld {
   const std::vector<WorldObject>& objects() const { return objects_; }
   /// Number of measured points held by the cloud object.
   std::size_t cloudSize() const;
-  /// Number of occupied OcTree leaves of the cloud object.
+  /// Number of occupied OcTree leaves of the cloud object (builds the OcTree once).
   std::size_t octreeLeaves() const;
 
   /// Exact distance from the segment a→b (a point if a == b) to the nearest object,
