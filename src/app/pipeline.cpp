@@ -5,7 +5,6 @@
 #include <limits>
 #include <memory>
 #include <sstream>
-#include <thread>
 
 #include "plan_steps.h"
 #include "planners/registry.h"
@@ -229,9 +228,7 @@ std::vector<planning::SurfaceMission> planMissions(
     const world::VoxelGrid& grid, const planning::PathValidator& validator,
     planning::Planner& planner, const app::Config& config, const Progress& progress) {
   const planning::MissionOptions mission_options = config.missionOptions();
-  const int threads = planners::isDeterministic(config.planner)
-                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                          : 1;
+  const int threads = planners::isDeterministic(config.planner) ? hardwareThreads() : 1;
   if (threads > 1) {
     std::size_t stops = 0;
     for (const auto& s : strategies) stops += s.stops.size();
@@ -301,13 +298,17 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   PlanResult result;
   const auto t0 = SteadyClock::now();
 
-  // Stage 6 first: the grid must also cover every stop.
-  std::vector<coverage::FlightStrategy> strategies;
+  // Stage 6 first: the grid must also cover every stop. Surfaces are independent,
+  // each strategy written to its own slot, on every core.
+  std::vector<coverage::FlightStrategy> strategies(surface_ids.size());
+  for (const int id : surface_ids) surfaceById(scene, id);  // a bad id fails before any work
+  parallelFor(surface_ids.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
+    strategies[i] =
+        coverage::planFlightStrategy(surfaceById(scene, surface_ids[i]), config.coverage);
+  });
   PointList stop_positions;
-  for (const int id : surface_ids) {
-    strategies.push_back(coverage::planFlightStrategy(surfaceById(scene, id), config.coverage));
-    for (const auto& stop : strategies.back().stops) stop_positions.push_back(stop.position);
-  }
+  for (const auto& strategy : strategies)
+    for (const auto& stop : strategy.stops) stop_positions.push_back(stop.position);
   requireWithinReach(config.mission.start, "mission.start", stop_positions, config.flight.model);
   requireWithinReach(config.flight.home, "mission.home", stop_positions, config.flight.model);
   if (config.mission.start) stop_positions.push_back(*config.mission.start);

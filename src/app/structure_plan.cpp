@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <thread>
 
 #include "plan_steps.h"
 #include "planners/registry.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
@@ -190,7 +190,7 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
         return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
                            : polylineLength(hop);
       },
-      50, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+      50, hardwareThreads());
   s.cols = static_cast<int>(order.size());
   s.rows = 1;
   for (std::size_t n = 0; n < order.size(); ++n) {
@@ -300,7 +300,7 @@ coverage::StructureViewOptions viewOptions(const app::Config& config,
   options.target_coverage = config.coverage.structure_target;
   options.gimbal = config.coverage.gimbal;
   options.criteria = ruleB(k, config.coverage.camera, standoff);
-  options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  options.threads = hardwareThreads();
   return options;
 }
 

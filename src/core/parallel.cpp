@@ -10,6 +10,10 @@
 
 namespace uavip {
 
+int hardwareThreads() {
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 void parallelFor(std::size_t n, int threads,
                  const std::function<void(std::size_t, std::size_t)>& body) {
   std::atomic<std::size_t> next{0};

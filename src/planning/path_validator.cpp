@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -49,9 +48,7 @@ ValidationResult PathValidator::validate(const PointList& path) const {
   // The segments are independent read-only queries: spread over the cores, then
   // summarised in order, so the result does not depend on the threads.
   std::vector<world::Proximity> near(segments);
-  const int threads = segments >= kParallelSegments
-                          ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                          : 1;
+  const int threads = segments >= kParallelSegments ? hardwareThreads() : 1;
   parallelFor(segments, threads, [&](std::size_t s, std::size_t) {
     near[s] = world_->proximity(path[s], path.size() == 1 ? path[0] : path[s + 1], req);
   });

@@ -9,6 +9,9 @@
 
 namespace uavip {
 
+/// The number of hardware threads (at least 1): the default worker count.
+int hardwareThreads();
+
 /// Calls body(i, worker) for every i in [0, n) on up to `threads` threads; the
 /// caller is worker 0 and the others are numbered 1… in start order. Indices are
 /// handed out in increasing order from a shared counter. When a body throws, no
