@@ -27,6 +27,7 @@
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/scan/drift_refinement.h"
+#include "uavip/scan/scan_grid.h"
 
 namespace uavip::scan {
 namespace {
@@ -40,42 +41,7 @@ Eigen::Matrix2d rot2(double theta) {
   return r;
 }
 
-/// Nearest-neighbour lookup on a uniform 2D grid of cell = the search radius.
-class Grid2D {
- public:
-  Grid2D(const std::vector<Vec2>& points, double cell) : points_(points), cell_(cell) {
-    for (std::size_t i = 0; i < points_.size(); ++i)
-      cells_[key(cellOf(points_[i].x()), cellOf(points_[i].y()))].push_back(static_cast<int>(i));
-  }
-  /// Index of the nearest point within the cell size, or −1.
-  int nearest(const Vec2& q) const {
-    const std::int64_t cx = cellOf(q.x()), cy = cellOf(q.y());
-    double best = cell_ * cell_;
-    int best_i = -1;
-    for (std::int64_t dx = -1; dx <= 1; ++dx) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        if (!inPlaneCellRange(cx + dx) || !inPlaneCellRange(cy + dy)) continue;
-        const auto it = cells_.find(key(cx + dx, cy + dy));
-        if (it == cells_.end()) continue;
-        for (const int i : it->second) {
-          const double d2 = (points_[static_cast<std::size_t>(i)] - q).squaredNorm();
-          if (d2 < best) {
-            best = d2;
-            best_i = i;
-          }
-        }
-      }
-    }
-    return best_i;
-  }
-
- private:
-  std::int64_t cellOf(double v) const { return planeCellIndex(v, cell_, "scan grid"); }
-  static std::uint64_t key(std::int64_t x, std::int64_t y) { return planeCellKey(x, y); }
-  const std::vector<Vec2>& points_;
-  double cell_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
-};
+using Grid2D = ScanGrid;
 
 /// A horizontal scan as 2D points (in beam order) in some frame, with the line
 /// normals there (zero where the neighbourhood is not a line).
