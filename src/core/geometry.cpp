@@ -102,18 +102,20 @@ bool pointInPolygon2d(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2
   return inside;
 }
 
+double pointSegmentDistance2d(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                              const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
 double distanceToPolygonEdges2d(const Eigen::Vector2d& p,
                                 const std::vector<Eigen::Vector2d>& polygon) {
   double best = std::numeric_limits<double>::infinity();
   const std::size_t n = polygon.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[(i + 1) % n];
-    const Eigen::Vector2d ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (a + t * ab - p).norm());
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    best = std::min(best, pointSegmentDistance2d(p, polygon[i], polygon[(i + 1) % n]));
   return best;
 }
 

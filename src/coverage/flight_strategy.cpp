@@ -78,12 +78,15 @@ struct Region {
     return std::none_of(holes.begin(), holes.end(),
                         [&](const auto& h) { return pointInPolygon2d(p, h); });
   }
-  /// Distance from p to the nearest inner edge (inf when there is none: a convex
-  /// boundary keeps the paper's regular grid) [m].
-  double depth(const Vec2& p) const {
-    double d = kInf;
-    for (const auto& [a, b] : inner_edges) d = std::min(d, distanceToPolygonEdges2d(p, {a, b}));
-    return d;
+  /// True when p lies at least `inset` from every inner edge (always when there is
+  /// none: a convex boundary keeps the paper's regular grid). An edge is measured
+  /// both ways, as the closed polygon {a, b} of distanceToPolygonEdges2d, and the
+  /// first edge closer than `inset` decides.
+  bool deepEnough(const Vec2& p, double inset) const {
+    return std::none_of(inner_edges.begin(), inner_edges.end(), [&](const auto& e) {
+      return std::min(pointSegmentDistance2d(p, e.first, e.second),
+                      pointSegmentDistance2d(p, e.second, e.first)) < inset;
+    });
   }
   /// Area of the part of the convex counter-clockwise polygon `window` inside the
   /// region [m²] and that part's centroid.
@@ -247,13 +250,13 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
                                 double b) {
   const Vec2 centre(a, b);
   const double inset = kInsetFraction * std::min(fs.spacing_w_m, fs.spacing_h_m);
-  if (region.contains(centre) && region.depth(centre) >= inset) return centre;
+  if (region.contains(centre) && region.deepEnough(centre, inset)) return centre;
   const double half_w = 0.5 * fs.camera.footprint_w_m;
   const double half_h = 0.5 * fs.camera.footprint_h_m;
   auto [cell_area, goal] =
       region.overlap(rectangle(a, b, 0.5 * fs.spacing_w_m, 0.5 * fs.spacing_h_m));
   if (!(cell_area > kOverlapTol)) goal = region.overlap(rectangle(a, b, half_w, half_h)).second;
-  if (region.contains(goal) && region.depth(goal) >= inset) return goal;
+  if (region.contains(goal) && region.deepEnough(goal, inset)) return goal;
   // The samples nearest to the goal first (ties in sampling order): the first deep
   // sample on the region is the answer, else the nearest sample on it.
   std::vector<std::pair<double, Vec2>> samples;
@@ -270,7 +273,7 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
   std::optional<Vec2> best;
   for (const auto& [d, q] : samples) {
     if (!region.contains(q)) continue;
-    if (region.depth(q) >= inset) return q;
+    if (region.deepEnough(q, inset)) return q;
     if (!best) best = q;
   }
   return best;

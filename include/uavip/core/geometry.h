@@ -55,6 +55,10 @@ std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points);
 /// a point exactly on an edge may go either way.
 bool pointInPolygon2d(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& polygon);
 
+/// Distance from p to the segment a–b in 2D [m] (to a when a == b).
+double pointSegmentDistance2d(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                              const Eigen::Vector2d& b);
+
 /// Distance from p to the nearest edge of the closed 2D polygon [m] (inf when empty).
 double distanceToPolygonEdges2d(const Eigen::Vector2d& p,
                                 const std::vector<Eigen::Vector2d>& polygon);
