@@ -10,6 +10,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/planning/path_join.h"
 #include "uavip/planning/path_simplifier.h"
@@ -188,10 +189,34 @@ std::map<SegmentKey, double> validatedSegments(const std::vector<SurfaceMission>
   return known;
 }
 
+/// The validator's verdict on every segment of the sorties that no surface's
+/// validation measured (legs between surfaces and to home), each once, on every core.
+std::map<SegmentKey, ValidationResult> validateNewSegments(
+    const std::vector<Sortie>& sorties, const std::map<SegmentKey, double>& known,
+    const PathValidator& validator) {
+  std::map<SegmentKey, ValidationResult> fresh;
+  std::vector<std::pair<Vec3, Vec3>> segments;
+  for (const auto& s : sorties) {
+    for (std::size_t i = 0; i + 1 < s.waypoints.size(); ++i) {
+      const SegmentKey key = segmentKey(s.waypoints[i], s.waypoints[i + 1]);
+      if (known.count(key) == 0 && fresh.try_emplace(key).second)
+        segments.emplace_back(s.waypoints[i], s.waypoints[i + 1]);
+    }
+  }
+  std::vector<ValidationResult> results(segments.size());
+  parallelFor(segments.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
+    results[i] = validator.validate({segments[i].first, segments[i].second});
+  });
+  for (std::size_t i = 0; i < segments.size(); ++i)
+    fresh[segmentKey(segments[i].first, segments[i].second)] = std::move(results[i]);
+  return fresh;
+}
+
 /// The validator's verdict on a sortie, segment by segment: a segment of a
 /// surface's own path keeps the clearance its surface's validation measured (the
-/// same validator on the same segment), every other segment is validated here.
+/// same validator on the same segment), every other segment the verdict `fresh` holds.
 ValidationResult validateSortie(const PointList& path, const std::map<SegmentKey, double>& known,
+                                const std::map<SegmentKey, ValidationResult>& fresh,
                                 const PathValidator& validator) {
   if (path.size() < 2) return validator.validate(path);
   ValidationResult r;
@@ -202,7 +227,7 @@ ValidationResult validateSortie(const PointList& path, const std::map<SegmentKey
     if (it != known.end()) {
       c = it->second;
     } else {
-      const ValidationResult v = validator.validate({path[i], path[i + 1]});
+      const ValidationResult& v = fresh.at(segmentKey(path[i], path[i + 1]));
       c = v.segment_clearance_m.front();
       if (!v.collision_free && r.collision_free) {
         r.collision_free = false;
@@ -426,9 +451,11 @@ void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missio
                      const PathValidator& validator) {
   const auto t_validate = SteadyClock::now();
   const std::map<SegmentKey, double> known = validatedSegments(missions);
+  const std::map<SegmentKey, ValidationResult> fresh =
+      validateNewSegments(plan.sorties, known, validator);
   for (std::size_t i = 0; i < plan.sorties.size(); ++i) {
     Sortie& s = plan.sorties[i];
-    s.validation = validateSortie(s.waypoints, known, validator);
+    s.validation = validateSortie(s.waypoints, known, fresh, validator);
     plan.length_m += s.length_m;
     plan.duration_s += s.duration_s;
     if (!s.validation.collision_free && plan.status == FlightPlan::Status::Ok) {
