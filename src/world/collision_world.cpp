@@ -20,7 +20,6 @@
 #include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
 #include "uavip/core/math.h"
-#include "uavip/core/neighbour_index.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/world/solids.h"
 
@@ -36,36 +35,48 @@ constexpr double kCellEdge = 0.1;
 
 // ---------------------------------------------------------------- cloud index
 
-/// Exact point distances through cells and a kd-tree over the cells. The points are
-/// grouped in cells of kCellEdge; a cell stands for its points by the centre of their
-/// box and half its diagonal (every point of the cell lies within that of the
-/// centre). The kd-tree (float, relative to `offset`) holds the centres, so a query
-/// walks a tree 4–25 × smaller than the cloud (a 2 cm safety cloud on a surface
-/// holds ~25 points per cell) and then reads the points of the cells that can hold a
-/// closer point, in double. Not movable: the tree refers to `centre`.
-struct PointIndex {
-  PointList points;
-  Vec3 offset{Vec3::Zero()};
-  Aabb box;                          ///< of the points
-  std::vector<std::uint32_t> order;  ///< point indices, cell by cell
-  std::vector<std::uint32_t> begin;  ///< per cell its first entry in `order` (+ the end)
-  PointList centre;                  ///< per cell: the centre of its points' box [m]
-  std::vector<double> half_diag;     ///< per cell: half the diagonal of that box [m]
-  double max_half_diag{0.0};
-  std::unique_ptr<NeighbourIndex> tree;  ///< over `centre`
-  double pad{1e-3};                      ///< slack added to search radii for the float kd-tree [m]
+/// Cells a leaf of the bounding-volume tree holds at most.
+constexpr std::uint32_t kLeafCells = 8;
 
-  PointIndex() = default;
-  PointIndex(PointIndex&&) = delete;
-  PointIndex& operator=(PointIndex&&) = delete;
+/// Distance between two axis-aligned boxes (0 when they meet) [m].
+double boxDistance(const Aabb& a, const Aabb& b) {
+  const Vec3 gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(0.0);
+  return gap.norm();
+}
+
+/// Exact point distances through cells and a bounding-volume tree over the cells.
+/// The points are grouped in cells of kCellEdge, each with the box of its points;
+/// a binary tree of boxes (median splits on the longest axis, up to kLeafCells
+/// cells a leaf) holds the cells. A segment is cut into pieces of kPieceLength; a
+/// subtree, cell or piece whose box lies at least the best distance so far from the
+/// piece's box is not read, nearer children first. Every point read is measured to
+/// the whole segment (pointSegmentDistance, the brute-force formula), so the result
+/// is that of brute force. Replaced a kd-tree over cell centres with balls around
+/// the pieces: a ball 2 m above a dense surface returned ~100 cells, where the box
+/// bound reads the few under the segment (benchmarks/README.md, "Speed").
+struct PointIndex {
+  struct Node {
+    Aabb box;
+    std::uint32_t first{0}, count{0};  ///< leaf: cells cell_order[first … first + count)
+    std::int32_t left{-1}, right{-1};  ///< children (−1 for a leaf)
+  };
+  PointList points;
+  Aabb box;                               ///< of the points
+  std::vector<std::uint32_t> order;       ///< point indices, cell by cell
+  std::vector<std::uint32_t> begin;       ///< per cell its first entry in `order` (+ the end)
+  std::vector<Aabb> cell_box;             ///< per cell: the box of its points
+  std::vector<std::uint32_t> cell_order;  ///< cells, leaf by leaf
+  std::vector<Node> nodes;                ///< nodes[0] is the root
 
   void build(const PointList& pts) {
     points = pts;
-    tree.reset();
+    order.clear();
+    begin.clear();
+    cell_box.clear();
+    cell_order.clear();
+    nodes.clear();
     if (pts.empty()) return;
     box = boundingBox(pts);
-    offset = 0.5 * (box.min + box.max);
-    pad = 1e-3 + 1e-6 * (box.max - box.min).norm();
     double edge = kCellEdge;  // grown where the cloud spans more than 2^21 cells
     while ((box.max - box.min).maxCoeff() / edge > 0.5 * static_cast<double>(VoxelKeyer::kCells))
       edge *= 2.0;
@@ -81,72 +92,109 @@ struct PointIndex {
         begin.push_back(static_cast<std::uint32_t>(k));
     }
     begin.push_back(static_cast<std::uint32_t>(keyed.size()));
-    for (std::size_t c = 0; c + 1 < begin.size(); ++c) {
-      Aabb cell;
-      for (std::uint32_t k = begin[c]; k < begin[c + 1]; ++k) cell.extend(pts[order[k]]);
-      centre.push_back(0.5 * (cell.min + cell.max));
-      half_diag.push_back(0.5 * (cell.max - cell.min).norm());
-      max_half_diag = std::max(max_half_diag, half_diag.back());
+    const std::size_t cells = begin.size() - 1;
+    cell_box.resize(cells);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (std::uint32_t k = begin[c]; k < begin[c + 1]; ++k) cell_box[c].extend(pts[order[k]]);
+    cell_order.resize(cells);
+    for (std::size_t c = 0; c < cells; ++c) cell_order[c] = static_cast<std::uint32_t>(c);
+    nodes.reserve(2 * cells / kLeafCells + 2);
+    buildNode(0, static_cast<std::uint32_t>(cells));
+  }
+
+  /// Builds the subtree over cell_order[first … first + count); returns its index.
+  std::int32_t buildNode(std::uint32_t first, std::uint32_t count) {
+    const auto at = static_cast<std::int32_t>(nodes.size());
+    nodes.emplace_back();
+    Aabb b;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      b.extend(cell_box[cell_order[k]].min);
+      b.extend(cell_box[cell_order[k]].max);
     }
-    tree = std::make_unique<NeighbourIndex>(centre, offset);
+    nodes[static_cast<std::size_t>(at)].box = b;
+    if (count <= kLeafCells) {
+      nodes[static_cast<std::size_t>(at)].first = first;
+      nodes[static_cast<std::size_t>(at)].count = count;
+      return at;
+    }
+    int axis = 0;
+    (b.max - b.min).maxCoeff(&axis);
+    const std::uint32_t half = count / 2;
+    const auto centre = [&](std::uint32_t c) {
+      return cell_box[c].min[axis] + cell_box[c].max[axis];
+    };
+    std::nth_element(cell_order.begin() + first, cell_order.begin() + first + half,
+                     cell_order.begin() + first + count, [&](std::uint32_t x, std::uint32_t y) {
+                       return centre(x) < centre(y) || (centre(x) == centre(y) && x < y);
+                     });
+    const std::int32_t left = buildNode(first, half);
+    const std::int32_t right = buildNode(first + half, count - half);
+    nodes[static_cast<std::size_t>(at)].left = left;
+    nodes[static_cast<std::size_t>(at)].right = right;
+    return at;
   }
 
   /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
-  /// The segment is cut into pieces of kPieceLength; a piece whose mid-point lies
-  /// farther from the cloud's box than the best distance so far plus its half length
-  /// cannot hold the minimum and costs no search, so a segment reaching far beyond
-  /// the cloud stays cheap. `best` is always a true point–segment distance, so it
-  /// bounds the answer D from above. The nearest point p* has its foot on the
-  /// segment either in some piece of length L and mid-point m, and then
-  /// |p* − m|² = D² + |foot − m|² ≤ best² + L²/4 (Pythagoras; the cell nearest to m
-  /// tightens `best` first), or at the segment's end a or b, and then |p* − end| =
-  /// D ≤ best. One ball per piece and one per end of the whole segment make the
-  /// minimum exact (the joints between pieces need no ball: a foot there lies in
-  /// both pieces). A ball of radius R finds every cell whose centre is within
-  /// R + max_half_diag; a cell whose centre is at least best + half its diagonal from
-  /// the piece holds no closer point and is not read.
+  /// The nearest point's foot on the segment lies in some piece, and that piece's
+  /// box lies no farther from the point than the distance D, so the search of that
+  /// piece reads it: the minimum over the points read is the brute-force one.
+  /// `best` is always a true point–segment distance; a box is skipped only when it
+  /// lies at least that far from the piece (a tiny slack covers rounding).
   double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
     double best = kInf;
     if (points.empty()) return best;
-    const auto scanCell = [&](int c, const Vec3& pa, const Vec3& pb) {
-      if (c < 0) return;
-      const auto cell = static_cast<std::size_t>(c);
-      if (pointSegmentDistance(centre[cell], pa, pb) - half_diag[cell] >= best) return;
-      for (std::uint32_t k = begin[cell]; k < begin[cell + 1]; ++k) {
-        const Vec3& p = points[order[k]];
-        const double d = pointSegmentDistance(p, pa, pb);
-        if (d < best) {
-          best = d;
-          q = p;
-        }
-      }
-    };
-    thread_local std::vector<int> cells;
-    thread_local std::vector<float> d2;
-    const auto scanBall = [&](const Vec3& c, double radius, const Vec3& pa, const Vec3& pb) {
-      tree->within(c, radius + max_half_diag + pad, cells, d2, /*sorted=*/false);
-      for (const int cell : cells) scanCell(cell, pa, pb);
-    };
-    // A true distance to start from: the points of the cell nearest to the segment's
-    // point closest to the cloud's centre (one piece: its mid-point's cell does that).
     const Vec3 ab = b - a;
     const double len = ab.norm();
     const int pieces = static_cast<int>(std::clamp(std::ceil(len / kPieceLength), 1.0, 1e9));
+    const double slack = 1e-9 * (1.0 + (box.max - box.min).norm() + len);
+    thread_local std::vector<std::int32_t> stack;
+    const auto far = [&](double bound) { return bound - slack >= best; };
+    // Pieces nearest to the cloud's box first: `best` drops early.
+    const auto pieceBox = [&](int k) {
+      Aabb p;
+      p.extend(a + ab * (static_cast<double>(k) / pieces));
+      p.extend(a + ab * (static_cast<double>(k + 1) / pieces));
+      return p;
+    };
+    int first_piece = 0;
     if (pieces > 1) {
-      const double t = std::clamp((offset - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      scanCell(tree->nearestTo(a + t * ab), a, b);
+      const double t =
+          std::clamp((0.5 * (box.min + box.max) - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      first_piece = std::min(pieces - 1, static_cast<int>(t * pieces));
     }
-    for (int k = 0; k < pieces; ++k) {
-      const Vec3 pa = a + ab * (static_cast<double>(k) / pieces);
-      const Vec3 pb = a + ab * (static_cast<double>(k + 1) / pieces);
-      const Vec3 mid = 0.5 * (pa + pb);
-      const double piece = (pb - pa).norm();
-      if ((mid - mid.cwiseMax(box.min).cwiseMin(box.max)).norm() - 0.5 * piece >= best) continue;
-      scanCell(tree->nearestTo(mid), pa, pb);
-      scanBall(mid, std::sqrt(best * best + 0.25 * piece * piece), pa, pb);
+    for (int step = 0; step < pieces; ++step) {
+      const int k = (first_piece + step) % pieces;
+      const Aabb piece = pieceBox(k);
+      if (far(boxDistance(piece, nodes[0].box))) continue;
+      stack.clear();
+      stack.push_back(0);
+      while (!stack.empty()) {
+        const Node& node = nodes[static_cast<std::size_t>(stack.back())];
+        stack.pop_back();
+        if (far(boxDistance(piece, node.box))) continue;
+        if (node.left < 0) {
+          for (std::uint32_t e = node.first; e < node.first + node.count; ++e) {
+            const std::uint32_t cell = cell_order[e];
+            if (far(boxDistance(piece, cell_box[cell]))) continue;
+            for (std::uint32_t i = begin[cell]; i < begin[cell + 1]; ++i) {
+              const Vec3& p = points[order[i]];
+              const double d = pointSegmentDistance(p, a, b);
+              if (d < best) {
+                best = d;
+                q = p;
+              }
+            }
+          }
+          continue;
+        }
+        // The nearer child on top of the stack.
+        const Node& l = nodes[static_cast<std::size_t>(node.left)];
+        const Node& r = nodes[static_cast<std::size_t>(node.right)];
+        const bool left_first = boxDistance(piece, l.box) <= boxDistance(piece, r.box);
+        stack.push_back(left_first ? node.right : node.left);
+        stack.push_back(left_first ? node.left : node.right);
+      }
     }
-    scanBall(a, best, a, b);
-    scanBall(b, best, a, b);
     return best;
   }
 };
