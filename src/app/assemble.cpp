@@ -13,17 +13,27 @@
 namespace uavip::app {
 namespace {
 
-/// Stage 1 on every station, `threads` at a time (each station is independent).
+/// Stage 1 on every station, `threads` at a time (each station is independent), in
+/// two passes: every station's odometry (ICP), then every station's cloud. One
+/// station's ICP is often most of the work; in one pass the other thread ran out of
+/// stations while it finished (bridge: 0.50 s, 0.43 s in two passes). `seconds`
+/// gets each station's time in both.
 std::vector<scan::StationCloud> assembleAll(const RawLog& log,
                                             const scan::AssemblerOptions& options, int threads,
                                             std::vector<double>& seconds) {
   const std::size_t n = log.stations.size();
+  std::vector<scan::StationOdometry> odometry(n);
   std::vector<scan::StationCloud> clouds(n);
   seconds.assign(n, 0.0);
   parallelFor(n, threads, [&](std::size_t i, std::size_t) {
     const auto t0 = SteadyClock::now();
-    clouds[i] = scan::assembleStation(log, i, options);
+    odometry[i] = scan::stationOdometry(log, i, options);
     seconds[i] = secondsSince(t0);
+  });
+  parallelFor(n, threads, [&](std::size_t i, std::size_t) {
+    const auto t0 = SteadyClock::now();
+    clouds[i] = scan::assembleStation(log, options, odometry[i]);
+    seconds[i] += secondsSince(t0);
   });
   return clouds;
 }

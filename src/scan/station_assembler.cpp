@@ -785,8 +785,8 @@ void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu,
 
 }  // namespace
 
-StationCloud assembleStation(const RawLog& log, std::size_t index,
-                             const AssemblerOptions& options) {
+StationOdometry stationOdometry(const RawLog& log, std::size_t index,
+                                const AssemblerOptions& options) {
   options.validate();
   if (index >= log.stations.size()) {
     throw InputError("scan: station index " + std::to_string(index) + " out of range (" +
@@ -794,22 +794,54 @@ StationCloud assembleStation(const RawLog& log, std::size_t index,
   }
   const Station& st = log.stations[index];
   const std::string where = "station " + std::to_string(st.id);
-  StationCloud out;
-  out.station_id = st.id;
+  StationOdometry out;
+  out.index = index;
   out.stats.vertical_scans = st.vertical.size();
   out.stats.horizontal_scans = st.horizontal.size();
-  if (st.vertical.empty() && st.horizontal.empty()) return out;
+  if (st.vertical.empty() && st.horizontal.empty()) {
+    out.empty = true;
+    return out;
+  }
   const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
   checkScans(st, imu, options.max_imu_gap_s, where);
+  const auto t_icp = SteadyClock::now();
+  Odometry odo = horizontalOdometry(log, st, imu, options, !options.refine_drift, out.stats);
+  out.theta = std::move(odo.theta);
+  out.trans = std::move(odo.trans);
+  out.loop_closure_m = odo.loop_closure_m;
+  out.loop_closure_information = odo.loop_closure_information;
+  out.stats.icp_s = secondsSince(t_icp);
+  return out;
+}
+
+StationCloud assembleStation(const RawLog& log, std::size_t index,
+                             const AssemblerOptions& options) {
+  return assembleStation(log, options, stationOdometry(log, index, options));
+}
+
+StationCloud assembleStation(const RawLog& log, const AssemblerOptions& options,
+                             const StationOdometry& odometry) {
+  options.validate();
+  if (odometry.index >= log.stations.size()) {
+    throw InputError("scan: station index " + std::to_string(odometry.index) + " out of range (" +
+                     std::to_string(log.stations.size()) + " stations)");
+  }
+  const Station& st = log.stations[odometry.index];
+  const std::string where = "station " + std::to_string(st.id);
+  StationCloud out;
+  out.station_id = st.id;
+  out.stats = odometry.stats;
+  if (odometry.empty) return out;
+  const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
+  Odometry odo;
+  odo.theta = odometry.theta;
+  odo.trans = odometry.trans;
+  out.loop_closure_m = odometry.loop_closure_m;
+  out.loop_closure_information = odometry.loop_closure_information;
 
   // T: xy from the horizontal odometry, z from the nadir/zenith beams, then (refine_drift)
   // all beams jointly.
-  const auto t_icp = SteadyClock::now();
-  const Odometry odo = horizontalOdometry(log, st, imu, options, !options.refine_drift, out.stats);
-  out.loop_closure_m = odo.loop_closure_m;
-  out.loop_closure_information = odo.loop_closure_information;
   TranslationTrack track = odometryTrack(st, odo, {});
-  out.stats.icp_s = secondsSince(t_icp);
   auto t_pts = SteadyClock::now();
   track = odometryTrack(st, odo, verticalDrift(log, st, imu, track, options));
   out.stats.points_s = secondsSince(t_pts);

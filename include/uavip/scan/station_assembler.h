@@ -228,4 +228,27 @@ double yawOf(const Eigen::Quaterniond& q);
 StationCloud assembleStation(const RawLog& log, std::size_t index,
                              const AssemblerOptions& options = {});
 
+/// The first half of assembleStation: the horizontal odometry (ICP, §II-A's T in
+/// xy) of station `index`, which the second half takes up. Split so that a caller
+/// with several stations can spread each half over its threads: one station's ICP
+/// is often most of the work.
+struct StationOdometry {
+  std::size_t index{0};                ///< the station in the log
+  bool empty{false};                   ///< no scans at all: an empty cloud follows
+  std::vector<double> theta;           ///< per horizontal scan: residual yaw [rad]
+  std::vector<Eigen::Vector2d> trans;  ///< per horizontal scan: xy in the station frame [m]
+  double loop_closure_m{-1.0};         ///< the 2D loop closure (−1: none measured) [m]
+  double loop_closure_information{0.0};
+  AssemblyStats stats;  ///< scan counts, keyframes, ICP figures and icp_s so far
+};
+
+/// The first half (same checks and errors as assembleStation).
+StationOdometry stationOdometry(const RawLog& log, std::size_t index,
+                                const AssemblerOptions& options = {});
+/// The second half: z drift, refinement and eq. (1) on the beams, from `odometry`
+/// (of this log and options). assembleStation(log, i, o) equals
+/// assembleStation(log, o, stationOdometry(log, i, o)).
+StationCloud assembleStation(const RawLog& log, const AssemblerOptions& options,
+                             const StationOdometry& odometry);
+
 }  // namespace uavip::scan
