@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <future>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -68,24 +69,24 @@ struct PointIndex {
   std::vector<std::uint32_t> cell_order;  ///< cells, leaf by leaf
   std::vector<Node> nodes;                ///< nodes[0] is the root
 
-  void build(const PointList& pts) {
-    points = pts;
+  void build(PointList pts) {
+    points = std::move(pts);
     order.clear();
     begin.clear();
     cell_box.clear();
     cell_order.clear();
     nodes.clear();
-    if (pts.empty()) return;
-    box = boundingBox(pts);
+    if (points.empty()) return;
+    box = boundingBox(points);
     double edge = kCellEdge;  // grown where the cloud spans more than 2^21 cells
     while ((box.max - box.min).maxCoeff() / edge > 0.5 * static_cast<double>(VoxelKeyer::kCells))
       edge *= 2.0;
     const VoxelKeyer keyer(box.min, box.max, edge, "collision cell");
-    std::vector<KeyedIndex> keyed(pts.size());
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      keyed[i] = {keyer.key(pts[i]), static_cast<std::uint32_t>(i)};
+    std::vector<KeyedIndex> keyed(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      keyed[i] = {keyer.key(points[i]), static_cast<std::uint32_t>(i)};
     sortByKey(keyed);
-    order.resize(pts.size());
+    order.resize(points.size());
     for (std::size_t k = 0; k < keyed.size(); ++k) {
       order[k] = keyed[k].second;
       if (k == 0 || keyed[k].first != keyed[k - 1].first)
@@ -95,7 +96,7 @@ struct PointIndex {
     const std::size_t cells = begin.size() - 1;
     cell_box.resize(cells);
     for (std::size_t c = 0; c < cells; ++c)
-      for (std::uint32_t k = begin[c]; k < begin[c + 1]; ++k) cell_box[c].extend(pts[order[k]]);
+      for (std::uint32_t k = begin[c]; k < begin[c + 1]; ++k) cell_box[c].extend(points[order[k]]);
     cell_order.resize(cells);
     for (std::size_t c = 0; c < cells; ++c) cell_order[c] = static_cast<std::uint32_t>(c);
     nodes.reserve(2 * cells / kLeafCells + 2);
@@ -239,12 +240,20 @@ fcl::CollisionObjectd sweptVolume(const Vec3& a, const Vec3& b, double radius) {
 
 struct CollisionWorld::Impl {
   std::vector<Polyhedron> solids;  ///< per object; empty for the cloud
-  detail::PointIndex points;
+  /// The cloud's point index, built on a second thread while the caller goes on
+  /// (planning builds its grid meanwhile); `points_ready` is waited for before the
+  /// first read (cloud()).
+  detail::PointIndex points_index;
+  std::shared_future<void> points_ready;
+  const detail::PointIndex& cloud() const {
+    if (points_ready.valid()) points_ready.get();  // rethrows what the build threw
+    return points_index;
+  }
   /// The cloud as an fcl::OcTree, built on the first sweepContacts() or octreeLeaves()
   /// (proximity() reads the points through `points`; building the OcTree cost 0.1 s
   /// of every bridge plan). Until then the manager holds the cloud object as a box
-  /// with the OcTree's own bounds, so the broadphase is the same either way.
-  PointList octree_points;
+  /// with the OcTree's own bounds, so the broadphase is the same either way. Built
+  /// from the point index's points.
   double octree_resolution_m{0.05};
   std::once_flag octree_once;
   std::unique_ptr<fcl::CollisionObjectd> octree_object;
@@ -276,7 +285,7 @@ const fcl::CollisionObjectd* CollisionWorld::Impl::octreeObject() {
   if (cloud_object < 0) return nullptr;
   std::call_once(octree_once, [this] {
     auto octree = std::make_shared<octomap::OcTree>(octree_resolution_m);
-    for (const auto& p : octree_points) {
+    for (const auto& p : cloud().points) {
       octomap::OcTreeKey key;
       const octomap::point3d q(static_cast<float>(p.x()), static_cast<float>(p.y()),
                                static_cast<float>(p.z()));
@@ -289,7 +298,6 @@ const fcl::CollisionObjectd* CollisionWorld::Impl::octreeObject() {
         std::make_shared<fcl::OcTreed>(std::shared_ptr<const octomap::OcTree>(octree)));
     octree_object->setUserData(&index[static_cast<std::size_t>(cloud_object)]);
     octree_object->computeAABB();
-    PointList().swap(octree_points);
   });
   return octree_object.get();
 }
@@ -365,15 +373,19 @@ void CollisionWorld::build(const Scene& scene) {
   }
   for (std::size_t k = 0; k < scene.keep_out.size(); ++k)  // always: the operator's word
     addSolid(ObjectKind::KeepOut, static_cast<int>(k), keepOutSolid(scene.keep_out[k]));
-  const PointList cloud = safetyPoints(scene);
+  PointList cloud = safetyPoints(scene);
   if (options_.include_cloud && !cloud.empty()) {
-    im.points.build(cloud);
-    im.octree_points = cloud;
     im.octree_resolution_m = options_.octree_resolution_m;
     im.cloud_object = static_cast<int>(objects_.size());
     geoms.push_back(octreeBoundsBox(options_.octree_resolution_m));
     objects_.push_back({ObjectKind::Cloud, -1, boundingBox(cloud)});
     im.solids.emplace_back();
+    // The index takes the cloud and is built on another thread (Impl's end waits
+    // for it: the future is destroyed before the index).
+    im.points_ready = std::async(std::launch::async, [&index = im.points_index,
+                                                      pts = std::move(cloud)]() mutable {
+                        index.build(std::move(pts));
+                      }).share();
   }
 
   im.index.resize(objects_.size());
@@ -397,7 +409,7 @@ PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied
   return shellSamples(impl_->solids, spacing, occupied, region);
 }
 
-std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->points.points.size() : 0; }
+std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->cloud().points.size() : 0; }
 std::size_t CollisionWorld::octreeLeaves() const {
   if (!impl_ || !impl_->octreeObject()) return 0;
   return impl_->octree_leaves;
@@ -428,7 +440,7 @@ Proximity CollisionWorld::proximity(const Vec3& a, const Vec3& b, double radius)
   if (!impl_ || objects_.empty()) return q.best;
   fcl::CollisionObjectd swept = sweptVolume(a, b, std::max(0.0, radius));
   q.solids = &impl_->solids;
-  q.points = &impl_->points;
+  q.points = &impl_->cloud();
   q.query = &swept;
   q.a = a;
   q.b = b;
