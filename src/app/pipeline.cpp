@@ -1,6 +1,7 @@
 #include "uavip/app/pipeline.h"
 
 #include <algorithm>
+#include <future>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -110,17 +111,21 @@ DetectResult detect(const PointList& raw, const app::Config& config,
                                std::to_string(raw.size()) + " points");
   PointList clean =
       preprocess::preprocess(raw, resolved.preprocess, &result.preprocess, index.get());
-  // Safety keeps every input point, whatever stage 3 dropped or merged.
-  SafetyCloud safety = preprocess::safetyCloud(raw, resolved.safety.cell_m);
-  safety.perception_dropped = result.preprocess.input_points - result.preprocess.after_outliers;
   result.times.preprocess_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
+  // Safety keeps every input point, whatever stage 3 dropped or merged. Built on a
+  // second thread beside stages 4-5, which run on one (its time is in theirs).
+  auto safety = std::async(std::launch::async, [&raw, cell = resolved.safety.cell_m] {
+    return preprocess::safetyCloud(raw, cell);
+  });
   reportProgress(progress, "stages 4-5: planes and obstacle clusters on " +
                                std::to_string(clean.size()) + " points");
   result.scene = perception::buildScene(clean, resolved.perception);
   result.scene.measured = cloud;
-  result.scene.safety = std::move(safety);
+  result.scene.safety = safety.get();
+  result.scene.safety->perception_dropped =
+      result.preprocess.input_points - result.preprocess.after_outliers;
   result.times.perception_s = secondsSince(t1);
   result.times.total_s = secondsSince(t0);
   return result;
@@ -297,6 +302,14 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
                 const Progress& progress) {
   PlanResult result;
   const auto t0 = SteadyClock::now();
+  // The collision world needs the scene only: built on a second thread beside stage 6
+  // (whose surfaces rarely keep both cores busy to the end).
+  std::future<std::shared_ptr<const world::CollisionWorld>> world_build;
+  if (!surface_ids.empty()) {
+    world_build = std::async(std::launch::async, [&scene] {
+      return std::make_shared<const world::CollisionWorld>(scene);
+    });
+  }
 
   // Stage 6 first: the grid must also cover every stop. Surfaces are independent,
   // each strategy written to its own slot, on every core.
@@ -318,7 +331,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
 
   const auto t1 = SteadyClock::now();
   reportProgress(progress, "stage 7: inflated voxel grid");
-  const auto world = std::make_shared<const world::CollisionWorld>(scene);
+  const std::shared_ptr<const world::CollisionWorld> world = world_build.get();
   result.clearance_m = safetyClearance(scene, config);
   const world::VoxelGrid grid =
       planningGrid(scene, *world, config, stop_positions, result.clearance_m);
