@@ -38,11 +38,14 @@ constexpr double kLocalMarginM = 6.0;
 /// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
 /// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
-/// Below mission.min_coverage an `ok` surface becomes `partial`, stating the fraction.
-void measureCoverage(planning::SurfaceMission& m, const Surface& surface,
-                     const coverage::LineOfSight& sight, const app::Config& config) {
+/// Nothing when the mission is not flyable or the surface has no points; applyCoverage
+/// writes it into the mission.
+std::optional<coverage::CoverageResult> coverageOf(const planning::SurfaceMission& m,
+                                                   const Surface& surface,
+                                                   const coverage::LineOfSight& sight,
+                                                   const app::Config& config) {
   constexpr double kMaxIncidenceDeg = 75.0;
-  if (!planning::flyable(m.status) || surface.inliers.empty()) return;
+  if (!planning::flyable(m.status) || surface.inliers.empty()) return std::nullopt;
   std::vector<coverage::ViewPose> views;
   for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
     if (m.stop_problems[k] != planning::StopProblem::None) continue;
@@ -56,8 +59,14 @@ void measureCoverage(planning::SurfaceMission& m, const Surface& surface,
   const coverage::FootprintCamera camera(camera_options);
   coverage::CoverageCriteria criteria;
   criteria.max_incidence_deg = kMaxIncidenceDeg;
-  const coverage::CoverageResult r = coverage::evaluateCoverage(
-      surface.inliers, {surface.plane.normal}, views, camera, criteria, &sight);
+  return coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, views, camera,
+                                    criteria, &sight);
+}
+
+/// Records coverageOf's result `r` in the mission. Below mission.min_coverage an `ok`
+/// surface becomes `partial`, stating the fraction.
+void applyCoverage(planning::SurfaceMission& m, const coverage::CoverageResult& r,
+                   const Surface& surface, const app::Config& config) {
   m.coverage.evaluated = true;
   m.coverage.fraction = r.fraction;
   m.coverage.points = r.points;
@@ -347,19 +356,30 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   result.missions =
       planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
-  reportProgress(progress, "coverage: what the flown photos image");
+  // The flight and the coverage of the flown photos only read the missions (a
+  // surface that coverage turns `partial` stays flyable): the flight runs on a second
+  // thread meanwhile (its A* legs use one core), the coverage is written in after.
+  // planning_s and flight_s overlap by the coverage's time.
+  reportProgress(progress, "flight: order, connecting legs, sorties; coverage of the photos");
+  auto flight = std::async(std::launch::async, [&] {
+    const auto t3 = SteadyClock::now();
+    planning::FlightPlan f = flyMissions(result.missions, grid, validator, *planner, config);
+    return std::make_pair(std::move(f), secondsSince(t3));
+  });
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  for (std::size_t i = 0; i < strategies.size(); ++i) {
-    measureCoverage(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config);
-  }
+  std::vector<std::optional<coverage::CoverageResult>> measured(strategies.size());
+  for (std::size_t i = 0; i < strategies.size(); ++i)
+    measured[i] = coverageOf(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config);
   result.times.planning_s = secondsSince(t2);
-
-  const auto t3 = SteadyClock::now();
-  reportProgress(progress, "flight: order, connecting legs, sorties");
-  result.flight = flyMissions(result.missions, grid, validator, *planner, config);
-  result.times.flight_s = secondsSince(t3);
+  auto [flown, flight_s] = flight.get();
+  for (std::size_t i = 0; i < strategies.size(); ++i) {
+    if (measured[i])
+      applyCoverage(result.missions[i], *measured[i], surfaceById(scene, surface_ids[i]), config);
+  }
+  result.flight = std::move(flown);
+  result.times.flight_s = flight_s;
   result.times.total_s = secondsSince(t0);
   return result;
 }
