@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <memory>
 
 #include "plan_steps.h"
@@ -248,9 +249,11 @@ StructurePoints prepareStructure(const Scene& scene, const app::Config& config,
 }
 
 /// The planning grid over the structure's box grown by the viewing distance (and
-/// mission.start / mission.home), with the validator; both must be free.
+/// mission.start / mission.home), with the validator on `world`; both must be free.
 world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
-                               const PointList& points, double standoff, PlanResult& result,
+                               const PointList& points, double standoff,
+                               const std::shared_ptr<const world::CollisionWorld>& world,
+                               PlanResult& result,
                                std::unique_ptr<planning::PathValidator>& validator) {
   Aabb box = boundingBox(points);
   box.min.array() -= standoff;
@@ -258,7 +261,6 @@ world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
   PointList corners = {box.min, box.max};
   if (config.mission.start) corners.push_back(*config.mission.start);
   if (config.flight.home) corners.push_back(*config.flight.home);
-  const auto world = std::make_shared<const world::CollisionWorld>(scene);
   world::VoxelGrid grid = planningGrid(scene, *world, config, corners, result.clearance_m);
   validator = std::make_unique<planning::PathValidator>(world, result.clearance_m);
   requireFree(config.mission.start, "mission.start", *validator);
@@ -352,10 +354,16 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   result.clearance_m = safetyClearance(scene, config);
   summary.standoff_m = checkedStandoff(config, result.clearance_m);
   const double standoff = summary.standoff_m;
+  // The collision world needs the scene only: built on a second thread beside the
+  // structure's points and normals.
+  auto world_build = std::async(std::launch::async, [&scene] {
+    return std::make_shared<const world::CollisionWorld>(scene);
+  });
   StructurePoints s = prepareStructure(scene, config, summary, progress);
   reportProgress(progress, "structure: inflated voxel grid");
   std::unique_ptr<planning::PathValidator> validator;
-  const world::VoxelGrid grid = structureGrid(scene, config, s.points, standoff, result, validator);
+  const world::VoxelGrid grid =
+      structureGrid(scene, config, s.points, standoff, world_build.get(), result, validator);
   result.times.grid_s = secondsSince(t0);
 
   const auto t_prepare = SteadyClock::now();
