@@ -311,6 +311,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
                 const Progress& progress) {
   PlanResult result;
   const auto t0 = SteadyClock::now();
+  for (const int id : surface_ids) surfaceById(scene, id);  // a bad id fails before any work
   // The collision world needs the scene only: built on a second thread beside stage 6
   // (whose surfaces rarely keep both cores busy to the end).
   std::future<std::shared_ptr<const world::CollisionWorld>> world_build;
@@ -323,7 +324,6 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   // Stage 6 first: the grid must also cover every stop. Surfaces are independent,
   // each strategy written to its own slot, on every core.
   std::vector<coverage::FlightStrategy> strategies(surface_ids.size());
-  for (const int id : surface_ids) surfaceById(scene, id);  // a bad id fails before any work
   parallelFor(surface_ids.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
     strategies[i] =
         coverage::planFlightStrategy(surfaceById(scene, surface_ids[i]), config.coverage);
