@@ -30,6 +30,7 @@ double bruteForce(const std::vector<Vec2>& pts, const Vec2& q, double cell) {
 std::vector<Vec2> scanLikeCloud(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Vec2> pts;
+  pts.reserve(1020);
   for (int i = 0; i < 400; ++i) pts.emplace_back(4.0 + 0.01 * u(rng), 3.0 * u(rng));
   for (int i = 0; i < 400; ++i) pts.emplace_back(3.0 * u(rng) - 1.0, -2.0 + 0.01 * u(rng));
   for (int i = 0; i < 20; ++i) pts.emplace_back(0.5, 0.5);
