@@ -9,12 +9,12 @@
 /// How the verdict is computed (measured; docs/architecture_notes.md): FCL's
 /// broadphase (DynamicAABBTree) picks the objects near the capsule, and the
 /// distance to each is exact: segment–polyhedron distance for slabs and boxes, and
-/// kd-tree point-to-segment distances for the cloud. The exact kd-tree distance is
-/// the final word for measured points because FCL's OcTree treats each occupied
-/// leaf as a box, conservative by up to the leaf's diagonal, which would fail a path
-/// that grazes a point at exactly the margin. So a path grazing at r + 1e-6 passes
-/// and at r − 1e-6 fails, for points, slabs and boxes alike. FCL's own GJK sweep is
-/// CollisionWorld::sweepContacts().
+/// exact point-to-segment distances for the cloud (a box tree over its cells). The
+/// exact point distance is the final word for measured points because FCL's
+/// OcTree treats each occupied leaf as a box, conservative by up to the leaf's
+/// diagonal, which would fail a path that grazes a point at exactly the margin. So
+/// a path grazing at r + 1e-6 passes and at r − 1e-6 fails, for points, slabs and
+/// boxes alike. FCL's own GJK sweep is CollisionWorld::sweepContacts().
 
 #include <memory>
 #include <string>

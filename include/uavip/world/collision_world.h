@@ -20,9 +20,10 @@
 /// a segment; a capsule contains exactly the points within r of the segment):
 ///  - proximity(): exact distance from a segment to the nearest object. FCL's
 ///    broadphase prunes objects by the capsule's AABB; the narrowphase is exact:
-///    segment–polyhedron distance for slabs, hulls and boxes, kd-tree point distances for
-///    the cloud (an OcTree leaf is a box, so FCL's own distance to the cloud is
-///    conservative by up to the leaf's half-diagonal, √3/2·resolution).
+///    segment–polyhedron distance for slabs, hulls and boxes, exact point distances
+///    for the cloud (a box tree over its 10 cm cells; an OcTree leaf is a box, so
+///    FCL's own distance to the cloud is conservative by up to the leaf's
+///    half-diagonal, √3/2·resolution).
 ///  - sweepContacts(): FCL's own discrete fcl::collide of the capsule against every
 ///    object (GJK; the OcTree's occupied leaves as boxes), the pure-FCL check.
 /// Not fcl::continuousCollide: FCL 0.7's naive CCD samples ~10 poses along the
@@ -59,7 +60,7 @@ struct WorldOptions {
   double obstacle_piece_m{4.0};
   bool include_surfaces{true};   ///< add a slab per Surface
   bool include_obstacles{true};  ///< add a solid (hull or box) per Obstacle
-  bool include_cloud{true};      ///< add the cloud (OcTree + exact kd-tree)
+  bool include_cloud{true};      ///< add the cloud (OcTree + exact point index)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "world") const;
