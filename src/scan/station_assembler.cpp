@@ -486,20 +486,11 @@ std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const 
   return scans;
 }
 
-/// Horizontal odometry: per scan, residual yaw θ_k and position t_k in the station
-/// frame (station xy = rot(θ_k)·scan_k + t_k), and the 2D loop closure.
-struct Odometry {
-  std::vector<double> theta;
-  std::vector<Vec2> trans;
-  double loop_closure_m{-1.0};
-  double loop_closure_information{0.0};
-};
-
 /// Loop closure of the odometry: the last scan as placed, ICP'd onto the first as
 /// placed, in coordinates centred on the last scan's position (so the result is a
 /// body offset). Only a closure the scans can see is a measurement: with too few
 /// pairs, or a direction no pair fixes (one flat face in view), the offset would read 0.
-void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo,
+void odometryLoopClosure(const std::vector<Scan2D>& scans, StationOdometry& odo,
                          const AssemblerOptions& options) {
   if (scans.size() < 2) return;
   const std::size_t last = scans.size() - 1;
@@ -518,17 +509,18 @@ void odometryLoopClosure(const std::vector<Scan2D>& scans, Odometry& odo,
       r.pairs >= tn.min_pairs && r.min_information >= tn.min_loop_information ? r.t.norm() : -1.0;
 }
 
-/// T in xy from ICP between horizontal scans and a keyframe map (see the header).
-/// (The 2D loop closure only with `loop_closure`: the refinement has its own.)
-Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu,
-                            const AssemblerOptions& options, bool loop_closure,
-                            AssemblyStats& stats) {
+/// T in xy from ICP between horizontal scans and a keyframe map (see the header):
+/// per scan, residual yaw θ_k and position t_k in the station frame (station xy =
+/// rot(θ_k)·scan_k + t_k), into odo (and its stats). The 2D loop closure only with
+/// `loop_closure`: the refinement has its own.
+void horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack& imu,
+                        const AssemblerOptions& options, bool loop_closure, StationOdometry& odo) {
   const bool prior = options.use_imu_prior;
   const std::vector<Scan2D> scans = horizontalScans(log, st, imu, prior, options.tuning);
-  Odometry odo;
+  AssemblyStats& stats = odo.stats;
   odo.theta.assign(scans.size(), 0.0);
   odo.trans.assign(scans.size(), Vec2::Zero());
-  if (scans.empty()) return odo;
+  if (scans.empty()) return;
   double iter_sum = 0.0, rms_sum = 0.0;
   std::size_t icp_runs = 0;
   auto& theta = odo.theta;
@@ -583,7 +575,6 @@ Odometry horizontalOdometry(const RawLog& log, const Station& st, const ImuTrack
   if (loop_closure) odometryLoopClosure(scans, odo, options);
   stats.mean_icp_iterations = icp_runs ? iter_sum / static_cast<double>(icp_runs) : 0.0;
   stats.mean_icp_rms_m = icp_runs ? rms_sum / static_cast<double>(icp_runs) : 0.0;
-  return odo;
 }
 
 /// Vertical drift z per vertical scan from the nadir/zenith beams (0 without
@@ -646,7 +637,7 @@ std::size_t nearestVerticalScan(const std::vector<LaserScan>& vertical, double t
 /// T(t) from the odometry (xy at the horizontal scans' mid times) and the vertical
 /// drift (z of the vertical scan nearest in time). Without horizontal scans: the
 /// vertical scans' start times, z only.
-TranslationTrack odometryTrack(const Station& st, const Odometry& odo,
+TranslationTrack odometryTrack(const Station& st, const StationOdometry& odo,
                                const std::vector<double>& z_of_vscan) {
   TranslationTrack track;
   if (!st.horizontal.empty()) {
@@ -805,11 +796,7 @@ StationOdometry stationOdometry(const RawLog& log, std::size_t index,
   const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
   checkScans(st, imu, options.max_imu_gap_s, where);
   const auto t_icp = SteadyClock::now();
-  Odometry odo = horizontalOdometry(log, st, imu, options, !options.refine_drift, out.stats);
-  out.theta = std::move(odo.theta);
-  out.trans = std::move(odo.trans);
-  out.loop_closure_m = odo.loop_closure_m;
-  out.loop_closure_information = odo.loop_closure_information;
+  horizontalOdometry(log, st, imu, options, !options.refine_drift, out);
   out.stats.icp_s = secondsSince(t_icp);
   return out;
 }
@@ -833,17 +820,14 @@ StationCloud assembleStation(const RawLog& log, const AssemblerOptions& options,
   out.stats = odometry.stats;
   if (odometry.empty) return out;
   const ImuTrack imu(st.imu, options.max_imu_gap_s, options.imu_smoothing_s, where);
-  Odometry odo;
-  odo.theta = odometry.theta;
-  odo.trans = odometry.trans;
   out.loop_closure_m = odometry.loop_closure_m;
   out.loop_closure_information = odometry.loop_closure_information;
 
   // T: xy from the horizontal odometry, z from the nadir/zenith beams, then (refine_drift)
   // all beams jointly.
-  TranslationTrack track = odometryTrack(st, odo, {});
+  TranslationTrack track = odometryTrack(st, odometry, {});
   auto t_pts = SteadyClock::now();
-  track = odometryTrack(st, odo, verticalDrift(log, st, imu, track, options));
+  track = odometryTrack(st, odometry, verticalDrift(log, st, imu, track, options));
   out.stats.points_s = secondsSince(t_pts);
   if (options.refine_drift) {
     const auto t_refine = SteadyClock::now();
