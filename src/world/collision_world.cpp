@@ -54,7 +54,7 @@ double boxDistance(const Aabb& a, const Aabb& b) {
 /// the whole segment (pointSegmentDistance, the brute-force formula), so the result
 /// is that of brute force. Replaced a kd-tree over cell centres with balls around
 /// the pieces: a ball 2 m above a dense surface returned ~100 cells, where the box
-/// bound reads the few under the segment (benchmarks/README.md, "Speed").
+/// bound reads the few under the segment (docs/architecture_notes.md, "Speed").
 struct PointIndex {
   struct Node {
     Aabb box;

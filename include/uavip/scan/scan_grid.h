@@ -16,7 +16,7 @@ namespace uavip::scan {
 /// more than `max_dense_cells` cells (a stray far return) falls back to a hash map
 /// of cells. Either way a query reads the 3 × 3 cells around it in the same order,
 /// so ties go to the same point. The dense array made stage 1's ICP about 1.8 ×
-/// faster than the hash map alone (benchmarks/README.md, "Speed"). Holds a
+/// faster than the hash map alone (docs/architecture_notes.md, "Speed"). Holds a
 /// reference to the points, which must outlive it unchanged.
 class ScanGrid {
  public:
