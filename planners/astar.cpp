@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <iterator>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <new>
 #include <queue>
 #include <sstream>
@@ -18,11 +20,11 @@ namespace uavip::planners {
 
 namespace {
 
-/// Grids up to this many voxels use a dense per-thread scratch (13 B/voxel of
-/// address space, kept for the thread's lifetime and reused by every search on a
-/// grid of the same size; zero pages, so only the pages a search touches cost
-/// memory and time: a search costs O(expansions), not O(grid)); larger grids use a
-/// hash map so memory stays bounded.
+/// Grids up to this many voxels use a dense scratch (16 B/voxel of address space,
+/// kept in a pool every thread borrows from and reused by every search on a grid of
+/// the same size; zero pages, so only the pages a search touches cost memory and
+/// time: a search costs O(expansions), not O(grid)); larger grids use a hash map so
+/// memory stays bounded.
 constexpr std::size_t kDenseScratchLimit = 16'000'000;
 
 constexpr std::uint8_t kNoParent = 255;
@@ -83,34 +85,36 @@ class ZeroedArray {
 };
 
 /// Dense scratch reused across searches; `stamp` tells which entries are current,
-/// so a search touches only the voxels it reaches (no O(grid) reset).
+/// so a search touches only the voxels it reaches (no O(grid) reset). A voxel's
+/// g-score, stamp and parent share one 16-byte cell: one cache line per visit.
 struct DenseStore {
-  ZeroedArray<double> g;
-  ZeroedArray<std::uint32_t> stamp;
-  ZeroedArray<std::uint8_t> parent;  // bit 7: closed; low bits: move index
+  struct Cell {
+    double g;
+    std::uint32_t stamp;
+    std::uint8_t parent;  // bit 7: closed; low bits: move index
+  };
+  ZeroedArray<Cell> cells;
   std::uint32_t current{0};
 
+  std::size_t size() const { return cells.size(); }
   void begin(std::size_t n) {
-    if (stamp.size() != n) {
-      g.reset(n);
-      stamp.reset(n);
-      parent.reset(n);
+    if (cells.size() != n) {
+      cells.reset(n);
       current = 0;
     }
     if (++current == 0) {  // wrapped: clear once
-      stamp.reset(n);
+      cells.reset(n);
       current = 1;
     }
   }
   NodeState get(std::size_t i) const {
-    if (stamp[i] != current) return {};
-    const auto bits = static_cast<std::uint8_t>(parent[i] & 0x7F);
-    return {g[i], bits == 0x7F ? kNoParent : bits, (parent[i] & 0x80) != 0};
+    const Cell& c = cells[i];
+    if (c.stamp != current) return {};
+    const auto bits = static_cast<std::uint8_t>(c.parent & 0x7F);
+    return {c.g, bits == 0x7F ? kNoParent : bits, (c.parent & 0x80) != 0};
   }
   void set(std::size_t i, const NodeState& s) {
-    stamp[i] = current;
-    g[i] = s.g;
-    parent[i] = static_cast<std::uint8_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0));
+    cells[i] = {s.g, current, static_cast<std::uint8_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0))};
   }
 };
 
@@ -281,10 +285,30 @@ struct CoarseSpace {
 /// The fine grid inside a corridor of blocks.
 struct CorridorSpace {
   const world::VoxelGrid& grid;
-  const CoarseGrid& coarse;
   const std::vector<std::uint8_t>& corridor;  ///< per block: 1 = inside
+  /// Per axis, a voxel coordinate's share of its block's linear index (no divisions
+  /// in the search's inner loop).
+  std::array<std::vector<std::size_t>, 3> block_part;
+
+  CorridorSpace(const world::VoxelGrid& g, const CoarseGrid& coarse,
+                const std::vector<std::uint8_t>& c)
+      : grid(g), corridor(c) {
+    const std::array<std::size_t, 3> stride{
+        1, static_cast<std::size_t>(coarse.dims[0]),
+        static_cast<std::size_t>(coarse.dims[0]) * static_cast<std::size_t>(coarse.dims[1])};
+    for (int a = 0; a < 3; ++a) {
+      auto& part = block_part[static_cast<std::size_t>(a)];
+      part.resize(static_cast<std::size_t>(g.dims()[static_cast<std::size_t>(a)]));
+      for (std::size_t v = 0; v < part.size(); ++v)
+        part[v] =
+            (v / static_cast<std::size_t>(coarse.factor)) * stride[static_cast<std::size_t>(a)];
+    }
+  }
   bool isBlocked(const world::Index3& i) const {
-    return grid.isBlocked(i) || corridor[coarse.linear(coarse.blockOf(i))] == 0;
+    if (grid.isBlocked(i)) return true;  // also every voxel outside the grid
+    return corridor[block_part[0][static_cast<std::size_t>(i.x)] +
+                    block_part[1][static_cast<std::size_t>(i.y)] +
+                    block_part[2][static_cast<std::size_t>(i.z)]] == 0;
   }
   std::size_t linear(const world::Index3& i) const { return grid.linear(i); }
   const std::array<int, 3>& dims() const { return grid.dims(); }
@@ -375,14 +399,49 @@ double stepCost(int dx, int dy, int dz, const AStarOptions& options) {
 
 namespace {
 
-/// A* on `space` with a dense scratch per kind of space and thread (fine and coarse
-/// searches do not reallocate each other's), or a hash map on large grids.
+/// Dense scratches shared by all threads. A search borrows one of its space's size
+/// (else a new one) and gives it back, so a search on a fresh thread (a
+/// parallelFor worker, the flight's thread) reuses pages an earlier search already
+/// faulted in instead of faulting in a scratch of its own. At most kPoolKeep
+/// scratches are kept; the stamps make a borrowed scratch as good as a new one.
+class ScratchPool {
+ public:
+  std::unique_ptr<DenseStore> take(std::size_t n) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto it =
+        std::find_if(kept_.begin(), kept_.end(), [n](const auto& s) { return s->size() == n; });
+    if (it == kept_.end()) return std::make_unique<DenseStore>();
+    std::unique_ptr<DenseStore> s = std::move(*it);
+    kept_.erase(it);
+    return s;
+  }
+  void give(std::unique_ptr<DenseStore> s) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (kept_.size() >= kPoolKeep) kept_.erase(kept_.begin());  // the least recently given
+    kept_.push_back(std::move(s));
+  }
+
+ private:
+  static constexpr std::size_t kPoolKeep = 8;  ///< the fine grid and three block sizes, two cores
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<DenseStore>> kept_;
+};
+
+ScratchPool& scratchPool() {
+  static ScratchPool pool;
+  return pool;
+}
+
+/// A* on `space` with a dense scratch borrowed from the pool, or a hash map on large
+/// grids.
 template <typename Space>
 GridSearchResult searchSpace(const Space& space, const world::Index3& start,
                              const world::Index3& goal, const AStarOptions& options) {
   if (space.voxelCount() <= kDenseScratchLimit) {
-    thread_local DenseStore dense;
-    return search(dense, space, start, goal, options);
+    std::unique_ptr<DenseStore> dense = scratchPool().take(space.voxelCount());
+    GridSearchResult r = search(*dense, space, start, goal, options);
+    scratchPool().give(std::move(dense));
+    return r;
   }
   HashStore hash;
   return search(hash, space, start, goal, options);
@@ -397,19 +456,31 @@ bool spendBudget(AStarOptions& o, std::size_t spent) {
   return true;
 }
 
-/// The blocks of `grid` at `factor`, built once per grid content, factor, kind and
-/// thread.
-const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor, bool optimistic) {
-  thread_local std::vector<CoarseGrid> cache;
-  for (CoarseGrid& c : cache)
-    if (c.factor == factor && c.optimistic == optimistic) {
-      if (c.content_id != grid.contentId() || c.free.empty())
-        buildCoarse(c, grid, factor, optimistic);
-      return c;
-    }
-  cache.emplace_back();
-  buildCoarse(cache.back(), grid, factor, optimistic);
-  return cache.back();
+/// The blocks of `grid` at `factor`, built once per grid content, factor and kind,
+/// and shared by every thread (read only once built). The cache keeps the blocks of
+/// the kCoarseKeep latest requested (content, factor, kind); a caller's shared
+/// pointer keeps its blocks alive while it searches.
+std::shared_ptr<const CoarseGrid> coarseGrid(const world::VoxelGrid& grid, int factor,
+                                             bool optimistic) {
+  constexpr std::size_t kCoarseKeep = 12;  // two grids' six levels
+  static std::mutex mutex;
+  static std::vector<std::shared_ptr<const CoarseGrid>> cache;  // latest used last
+  const std::lock_guard<std::mutex> lock(mutex);                // one build at a time, each once
+  const auto it = std::find_if(cache.begin(), cache.end(), [&](const auto& c) {
+    return c->content_id == grid.contentId() && c->factor == factor && c->optimistic == optimistic;
+  });
+  std::shared_ptr<const CoarseGrid> found;
+  if (it != cache.end()) {
+    found = *it;
+    cache.erase(it);
+  } else {
+    auto built = std::make_shared<CoarseGrid>();
+    buildCoarse(*built, grid, factor, optimistic);
+    found = std::move(built);
+    if (cache.size() >= kCoarseKeep) cache.erase(cache.begin());
+  }
+  cache.push_back(found);
+  return found;
 }
 
 /// One level of coarse to fine: the block path at `factor`, then the fine search in
@@ -417,7 +488,8 @@ const CoarseGrid& coarseGrid(const world::VoxelGrid& grid, int factor, bool opti
 GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor, bool optimistic,
                                 const world::Index3& start, const world::Index3& goal,
                                 const AStarOptions& options) {
-  const CoarseGrid& coarse = coarseGrid(grid, factor, optimistic);
+  const std::shared_ptr<const CoarseGrid> blocks_of_grid = coarseGrid(grid, factor, optimistic);
+  const CoarseGrid& coarse = *blocks_of_grid;
   const world::Index3 s = coarse.blockOf(start), g = coarse.blockOf(goal);
   if (!blocksMayJoin(coarse, s, g)) return {};
   GridSearchResult blocks =
@@ -433,7 +505,7 @@ GridSearchResult corridorSearch(const world::VoxelGrid& grid, int factor, bool o
         }
   AStarOptions fine = options;
   if (!spendBudget(fine, blocks.expansions)) return {false, {}, 0.0, blocks.expansions, true};
-  GridSearchResult r = searchSpace(CorridorSpace{grid, coarse, corridor}, start, goal, fine);
+  GridSearchResult r = searchSpace(CorridorSpace(grid, coarse, corridor), start, goal, fine);
   r.expansions += blocks.expansions;
   return r;
 }
