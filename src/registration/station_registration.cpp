@@ -18,6 +18,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -45,27 +46,55 @@ using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 /// relative to a voxel's first point). Both reach the merged cloud, and with core's
 /// the bridge's sequential RANSAC finds 9 surfaces instead of 14 (measured): the
 /// order sensitivity is the detector's to fix, not a reason to change outputs here.
-PointList voxelDownsample(const PointList& points, double leaf) {
+/// On two threads: the keys by slices; the pairs sorted in two halves, then merged
+/// (a stable merge of stable sorts: the one stable order); the centroids in two
+/// halves cut between voxels. The output is the one-thread output, bit for bit.
+PointList voxelDownsample(const PointList& points, double leaf, int threads) {
   if (leaf <= 0.0 || points.empty()) return points;
   // Keys in the world lattice's order (as this stage always sorted); the keyer checks
   // that the cloud spans at most 2^21 voxels per axis, so no two voxels share a key.
   (void)VoxelKeyer::forPointsOnLattice(points, leaf, "registration.downsample_m/output_voxel_m");
-  std::vector<KeyedIndex> keyed(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    keyed[i] = {VoxelKeyer::wrappedKey(VoxelKeyer::latticeIndex(points[i], leaf)),
-                static_cast<std::uint32_t>(i)};
+  const std::size_t n = points.size();
+  constexpr std::size_t kSlice = 1 << 16;
+  std::vector<KeyedIndex> keyed(n);
+  parallelFor((n + kSlice - 1) / kSlice, threads, [&](std::size_t slice, std::size_t) {
+    const std::size_t end = std::min(n, (slice + 1) * kSlice);
+    for (std::size_t i = slice * kSlice; i < end; ++i) {
+      keyed[i] = {VoxelKeyer::wrappedKey(VoxelKeyer::latticeIndex(points[i], leaf)),
+                  static_cast<std::uint32_t>(i)};
+    }
+  });
+  if (threads >= 2 && n >= 2 * kSlice) {
+    const auto half = static_cast<std::ptrdiff_t>(n / 2);
+    std::vector<KeyedIndex> low(keyed.begin(), keyed.begin() + half);
+    std::vector<KeyedIndex> high(keyed.begin() + half, keyed.end());
+    parallelFor(2, 2, [&](std::size_t part, std::size_t) { sortByKey(part == 0 ? low : high); });
+    std::merge(low.begin(), low.end(), high.begin(), high.end(), keyed.begin(),
+               [](const KeyedIndex& a, const KeyedIndex& b) { return a.first < b.first; });
+  } else {
+    sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
   }
-  sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
-  PointList out;
-  for (std::size_t i = 0; i < keyed.size();) {
-    Vec3 sum = Vec3::Zero();
-    std::size_t j = i;
-    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j)
-      sum += points[keyed[j].second];
-    out.push_back(sum / static_cast<double>(j - i));
-    i = j;
-  }
-  return out;
+  // Centroids of the voxels in [from, to) of `keyed` (whole voxels).
+  const auto centroids = [&](std::size_t from, std::size_t to) {
+    PointList out;
+    for (std::size_t i = from; i < to;) {
+      Vec3 sum = Vec3::Zero();
+      std::size_t j = i;
+      for (; j < to && keyed[j].first == keyed[i].first; ++j) sum += points[keyed[j].second];
+      out.push_back(sum / static_cast<double>(j - i));
+      i = j;
+    }
+    return out;
+  };
+  if (threads < 2 || n < 2 * kSlice) return centroids(0, n);
+  std::size_t cut = n / 2;  // moved on to the first pair of a voxel
+  while (cut < n && keyed[cut].first == keyed[cut - 1].first) ++cut;
+  std::array<PointList, 2> parts;
+  parallelFor(2, 2, [&](std::size_t part, std::size_t) {
+    parts[part] = part == 0 ? centroids(0, cut) : centroids(cut, n);
+  });
+  parts[0].insert(parts[0].end(), parts[1].begin(), parts[1].end());
+  return std::move(parts[0]);
 }
 
 /// PCA normals of a cloud from its k nearest neighbours (PCL NormalEstimation on a
@@ -598,7 +627,7 @@ Prepared prepareStations(const std::vector<StationInput>& stations,
   parallelFor(stations.size(), options.threads, [&](std::size_t i, std::size_t) {
     const auto tp = SteadyClock::now();
     if (stations[i].points.empty()) return;
-    p.downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m);
+    p.downsampled[i] = voxelDownsample(stations[i].points, options.downsample_m, 1);
     // In the station frame, oriented toward the station (its origin).
     p.normals[i] = normalsOf(p.downsampled[i], Vec3::Zero(), options.normal_k);
     p.seconds[i] = secondsSince(tp);
@@ -670,16 +699,18 @@ StationResult placeStation(const StationInput& in, std::size_t i, bool reference
 PointList mergeStations(const std::vector<StationInput>& stations,
                         const std::vector<StationResult>& placed,
                         const RegistrationOptions& options) {
-  PointList all;
-  std::size_t total = 0;
-  for (const auto& s : stations) total += s.points.size();
-  all.reserve(total);
-  for (std::size_t i = 0; i < stations.size(); ++i) {
+  std::vector<std::size_t> first(stations.size() + 1, 0);  // of each station in `all`
+  for (std::size_t i = 0; i < stations.size(); ++i)
+    first[i + 1] = first[i] + stations[i].points.size();
+  PointList all(first.back());
+  parallelFor(stations.size(), options.threads, [&](std::size_t i, std::size_t) {
     const Eigen::Isometry3d& pose = placed[i].pose;
-    for (const auto& p : stations[i].points) all.push_back(pose * p);
-  }
-  return options.output_voxel_m > 0.0 ? voxelDownsample(all, options.output_voxel_m)
-                                      : std::move(all);
+    const PointList& own = stations[i].points;
+    for (std::size_t k = 0; k < own.size(); ++k) all[first[i] + k] = pose * own[k];
+  });
+  return options.output_voxel_m > 0.0
+             ? voxelDownsample(all, options.output_voxel_m, options.threads)
+             : all;
 }
 
 }  // namespace
