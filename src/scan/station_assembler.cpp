@@ -43,6 +43,38 @@ Eigen::Matrix2d rot2(double theta) {
 
 using Grid2D = ScanGrid;
 
+/// cos α and sin α of every beam of a scan, α = angle_min + i·step (eq. (1)), taken
+/// once per scan geometry and kept while the next scans share it (each scanner's
+/// do): the same values std::cos and std::sin give for that α, so the beams are the
+/// verticalBeam / horizontalBeam ones bit for bit, without two trig calls per beam.
+class BeamAngles {
+ public:
+  /// Makes the table fit `s` (recomputed only when its geometry differs).
+  void use(const LaserScan& s) {
+    if (s.angle_min_rad == angle_min_ && s.angle_step_rad == angle_step_ &&
+        s.ranges_m.size() <= cos_.size())
+      return;
+    angle_min_ = s.angle_min_rad;
+    angle_step_ = s.angle_step_rad;
+    cos_.resize(s.ranges_m.size());
+    sin_.resize(s.ranges_m.size());
+    for (std::size_t i = 0; i < cos_.size(); ++i) {
+      const double a = angle_min_ + static_cast<double>(i) * angle_step_;
+      cos_[i] = std::cos(a);
+      sin_[i] = std::sin(a);
+    }
+  }
+  /// verticalBeam(r, α_i).
+  Vec3 vertical(double r, std::size_t i) const { return {-r * cos_[i], 0.0, -r * sin_[i]}; }
+  /// horizontalBeam(r, α_i).
+  Vec3 horizontal(double r, std::size_t i) const { return {r * cos_[i], r * sin_[i], 0.0}; }
+
+ private:
+  double angle_min_{std::numeric_limits<double>::quiet_NaN()};  // no table yet
+  double angle_step_{std::numeric_limits<double>::quiet_NaN()};
+  std::vector<double> cos_, sin_;
+};
+
 /// A horizontal scan as 2D points (in beam order) in some frame, with the line
 /// normals there (zero where the neighbourhood is not a line).
 struct Scan2D {
@@ -469,14 +501,15 @@ void checkScans(const Station& st, const ImuTrack& imu, double tolerance_s,
 std::vector<Scan2D> horizontalScans(const RawLog& log, const Station& st, const ImuTrack& imu,
                                     bool prior, const AssemblerTuning& tuning) {
   std::vector<Scan2D> scans(st.horizontal.size());
+  BeamAngles angles;
   for (std::size_t k = 0; k < st.horizontal.size(); ++k) {
     const LaserScan& s = st.horizontal[k];
+    angles.use(s);
     scans[k].pts.reserve(s.ranges_m.size());
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
       const float r = s.ranges_m[i];
       if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
-      const Vec3 b = log.body_T_horizontal *
-                     horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
+      const Vec3 b = log.body_T_horizontal * angles.horizontal(r, i);
       // With the prior: rotate by the IMU at the beam's own time (levels, de-yaws, deskews).
       const Vec3 p = prior ? Vec3(imu.at(s.beamTime(i)) * b) : b;
       scans[k].pts.emplace_back(p.x(), p.y());
@@ -589,8 +622,11 @@ std::vector<double> verticalDrift(const RawLog& log, const Station& st, const Im
   double z = 0.0;
   std::vector<double> offsets;
   std::vector<std::pair<Vec3, bool>> pts;
+  BeamAngles angles;
+  const double cos_cone = std::cos(cone);
   for (std::size_t k = 0; k < st.vertical.size(); ++k) {
     const LaserScan& s = st.vertical[k];
+    angles.use(s);
     pts.clear();
     offsets.clear();
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
@@ -598,10 +634,9 @@ std::vector<double> verticalDrift(const RawLog& log, const Station& st, const Im
       if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
       const double t = s.beamTime(i);
       const Eigen::Quaterniond q = imu.at(t);
-      const double a = s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad;
-      const Vec3 dir = q * (log.body_T_vertical.linear() * verticalBeam(1.0, a));
-      if (std::abs(dir.z()) < std::cos(cone)) continue;
-      Vec3 p = q * (log.body_T_vertical * verticalBeam(r, a)) + xy.at(t);
+      const Vec3 dir = q * (log.body_T_vertical.linear() * angles.vertical(1.0, i));
+      if (std::abs(dir.z()) < cos_cone) continue;
+      Vec3 p = q * (log.body_T_vertical * angles.vertical(r, i)) + xy.at(t);
       p.z() += z;
       const bool down = dir.z() < 0.0;
       const double off = down ? below.offset(p) : above.offset(p);
@@ -675,16 +710,17 @@ std::vector<DriftPoint> driftPoints(const RawLog& log, const Station& st, const 
   for (const auto& s : st.vertical) beams += s.ranges_m.size();
   for (const auto& s : st.horizontal) beams += s.ranges_m.size() / scan_stride_h;
   pts.reserve(beams / beam_stride + 1);
+  BeamAngles angles;
   auto add = [&](const std::vector<LaserScan>& scans, const Eigen::Isometry3d& mount,
                  bool horizontal, std::size_t scan_stride) {
     for (std::size_t k = 0; k < scans.size(); k += scan_stride) {
       const LaserScan& s = scans[k];
+      angles.use(s);
       for (std::size_t i = k % beam_stride; i < s.ranges_m.size(); i += beam_stride) {
         const float r = s.ranges_m[i];
         if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
-        const double a = s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad;
         const double t = s.beamTime(i);
-        const Vec3 x = horizontal ? horizontalBeam(r, a) : verticalBeam(r, a);
+        const Vec3 x = horizontal ? angles.horizontal(r, i) : angles.vertical(r, i);
         pts.push_back({imu.at(t) * (mount * x), t, beamSigma(r, tuning), horizontal,
                        static_cast<double>(beam_stride * scan_stride)});
       }
@@ -747,7 +783,9 @@ void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu,
   out.points.reserve(n_beams);
   const Eigen::Matrix3d mount_r = log.body_T_vertical.linear();
   const Vec3 mount_t = log.body_T_vertical.translation();
+  BeamAngles angles;
   for (const LaserScan& s : st.vertical) {
+    angles.use(s);
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
       ++out.stats.beams;
       const float r = s.ranges_m[i];
@@ -756,19 +794,17 @@ void placePoints(const RawLog& log, const Station& st, const ImuTrack& imu,
         continue;
       }
       const double t = s.beamTime(i);
-      const Vec3 xs = verticalBeam(r, s.angle_min_rad + static_cast<double>(i) * s.angle_step_rad);
-      out.points.push_back(imu.at(t) * (mount_r * xs + mount_t) + track.at(t));
+      out.points.push_back(imu.at(t) * (mount_r * angles.vertical(r, i) + mount_t) + track.at(t));
     }
   }
   if (!include_horizontal) return;
   for (const LaserScan& s : st.horizontal) {
+    angles.use(s);
     for (std::size_t i = 0; i < s.ranges_m.size(); ++i) {
       const float r = s.ranges_m[i];
       if (!validRange(r, log.min_range_m, log.max_range_m)) continue;
       const double t = s.beamTime(i);
-      out.points.push_back(imu.at(t) * (log.body_T_horizontal *
-                                        horizontalBeam(r, s.angle_min_rad + static_cast<double>(i) *
-                                                                                s.angle_step_rad)) +
+      out.points.push_back(imu.at(t) * (log.body_T_horizontal * angles.horizontal(r, i)) +
                            track.at(t));
     }
   }
