@@ -13,15 +13,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <sstream>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/pcl_cloud.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/perception/euclidean_clusters.h"
@@ -565,6 +568,32 @@ std::vector<Index> ransacCandidate(const PclCloud::ConstPtr& pcl_cloud, const Po
   return candidate;
 }
 
+/// One step of the sequential RANSAC on `pool`: its candidate plane, the refined
+/// band and the band's largest cluster (the surface it may become); `stop` when the
+/// pool is used up (its points span no plane, or RANSAC finds none).
+struct CandidateStep {
+  bool stop{false};
+  std::vector<Index> candidate, band, kept;
+};
+
+CandidateStep nextCandidate(const PclCloud::ConstPtr& pcl_cloud, const PointList& cloud,
+                            const std::vector<Index>& pool, const Vec3& origin,
+                            const PlaneDetectionOptions& options, std::mt19937& rng) {
+  CandidateStep step;
+  if (isDegenerate(computePca(cloud, pool))) {  // a line or a single spot
+    step.stop = true;
+    return step;
+  }
+  step.candidate = ransacCandidate(pcl_cloud, cloud, pool, origin, options, rng);
+  if (step.candidate.empty()) {
+    step.stop = true;
+    return step;
+  }
+  step.band = refineBand(cloud, step.candidate, options.distance_threshold_m, options.tuning);
+  step.kept = largestCluster(cloud, step.band, options.cluster_tolerance_m);
+  return step;
+}
+
 }  // namespace
 
 void PlaneTuning::validate(const std::string& where) const {
@@ -658,30 +687,52 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   std::vector<char> in_surface(cloud.size(), 0);
   const std::unique_ptr<OccupiedVoxels> occupied = lineOfSightVoxels(cloud, options);
   int failures = 0;
+  // Two steps in flight: while this thread builds the surface of a large enough
+  // cluster, a second one takes the next step on the pool as it will be if that
+  // surface is accepted, with a copy of the generator. A rejected surface discards
+  // the guess and the step is taken again on the pool the rejection leaves, so the
+  // surfaces are the one-thread ones, bit for bit.
+  const bool guess_ahead = hardwareThreads() > 1;
+  std::optional<CandidateStep> taken;  // the next step, when the guess was right
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
          failures < options.max_failures && pool.size() >= 3) {
-    if (isDegenerate(computePca(cloud, pool))) break;  // a line or a single spot
-
-    const std::vector<Index> candidate =
-        ransacCandidate(pcl_cloud, cloud, pool, origin, options, rng);
-    if (candidate.empty()) break;
+    CandidateStep step =
+        taken ? std::move(*taken) : nextCandidate(pcl_cloud, cloud, pool, origin, options, rng);
+    taken.reset();
+    if (step.stop) break;
     ++result.stats.candidates;
-
-    const std::vector<Index> band =
-        refineBand(cloud, candidate, options.distance_threshold_m, options.tuning);
-    const std::vector<Index> kept = largestCluster(cloud, band, options.cluster_tolerance_m);
+    const std::vector<Index>& band = step.band;
+    const std::vector<Index>& kept = step.kept;
 
     bool accepted = false;
     if (kept.size() >= static_cast<std::size_t>(std::max(3, options.min_inliers))) {
+      std::vector<Index> pool_if_accepted = pool;
+      removeFromPool(pool_if_accepted, kept);
+      std::mt19937 rng_if_accepted = rng;
+      std::future<CandidateStep> guess;  // declared after what it reads: joined first
+      if (guess_ahead && static_cast<int>(result.surfaces.size()) + 1 < options.max_planes &&
+          pool_if_accepted.size() >= 3) {
+        guess = std::async(std::launch::async, [&] {
+          return nextCandidate(pcl_cloud, cloud, pool_if_accepted, origin, options,
+                               rng_if_accepted);
+        });
+      }
       Surface surface = makeSurface(cloud, kept, options, occupied.get());
-      if (std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
-          surface.boundary.size() >= 3) {
+      accepted = std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
+                 surface.boundary.size() >= 3;
+      if (guess.valid()) {
+        CandidateStep next = guess.get();
+        if (accepted) {
+          taken = std::move(next);
+          rng = rng_if_accepted;
+        }
+      }
+      if (accepted) {
         surface.id = static_cast<int>(result.surfaces.size());
         result.surfaces.push_back(std::move(surface));
         result.stats.trimmed_points += band.size() - kept.size();
         for (const auto i : kept) in_surface[static_cast<std::size_t>(i)] = 1;
-        accepted = true;
       }
     }
     if (accepted) {
@@ -699,7 +750,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
     if (accepted) {
       removeFromPool(pool, kept);
     } else {
-      removeFromPool(pool, band.size() >= 3 ? band : candidate);
+      removeFromPool(pool, band.size() >= 3 ? band : step.candidate);
     }
   }
 
