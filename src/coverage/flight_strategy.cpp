@@ -11,6 +11,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/text.h"
 
 // Conventions of the photo stops (paper §II-F, 2-DOF mount: yaw by the UAV, pitch by
@@ -50,6 +51,8 @@ constexpr double kOverlapTol = 1e-9;
 constexpr double kInsetFraction = 0.25;
 /// Samples per footprint side searched for a photo centre on the surface.
 constexpr int kCentreSamples = 24;
+/// Grids of at least this many cells find their rows on every core.
+constexpr double kParallelCells = 1000.0;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -329,12 +332,19 @@ std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, con
 }
 
 /// The boustrophedon of stops over the surface's boundary (fs.cols, fs.rows set).
+/// Rows are independent: a large grid's rows are found on every core (each row to
+/// its own slot), then joined in order.
 void placeStops(FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
                 const Vec3& origin, const Region& region, const Attitude& at, double wc,
                 double hc) {
+  std::vector<std::vector<Stop>> rows(static_cast<std::size_t>(fs.rows));
+  const double cells = static_cast<double>(fs.rows) * static_cast<double>(fs.cols);
+  parallelFor(rows.size(), cells >= kParallelCells ? hardwareThreads() : 1,
+              [&](std::size_t r, std::size_t) {
+                rows[r] = rowStops(fs, surface, f, origin, region, at, wc, hc, static_cast<int>(r));
+              });
   bool left_to_right = true;
-  for (int r = 0; r < fs.rows; ++r) {
-    std::vector<Stop> row = rowStops(fs, surface, f, origin, region, at, wc, hc, r);
+  for (auto& row : rows) {
     if (row.empty()) continue;
     if (!left_to_right) std::reverse(row.begin(), row.end());
     left_to_right = !left_to_right;
