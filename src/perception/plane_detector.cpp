@@ -652,6 +652,9 @@ void PlaneDetectionOptions::validate(const std::string& where) const {
   if (max_failures < 1) {
     throw InputError(where + ": max_failures must be >= 1, got " + std::to_string(max_failures));
   }
+  if (threads < 0)
+    throw InputError(where + ": threads must be >= 0 (0: every core), got " +
+                     std::to_string(threads));
   tuning.validate(where + ".tuning");
   if (boundary != "outline" && boundary != "convex")
     throw InputError(where + ": boundary '" + boundary +
@@ -692,7 +695,7 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   // surface is accepted, with a copy of the generator. A rejected surface discards
   // the guess and the step is taken again on the pool the rejection leaves, so the
   // surfaces are the one-thread ones, bit for bit.
-  const bool guess_ahead = hardwareThreads() > 1;
+  const bool guess_ahead = (options.threads == 0 ? hardwareThreads() : options.threads) > 1;
   std::optional<CandidateStep> taken;  // the next step, when the guess was right
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&

@@ -439,6 +439,40 @@ TEST(PlaneDetector, DeterministicForTheSameInput) {
   EXPECT_EQ(c.surfaces.size(), 6u);
 }
 
+TEST(PlaneDetector, GuessingTheNextStepAheadGivesTheOneThreadSurfaces) {
+  // Accepted and rejected candidates in turn: a floating cube (six faces) over small
+  // coplanar patches that RANSAC proposes and stage 4 rejects, so the guess taken
+  // while a surface is built is both kept and thrown away. The reference is the
+  // one-step-at-a-time detector.
+  PointList cloud = cube(Vec3(0, 0, 3), 2.0, 0.1, 0.003, 31);
+  std::mt19937 rng(32);
+  for (int i = 0; i < 4; ++i) {
+    addPatch(cloud, Vec3(-4.0 + 2.5 * i, -4.0, 0.0), Vec3::UnitX(), Vec3::UnitY(), 9, 9, 0.1, 0.003,
+             rng);
+  }
+  PlaneDetectionOptions o;
+  o.cell_size_m = 0.1;
+  o.min_area_m2 = 2.0;
+  o.threads = 1;
+  const auto one = detectPlanes(cloud, o);
+  o.threads = 2;
+  const auto two = detectPlanes(cloud, o);
+  ASSERT_EQ(one.surfaces.size(), 6u);
+  EXPECT_GE(one.stats.rejected_small, 1);
+  ASSERT_EQ(two.surfaces.size(), one.surfaces.size());
+  for (std::size_t i = 0; i < one.surfaces.size(); ++i) {
+    EXPECT_EQ(two.surfaces[i].plane.normal, one.surfaces[i].plane.normal);
+    EXPECT_EQ(two.surfaces[i].plane.offset, one.surfaces[i].plane.offset);
+    EXPECT_EQ(two.surfaces[i].inliers, one.surfaces[i].inliers);
+    EXPECT_EQ(two.surfaces[i].boundary, one.surfaces[i].boundary);
+    EXPECT_EQ(two.surfaces[i].area_m2, one.surfaces[i].area_m2);
+  }
+  EXPECT_EQ(two.remaining, one.remaining);
+  EXPECT_EQ(two.stats.candidates, one.stats.candidates);
+  EXPECT_EQ(two.stats.rejected_small, one.stats.rejected_small);
+  EXPECT_EQ(two.stats.trimmed_points, one.stats.trimmed_points);
+}
+
 TEST(PlaneDetector, DegenerateInputsGiveNoSurface) {
   PlaneDetectionOptions o;
   EXPECT_TRUE(detectPlanes({}, o).surfaces.empty());
@@ -491,6 +525,9 @@ TEST(PlaneDetector, ValidatesOptions) {
   o = {};
   o.cell_size_m = std::nan("");
   expectField(o, "cell_size_m");
+  o = {};
+  o.threads = -1;
+  expectField(o, "threads");
   o = {};
   o.tuning.band_floor = 1.5;
   expectField(o, "tuning: band_floor");

@@ -4,9 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <map>
 
 #include "uavip/core/error.h"
+#include "uavip/core/voxel_key.h"
 #include "uavip/scan/station_assembler.h"
 #include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/surface_sampler.h"
@@ -179,6 +184,34 @@ TEST(RegisterStations, SimulatedStationsMatchTheTruth) {
   double sum = 0.0;
   for (const auto& p : r.merged) sum += std::pow(w.distanceToTruth(p + s.origin_m), 2);
   EXPECT_LT(std::sqrt(sum / static_cast<double>(r.merged.size())), 0.03);
+
+  // The merged cloud is the centroid of every occupied output voxel of the placed
+  // stations (a map from voxel to sum, in point order), and the merge on both cores
+  // (the default) gives the one-thread cloud bit for bit.
+  const RegistrationOptions defaults;
+  std::map<std::array<std::int64_t, 3>, std::pair<Vec3, int>> voxels;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    for (const auto& q : in[i].points) {
+      const Vec3 p = r.stations[i].pose * q;
+      auto& [sum_of, count] = voxels[VoxelKeyer::latticeIndex(p, defaults.output_voxel_m)];
+      if (count == 0) sum_of = Vec3::Zero();
+      sum_of += p;
+      ++count;
+    }
+  }
+  PointList expected;
+  for (const auto& [key, v] : voxels) expected.push_back(v.first / static_cast<double>(v.second));
+  PointList merged = r.merged;
+  const auto lexicographic = [](const Vec3& a, const Vec3& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  std::sort(expected.begin(), expected.end(), lexicographic);
+  std::sort(merged.begin(), merged.end(), lexicographic);
+  EXPECT_EQ(merged, expected);
+  RegistrationOptions one_thread;
+  one_thread.threads = 1;
+  EXPECT_EQ(registerStations(in, one_thread).merged, r.merged);
+  EXPECT_GT(r.merged.size(), 2u * 65536u);  // large enough to be merged on two threads
 }
 
 }  // namespace

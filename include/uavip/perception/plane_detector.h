@@ -105,7 +105,10 @@ struct PlaneDetectionOptions {
   /// paper's convex hull of the projected inliers).
   std::string boundary{"outline"};
   std::uint32_t seed{42};  ///< RANSAC seed (the same inputs give the same planes)
-  PlaneTuning tuning;      ///< uavip's own tuning (above)
+  /// 0: every core; 1: one step at a time. With two or more, the next RANSAC step
+  /// runs while a surface is built (the same surfaces either way).
+  int threads{0};
+  PlaneTuning tuning;  ///< uavip's own tuning (above)
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "perception") const;
