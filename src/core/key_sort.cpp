@@ -4,6 +4,8 @@
 #include <array>
 #include <cstddef>
 
+#include "uavip/core/parallel.h"
+
 namespace uavip {
 
 namespace {
@@ -54,6 +56,25 @@ void radixSort(std::vector<T>& keyed) {
 }  // namespace
 
 void sortByKey(std::vector<KeyedIndex>& keyed) { radixSort(keyed); }
+
+void sortByKey(std::vector<KeyedIndex>& keyed, int threads) {
+  constexpr std::size_t kParallelPairs = std::size_t{1} << 17;
+  if (threads < 2 || keyed.size() < kParallelPairs) {
+    radixSort(keyed);
+    return;
+  }
+  const auto half = static_cast<std::ptrdiff_t>(keyed.size() / 2);
+  std::vector<KeyedIndex> low(keyed.begin(), keyed.begin() + half);
+  std::vector<KeyedIndex> high(keyed.begin() + half, keyed.end());
+  parallelFor(2, 2, [&](std::size_t part, std::size_t) { radixSort(part == 0 ? low : high); });
+  std::merge(low.begin(), low.end(), high.begin(), high.end(), keyed.begin(),
+             [](const KeyedIndex& a, const KeyedIndex& b) { return a.first < b.first; });
+}
+
+std::size_t runStart(const std::vector<KeyedIndex>& keyed, std::size_t i) {
+  while (i > 0 && i < keyed.size() && keyed[i].first == keyed[i - 1].first) ++i;
+  return std::min(i, keyed.size());
+}
 
 void sortUniqueKeys(std::vector<std::uint64_t>& keys) {
   radixSort(keys);

@@ -1,6 +1,7 @@
 #include "uavip/core/voxel_key.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -8,6 +9,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
+#include "uavip/core/parallel.h"
 
 namespace uavip {
 
@@ -136,7 +138,8 @@ Vec3 VoxelKeyer::centre(std::uint64_t key) const {
                                 static_cast<double>(c[2]) + 0.5);
 }
 
-PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what) {
+PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what,
+                          int threads) {
   if (cloud.empty()) {
     requirePositive(edge, "voxel grid", what);
     return {};
@@ -144,24 +147,38 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
   const VoxelKeyer keyer = VoxelKeyer::forPoints(cloud, edge, what);
   // Sorted with x varying fastest, then y, then z: the order of PCL's VoxelGrid,
   // so the stages after it see the points in the order they always did.
-  std::vector<KeyedIndex> keyed(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const auto c = keyer.cell(cloud[i]);
-    keyed[i] = {VoxelKeyer::pack(c[2], c[1], c[0]), static_cast<std::uint32_t>(i)};
-  }
-  sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
-  PointList out;
-  for (std::size_t i = 0; i < keyed.size();) {
-    std::size_t j = i;
-    // Sum relative to the voxel's first point: exact far from the origin too.
-    const Vec3& base = cloud[keyed[i].second];
-    Vec3 sum = Vec3::Zero();
-    for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j)
-      sum += cloud[keyed[j].second] - base;
-    out.push_back(base + sum / static_cast<double>(j - i));
-    i = j;
-  }
-  return out;
+  const std::size_t n = cloud.size();
+  constexpr std::size_t kSlice = std::size_t{1} << 16;
+  std::vector<KeyedIndex> keyed(n);
+  parallelFor((n + kSlice - 1) / kSlice, threads, [&](std::size_t slice, std::size_t) {
+    const std::size_t end = std::min(n, (slice + 1) * kSlice);
+    for (std::size_t i = slice * kSlice; i < end; ++i) {
+      const auto c = keyer.cell(cloud[i]);
+      keyed[i] = {VoxelKeyer::pack(c[2], c[1], c[0]), static_cast<std::uint32_t>(i)};
+    }
+  });
+  sortByKey(keyed, threads);  // = std::sort on the pairs (indices ascend), faster
+  // Centroids of the voxels in [from, to) of `keyed` (whole voxels).
+  const auto centroids = [&](std::size_t from, std::size_t to) {
+    PointList out;
+    for (std::size_t i = from; i < to;) {
+      std::size_t j = i;
+      // Sum relative to the voxel's first point: exact far from the origin too.
+      const Vec3& base = cloud[keyed[i].second];
+      Vec3 sum = Vec3::Zero();
+      for (; j < to && keyed[j].first == keyed[i].first; ++j) sum += cloud[keyed[j].second] - base;
+      out.push_back(base + sum / static_cast<double>(j - i));
+      i = j;
+    }
+    return out;
+  };
+  const std::size_t cut = threads < 2 ? n : runStart(keyed, n / 2);
+  std::array<PointList, 2> parts;
+  parallelFor(2, threads, [&](std::size_t part, std::size_t) {
+    parts[part] = part == 0 ? centroids(0, cut) : centroids(cut, n);
+  });
+  parts[0].insert(parts[0].end(), parts[1].begin(), parts[1].end());
+  return std::move(parts[0]);
 }
 
 std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer& keyer) {

@@ -107,10 +107,10 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
   return out;
 }
 
-PointList voxelGrid(const PointList& cloud, double leaf_m) {
+PointList voxelGrid(const PointList& cloud, double leaf_m, int threads) {
   requirePositive(leaf_m, "preprocess", "voxel_m");
   try {
-    return voxelDownsample(cloud, leaf_m, "voxel_m");
+    return voxelDownsample(cloud, leaf_m, "voxel_m", threads);
   } catch (const InputError& e) {
     throw InputError(std::string("preprocess: ") + e.what());
   }
@@ -132,7 +132,7 @@ PointList preprocess(const PointList& cloud, const PreprocessOptions& options,
                                                                           options.threads, index)
                                               : cloud;
   const std::size_t after_outliers = current.size();
-  if (options.voxelize) current = voxelGrid(current, options.voxel_m);
+  if (options.voxelize) current = voxelGrid(current, options.voxel_m, options.threads);
 
   if (stats != nullptr) {
     stats->input_points = cloud.size();

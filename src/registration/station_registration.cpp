@@ -46,9 +46,9 @@ using NormalCloud = pcl::PointCloud<pcl::PointNormal>;
 /// relative to a voxel's first point). Both reach the merged cloud, and with core's
 /// the bridge's sequential RANSAC finds 9 surfaces instead of 14 (measured): the
 /// order sensitivity is the detector's to fix, not a reason to change outputs here.
-/// On two threads: the keys by slices; the pairs sorted in two halves, then merged
-/// (a stable merge of stable sorts: the one stable order); the centroids in two
-/// halves cut between voxels. The output is the one-thread output, bit for bit.
+/// On two threads: the keys by slices, the pairs sorted in two halves and merged
+/// (core/key_sort.h), the centroids in two halves cut between voxels. The output is
+/// the one-thread output, bit for bit.
 PointList voxelDownsample(const PointList& points, double leaf, int threads) {
   if (leaf <= 0.0 || points.empty()) return points;
   // Keys in the world lattice's order (as this stage always sorted); the keyer checks
@@ -64,16 +64,7 @@ PointList voxelDownsample(const PointList& points, double leaf, int threads) {
                   static_cast<std::uint32_t>(i)};
     }
   });
-  if (threads >= 2 && n >= 2 * kSlice) {
-    const auto half = static_cast<std::ptrdiff_t>(n / 2);
-    std::vector<KeyedIndex> low(keyed.begin(), keyed.begin() + half);
-    std::vector<KeyedIndex> high(keyed.begin() + half, keyed.end());
-    parallelFor(2, 2, [&](std::size_t part, std::size_t) { sortByKey(part == 0 ? low : high); });
-    std::merge(low.begin(), low.end(), high.begin(), high.end(), keyed.begin(),
-               [](const KeyedIndex& a, const KeyedIndex& b) { return a.first < b.first; });
-  } else {
-    sortByKey(keyed);  // = std::sort on the pairs (indices ascend), faster
-  }
+  sortByKey(keyed, threads);  // = std::sort on the pairs (indices ascend), faster
   // Centroids of the voxels in [from, to) of `keyed` (whole voxels).
   const auto centroids = [&](std::size_t from, std::size_t to) {
     PointList out;
@@ -86,11 +77,9 @@ PointList voxelDownsample(const PointList& points, double leaf, int threads) {
     }
     return out;
   };
-  if (threads < 2 || n < 2 * kSlice) return centroids(0, n);
-  std::size_t cut = n / 2;  // moved on to the first pair of a voxel
-  while (cut < n && keyed[cut].first == keyed[cut - 1].first) ++cut;
+  const std::size_t cut = threads < 2 ? n : runStart(keyed, n / 2);
   std::array<PointList, 2> parts;
-  parallelFor(2, 2, [&](std::size_t part, std::size_t) {
+  parallelFor(2, threads, [&](std::size_t part, std::size_t) {
     parts[part] = part == 0 ? centroids(0, cut) : centroids(cut, n);
   });
   parts[0].insert(parts[0].end(), parts[1].begin(), parts[1].end());

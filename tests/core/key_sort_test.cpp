@@ -55,5 +55,30 @@ TEST(SortByKey, HighBitsOnlyAndVoxelLikeKeysSortCorrectly) {
   }
 }
 
+TEST(SortByKey, TwoThreadsGiveStdSortsOrder) {
+  // Large enough for the two-half path (2^17 pairs and up); duplicated keys across
+  // the halves must keep ascending indices.
+  for (const std::size_t n : {std::size_t{100000}, std::size_t{1} << 17, std::size_t{300001}}) {
+    for (const std::uint64_t range : {std::uint64_t{7}, std::uint64_t{1} << 20, std::uint64_t{0}}) {
+      auto pairs = randomPairs(n, range, static_cast<std::uint32_t>(n ^ range));
+      auto expected = pairs;
+      std::sort(expected.begin(), expected.end());
+      sortByKey(pairs, 2);
+      EXPECT_EQ(pairs, expected) << n << " pairs, keys below " << range;
+    }
+  }
+}
+
+TEST(RunStart, CutsBetweenRunsOfEqualKeys) {
+  const std::vector<KeyedIndex> keyed{{1, 0}, {1, 1}, {2, 2}, {2, 3}, {2, 4}, {5, 5}};
+  EXPECT_EQ(runStart(keyed, 0), 0u);
+  EXPECT_EQ(runStart(keyed, 1), 2u);
+  EXPECT_EQ(runStart(keyed, 2), 2u);
+  EXPECT_EQ(runStart(keyed, 3), 5u);
+  EXPECT_EQ(runStart(keyed, 5), 5u);
+  EXPECT_EQ(runStart(keyed, 6), 6u);
+  EXPECT_EQ(runStart({}, 0), 0u);
+}
+
 }  // namespace
 }  // namespace uavip

@@ -247,6 +247,18 @@ TEST(VoxelGrid, EachOutputIsTheCentroidOfItsVoxel) {
   EXPECT_EQ(voxelGrid(cloud, leaf), out);
 }
 
+TEST(VoxelGrid, TwoThreadsGiveTheOneThreadOutput) {
+  // 300 k points (the two-thread path: keys by slices, the sort and the centroids in
+  // halves): the same points in the same order, bit for bit.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-20.0, 20.0);
+  PointList cloud(300000);
+  for (auto& p : cloud) p = Vec3(u(rng), u(rng), 0.1 * u(rng));
+  const PointList one = voxelGrid(cloud, 0.3, 1);
+  EXPECT_EQ(voxelGrid(cloud, 0.3, 2), one);
+  EXPECT_GT(one.size(), 10000u);
+}
+
 TEST(VoxelGrid, FarFromOriginKeepsPrecision) {
   // Geo-referenced coordinates: centroids stay exact to well below a millimetre.
   const Vec3 base(500000.0, 5000000.0, 100.0);

@@ -19,6 +19,15 @@ using KeyedIndex = std::pair<std::uint64_t, std::uint32_t>;
 /// 5× faster than std::sort on 10⁶ pairs. Memory: a second buffer of the same size.
 void sortByKey(std::vector<KeyedIndex>& keyed);
 
+/// The same order on up to two threads: the two halves sorted at once, then merged
+/// stably (a stable merge of stable sorts is the one stable order). Large inputs
+/// only (below 2^17 pairs, or with threads < 2, it is sortByKey).
+void sortByKey(std::vector<KeyedIndex>& keyed, int threads);
+
+/// The first position at or after i where a run of equal keys starts in the sorted
+/// `keyed` (keyed.size() when none): a cut that splits no voxel.
+std::size_t runStart(const std::vector<KeyedIndex>& keyed, std::size_t i);
+
 /// Sorts keys ascending and drops repeats; the same radix sort (equal to std::sort
 /// then std::unique).
 void sortUniqueKeys(std::vector<std::uint64_t>& keys);

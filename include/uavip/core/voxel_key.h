@@ -91,8 +91,10 @@ std::int64_t planeCellIndex(double v, double cell, const char* what = "plane cel
 /// Voxel-grid down-sampling (paper §II-C): each occupied voxel of edge `edge` [m]
 /// is replaced by the centroid of its points (double precision). Output ordered
 /// with x varying fastest, then y, then z (pcl::VoxelGrid's order): deterministic.
-/// Memory: 16 bytes per input point.
-PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what = "voxel_m");
+/// Memory: 16 bytes per input point. On `threads` threads (keys by slices, the sort
+/// in two halves, the centroids in two halves cut between voxels): the same output.
+PointList voxelDownsample(const PointList& cloud, double edge, const std::string& what = "voxel_m",
+                          int threads = 1);
 
 /// Sorted, unique keys of the voxels that hold at least one point.
 std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer& keyer);

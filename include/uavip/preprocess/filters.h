@@ -52,7 +52,7 @@ PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ra
 /// Replaces the points of each occupied voxel (edge leaf_m) by their centroid.
 /// Output order is deterministic. Throws InputError when the extent exceeds 2^21
 /// voxels on an axis.
-PointList voxelGrid(const PointList& cloud, double leaf_m);
+PointList voxelGrid(const PointList& cloud, double leaf_m, int threads = 1);
 
 /// Stage 3 as configured. `index`: as for removeStatisticalOutliers. Throws
 /// InputError for an empty cloud or non-finite points.
