@@ -576,22 +576,62 @@ struct CandidateStep {
   std::vector<Index> candidate, band, kept;
 };
 
-CandidateStep nextCandidate(const PclCloud::ConstPtr& pcl_cloud, const PointList& cloud,
-                            const std::vector<Index>& pool, const Vec3& origin,
+/// What every step of one detection reads: the cloud (and its PCL copy about
+/// `origin`) and the line-of-sight voxels.
+struct DetectionContext {
+  const PclCloud::ConstPtr& pcl_cloud;
+  const PointList& cloud;
+  const Vec3& origin;
+  const OccupiedVoxels* occupied;
+};
+
+CandidateStep nextCandidate(const DetectionContext& c, const std::vector<Index>& pool,
                             const PlaneDetectionOptions& options, std::mt19937& rng) {
   CandidateStep step;
-  if (isDegenerate(computePca(cloud, pool))) {  // a line or a single spot
+  if (isDegenerate(computePca(c.cloud, pool))) {  // a line or a single spot
     step.stop = true;
     return step;
   }
-  step.candidate = ransacCandidate(pcl_cloud, cloud, pool, origin, options, rng);
+  step.candidate = ransacCandidate(c.pcl_cloud, c.cloud, pool, c.origin, options, rng);
   if (step.candidate.empty()) {
     step.stop = true;
     return step;
   }
-  step.band = refineBand(cloud, step.candidate, options.distance_threshold_m, options.tuning);
-  step.kept = largestCluster(cloud, step.band, options.cluster_tolerance_m);
+  step.band = refineBand(c.cloud, step.candidate, options.distance_threshold_m, options.tuning);
+  step.kept = largestCluster(c.cloud, step.band, options.cluster_tolerance_m);
   return step;
+}
+
+/// The surface of step.kept when stage 4 accepts it (its area and boundary), else
+/// nothing. Sequential RANSAC depends on a step only through the pool and the
+/// generator, so with `guess_next` the next step is taken meanwhile on a second
+/// thread, on the pool as it will be if the surface is accepted and with a copy of
+/// the generator; `next` gets it (and `rng` the copy) only when the surface is
+/// accepted, else the guess is dropped: the surfaces are the one-thread ones.
+std::optional<Surface> judgeCandidate(const CandidateStep& step, const std::vector<Index>& pool,
+                                      bool guess_next, const DetectionContext& c,
+                                      const PlaneDetectionOptions& options, std::mt19937& rng,
+                                      std::optional<CandidateStep>& next) {
+  std::vector<Index> pool_if_accepted = pool;
+  removeFromPool(pool_if_accepted, step.kept);
+  std::mt19937 rng_if_accepted = rng;
+  std::future<CandidateStep> guess;  // declared after what it reads: joined first
+  if (guess_next && pool_if_accepted.size() >= 3) {
+    guess = std::async(std::launch::async, [&] {
+      return nextCandidate(c, pool_if_accepted, options, rng_if_accepted);
+    });
+  }
+  Surface surface = makeSurface(c.cloud, step.kept, options, c.occupied);
+  const bool accepted = std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
+                        surface.boundary.size() >= 3;
+  if (guess.valid() && accepted) {
+    next = guess.get();
+    rng = rng_if_accepted;
+  } else if (guess.valid()) {
+    guess.wait();  // a discarded guess: its result (or exception) is dropped
+  }
+  if (!accepted) return std::nullopt;
+  return surface;
 }
 
 }  // namespace
@@ -690,18 +730,14 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
   std::vector<char> in_surface(cloud.size(), 0);
   const std::unique_ptr<OccupiedVoxels> occupied = lineOfSightVoxels(cloud, options);
   int failures = 0;
-  // Two steps in flight: while this thread builds the surface of a large enough
-  // cluster, a second one takes the next step on the pool as it will be if that
-  // surface is accepted, with a copy of the generator. A rejected surface discards
-  // the guess and the step is taken again on the pool the rejection leaves, so the
-  // surfaces are the one-thread ones, bit for bit.
+  // Two steps in flight (judgeCandidate): the next one is guessed while a surface is built.
   const bool guess_ahead = (options.threads == 0 ? hardwareThreads() : options.threads) > 1;
   std::optional<CandidateStep> taken;  // the next step, when the guess was right
+  const DetectionContext context{pcl_cloud, cloud, origin, occupied.get()};
 
   while (static_cast<int>(result.surfaces.size()) < options.max_planes &&
          failures < options.max_failures && pool.size() >= 3) {
-    CandidateStep step =
-        taken ? std::move(*taken) : nextCandidate(pcl_cloud, cloud, pool, origin, options, rng);
+    CandidateStep step = taken ? std::move(*taken) : nextCandidate(context, pool, options, rng);
     taken.reset();
     if (step.stop) break;
     ++result.stats.candidates;
@@ -710,30 +746,14 @@ PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOp
 
     bool accepted = false;
     if (kept.size() >= static_cast<std::size_t>(std::max(3, options.min_inliers))) {
-      std::vector<Index> pool_if_accepted = pool;
-      removeFromPool(pool_if_accepted, kept);
-      std::mt19937 rng_if_accepted = rng;
-      std::future<CandidateStep> guess;  // declared after what it reads: joined first
-      if (guess_ahead && static_cast<int>(result.surfaces.size()) + 1 < options.max_planes &&
-          pool_if_accepted.size() >= 3) {
-        guess = std::async(std::launch::async, [&] {
-          return nextCandidate(pcl_cloud, cloud, pool_if_accepted, origin, options,
-                               rng_if_accepted);
-        });
-      }
-      Surface surface = makeSurface(cloud, kept, options, occupied.get());
-      accepted = std::min(surface.area_m2, surface.density_area_m2) >= options.min_area_m2 &&
-                 surface.boundary.size() >= 3;
-      if (guess.valid()) {
-        CandidateStep next = guess.get();
-        if (accepted) {
-          taken = std::move(next);
-          rng = rng_if_accepted;
-        }
-      }
+      const bool guess_next =
+          guess_ahead && static_cast<int>(result.surfaces.size()) + 1 < options.max_planes;
+      std::optional<Surface> surface =
+          judgeCandidate(step, pool, guess_next, context, options, rng, taken);
+      accepted = surface.has_value();
       if (accepted) {
-        surface.id = static_cast<int>(result.surfaces.size());
-        result.surfaces.push_back(std::move(surface));
+        surface->id = static_cast<int>(result.surfaces.size());
+        result.surfaces.push_back(std::move(*surface));
         result.stats.trimmed_points += band.size() - kept.size();
         for (const auto i : kept) in_surface[static_cast<std::size_t>(i)] = 1;
       }
