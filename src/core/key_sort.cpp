@@ -76,6 +76,18 @@ std::size_t runStart(const std::vector<KeyedIndex>& keyed, std::size_t i) {
   return std::min(i, keyed.size());
 }
 
+PointList fromRunsInHalves(const std::vector<KeyedIndex>& keyed, int threads,
+                           const std::function<PointList(std::size_t, std::size_t)>& of_runs) {
+  const std::size_t n = keyed.size();
+  const std::size_t cut = threads < 2 ? n : runStart(keyed, n / 2);
+  std::array<PointList, 2> parts;
+  parallelFor(2, threads, [&](std::size_t part, std::size_t) {
+    parts[part] = part == 0 ? of_runs(0, cut) : of_runs(cut, n);
+  });
+  parts[0].insert(parts[0].end(), parts[1].begin(), parts[1].end());
+  return std::move(parts[0]);
+}
+
 void sortUniqueKeys(std::vector<std::uint64_t>& keys) {
   radixSort(keys);
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());

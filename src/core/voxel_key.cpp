@@ -158,7 +158,7 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
     }
   });
   sortByKey(keyed, threads);  // = std::sort on the pairs (indices ascend), faster
-  // Centroids of the voxels in [from, to) of `keyed` (whole voxels).
+  // Centroids of the voxels in [from, to) of `keyed` (whole voxels), one per voxel.
   const auto centroids = [&](std::size_t from, std::size_t to) {
     PointList out;
     for (std::size_t i = from; i < to;) {
@@ -172,13 +172,7 @@ PointList voxelDownsample(const PointList& cloud, double edge, const std::string
     }
     return out;
   };
-  const std::size_t cut = threads < 2 ? n : runStart(keyed, n / 2);
-  std::array<PointList, 2> parts;
-  parallelFor(2, threads, [&](std::size_t part, std::size_t) {
-    parts[part] = part == 0 ? centroids(0, cut) : centroids(cut, n);
-  });
-  parts[0].insert(parts[0].end(), parts[1].begin(), parts[1].end());
-  return std::move(parts[0]);
+  return fromRunsInHalves(keyed, threads, centroids);
 }
 
 std::vector<std::uint64_t> occupiedKeys(const PointList& cloud, const VoxelKeyer& keyer) {

@@ -3,9 +3,13 @@
 /// Sorting (64-bit key, 32-bit index) pairs and plain keys, the step every voxel
 /// down-sampler and cell hasher spends most of its time in.
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
+
+#include "uavip/core/types.h"
 
 namespace uavip {
 
@@ -27,6 +31,13 @@ void sortByKey(std::vector<KeyedIndex>& keyed, int threads);
 /// The first position at or after i where a run of equal keys starts in the sorted
 /// `keyed` (keyed.size() when none): a cut that splits no voxel.
 std::size_t runStart(const std::vector<KeyedIndex>& keyed, std::size_t i);
+
+/// What `of_runs(from, to)` makes of the whole runs of equal keys in [from, to) of
+/// the sorted `keyed`, over all of it: with threads ≥ 2 in two halves cut between
+/// runs (runStart) on two threads, joined in order, so the result is the one-thread
+/// result (a down-sampler's centroids, one per voxel).
+PointList fromRunsInHalves(const std::vector<KeyedIndex>& keyed, int threads,
+                           const std::function<PointList(std::size_t, std::size_t)>& of_runs);
 
 /// Sorts keys ascending and drops repeats; the same radix sort (equal to std::sort
 /// then std::unique).
