@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <future>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -457,30 +458,61 @@ bool spendBudget(AStarOptions& o, std::size_t spent) {
 }
 
 /// The blocks of `grid` at `factor`, built once per grid content, factor and kind,
-/// and shared by every thread (read only once built). The cache keeps the blocks of
-/// the kCoarseKeep latest requested (content, factor, kind); a caller's shared
-/// pointer keeps its blocks alive while it searches.
+/// and shared by every thread (read only once built). The lock covers only the
+/// lookup: a thread that asks for blocks another one is building waits for those,
+/// not for every build. The cache keeps the kCoarseKeep latest requested (content,
+/// factor, kind); a caller's shared pointer keeps its blocks alive while it searches.
 std::shared_ptr<const CoarseGrid> coarseGrid(const world::VoxelGrid& grid, int factor,
                                              bool optimistic) {
+  using Blocks = std::shared_future<std::shared_ptr<const CoarseGrid>>;
+  struct Entry {
+    std::uint64_t content_id;
+    int factor;
+    bool optimistic;
+    Blocks blocks;
+  };
   constexpr std::size_t kCoarseKeep = 12;  // two grids' six levels
   static std::mutex mutex;
-  static std::vector<std::shared_ptr<const CoarseGrid>> cache;  // latest used last
-  const std::lock_guard<std::mutex> lock(mutex);                // one build at a time, each once
-  const auto it = std::find_if(cache.begin(), cache.end(), [&](const auto& c) {
-    return c->content_id == grid.contentId() && c->factor == factor && c->optimistic == optimistic;
-  });
-  std::shared_ptr<const CoarseGrid> found;
-  if (it != cache.end()) {
-    found = *it;
-    cache.erase(it);
-  } else {
-    auto built = std::make_shared<CoarseGrid>();
-    buildCoarse(*built, grid, factor, optimistic);
-    found = std::move(built);
-    if (cache.size() >= kCoarseKeep) cache.erase(cache.begin());
+  static std::vector<Entry> cache;  // latest used last
+  std::promise<std::shared_ptr<const CoarseGrid>> built;
+  Blocks blocks;
+  bool build = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = std::find_if(cache.begin(), cache.end(), [&](const Entry& e) {
+      return e.content_id == grid.contentId() && e.factor == factor && e.optimistic == optimistic;
+    });
+    Entry entry{grid.contentId(), factor, optimistic, {}};
+    if (it != cache.end()) {
+      entry = *it;
+      cache.erase(it);
+    } else {
+      entry.blocks = built.get_future().share();
+      build = true;
+      if (cache.size() >= kCoarseKeep) cache.erase(cache.begin());
+    }
+    blocks = entry.blocks;
+    cache.push_back(std::move(entry));
   }
-  cache.push_back(found);
-  return found;
+  if (build) {
+    try {
+      auto grid_blocks = std::make_shared<CoarseGrid>();
+      buildCoarse(*grid_blocks, grid, factor, optimistic);
+      built.set_value(std::move(grid_blocks));
+    } catch (...) {  // e.g. bad_alloc: the next asker builds again
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        cache.erase(std::remove_if(cache.begin(), cache.end(),
+                                   [&](const Entry& e) {
+                                     return e.content_id == grid.contentId() &&
+                                            e.factor == factor && e.optimistic == optimistic;
+                                   }),
+                    cache.end());
+      }
+      built.set_exception(std::current_exception());
+    }
+  }
+  return blocks.get();
 }
 
 /// One level of coarse to fine: the block path at `factor`, then the fine search in
