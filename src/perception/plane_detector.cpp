@@ -612,11 +612,14 @@ std::optional<Surface> judgeCandidate(const CandidateStep& step, const std::vect
                                       bool guess_next, const DetectionContext& c,
                                       const PlaneDetectionOptions& options, std::mt19937& rng,
                                       std::optional<CandidateStep>& next) {
-  std::vector<Index> pool_if_accepted = pool;
-  removeFromPool(pool_if_accepted, step.kept);
+  std::vector<Index> pool_if_accepted;  // only when guessing
+  if (guess_next) {
+    pool_if_accepted = pool;
+    removeFromPool(pool_if_accepted, step.kept);
+  }
   std::mt19937 rng_if_accepted = rng;
   std::future<CandidateStep> guess;  // declared after what it reads: joined first
-  if (guess_next && pool_if_accepted.size() >= 3) {
+  if (pool_if_accepted.size() >= 3) {
     guess = std::async(std::launch::async, [&] {
       return nextCandidate(c, pool_if_accepted, options, rng_if_accepted);
     });

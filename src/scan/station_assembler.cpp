@@ -65,9 +65,9 @@ class BeamAngles {
     }
   }
   /// verticalBeam(r, α_i).
-  Vec3 vertical(double r, std::size_t i) const { return {-r * cos_[i], 0.0, -r * sin_[i]}; }
+  Vec3 vertical(double r, std::size_t i) const { return verticalBeam(r, cos_[i], sin_[i]); }
   /// horizontalBeam(r, α_i).
-  Vec3 horizontal(double r, std::size_t i) const { return {r * cos_[i], r * sin_[i], 0.0}; }
+  Vec3 horizontal(double r, std::size_t i) const { return horizontalBeam(r, cos_[i], sin_[i]); }
 
  private:
   double angle_min_{std::numeric_limits<double>::quiet_NaN()};  // no table yet

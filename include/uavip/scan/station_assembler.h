@@ -169,14 +169,24 @@ struct StationCloud {
   AssemblyStats stats;
 };
 
-/// Eq. (1): the vertical scanner's beam (ρ [m], α [rad]) in its own frame.
+/// Eq. (1): the vertical scanner's beam (ρ [m], and cos α, sin α) in its own frame.
+inline Vec3 verticalBeam(double range_m, double cos_a, double sin_a) {
+  return {-range_m * cos_a, 0.0, -range_m * sin_a};
+}
+
+/// The same from α [rad].
 inline Vec3 verticalBeam(double range_m, double angle_rad) {
-  return {-range_m * std::cos(angle_rad), 0.0, -range_m * std::sin(angle_rad)};
+  return verticalBeam(range_m, std::cos(angle_rad), std::sin(angle_rad));
 }
 
 /// The horizontal scanner's beam in its own frame: (ρ·cos α, ρ·sin α, 0).
+inline Vec3 horizontalBeam(double range_m, double cos_a, double sin_a) {
+  return {range_m * cos_a, range_m * sin_a, 0.0};
+}
+
+/// The same from α [rad].
 inline Vec3 horizontalBeam(double range_m, double angle_rad) {
-  return {range_m * std::cos(angle_rad), range_m * std::sin(angle_rad), 0.0};
+  return horizontalBeam(range_m, std::cos(angle_rad), std::sin(angle_rad));
 }
 
 /// True for a usable return: finite, > 0, within [min_range, max_range].
