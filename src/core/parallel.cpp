@@ -14,13 +14,41 @@ int hardwareThreads() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+void WorkerGate::open() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    open_ = true;
+  }
+  changed_.notify_all();
+}
+
+bool WorkerGate::isOpen() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return open_;
+}
+
+bool WorkerGate::waitOpen(const std::function<bool()>& done) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [&] { return open_ || done(); });
+  return open_;
+}
+
+void WorkerGate::wake() {
+  // Under the lock: a waiter between its check of done() and its sleep cannot miss it.
+  { const std::lock_guard<std::mutex> lock(mutex_); }
+  changed_.notify_all();
+}
+
 void parallelFor(std::size_t n, int threads,
-                 const std::function<void(std::size_t, std::size_t)>& body) {
+                 const std::function<void(std::size_t, std::size_t)>& body, WorkerGate* gate) {
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
+  std::atomic<bool> caller_done{false};  // every index is taken, or a body threw
   std::exception_ptr error;
   std::mutex error_mutex;
   auto work = [&](std::size_t worker) {
+    if (worker > 0 && gate != nullptr && !gate->waitOpen([&] { return caller_done.load(); }))
+      return;
     try {
       for (std::size_t i = next++; i < n && !failed.load(std::memory_order_relaxed); i = next++)
         body(i, worker);
@@ -40,6 +68,8 @@ void parallelFor(std::size_t n, int threads,
     // No more threads: the ones started and the caller share the work.
   }
   work(0);
+  caller_done = true;
+  if (gate != nullptr && !pool.empty()) gate->wake();  // the workers still waiting leave
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }

@@ -672,7 +672,7 @@ std::vector<std::vector<std::uint32_t>> imagedByView(
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads, const std::vector<char>* two_sided) {
+                                int threads, const std::vector<char>* two_sided, WorkerGate* gate) {
   PointGrid grid;
   const VisitRule rule = prepareEvaluation(points, normals, views, camera, criteria, los, threads,
                                            two_sided, "evaluateCoverage", grid);
@@ -686,12 +686,15 @@ CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>
     const std::size_t workers = std::min(static_cast<std::size_t>(threads), views.size());
     std::vector<std::vector<int>> counts(workers);
     std::vector<ViewTally> tallies(workers);
-    parallelFor(views.size(), static_cast<int>(workers), [&](std::size_t v, std::size_t worker) {
-      auto& count = counts[worker];
-      if (count.empty()) count.assign(n, 0);
-      visitView(grid, views[v], camera, rule, tallies[worker],
-                [&count](std::size_t i) { ++count[i]; });
-    });
+    parallelFor(
+        views.size(), static_cast<int>(workers),
+        [&](std::size_t v, std::size_t worker) {
+          auto& count = counts[worker];
+          if (count.empty()) count.assign(n, 0);
+          visitView(grid, views[v], camera, rule, tallies[worker],
+                    [&count](std::size_t i) { ++count[i]; });
+        },
+        gate);
     for (std::size_t t = 0; t < workers; ++t) {
       for (std::size_t i = 0; i < counts[t].size(); ++i) res.views_per_point[i] += counts[t][i];
       res.pairs_in_range += tallies[t].pairs_in_range;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/parallel.h"
 #include "uavip/coverage/flight_strategy.h"
 
 namespace uavip::coverage {
@@ -677,6 +678,26 @@ TEST(VoxelLineOfSight, DdaMatchesSlabTestAndMillimetreSampling) {
 
 // ------------------------------------------------------------------ evaluator
 
+/// A camera that opens `gate` on its first projection (the views are then part-way).
+class GateOpeningCamera : public CameraModel {
+ public:
+  GateOpeningCamera(const CameraModel& inner, WorkerGate& gate) : inner_(inner), gate_(gate) {}
+  Projection project(const ViewPose& pose, const Vec3& p) const override {
+    gate_.open();
+    return inner_.project(pose, p);
+  }
+  Projection projectInFrame(const ViewFrame& frame, const Vec3& p) const override {
+    gate_.open();
+    return inner_.projectInFrame(frame, p);
+  }
+  double maxRange(double gsd) const override { return inner_.maxRange(gsd); }
+  double maxOffAxisRad() const override { return inner_.maxOffAxisRad(); }
+
+ private:
+  const CameraModel& inner_;
+  WorkerGate& gate_;
+};
+
 TEST(CoverageEvaluator, ThreadCountDoesNotChangeTheResult) {
   const WallScene s;
   const VoxelLineOfSight los(s.cloud, 0.05, 0.2);
@@ -704,6 +725,19 @@ TEST(CoverageEvaluator, ThreadCountDoesNotChangeTheResult) {
     EXPECT_EQ(rt.pairs_in_range, r1.pairs_in_range);
     EXPECT_EQ(rt.los_queries, r1.los_queries);
   }
+  // Workers that join part-way (a gate opened by a view, as the flight's end opens
+  // it in the pipeline) or never (a closed gate) change nothing either.
+  WorkerGate opened_midway, closed;
+  const GateOpeningCamera opening(cam, opened_midway);
+  for (WorkerGate* gate : {&opened_midway, &closed}) {
+    const CameraModel& camera = gate == &closed ? static_cast<const CameraModel&>(cam) : opening;
+    const CoverageResult rg =
+        evaluateCoverage(s.plane, up, views, camera, c, &los, 2, nullptr, gate);
+    EXPECT_EQ(rg.views_per_point, r1.views_per_point);
+    EXPECT_EQ(rg.pairs_in_range, r1.pairs_in_range);
+    EXPECT_EQ(rg.los_queries, r1.los_queries);
+  }
+  EXPECT_TRUE(opened_midway.isOpen());
   // And the occlusion test matters in this scene.
   EXPECT_GT(differing(r1.views_per_point,
                       evaluateCoverage(s.plane, up, views, cam, c, nullptr, 3).views_per_point),

@@ -34,6 +34,10 @@
 #include "uavip/core/types.h"
 #include "uavip/coverage/camera.h"
 
+namespace uavip {
+class WorkerGate;  // core/parallel.h
+}  // namespace uavip
+
 namespace uavip::coverage {
 
 /// A camera pose: position [m], yaw [deg], gimbal pitch [deg] (as Stop in
@@ -282,13 +286,15 @@ struct CoverageResult {
 /// `two_sided`, if given, holds one flag per point: 1 where that point's normal is
 /// two-sided (as two_sided_normals, for that point only).
 /// The views are split over `threads` workers (core/parallel.h) with per-worker
-/// counters summed at the end: the result does not depend on the thread count. Throws InputError
+/// counters summed at the end: the result does not depend on the thread count. With a
+/// `gate`, the workers beyond the caller join once it opens. Throws InputError
 /// for non-finite points, views or normals, a zero normal, a normal count other than points.size()
 /// or 1, invalid criteria or threads < 1.
 CoverageResult evaluateCoverage(const PointList& points, const std::vector<Vec3>& normals,
                                 const std::vector<ViewPose>& views, const CameraModel& camera,
                                 const CoverageCriteria& criteria, const LineOfSight* los,
-                                int threads = 2, const std::vector<char>* two_sided = nullptr);
+                                int threads = 2, const std::vector<char>* two_sided = nullptr,
+                                WorkerGate* gate = nullptr);
 
 /// The same test, view by view: for each view, the indices of the points it images
 /// (ascending). What a view selection scores its candidates with. Same checks and
