@@ -20,6 +20,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <future>
+#include <memory>
 #include <sstream>
 
 #include "uavip/core/error.h"
@@ -223,7 +225,7 @@ int hits(const PointList& source, const Occupancy& target, const Vec3& offset) {
 /// offset (the recorded positions are a prior).
 Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns,
                        const PointList& target, const std::vector<Vec3>& nt, double radius,
-                       double step) {
+                       double step, int threads) {
   // Principal horizontal directions of the target's upright normals.
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
   for (const auto& n : nt) {
@@ -257,9 +259,14 @@ Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns,
       const Vec3 base = offset - along * axis;
       double best_t = along;
       int best = score(offset);
+      // The scores on every core (each reads only), the choice in offset order.
+      std::vector<int> scores(static_cast<std::size_t>(2 * n + 1));
+      parallelFor(scores.size(), threads, [&](std::size_t k, std::size_t) {
+        scores[k] = score(base + (static_cast<int>(k) - n) * step * axis);
+      });
       for (int i = -n; i <= n; ++i) {
         const double t = i * step;
-        const int h = score(base + t * axis);
+        const int h = scores[static_cast<std::size_t>(i + n)];
         if (h > best || (h == best && std::abs(t) < std::abs(best_t))) {
           best = h;
           best_t = t;
@@ -308,25 +315,31 @@ struct IcpOutcome {
 /// moves only along directions the pairs constrain (eigenvalues of Σ w·n nᵀ ≥ 2 % of
 /// the largest and ≥ kMinInformationPairs effective pairs); the others keep the start.
 IcpOutcome icpTranslation(const PointList& source, const std::vector<Vec3>& source_normals,
-                          const PointList& target, const std::vector<Vec3>& target_normals,
-                          double gate, int iterations) {
-  if (target.empty()) return {};
-  // Floats in the world frame (origin 0), as this stage always searched.
-  const NeighbourIndex tree(target, Vec3::Zero());
+                          const NeighbourIndex& tree, const std::vector<Vec3>& target_normals,
+                          double gate, int iterations, int threads) {
+  const PointList& target = tree.cloud();
   const std::vector<std::size_t> sample = balancedSample(source_normals, 2000);
+  std::vector<int> nearest(sample.size());
+  std::vector<float> nearest_d2(sample.size());
   IcpOutcome out;
   for (int it = 0; it < iterations; ++it) {
     const double c = it < 5 ? gate : std::max(0.1, 0.3 * gate);  // Tukey scale: wide, then tight
+    // The pairs' searches on every core, in blocks; the sums below in sample order.
+    constexpr std::size_t kBlock = 512;
+    parallelFor((sample.size() + kBlock - 1) / kBlock, threads, [&](std::size_t b, std::size_t) {
+      const std::size_t end = std::min(sample.size(), (b + 1) * kBlock);
+      for (std::size_t k = b * kBlock; k < end; ++k)
+        nearest[k] = tree.nearestTo(source[sample[k]] + out.t, &nearest_d2[k]);
+    });
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Vec3 g = Vec3::Zero();
     double sse = 0.0;
     std::size_t pairs = 0;
-    for (const std::size_t i : sample) {
+    for (std::size_t k = 0; k < sample.size(); ++k) {
+      const std::size_t i = sample[k];
       const Vec3 p = source[i] + out.t;
-      float d2 = 0.0f;
-      const int nearest = tree.nearestTo(p, &d2);
-      if (nearest < 0 || d2 > gate * gate) continue;
-      const auto j = static_cast<std::size_t>(nearest);
+      if (nearest[k] < 0 || nearest_d2[k] > gate * gate) continue;
+      const auto j = static_cast<std::size_t>(nearest[k]);
       const Vec3& n = target_normals[j];
       if (!n.allFinite() || !(n.dot(source_normals[i]) > 0.7)) continue;
       const double e = n.dot(p - target[j]);
@@ -482,16 +495,24 @@ Alignment align(const PointList& source_in, const std::vector<Vec3>& source_norm
                 const PointList& target, const std::vector<Vec3>& target_normals,
                 const RegistrationOptions& o) {
   if (source_in.size() < 10 || target.size() < 10) return {};
+  // The ICP's kd-tree over the target is built beside the coarse search. Floats in
+  // the world frame (origin 0), as this stage always searched.
+  std::future<std::unique_ptr<const NeighbourIndex>> tree;
+  if (o.method == Method::PointToPlaneTranslation) {
+    tree = std::async(o.threads > 1 ? std::launch::async : std::launch::deferred, [&target] {
+      return std::make_unique<const NeighbourIndex>(target, Vec3::Zero());
+    });
+  }
   const Vec3 coarse = o.search_radius_m > 0.0
                           ? searchTranslation(source_in, source_normals, target, target_normals,
-                                              o.search_radius_m, o.search_step_m)
+                                              o.search_radius_m, o.search_step_m, o.threads)
                           : Vec3::Zero();
   PointList source = source_in;
   for (auto& p : source) p += coarse;
   if (o.method == Method::PointToPlaneTranslation) {
-    return translationAlignment(coarse,
-                                icpTranslation(source, source_normals, target, target_normals,
-                                               o.max_correspondence_m, o.max_iterations));
+    return translationAlignment(
+        coarse, icpTranslation(source, source_normals, *tree.get(), target_normals,
+                               o.max_correspondence_m, o.max_iterations, o.threads));
   }
   if (o.method == Method::None) return {};
   return pclAlignment(source, target, coarse, o);

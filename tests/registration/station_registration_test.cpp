@@ -210,7 +210,12 @@ TEST(RegisterStations, SimulatedStationsMatchTheTruth) {
   EXPECT_EQ(merged, expected);
   RegistrationOptions one_thread;
   one_thread.threads = 1;
-  EXPECT_EQ(registerStations(in, one_thread).merged, r.merged);
+  const RegistrationResult r1 = registerStations(in, one_thread);
+  EXPECT_EQ(r1.merged, r.merged);
+  for (std::size_t i = 0; i < in.size(); ++i) {  // the search and the ICP too
+    EXPECT_EQ(r1.stations[i].pose.matrix(), r.stations[i].pose.matrix()) << "station " << i;
+    EXPECT_EQ(r1.stations[i].iterations, r.stations[i].iterations);
+  }
   EXPECT_GT(r.merged.size(), 2u * 65536u);  // large enough to be merged on two threads
 }
 

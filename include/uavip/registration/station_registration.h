@@ -66,8 +66,10 @@ struct RegistrationOptions {
   bool use_recorded_yaw{
       false};  ///< rotate each station by recorded_yaw − IMU yaw at its first scan
   double output_voxel_m{
-      0.02};       ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
-  int threads{2};  ///< stations down-sampled and given normals in parallel
+      0.02};  ///< merged cloud down-sampled to this voxel (0: keep every point) [m]
+  /// Threads for the stations' down-sampling and normals, the coarse search's offsets
+  /// and the ICP's pair searches (the result does not depend on it).
+  int threads{2};
   int normal_k{
       10};  ///< neighbours of a point's PCA normal (translation method; its coarse search too)
   int pcl_normal_k{12};  ///< the same for PCL's point-to-plane ICP (icp_point_to_plane)
