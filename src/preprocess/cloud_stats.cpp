@@ -2,15 +2,20 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <random>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/text.h"
 
 namespace uavip::preprocess {
@@ -52,18 +57,20 @@ struct Samples {
   std::vector<double> nearest, noise, angular;
 };
 
-/// Adds point i's nearest distinct neighbour distance (duplicates and the point itself
-/// are at ~0) and its angular spacing; idx are its neighbours, nearest first.
-void addNearest(const PointList& cloud, std::size_t i, const std::vector<int>& idx, Samples& out) {
+/// Point i's nearest distinct neighbour distance (duplicates and the point itself are
+/// at ~0) [m] and its angular spacing (that over the point's range), NaN where
+/// undefined; idx are its neighbours, nearest first.
+std::pair<double, double> nearestDistinct(const PointList& cloud, std::size_t i,
+                                          const std::vector<int>& idx) {
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t j = 0; j < idx.size(); ++j) {
     const double d = (cloud[static_cast<std::size_t>(idx[j])] - cloud[i]).norm();
     if (d > 1e-9) {
-      out.nearest.push_back(d);
       const double range = cloud[i].norm();
-      if (range > 1e-6) out.angular.push_back(d / range);
-      break;
+      return {d, range > 1e-6 ? d / range : kNone};
     }
   }
+  return {kNone, kNone};
 }
 
 /// √ of the smallest eigenvalue of the covariance of the points idx [m].
@@ -81,20 +88,32 @@ double localNoise(const PointList& cloud, const std::vector<int>& idx) {
   return std::sqrt(std::max(solver.eigenvalues()[0], 0.0));
 }
 
-/// One neighbour query (k + 1 nearest) per sampled point feeds all three statistics.
+/// One neighbour query (k + 1 nearest) per sampled point feeds all three statistics,
+/// in sample order; the queries on every core, each writing its own slot.
 Samples sampleNeighbourhoods(const PointList& cloud, const NeighbourIndex& index,
                              const std::vector<std::size_t>& sample, int k) {
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::array<double, 3>> slot(sample.size(), {kNone, kNone, kNone});
+  constexpr std::size_t kBlock = 1024;
+  parallelFor((sample.size() + kBlock - 1) / kBlock, hardwareThreads(),
+              [&](std::size_t b, std::size_t) {
+                std::vector<int> idx;
+                std::vector<float> d2;
+                for (std::size_t s = b * kBlock; s < std::min(sample.size(), (b + 1) * kBlock);
+                     ++s) {
+                  index.nearest(sample[s], k + 1, idx, d2);
+                  if (idx.size() < 2) continue;
+                  std::tie(slot[s][0], slot[s][1]) = nearestDistinct(cloud, sample[s], idx);
+                  if (idx.size() >= 4) slot[s][2] = localNoise(cloud, idx);
+                }
+              });
   Samples out;
   out.nearest.reserve(sample.size());
   out.noise.reserve(sample.size());
-  std::vector<int> idx;
-  std::vector<float> d2;
-  for (const auto i : sample) {
-    index.nearest(i, k + 1, idx, d2);
-    if (idx.size() < 2) continue;
-    addNearest(cloud, i, idx, out);
-    if (idx.size() < 4) continue;
-    out.noise.push_back(localNoise(cloud, idx));
+  for (const auto& [nearest, angular, noise] : slot) {
+    if (!std::isnan(nearest)) out.nearest.push_back(nearest);
+    if (!std::isnan(angular)) out.angular.push_back(angular);
+    if (!std::isnan(noise)) out.noise.push_back(noise);
   }
   return out;
 }
