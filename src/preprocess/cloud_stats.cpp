@@ -95,18 +95,17 @@ Samples sampleNeighbourhoods(const PointList& cloud, const NeighbourIndex& index
   constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::array<double, 3>> slot(sample.size(), {kNone, kNone, kNone});
   constexpr std::size_t kBlock = 1024;
-  parallelFor((sample.size() + kBlock - 1) / kBlock, hardwareThreads(),
-              [&](std::size_t b, std::size_t) {
-                std::vector<int> idx;
-                std::vector<float> d2;
-                for (std::size_t s = b * kBlock; s < std::min(sample.size(), (b + 1) * kBlock);
-                     ++s) {
-                  index.nearest(sample[s], k + 1, idx, d2);
-                  if (idx.size() < 2) continue;
-                  std::tie(slot[s][0], slot[s][1]) = nearestDistinct(cloud, sample[s], idx);
-                  if (idx.size() >= 4) slot[s][2] = localNoise(cloud, idx);
-                }
-              });
+  parallelFor(
+      (sample.size() + kBlock - 1) / kBlock, hardwareThreads(), [&](std::size_t b, std::size_t) {
+        std::vector<int> idx;
+        std::vector<float> d2;
+        for (std::size_t s = b * kBlock; s < std::min(sample.size(), (b + 1) * kBlock); ++s) {
+          index.nearest(sample[s], k + 1, idx, d2);
+          if (idx.size() < 2) continue;
+          std::tie(slot[s][0], slot[s][1]) = nearestDistinct(cloud, sample[s], idx);
+          if (idx.size() >= 4) slot[s][2] = localNoise(cloud, idx);
+        }
+      });
   Samples out;
   out.nearest.reserve(sample.size());
   out.noise.reserve(sample.size());
