@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 #include "uavip/core/error.h"
+#include "uavip/core/key_sort.h"
 #include "uavip/core/voxel_key.h"
 
 namespace uavip::perception {
@@ -37,9 +39,9 @@ class DisjointSets {
 
 /// Points sorted by cell; each cell is a run [begin[c], begin[c + 1]) of `order`.
 struct CellRuns {
-  std::vector<std::pair<std::uint64_t, int>> order;  ///< (cell key, point index), sorted
-  std::vector<std::uint64_t> keys;                   ///< occupied cells, ascending
-  std::vector<std::size_t> begin;                    ///< keys.size() + 1 offsets into order
+  std::vector<KeyedIndex> order;    ///< (cell key, point index), sorted
+  std::vector<std::uint64_t> keys;  ///< occupied cells, ascending
+  std::vector<std::size_t> begin;   ///< keys.size() + 1 offsets into order
 
   /// Index of the cell with `key`, or −1 when it holds no point.
   std::ptrdiff_t cellOf(std::uint64_t key) const {
@@ -53,8 +55,11 @@ CellRuns cellRuns(const PointList& points, const std::vector<int>& indices,
   CellRuns runs;
   auto& order = runs.order;
   order.reserve(indices.size());
-  for (const int i : indices) order.emplace_back(keyer.key(points[static_cast<std::size_t>(i)]), i);
-  std::sort(order.begin(), order.end());
+  for (const int i : indices) {
+    order.emplace_back(keyer.key(points[static_cast<std::size_t>(i)]),
+                       static_cast<std::uint32_t>(i));
+  }
+  sortByKey(order);  // within a cell the input order: the components do not depend on it
   for (std::size_t k = 0; k < order.size(); ++k) {
     if (k == 0 || order[k].first != order[k - 1].first) {
       runs.keys.push_back(order[k].first);
@@ -78,35 +83,56 @@ bool pointsLinked(const PointList& points, const CellRuns& runs, std::size_t a, 
   return false;
 }
 
-/// Joins cell a with every occupied cell of a higher key (each pair is visited once,
-/// from its lower key) that holds a point within the tolerance of one of a's. Cells
-/// up to two apart can (3 × edge > tolerance).
-void linkNeighbours(const PointList& points, const CellRuns& runs, std::size_t a, double cell,
-                    double tol2, DisjointSets& sets) {
-  const auto [ax, ay, az] = VoxelKeyer::unpack(runs.keys[a]);
+/// A neighbour cell up to two apart on each axis, with a higher key (each pair of
+/// cells is visited once, from its lower key) and closer than the tolerance at its
+/// nearest (3 × edge > tolerance: farther cells cannot link).
+struct NeighbourOffset {
+  int dx, dy, dz;
+  bool always_linked;  ///< even the farthest corners are within the tolerance
+};
+
+std::vector<NeighbourOffset> neighbourOffsets(double cell, double tol2) {
+  std::vector<NeighbourOffset> offsets;
   for (int dx = -2; dx <= 2; ++dx) {
     for (int dy = -2; dy <= 2; ++dy) {
       for (int dz = -2; dz <= 2; ++dz) {
-        const std::int64_t bx = ax + dx, by = ay + dy, bz = az + dz;
-        if (bx < 0 || by < 0 || bz < 0 || bx >= VoxelKeyer::kCells || by >= VoxelKeyer::kCells ||
-            bz >= VoxelKeyer::kCells) {
-          continue;
-        }
-        const std::uint64_t kb = VoxelKeyer::pack(bx, by, bz);
-        if (kb <= runs.keys[a]) continue;
-        // Closest and farthest possible distances between the two cells.
+        // Keys are lexicographic in (x, y, z): a higher key is a positive offset.
+        if (std::make_tuple(dx, dy, dz) <= std::make_tuple(0, 0, 0)) continue;
         const double gx = std::max(0, std::abs(dx) - 1), gy = std::max(0, std::abs(dy) - 1),
                      gz = std::max(0, std::abs(dz) - 1);
         if ((gx * gx + gy * gy + gz * gz) * cell * cell >= tol2) continue;
-        const std::ptrdiff_t b = runs.cellOf(kb);
-        if (b < 0) continue;
-        const auto bu = static_cast<std::size_t>(b);
-        if (sets.find(a) == sets.find(bu)) continue;
         const double fx = std::abs(dx) + 1, fy = std::abs(dy) + 1, fz = std::abs(dz) + 1;
-        const bool linked = (fx * fx + fy * fy + fz * fz) * cell * cell < tol2 ||
-                            pointsLinked(points, runs, a, bu, tol2);
-        if (linked) sets.unite(a, bu);
+        offsets.push_back({dx, dy, dz, (fx * fx + fy * fy + fz * fz) * cell * cell < tol2});
       }
+    }
+  }
+  return offsets;
+}
+
+/// Joins every occupied cell with each occupied neighbour cell (neighbourOffsets) that
+/// holds a point within the tolerance of one of its own. Cells are visited in key
+/// order, so for one offset the neighbour's key only grows: one cursor per offset
+/// walks the sorted keys instead of a binary search per pair.
+void linkNeighbours(const PointList& points, const CellRuns& runs, double cell, double tol2,
+                    DisjointSets& sets) {
+  const std::vector<NeighbourOffset> offsets = neighbourOffsets(cell, tol2);
+  const std::vector<std::uint64_t>& keys = runs.keys;
+  std::vector<std::size_t> cursor(offsets.size(), 0);
+  for (std::size_t a = 0; a < keys.size(); ++a) {
+    const auto [ax, ay, az] = VoxelKeyer::unpack(keys[a]);
+    for (std::size_t m = 0; m < offsets.size(); ++m) {
+      const NeighbourOffset& o = offsets[m];
+      const std::int64_t bx = ax + o.dx, by = ay + o.dy, bz = az + o.dz;
+      if (bx < 0 || by < 0 || bz < 0 || bx >= VoxelKeyer::kCells || by >= VoxelKeyer::kCells ||
+          bz >= VoxelKeyer::kCells) {
+        continue;
+      }
+      const std::uint64_t kb = VoxelKeyer::pack(bx, by, bz);
+      std::size_t& b = cursor[m];
+      while (b < keys.size() && keys[b] < kb) ++b;
+      if (b == keys.size() || keys[b] != kb) continue;
+      if (sets.find(a) == sets.find(b)) continue;
+      if (o.always_linked || pointsLinked(points, runs, a, b, tol2)) sets.unite(a, b);
     }
   }
 }
@@ -118,7 +144,7 @@ std::vector<std::vector<int>> gatherClusters(const CellRuns& runs, DisjointSets&
   for (std::size_t c = 0; c < cells; ++c) {
     auto& dst = by_root[sets.find(c)];
     for (std::size_t k = runs.begin[c]; k < runs.begin[c + 1]; ++k)
-      dst.push_back(runs.order[k].second);
+      dst.push_back(static_cast<int>(runs.order[k].second));
   }
   std::vector<std::vector<int>> clusters;
   for (auto& c : by_root) {
@@ -151,8 +177,7 @@ std::vector<std::vector<int>> euclideanClusters(const PointList& points,
   const VoxelKeyer keyer(lo, hi, cell, "perception.cluster_tolerance_m / sqrt(3)");
   const CellRuns runs = cellRuns(points, indices, keyer);
   DisjointSets sets(runs.keys.size());
-  for (std::size_t a = 0; a < runs.keys.size(); ++a)
-    linkNeighbours(points, runs, a, cell, tol2, sets);
+  linkNeighbours(points, runs, cell, tol2, sets);
   return gatherClusters(runs, sets);
 }
 
