@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "uavip/core/error.h"
@@ -115,6 +117,86 @@ TEST(NeighbourIndexQueries, BadInput) {
   index.within(Vec3(100, 0, 0), 1.0, idx, d2);
   EXPECT_TRUE(idx.empty());
   EXPECT_TRUE(d2.empty());
+}
+
+/// The 200 smallest squared distances from q to the points in the index's float
+/// frame, as FLANN computes them (float differences, summed x, y, z), sorted.
+std::vector<std::pair<float, int>> bruteForceFloat(const PointList& cloud, const Vec3& origin,
+                                                   const Vec3& q) {
+  const auto fl = [&](const Vec3& p) {
+    const Vec3 d = p - origin;
+    return std::array<float, 3>{static_cast<float>(d.x()), static_cast<float>(d.y()),
+                                static_cast<float>(d.z())};
+  };
+  const auto fq = fl(q);
+  std::vector<std::pair<float, int>> all(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto fp = fl(cloud[i]);
+    float d2 = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const float diff = fq[static_cast<std::size_t>(a)] - fp[static_cast<std::size_t>(a)];
+      d2 += diff * diff;
+    }
+    all[i] = {d2, static_cast<int>(i)};
+  }
+  const std::size_t keep = std::min<std::size_t>(200, all.size());
+  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(keep), all.end());
+  all.resize(keep);
+  return all;
+}
+
+// From 2^18 points the index is two trees split at the median of the longest axis
+// (x here, at about 20 m), built at once. Every query kind against brute force in
+// the same float arithmetic, for points right at the split (whose neighbours lie on
+// both sides) and elsewhere, near the origin and at UTM-like coordinates.
+TEST(NeighbourIndexQueries, SplitIndexMatchesBruteForceAcrossTheSplit) {
+  for (const Vec3& corner : {Vec3(0, 0, 0), Vec3(5.0e5, 5.0e6, 250.0)}) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> ux(0.0, 40.0), u(0.0, 10.0);
+    PointList cloud(270000);
+    for (auto& p : cloud) p = corner + Vec3(ux(rng), u(rng), u(rng));
+    const NeighbourIndex index(cloud);
+    std::vector<std::size_t> queries;
+    for (std::size_t i = 0; i < cloud.size() && queries.size() < 120; ++i) {
+      if (std::abs(cloud[i].x() - corner.x() - 20.0) < 0.03) queries.push_back(i);
+    }
+    for (std::size_t i = 0; i < cloud.size(); i += 4999) queries.push_back(i);
+    ASSERT_GT(queries.size(), 150u);
+    constexpr int k = 17;
+    std::vector<int> idx(k);
+    std::vector<float> d2(k);
+    for (const std::size_t i : queries) {
+      const auto brute = bruteForceFloat(cloud, index.origin(), cloud[i]);
+      index.nearest(i, 1, k, idx.data(), d2.data());
+      for (int j = 0; j < k; ++j) {
+        ASSERT_EQ(d2[static_cast<std::size_t>(j)], brute[static_cast<std::size_t>(j)].first)
+            << "point " << i << ", neighbour " << j;
+        ASSERT_EQ(idx[static_cast<std::size_t>(j)], brute[static_cast<std::size_t>(j)].second)
+            << "point " << i << ", neighbour " << j;
+      }
+      // Arbitrary points beside it: the nearest, and every point within a radius.
+      const Vec3 q = cloud[i] + Vec3(0.01, -0.02, 0.015);
+      const auto around = bruteForceFloat(cloud, index.origin(), q);
+      float nearest_d2 = -1.0f;
+      EXPECT_EQ(index.nearestTo(q, &nearest_d2), around.front().second);
+      EXPECT_EQ(nearest_d2, around.front().first);
+      const float r2 = static_cast<float>(0.2 * 0.2);
+      ASSERT_GT(around.back().first, r2);  // the radius holds fewer than 200 points
+      std::vector<int> expected;
+      for (const auto& [d, j] : around) {
+        if (d <= r2) expected.push_back(j);
+      }
+      std::vector<int> within;
+      std::vector<float> within_d2;
+      index.within(q, 0.2, within, within_d2, true);
+      EXPECT_TRUE(std::is_sorted(within_d2.begin(), within_d2.end()));
+      EXPECT_EQ(within, expected) << "point " << i;
+      index.within(q, 0.2, within, within_d2, false);
+      std::sort(within.begin(), within.end());
+      std::sort(expected.begin(), expected.end());
+      EXPECT_EQ(within, expected) << "point " << i;
+    }
+  }
 }
 
 }  // namespace

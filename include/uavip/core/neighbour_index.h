@@ -17,10 +17,15 @@ namespace uavip {
 /// pcl::KdTreeFLANN and pcl::search::KdTree build, with their search parameters) over
 /// float copies of the points taken relative to an origin near the cloud (by default
 /// its min corner: floats near 0 keep millimetres far from the origin, e.g. in UTM).
-/// Distances it reports are float ones in that frame. Holds a reference to the cloud,
-/// which must outlive it and stay unchanged. Queries are const and thread-safe.
-/// Memory: 12 bytes per point plus the tree. FLANN is linked privately (core's
-/// headers name no third-party type).
+/// Distances it reports are float ones in that frame. From 2^18 points it is two
+/// trees, one per side of the median of the cloud's longest axis, built at once on
+/// two threads (a tree's build is serial: 0.085 s of the bridge's 0.7 M points); a
+/// query searches the other side only when the split plane is nearer than what it
+/// found, and gets the same neighbours and distances (tested against brute force).
+/// The split depends on the points only, never on the machine. Holds a reference to
+/// the cloud, which must outlive it and stay unchanged. Queries are const and
+/// thread-safe. Memory: 12 bytes per point plus the tree (21 when split). FLANN is
+/// linked privately (core's headers name no third-party type).
 class NeighbourIndex {
  public:
   /// Throws InputError for an empty cloud, a non-finite point, or more than
