@@ -172,42 +172,54 @@ NeighbourIndex::NeighbourIndex(const PointList& cloud, const Vec3& origin)
   }
   const std::size_t n = cloud.size();
   Tree& t = *tree_;
-  if (n < Tree::kSplitPoints) {
+  const auto whole = [&] {
+    t.parts.clear();
     t.parts.resize(1);
+    t.part_of = {};
     t.parts[0].xyz.resize(3 * n);
     for (std::size_t i = 0; i < n; ++i) {
       const auto f = toFloat(cloud[i], origin);
       std::copy(f.begin(), f.end(), t.parts[0].xyz.begin() + static_cast<std::ptrdiff_t>(3 * i));
     }
     t.parts[0].build();
+  };
+  if (n < Tree::kSplitPoints) {
+    whole();
     return;
   }
   // Two halves at the median of the longest axis (in float: the frame queries use).
-  std::vector<std::array<float, 3>> f(n);
-  for (std::size_t i = 0; i < n; ++i) f[i] = toFloat(cloud[i], origin);
   const Aabb box = boundingBox(cloud);
-  const Vec3 extent = box.max - box.min;
-  extent.maxCoeff(&t.axis);
-  std::vector<float> along(n);
-  for (std::size_t i = 0; i < n; ++i) along[i] = f[i][static_cast<std::size_t>(t.axis)];
-  std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(n / 2), along.end());
-  t.split = along[n / 2];
-  t.parts.resize(2);
+  (box.max - box.min).maxCoeff(&t.axis);
+  const auto axis = static_cast<std::size_t>(t.axis);
+  {
+    std::vector<float> along(n);
+    for (std::size_t i = 0; i < n; ++i) along[i] = toFloat(cloud[i], origin)[axis];
+    std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(n / 2),
+                     along.end());
+    t.split = along[n / 2];
+  }
   t.part_of.resize(n);
+  std::size_t changes = 0;  // 1: each part is a run of the cloud (a cloud sorted on the axis)
+  for (std::size_t i = 0; i < n; ++i) {
+    t.part_of[i] = static_cast<std::uint8_t>(toFloat(cloud[i], origin)[axis] < t.split ? 0 : 1);
+    changes += i > 0 && t.part_of[i] != t.part_of[i - 1];
+  }
+  const auto below = static_cast<std::size_t>(std::count(t.part_of.begin(), t.part_of.end(), 0));
+  if (below == 0) {  // half the points or more share the lowest value
+    whole();
+    return;
+  }
+  t.parts.resize(2);
+  t.parts[0].xyz.reserve(3 * below);
+  t.parts[1].xyz.reserve(3 * (n - below));
   t.local_of.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t part = f[i][static_cast<std::size_t>(t.axis)] < t.split ? 0 : 1;
-    Tree::Part& p = t.parts[part];
-    t.part_of[i] = static_cast<std::uint8_t>(part);
+    Tree::Part& p = t.parts[t.part_of[i]];
     t.local_of[i] = static_cast<std::uint32_t>(p.size());
-    p.xyz.insert(p.xyz.end(), f[i].begin(), f[i].end());
-    p.cloud_index.push_back(static_cast<int>(i));
-  }
-  for (Tree::Part& p : t.parts) {  // a run of the cloud (a sorted cloud split on its slow axis)
-    if (p.cloud_index.back() - p.cloud_index.front() + 1 == static_cast<int>(p.size())) {
-      p.offset = p.cloud_index.front();
-      p.cloud_index = {};
-    }
+    if (p.size() == 0) p.offset = static_cast<int>(i);
+    if (changes > 1) p.cloud_index.push_back(static_cast<int>(i));
+    const auto f = toFloat(cloud[i], origin);
+    p.xyz.insert(p.xyz.end(), f.begin(), f.end());
   }
   parallelFor(2, hardwareThreads(), [&](std::size_t part, std::size_t) { t.parts[part].build(); });
 }
