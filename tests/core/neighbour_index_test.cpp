@@ -148,13 +148,19 @@ std::vector<std::pair<float, int>> bruteForceFloat(const PointList& cloud, const
 // From 2^18 points the index is two trees split at the median of the longest axis
 // (x here, at about 20 m), built at once. Every query kind against brute force in
 // the same float arithmetic, for points right at the split (whose neighbours lie on
-// both sides) and elsewhere, near the origin and at UTM-like coordinates.
+// both sides) and elsewhere, near the origin and at UTM-like coordinates, in random
+// order and sorted along the split axis (each half then a run of the cloud).
 TEST(NeighbourIndexQueries, SplitIndexMatchesBruteForceAcrossTheSplit) {
-  for (const Vec3& corner : {Vec3(0, 0, 0), Vec3(5.0e5, 5.0e6, 250.0)}) {
+  for (const bool sorted_x : {false, true}) {
+    const Vec3 corner = sorted_x ? Vec3(5.0e5, 5.0e6, 250.0) : Vec3(0, 0, 0);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> ux(0.0, 40.0), u(0.0, 10.0);
     PointList cloud(270000);
     for (auto& p : cloud) p = corner + Vec3(ux(rng), u(rng), u(rng));
+    if (sorted_x) {
+      std::sort(cloud.begin(), cloud.end(),
+                [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+    }
     const NeighbourIndex index(cloud);
     std::vector<std::size_t> queries;
     for (std::size_t i = 0; i < cloud.size() && queries.size() < 120; ++i) {
@@ -196,6 +202,24 @@ TEST(NeighbourIndexQueries, SplitIndexMatchesBruteForceAcrossTheSplit) {
       std::sort(expected.begin(), expected.end());
       EXPECT_EQ(within, expected) << "point " << i;
     }
+  }
+}
+
+// Half the points or more on the lowest value of the longest axis (a wall seen edge
+// on): no split there, one tree, the same answers.
+TEST(NeighbourIndexQueries, NoSplitWhenHalfThePointsShareTheLowestValue) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  PointList cloud(270000);
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    cloud[i] = Vec3(i % 3 == 0 ? 4.0 * u(rng) : 0.0, u(rng) * 0.1, u(rng) * 0.1);
+  const NeighbourIndex index(cloud);
+  for (std::size_t i = 0; i < cloud.size(); i += 27001) {
+    const auto brute = bruteForceFloat(cloud, index.origin(), cloud[i]);
+    std::vector<int> idx(5);
+    std::vector<float> d2(5);
+    index.nearest(i, 1, 5, idx.data(), d2.data());
+    for (std::size_t j = 0; j < 5; ++j) EXPECT_EQ(d2[j], brute[j].first) << "point " << i;
   }
 }
 
