@@ -266,7 +266,8 @@ Vec3 searchTranslation(const PointList& source, const std::vector<Vec3>& ns,
       });
       for (int i = -n; i <= n; ++i) {
         const double t = i * step;
-        const int h = scores[static_cast<std::size_t>(i + n)];
+        const int at = i + n;  // offsets from −n
+        const int h = scores[static_cast<std::size_t>(at)];
         if (h > best || (h == best && std::abs(t) < std::abs(best_t))) {
           best = h;
           best_t = t;
