@@ -474,14 +474,15 @@ std::shared_ptr<const CoarseGrid> coarseGrid(const world::VoxelGrid& grid, int f
   constexpr std::size_t kCoarseKeep = 12;  // two grids' six levels
   static std::mutex mutex;
   static std::vector<Entry> cache;  // latest used last
+  const auto same = [&](const Entry& e) {
+    return e.content_id == grid.contentId() && e.factor == factor && e.optimistic == optimistic;
+  };
   std::promise<std::shared_ptr<const CoarseGrid>> built;
   Blocks blocks;
   bool build = false;
   {
     const std::lock_guard<std::mutex> lock(mutex);
-    const auto it = std::find_if(cache.begin(), cache.end(), [&](const Entry& e) {
-      return e.content_id == grid.contentId() && e.factor == factor && e.optimistic == optimistic;
-    });
+    const auto it = std::find_if(cache.begin(), cache.end(), same);
     Entry entry{grid.contentId(), factor, optimistic, {}};
     if (it != cache.end()) {
       entry = *it;
@@ -502,12 +503,7 @@ std::shared_ptr<const CoarseGrid> coarseGrid(const world::VoxelGrid& grid, int f
     } catch (...) {  // e.g. bad_alloc: the next asker builds again
       {
         const std::lock_guard<std::mutex> lock(mutex);
-        cache.erase(std::remove_if(cache.begin(), cache.end(),
-                                   [&](const Entry& e) {
-                                     return e.content_id == grid.contentId() &&
-                                            e.factor == factor && e.optimistic == optimistic;
-                                   }),
-                    cache.end());
+        cache.erase(std::remove_if(cache.begin(), cache.end(), same), cache.end());
       }
       built.set_exception(std::current_exception());
     }

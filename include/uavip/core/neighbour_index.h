@@ -24,7 +24,7 @@ namespace uavip {
 /// found, and gets the same neighbours and distances (tested against brute force).
 /// The split depends on the points only, never on the machine. Holds a reference to
 /// the cloud, which must outlive it and stay unchanged. Queries are const and
-/// thread-safe. Memory: 12 bytes per point plus the tree (21 when split). FLANN is
+/// thread-safe. Memory: 12 bytes per point plus the tree (17–21 when split). FLANN is
 /// linked privately (core's headers name no third-party type).
 class NeighbourIndex {
  public:
