@@ -47,8 +47,8 @@ namespace uavip::view {
 struct MissionPageOptions {
   std::string title{"uavip mission"};    ///< heading and <title> until the page is ready
   std::size_t max_cloud_points{300000};  ///< cloud points drawn (evenly subsampled above this)
-  std::size_t max_path_samples{
-      40000};  ///< samples of all paths together for the clearance colouring
+  /// Samples of all paths together for the clearance colouring.
+  std::size_t max_path_samples{40000};
   /// Required clearance for the path colouring [m]; NaN: the mission's
   /// inflation_radius_m, else 1 m.
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
