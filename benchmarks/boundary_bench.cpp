@@ -1,4 +1,4 @@
-// Boundaries that follow the surface (issue 33) against the paper's convex hull, on
+// Boundaries that follow the surface against the paper's convex hull, on
 // the concave walls of scenarios/ (L, U, window): photo stops whose view ray meets no
 // true rectangle, coverage of the true wall by the footprints, the boundary's area
 // against the truth (app/boundary_truth.h), and the time of detect + plan (stages 3-7).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI step (issue 34): one small tiled job through real Slurm, checked against the same
+# CI step: one small tiled job through real Slurm, checked against the same
 # tiles run one after another in one shell. Brings up a one-node Slurm
 # (scripts/slurm/local.sh), tiles the bundled airborne LAS (autzen_trim.las, 6 tiles
 # of 120 m), submits it (scripts/slurm/submit.sh --wait: the job array, then the

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A one-node Slurm on this Debian 12 machine, without systemd, for the tests and CI
-# (issue 34): `local.sh start|stop|status`.
+# `local.sh start|stop|status`.
 #
 # start: installs slurmctld slurmd slurm-client munge when missing (apt-get, as root),
 # makes a munge key when there is none, writes /etc/slurm/slurm.conf (only when there

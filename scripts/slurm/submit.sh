@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Submits a tiled site (uavip tile → TILES/manifest.json) to Slurm (issue 34):
+# Submits a tiled site (uavip tile → TILES/manifest.json) to Slurm:
 #   one job array, a task per tile:  uavip run-tile TILES/manifest.json --index $SLURM_ARRAY_TASK_ID
 #   the merge, after every task succeeded (--dependency=afterok, --kill-on-invalid-dep=yes):
 #                                    uavip merge TILES/manifest.json -o OUT

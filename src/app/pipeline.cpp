@@ -41,7 +41,7 @@ constexpr double kLocalMarginM = 6.0;
 /// Nothing when the mission is not flyable or the surface has no points; applyCoverage
 /// writes it into the mission. The views are shared by every core, but beside the
 /// flight only the calling thread works until `gate` opens (the flight's A* legs use
-/// the other core: bridge, flight 0.30 → 0.25 s; the same counts).
+/// the other core; the same counts).
 std::optional<coverage::CoverageResult> coverageOf(const planning::SurfaceMission& m,
                                                    const Surface& surface,
                                                    const coverage::LineOfSight& sight,

@@ -49,8 +49,8 @@ namespace {
 /// The CLI: parses the command line and runs the command; every error it can report
 /// becomes one line and an exit code (src/cli/commands.h).
 int runUavip(int argc, char** argv) {
-  uavip::keepFreedMemoryForReuse();  // core/memory.h: page faults, not work, were 0.3 s of stages
-                                     // 1-2
+  // core/memory.h: page faults, not work, were a fifth of stages 1-2.
+  uavip::keepFreedMemoryForReuse();
   using namespace uavip::cli;
   CLI::App cli{
       "uavip " UAVIP_VERSION

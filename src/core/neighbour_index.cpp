@@ -26,7 +26,7 @@ const flann::SearchParams kExact(-1, 0.0f);
 
 /// The points in one FLANN tree, or, from kSplitPoints on, in two: the halves below
 /// and from the median of the longest axis, built at once on two threads (a tree's
-/// build is serial: the bridge's 0.7 M points took 0.085 s). A query searches its own
+/// build is serial). A query searches its own
 /// half and the other only when the split plane is nearer than the k-th neighbour
 /// found; a point across the plane is never nearer than the plane, in float too
 /// (rounding is monotone), so the neighbours and distances are the one tree's (ties

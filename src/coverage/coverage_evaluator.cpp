@@ -29,11 +29,6 @@ constexpr double kMaxGridCells = 1.0e6;
 /// the camera's cone, ~(2k + 1)³ cells at most.
 constexpr double kCellsPerRange = 2.0;
 
-void requireGsd(double max_gsd_mm_per_px, const std::string& where) {
-  requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
-              "max_gsd_mm_per_px", ">= 0 and finite", max_gsd_mm_per_px);
-}
-
 /// Key of voxel (i, j, k) of VoxelLineOfSight, which must lie in its index box (≤ 2^21
 /// voxels per axis, checked by its VoxelKeyer: the keys are unique there).
 std::uint64_t packKey(std::int64_t i, std::int64_t j, std::int64_t k) {
@@ -218,129 +213,6 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
 }
 
 }  // namespace
-
-// ---------------------------------------------------------------- camera frame
-
-ViewFrame makeViewFrame(const ViewPose& pose) {
-  const double y = pose.yaw_deg * kDegToRad;
-  const double p = pose.pitch_deg * kDegToRad;
-  ViewFrame f;
-  f.pose = pose;
-  f.forward = Vec3(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
-  f.right = Vec3(std::sin(y), -std::cos(y), 0.0);
-  f.up = f.right.cross(f.forward);
-  return f;
-}
-
-// ---------------------------------------------------------------- footprint camera
-
-void FootprintCameraOptions::validate(const std::string& where) const {
-  camera.validate(where + ".camera");
-  if (!camera.from_sensor) requirePositive(standoff_m, where, "standoff_m");
-  requireThat(std::isfinite(range_slack) && range_slack >= 1.0, where, "range_slack",
-              ">= 1 and finite", range_slack);
-  requireThat(assumed_image_w_px > 0, where, "assumed_image_w_px", "> 0",
-              static_cast<double>(assumed_image_w_px));
-}
-
-FootprintCamera::FootprintCamera(const FootprintCameraOptions& options) : options_(options) {
-  options_.validate();
-  geometry_ = solveCamera(options_.camera, options_.standoff_m);
-  const double d = geometry_.standoff_m;
-  tan_half_w_ = geometry_.footprint_w_m / (2.0 * d);
-  tan_half_h_ = geometry_.footprint_h_m / (2.0 * d);
-  if (options_.camera.from_sensor) {
-    const Camera& c = options_.camera;
-    focal_px_ = std::min(c.image_w_px * c.focal_mm / c.sensor_w_mm,
-                         c.image_h_px * c.focal_mm / c.sensor_h_mm);
-  } else {
-    focal_px_ = options_.assumed_image_w_px * d / geometry_.footprint_w_m;
-  }
-}
-
-namespace {
-
-/// A central camera's projection of `point` from `frame`: the range, the GSD at
-/// focal length `focal_px` (range·1000 / focal_px), and, for a point in front,
-/// in_image = inside(x, y, z) with x = right·d, y = up·d, z = forward·d (d = point −
-/// camera centre) [m].
-template <typename Inside>
-Projection centralProjection(const ViewFrame& frame, const Vec3& point, double focal_px,
-                             Inside inside) {
-  const Vec3 d = point - frame.pose.position;
-  Projection pr;
-  pr.range_m = d.norm();
-  pr.gsd_mm_per_px = pr.range_m * 1000.0 / focal_px;
-  const double z = frame.forward.dot(d);
-  if (z > 0.0) pr.in_image = inside(frame.right.dot(d), frame.up.dot(d), z);
-  return pr;
-}
-
-}  // namespace
-
-Projection CentralCamera::project(const ViewPose& pose, const Vec3& point) const {
-  return projectInFrame(makeViewFrame(pose), point);
-}
-
-double CentralCamera::cappedRange(double r, double max_gsd_mm_per_px,
-                                  const std::string& where) const {
-  requireGsd(max_gsd_mm_per_px, where);
-  if (max_gsd_mm_per_px > 0.0) r = std::min(r, max_gsd_mm_per_px * focal_px_ / 1000.0);
-  return r;
-}
-
-Projection FootprintCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
-  return centralProjection(frame, point, focal_px_, [this](double x, double y, double z) {
-    return std::abs(x) <= tan_half_w_ * z && std::abs(y) <= tan_half_h_ * z;
-  });
-}
-
-double FootprintCamera::maxOffAxisRad() const {
-  return std::atan(std::hypot(tan_half_w_, tan_half_h_));
-}
-
-double FootprintCamera::maxRange(double max_gsd_mm_per_px) const {
-  return cappedRange(geometry_.standoff_m * options_.range_slack, max_gsd_mm_per_px,
-                     "footprint_camera.maxRange");
-}
-
-// ---------------------------------------------------------------- pinhole camera
-
-void PinholeIntrinsics::validate(const std::string& where) const {
-  requireThat(width_px > 0, where, "width_px", "> 0", static_cast<double>(width_px));
-  requireThat(height_px > 0, where, "height_px", "> 0", static_cast<double>(height_px));
-  requirePositive(fx_px, where, "fx_px");
-  requirePositive(fy_px, where, "fy_px");
-  requireThat(std::isfinite(cx_px), where, "cx_px", "finite", cx_px);
-  requireThat(std::isfinite(cy_px), where, "cy_px", "finite", cy_px);
-  requireThat(std::isfinite(max_range_m) && max_range_m >= 0.0, where, "max_range_m",
-              ">= 0 and finite (0 = none)", max_range_m);
-}
-
-PinholeCamera::PinholeCamera(const PinholeIntrinsics& intrinsics) : k_(intrinsics) {
-  k_.validate();
-  focal_px_ = std::min(k_.fx_px, k_.fy_px);
-}
-
-Projection PinholeCamera::projectInFrame(const ViewFrame& frame, const Vec3& point) const {
-  return centralProjection(frame, point, focal_px_, [this](double x, double y, double z) {
-    const double u = k_.cx_px + k_.fx_px * x / z;
-    const double v = k_.cy_px - k_.fy_px * y / z;  // image y points down
-    return u >= 0.0 && u <= k_.width_px && v >= 0.0 && v <= k_.height_px;
-  });
-}
-
-double PinholeCamera::maxOffAxisRad() const {
-  const double du = std::max(std::abs(k_.cx_px), std::abs(k_.width_px - k_.cx_px)) / k_.fx_px;
-  const double dv = std::max(std::abs(k_.cy_px), std::abs(k_.height_px - k_.cy_px)) / k_.fy_px;
-  return std::atan(std::hypot(du, dv));
-}
-
-double PinholeCamera::maxRange(double max_gsd_mm_per_px) const {
-  double r = kInf;  // the model's own range limit; none: +inf
-  if (k_.max_range_m > 0.0) r = k_.max_range_m;
-  return cappedRange(r, max_gsd_mm_per_px, "pinhole.maxRange");
-}
 
 // ---------------------------------------------------------------- voxel line of sight
 
@@ -580,7 +452,8 @@ bool VoxelLineOfSight::clear(const Vec3& from, const Vec3& to) const {
 // ---------------------------------------------------------------- evaluator
 
 void CoverageCriteria::validate(const std::string& where) const {
-  requireGsd(max_gsd_mm_per_px, where);
+  requireThat(std::isfinite(max_gsd_mm_per_px) && max_gsd_mm_per_px >= 0.0, where,
+              "max_gsd_mm_per_px", ">= 0 and finite", max_gsd_mm_per_px);
   requireThat(
       std::isfinite(max_incidence_deg) && max_incidence_deg > 0.0 && max_incidence_deg <= 180.0,
       where, "max_incidence_deg", "in (0, 180]", max_incidence_deg);

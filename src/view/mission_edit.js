@@ -1,4 +1,4 @@
-// uavip mission page, edit mode (issue 33): the operator corrects what the scan got
+// uavip mission page, edit mode: the operator corrects what the scan got
 // wrong before the flight. Pick a surface, drag its boundary vertices in its plane,
 // insert and remove vertices, delete it or merge others into it, draw keep-out boxes
 // and move or resize them; "Save edits" downloads edits.yaml (app/edits.h, the format

@@ -161,8 +161,8 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
 void VoxelGrid::markOccupied(const PointList& cloud) {
   // Every measured point's own voxel (the safety argument above needs no more). An
   // OctoMap OcTree used to sit in between: its leaves, aligned to OctoMap's origin and
-  // not the grid's, marked up to 8 voxels a point and cost a third of the grid's time
-  // (issue 31); the FCL world keeps its octree.
+  // not the grid's, marked up to 8 voxels a point (docs/architecture_notes.md, "The grid
+  // without the OctoMap detour"); the FCL world keeps its octree.
   for (const auto& p : cloud) {
     const Index3 i = indexOf(p);
     if (inBounds(i)) blocked_[linear(i)] = kOccupied;

@@ -58,7 +58,7 @@ class BadInput : public ::testing::Test {
       auto negative = j;
       negative["surfaces"][0]["area_m2"] = -3.0;
       write("scene_negative.json", negative.dump());
-      // Edits files (issue 33) for the wall, fingerprinted from this scene.
+      // Edits files for the wall, fingerprinted from this scene.
       const auto& c = j["surfaces"][0]["centroid"];
       const auto& n = j["surfaces"][0]["normal"];
       const auto entry = [&](int id, double shift, const std::string& body) {
@@ -196,7 +196,7 @@ class BadInput : public ::testing::Test {
         "[[60000, 0, 5], [WP]]}]}";
     write("mission_far.json", std::regex_replace(far_surface, std::regex("WP"), "60001, 0, 5"));
     write("mission_1e155.json", std::regex_replace(far_surface, std::regex("WP"), "1e155, 0, 5"));
-    // Hostile numbers (issue 21): a stray point at 1e308, a wall scaled by 1e12, a
+    // Hostile numbers: a stray point at 1e308, a wall scaled by 1e12, a
     // 0.1 mm planning grid, a GSD in the wrong unit, a name with a newline.
     std::string wall_xyz, wall_1e12;
     for (int i = 0; i <= 40; ++i) {
@@ -407,7 +407,7 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"validate negative clearance", "validate " + mission + " --clearance -1", 2, "--clearance"},
       {"validate a mission without surfaces", "validate $D/mission_nosurf.json --scene " + scene, 2,
        "surfaces"},
-      // Hostile numbers (issue 21).
+      // Hostile numbers.
       {"a point at 1e308", "detect $D/far_point.xyz -o $D/prev", 2, "point 861 (1e+308, 0, 0)"},
       {"a point at -1e308 in a double PCD", "detect $D/far_point_neg.pcd -o $D/prev", 2,
        "point 1 (-1e+308, 0, 0)"},
@@ -424,7 +424,7 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
       {"standoff 2 km without max_range_m",
        "plan " + scene + " --surface 0 -c $D/standoff_2km.yaml -o $D/prev", 2, "standoff_m 2000"},
       {"a newline in a file name", "detect '$D/two\nlines.xyz' -o $D/prev", 2, "two\\nlines.xyz"},
-      // Edits files (issue 33): plan writes into prev/, nothing there may change.
+      // Edits files: plan writes into prev/, nothing there may change.
       {"edits unknown surface",
        "plan " + scene + " --surface all --edits $D/edits_id.yaml -o $D/prev", 2,
        "edits_id.yaml:3: surfaces[0]: no surface with id 7"},

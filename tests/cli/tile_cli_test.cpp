@@ -1,7 +1,7 @@
 // uavip tile | run-tile | merge end to end on a simulated site that crosses tile
 // borders: the merged scene against the simulator's truth and against detect on the
 // whole cloud in one process, the merged flight against every input point by
-// `uavip validate`, and the bad inputs of issue 34 (exit 2, one line, nothing written).
+// `uavip validate`, and the bad inputs of a tiled site (exit 2, one line, nothing written).
 
 #include <gtest/gtest.h>
 #include <unistd.h>

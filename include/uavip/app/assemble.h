@@ -34,8 +34,8 @@ struct StationReport {
   std::size_t invalid_beams{0};  ///< vertical beams skipped (no return, out of range)
   std::size_t keyframes{0};
   double mean_icp_iterations{0.0};
-  double loop_closure_m{
-      -1.0};  ///< first vs last horizontal scan (paper: 10 cm); −1 if < 2 scans or unobservable
+  /// First vs last horizontal scan (paper: 10 cm); −1 if < 2 scans or unobservable.
+  double loop_closure_m{-1.0};
   double drift_final_m{0.0};  ///< estimated UAV displacement at the last scan (wind) [m]
   double drift_max_m{0.0};    ///< largest estimated displacement during the turn [m]
   Eigen::Isometry3d initial_pose{Eigen::Isometry3d::Identity()};  ///< from the recorded position

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// A surface's boundary and photo stops scored against the simulator's ground truth
-/// (issue 33; paper §II-D boundaries, §II-F stops, §III-B "extra areas should be
+/// (paper §II-D boundaries, §II-F stops, §III-B "extra areas should be
 /// accounted for" on concave surfaces). Evaluation, not a stage: the concave-wall
 /// test and `uavip_boundary_bench` call it with the true rectangles of one plane.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The operator's corrections before the flight (issue 33; paper §III-B: boundaries of
+/// The operator's corrections before the flight (paper §III-B: boundaries of
 /// concave surfaces are modified by hand, and the operator confirms every boundary
 /// before waypoints are generated). An edits file (YAML, `uavip-edits: 1`) changes the
 /// detected scene before stages 6–7: per surface (named by id and fingerprinted by the

@@ -19,7 +19,7 @@ namespace uavip {
 /// its min corner: floats near 0 keep millimetres far from the origin, e.g. in UTM).
 /// Distances it reports are float ones in that frame. From 2^18 points it is two
 /// trees, one per side of the median of the cloud's longest axis, built at once on
-/// two threads (a tree's build is serial: 0.085 s of the bridge's 0.7 M points); a
+/// two threads (a tree's build is serial); a
 /// query searches the other side only when the split plane is nearer than what it
 /// found, and gets the same neighbours and distances (tested against brute force).
 /// The split depends on the points only, never on the machine. Holds a reference to

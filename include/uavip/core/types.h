@@ -111,8 +111,8 @@ struct SafetyCloud {
   double cell_m{0.0};    ///< edge of the thinning lattice [m]
   double margin_m{0.0};  ///< every input point lies within this of some point here (√3·cell_m) [m]
   std::size_t input_points{0};  ///< points read from the input
-  std::size_t perception_dropped{
-      0};              ///< input points stage 3's outlier removal dropped (kept here)
+  /// Input points stage 3's outlier removal dropped (kept here).
+  std::size_t perception_dropped{0};
   std::string source;  ///< the input file as given (empty for a simulated scenario)
   std::string sha256;  ///< of the input file's bytes (empty when no file)
 };

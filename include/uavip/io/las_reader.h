@@ -54,8 +54,8 @@ struct LasCloud {
   /// 10 km (io::recentringOrigin, the rule of every cloud reader).
   Vec3 origin_m{Vec3::Zero()};
   double unit_to_m{1.0};  ///< metres per file unit of x and y [m]
-  std::string unit_name{
-      "metre"};  ///< "metre", "international foot", "US survey foot" (else the WKT's name)
+  /// "metre", "international foot", "US survey foot" (else the WKT's name).
+  std::string unit_name{"metre"};
   /// Where the x,y unit came from: "WKT", "GeoTIFF key 3076 (ProjLinearUnitsGeoKey)",
   /// "GeoTIFF keys 3076/3077 (user-defined unit size)" or "none in file (metres
   /// assumed)" (possibly with a note, e.g. an EPSG code that was not resolved).
@@ -73,8 +73,8 @@ struct LasCloud {
   int version_major{1};
   int version_minor{0};
   int point_format{0};  ///< 0..10
-  int point_record_length{
-      0};  ///< bytes per point record (≥ the format's size; extra bytes ignored)
+  /// Bytes per point record (≥ the format's size; extra bytes ignored).
+  int point_record_length{0};
   std::uint64_t points_in_file{0};  ///< point count from the header
   std::size_t dropped{0};           ///< points skipped by drop_classes
 };

@@ -34,8 +34,8 @@ struct RawLogReadStats {
   std::size_t scans{0};      ///< scans read (both scanners, every station)
   std::size_t beams{0};      ///< beams read
   std::size_t no_return{0};  ///< beams that are no-returns (including those below)
-  std::size_t replaced_ranges{
-      0};  ///< non-zero ranges outside [min_range_m, max_range_m] or non-finite, set to 0
+  /// Non-zero ranges outside [min_range_m, max_range_m] or non-finite, set to 0.
+  std::size_t replaced_ranges{0};
   std::size_t imu_samples{0};  ///< IMU samples read
 };
 

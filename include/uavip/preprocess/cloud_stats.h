@@ -15,8 +15,8 @@ namespace uavip::preprocess {
 
 /// Options of the measurement.
 struct CloudStatsOptions {
-  std::size_t sample_points{
-      4000};        ///< points (a seeded random sample) whose neighbours are measured
+  /// Points (a seeded random sample) whose neighbours are measured.
+  std::size_t sample_points{4000};
   int noise_k{12};  ///< neighbours of the local plane fit for the noise estimate
   std::uint32_t seed{7};
 };

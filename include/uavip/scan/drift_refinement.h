@@ -82,17 +82,17 @@ struct DriftTuning {
   /// Planar (voxel) or straight (column): the smallest scatter eigenvalue below this
   /// fraction of the next one.
   double flat_ratio{0.1};
-  double max_thickness_m{
-      0.05};  ///< cells thicker than this (√ smallest scatter eigenvalue) are not planes [m]
-  double gravity_aligned_deg{
-      10.0};  ///< within this angle of level a plane is level, of upright upright [deg]
+  /// Cells thicker than this (√ smallest scatter eigenvalue) are not planes [m].
+  double max_thickness_m{0.05};
+  /// Within this angle of level a plane is level, of upright upright [deg].
+  double gravity_aligned_deg{10.0};
   /// A point with this noise counts as one effective pair; noisier ones as (this/σ)² [m].
   double unit_sigma_m{0.015};
   double robust_sigmas{3.0};  ///< Cauchy scale of a residual, in σ of its point
-  double min_loop_information{
-      10.0};  ///< effective pairs the least constrained direction needs for a loop-closure figure
-  double min_direction_information{
-      10.0};  ///< a direction the whole sweep fixes with fewer effective pairs is not corrected
+  /// Effective pairs the least constrained direction needs for a loop-closure figure.
+  double min_loop_information{10.0};
+  /// A direction the whole sweep fixes with fewer effective pairs is not corrected.
+  double min_direction_information{10.0};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where) const;

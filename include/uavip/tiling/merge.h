@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// One scene from the scenes of the tiles (issue 34): every point kept once, by the
+/// One scene from the scenes of the tiles: every point kept once, by the
 /// tile whose core owns it (tiling/tiles.h), and the surfaces and obstacles that
 /// cross a tile border joined into one.
 ///

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Square tiles of a large cloud (issue 34): the cloud is streamed once (two passes of
+/// Square tiles of a large cloud: the cloud is streamed once (two passes of
 /// io::streamCloud, never held whole) into tiles of edge `tile_size_m` in x and y, each
 /// with an overlap buffer of `buffer_m` around its core, plus TILES/manifest.json.
 ///

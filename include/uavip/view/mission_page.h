@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// OUT/mission.html (issue 22): one self-contained HTML page per mission that any
+/// OUT/mission.html: one self-contained HTML page per mission that any
 /// browser opens offline. It embeds three.js r111 (Debian libjs-three, compiled into
 /// the binary: nothing is read at run time), the page's own script, and the data:
 ///  - the clean cloud, evenly decimated to MissionPageOptions::max_cloud_points, each
@@ -21,7 +21,7 @@
 /// hash chooses: `view=top|front|side|orbit`, `layers=cloud,flight` (the layers shown, of
 /// cloud, boundaries, labels, photos, flight, home, order), `path=sortie|clearance` (the
 /// path's colouring), `points=all`, `canvas=WxH` (a fixed drawing size in CSS pixels).
-/// Edit mode (issue 33, `src/view/mission_edit.js`, a script of its own that uses only
+/// Edit mode (`src/view/mission_edit.js`, a script of its own that uses only
 /// what the page exposes as `window.uavipPage`): pick a surface, drag, insert and remove
 /// its boundary vertices in its plane, delete or merge surfaces, add keep-out boxes;
 /// "Save edits" downloads edits.yaml (app/edits.h) and shows the `uavip plan … --edits`
@@ -47,8 +47,8 @@ namespace uavip::view {
 struct MissionPageOptions {
   std::string title{"uavip mission"};    ///< heading and <title> until the page is ready
   std::size_t max_cloud_points{300000};  ///< cloud points drawn (evenly subsampled above this)
-  std::size_t max_path_samples{
-      40000};  ///< samples of all paths together for the clearance colouring
+  /// Samples of all paths together for the clearance colouring.
+  std::size_t max_path_samples{40000};
   /// Required clearance for the path colouring [m]; NaN: the mission's
   /// inflation_radius_m, else 1 m.
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};

@@ -55,8 +55,8 @@ struct OverviewOptions {
   std::string title{"uavip mission overview"};  ///< first line, e.g. the scenario name
   int width_px{1900};
   int height_px{1100};
-  std::size_t max_cloud_points{
-      60000};  ///< cloud points drawn per view (evenly subsampled above this)
+  /// Cloud points drawn per view (evenly subsampled above this).
+  std::size_t max_cloud_points{60000};
   /// The mission's required clearance [m], for mission.html's path colouring (NaN: 1 m).
   double clearance_m{std::numeric_limits<double>::quiet_NaN()};
   /// The scene's CRS for mission.html's picked points (MissionPageOptions::geo).

@@ -68,7 +68,7 @@ Polyhedron obstacleSolid(const Obstacle& o, double min_edge);
 /// returned whole.
 std::vector<Obstacle> obstaclePieces(const Obstacle& o, double edge);
 
-/// The solid of a keep-out volume (issue 33): its box, or for a cylinder the prism
+/// The solid of a keep-out volume (app/edits.h): its box, or for a cylinder the prism
 /// over the 32-gon circumscribed about its circle (contains the cylinder).
 Polyhedron keepOutSolid(const KeepOut& k);
 
