@@ -14,6 +14,7 @@
 #include <queue>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
 
 #include "uavip/core/error.h"
 
@@ -385,14 +386,6 @@ GridSearchResult search(Store& store, const Space& grid, const world::Index3& st
 
 }  // namespace
 
-void AStarOptions::validate(const std::string& where) const {
-  requirePositive(a1, where, "a1");
-  requirePositive(a2, where, "a2");
-  requirePositive(a3, where, "a3");
-  requireThat(coarse_factor == 0 || (coarse_factor >= 2 && coarse_factor <= 16), where,
-              "coarse_factor", "0 or in [2, 16]", coarse_factor);
-}
-
 double stepCost(int dx, int dy, int dz, const AStarOptions& options) {
   const double c = options.a1 * dx * dx + options.a2 * dy * dy + options.a3 * dz * dz;
   return options.cost == AStarCost::Paper ? c : std::sqrt(c);
@@ -576,13 +569,9 @@ GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& 
   return searchSpace(FineSpace{grid}, start, goal, options);
 }
 
-AStarPlanner::AStarPlanner(AStarOptions options) : options_(options) {
+AStarPlanner::AStarPlanner(AStarOptions options, std::string name)
+    : options_(options), name_(std::move(name)) {
   options_.validate("planner");
-}
-
-std::string AStarPlanner::name() const {
-  if (options_.cost == AStarCost::Euclidean) return "astar-euclid";
-  return options_.coarse_factor >= 2 ? "astar-coarse" : "astar";
 }
 
 planning::PathResult AStarPlanner::plan(const world::VoxelGrid& grid, const Vec3& start,

@@ -24,25 +24,14 @@
 #include <vector>
 
 #include "uavip/planning/planner.h"
+#include "uavip/planning/planner_table.h"
 #include "uavip/world/voxel_grid.h"
 
 namespace uavip::planners {
 
-/// Step cost model.
-enum class AStarCost { Paper, Euclidean };
-
-/// Options of the A*.
-struct AStarOptions {
-  AStarCost cost{AStarCost::Paper};
-  double a1{1.0};                 ///< weight of x moves
-  double a2{1.0};                 ///< weight of y moves
-  double a3{1.0};                 ///< weight of z moves
-  std::size_t max_expansions{0};  ///< 0 = unlimited; otherwise status Timeout when exceeded
-  int coarse_factor{0};           ///< 0: the whole grid; k in [2, 16]: coarse to fine (above)
-
-  /// Throws InputError naming the bad field (prefix `where`).
-  void validate(const std::string& where = "planner") const;
-};
+/// Step cost model and options (plain data, planning/planner_table.h).
+using planning::AStarCost;
+using planning::AStarOptions;
 
 /// Result of a grid search.
 struct GridSearchResult {
@@ -61,17 +50,22 @@ GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& 
 /// Step cost of a move (dx, dy, dz) ∈ {−1,0,1}³ under the options.
 double stepCost(int dx, int dy, int dz, const AStarOptions& options);
 
-/// planning::Planner adapter: "astar" (paper cost), "astar-euclid" or "astar-coarse"
-/// (paper cost, coarse to fine).
+/// planning::Planner adapter for the grid A* with the given options. makePlanner builds
+/// the rows "astar" (paper cost), "astar-euclid" and "astar-coarse" (paper cost, coarse
+/// to fine) with their row's options (planning::PlannerSpec::astarOptions) and name.
 class AStarPlanner : public planning::Planner {
  public:
-  explicit AStarPlanner(AStarOptions options);
-  std::string name() const override;
+  /// `name`: the registry name it reports (its planner table row's).
+  explicit AStarPlanner(AStarOptions options, std::string name = planning::kPaperPlanner);
+  std::string name() const override { return name_; }
+  /// The options it searches with.
+  const AStarOptions& options() const { return options_; }
   planning::PathResult plan(const world::VoxelGrid& grid, const Vec3& start,
                             const Vec3& goal) override;
 
  private:
   AStarOptions options_;
+  std::string name_;
 };
 
 }  // namespace uavip::planners

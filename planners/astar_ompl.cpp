@@ -22,10 +22,8 @@ void setPoint(ob::State* state, const Vec3& p) {
 }  // namespace
 
 AStarOmplPlanner::AStarOmplPlanner(const ob::SpaceInformationPtr& si, const world::VoxelGrid& grid,
-                                   AStarOptions options)
-    : ob::Planner(si, options.cost == AStarCost::Paper ? "AStar" : "AStarEuclid"),
-      grid_(grid),
-      astar_(options) {
+                                   AStarOptions options, const std::string& name)
+    : ob::Planner(si, name), grid_(grid), astar_(options, name) {
   specs_.approximateSolutions = false;
   specs_.optimizingPaths = false;  // optimal for its own grid cost, not for the OMPL objective
   specs_.directed = true;

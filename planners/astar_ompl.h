@@ -13,6 +13,7 @@
 #include <ompl/geometric/PathGeometric.h>
 
 #include <memory>
+#include <string>
 
 #include "planners/astar.h"
 #include "uavip/planning/planner.h"
@@ -21,12 +22,13 @@
 namespace uavip::planners {
 
 /// Grid A* behind the OMPL planner interface. The space must be an R³ space (e.g.
-/// makeSpaceInformation); the grid must outlive the planner. Name: "AStar" (paper cost) or
-/// "AStarEuclid".
+/// makeSpaceInformation); the grid must outlive the planner. makeOmplPlanner names it
+/// by its planner table row ("AStar", "AStarEuclid", "AStarCoarse"); `name` is the
+/// row's registry name, which its A* reports.
 class AStarOmplPlanner : public ompl::base::Planner {
  public:
   AStarOmplPlanner(const ompl::base::SpaceInformationPtr& si, const world::VoxelGrid& grid,
-                   AStarOptions options);
+                   AStarOptions options, const std::string& name = planning::kPaperPlanner);
 
   using ompl::base::Planner::solve;  // solve(seconds) too
   ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
@@ -36,6 +38,8 @@ class AStarOmplPlanner : public ompl::base::Planner {
 
   /// The last search's result (status, grid cost, expansions, path).
   const planning::PathResult& lastResult() const { return last_; }
+  /// The options its A* searches with.
+  const AStarOptions& options() const { return astar_.options(); }
 
  private:
   const world::VoxelGrid& grid_;

@@ -15,7 +15,6 @@
 
 #include "planners/astar_ompl.h"
 #include "planners/ompl_planners.h"
-#include "planners/planner_table.h"
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
 
@@ -74,12 +73,7 @@ std::vector<std::string> plannerStatusNames() {
   return names;
 }
 
-std::string omplName(const std::string& name) {
-  if (const PlannerInfo* p = findPlanner(name)) return p->ompl_name;
-  std::string valid;
-  for (const auto& n : plannerNames()) valid += (valid.empty() ? "" : ", ") + n;
-  throw InputError("planner: unknown planner '" + name + "'; valid names: " + valid);
-}
+std::string omplName(const std::string& name) { return planning::plannerSpec(name).ompl_name; }
 
 std::string omplVersion() { return UAVIP_OMPL_VERSION; }
 

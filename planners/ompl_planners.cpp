@@ -16,14 +16,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
 
 #include "planners/astar_ompl.h"
 #include "planners/harness.h"
-#include "planners/planner_table.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/stopwatch.h"
@@ -34,29 +32,33 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-template <class P>
-ob::PlannerPtr make(const ob::SpaceInformationPtr& si) {
-  return std::make_shared<P>(si);
-}
-
-/// Builds the sampling planner of the table row named `ompl_name` (planner_table.h).
-ob::PlannerPtr makeSampling(const std::string& ompl_name, const ob::SpaceInformationPtr& si) {
-  using Factory = ob::PlannerPtr (*)(const ob::SpaceInformationPtr&);
-  static const std::map<std::string, Factory> factories{
-      {"RRTConnect", &make<og::RRTConnect>},
-      {"RRTstar", &make<og::RRTstar>},
-      {"InformedRRTstar", &make<og::InformedRRTstar>},
-      {"BITstar", &make<og::BITstar>},
-      {"ABITstar", &make<og::ABITstar>},
-      {"AITstar", &make<og::AITstar>},
-      {"PRMstar", &make<og::PRMstar>},
-      {"LazyPRMstar", &make<og::LazyPRMstar>},
-      {"FMT", &make<og::FMT>},
-  };
-  const auto it = factories.find(ompl_name);
-  if (it == factories.end())
-    throw std::logic_error("planner table: no OMPL factory for " + ompl_name);
-  return it->second(si);
+/// Builds the OMPL sampling planner of a table row (planning/planner_table.h): the one
+/// place a row's factory becomes an OMPL class.
+ob::PlannerPtr makeSampling(planning::PlannerFactory factory, const ob::SpaceInformationPtr& si) {
+  using F = planning::PlannerFactory;
+  switch (factory) {
+    case F::RRTConnect:
+      return std::make_shared<og::RRTConnect>(si);
+    case F::RRTstar:
+      return std::make_shared<og::RRTstar>(si);
+    case F::InformedRRTstar:
+      return std::make_shared<og::InformedRRTstar>(si);
+    case F::BITstar:
+      return std::make_shared<og::BITstar>(si);
+    case F::ABITstar:
+      return std::make_shared<og::ABITstar>(si);
+    case F::AITstar:
+      return std::make_shared<og::AITstar>(si);
+    case F::PRMstar:
+      return std::make_shared<og::PRMstar>(si);
+    case F::LazyPRMstar:
+      return std::make_shared<og::LazyPRMstar>(si);
+    case F::FMT:
+      return std::make_shared<og::FMT>(si);
+    case F::GridAStar:
+      break;
+  }
+  throw std::logic_error("planner table: a grid A* row has no OMPL sampling planner");
 }
 
 }  // namespace
@@ -129,15 +131,15 @@ PointList toPoints(const og::PathGeometric& path) {
 
 std::vector<std::string> omplPlannerNames() {
   std::vector<std::string> names;
-  for (const auto& p : plannerTable()) {
-    if (p.isSampling()) names.push_back(p.name);
+  for (const auto& p : planning::plannerTable()) {
+    if (!p.gridSearch()) names.push_back(p.name);
   }
   return names;
 }
 
 bool isOmplPlanner(const std::string& name) {
-  const PlannerInfo* p = findPlanner(name);
-  return p != nullptr && p->isSampling();
+  const planning::PlannerSpec* p = planning::findPlanner(name);
+  return p != nullptr && !p->gridSearch();
 }
 
 bool seedOmpl(std::uint32_t seed) {
@@ -153,18 +155,13 @@ bool seedOmpl(std::uint32_t seed) {
 
 ob::PlannerPtr makeOmplPlanner(const std::string& name, const ob::SpaceInformationPtr& si,
                                const world::VoxelGrid& grid, const PlannerSettings& settings) {
-  const std::string ompl_name = omplName(name);  // throws for an unknown name
+  const planning::PlannerSpec& spec = planning::plannerSpec(name);  // throws for an unknown name
   seedOmpl(settings.seed);
-  ob::PlannerPtr p;
-  const PlannerInfo& row = *findPlanner(name);  // omplName accepted the name
-  if (row.isSampling()) {
-    p = makeSampling(row.ompl_name, si);
-  } else {  // astar, astar-euclid: uavip's A* behind OMPL's interface
-    AStarOptions o = settings.astar;
-    o.cost = name == "astar" ? AStarCost::Paper : AStarCost::Euclidean;
-    p = std::make_shared<AStarOmplPlanner>(si, grid, o);
-  }
-  p->setName(ompl_name);
+  // The grid A* rows: uavip's A* behind OMPL's interface, with the options makePlanner uses.
+  ob::PlannerPtr p = spec.gridSearch() ? std::make_shared<AStarOmplPlanner>(
+                                             si, grid, spec.astarOptions(settings), spec.name)
+                                       : makeSampling(spec.factory, si);
+  p->setName(spec.ompl_name);
   return p;
 }
 

@@ -204,14 +204,16 @@ const Surface& surfaceById(const Scene& scene, int id) {
 
 }  // namespace
 
+namespace {
+
+/// The grid of planningSpace (pipeline.h), inflated by `clearance_m`.
 world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world,
                               const app::Config& config, const PointList& stop_positions,
                               double clearance_m) {
   Aabb region = boundingBox(stop_positions);
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
-  world::GridOptions grid_options = config.gridOptions();
-  grid_options.inflation_radius_m = clearance_m;  // the UAV's radius and the safety margin
+  world::GridOptions grid_options = config.gridOptions(clearance_m);
   if (!config.file_values.grid_resolution_m)
     grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   world::VoxelGrid::requireFits(region,
@@ -231,6 +233,16 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
     occupied.insert(occupied.end(), inside.begin(), inside.end());
   }
   return world::VoxelGrid::build(occupied, {}, grid_options, region);
+}
+
+}  // namespace
+
+PlanningSpace planningSpace(const Scene& scene,
+                            const std::shared_ptr<const world::CollisionWorld>& world,
+                            const app::Config& config, const PointList& positions) {
+  const double clearance_m = safetyClearance(scene, config);
+  world::VoxelGrid grid = planningGrid(scene, *world, config, positions, clearance_m);
+  return {clearance_m, std::move(grid), planning::PathValidator(world, clearance_m)};
 }
 
 namespace {
@@ -342,11 +354,10 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
 
   const auto t1 = SteadyClock::now();
   reportProgress(progress, "stage 7: inflated voxel grid");
-  const std::shared_ptr<const world::CollisionWorld> world = world_build.get();
-  result.clearance_m = safetyClearance(scene, config);
-  const world::VoxelGrid grid =
-      planningGrid(scene, *world, config, stop_positions, result.clearance_m);
-  const planning::PathValidator validator(world, result.clearance_m);
+  const PlanningSpace space = planningSpace(scene, world_build.get(), config, stop_positions);
+  result.clearance_m = space.clearance_m;
+  const world::VoxelGrid& grid = space.grid;
+  const planning::PathValidator& validator = space.validator;
   requireFree(config.mission.start, "mission.start", validator);
   requireFree(config.flight.home, "mission.home", validator);
   result.grid_resolution_m = grid.resolution();

@@ -14,16 +14,6 @@
 
 namespace uavip::app {
 
-/// The planning grid (stage 7, paper §II-G) over the stops' neighbourhood (6 m
-/// around them), not the whole site: on a large site the grid stays small and fine.
-/// The validator sweeps the UAV against every surface slab, obstacle solid and
-/// measured point (world/collision_world.h); the grid marks the solids occupied too,
-/// so the planner never flies through space the validator calls solid. Inflated by
-/// `clearance_m` [m].
-world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& world,
-                              const app::Config& config, const PointList& stop_positions,
-                              double clearance_m);
-
 /// mission.start and mission.home must lie within one battery's reach of the photo
 /// stops: there and back at cruise speed in the usable endurance. Throws InputError.
 void requireWithinReach(const std::optional<Vec3>& point, const std::string& key,

@@ -462,7 +462,7 @@ void Config::validate(const std::string& where) const {
     gridOptions().validate("grid");
     coverage.validate("coverage");
     planner_settings.validate("planner");
-    planners::requireKnownPlanner(planner);  // creates nothing, so OMPL stays unseeded
+    planning::requireKnownPlanner(planner);  // creates nothing, so OMPL stays unseeded
     missionOptions().validate("mission");
     if (flight.home) require(flight.home->allFinite(), "mission", "home must be finite");
     flightOptions().validate("flight");
@@ -471,11 +471,13 @@ void Config::validate(const std::string& where) const {
   });
 }
 
-world::GridOptions Config::gridOptions() const {
+world::GridOptions Config::gridOptions(double clearance_m) const {
   world::GridOptions g = grid;
-  g.inflation_radius_m = uav.inflationRadius();
+  g.inflation_radius_m = clearance_m;
   return g;
 }
+
+world::GridOptions Config::gridOptions() const { return gridOptions(uav.inflationRadius()); }
 
 planning::MissionOptions Config::missionOptions() const {
   planning::MissionOptions m = mission;

@@ -261,8 +261,9 @@ world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
   PointList corners = {box.min, box.max};
   if (config.mission.start) corners.push_back(*config.mission.start);
   if (config.flight.home) corners.push_back(*config.flight.home);
-  world::VoxelGrid grid = planningGrid(scene, *world, config, corners, result.clearance_m);
-  validator = std::make_unique<planning::PathValidator>(world, result.clearance_m);
+  PlanningSpace space = planningSpace(scene, world, config, corners);
+  world::VoxelGrid grid = std::move(space.grid);
+  validator = std::make_unique<planning::PathValidator>(std::move(space.validator));
   requireFree(config.mission.start, "mission.start", *validator);
   requireFree(config.flight.home, "mission.home", *validator);
   result.grid_resolution_m = grid.resolution();

@@ -19,6 +19,7 @@
 #include "uavip/core/text.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/planning/path_validator.h"
+#include "uavip/world/collision_world.h"
 #include "uavip/world/voxel_grid.h"
 
 namespace uavip::bench {
@@ -116,48 +117,50 @@ std::vector<std::pair<Vec3, Vec3>> sampleLegs(const world::VoxelGrid& grid,
 
 namespace {
 
-/// One scenario made ready for the runs: its grid, validator and legs.
+/// One scenario made ready for the runs: its planning space, legs and config.
 struct PreparedScenario {
-  world::VoxelGrid grid;
-  std::unique_ptr<planning::PathValidator> validator;
+  app::PlanningSpace space;
   std::vector<BenchLeg> legs;
   app::Config config;
 };
 
-/// Sense, stages 3–5, stage 6 for every surface, the inflated grid over the cloud,
-/// the stops and the legs (explicit, or sampled between stops); the legs are
-/// appended to result.legs with global ids.
+/// Sense, stages 3–5, stage 6 for every surface, the planning space a mission plans
+/// in (app::planningSpace) around the stops and the legs, and the legs (explicit, or
+/// sampled between stops); the legs are appended to result.legs with global ids.
 PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index,
                                  const BenchOptions& options, BenchResult& result) {
   const PointList raw = sense(sc);
   app::CloudIndex index;
   const preprocess::CloudStats measured = app::measure(raw, &sc, &index);
   const app::DetectResult d = app::detect(raw, sc.config, measured, {}, index);
-  PreparedScenario out;
-  out.config = d.resolved.config;
-  const std::vector<PointList> stops_by_surface = stopsBySurface(d.scene, out.config.coverage);
+  const app::Config& config = d.resolved.config;
+  const std::vector<PointList> stops_by_surface = stopsBySurface(d.scene, config.coverage);
   PointList extra;
   for (const auto& stops : stops_by_surface) extra.insert(extra.end(), stops.begin(), stops.end());
   for (const auto& [a, b] : sc.bench.legs) {
     extra.push_back(a);
     extra.push_back(b);
   }
-  if (out.config.mission.start) extra.push_back(*out.config.mission.start);
+  if (config.mission.start) extra.push_back(*config.mission.start);
   if (d.scene.cloud.empty() && extra.empty()) {
     throw InputError(sc.path + ": bench: the scenario has no cloud and no legs");
   }
-  // The same safety as a mission: every measured point, kept at the safety clearance.
-  const PointList points = safetyPoints(d.scene);
-  world::GridOptions grid_options = out.config.gridOptions();
-  grid_options.inflation_radius_m = safetyClearance(d.scene, out.config);
-  out.grid = world::VoxelGrid::build(points, extra, grid_options);
-  out.validator =
-      std::make_unique<planning::PathValidator>(points, grid_options.inflation_radius_m);
+  if (extra.empty()) {
+    throw InputError(
+        sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
+  }
+  // The same grid and validator as a mission: every measured point, the solids and
+  // the keep-out volumes, at the safety clearance.
+  PreparedScenario out{
+      app::planningSpace(d.scene, std::make_shared<const world::CollisionWorld>(d.scene), config,
+                         extra),
+      {},
+      config};
+  const world::VoxelGrid& grid = out.space.grid;
 
   const std::vector<std::pair<Vec3, Vec3>> legs =
-      sc.bench.legs.empty()
-          ? sampleLegs(out.grid, stops_by_surface, sc.bench.max_legs, options.seed)
-          : sc.bench.legs;
+      sc.bench.legs.empty() ? sampleLegs(grid, stops_by_surface, sc.bench.max_legs, options.seed)
+                            : sc.bench.legs;
   if (legs.empty()) {
     throw InputError(
         sc.path + ": bench: no legs (give bench.legs, or a scenario with stops on >= 2 surfaces)");
@@ -169,7 +172,7 @@ PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index,
     leg.start = a;
     leg.goal = b;
     leg.explicit_leg = !sc.bench.legs.empty();
-    leg.feasible = feasibleOnGrid(out.grid, a, b);
+    leg.feasible = feasibleOnGrid(grid, a, b);
     leg.straight_m = (b - a).norm();
     result.legs.push_back(leg);
     out.legs.push_back(leg);
@@ -181,7 +184,7 @@ PreparedScenario prepareScenario(const app::Scenario& sc, int scenario_index,
 BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const PreparedScenario& prepared,
                  const planners::PlannerSettings& settings) {
   const planners::HarnessRun h =
-      planners::runPlannerOnce(planner, prepared.grid, leg.start, leg.goal, settings);
+      planners::runPlannerOnce(planner, prepared.space.grid, leg.start, leg.goal, settings);
   BenchRun r;
   r.leg = leg.id;
   r.scenario = leg.scenario;
@@ -200,7 +203,7 @@ BenchRun runOnce(const std::string& planner, const BenchLeg& leg, const Prepared
   r.graph_motions = h.graph_motions;
   r.min_clearance_m = kNan;
   if (h.solved) {
-    const planning::ValidationResult v = prepared.validator->validate(h.path);
+    const planning::ValidationResult v = prepared.space.validator.validate(h.path);
     r.min_clearance_m = v.min_clearance_m;
     r.valid = v.collision_free;
   }

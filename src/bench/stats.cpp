@@ -6,13 +6,15 @@
 #include <map>
 
 #include "uavip/core/math.h"
+#include "uavip/planning/planner_table.h"
 
 namespace uavip::bench {
 namespace {
 
-/// Our planners: the paper's grid A* and its Euclidean variant.
+/// Our planners: the grid A* rows of the planner table (the paper's and its variants).
 bool isOurs(const std::string& planner) {
-  return planner == "astar" || planner == "astar-euclid" || planner == "astar-coarse";
+  const planning::PlannerSpec* spec = planning::findPlanner(planner);
+  return spec != nullptr && spec->gridSearch();
 }
 
 /// Per-leg median final length of each planner's solved runs.
@@ -84,13 +86,14 @@ std::vector<PlannerSummary> summarise(const std::string& scenario,
       for (const auto& [leg, len] : it->second) to_best.push_back(len / best[leg]);
     }
     s.length_ratio_to_best = median(to_best);
-    s.length_ratio_to_astar = legRatio(m, planner, "astar");
+    s.length_ratio_to_astar = legRatio(m, planner, planning::kPaperPlanner);
     s.time_ratio_to_astar = kNan;
     out.push_back(s);
   }
   for (auto& s : out) {
-    const auto a = std::find_if(out.begin(), out.end(),
-                                [](const PlannerSummary& p) { return p.planner == "astar"; });
+    const auto a = std::find_if(out.begin(), out.end(), [](const PlannerSummary& p) {
+      return p.planner == planning::kPaperPlanner;
+    });
     if (a != out.end() && a->median_time_s > 0.0)
       s.time_ratio_to_astar = s.median_time_s / a->median_time_s;
   }

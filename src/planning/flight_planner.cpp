@@ -469,13 +469,6 @@ void validateSorties(FlightPlan& plan, const std::vector<SurfaceMission>& missio
 
 }  // namespace
 
-void FlightOptions::validate(const std::string& where) const {
-  if (home) require(home->allFinite(), where, "home must be finite");
-  if (start) require(start->allFinite(), where, "start must be finite");
-  model.validate(where);
-  requireThat(max_rounds >= 1, where, "max_rounds", ">= 1", max_rounds);
-}
-
 FlightPlan planFlight(const std::vector<SurfaceMission>& missions, const world::VoxelGrid& grid,
                       const PathValidator& validator, Planner& planner,
                       const FlightOptions& options) {

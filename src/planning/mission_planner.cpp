@@ -285,18 +285,6 @@ bool planLegs(SurfaceMission& m, const world::VoxelGrid& grid, Planner& planner,
 
 }  // namespace
 
-void MissionOptions::validate(const std::string& where) const {
-  requireThat(max_skipped_fraction >= 0.0 && max_skipped_fraction <= 1.0, where,
-              "max_skipped_fraction", "in [0, 1]", max_skipped_fraction);
-  requireThat(min_coverage >= 0.0 && min_coverage <= 1.0, where, "min_coverage", "in [0, 1]",
-              min_coverage);
-  requireThat(max_standoff_factor >= 1.0 && max_standoff_factor <= 3.0, where,
-              "max_standoff_factor", "in [1, 3] (× the standoff)", max_standoff_factor);
-  if (start) require(start->allFinite(), where, "start must be finite");
-  requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal pitch_min_deg",
-              "<= pitch_max_deg", gimbal.pitch_min_deg);
-}
-
 SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy,
                                   const world::VoxelGrid& grid, const PathValidator& validator,
                                   Planner& planner, const MissionOptions& options) {

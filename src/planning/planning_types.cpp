@@ -1,12 +1,11 @@
-// The plain types of planning that io/ serialises and configs set: the status names
-// and the flight model's arithmetic and checks (library uavip_planning_types, which
-// links no planner and no collision world).
+// Planning's plain types (planning/types.h): the status names, the flight model's
+// arithmetic and the options' checks (library uavip_planning_types, which links no
+// planner and no collision world).
 #include <algorithm>
 #include <cmath>
 
 #include "uavip/core/error.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
+#include "uavip/planning/types.h"
 
 namespace uavip::planning {
 
@@ -90,6 +89,25 @@ void FlightModel::validate(const std::string& where) const {
   requirePositive(endurance_s, where, "endurance_s");
   require(reserve >= 0.0 && reserve < 1.0, where,
           "reserve must be in [0, 1) (a share of endurance_s)");
+}
+
+void MissionOptions::validate(const std::string& where) const {
+  requireThat(max_skipped_fraction >= 0.0 && max_skipped_fraction <= 1.0, where,
+              "max_skipped_fraction", "in [0, 1]", max_skipped_fraction);
+  requireThat(min_coverage >= 0.0 && min_coverage <= 1.0, where, "min_coverage", "in [0, 1]",
+              min_coverage);
+  requireThat(max_standoff_factor >= 1.0 && max_standoff_factor <= 3.0, where,
+              "max_standoff_factor", "in [1, 3] (× the standoff)", max_standoff_factor);
+  if (start) require(start->allFinite(), where, "start must be finite");
+  requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal pitch_min_deg",
+              "<= pitch_max_deg", gimbal.pitch_min_deg);
+}
+
+void FlightOptions::validate(const std::string& where) const {
+  if (home) require(home->allFinite(), where, "home must be finite");
+  if (start) require(start->allFinite(), where, "start must be finite");
+  model.validate(where);
+  requireThat(max_rounds >= 1, where, "max_rounds", ">= 1", max_rounds);
 }
 
 }  // namespace uavip::planning

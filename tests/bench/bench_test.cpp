@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include "planners/harness.h"
+#include "planners/registry.h"
+#include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
 #include "uavip/bench/report.h"
 #include "uavip/bench/runner.h"
@@ -115,6 +117,51 @@ TEST(Bench, AStarSolvesTheFeasibleLegsAndEverySolvedPathIsSafe) {
       EXPECT_GE(run.length_m, (r.legs[static_cast<std::size_t>(run.leg)].straight_m) - 1e-9);
     }
   }
+}
+
+/// Length of a polyline [m].
+double polylineLength(const PointList& path) {
+  double length = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) length += (path[i] - path[i - 1]).norm();
+  return length;
+}
+
+TEST(Bench, AStarCoarseIsThePlannerPlanFlies) {
+  // The default planner as `uavip plan` flies it: app::planningSpace around the stops and
+  // the leg ends (the grid and validator of app::plan), makePlanner with the config's
+  // settings. The bench must report the same path on each leg (simplification off).
+  const app::Scenario sc = app::parseScenario(kScenario, "bench_test.yaml");
+  BenchOptions options = smallOptions();
+  options.planners = {"astar-coarse"};
+  options.runs = 1;
+  options.simplify = false;
+  const BenchResult r = runBench({sc}, options);
+
+  const PointList raw = app::sense(sc);
+  const app::DetectResult d = app::detect(raw, sc.config, app::measure(raw, &sc));
+  const app::Config& config = d.resolved.config;
+  PointList positions;
+  for (const auto& stops : stopsBySurface(d.scene, config.coverage))
+    positions.insert(positions.end(), stops.begin(), stops.end());
+  for (const auto& [a, b] : sc.bench.legs) {
+    positions.push_back(a);
+    positions.push_back(b);
+  }
+  const app::PlanningSpace space = app::planningSpace(
+      d.scene, std::make_shared<const world::CollisionWorld>(d.scene), config, positions);
+  const auto planner = planners::makePlanner("astar-coarse", config.planner_settings);
+  ASSERT_EQ(r.runs.size(), sc.bench.legs.size());
+  int solved = 0;
+  for (const auto& run : r.runs) {
+    const BenchLeg& leg = r.legs[static_cast<std::size_t>(run.leg)];
+    const planning::PathResult flown = planner->plan(space.grid, leg.start, leg.goal);
+    EXPECT_EQ(run.solved, flown.solved()) << "leg " << run.leg;
+    if (!run.solved || !flown.solved()) continue;
+    ++solved;
+    EXPECT_NEAR(run.raw_length_m, polylineLength(flown.path), 1e-9) << "leg " << run.leg;
+    EXPECT_EQ(run.raw_waypoints, flown.path.size()) << "leg " << run.leg;
+  }
+  EXPECT_EQ(solved, 2);  // legs 0 and 1; leg 2 ends inside the sealed box
 }
 
 TEST(Bench, SummaryMatchesCountsOverTheRuns) {

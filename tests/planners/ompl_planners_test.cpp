@@ -301,6 +301,69 @@ TEST(OmplPlanners, AStarThroughOmplMatchesAStarSearch) {
   }
 }
 
+/// The paper's step cost (§II-G) of a grid path, summed over its voxel steps: an
+/// independent recount of what the A* reports as its cost.
+double paperCostOfSteps(const VoxelGrid& grid, const PointList& path, const AStarOptions& o) {
+  double cost = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const world::Index3 a = grid.indexOf(path[i - 1]);
+    const world::Index3 b = grid.indexOf(path[i]);
+    const int dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
+    EXPECT_LE(std::max({std::abs(dx), std::abs(dy), std::abs(dz)}), 1) << "not a voxel step";
+    cost += o.a1 * dx * dx + o.a2 * dy * dy + o.a3 * dz * dz;
+  }
+  return cost;
+}
+
+TEST(OmplPlanners, HarnessAndRegistryBuildEveryRowAlike) {
+  const WallWorld w = wallWorld();
+  const auto si = makeSpaceInformation(w.grid);
+  PlannerSettings s = fastSettings();
+  s.astar.a3 = 2.0;
+  s.simplify = false;
+  for (const auto& n : plannerNames()) {
+    SCOPED_TRACE(n);
+    const auto mine = makePlanner(n, s);
+    const auto bench = makeOmplPlanner(n, si, w.grid, s);
+    EXPECT_EQ(mine->name(), n);
+    EXPECT_EQ(bench->getName(), omplName(n));
+    const auto* grid_a = dynamic_cast<const AStarPlanner*>(mine.get());
+    const auto* bench_a = dynamic_cast<const AStarOmplPlanner*>(bench.get());
+    ASSERT_EQ(grid_a != nullptr, isDeterministic(n));
+    ASSERT_EQ(bench_a != nullptr, isDeterministic(n));
+    if (grid_a == nullptr) continue;
+    const AStarOptions& a = grid_a->options();
+    const AStarOptions& b = bench_a->options();
+    EXPECT_EQ(a.cost, b.cost);
+    EXPECT_EQ(a.coarse_factor, b.coarse_factor);
+    EXPECT_EQ(a.max_expansions, b.max_expansions);
+    EXPECT_EQ(Vec3(a.a1, a.a2, a.a3), Vec3(b.a1, b.a2, b.a3));
+    // The same leg through both: the same path at the same cost.
+    const planning::PathResult flown = mine->plan(w.grid, w.start, w.goal);
+    const HarnessRun run = solveQuery(bench, si, w.start, w.goal, s, true);
+    ASSERT_TRUE(flown.solved());
+    ASSERT_TRUE(run.solved);
+    EXPECT_EQ(run.raw_path, flown.path);
+    EXPECT_DOUBLE_EQ(bench_a->lastResult().cost, flown.cost);
+  }
+  // The default planner is the paper's cost on blocks of 4 voxels (README, planner.name),
+  // in the benchmark too; its reported cost is the paper's cost of its voxel steps.
+  const auto coarse = makeOmplPlanner("astar-coarse", si, w.grid, s);
+  const auto& options = dynamic_cast<const AStarOmplPlanner&>(*coarse).options();
+  EXPECT_EQ(options.cost, AStarCost::Paper);
+  EXPECT_EQ(options.coarse_factor, 4);
+  const HarnessRun run = solveQuery(coarse, si, w.start, w.goal, s, true);
+  ASSERT_TRUE(run.solved);
+  const double cost = dynamic_cast<const AStarOmplPlanner&>(*coarse).lastResult().cost;
+  EXPECT_NEAR(paperCostOfSteps(w.grid, run.raw_path, options), cost, 1e-9);
+  AStarOptions whole = options;
+  whole.coarse_factor = 0;
+  const GridSearchResult best =
+      astarSearch(w.grid, w.grid.indexOf(w.start), w.grid.indexOf(w.goal), whole);
+  ASSERT_TRUE(best.found);
+  EXPECT_GE(cost, best.cost - 1e-9);  // the corridor's path is never cheaper than the optimum
+}
+
 TEST(OmplPlanners, MotionValidatorKeepsClearanceAndFindsLastValidState) {
   const WallWorld w = wallWorld();
   const auto si = makeSpaceInformation(w.grid);

@@ -19,8 +19,11 @@
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
+#include "uavip/planning/path_validator.h"
 #include "uavip/preprocess/cloud_stats.h"
 #include "uavip/preprocess/filters.h"
+#include "uavip/world/collision_world.h"
+#include "uavip/world/voxel_grid.h"
 
 namespace uavip::app {
 
@@ -93,6 +96,28 @@ ResolvedConfig resolveForScene(const Scene& scene, const app::Config& config);
 /// (preprocess/safety_cloud.h). A flight that keeps it from the safety cloud keeps the
 /// inflation radius from every input point.
 double safetyClearance(const Scene& scene, const app::Config& config);
+/// Where stage 7 plans and checks (paper §II-G): the planning grid and the validator.
+struct PlanningSpace {
+  double clearance_m{0.0};  ///< safetyClearance(scene, config): the grid's inflation [m]
+  /// Over the neighbourhood of the positions (6 m around them), not the whole site: on
+  /// a large site the grid stays small and fine. Measured points (safetyPoints), the
+  /// solids (surface slabs, obstacle solids) and the operator's keep-out volumes are
+  /// occupied, so the planner never flies through space the validator calls solid;
+  /// inflated by clearance_m (Config::gridOptions). Resolution: grid.resolution_m when
+  /// the file gives it, else the auto rule on the region (app/config.h).
+  world::VoxelGrid grid;
+  /// Sweeps the UAV against every surface slab, obstacle solid and measured point of
+  /// the collision world (world/collision_world.h) at clearance_m.
+  planning::PathValidator validator;
+};
+
+/// The planning space of a scene around `positions` (photo stops, mission.start and
+/// mission.home, or a benchmark's leg ends), on `world` (the scene's collision world).
+/// app::plan, app::planStructure and `uavip bench` (bench/runner.h) all plan in it.
+/// Throws InputError when the grid would exceed grid.max_voxels.
+PlanningSpace planningSpace(const Scene& scene,
+                            const std::shared_ptr<const world::CollisionWorld>& world,
+                            const app::Config& config, const PointList& positions);
 /// Parses a surface selection: "all", an id, or a list of ids "0,3,5"; throws
 /// InputError naming the valid ids when an id does not exist or is listed twice.
 std::vector<int> selectSurfaces(const Scene& scene, const std::string& selection);

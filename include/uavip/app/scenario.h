@@ -9,13 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "planners/registry.h"
 #include "uavip/core/types.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/perception/scene_builder.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
+#include "uavip/planning/planner_table.h"
+#include "uavip/planning/types.h"
 #include "uavip/preprocess/filters.h"
 #include "uavip/preprocess/safety_cloud.h"
 #include "uavip/registration/station_registration.h"
@@ -75,7 +74,7 @@ struct Config {
   world::GridOptions grid;
   coverage::CoverageOptions coverage;
   std::string planner{"astar-coarse"};
-  planners::PlannerSettings planner_settings;
+  planning::PlannerSettings planner_settings;
   planning::MissionOptions mission;
   /// The flight over all chosen surfaces: `mission.home` and section `flight:`
   /// (speeds, hover and settle time, endurance, reserve; planning/flight_planner.h).
@@ -85,7 +84,11 @@ struct Config {
 
   /// Validates every section; throws InputError prefixed by `where` (the file).
   void validate(const std::string& where) const;
-  /// Grid options with the UAV's inflation radius filled in.
+  /// Grid options inflated by `clearance_m` [m], the distance the flight keeps from
+  /// every measured point (app::safetyClearance: the UAV's radius plus the safety
+  /// cloud's margin). The one place the grid's inflation is set.
+  world::GridOptions gridOptions(double clearance_m) const;
+  /// gridOptions(the UAV's inflation radius).
   world::GridOptions gridOptions() const;
   /// Mission options with the camera's gimbal limits (`camera.gimbal`) filled in.
   planning::MissionOptions missionOptions() const;

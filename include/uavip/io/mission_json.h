@@ -13,8 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
+#include "uavip/planning/types.h"
 
 namespace uavip::io {
 

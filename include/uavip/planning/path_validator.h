@@ -23,22 +23,10 @@
 #include <vector>
 
 #include "uavip/core/types.h"
+#include "uavip/planning/types.h"
 #include "uavip/world/collision_world.h"
 
 namespace uavip::planning {
-
-/// Verdict on one path.
-struct ValidationResult {
-  bool collision_free{true};
-  double min_clearance_m{0.0};  ///< smallest distance from the path to any object [m] (inf if none)
-  int first_violation_segment{-1};  ///< index i of segment path[i]→path[i+1], −1 if none
-  Vec3 violation_point{
-      Vec3::Zero()};  ///< nearest point of the violated object (a measured point for the cloud) [m]
-  std::string violation_object;  ///< "surface 3", "obstacle 12" or "cloud"; empty if none
-  /// Distance from each segment to the nearest object [m] (one entry for a single
-  /// point); a segment is collision-free when its entry is ≥ the required clearance.
-  std::vector<double> segment_clearance_m;
-};
 
 /// Checks paths against a collision world with a required clearance. Thread-safe
 /// for const use after construction.

@@ -8,16 +8,11 @@
 
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/types.h"
+#include "uavip/planning/types.h"
 #include "uavip/world/free_space.h"
 #include "uavip/world/voxel_grid.h"
 
 namespace uavip::planning {
-
-/// Outcome of one leg.
-enum class PathStatus { Solved, NoPath, Timeout, InvalidStart, InvalidGoal };
-
-/// Text of a status ("solved", "no_path", …).
-const char* toString(PathStatus status);
 
 /// Result of planning one leg.
 struct PathResult {

@@ -38,8 +38,7 @@
 
 #include "uavip/core/types.h"
 #include "uavip/io/geodesy.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
+#include "uavip/planning/types.h"
 
 namespace uavip::view {
 

@@ -26,8 +26,7 @@
 #include "uavip/core/types.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/geodesy.h"
-#include "uavip/planning/flight_planner.h"
-#include "uavip/planning/mission_planner.h"
+#include "uavip/planning/types.h"
 #include "uavip/render/figure.h"
 
 namespace uavip::view {
