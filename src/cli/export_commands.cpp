@@ -1,5 +1,7 @@
-// uavip export: a mission.json as a QGroundControl .plan, a QGC WPL 110 file or a
-// CSV (io/mission_export.h has the item layout and the heading convention).
+// uavip export: a mission.json as a QGroundControl .plan, a QGC WPL 110 file, a CSV, a
+// DJI WPML route, KML or GeoJSON (io/mission_export.h has the item layout and the heading
+// convention). Where the flight lies and the check against its scene are app/placement.h's;
+// here the options are parsed, the files staged and the result printed.
 
 #include <algorithm>
 #include <cmath>
@@ -11,27 +13,20 @@
 #include <sstream>
 
 #include "src/cli/commands.h"
+#include "uavip/app/placement.h"
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
-#include "uavip/io/cloud_io.h"
 #include "uavip/io/geodesy.h"
-#include "uavip/io/json_reader.h"
 #include "uavip/io/map_export.h"
 #include "uavip/io/mission_export.h"
-#include "uavip/io/scene_json.h"
 #include "uavip/io/wpml_export.h"
 #include "uavip/planning/path_validator.h"
-#include "uavip/world/collision_world.h"
 
 namespace uavip::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Farthest waypoint from the origin (home) that export converts [m]: local ENU is a
-/// flat-earth frame, and no inspection flight goes farther.
-constexpr double kMaxDistanceFromOriginM = 50e3;
 
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
@@ -40,6 +35,8 @@ struct ExportArgs {
   int sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
   std::size_t max_waypoints{io::kWpmlMaxWaypoints};
+  /// Where the flight lies and the scene it is checked against (app/placement.h).
+  app::PlacementRequest placement() const { return {mission, scene, origin, crs, vertical}; }
 };
 
 /// The formats placed on the Earth with true heights (io/geodesy.h): one file per
@@ -48,124 +45,10 @@ bool isGeographicFormat(const std::string& format) {
   return format == "dji-kmz" || format == "kml" || format == "geojson";
 }
 
-/// The scene.json export checks against: --scene, else the one beside the mission.
-std::string sceneFor(const ExportArgs& a) {
-  return a.scene.empty() ? (fs::path(a.mission).parent_path() / "scene.json").string() : a.scene;
-}
-
-/// Local ENU is a flat-earth frame about the origin: a waypoint beyond
-/// kMaxDistanceFromOriginM is refused, naming it.
-void requireNearOrigin(const std::vector<io::Flight>& flights, const std::string& mission) {
-  for (const auto& f : flights) {
-    for (const auto& w : f.waypoints) {
-      if (w.enu.norm() > kMaxDistanceFromOriginM)
-        throw InputError(mission + ": waypoint " + formatPoint(w.enu) + " lies " +
-                         formatFixed(w.enu.norm() / 1e3, 1) +
-                         " km from the origin; export converts flights within " +
-                         formatNumber(kMaxDistanceFromOriginM / 1e3) +
-                         " km of --origin (local metres about it)");
-    }
-  }
-}
-
-/// The FCL validator of the scene the mission was planned in (--scene, else beside it).
-std::unique_ptr<planning::PathValidator> sceneValidator(const io::MissionRecord& mission,
-                                                        const ExportArgs& a) {
-  const std::string scene_path = sceneFor(a);
-  if (!fs::is_regular_file(scene_path))
-    throw InputError("--scene: " + scene_path +
-                     " not found; export checks every leg against the scene the mission " +
-                     "was planned in: pass --scene OUT/scene.json");
-  if (std::isnan(mission.inflation_radius_m))
-    throw InputError(a.mission +
-                     ": inflation_radius_m is missing (not a mission.json of uavip run or plan)");
-  const Scene scene = io::loadScene(scene_path);
-  return std::make_unique<planning::PathValidator>(
-      std::make_shared<const world::CollisionWorld>(scene), mission.inflation_radius_m);
-}
-
-/// Throws NoMissionError (exit 3) naming `what` and its first segment that comes
-/// closer to the scene (surfaces, obstacles, every measured point) than required.
-void requireClear(const planning::PathValidator& validator, const PointList& path,
-                  const std::string& what, const ExportArgs& a) {
-  const planning::ValidationResult v = validator.validate(path);
-  if (v.collision_free) return;
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(3) << what << ", segment " << v.first_violation_segment
-     << " comes " << v.segment_clearance_m[static_cast<std::size_t>(v.first_violation_segment)]
-     << " m from " << v.violation_object << " of " << sceneFor(a) << " (required "
-     << validator.requiredClearance() << " m); not exported: re-run uavip plan";
-  throw io::NoMissionError(os.str());
-}
-
-/// A flight's name in messages: "mission.json: sortie 2" or "…: surface 3".
-std::string flightLabel(const io::Flight& f, const ExportArgs& a) {
-  return a.mission + ": " +
-         (f.sortie > 0 ? "sortie " + std::to_string(f.sortie)
-                       : "surface " + std::to_string(f.surface_ids.front()));
-}
-
-/// Every exported path is checked again against the scene with the FCL validator:
-/// a mission.json changed by hand, or paired with another scene, is refused (exit 3).
-void checkAgainstScene(const std::vector<io::Flight>& flights, const io::MissionRecord& mission,
-                       const ExportArgs& a) {
-  const auto validator = sceneValidator(mission, a);
-  for (const auto& f : flights) {
-    PointList path;
-    for (const auto& w : f.waypoints) path.push_back(w.enu);
-    requireClear(*validator, path, flightLabel(f, a), a);
-  }
-}
-
-/// --crs: scene.json's source_offset_m, the cloud's file coordinates of the local
-/// origin. A scene without one (a cloud within 10 km of its own origin) cannot be
-/// placed by a CRS.
-Vec3 sourceOffset(const ExportArgs& a) {
-  const std::string path = sceneFor(a);
-  if (!fs::is_regular_file(path))
-    throw InputError(
-        "--crs: " + path +
-        " not found; the scene gives the cloud's offset in its CRS: pass --scene OUT/scene.json");
-  const io::JsonReader reader(path);
-  const nlohmann::json scene = reader.load();
-  if (!scene.is_object() || !scene.contains("source_offset_m"))
-    throw InputError("--crs " + a.crs + ": " + path +
-                     " has no source_offset_m: its cloud lies within " +
-                     formatNumber(io::kRecentreBeyondM / 1e3) +
-                     " km of its own origin, so it is not in a projected "
-                     "CRS; pass --origin LAT,LON,ALT instead");
-  return reader.vec3(scene.at("source_offset_m"), "source_offset_m", false);
-}
-
-/// The CRS scene.json records, if the scene is there and has one.
-std::optional<io::SceneCrsRecord> sceneCrs(const ExportArgs& a) {
-  const std::string path = sceneFor(a);
-  if (!fs::is_regular_file(path)) return std::nullopt;
-  return io::sceneCrsFromJson(io::JsonReader(path).load(), path);
-}
-
 /// The export options of the command line (one of --origin and --crs, else the CRS
-/// scene.json records), validated.
+/// scene.json records: app::relativeFrame), validated.
 io::ExportOptions exportOptions(const ExportArgs& a) {
-  if (!a.origin.empty() && !a.crs.empty())
-    throw InputError(
-        "--origin and --crs: choose one (--crs places the flight by the cloud's own CRS, --origin "
-        "by a WGS84 position of the local origin)");
-  io::ExportOptions options;
-  if (!a.origin.empty()) {
-    options.origin = io::parseOrigin(a.origin);
-  } else if (!a.crs.empty()) {
-    options.crs = std::make_shared<const io::CrsTransform>(a.crs);
-  } else if (const std::optional<io::SceneCrsRecord> scene = sceneCrs(a)) {
-    options.crs =
-        std::make_shared<const io::CrsTransform>(scene->definition, sceneFor(a) + ": crs");
-  } else {
-    throw InputError(
-        "--origin: missing, and " + sceneFor(a) +
-        " records no CRS; pass --origin LAT,LON,ALT, the WGS84 position (degrees, degrees, metres "
-        "above sea level) of the local frame's origin (0, 0, 0), which is also home; or --crs "
-        "EPSG:CODE, the projected CRS of a georeferenced cloud (e.g. EPSG:32631 for UTM zone 31N)");
-  }
+  io::ExportOptions options = app::relativeFrame(a.placement());
   options.autopilot = io::parseAutopilot(a.autopilot);
   options.hold_s = a.hold_s;
   options.acceptance_m = a.acceptance_m;
@@ -189,17 +72,6 @@ std::vector<io::Flight> flightsToExport(const io::MissionRecord& mission, const 
     return flights;
   }
   return {io::flightFromMission(mission, a.mission, a.surface)};
-}
-
-/// Home in local coordinates: the ordered flight's (every sortie starts there), else
-/// the first flight's first waypoint, else the origin.
-Vec3 homeOf(const io::MissionRecord& mission, const std::vector<io::Flight>& flights) {
-  return mission.flight && !mission.flight->sorties.empty() &&
-                 !mission.flight->sorties[0].waypoints.empty()
-             ? mission.flight->sorties[0].waypoints.front()
-         : !flights.empty() && !flights.front().waypoints.empty()
-             ? flights.front().waypoints.front().enu
-             : Vec3::Zero();
 }
 
 /// Warns on stderr when a waypoint lies below home.
@@ -267,68 +139,6 @@ void reportExport(const ExportArgs& a, const io::ExportOptions& options, io::Exp
   }
 }
 
-/// Where the local frame lies, and home (the take-off point heights are relative to).
-struct Placement {
-  std::unique_ptr<io::Georeference> geo;
-  Vec3 home{Vec3::Zero()};
-};
-
-/// The vertical datum of the cloud's heights: --vertical, else scene.json's record,
-/// else the compound CRS's vertical part, else EGM96 (docs/formats.md).
-io::VerticalDatum verticalDatum(const ExportArgs& a, const io::CrsTransform& crs,
-                                const std::optional<io::SceneCrsRecord>& scene,
-                                const Verbosity& v) {
-  const std::optional<io::VerticalDatum> of_crs = io::verticalDatumOfEpsg(crs.verticalEpsg());
-  if (!a.vertical.empty()) {
-    const io::VerticalDatum d = io::parseVerticalDatum(a.vertical);
-    if (!v.quiet && !crs.verticalName().empty() && (!of_crs || *of_crs != d))
-      std::cerr << "uavip: warning: --vertical " << a.vertical << " overrides the CRS's vertical "
-                << crs.verticalName() << " (EPSG:" << crs.verticalEpsg() << ")\n";
-    return d;
-  }
-  return io::defaultVerticalDatum(crs, scene ? scene->vertical : "", sceneFor(a));
-}
-
-/// --origin, or the cloud's CRS (--crs or scene.json's crs) with its vertical datum.
-Placement placement(const ExportArgs& a, const io::MissionRecord& mission,
-                    const std::vector<io::Flight>& flights, const Verbosity& v) {
-  if (!a.origin.empty() && !a.crs.empty())
-    throw InputError(
-        "--origin and --crs: choose one (--crs places the flight by the cloud's own "
-        "CRS, --origin by a WGS84 position of the local origin)");
-  Placement p;
-  // Home is the take-off and landing point of every sortie (mission.home): relative
-  // heights are above it, with --origin too.
-  p.home = homeOf(mission, flights);
-  if (!a.origin.empty()) {
-    requireNearOrigin(flights, a.mission);
-    p.geo = std::make_unique<io::Georeference>(io::parseOrigin(a.origin));
-    return p;
-  }
-  const std::optional<io::SceneCrsRecord> scene = sceneCrs(a);
-  std::string definition = a.crs;
-  if (definition.empty()) {
-    if (!scene)
-      throw InputError(
-          "--origin: missing, and " + sceneFor(a) +
-          " records no CRS (the cloud did not state one, and detect had no --crs); pass --origin "
-          "LAT,LON,ALT (ALT above mean sea level) or --crs EPSG:CODE (the cloud's projected CRS)");
-    definition = scene->definition;
-  } else if (scene && scene->definition != definition && !v.quiet) {
-    std::cerr << "uavip: warning: --crs " << definition << " differs from the scene's CRS "
-              << scene->definition << " (from " << scene->source << "); using --crs " << definition
-              << "\n";
-  }
-  const auto crs = std::make_shared<const io::CrsTransform>(
-      definition, a.crs.empty() ? sceneFor(a) + ": crs" : "--crs");
-  const io::VerticalDatum vertical = verticalDatum(a, *crs, scene, v);
-  // A CRS the scene records comes with its offset (zero when the cloud was not
-  // recentred); a --crs given by hand needs the scene's offset (sourceOffset says why).
-  const Vec3 offset = a.crs.empty() ? scene->source_offset_m : sourceOffset(a);
-  p.geo = std::make_unique<io::Georeference>(crs, offset, vertical);
-  return p;
-}
-
 /// OUT with _partK before the extension, when a flight is split into several routes.
 std::string partPath(const std::string& path, std::size_t k, std::size_t parts) {
   if (parts == 1) return path;
@@ -340,9 +150,9 @@ std::string partPath(const std::string& path, std::size_t k, std::size_t parts) 
 
 /// --format kml|geojson: the whole flight in one file.
 int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
-              const Placement& place) {
+              const app::MissionPlacement& place) {
   const std::string name = fs::path(a.out).stem().string();
-  io::requireDistinctOutputs({a.mission, sceneFor(a)}, {a.out});
+  io::requireDistinctOutputs({a.mission, a.placement().scenePath()}, {a.out});
   io::StagedOutputs outputs;
   outputs.write(a.out,
                 a.format == "kml"
@@ -371,7 +181,7 @@ io::WpmlOptions wpmlOptions(const ExportArgs& a) {
 /// Stages one route's KMZ at `path`: written, read back, converted to the local frame
 /// and validated as the aircraft will fly it. Returns the report line.
 std::string stageRoute(io::StagedOutputs& outputs, const std::string& path, const io::Flight& route,
-                       const Placement& place, const io::WpmlOptions& o,
+                       const app::MissionPlacement& place, const io::WpmlOptions& o,
                        const planning::PathValidator& validator, const ExportArgs& a) {
   const io::WpmlDocuments docs = io::wpmlDocuments(route, *place.geo, place.home, o);
   double worst = 0.0;
@@ -383,17 +193,19 @@ std::string stageRoute(io::StagedOutputs& outputs, const std::string& path, cons
                        std::to_string(route.waypoints.size()));
     for (std::size_t j = 0; j < flown.size(); ++j)
       worst = std::max(worst, (flown[j] - route.waypoints[j].enu).norm());
-    requireClear(validator, flown, flightLabel(route, a) + " as written in " + path, a);
+    app::requireClear(validator, flown,
+                      app::flightLabel(route, a.mission) + " as written in " + path, a.placement());
   });
-  return "exported " + flightLabel(route, a) + ": " + std::to_string(route.waypoints.size()) +
-         " waypoints, " + std::to_string(route.stopCount()) + " photo stops -> " + path +
+  return "exported " + app::flightLabel(route, a.mission) + ": " +
+         std::to_string(route.waypoints.size()) + " waypoints, " +
+         std::to_string(route.stopCount()) + " photo stops -> " + path +
          "; read back (largest difference " + formatFixed(worst * 1000.0, 2) +
          " mm) and validated against the scene as flown";
 }
 
 /// --format dji-kmz: one KMZ per sortie (and per part of a sortie too long for WPML).
 int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
-              const Placement& place, const planning::PathValidator& validator) {
+              const app::MissionPlacement& place, const planning::PathValidator& validator) {
   const io::WpmlOptions o = wpmlOptions(a);
   const std::vector<std::string> paths = outputPaths(flights, a.out);
   io::StagedOutputs outputs;
@@ -403,13 +215,13 @@ int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
     for (std::size_t i = 0; i < flights.size(); ++i) {
       const std::vector<io::Flight> parts = io::splitForWpml(flights[i], o.max_waypoints);
       if (parts.size() > 1 && !v.quiet)
-        std::cerr << "uavip: " << flightLabel(flights[i], a) << " has "
+        std::cerr << "uavip: " << app::flightLabel(flights[i], a.mission) << " has "
                   << flights[i].waypoints.size() << " waypoints, more than " << o.max_waypoints
                   << " per WPML route: split into " << parts.size()
                   << " routes flown one after another\n";
       for (std::size_t k = 0; k < parts.size(); ++k) {
         all_paths.push_back(partPath(paths[i], k, parts.size()));
-        io::requireDistinctOutputs({a.mission, sceneFor(a)}, all_paths);
+        io::requireDistinctOutputs({a.mission, a.placement().scenePath()}, all_paths);
         lines.push_back(stageRoute(outputs, all_paths.back(), parts[k], place, o, validator, a));
       }
     }
@@ -442,17 +254,15 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
   std::unique_ptr<planning::PathValidator> validator;
   try {
     flights = flightsToExport(mission, a);
-    validator = sceneValidator(mission, a);
-    for (const auto& f : flights) {
-      PointList path;
-      for (const auto& w : f.waypoints) path.push_back(w.enu);
-      requireClear(*validator, path, flightLabel(f, a), a);
-    }
+    validator = app::sceneValidator(mission, a.placement());
+    app::requireFlightsClear(*validator, flights, a.placement());
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
     return kExitNoMission;
   }
-  const Placement place = placement(a, mission, flights, v);
+  const app::MissionPlacement place = app::placeMission(mission, flights, a.placement());
+  if (!v.quiet)
+    for (const auto& w : place.warnings) std::cerr << "uavip: warning: " << w << "\n";
   return a.format == "dji-kmz" ? djiExport(a, v, flights, place, *validator)
                                : mapExport(a, v, flights, place);
 }
@@ -466,19 +276,16 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   try {
     flights = flightsToExport(mission, a);
     if (!options.crs)
-      requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
-    checkAgainstScene(flights, mission, a);
+      app::requireNearOrigin(flights, a.mission);  // --crs: PROJ places every point, no flat earth
+    app::requireFlightsClear(*app::sceneValidator(mission, a.placement()), flights, a.placement());
   } catch (const io::NoMissionError& e) {
     std::cerr << "uavip: " << escapeControl(e.what()) << "\n";
     return kExitNoMission;
   }
-  if (options.crs) {
-    options.source_offset_m = sourceOffset(a);
-    options.home_m = homeOf(mission, flights);
-  }
+  app::placeRelativeHome(options, mission, flights, a.placement());
   if (!v.quiet) warnBelowHome(flights, options);
   const std::vector<std::string> paths = outputPaths(flights, a.out);
-  io::requireDistinctOutputs({a.mission, sceneFor(a)}, paths);
+  io::requireDistinctOutputs({a.mission, a.placement().scenePath()}, paths);
   io::StagedOutputs outputs;  // every sortie's file, or none
   for (std::size_t i = 0; i < flights.size(); ++i)
     outputs.write(paths[i], io::exportFlight(flights[i], format, options));

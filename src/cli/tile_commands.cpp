@@ -1,40 +1,28 @@
 // uavip tile | run-tile | merge: a kilometre-scale cloud in tiles, each tile's stages
-// 3–5 in a process of its own (a Slurm array task), one validated mission from all
-// (issue 34; tiling/tiles.h, tiling/merge.h, scripts/slurm/).
+// 3–5 in a process of its own (a Slurm array task), one validated mission from all.
+// The work is app/site.h's; here the options are parsed, outputs staged and printed
+// (tiling/tiles.h, tiling/merge.h, scripts/slurm/).
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
-#include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
-#include <sstream>
+#include <optional>
 
 #include "src/cli/commands.h"
-#include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
-#include "uavip/core/error.h"
+#include "uavip/app/site.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
-#include "uavip/coverage/camera.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
-#include "uavip/io/json_numbers.h"
-#include "uavip/io/scene_json.h"
-#include "uavip/planning/path_validator.h"
-#include "uavip/tiling/merge.h"
 #include "uavip/tiling/tiles.h"
 #include "uavip/view/views.h"
 
 namespace uavip::cli {
 namespace {
-
-/// Points per chunk when the input is streamed (validation, tiling).
-constexpr std::size_t kStreamChunk = std::size_t{1} << 21;
 
 std::string pathIn(const std::string& dir, const std::string& name) {
   return (std::filesystem::path(dir) / name).string();
@@ -44,32 +32,10 @@ app::Config tileConfig(const std::string& path) {
   return path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(path);
 }
 
-/// The least overlap buffer [m]: a photo stop of a surface at a tile border lies the
-/// standoff out, and the UAV keeps its inflation radius from every point there.
-double leastBuffer(const app::Config& c) {
-  const double standoff =
-      coverage::solveCamera(c.coverage.camera, c.coverage.standoff_m).standoff_m;
-  return standoff * c.mission.max_standoff_factor + c.uav.inflationRadius();
-}
-
-int tileCommand(const std::string& cloud, double tile_size, double buffer, bool buffer_given,
+int tileCommand(const std::string& cloud, double tile_size, std::optional<double> buffer,
                 const std::string& config_path, const std::string& out, const Verbosity& v) {
   const app::Config config = tileConfig(config_path);
-  tiling::TileOptions options;
-  options.tile_size_m = tile_size;
-  const double least = leastBuffer(config);
-  // Default: twice the least, at least 10 m, so that a surface part reaching that far
-  // past the border is still seen whole by the tile that owns most of it.
-  options.buffer_m = buffer_given ? buffer : std::max(10.0, 2.0 * least);
-  options.validate("uavip tile");
-  if (options.buffer_m < least)
-    throw InputError("--buffer " + formatNumber(options.buffer_m) +
-                     " m is smaller than the standoff times mission.max_standoff_factor plus the "
-                     "inflation radius (" +
-                     formatNumber(least, 3) + " m" +
-                     (config_path.empty() ? "" : ", from " + config_path) +
-                     "): a tile would not see what its border stops fly past; give --buffer >= " +
-                     formatNumber(std::ceil(least)) + " or leave it out");
+  const tiling::TileOptions options = app::siteTileOptions(config, tile_size, buffer, config_path);
   io::requireRegularFile(cloud);
   const auto t0 = SteadyClock::now();
   io::StagedOutputs outputs;
@@ -97,271 +63,54 @@ int tileCommand(const std::string& cloud, double tile_size, double buffer, bool 
   return kExitOk;
 }
 
-/// The tile's cloud, checked against the manifest: present, with points, unchanged.
-std::string tileCloudChecked(const tiling::Manifest& m, const tiling::TileRecord& t) {
-  std::string path = pathIn(m.dir(), t.cloud);
-  if (t.core_points == 0)
-    throw InputError(m.path + ": tile " + std::to_string(t.index) +
-                     " has no points of its own; tile the cloud again (uavip tile)");
-  if (!std::filesystem::exists(path))
-    throw InputError(path + ": the cloud of tile " + std::to_string(t.index) +
-                     " is missing; tile the cloud again (uavip tile)");
-  if (io::sha256File(path) != t.sha256)
-    throw InputError(path + ": tile " + std::to_string(t.index) +
-                     " differs from the one manifest.json records (sha256); tile the cloud again");
-  return path;
-}
-
 int runTileCommand(const std::string& manifest_path, long index, const std::string& config_path,
                    bool views, const Verbosity& v) {
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   const tiling::TileRecord& t = m.tile(index);
-  const std::string cloud = tileCloudChecked(m, t);
   const app::Config config = tileConfig(config_path.empty() ? m.config : config_path);
   const auto t0 = SteadyClock::now();
-  io::CloudReadInfo read;
-  const PointList raw = io::loadCloud(cloud, io::CloudReadOptions{}, &read);
-  if (read.origin_m != Vec3::Zero())
-    throw InputError(cloud + ": tile " + std::to_string(t.index) +
-                     " lies beyond 10 km of the site's centre; tile a smaller site");
-  app::CloudIndex index_tree;
-  const preprocess::CloudStats measured = app::measure(raw, nullptr, &index_tree);
-  app::DetectResult d = app::detect(raw, config, measured, progressPrinter(v), index_tree);
-  d.scene.safety->source = std::filesystem::absolute(cloud).lexically_normal().string();
-  d.scene.safety->sha256 = t.sha256;
-  const std::string out = pathIn(m.dir(), t.out);
-  io::ensureDirectory(out);
+  const app::TileDetectResult r = app::detectTile(m, index, config, progressPrinter(v));
+  io::ensureDirectory(r.out);
   io::StagedOutputs outputs;
-  read.origin_m = m.source_offset_m;  // scene.json's source_offset_m: the input's
-  writeScene(outputs, out, d, &read);
+  writeScene(outputs, r.out, r.detected, &r.read);
   if (views) {
     view::OverviewOptions o;
     o.title = "tile " + std::to_string(t.index) + ": uavip scene";
-    view::stageViews(outputs, out, view::renderViews(d.scene, {}, o, nullptr));
+    view::stageViews(outputs, r.out, view::renderViews(r.detected.scene, {}, o, nullptr));
   }
   outputs.commit();
   if (!v.quiet)
     std::cout << "tile " << t.index << " (column " << t.column << ", row " << t.row
-              << "): " << raw.size() << " points, " << d.scene.surfaces.size() << " surfaces, "
-              << d.scene.obstacles.size() << " obstacles, " << formatFixed(secondsSince(t0), 2)
-              << " s -> " << pathIn(out, "scene.json") << "\n";
+              << "): " << r.points << " points, " << r.detected.scene.surfaces.size()
+              << " surfaces, " << r.detected.scene.obstacles.size() << " obstacles, "
+              << formatFixed(secondsSince(t0), 2) << " s -> " << pathIn(r.out, "scene.json")
+              << "\n";
   return kExitOk;
 }
 
-/// Throws InputError listing the tiles without a result (scene.json), so that none
-/// of the merged output is written; the Slurm array indices to run again are named.
-void requireTileResults(const tiling::Manifest& m) {
-  std::string missing;
-  for (const auto& t : m.tiles)
-    if (!std::filesystem::exists(pathIn(pathIn(m.dir(), t.out), "scene.json")))
-      missing += (missing.empty() ? "" : ",") + std::to_string(t.index);
-  if (!missing.empty())
-    throw InputError(m.path + ": no result for tile(s) " + missing + "; run them: uavip run-tile " +
-                     m.path + " --index I (Slurm: scripts/slurm/submit.sh " + m.dir() +
-                     " --array=" + missing + "), then merge again");
-}
-
-/// The scenes of the given tiles; InputError when one is from another tiling.
-std::vector<tiling::TileScene> tileScenes(const tiling::Manifest& m,
-                                          const std::vector<std::size_t>& which) {
-  std::vector<tiling::TileScene> out;
-  for (const std::size_t i : which) {
-    const tiling::TileRecord& t = m.tiles[i];
-    tiling::TileScene ts{t, io::loadScene(pathIn(pathIn(m.dir(), t.out), "scene.json"))};
-    if (!ts.scene.safety || ts.scene.safety->sha256 != t.sha256)
-      throw InputError(pathIn(m.dir(), t.out) +
-                       "/scene.json: the result of another tiling for tile " +
-                       std::to_string(t.index) + "; run it again: uavip run-tile " + m.path +
-                       " --index " + std::to_string(t.index) + " (Slurm: scripts/slurm/submit.sh " +
-                       m.dir() + " --array=" + std::to_string(t.index) + "), then merge again");
-    out.push_back(std::move(ts));
-  }
-  return out;
-}
-
-/// Points of a section above which merge splits the site (about 1.3 GB of merge, see
-/// benchmarks/README.md "Tiles"): a section is planned, staged and freed before the next.
-constexpr std::uint64_t kSectionPoints = 2'000'000;
-
-/// Sections of K × K tile cells, in row-major order of their blocks; each lists its
-/// tiles (indices into manifest.tiles). K = `tiles` when > 0, else the largest K whose
-/// every block holds at most kSectionPoints (core + buffer), at least 1.
-std::vector<std::vector<std::size_t>> sections(const tiling::Manifest& m, int tiles) {
-  const auto blocks = [&](int k) {
-    std::map<std::pair<int, int>, std::vector<std::size_t>> by_block;
-    for (std::size_t i = 0; i < m.tiles.size(); ++i)
-      by_block[{m.tiles[i].row / k, m.tiles[i].column / k}].push_back(i);
-    std::vector<std::vector<std::size_t>> out;
-    out.reserve(by_block.size());
-    for (auto& [key, list] : by_block) out.push_back(std::move(list));
-    return out;
-  };
-  if (tiles > 0) return blocks(tiles);
-  int best = 1;
-  for (int k = 2; k <= std::max(m.columns, m.rows); ++k) {
-    bool fits = true;
-    for (const auto& b : blocks(k)) {
-      std::uint64_t points = 0;
-      for (const std::size_t i : b) points += m.tiles[i].core_points + m.tiles[i].buffer_points;
-      fits = fits && points <= kSectionPoints;
-    }
-    if (!fits) break;
-    best = k;
-  }
-  return blocks(best);
-}
-
-/// The flight measured against every input point, streamed once: the smallest
-/// distance per sortie of every flight [m].
-struct StreamedCheck {
-  std::vector<std::vector<double>> min_clearance_m;  ///< per flight, per sortie
-  std::uint64_t points{0};
-};
-
-StreamedCheck checkAgainstInput(const tiling::Manifest& m,
-                                const std::vector<planning::FlightPlan>& flights,
-                                double clearance) {
-  StreamedCheck c;
-  for (const auto& f : flights)
-    c.min_clearance_m.emplace_back(f.sorties.size(), std::numeric_limits<double>::infinity());
-  const io::CloudStreamInfo info =
-      io::streamCloud(m.input, m.read, kStreamChunk, [&](const PointList& points) {
-        const planning::PathValidator validator(points, clearance);
-        for (std::size_t f = 0; f < flights.size(); ++f)
-          for (std::size_t s = 0; s < flights[f].sorties.size(); ++s) {
-            const planning::ValidationResult r =
-                validator.validate(flights[f].sorties[s].waypoints);
-            c.min_clearance_m[f][s] = std::min(c.min_clearance_m[f][s], r.min_clearance_m);
-          }
-      });
-  if ((info.read.origin_m - m.source_offset_m).norm() > 1e-6)
-    throw InputError(m.input + ": read in another frame than when it was tiled; tile it again");
-  c.points = info.points;
-  return c;
-}
-
-/// What one section's merge and plan gave (its scene and plan are staged and freed).
-struct SectionResult {
-  std::string out;  ///< its folder
-  std::vector<int> tiles;
-  tiling::MergeStats stats;
-  std::size_t surfaces{0}, obstacles{0}, stops{0};
-  planning::FlightPlan flight;  ///< kept for the streamed validation
-  bool flyable{false};
-  double merge_s{0.0}, plan_s{0.0};
-};
-
-/// Merges, plans and stages one section (the whole site when it is the only one).
-SectionResult mergeSection(const tiling::Manifest& m, const std::vector<std::size_t>& which,
-                           bool alone, const app::Config& config, const std::string& out,
-                           bool views, io::StagedOutputs& outputs, const Verbosity& v) {
-  SectionResult r;
-  r.out = out;
-  const auto t0 = SteadyClock::now();
-  const std::vector<tiling::TileScene> tiles = tileScenes(m, which);
-  for (const auto& t : tiles) r.tiles.push_back(t.tile.index);
-  // The join follows the detector's thresholds, resolved as the largest tile had them.
-  const auto largest = std::max_element(
-      tiles.begin(), tiles.end(),
-      [](const auto& a, const auto& b) { return a.scene.cloud.size() < b.scene.cloud.size(); });
-  const perception::PlaneDetectionOptions& planes =
-      app::resolveForScene(largest->scene, config).config.perception.planes;
-  tiling::MergeOptions mo;
-  mo.distance_threshold_m = planes.distance_threshold_m;
-  mo.join_gap_m = planes.cluster_tolerance_m;
-  mo.min_area_m2 = planes.min_area_m2;
-  mo.area_cell_m = planes.cell_size_m;
-  mo.boundary = planes.boundary;
-  mo.outline.cell_m = planes.tuning.outline_cell_fraction * planes.cell_size_m;
-  mo.outline.close_cells = planes.tuning.outline_close_cells;
-  mo.outline.min_hole_m2 = planes.tuning.outline_min_hole_m2;
-  mo.keep_buffer_safety = !alone;
-  app::DetectResult d;
-  d.scene = tiling::mergeTileScenes(m, tiles, mo, &r.stats);
-  d.resolved = app::resolveForScene(d.scene, config);
-  r.merge_s = secondsSince(t0);
-
-  const auto t1 = SteadyClock::now();
-  const app::Config& resolved = d.resolved.config;
-  std::vector<int> ids;
-  for (const auto& s : d.scene.surfaces) ids.push_back(s.id);
-  const app::PlanResult p = app::plan(d.scene, resolved, ids, progressPrinter(v));
-  r.plan_s = secondsSince(t1);
-  r.surfaces = d.scene.surfaces.size();
-  r.obstacles = d.scene.obstacles.size();
-  for (const auto& mission : p.missions) r.stops += mission.strategy.stops.size();
-  r.flyable = p.flight.status == planning::FlightPlan::Status::Ok && !p.flight.sorties.empty();
-
-  io::ensureDirectory(out);
+/// Stages a planned section's scene.json, mission.json and views in its folder.
+void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const app::SectionPlan& s,
+                  bool views) {
+  io::ensureDirectory(s.out);
   io::CloudReadInfo read;
   read.origin_m = m.source_offset_m;
-  writeScene(outputs, out, d, &read);
-  writeMission(outputs, out, p, resolved, m.path);
+  const app::Config& resolved = s.detected.resolved.config;
+  writeScene(outputs, s.out, s.detected, &read);
+  writeMission(outputs, s.out, s.planned, resolved, m.path);
   if (views) {
     view::OverviewOptions o;
-    o.title = alone ? "merged tiles: uavip mission overview"
-                    : std::filesystem::path(out).filename().string() + ": uavip mission overview";
+    o.title = s.alone()
+                  ? "merged tiles: uavip mission overview"
+                  : std::filesystem::path(s.out).filename().string() + ": uavip mission overview";
     o.clearance_m = resolved.uav.inflationRadius();
-    view::stageViews(outputs, out, view::renderViews(d.scene, p.missions, o, &p.flight));
+    view::stageViews(outputs, s.out,
+                     view::renderViews(s.detected.scene, s.planned.missions, o, &s.planned.flight));
   }
-  r.flight = p.flight;
-  return r;
 }
 
-/// OUT/site.json: the sections, each with its folder, tiles and flight (sections > 1).
-std::string siteJsonText(const tiling::Manifest& m, const std::vector<SectionResult>& sections,
-                         const StreamedCheck& check, double clearance) {
-  nlohmann::json list = nlohmann::json::array();
-  for (std::size_t i = 0; i < sections.size(); ++i) {
-    const SectionResult& s = sections[i];
-    double min_clear = std::numeric_limits<double>::infinity();
-    for (const double c : check.min_clearance_m[i]) min_clear = std::min(min_clear, c);
-    list.push_back(
-        {{"folder", std::filesystem::path(s.out).filename().string()},
-         {"tiles", s.tiles},
-         {"surfaces", s.surfaces},
-         {"photo_stops", s.stops},
-         {"flight_status", planning::toString(s.flight.status)},
-         {"home", io::vec(s.flight.home)},
-         {"length_m", io::round4(s.flight.length_m)},
-         {"sorties", s.flight.sorties.size()},
-         {"min_clearance_to_input_m",
-          std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
-  }
-  const nlohmann::json j = {
-      {"format", "uavip site 1"}, {"manifest", m.path},
-      {"input", m.input},         {"input_points", check.points},
-      {"clearance_m", clearance}, {"source_offset_m", io::vec(m.source_offset_m)},
-      {"sections", list}};
-  return j.dump(1) + "\n";
-}
-
-/// Validates every sortie of every section against every input point (streamed once);
-/// InputError naming the sortie when one comes closer than `radius`, so that nothing
-/// is written. Returns the check and the smallest clearance [m].
-StreamedCheck validateSections(const tiling::Manifest& m, const std::vector<SectionResult>& results,
-                               bool alone, double radius, double& min_clear) {
-  std::vector<planning::FlightPlan> flights;
-  flights.reserve(results.size());
-  for (const auto& r : results) flights.push_back(r.flight);
-  StreamedCheck check = checkAgainstInput(m, flights, radius);
-  min_clear = std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < flights.size(); ++f)
-    for (std::size_t s = 0; s < check.min_clearance_m[f].size(); ++s) {
-      const double c = check.min_clearance_m[f][s];
-      min_clear = std::min(min_clear, c);
-      if (c < radius)
-        throw InputError((alone ? std::string() : results[f].out + ": ") + "sortie " +
-                         std::to_string(s + 1) + " comes " + formatFixed(c, 3) +
-                         " m from an input point of " + m.input + " (required " +
-                         formatFixed(radius, 3) + " m); nothing written");
-    }
-  return check;
-}
-
-void printMergeSummary(const tiling::Manifest& m, const std::vector<SectionResult>& results,
-                       const StreamedCheck& check, double min_clear, double radius, double check_s,
+void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
                        const std::string& out, bool views) {
+  const auto& results = site.sections;
   const bool alone = results.size() == 1;
   double merge_s = 0.0, plan_s = 0.0, length = 0.0;
   std::size_t stops = 0, sorties = 0, surfaces = 0;
@@ -389,12 +138,13 @@ void printMergeSummary(const tiling::Manifest& m, const std::vector<SectionResul
   std::cout << (alone ? "flight: " + std::string(planning::toString(results[0].flight.status))
                       : std::to_string(results.size()) + " flights (one per section)")
             << ", " << formatFixed(length, 1) << " m, " << sorties << " sorties, " << stops
-            << " photo stops; against all " << check.points
+            << " photo stops; against all " << site.input_points
             << " input points (streamed): min clearance "
-            << (std::isfinite(min_clear) ? formatFixed(min_clear, 3) + " m" : std::string("-"))
-            << " (required " << formatFixed(radius, 3) << " m)\n";
+            << (std::isfinite(site.min_clearance_m) ? formatFixed(site.min_clearance_m, 3) + " m"
+                                                    : std::string("-"))
+            << " (required " << formatFixed(site.required_clearance_m, 3) << " m)\n";
   std::cout << "time: merge " << formatFixed(merge_s, 2) << " s, plan " << formatFixed(plan_s, 2)
-            << " s, validation " << formatFixed(check_s, 2) << " s\n";
+            << " s, validation " << formatFixed(site.check_s, 2) << " s\n";
   std::cout << "results: "
             << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
                             (views ? ", " + pathIn(out, "mission.html") : std::string())
@@ -406,46 +156,20 @@ void printMergeSummary(const tiling::Manifest& m, const std::vector<SectionResul
 int mergeCommand(const std::string& manifest_path, const std::string& config_path,
                  const std::string& out, int section_tiles, bool views, const Verbosity& v) {
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
-  if (section_tiles < 0)
-    throw InputError("--section-tiles must be >= 1 (0: chosen from the tile sizes), got " +
-                     std::to_string(section_tiles));
-  if (!std::filesystem::exists(m.input))
-    throw InputError(m.path + ": the input " + m.input +
-                     " is no longer there; the merged flight is validated against every input "
-                     "point: put it back or tile again");
-  if (io::sha256File(m.input) != m.input_sha256)
-    throw InputError(m.path + ": the input " + m.input +
-                     " changed since it was tiled (sha256 differs); tile it again (uavip tile)");
-  requireTileResults(m);
+  app::SiteOptions options;
+  options.section_tiles = section_tiles;
+  options.out = out;
+  options.validate();
   const app::Config config = tileConfig(config_path.empty() ? m.config : config_path);
-  const auto parts = sections(m, section_tiles);
-  const bool alone = parts.size() == 1;
   io::StagedOutputs outputs;  // temporaries on disk: a section's scene is freed once staged
-  std::vector<SectionResult> results;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "section_%03zu", i);
-    results.push_back(mergeSection(m, parts[i], alone, config, alone ? out : pathIn(out, name),
-                                   views, outputs, v));
-    if (!alone && v.showProgress())
-      std::cerr << "uavip: section " << i + 1 << " of " << parts.size() << " planned\n";
-  }
-  const auto t2 = SteadyClock::now();
-  const double radius = config.uav.inflationRadius();
-  double min_clear = 0.0;
-  const StreamedCheck check = validateSections(m, results, alone, radius, min_clear);
-  const double check_s = secondsSince(t2);
-  if (!alone) outputs.write(pathIn(out, "site.json"), siteJsonText(m, results, check, radius));
+  const app::SiteResult site = app::planSite(
+      m, config, options, [&](const app::SectionPlan& s) { stageSection(outputs, m, s, views); },
+      progressPrinter(v));
+  if (site.sections.size() > 1) outputs.write(pathIn(out, "site.json"), app::siteJsonText(m, site));
   outputs.commit();
-  if (!v.quiet) printMergeSummary(m, results, check, min_clear, radius, check_s, out, views);
-
-  std::size_t flying = 0, with_surfaces = 0;
-  for (const auto& r : results) {
-    flying += r.flyable;
-    with_surfaces += r.surfaces > 0;
-  }
-  if (with_surfaces > 0 && flying == 0) {
-    std::cerr << "uavip: no collision-free flight: " << results[0].flight.reason << "\n";
+  if (!v.quiet) printMergeSummary(m, site, out, views);
+  if (!site.flyable()) {
+    std::cerr << "uavip: no collision-free flight: " << site.sections[0].flight.reason << "\n";
     return kExitNoMission;
   }
   return kExitOk;
@@ -479,8 +203,9 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
                    "Config YAML for every tile (input:, camera, uav; recorded in the manifest)");
   tile->add_option("-o,--out", a->out, "Output folder TILES/")->required();
   registry.add(tile, [a, &v] {
-    return tileCommand(a->cloud, a->tile_size, a->buffer, a->buffer_opt->count() > 0, a->config,
-                       a->out, v);
+    return tileCommand(a->cloud, a->tile_size,
+                       a->buffer_opt->count() > 0 ? std::optional<double>(a->buffer) : std::nullopt,
+                       a->config, a->out, v);
   });
 
   auto* run = cli.add_subcommand(
