@@ -264,18 +264,8 @@ SectionResult mergeSection(const tiling::Manifest& m, const std::vector<std::siz
   const auto largest = std::max_element(
       tiles.begin(), tiles.end(),
       [](const auto& a, const auto& b) { return a.scene.cloud.size() < b.scene.cloud.size(); });
-  const perception::PlaneDetectionOptions& planes =
-      app::resolveForScene(largest->scene, config).config.perception.planes;
-  tiling::MergeOptions mo;
-  mo.distance_threshold_m = planes.distance_threshold_m;
-  mo.join_gap_m = planes.cluster_tolerance_m;
-  mo.min_area_m2 = planes.min_area_m2;
-  mo.area_cell_m = planes.cell_size_m;
-  mo.boundary = planes.boundary;
-  mo.outline.cell_m = planes.tuning.outline_cell_fraction * planes.cell_size_m;
-  mo.outline.close_cells = planes.tuning.outline_close_cells;
-  mo.outline.min_hole_m2 = planes.tuning.outline_min_hole_m2;
-  mo.keep_buffer_safety = !alone;
+  const tiling::MergeOptions mo =
+      app::resolveForScene(largest->scene, config).config.mergeOptions(!alone);
   app::DetectResult d;
   d.scene = tiling::mergeTileScenes(m, tiles, mo, &r.stats);
   d.resolved = app::resolveForScene(d.scene, config);
