@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "yaml_section.h"
 
@@ -499,6 +500,62 @@ const std::string& Config::keyOf(const void* field) const {
   const auto* row = table().find(*this, field);
   if (row == nullptr) throw std::logic_error("Config::keyOf: a field no parameter table lists");
   return row->key;
+}
+
+namespace {
+
+/// A default as the reference prints it: 0.2, [0.6, 0.4], true, outline, "none".
+std::string defaultText(const params::Param<Config>& row, const params::Value& v) {
+  if (!v.present) return "none";
+  switch (row.kind) {
+    case params::Kind::Boolean:
+      return v.number() != 0.0 ? "true" : "false";
+    case params::Kind::Text:
+      return v.text;
+    case params::Kind::Numbers: {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.numbers.size(); ++i)
+        out += (i ? ", " : "") + formatNumber(v.numbers[i]);
+      return out + "]";
+    }
+    default:
+      return formatNumber(v.number());
+  }
+}
+
+/// The layers that may set a row, lowest first.
+std::string layersText(unsigned layers) {
+  std::string out = "default";
+  if ((layers & params::kProfile) != 0U) out += " < profile";
+  if ((layers & params::kAuto) != 0U) out += " < auto";
+  return out + " < file";
+}
+
+}  // namespace
+
+std::string configReference(bool keys_only) {
+  const Config defaults;
+  std::string out;
+  std::string section;
+  for (const auto& row : Config::table().rows()) {
+    if (keys_only) {
+      out += row.key + "\n";
+      continue;
+    }
+    const std::size_t dot = row.key.find('.');
+    if (row.key.substr(0, dot) != section) {
+      section = row.key.substr(0, dot);
+      out += std::string(out.empty() ? "" : "\n") + "### `" + section + ":`\n\n" +
+             "| key | default | unit | bounds | set by | what |\n|---|---|---|---|---|---|\n";
+    }
+    std::string bounds = row.range();
+    if (!row.choices.empty()) {
+      for (const auto& c : row.choices) bounds += (bounds.empty() ? "" : " \\| ") + c;
+    }
+    out += "| `" + row.key.substr(dot + 1) + "` | " + defaultText(row, row.get(defaults)) + " | " +
+           row.unit + " | " + bounds + " | " + layersText(row.layers) + " | " + row.help + " |\n";
+  }
+  return out;
 }
 
 world::GridOptions Config::gridOptions() const {

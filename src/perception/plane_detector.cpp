@@ -374,11 +374,14 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
 /// (not count × cell²: a tilted plane through a voxel grid holds more points per m²).
 double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
   if (uv.empty()) return 0.0;
+  static const PlaneDetectionOptions defaults;
+  static const std::string& key =
+      PlaneDetectionOptions::table().find(defaults, &defaults.cell_size_m)->key;
   PointList flat;  // the (u, v) coordinates as points of the plane z = 0
   flat.reserve(uv.size());
   for (const auto& q : uv) flat.emplace_back(q.x(), q.y(), 0.0);
-  const auto cells = static_cast<double>(
-      occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "area_cell_m")).size());
+  const auto cells =
+      static_cast<double>(occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, key)).size());
   return cells * cell * cell;
 }
 

@@ -114,6 +114,12 @@ struct Scenario {
   std::string edits;
 };
 
+/// The scenario reference generated from Config::table() (`uavip config --list`, the
+/// generated part of scenarios/README.md): per section a Markdown table of key, default,
+/// unit, bounds, the layers that may set it (default < profile < auto < file) and help.
+/// `keys_only`: one "section.key" a line instead.
+std::string configReference(bool keys_only = false);
+
 /// Reads and validates a scenario file. Throws InputError on any problem.
 Scenario loadScenario(const std::string& path);
 /// Parses a scenario from YAML text; `path` is used in messages.

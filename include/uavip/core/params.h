@@ -167,7 +167,8 @@ struct KindOf<std::optional<T>> : KindOf<T> {};
 /// One key of a table.
 template <typename O>
 struct Param {
-  std::string key;  ///< as written in the file ("distance_threshold_m"; "perception.…" once lifted)
+  /// As written in the file; "section.key" once lifted into a section.
+  std::string key;
   Kind kind{Kind::Number};
   std::string unit;            ///< "m", "m²", "deg", "s", "" for a count or a name
   std::string help;            ///< one line for the reference
