@@ -278,12 +278,12 @@ class Table {
  public:
   /// A key whose field is `o.*field`.
   template <typename T>
-  Param<O>& add(std::string key, T O::*field, std::string help) {
+  Param<O>& add(const std::string& key, T O::*field, const std::string& help) {
     Param<O> p;
-    p.key = std::move(key);
+    p.key = key;
     p.kind = KindOf<T>::kind;
     p.min_count = p.max_count = KindOf<T>::count;
-    p.help = std::move(help);
+    p.help = help;
     p.get = [field](const O& o) { return toValue(o.*field); };
     p.set = [field](O& o, const Value& v) { fromValue(v, o.*field); };
     p.address = [field](const O& o) -> const void* { return &(o.*field); };
@@ -291,12 +291,12 @@ class Table {
     return rows_.back();
   }
   /// A key read and written by functions (a pair of fields, a value with a conversion).
-  Param<O>& add(std::string key, Kind kind, std::function<Value(const O&)> get,
-                std::function<void(O&, const Value&)> set, std::string help) {
+  Param<O>& add(const std::string& key, Kind kind, std::function<Value(const O&)> get,
+                std::function<void(O&, const Value&)> set, const std::string& help) {
     Param<O> p;
-    p.key = std::move(key);
+    p.key = key;
     p.kind = kind;
-    p.help = std::move(help);
+    p.help = help;
     p.get = std::move(get);
     p.set = std::move(set);
     p.address = [](const O&) -> const void* { return nullptr; };
