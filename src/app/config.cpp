@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 namespace uavip::app {
 namespace {
@@ -14,13 +15,37 @@ constexpr double kLargeStructureM = 20.0;
 /// Rounds up to whole millimetres, so printed and used values agree.
 double mm(double metres) { return std::ceil(metres * 1000.0 - 1e-6) / 1000.0; }
 
-/// Sets `field` to the file's value when it gave one, else to `auto_value`, and
-/// records which with the rule.
+/// The row of `field` (a field of `c`) in Config::table(); it must be one `auto` may set.
+const params::Param<Config>& autoRow(const Config& c, const void* field) {
+  const params::Param<Config>* row = Config::table().find(c, field);
+  if (row == nullptr || (row->layers & params::kAuto) == 0U)
+    throw std::logic_error("resolveConfig: a field the tables do not mark auto");
+  return *row;
+}
+
+/// Keeps `field` when a higher layer (the file) set it, else sets it to `auto_value`;
+/// records the value and which with the rule.
 template <typename T>
-void resolve(ResolvedConfig& r, const std::string& key, T& field, const std::optional<T>& given,
-             T auto_value, const std::string& rule) {
-  field = given ? *given : auto_value;
-  r.values.push_back({key, static_cast<double>(field), given ? "set" : "auto: " + rule});
+void resolve(ResolvedConfig& r, T& field, T auto_value, const std::string& rule) {
+  const params::Param<Config>& row = autoRow(r.config, &field);
+  const bool auto_set = r.config.sources.set(row.key, params::Source::Auto);
+  if (auto_set) field = auto_value;
+  r.values.push_back({row.key, static_cast<double>(field), auto_set ? "auto: " + rule : "set"});
+}
+
+/// As resolve(), for a section not yet in Config::table().
+template <typename T>
+void resolveKey(ResolvedConfig& r, const std::string& key, T& field, T auto_value,
+                const std::string& rule) {
+  const bool auto_set = r.config.sources.set(key, params::Source::Auto);
+  if (auto_set) field = auto_value;
+  r.values.push_back({key, static_cast<double>(field), auto_set ? "auto: " + rule : "set"});
+}
+
+/// Records a key `auto` leaves as it is: "set" when the file set it, else `otherwise`.
+void record(ResolvedConfig& r, const void* field, double value, const std::string& otherwise) {
+  const std::string& key = r.config.keyOf(field);
+  r.values.push_back({key, value, r.config.sources.fromFile(key) ? "set" : otherwise});
 }
 
 }  // namespace
@@ -35,30 +60,26 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   ResolvedConfig r;
   r.config = config;
   app::Config& c = r.config;
-  const FileValues& given = config.file_values;
   const double spacing = stats.spacing_m > 0.0 ? stats.spacing_m : 0.05;
   const double noise = std::max(stats.noise_m, 0.0);
 
-  resolve(r, "preprocess.voxel_m", c.preprocess.voxel_m, given.voxel_m, mm(std::max(0.05, spacing)),
-          "max(0.05, spacing)");
+  resolveKey(r, "preprocess.voxel_m", c.preprocess.voxel_m, mm(std::max(0.05, spacing)),
+             "max(0.05, spacing)");
   const double s_eff = c.preprocess.voxelize ? std::max(spacing, c.preprocess.voxel_m) : spacing;
 
   auto& planes = c.perception.planes;
-  resolve(r, "perception.distance_threshold_m", planes.distance_threshold_m,
-          given.distance_threshold_m, mm(std::max({0.2, 4.0 * noise, 0.5 * s_eff})),
+  resolve(r, planes.distance_threshold_m, mm(std::max({0.2, 4.0 * noise, 0.5 * s_eff})),
           "max(0.2, 4 noise, spacing'/2)");
-  resolve(r, "perception.plane_cluster_tolerance_m", planes.cluster_tolerance_m,
-          given.plane_cluster_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
-  resolve(r, "perception.obstacle_tolerance_m", c.perception.clusters.tolerance_m,
-          given.obstacle_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
+  resolve(r, planes.cluster_tolerance_m, mm(std::max(0.3, 3.0 * s_eff)), "max(0.3, 3 spacing')");
+  resolve(r, c.perception.clusters.tolerance_m, mm(std::max(0.3, 3.0 * s_eff)),
+          "max(0.3, 3 spacing')");
   // After a voxel grid coarser than the spacing, the points form a lattice too.
   const bool lattice =
       stats.lattice || (c.preprocess.voxelize && c.preprocess.voxel_m >= 1.5 * spacing);
-  resolve(r, "perception.area_cell_m", planes.cell_size_m, given.area_cell_m,
-          mm(lattice ? 2.0 * s_eff : 3.0 * s_eff),
+  resolve(r, planes.cell_size_m, mm(lattice ? 2.0 * s_eff : 3.0 * s_eff),
           lattice ? "2 spacing' (lattice)" : "3 spacing' (irregular sampling)");
   // A scenario knows its sensor; a cloud file knows none unless the config gives one.
-  planes.viewpoint_known = given.viewpoint.has_value();
+  planes.viewpoint_known = c.setInFile(&planes.viewpoint);
   if (!planes.viewpoint_known && stats.scanned_from_origin) {
     // One terrestrial scan from the origin: the sensor is known, and it saw the
     // front of every surface.
@@ -66,16 +87,15 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     planes.viewpoint = Vec3::Zero();
     planes.single_station = true;
   }
-  resolve(r, "perception.open_voxel_m", planes.open_voxel_m, given.open_voxel_m,
-          mm(std::max(0.1, 2.0 * s_eff)), "max(0.1, 2 spacing')");
-  resolve(r, "perception.min_inliers", planes.min_inliers, given.min_inliers, 30, "30");
-  r.values.push_back({"perception.min_area_m2", planes.min_area_m2,
-                      given.min_area_m2 ? "set" : "default (paper)"});
+  resolve(r, planes.open_voxel_m, mm(std::max(0.1, 2.0 * s_eff)), "max(0.1, 2 spacing')");
+  resolve(r, planes.min_inliers, 30, "30");
+  record(r, &planes.min_area_m2, planes.min_area_m2, "default (paper)");
 
   // Camera: the paper's 0.6 × 0.4 m footprint at 1.5 m suits its small cases; a
   // building or bridge (largest extent > 20 m) with no camera in the config gets a
   // 1-inch 20 MP inspection camera at 2 mm/px (7.3 m standoff, 10.9 × 7.3 m photos).
-  const bool camera_set = given.camera || given.standoff_m;
+  const bool camera_set =
+      c.sources.anyFromFile("camera.") || c.sources.fromFile("coverage.standoff_m");
   // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
   if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
     auto& cam = c.coverage.camera;
@@ -95,9 +115,9 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
 
   // The planning grid of the whole site (app::plan applies the rule again to the
   // region it plans): a 1 km site gets a coarser grid, not an error.
-  resolve(r, "grid.resolution_m", c.grid.resolution_m, given.grid_resolution_m,
-          autoGridResolution(stats.extent_m, c.grid),
-          "max(0.2, (site volume / (max_voxels/4))^(1/3))");
+  resolveKey(r, "grid.resolution_m", c.grid.resolution_m,
+             autoGridResolution(stats.extent_m, c.grid),
+             "max(0.2, (site volume / (max_voxels/4))^(1/3))");
   c.validate("config");
   return r;
 }

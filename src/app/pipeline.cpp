@@ -214,7 +214,7 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions(clearance_m);
-  if (!config.file_values.grid_resolution_m)
+  if (!config.sources.fromFile("grid.resolution_m"))
     grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   world::VoxelGrid::requireFits(region,
                                 grid_options);  // before the solids are sampled at the resolution

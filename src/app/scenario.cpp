@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "uavip/core/error.h"
+#include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "yaml_section.h"
 
@@ -28,27 +31,6 @@ void parsePreprocess(Section s, preprocess::PreprocessOptions& o) {
 void parseSafety(Section s, preprocess::SafetyOptions& o) {
   o.cell_m = s.number("cell_m", o.cell_m);
   o.sparse_factor = s.number("sparse_factor", o.sparse_factor);
-  s.finish();
-}
-
-void parsePerception(Section s, perception::PerceptionOptions& o) {
-  auto& p = o.planes;
-  p.distance_threshold_m = s.number("distance_threshold_m", p.distance_threshold_m);
-  p.max_iterations = s.integer("max_iterations", p.max_iterations);
-  p.min_area_m2 = s.number("min_area_m2", p.min_area_m2);
-  p.cluster_tolerance_m = s.number("plane_cluster_tolerance_m", p.cluster_tolerance_m);
-  p.cell_size_m = s.number("area_cell_m", p.cell_size_m);
-  const int min_inliers = s.integer("min_inliers", p.min_inliers);
-  if (min_inliers < 3) s.fail("min_inliers", "must be >= 3, got " + std::to_string(min_inliers));
-  p.min_inliers = min_inliers;
-  p.max_planes = s.integer("max_planes", p.max_planes);
-  p.max_failures = s.integer("max_failures", p.max_failures);
-  p.seed = static_cast<std::uint32_t>(s.integer("seed", static_cast<int>(p.seed)));
-  p.viewpoint = s.vec3("viewpoint", p.viewpoint);
-  p.open_voxel_m = s.number("open_voxel_m", p.open_voxel_m);
-  p.boundary = s.text("boundary", p.boundary);
-  o.clusters.tolerance_m = s.number("obstacle_tolerance_m", o.clusters.tolerance_m);
-  o.clusters.min_points = s.integer("obstacle_min_points", o.clusters.min_points);
   s.finish();
 }
 
@@ -282,39 +264,72 @@ void parseInput(Section s, io::CloudReadOptions& o) {
   s.finish();
 }
 
-/// True when the mapping `section` of `top` has `key`.
-bool fileHas(const YAML::Node& top, const char* section, const char* key) {
-  const YAML::Node n = top[section];
-  return n.IsDefined() && n.IsMap() && n[key].IsDefined();
+/// A key's value as its row says (kind, count), refused unless within the row's bounds.
+template <typename O>
+params::Value readValue(Section& s, const params::Param<O>& p, const std::string& key) {
+  params::Value v;
+  switch (p.kind) {
+    case params::Kind::Boolean:
+      v.numbers = {s.boolean(key, false) ? 1.0 : 0.0};
+      break;
+    case params::Kind::Integer:
+      v.numbers = {static_cast<double>(s.integer(key, 0))};
+      break;
+    case params::Kind::Number:
+      v.numbers = {s.number(key)};
+      break;
+    case params::Kind::Text:
+      v.text = s.text(key);
+      break;
+    case params::Kind::Numbers:
+      if (p.scalar_ok && s.node()[key].IsScalar()) {
+        v.numbers = {s.number(key)};
+      } else {
+        v.numbers = s.numbers(key, p.min_count, p.max_count);
+      }
+      break;
+  }
+  const std::string what = p.problem(v);
+  if (!what.empty()) s.fail(key, what);
+  return v;
 }
 
-/// Records, once the sections are parsed, which `auto` parameters the file set.
-void recordFileValues(const YAML::Node& top, Config& c) {
-  FileValues& f = c.file_values;
-  const auto& planes = c.perception.planes;
-  if (fileHas(top, "preprocess", "voxel_m")) f.voxel_m = c.preprocess.voxel_m;
-  if (fileHas(top, "perception", "distance_threshold_m"))
-    f.distance_threshold_m = planes.distance_threshold_m;
-  if (fileHas(top, "perception", "plane_cluster_tolerance_m"))
-    f.plane_cluster_tolerance_m = planes.cluster_tolerance_m;
-  if (fileHas(top, "perception", "obstacle_tolerance_m"))
-    f.obstacle_tolerance_m = c.perception.clusters.tolerance_m;
-  if (fileHas(top, "perception", "area_cell_m")) f.area_cell_m = planes.cell_size_m;
-  if (fileHas(top, "perception", "min_inliers")) f.min_inliers = planes.min_inliers;
-  if (fileHas(top, "perception", "open_voxel_m")) f.open_voxel_m = planes.open_voxel_m;
-  if (fileHas(top, "perception", "viewpoint")) f.viewpoint = planes.viewpoint;
-  if (fileHas(top, "perception", "min_area_m2")) f.min_area_m2 = planes.min_area_m2;
-  if (fileHas(top, "grid", "resolution_m")) f.grid_resolution_m = c.grid.resolution_m;
-  if (fileHas(top, "coverage", "standoff_m")) f.standoff_m = c.coverage.standoff_m;
-  const YAML::Node camera = top["camera"];
-  f.camera = camera.IsDefined() && camera.IsMap() && camera.size() > 0;
+/// Reads every key of Config::table() the file gives, section by section, and records
+/// it as set by the file; a key no table lists throws (Section::finish).
+void readTableKeys(Section& top, Config& c) {
+  std::map<std::string, Section> sections;
+  for (const auto& p : Config::table().rows()) {
+    const std::size_t dot = p.key.find('.');
+    const std::string section = p.key.substr(0, dot);
+    const std::string key = p.key.substr(dot + 1);
+    auto it = sections.find(section);
+    if (it == sections.end()) {
+      if (!top.has(section)) continue;
+      it = sections.emplace(section, top.child(section)).first;
+    }
+    if (!it->second.has(key)) continue;
+    p.set(c, readValue(it->second, p, key));
+    c.sources.set(p.key, params::Source::File);
+  }
+  for (const auto& entry : sections) entry.second.finish();
+}
+
+/// Records the keys the file gives in sections still read by hand.
+void recordFileKeys(const YAML::Node& top, Config& c) {
+  for (const char* section : {"preprocess", "grid", "coverage", "camera"}) {
+    const YAML::Node n = top[section];
+    if (!n.IsDefined() || !n.IsMap()) continue;
+    for (const auto& kv : n) {
+      if (kv.first.IsScalar())
+        c.sources.set(std::string(section) + "." + kv.first.Scalar(), params::Source::File);
+    }
+  }
 }
 
 void parseConfigSections(Section& top, Config& c) {
   if (top.has("input")) parseInput(top.child("input"), c.input);
   if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
   if (top.has("safety")) parseSafety(top.child("safety"), c.safety);
-  if (top.has("perception")) parsePerception(top.child("perception"), c.perception);
   if (top.has("uav")) parseUav(top.child("uav"), c.uav);
   if (top.has("grid")) parseGrid(top.child("grid"), c.grid);
   if (top.has("camera")) parseCamera(top.child("camera"), c.coverage.camera);
@@ -324,7 +339,8 @@ void parseConfigSections(Section& top, Config& c) {
   if (top.has("flight")) parseFlight(top.child("flight"), c.flight.model);
   if (top.has("assembly")) parseAssembly(top.child("assembly"), c.assembly);
   if (top.has("registration")) parseRegistration(top.child("registration"), c.registration);
-  recordFileValues(top.node(), c);
+  readTableKeys(top, c);
+  recordFileKeys(top.node(), c);
 }
 
 /// A non-negative `seed` key, or the fallback.
@@ -471,6 +487,77 @@ void Config::validate(const std::string& where) const {
   });
 }
 
+const params::Table<Config>& Config::table() {
+  static const params::Table<Config> t = [] {
+    params::Table<Config> p;
+    p.include("perception.", &Config::perception, perception::PerceptionOptions::table());
+    return p;
+  }();
+  return t;
+}
+
+const std::string& Config::keyOf(const void* field) const {
+  const auto* row = table().find(*this, field);
+  if (row == nullptr) throw std::logic_error("Config::keyOf: a field no parameter table lists");
+  return row->key;
+}
+
+namespace {
+
+/// A default as the reference prints it: 0.2, [0.6, 0.4], true, outline, "none".
+std::string defaultText(const params::Param<Config>& row, const params::Value& v) {
+  if (!v.present) return "none";
+  switch (row.kind) {
+    case params::Kind::Boolean:
+      return v.number() != 0.0 ? "true" : "false";
+    case params::Kind::Text:
+      return v.text;
+    case params::Kind::Numbers: {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.numbers.size(); ++i)
+        out += (i ? ", " : "") + formatNumber(v.numbers[i]);
+      return out + "]";
+    }
+    default:
+      return formatNumber(v.number());
+  }
+}
+
+/// The layers that may set a row, lowest first.
+std::string layersText(unsigned layers) {
+  std::string out = "default";
+  if ((layers & params::kProfile) != 0U) out += " < profile";
+  if ((layers & params::kAuto) != 0U) out += " < auto";
+  return out + " < file";
+}
+
+}  // namespace
+
+std::string configReference(bool keys_only) {
+  const Config defaults;
+  std::string out;
+  std::string section;
+  for (const auto& row : Config::table().rows()) {
+    if (keys_only) {
+      out += row.key + "\n";
+      continue;
+    }
+    const std::size_t dot = row.key.find('.');
+    if (row.key.substr(0, dot) != section) {
+      section = row.key.substr(0, dot);
+      out += std::string(out.empty() ? "" : "\n") + "### `" + section + ":`\n\n" +
+             "| key | default | unit | bounds | set by | what |\n|---|---|---|---|---|---|\n";
+    }
+    std::string bounds = row.range();
+    if (!row.choices.empty()) {
+      for (const auto& c : row.choices) bounds += (bounds.empty() ? "" : " \\| ") + c;
+    }
+    out += "| `" + row.key.substr(dot + 1) + "` | " + defaultText(row, row.get(defaults)) + " | " +
+           row.unit + " | " + bounds + " | " + layersText(row.layers) + " | " + row.help + " |\n";
+  }
+  return out;
+}
+
 world::GridOptions Config::gridOptions(double clearance_m) const {
   world::GridOptions g = grid;
   g.inflation_radius_m = clearance_m;
@@ -482,6 +569,13 @@ world::GridOptions Config::gridOptions() const { return gridOptions(uav.inflatio
 planning::MissionOptions Config::missionOptions() const {
   planning::MissionOptions m = mission;
   m.gimbal = coverage.gimbal;
+  return m;
+}
+
+tiling::MergeOptions Config::mergeOptions(bool keep_buffer_safety) const {
+  tiling::MergeOptions m;
+  m.planes = perception.planes;
+  m.keep_buffer_safety = keep_buffer_safety;
   return m;
 }
 
@@ -566,7 +660,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& path) {
 
     parseConfigSections(top, sc.config);
     // The scenario's sensor is known (its viewpoint, by default the origin).
-    sc.config.file_values.viewpoint = sc.config.perception.planes.viewpoint;
+    sc.config.sources.set(sc.config.keyOf(&sc.config.perception.planes.viewpoint),
+                          params::Source::File);
 
     if (top.has("bench")) parseBench(top.child("bench"), sc.bench);
     // `edits:` the operator's corrections (app/edits.h), relative to the scenario's folder.

@@ -95,19 +95,7 @@ tiling::MergeOptions sectionMergeOptions(const std::vector<tiling::TileScene>& t
   const auto largest = std::max_element(
       tiles.begin(), tiles.end(),
       [](const auto& a, const auto& b) { return a.scene.cloud.size() < b.scene.cloud.size(); });
-  const perception::PlaneDetectionOptions& planes =
-      resolveForScene(largest->scene, config).config.perception.planes;
-  tiling::MergeOptions mo;
-  mo.distance_threshold_m = planes.distance_threshold_m;
-  mo.join_gap_m = planes.cluster_tolerance_m;
-  mo.min_area_m2 = planes.min_area_m2;
-  mo.area_cell_m = planes.cell_size_m;
-  mo.boundary = planes.boundary;
-  mo.outline.cell_m = planes.tuning.outline_cell_fraction * planes.cell_size_m;
-  mo.outline.close_cells = planes.tuning.outline_close_cells;
-  mo.outline.min_hole_m2 = planes.tuning.outline_min_hole_m2;
-  mo.keep_buffer_safety = !alone;
-  return mo;
+  return resolveForScene(largest->scene, config).config.mergeOptions(!alone);
 }
 
 /// Merges and plans one section of `parts` (the tiles' results checked).

@@ -121,7 +121,7 @@ coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double
 
 /// coverage.standoff_m when set, else what the camera's GSD implies.
 double viewingDistance(const app::Config& config) {
-  if (config.file_values.standoff_m) return *config.file_values.standoff_m;
+  if (config.sources.fromFile("coverage.standoff_m")) return config.coverage.standoff_m;
   return coverage::solveCamera(config.coverage.camera, config.coverage.standoff_m).standoff_m;
 }
 

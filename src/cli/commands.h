@@ -105,4 +105,7 @@ void addViewCommands(CLI::App& cli, CommandRegistry& registry);
 /// tile, run-tile, merge: a large cloud in tiles (tile_commands.cpp).
 void addTileCommands(CLI::App& cli, CommandRegistry& registry);
 
+/// config --list: the scenario reference (config_commands.cpp).
+void addConfigCommands(CLI::App& cli, CommandRegistry& registry);
+
 }  // namespace uavip::cli

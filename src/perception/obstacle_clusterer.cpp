@@ -37,11 +37,22 @@ Vec3 smallestPoint(const PointList& points) {
 
 }  // namespace
 
-void ClusterOptions::validate(const std::string& where) const {
-  requirePositive(tolerance_m, where, "tolerance_m");
-  if (min_points < 1) {
-    throw InputError(where + ": min_points must be >= 1, got " + std::to_string(min_points));
-  }
+void ClusterOptions::validate(const std::string& where) const { table().check(*this, where); }
+
+const params::Table<ClusterOptions>& ClusterOptions::table() {
+  static const params::Table<ClusterOptions> t = [] {
+    params::Table<ClusterOptions> p;
+    p.add("obstacle_tolerance_m", &ClusterOptions::tolerance_m,
+          "neighbour distance that joins points into one obstacle (§II-E's r)")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("obstacle_min_points", &ClusterOptions::min_points,
+          "smaller clusters are merged into one residual obstacle, never dropped")
+        .atLeast(1);
+    return p;
+  }();
+  return t;
 }
 
 std::vector<Obstacle> clusterObstacles(const PointList& points, const ClusterOptions& options) {

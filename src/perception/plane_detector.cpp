@@ -374,11 +374,14 @@ double orientation(const PointList& cloud, const std::vector<Index>& kept, const
 /// (not count × cell²: a tilted plane through a voxel grid holds more points per m²).
 double occupiedArea(const std::vector<Eigen::Vector2d>& uv, double cell) {
   if (uv.empty()) return 0.0;
+  static const PlaneDetectionOptions defaults;
+  static const std::string& key =
+      PlaneDetectionOptions::table().find(defaults, &defaults.cell_size_m)->key;
   PointList flat;  // the (u, v) coordinates as points of the plane z = 0
   flat.reserve(uv.size());
   for (const auto& q : uv) flat.emplace_back(q.x(), q.y(), 0.0);
-  const auto cells = static_cast<double>(
-      occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "area_cell_m")).size());
+  const auto cells =
+      static_cast<double>(occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, key)).size());
   return cells * cell * cell;
 }
 
@@ -398,11 +401,7 @@ void setBoundary(Surface& s, const std::vector<Eigen::Vector2d>& uv,
     s.area_m2 = polygonArea(s.boundary);
     return;
   }
-  OutlineOptions outline;
-  outline.cell_m = options.tuning.outline_cell_fraction * options.cell_size_m;
-  outline.close_cells = options.tuning.outline_close_cells;
-  outline.min_hole_m2 = options.tuning.outline_min_hole_m2;
-  const Outline2d o = occupiedOutline2d(uv, outline);
+  const Outline2d o = occupiedOutline2d(uv, options.outlineOptions());
   s.boundary = to3d(o.outer);
   for (const auto& h : o.holes) s.holes.push_back(to3d(h));
   s.area_m2 = o.area_m2;
@@ -673,41 +672,65 @@ void PlaneTuning::validate(const std::string& where) const {
 }
 
 void PlaneDetectionOptions::validate(const std::string& where) const {
-  requirePositive(distance_threshold_m, where, "distance_threshold_m");
-  if (max_iterations < 1) {
-    throw InputError(where + ": max_iterations must be >= 1, got " +
-                     std::to_string(max_iterations));
-  }
-  if (!(std::isfinite(min_area_m2) && min_area_m2 >= 0.0)) {
-    std::ostringstream os;
-    os << where << ": min_area_m2 must be >= 0, got " << min_area_m2;
-    throw InputError(os.str());
-  }
-  requirePositive(cluster_tolerance_m, where, "cluster_tolerance_m");
-  requirePositive(cell_size_m, where, "cell_size_m (area_cell_m)");
-  requirePositive(open_voxel_m, where, "open_voxel_m");
-  if (min_inliers < 3) {
-    throw InputError(where + ": min_inliers must be >= 3, got " + std::to_string(min_inliers));
-  }
-  if (max_planes < 0) {
-    throw InputError(where + ": max_planes must be >= 0, got " + std::to_string(max_planes));
-  }
-  if (max_failures < 1) {
-    throw InputError(where + ": max_failures must be >= 1, got " + std::to_string(max_failures));
-  }
-  if (threads < 0)
-    throw InputError(where + ": threads must be >= 0 (0: every core), got " +
-                     std::to_string(threads));
+  table().check(*this, where);
+  requireThat(threads >= 0, where, "threads (0: every core)", ">= 0", threads);
   tuning.validate(where + ".tuning");
-  if (boundary != "outline" && boundary != "convex")
-    throw InputError(where + ": boundary '" + boundary +
-                     "' is not a boundary kind; use outline or convex");
-  if (!viewpoint.allFinite()) {
-    std::ostringstream os;
-    os << where << ": viewpoint must be finite, got (" << viewpoint.x() << ", " << viewpoint.y()
-       << ", " << viewpoint.z() << ")";
-    throw InputError(os.str());
-  }
+}
+
+OutlineOptions PlaneDetectionOptions::outlineOptions() const {
+  OutlineOptions outline;
+  outline.cell_m = tuning.outline_cell_fraction * cell_size_m;
+  outline.close_cells = tuning.outline_close_cells;
+  outline.min_hole_m2 = tuning.outline_min_hole_m2;
+  return outline;
+}
+
+const params::Table<PlaneDetectionOptions>& PlaneDetectionOptions::table() {
+  static const params::Table<PlaneDetectionOptions> t = [] {
+    using O = PlaneDetectionOptions;
+    params::Table<O> p;
+    p.add("distance_threshold_m", &O::distance_threshold_m,
+          "RANSAC inlier band around a plane (paper: 20 cm)")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("max_iterations", &O::max_iterations, "RANSAC iterations per plane (paper: 200)")
+        .atLeast(1);
+    p.add("min_area_m2", &O::min_area_m2, "planes smaller than this are objects (paper: 2 m²)")
+        .unitIs("m²")
+        .atLeast(0);
+    p.add("plane_cluster_tolerance_m", &O::cluster_tolerance_m,
+          "neighbour distance that joins a plane's inliers into one cluster")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("area_cell_m", &O::cell_size_m,
+          "cell of the occupied area and of the outline: area = occupied cells × cell²")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("min_inliers", &O::min_inliers, "a plane with fewer points is an object")
+        .atLeast(3)
+        .mayBeAuto();
+    p.add("max_planes", &O::max_planes, "stop after this many accepted planes").atLeast(0);
+    p.add("max_failures", &O::max_failures, "stop after this many consecutive rejected candidates")
+        .atLeast(1);
+    p.add("seed", &O::seed, "RANSAC seed (the same inputs give the same planes)").atLeast(0);
+    p.add("viewpoint", &O::viewpoint,
+          "sensor position [x, y, z] that orients a normal when free space is ambiguous")
+        .unitIs("m")
+        .mayBeAuto();
+    p.add("open_voxel_m", &O::open_voxel_m,
+          "voxel of the openness rays (no sensor position): a sparse wall blocks them")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("boundary", &O::boundary,
+          "outline (occupied cells with holes) or convex (the paper's convex hull)")
+        .oneOf({"outline", "convex"});
+    return p;
+  }();
+  return t;
 }
 
 PlaneDetectionResult detectPlanes(const PointList& cloud, const PlaneDetectionOptions& options) {

@@ -4,8 +4,18 @@
 
 namespace uavip::perception {
 void PerceptionOptions::validate(const std::string& where) const {
-  planes.validate(where + ".planes");
-  clusters.validate(where + ".clusters");
+  planes.validate(where);
+  clusters.validate(where);
+}
+
+const params::Table<PerceptionOptions>& PerceptionOptions::table() {
+  static const params::Table<PerceptionOptions> t = [] {
+    params::Table<PerceptionOptions> p;
+    p.include("", &PerceptionOptions::planes, PlaneDetectionOptions::table());
+    p.include("", &PerceptionOptions::clusters, ClusterOptions::table());
+    return p;
+  }();
+  return t;
 }
 
 Scene buildScene(const PointList& clean, const PerceptionOptions& options, PerceptionStats* stats) {

@@ -72,12 +72,12 @@ bool touches(Part& a, const Part& b, double gap) {
 /// True when two surface parts lie on one plane within the thresholds.
 bool samePlane(const Surface& a, const Surface& b, const MergeOptions& o) {
   if (a.plane.normal.dot(b.plane.normal) < std::cos(o.max_angle_deg * kPi / 180.0)) return false;
-  return std::abs(a.plane.signedDistance(b.centroid)) <= o.distance_threshold_m &&
-         std::abs(b.plane.signedDistance(a.centroid)) <= o.distance_threshold_m;
+  return std::abs(a.plane.signedDistance(b.centroid)) <= o.planes.distance_threshold_m &&
+         std::abs(b.plane.signedDistance(a.centroid)) <= o.planes.distance_threshold_m;
 }
 
 /// A surface refitted to `points`: PCA plane with the normal on the side of `like`,
-/// in-plane axes, boundary as the detector draws it (o.boundary; counter-clockwise seen
+/// in-plane axes, boundary as the detector draws it (o.planes.boundary; counter-clockwise seen
 /// from the normal, holes clockwise), areas.
 Surface refit(PointList points, const Vec3& like, const MergeOptions& o) {
   Surface s;
@@ -112,18 +112,20 @@ Surface refit(PointList points, const Vec3& like, const MergeOptions& o) {
     for (const auto& q : loop) out.push_back(c + q.x() * s.axis_u + q.y() * s.axis_v);
     return out;
   };
-  if (o.boundary == "convex") {
+  if (o.planes.boundary == "convex") {
     s.boundary = to3d(convexHull2d(uv));
     s.area_m2 = polygonArea(s.boundary);
   } else {
-    const perception::Outline2d outline = perception::occupiedOutline2d(uv, o.outline);
+    const perception::Outline2d outline =
+        perception::occupiedOutline2d(uv, o.planes.outlineOptions());
     s.boundary = to3d(outline.outer);
     for (const auto& h : outline.holes) s.holes.push_back(to3d(h));
     s.area_m2 = outline.area_m2;
   }
+  const double cell = o.planes.cell_size_m;
   const auto cells = static_cast<double>(
-      occupiedKeys(flat, VoxelKeyer::forPoints(flat, o.area_cell_m, "area_cell_m")).size());
-  s.density_area_m2 = cells * o.area_cell_m * o.area_cell_m;
+      occupiedKeys(flat, VoxelKeyer::forPoints(flat, cell, "the merge's area cell")).size());
+  s.density_area_m2 = cells * cell * cell;
   s.inliers = std::move(points);
   return s;
 }
@@ -178,21 +180,10 @@ Obstacle makeObstacle(PointList points, int id) {
 }  // namespace
 
 void MergeOptions::validate(const std::string& where) const {
-  const auto positive = [&](double v, const char* name) {
-    if (!(std::isfinite(v) && v > 0.0))
-      throw InputError(where + ": " + name + " must be > 0, got " + formatNumber(v));
-  };
-  positive(distance_threshold_m, "distance_threshold_m");
-  positive(join_gap_m, "join_gap_m");
-  positive(area_cell_m, "area_cell_m");
-  if (boundary != "outline" && boundary != "convex")
-    throw InputError(where + ": boundary must be outline or convex, got '" + boundary + "'");
-  outline.validate(where + ".outline");
+  planes.validate(where);
   if (!(max_angle_deg > 0.0 && max_angle_deg < 90.0))
     throw InputError(where + ": max_angle_deg must be in (0, 90), got " +
                      formatNumber(max_angle_deg));
-  if (!(std::isfinite(min_area_m2) && min_area_m2 >= 0.0))
-    throw InputError(where + ": min_area_m2 must be >= 0, got " + formatNumber(min_area_m2));
 }
 
 namespace {
@@ -268,7 +259,7 @@ void joinSurfaces(std::vector<Part>& surfaces, const std::vector<TileScene>& til
                   const MergeOptions& options, Scene& out, std::vector<PointList>& demoted,
                   MergeStats& st) {
   Groups sg = groupParts(
-      surfaces, tiles, options.join_gap_m,
+      surfaces, tiles, options.planes.cluster_tolerance_m,
       [&](const Part& a, const Part& b) { return samePlane(*a.surface, *b.surface, options); },
       st.surfaces_joined);
   for (const auto& group : members(sg, surfaces.size())) {
@@ -284,7 +275,7 @@ void joinSurfaces(std::vector<Part>& surfaces, const std::vector<TileScene>& til
         if (surfaces[i].points.size() > largest_part->points.size()) largest_part = &surfaces[i];
       }
       s = refit(std::move(points), largest_part->surface->plane.normal, options);
-      if (std::min(s.area_m2, s.density_area_m2) < options.min_area_m2) {
+      if (std::min(s.area_m2, s.density_area_m2) < options.planes.min_area_m2) {
         ++st.surfaces_demoted;
         demoted.push_back(std::move(s.inliers));
         continue;
@@ -316,8 +307,8 @@ Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& ti
   std::vector<PointList> demoted;
   joinSurfaces(surfaces, tiles, options, out, demoted, st);
   Groups og = groupParts(
-      obstacles, tiles, options.join_gap_m, [](const Part&, const Part&) { return true; },
-      st.obstacles_joined);
+      obstacles, tiles, options.planes.cluster_tolerance_m,
+      [](const Part&, const Part&) { return true; }, st.obstacles_joined);
   for (const auto& group : members(og, obstacles.size())) {
     PointList points;
     for (const std::size_t i : group)

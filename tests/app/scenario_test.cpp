@@ -66,8 +66,9 @@ TEST(Scenario, MinimalScenarioGetsThePapersDefaults) {
   // The paper's step cost and weights, searched coarse to fine (planners/astar.h).
   EXPECT_EQ(s.config.planner, "astar-coarse");
   // The area cell is resolved from the cloud (app/config.h), not by the parser.
-  EXPECT_FALSE(s.config.file_values.area_cell_m);
-  EXPECT_TRUE(s.config.file_values.viewpoint);  // a scenario knows its sensor
+  EXPECT_FALSE(s.config.setInFile(&s.config.perception.planes.cell_size_m));
+  // A scenario knows its sensor.
+  EXPECT_TRUE(s.config.setInFile(&s.config.perception.planes.viewpoint));
 }
 
 TEST(Scenario, ValuesAreRead) {

@@ -524,7 +524,7 @@ TEST(PlaneDetector, ValidatesOptions) {
   expectField(o, "cluster_tolerance_m");
   o = {};
   o.cell_size_m = std::nan("");
-  expectField(o, "cell_size_m");
+  expectField(o, "area_cell_m");  // the key a config file sets it with
   o = {};
   o.threads = -1;
   expectField(o, "threads");

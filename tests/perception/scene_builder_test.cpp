@@ -55,15 +55,16 @@ TEST(SceneBuilder, EmptyCloudGivesAnEmptyScene) {
   EXPECT_TRUE(scene.cloud.empty());
 }
 
-TEST(SceneBuilder, ValidateNamesTheNestedField) {
+TEST(SceneBuilder, ValidateNamesTheKeyOfTheNestedField) {
   PerceptionOptions o;
   o.clusters.tolerance_m = -1.0;
   try {
     o.validate();
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("clusters"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("tolerance_m"), std::string::npos) << e.what();
+    // The key a config file sets clusters.tolerance_m with.
+    EXPECT_NE(std::string(e.what()).find("perception: obstacle_tolerance_m"), std::string::npos)
+        << e.what();
   }
   o = {};
   o.planes.max_iterations = 0;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
@@ -22,6 +23,7 @@
 #include "uavip/sim/scanner_sim.h"
 #include "uavip/sim/surface_sampler.h"
 #include "uavip/sim/world_model.h"
+#include "uavip/tiling/merge.h"
 #include "uavip/world/voxel_grid.h"
 
 namespace uavip::app {
@@ -34,27 +36,6 @@ struct UavConfig {
   double inflationRadius() const {
     return inflation_radius_m ? *inflation_radius_m : size_m.maxCoeff();
   }
-};
-
-/// The file's values for the parameters that are otherwise `auto` (app/config.h):
-/// empty where the file leaves them out. The stage options below hold the same
-/// values (or the paper's defaults); app::resolveConfig reads these once and
-/// fills the unset ones from the measured cloud.
-struct FileValues {
-  std::optional<double> voxel_m;                    ///< preprocess.voxel_m [m]
-  std::optional<double> distance_threshold_m;       ///< perception.distance_threshold_m [m]
-  std::optional<double> plane_cluster_tolerance_m;  ///< perception.plane_cluster_tolerance_m [m]
-  std::optional<double> obstacle_tolerance_m;       ///< perception.obstacle_tolerance_m [m]
-  std::optional<double> area_cell_m;                ///< perception.area_cell_m [m]
-  std::optional<int> min_inliers;                   ///< perception.min_inliers
-  std::optional<double> open_voxel_m;               ///< perception.open_voxel_m [m]
-  /// perception.viewpoint [m]; a scenario always knows its sensor (`sensing.viewpoint`,
-  /// by default the origin).
-  std::optional<Vec3> viewpoint;
-  std::optional<double> min_area_m2;        ///< perception.min_area_m2 (not auto: printed as set)
-  std::optional<double> grid_resolution_m;  ///< grid.resolution_m [m]
-  std::optional<double> standoff_m;         ///< coverage.standoff_m [m]
-  bool camera{false};                       ///< any key of `camera:` (the auto camera is off)
 };
 
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`
@@ -79,8 +60,9 @@ struct Config {
   /// The flight over all chosen surfaces: `mission.home` and section `flight:`
   /// (speeds, hover and settle time, endurance, reserve; planning/flight_planner.h).
   planning::FlightOptions flight;
-  /// What the file set of the `auto` parameters; the rest follow the measured cloud.
-  FileValues file_values;
+  /// Which layer set each key (core/params.h: default < profile < auto < file): the
+  /// reader records the file's keys, app::resolveConfig the `auto` ones.
+  params::Sources sources;
 
   /// Validates every section; throws InputError prefixed by `where` (the file).
   void validate(const std::string& where) const;
@@ -94,6 +76,19 @@ struct Config {
   planning::MissionOptions missionOptions() const;
   /// Flight options with `mission.start` and `mission.simplify` filled in.
   planning::FlightOptions flightOptions() const;
+  /// The merge's join of tile scenes (tiling/merge.h) with this config's detector
+  /// options; `keep_buffer_safety` when a section is planned apart from its neighbours.
+  tiling::MergeOptions mergeOptions(bool keep_buffer_safety) const;
+
+  /// Every key a config file may set ("section.key"), each once: the sections' tables
+  /// beside their Options structs and the app's own keys. The YAML reader, the
+  /// unknown-key check, `auto` and `uavip config --list` read it.
+  static const params::Table<Config>& table();
+  /// The key ("section.key") of `field`, a field of this config that table() lists;
+  /// throws std::logic_error for any other address.
+  const std::string& keyOf(const void* field) const;
+  /// True when the file set the key of `field` (a field of this config).
+  bool setInFile(const void* field) const { return sources.fromFile(keyOf(field)); }
 };
 
 /// The optional `bench:` section: the legs `uavip bench` plans (bench/runner.h).
@@ -121,6 +116,12 @@ struct Scenario {
   /// relative name is resolved against the scenario's folder. Empty: none.
   std::string edits;
 };
+
+/// The scenario reference generated from Config::table() (`uavip config --list`, the
+/// generated part of scenarios/README.md): per section a Markdown table of key, default,
+/// unit, bounds, the layers that may set it (default < profile < auto < file) and help.
+/// `keys_only`: one "section.key" a line instead.
+std::string configReference(bool keys_only = false);
 
 /// Reads and validates a scenario file. Throws InputError on any problem.
 Scenario loadScenario(const std::string& path);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 
 namespace uavip::perception {
@@ -14,11 +15,13 @@ namespace uavip::perception {
 /// Options of stage 5.
 struct ClusterOptions {
   double tolerance_m{0.3};  ///< r < epsilon of the paper's pseudo code [m]
-  int min_points{
-      1};  ///< clusters smaller than this are merged into one "residual" obstacle, never dropped
+  /// Clusters smaller than this are merged into one "residual" obstacle, never dropped.
+  int min_points{1};
 
-  /// Throws InputError naming the bad field (prefix `where`).
+  /// Throws InputError naming the bad key (prefix `where`).
   void validate(const std::string& where = "perception") const;
+  /// The keys of `perception:` this struct holds (core/params.h).
+  static const params::Table<ClusterOptions>& table();
 };
 
 /// Clusters `points` into obstacles with ids 0..n-1, largest first (ties: by

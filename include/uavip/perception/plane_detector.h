@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
+#include "uavip/perception/surface_outline.h"
 
 namespace uavip::perception {
 
@@ -26,8 +28,8 @@ struct PlaneTuning {
   /// robust sigmas (1.4826 · MAD) of their plane distances, so points of an adjacent
   /// face caught by the 20 cm RANSAC band stay for their own surface.
   double band_sigmas{4.0};
-  double band_floor{
-      0.1};  ///< the band is never narrower than this fraction of distance_threshold_m
+  /// The band is never narrower than this fraction of distance_threshold_m.
+  double band_floor{0.1};
   int band_iterations{3};  ///< refits of the plane and its band
   /// At most this many points (a seeded random subset of the pool) score RANSAC's
   /// hypotheses; a 2 m² plane at 5 cm spacing (800 of 300 k points) keeps ~160.
@@ -68,7 +70,7 @@ struct PlaneTuning {
   void validate(const std::string& where) const;
 };
 
-/// Options of stage 4.
+/// Options of stage 4. The keys a config sets are in `table()` (section `perception:`).
 struct PlaneDetectionOptions {
   double distance_threshold_m{0.2};  ///< RANSAC inlier distance (paper: 20 cm) [m]
   int max_iterations{200};           ///< RANSAC iterations per plane (paper: 200)
@@ -80,8 +82,8 @@ struct PlaneDetectionOptions {
   int min_inliers{3};   ///< a plane with fewer points is an object, whatever its area
   int max_planes{64};   ///< stop after this many accepted planes
   int max_failures{8};  ///< stop after this many consecutive rejected candidates
-  Vec3 viewpoint{
-      Vec3::Zero()};  ///< sensor position, used to orient a normal when free space is ambiguous [m]
+  /// Sensor position, used to orient a normal when free space is ambiguous [m].
+  Vec3 viewpoint{Vec3::Zero()};
   /// More sensor positions (e.g. every scanning station); the one nearest to a
   /// surface's centroid, among these and `viewpoint`, orients it [m].
   std::vector<Vec3> extra_viewpoints;
@@ -110,8 +112,14 @@ struct PlaneDetectionOptions {
   int threads{0};
   PlaneTuning tuning;  ///< uavip's own tuning (above)
 
-  /// Throws InputError naming the bad field (prefix `where`).
+  /// Throws InputError naming the bad key (prefix `where`): the table's bounds, then the
+  /// fields no file sets.
   void validate(const std::string& where = "perception") const;
+  /// The outline's options of a surface: its cell is tuning.outline_cell_fraction of
+  /// the area cell.
+  OutlineOptions outlineOptions() const;
+  /// The keys of `perception:` this struct holds (core/params.h).
+  static const params::Table<PlaneDetectionOptions>& table();
 };
 
 /// Statistics of stage 4.

@@ -12,7 +12,10 @@ namespace uavip::perception {
 struct PerceptionOptions {
   PlaneDetectionOptions planes;
   ClusterOptions clusters;
+  /// Throws InputError naming the bad key (prefix `where`).
   void validate(const std::string& where = "perception") const;
+  /// Every key of `perception:` (both structs' tables).
+  static const params::Table<PerceptionOptions>& table();
 };
 
 /// Statistics of perception.

@@ -6,9 +6,9 @@
 ///
 /// The rule: a tile's surface or obstacle keeps only the points its tile owns (a part
 /// with none is dropped: another tile owns all of it). Two parts of neighbouring tiles
-/// are joined when they come within `join_gap_m` of each other and, for surfaces, lie
-/// on the same plane within the detector's thresholds: normals within
-/// `max_angle_deg` (same orientation) and each part's centroid within
+/// are joined when they come within the detector's plane cluster tolerance of each other
+/// and, for surfaces, lie on the same plane within the detector's thresholds: normals
+/// within `max_angle_deg` (same orientation) and each part's centroid within
 /// `distance_threshold_m` of the other's plane. A joined surface is refitted (PCA plane
 /// oriented like its largest part, the detector's kind of boundary: the occupied cells'
 /// outline with its holes, or the convex hull; both areas); a surface part
@@ -20,22 +20,21 @@
 #include <vector>
 
 #include "uavip/core/types.h"
-#include "uavip/perception/surface_outline.h"
+#include "uavip/perception/plane_detector.h"
 #include "uavip/tiling/tiles.h"
 
 namespace uavip::tiling {
 
-/// Thresholds of the join (defaults: the detector's).
+/// Thresholds of the join: the detector's own options (app::Config::mergeOptions builds
+/// them from the resolved config), so a joined surface meets the rules its parts met.
 struct MergeOptions {
-  double distance_threshold_m{0.2};  ///< RANSAC band: same plane when within it [m]
-  double max_angle_deg{10.0};        ///< same plane when the normals are within it [deg]
-  double join_gap_m{0.3};            ///< parts closer than this touch [m]
-  double min_area_m2{2.0};           ///< a surface smaller than this becomes an obstacle [m²]
-  double area_cell_m{0.1};           ///< cell of the density area [m]
-  /// Boundary of a refitted surface: "outline" (perception/surface_outline.h, with
-  /// `outline`'s cell, closing and holes) or "convex" (the paper's hull).
-  std::string boundary{"outline"};
-  perception::OutlineOptions outline;
+  /// Same plane when each part's centroid is within `distance_threshold_m` of the other's
+  /// plane; parts closer than `cluster_tolerance_m` (perception.plane_cluster_tolerance_m)
+  /// touch; a surface under `min_area_m2` becomes an obstacle; the density area's cell is
+  /// `cell_size_m`; a refitted surface gets the detector's `boundary` and outline
+  /// (PlaneDetectionOptions::outlineOptions()).
+  perception::PlaneDetectionOptions planes;
+  double max_angle_deg{10.0};  ///< same plane when the normals are within it [deg]
   /// Also keep the safety points the given tiles' buffers saw in cores of tiles not
   /// given (each once): a section of the site planned apart from its neighbours then
   /// keeps clear of what lies just past its border.
