@@ -72,6 +72,7 @@ int runUavip(int argc, char** argv) {
   addScanCommands(cli, registry);
   addViewCommands(cli, registry);
   addTileCommands(cli, registry);
+  addPhotoCommands(cli, registry);
 
   try {
     cli.parse(argc, argv);
