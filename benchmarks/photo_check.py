@@ -8,9 +8,8 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
   intrinsics: SIFT (<= 4096 features an image), spatial matching with the planned
   camera centres as position priors (<= 10 neighbours; or sequential matching, 10
   neighbours in flown order), the incremental mapper. SIFT runs from the image's own
-  resolution (first_octave 0: the texture's finest feature is >= 3 px, no upsampling);
-  COLMAP 3.8 stops detecting at the octave that passes 4096 and gives a keypoint up to
-  two orientations, so an image holds somewhat more (the mean is reported). Reported: photos registered,
+  resolution (first_octave 0: the texture's finest feature is >= 3 px, no upsampling),
+  one orientation a keypoint (COLMAP's default two would double the 4096). Reported: photos registered,
   models, the largest model, mean reprojection error; camera centres against the plan
   after a similarity fit (Umeyama) per model; accuracy (90th percentile of the distance
   from the sparse points, after the same fit, to the world's rectangles) and
@@ -306,6 +305,7 @@ def extract_features(colmap, folder, meta, rows, work, threads, logf):
          "--ImageReader.camera_params", params,
          "--SiftExtraction.use_gpu", "0", "--SiftExtraction.num_threads", str(threads),
          "--SiftExtraction.max_num_features", str(MAX_FEATURES),
+         "--SiftExtraction.max_num_orientations", "1",
          "--SiftExtraction.first_octave", "0"], logf, colmap_env())
     return db
 
@@ -346,10 +346,16 @@ def match_and_map(colmap, folder, db, work, matcher, threads, logf):
     sparse = os.path.join(work, "sparse")
     shutil.rmtree(sparse, ignore_errors=True)
     os.makedirs(sparse)
-    run([colmap, "mapper", "--database_path", db, "--image_path", os.path.join(folder, "images"),
-         "--output_path", sparse, "--Mapper.num_threads", str(threads),
-         "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
-         "--Mapper.ba_refine_extra_params", "0"], logf, env)
+    try:
+        run([colmap, "mapper", "--database_path", db, "--image_path", os.path.join(folder, "images"),
+             "--output_path", sparse, "--Mapper.num_threads", str(threads),
+             "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
+             "--Mapper.ba_refine_extra_params", "0"], logf, env)
+    except CheckError:
+        if os.listdir(sparse):
+            raise
+        log("the mapper made no model")  # COLMAP 3.8 exits 1 when no model forms
+        return []
     models = []
     for sub in sorted(os.listdir(sparse), key=lambda s: int(s) if s.isdigit() else -1):
         path = os.path.join(sparse, sub)
@@ -552,15 +558,20 @@ def stitch_all(folder, rows, max_photos):
 # The case
 
 
-def prepare_scenario(src, work, overlap):
-    """The scenario, with coverage.overlap replaced when asked (a copy in work)."""
-    if overlap is None:
+def prepare_scenario(src, work, overlap, structure):
+    """The scenario, with coverage.overlap replaced and coverage.mode structure set when
+    asked (`uavip run` has no --cover; a copy in work)."""
+    if overlap is None and not structure:
         return os.path.abspath(src)
     import yaml  # noqa: PLC0415
 
     with open(src) as f:
         doc = yaml.safe_load(f)
-    doc.setdefault("coverage", {})["overlap"] = overlap
+    coverage = doc.setdefault("coverage", {})
+    if overlap is not None:
+        coverage["overlap"] = overlap
+    if structure:
+        coverage["mode"] = "structure"
     if "edits" in doc:
         doc["edits"] = os.path.join(os.path.dirname(os.path.abspath(src)), doc["edits"])
     path = os.path.join(work, os.path.basename(src))
@@ -589,18 +600,15 @@ def run_case(args):
               "overlap": args.overlap, "cover": "structure" if args.cover_structure else "surfaces",
               "matcher": args.matcher, "threads": args.threads}
     folder = args.photos_dir
-    scenario = prepare_scenario(args.scenario, work, args.overlap)
+    scenario = prepare_scenario(args.scenario, work, args.overlap, args.cover_structure)
     if folder is None:
         t0 = time.time()
-        cmd = [args.uavip, "run", scenario, "-o", os.path.join(work, "plan"), "-q"]
-        if args.cover_structure:
-            cmd[3:3] = ["--cover", "structure"]
-        run(cmd, logf)
+        run([args.uavip, "run", scenario, "-o", os.path.join(work, "plan"), "-q"], logf)
         timings["plan_s"] = round(time.time() - t0, 1)
         t0 = time.time()
         folder = os.path.join(work, "photos")
         run([args.uavip, "photos", os.path.join(work, "plan", "mission.json"), "--world", scenario,
-             "-o", folder, "-q"], logf)
+             "-o", folder, "--threads", str(args.threads), "-q"], logf)
         timings["photos_s"] = round(time.time() - t0, 1)
     meta, rows = read_photo_folder(folder)
     result["photos_planned"] = len(rows)
@@ -664,7 +672,7 @@ def markdown_row(res):
         comp = c.get("completeness", {})
         cells += [f"{c['registered']} ({100 * c['registered'] / res['photos']:.0f} %)", str(c["models"]),
                   str(c["largest"]),
-                  "–" if c["reprojection_px"] is None else f"{c['reprojection_px']:.2f}",
+                  "–" if c["reprojection_px"] is None else f"{c['reprojection_px']:.3f}",
                   f"{cm(ce.get('median'))} / {cm(ce.get('max'))}", cm(c.get("accuracy_p90_m")),
                   f"{100 * comp.get('5cm', 0):.0f} / {100 * comp.get('10cm', 0):.0f} %"]
         n = res.get("colmap_noisy")
@@ -698,7 +706,8 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenario", help="scenario YAML (e.g. scenarios/wall_small.yaml)")
     ap.add_argument("--overlap", type=float, help="replace coverage.overlap (a copy of the scenario)")
-    ap.add_argument("--cover-structure", action="store_true", help="uavip run --cover structure")
+    ap.add_argument("--cover-structure", action="store_true",
+                    help="coverage.mode structure (as plan --cover structure)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "photo_check"), help="output folder")
     ap.add_argument("--name", help="case name (default: from scenario and options)")
     ap.add_argument("--uavip", default=os.path.join(ROOT, "build", "uavip"))
