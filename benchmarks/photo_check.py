@@ -297,8 +297,9 @@ def extract_features(colmap, folder, meta, rows, work, threads, logf):
     with open(image_list, "w") as f:
         f.writelines(r["image"] + "\n" for r in rows)
     db = os.path.join(work, "features.db")
-    if os.path.exists(db):
-        os.remove(db)
+    for stale in (db, db + "-journal", db + "-wal", db + "-shm"):  # a killed run's too
+        if os.path.exists(stale):
+            os.remove(stale)
     run([colmap, "feature_extractor", "--database_path", db,
          "--image_path", os.path.join(folder, "images"), "--image_list_path", image_list,
          "--ImageReader.single_camera", "1", "--ImageReader.camera_model", "PINHOLE",
