@@ -22,11 +22,6 @@ if [ "${SKIP_APT:-0}" != 1 ] && ! dpkg-query -W -f='${Status}' chromium 2>/dev/n
   $SUDO apt-get update -q
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends chromium
 fi
-# The photo check's heavy test (PhotoCheckWallSmall) runs COLMAP and OpenCV: the packages of
-# benchmarks/packages.txt, installed here for the tests only (not by demo.sh or the .deb).
-if [ "${SKIP_APT:-0}" != 1 ]; then
-  bash benchmarks/photo_check.sh --install-only
-fi
 BUILD_DIR=${BUILD_DIR:-build}
 # The install test (label install) builds a consumer against the installed tree; it runs
 # in the Release suite only (an instrumented tree needs an instrumented consumer).
