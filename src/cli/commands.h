@@ -108,4 +108,13 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry);
 /// config --list: the scenario reference (config_commands.cpp).
 void addConfigCommands(CLI::App& cli, CommandRegistry& registry);
 
+/// photos: every photo stop rendered against a scenario's world (photo_commands.cpp).
+void addPhotoCommands(CLI::App& cli, CommandRegistry& registry);
+
+/// Renders the photos of `mission_path` against `world` into the folder `out`
+/// (photo/photo_folder.h; `threads` 0: every core); run --photos and photos.
+int renderPlanPhotos(const std::string& mission_path, const sim::WorldModel& world,
+                     const std::string& world_path, const std::string& out, int threads,
+                     const Verbosity& v);
+
 }  // namespace uavip::cli

@@ -73,6 +73,7 @@ int runUavip(int argc, char** argv) {
   addViewCommands(cli, registry);
   addTileCommands(cli, registry);
   addConfigCommands(cli, registry);
+  addPhotoCommands(cli, registry);
 
   try {
     cli.parse(argc, argv);

@@ -245,7 +245,8 @@ void stageViews(io::StagedOutputs& outputs, const std::string& out,
 }
 
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
-               bool surface_given, const std::string& planner, bool views, const Verbosity& v) {
+               bool surface_given, const std::string& planner, bool views, bool photos,
+               const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = bundledScenarioDir() + "/single_cube.yaml";
@@ -309,6 +310,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   // A scenario without surfaces (the single point, the line) has nothing to fly, as
   // the paper expects: that is a result, not a failure.
   if (p.missions.empty()) return kExitOk;
+  if (photos) renderPlanPhotos(out + "/mission.json", scenario.world, path, out + "/photos", 0, v);
   return missionExitCode(p, v);
 }
 
@@ -501,6 +503,7 @@ constexpr const char* kPlanFooter =
 struct PipelineArgs {
   std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical, edits;
   bool no_views{false};
+  bool photos{false};
 };
 
 }  // namespace
@@ -546,9 +549,12 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
   run->add_option("--planner", a->planner, planner_help);
   run->add_flag("--no-views", a->no_views, views_help);
+  run->add_flag("--photos", a->photos,
+                "Also render every photo stop against the scenario's world into OUT/photos (as "
+                "uavip photos)");
   registry.add(run, [a, &v] {
     return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface,
-                      !a->surface.empty(), a->planner, !a->no_views, v);
+                      !a->surface.empty(), a->planner, !a->no_views, a->photos, v);
   });
 
   auto* det = cli.add_subcommand(

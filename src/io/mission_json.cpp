@@ -127,8 +127,13 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
 
 namespace {
 
-/// `camera_model`: the sensor and its GSD, or the paper's footprint.
+/// `camera_model`: the pinhole intrinsics, the sensor and its GSD, or the paper's footprint.
 json cameraModel(const coverage::Camera& cam) {
+  if (cam.pinhole)
+    return {{"pinhole_px",
+             {{"fx", cam.fx_px}, {"fy", cam.fy_px}, {"cx", cam.cx_px}, {"cy", cam.cy_px}}},
+            {"image_px", {cam.image_w_px, cam.image_h_px}},
+            {"gsd_mm_per_px", cam.gsd_mm_per_px}};
   if (!cam.from_sensor) return {{"footprint_m", {cam.footprint_w_m, cam.footprint_h_m}}};
   return {{"sensor_mm", {cam.sensor_w_mm, cam.sensor_h_mm}},
           {"focal_mm", cam.focal_mm},

@@ -16,7 +16,48 @@ StopRecord readStop(const JsonReader& r, const json& j, const std::string& f) {
   s.gimbal_pitch_deg = r.number(r.at(j, "gimbal_pitch_deg", f),
                                 JsonReader::join(f, "gimbal_pitch_deg"), -180.0, 180.0, "deg");
   if (j.contains("problem")) s.problem = r.text(j.at("problem"), JsonReader::join(f, "problem"));
+  if (j.contains("target")) s.target = r.vec3(j.at("target"), JsonReader::join(f, "target"));
   return s;
+}
+
+/// `camera_model` (mission_json.cpp's cameraModel): pinhole, sensor or footprint.
+coverage::Camera readCameraModel(const JsonReader& r, const json& j) {
+  const std::string f = "camera_model";
+  coverage::Camera c;
+  const auto imagePx = [&] {
+    const json& px = r.at(j, "image_px", f);
+    if (!px.is_array() || px.size() != 2) r.fail(f + ".image_px", "must be [width, height]");
+    c.image_w_px = static_cast<int>(r.integer(px[0], f + ".image_px[0]", 1, 1'000'000));
+    c.image_h_px = static_cast<int>(r.integer(px[1], f + ".image_px[1]", 1, 1'000'000));
+  };
+  if (j.contains("pinhole_px")) {
+    const json& k = j.at("pinhole_px");
+    const std::string fk = f + ".pinhole_px";
+    c.pinhole = true;
+    c.fx_px = r.number(r.at(k, "fx", fk), fk + ".fx", 1e-6, 1e9, "px");
+    c.fy_px = r.number(r.at(k, "fy", fk), fk + ".fy", 1e-6, 1e9, "px");
+    c.cx_px = r.number(r.at(k, "cx", fk), fk + ".cx", 0.0, 1e6, "px");
+    c.cy_px = r.number(r.at(k, "cy", fk), fk + ".cy", 0.0, 1e6, "px");
+    imagePx();
+    if (j.contains("gsd_mm_per_px"))
+      c.gsd_mm_per_px = r.number(j.at("gsd_mm_per_px"), f + ".gsd_mm_per_px", 0.0, 1e6, "mm/px");
+  } else if (j.contains("sensor_mm")) {
+    c.from_sensor = true;
+    const json& s = j.at("sensor_mm");
+    if (!s.is_array() || s.size() != 2) r.fail(f + ".sensor_mm", "must be [width, height]");
+    c.sensor_w_mm = r.number(s[0], f + ".sensor_mm[0]", 1e-6, 1e6, "mm");
+    c.sensor_h_mm = r.number(s[1], f + ".sensor_mm[1]", 1e-6, 1e6, "mm");
+    c.focal_mm = r.number(r.at(j, "focal_mm", f), f + ".focal_mm", 1e-6, 1e6, "mm");
+    imagePx();
+    c.gsd_mm_per_px =
+        r.number(r.at(j, "gsd_mm_per_px", f), f + ".gsd_mm_per_px", 1e-9, 1e6, "mm/px");
+  } else {
+    const json& fp = r.at(j, "footprint_m", f);
+    if (!fp.is_array() || fp.size() != 2) r.fail(f + ".footprint_m", "must be [width, height]");
+    c.footprint_w_m = r.number(fp[0], f + ".footprint_m[0]", 1e-6, 1e6, "m");
+    c.footprint_h_m = r.number(fp[1], f + ".footprint_m[1]", 1e-6, 1e6, "m");
+  }
+  return c;
 }
 
 SurfaceRecord readSurface(const JsonReader& r, const json& j, const std::string& f) {
@@ -24,6 +65,10 @@ SurfaceRecord readSurface(const JsonReader& r, const json& j, const std::string&
   s.surface_id = static_cast<int>(
       r.integer(r.at(j, "surface_id", f), JsonReader::join(f, "surface_id"), 0, 1'000'000));
   s.status = r.text(r.at(j, "status", f), JsonReader::join(f, "status"));
+  if (j.contains("kind")) s.kind = r.text(j.at("kind"), JsonReader::join(f, "kind"));
+  if (j.contains("camera") && j.at("camera").contains("standoff_m"))
+    s.standoff_m = r.number(j.at("camera").at("standoff_m"),
+                            JsonReader::join(f, "camera.standoff_m"), 0.0, 1e6, "m");
   if (j.contains("reason")) s.reason = r.text(j.at("reason"), JsonReader::join(f, "reason"));
   const std::string fs = JsonReader::join(f, "stops");
   const json& stops = r.list(r.at(j, "stops", f), fs);
@@ -78,6 +123,8 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
   if (j.contains("inflation_radius_m"))
     m.inflation_radius_m =
         r.number(j.at("inflation_radius_m"), "inflation_radius_m", 1e-6, 1e3, "m");
+  if (j.contains("source")) m.source = r.text(j.at("source"), "source");
+  if (j.contains("camera_model")) m.camera = readCameraModel(r, j.at("camera_model"));
   const json& surfaces = r.list(r.at(j, "surfaces", ""), "surfaces");
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const std::string f = JsonReader::item("surfaces", i);

@@ -76,6 +76,7 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
 /// A photo stop as mission.json records it.
 struct StopRecord {
   Vec3 position{Vec3::Zero()};   ///< [m], local ENU
+  std::optional<Vec3> target;    ///< the surface point it aims at [m]; absent in older files
   double yaw_deg{0.0};           ///< CCW from +x (east) [deg]
   double gimbal_pitch_deg{0.0};  ///< up positive [deg]
   std::string problem{"none"};   ///< "none" when flown; a partial mission skips the others
@@ -85,7 +86,10 @@ struct StopRecord {
 /// One surface's mission as recorded.
 struct SurfaceRecord {
   int surface_id{0};
+  std::string kind;    ///< "structure" for plan --cover structure's views, else the surface's kind
   std::string status;  ///< ok, partial, blocked, failed, …
+  /// The camera's standoff (`camera.standoff_m`) [m]; NaN when absent.
+  double standoff_m{std::numeric_limits<double>::quiet_NaN()};
   std::string reason;
   std::vector<StopRecord> stops;
   PointList waypoints;  ///< [m]
@@ -115,6 +119,9 @@ struct FlightRecord {
 /// A mission.json read back.
 struct MissionRecord {
   double inflation_radius_m{std::numeric_limits<double>::quiet_NaN()};  ///< NaN when absent [m]
+  std::string source;  ///< the scenario or scene.json planned (`source`; "" when absent)
+  /// The camera planned with (`camera_model`: footprint, sensor or pinhole); absent in older files.
+  std::optional<coverage::Camera> camera;
   std::vector<SurfaceRecord> surfaces;
   std::optional<FlightRecord> flight;  ///< absent in files of older versions
   /// The keep-out volumes of the edits the plan applied (`edits.keep_out`; none without).

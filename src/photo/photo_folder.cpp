@@ -1,0 +1,274 @@
+#include "uavip/photo/photo_folder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/parallel.h"
+#include "uavip/core/stopwatch.h"
+#include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
+#include "uavip/io/mission_export.h"
+#include "uavip/io/wpml_export.h"
+
+namespace uavip::photo {
+namespace {
+
+/// printf into a std::string.
+template <typename... Args>
+std::string format(const char* fmt, Args... args) {
+  char buf[512];
+  const int n = std::snprintf(buf, sizeof(buf), fmt, args...);
+  return std::string(buf, static_cast<std::size_t>(std::max(0, n)));
+}
+
+/// The first finite standoff of a flyable surface [m] (NaN if none).
+double plannedStandoff(const io::MissionRecord& mission) {
+  for (const auto& s : mission.surfaces) {
+    if (s.flyable() && std::isfinite(s.standoff_m) && s.standoff_m > 0.0) return s.standoff_m;
+  }
+  return kNan;
+}
+
+/// One photo of stop `stop` of `surface` (kind "structure": surface_id −1).
+PlannedPhoto makePhoto(const io::SurfaceRecord& surface, std::size_t stop, int sortie,
+                       const PhotoCamera& camera, const std::string& path) {
+  const io::StopRecord& s = surface.stops[stop];
+  PlannedPhoto p;
+  io::FlightWaypoint w;
+  w.surface_id = surface.surface_id;
+  w.stop_index = static_cast<int>(stop);
+  p.stop_id = io::stopId(w);
+  if (!s.target)
+    throw InputError(path + ": stop " + p.stop_id +
+                     " has no target (written by an older uavip); re-run uavip plan");
+  p.surface_id = surface.kind == "structure" ? -1 : surface.surface_id;
+  p.sortie = sortie;
+  p.view.position = s.position;
+  p.view.yaw_deg = s.yaw_deg;
+  p.view.pitch_deg = s.gimbal_pitch_deg;
+  p.pose = poseFromView(p.view);
+  p.target = *s.target;
+  const coverage::PinholeIntrinsics& k = camera.intrinsics;
+  const double depth = std::max(0.0, projectToImage(k, p.pose, p.target).z());
+  p.footprint_w_m = depth * k.width_px / k.fx_px;
+  p.footprint_h_m = depth * k.height_px / k.fy_px;
+  return p;
+}
+
+}  // namespace
+
+PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& path) {
+  if (!mission.camera)
+    throw InputError(path + ": has no camera_model (written by an older uavip); re-run uavip plan");
+  const coverage::Camera& c = *mission.camera;
+  PhotoCamera out;
+  out.standoff_m = plannedStandoff(mission);
+  coverage::PinholeIntrinsics& k = out.intrinsics;
+  if (c.pinhole) {
+    k.width_px = c.image_w_px;
+    k.height_px = c.image_h_px;
+    k.fx_px = c.fx_px;
+    k.fy_px = c.fy_px;
+    k.cx_px = c.cx_px;
+    k.cy_px = c.cy_px;
+    if (!std::isfinite(out.standoff_m) && c.gsd_mm_per_px > 0.0)
+      out.standoff_m = c.gsd_mm_per_px * std::min(c.fx_px, c.fy_px) / 1000.0;
+  } else if (c.from_sensor) {
+    k.width_px = c.image_w_px;
+    k.height_px = c.image_h_px;
+    k.fx_px = c.focal_mm * c.image_w_px / c.sensor_w_mm;
+    k.fy_px = c.focal_mm * c.image_h_px / c.sensor_h_mm;
+    k.cx_px = 0.5 * k.width_px;
+    k.cy_px = 0.5 * k.height_px;
+  }
+  if (!(std::isfinite(out.standoff_m) && out.standoff_m > 0.0))
+    throw InputError(path +
+                     ": no flyable surface records its camera standoff; nothing to photograph");
+  if (!c.pinhole && !c.from_sensor) {  // footprint only: kFootprintPixelM at the standoff
+    k.width_px = std::max(1, static_cast<int>(std::lround(c.footprint_w_m / kFootprintPixelM)));
+    k.height_px = std::max(1, static_cast<int>(std::lround(c.footprint_h_m / kFootprintPixelM)));
+    k.fx_px = k.width_px * out.standoff_m / c.footprint_w_m;
+    k.fy_px = k.height_px * out.standoff_m / c.footprint_h_m;
+    k.cx_px = 0.5 * k.width_px;
+    k.cy_px = 0.5 * k.height_px;
+  }
+  out.gsd_m_per_px = out.standoff_m / std::min(k.fx_px, k.fy_px);
+  return out;
+}
+
+std::vector<PlannedPhoto> plannedPhotos(const io::MissionRecord& mission, const PhotoCamera& camera,
+                                        const std::string& path) {
+  std::vector<PlannedPhoto> photos;
+  if (mission.flight && !mission.flight->sorties.empty()) {
+    for (std::size_t i = 0; i < mission.flight->sorties.size(); ++i) {
+      for (const io::SortieStopRecord& st : mission.flight->sorties[i].stops)
+        photos.push_back(makePhoto(*mission.surface(st.surface_id), st.stop,
+                                   static_cast<int>(i + 1), camera, path));
+    }
+  } else {
+    for (const auto& s : mission.surfaces) {
+      if (!s.flyable()) continue;
+      for (std::size_t k = 0; k < s.stops.size(); ++k) {
+        if (s.stops[k].flown()) photos.push_back(makePhoto(s, k, 0, camera, path));
+      }
+    }
+  }
+  if (photos.empty()) throw InputError(path + ": the mission has no photo stop to render");
+  for (std::size_t i = 0; i < photos.size(); ++i) photos[i].order = i + 1;
+  return photos;
+}
+
+WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldModel& world,
+                      const PhotoCamera& camera) {
+  WorldMatch m;
+  m.tolerance_m = std::max(0.1, 0.05 * camera.standoff_m);
+  std::vector<double> d;
+  for (const auto& p : photos) {
+    d.push_back(world.distanceToTruth(p.target));
+    if (d.back() > m.tolerance_m) ++m.far;
+  }
+  m.targets = d.size();
+  m.median_m = d.empty() ? 0.0 : median(d);
+  return m;
+}
+
+std::string colmapCameras(const PhotoCamera& camera) {
+  const auto& k = camera.intrinsics;
+  return "# Camera list with one line of data per camera:\n"
+         "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+         "# Number of cameras: 1\n" +
+         format("1 PINHOLE %d %d %.9g %.9g %.9g %.9g\n", k.width_px, k.height_px, k.fx_px, k.fy_px,
+                k.cx_px, k.cy_px);
+}
+
+std::string colmapImages(const std::vector<PlannedPhoto>& photos) {
+  std::string out =
+      "# Image list with two lines of data per image:\n"
+      "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+      "#   POINTS2D[] as (X, Y, POINT3D_ID)\n" +
+      format("# Number of images: %zu, mean observations per image: 0\n", photos.size());
+  for (const auto& p : photos) {
+    const Eigen::Matrix3d r_wc = p.pose.camera_to_world.transpose();
+    Eigen::Quaterniond q(r_wc);
+    q.normalize();
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+    const Vec3 t = -(r_wc * p.pose.position);
+    out += format("%zu %.12f %.12f %.12f %.12f %.9f %.9f %.9f 1 %s.png\n\n", p.order, q.w(), q.x(),
+                  q.y(), q.z(), t.x(), t.y(), t.z(), p.stop_id.c_str());
+  }
+  return out;
+}
+
+std::string colmapPoints() {
+  return "# 3D point list with one line of data per point:\n"
+         "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+         "# Number of points: 0, mean track length: 0\n";
+}
+
+std::string posesCsv(const std::vector<PlannedPhoto>& photos) {
+  std::string out =
+      "order,stop_id,surface_id,sortie,x_m,y_m,z_m,qw,qx,qy,qz,target_x_m,target_y_m,target_z_m,"
+      "footprint_w_m,footprint_h_m\n";
+  for (const auto& p : photos) {
+    Eigen::Quaterniond q(p.pose.camera_to_world);
+    q.normalize();
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+    const Vec3& c = p.pose.position;
+    out += format("%zu,%s,%d,%d,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
+                  p.order, p.stop_id.c_str(), p.surface_id, p.sortie, c.x(), c.y(), c.z(), q.w(),
+                  q.x(), q.y(), q.z(), p.target.x(), p.target.y(), p.target.z(), p.footprint_w_m,
+                  p.footprint_h_m);
+  }
+  return out;
+}
+
+namespace {
+
+std::string photosJson(const std::string& mission_path, const std::string& world_path,
+                       const PhotoCamera& camera, const TextureOptions& texture,
+                       std::size_t photos) {
+  const auto& k = camera.intrinsics;
+  const nlohmann::json j = {{"mission", mission_path},
+                            {"world", world_path},
+                            {"camera",
+                             {{"width_px", k.width_px},
+                              {"height_px", k.height_px},
+                              {"fx_px", k.fx_px},
+                              {"fy_px", k.fy_px},
+                              {"cx_px", k.cx_px},
+                              {"cy_px", k.cy_px},
+                              {"standoff_m", camera.standoff_m},
+                              {"gsd_m_per_px", camera.gsd_m_per_px}}},
+                            {"texture",
+                             {{"seed", texture.seed},
+                              {"finest_feature_px", kFinestFeaturePx},
+                              {"finest_feature_m", texture.finest_feature_m},
+                              {"octaves", texture.octaves}}},
+                            {"photos", photos},
+                            {"frame", "local ENU"}};
+  return j.dump(2) + "\n";
+}
+
+/// The one-line refusal when the mission was planned on another world.
+[[noreturn]] void worldMismatch(const WorldMatch& m, const std::string& mission_path,
+                                const std::string& world_path, const std::string& source) {
+  throw InputError(mission_path + ": " + std::to_string(m.far) + " of " +
+                   std::to_string(m.targets) + " photo targets lie more than " +
+                   formatNumber(m.tolerance_m, 3) + " m from the surfaces of world " + world_path +
+                   " (median " + formatNumber(m.median_m, 3) +
+                   " m): the mission was not planned on this world; give --world the scenario it "
+                   "was planned from" +
+                   (source.empty() ? std::string() : " (mission.json source: " + source + ")"));
+}
+
+}  // namespace
+
+PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                              const sim::WorldModel& world, const std::string& world_path,
+                              const std::string& out, const PhotoOptions& options) {
+  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
+  PhotoSummary summary;
+  summary.match = matchWorld(photos, world, camera);
+  if (!summary.match.matches())
+    worldMismatch(summary.match, mission_path, world_path, mission.source);
+  const RayCaster caster(world);
+  TextureOptions texture;
+  texture.seed = options.texture_seed;
+  texture.finest_feature_m = kFinestFeaturePx * camera.gsd_m_per_px;
+  const SurfaceTexture surface_texture(texture);
+
+  const auto t0 = SteadyClock::now();
+  io::StagedOutputs staged;
+  const int threads = std::max(1, options.threads);
+  const std::size_t batch = 2 * static_cast<std::size_t>(threads);
+  for (std::size_t first = 0; first < photos.size(); first += batch) {
+    const std::size_t n = std::min(batch, photos.size() - first);
+    std::vector<std::string> png(n);
+    parallelFor(n, threads, [&](std::size_t i, std::size_t /*worker*/) {
+      png[i] = encodePng(
+          renderPhoto(caster, surface_texture, camera.intrinsics, photos[first + i].pose));
+    });
+    for (std::size_t i = 0; i < n; ++i)
+      staged.write(out + "/images/" + photos[first + i].stop_id + ".png", png[i]);
+    if (options.progress) options.progress(first + n, photos.size());
+  }
+  summary.photos = photos.size();
+  summary.megapixels = static_cast<double>(photos.size()) * camera.intrinsics.width_px *
+                       camera.intrinsics.height_px / 1e6;
+  summary.seconds = secondsSince(t0);
+  staged.write(out + "/sparse/cameras.txt", colmapCameras(camera));
+  staged.write(out + "/sparse/images.txt", colmapImages(photos));
+  staged.write(out + "/sparse/points3D.txt", colmapPoints());
+  staged.write(out + "/poses.csv", posesCsv(photos));
+  staged.write(out + "/photos.json",
+               photosJson(mission_path, world_path, camera, texture, photos.size()));
+  staged.commit();
+  return summary;
+}
+
+}  // namespace uavip::photo

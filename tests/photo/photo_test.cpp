@@ -1,0 +1,386 @@
+// The photos of a plan (photo/): rays against a brute-force intersection with the
+// world's rectangles, the outer surface only, the view centre on the target, the
+// COLMAP model re-projecting the targets, PNG bytes independent of the thread count
+// and decoding to the rendered pixels, a world that does not match refused; and the
+// CLI end to end (run --photos, photos against another world).
+
+#include <gtest/gtest.h>
+#include <png.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/cli/cli_runner.h"
+#include "uavip/core/error.h"
+#include "uavip/core/math.h"
+#include "uavip/core/text.h"
+#include "uavip/photo/photo_folder.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace uavip;
+using photo::PhotoPose;
+
+/// The tower of scenarios/tower.yaml at a tenth of its size, beside a free wall.
+sim::WorldModel towerWorld() {
+  sim::WorldModel w;
+  w.addBox("shaft", Vec3(-0.3, -0.3, 0.0), Vec3(0.3, 0.3, 4.0));
+  w.addBox("platform", Vec3(-0.5, -0.5, 3.0), Vec3(0.5, 0.5, 3.1));
+  w.addPlane({"ground", Vec3(-2, -2, 0), Vec3(4, 0, 0), Vec3(0, 4, 0)});
+  w.addPlane({"wall", Vec3(1.0, -1.0, 0.2), Vec3(0, 2, 0), Vec3(0, 0, 1.5)});
+  return w;
+}
+
+/// Brute force: the nearest rectangle a ray meets, in double (t = inf when none).
+double bruteForceHit(const sim::WorldModel& w, const Vec3& o, const Vec3& d, Vec3* point) {
+  double best = kInf;
+  for (const auto& r : w.rects()) {
+    const Vec3 n = r.normal();
+    const double along = n.dot(d);
+    if (std::abs(along) < 1e-12) continue;
+    const double t = n.dot(r.corner - o) / along;
+    if (!(t > 1e-9 && t < best)) continue;
+    const Vec3 q = o + t * d - r.corner;
+    const double s = q.dot(r.edge_u) / r.edge_u.squaredNorm();
+    const double u = q.dot(r.edge_v) / r.edge_v.squaredNorm();
+    if (s < -1e-9 || s > 1 + 1e-9 || u < -1e-9 || u > 1 + 1e-9) continue;
+    best = t;
+    *point = o + t * d;
+  }
+  return best;
+}
+
+/// The view from `standoff` off `target` along `normal`, looking back at it.
+coverage::ViewPose viewAt(const Vec3& target, const Vec3& normal, double standoff) {
+  coverage::ViewPose v;
+  v.position = target + standoff * normal;
+  const Vec3 f = -normal;
+  v.yaw_deg = std::atan2(f.y(), f.x()) * kRadToDeg;
+  v.pitch_deg = std::asin(std::clamp(f.z(), -1.0, 1.0)) * kRadToDeg;
+  return v;
+}
+
+coverage::PinholeIntrinsics smallCamera() {
+  coverage::PinholeIntrinsics k;
+  k.width_px = 96;
+  k.height_px = 64;
+  k.fx_px = 80.0;
+  k.fy_px = 82.0;
+  k.cx_px = 47.0;
+  k.cy_px = 33.5;
+  return k;
+}
+
+/// Views of the tower world from every side, some tilted.
+std::vector<coverage::ViewPose> towerViews() {
+  std::vector<coverage::ViewPose> views;
+  views.push_back(viewAt(Vec3(0.3, 0.0, 2.0), Vec3::UnitX(), 1.2));
+  views.push_back(viewAt(Vec3(0.0, -0.5, 3.05), -Vec3::UnitY(), 1.5));
+  views.push_back(viewAt(Vec3(0.4, 0.4, 3.1), Vec3(0.3, 0.2, 1.0).normalized(), 1.0));
+  views.push_back(viewAt(Vec3(0.0, 0.4, 2.9), Vec3(0.0, 0.5, -0.6).normalized(), 0.9));
+  views.push_back(viewAt(Vec3(1.0, 0.0, 1.0), -Vec3::UnitX(), 0.6));
+  return views;
+}
+
+TEST(RayCaster, PixelRaysHitWhatBruteForceFinds) {
+  const sim::WorldModel world = towerWorld();
+  const photo::RayCaster caster(world);
+  const auto k = smallCamera();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(0.0, k.width_px), uy(0.0, k.height_px);
+  int hits = 0;
+  for (const auto& view : towerViews()) {
+    const PhotoPose pose = photo::poseFromView(view);
+    for (int i = 0; i < 200; ++i) {
+      const Vec3 d = photo::pixelRay(k, pose, ux(rng), uy(rng));
+      Vec3 expected = Vec3::Zero();
+      const double t = bruteForceHit(world, pose.position, d, &expected);
+      const photo::RayHit hit = caster.cast(pose.position, d);
+      ASSERT_EQ(hit.hit, std::isfinite(t));
+      if (!hit.hit) continue;
+      ++hits;
+      EXPECT_NEAR(hit.t, t, 1e-4);
+      EXPECT_LT((hit.point - expected).norm(), 1e-4);
+      EXPECT_LT(world.distanceToTruth(hit.point), 1e-6);
+    }
+  }
+  EXPECT_GT(hits, 500);
+}
+
+TEST(RayCaster, SeesOnlyTheOuterSurface) {
+  // The platform's faces inside the shaft and the shaft's inside the platform are
+  // never hit from outside.
+  const sim::WorldModel world = towerWorld();
+  const photo::RayCaster caster(world);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto insideBox = [](const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    return ((p.array() > lo.array() + 1e-6) && (p.array() < hi.array() - 1e-6)).all();
+  };
+  int near_tower = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 from(2.0 * u(rng), 2.0 * u(rng), 3.05 + 1.5 * u(rng));
+    if (insideBox(from, Vec3(-0.5, -0.5, 3.0), Vec3(0.5, 0.5, 3.1)) ||
+        insideBox(from, Vec3(-0.3, -0.3, 0.0), Vec3(0.3, 0.3, 4.0)))
+      continue;
+    const Vec3 to(0.5 * u(rng), 0.5 * u(rng), 3.05 + 0.3 * u(rng));
+    const photo::RayHit hit = caster.cast(from, (to - from).normalized());
+    if (!hit.hit) continue;
+    const bool in_platform = insideBox(hit.point, Vec3(-0.5, -0.5, 3.0), Vec3(0.5, 0.5, 3.1));
+    const bool in_shaft = insideBox(hit.point, Vec3(-0.3, -0.3, 0.0), Vec3(0.3, 0.3, 4.0));
+    EXPECT_FALSE(in_platform || in_shaft) << formatPoint(hit.point);
+    near_tower += hit.point.head<2>().norm() < 0.75 ? 1 : 0;
+  }
+  EXPECT_GT(near_tower, 1000);
+}
+
+TEST(Renderer, ViewCentreLandsOnTheTarget) {
+  const sim::WorldModel world = towerWorld();
+  const photo::RayCaster caster(world);
+  const auto k = smallCamera();
+  const std::vector<Vec3> targets = {Vec3(0.3, 0.0, 2.0), Vec3(0.0, -0.5, 3.05),
+                                     Vec3(0.4, 0.4, 3.1), Vec3(1.0, 0.0, 1.0)};
+  const std::vector<Vec3> normals = {Vec3::UnitX(), -Vec3::UnitY(),
+                                     Vec3(0.3, 0.2, 1.0).normalized(), -Vec3::UnitX()};
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const PhotoPose pose = photo::poseFromView(viewAt(targets[i], normals[i], 0.6));
+    const photo::RayHit hit =
+        caster.cast(pose.position, photo::pixelRay(k, pose, k.cx_px, k.cy_px));
+    ASSERT_TRUE(hit.hit);
+    EXPECT_LT((hit.point - targets[i]).norm(), 1e-6) << i;
+    const Eigen::Vector3d px = photo::projectToImage(k, pose, targets[i]);
+    EXPECT_NEAR(px.x(), k.cx_px, 1e-9);
+    EXPECT_NEAR(px.y(), k.cy_px, 1e-9);
+    EXPECT_NEAR(px.z(), 0.6, 1e-9);
+  }
+}
+
+/// A two-surface mission over the tower world in two sorties, footprint camera.
+io::MissionRecord towerMission() {
+  io::MissionRecord m;
+  coverage::Camera cam;
+  cam.footprint_w_m = 0.06;
+  cam.footprint_h_m = 0.04;
+  m.camera = cam;
+  m.source = "tower_small.yaml";
+  io::SurfaceRecord a, b;
+  a.surface_id = 0;
+  a.status = "ok";
+  a.standoff_m = 0.5;
+  b.surface_id = 4;
+  b.kind = "structure";
+  b.status = "ok";
+  b.standoff_m = 0.5;
+  const auto stop = [](const Vec3& target, const Vec3& n) {
+    io::StopRecord s;
+    const auto v = viewAt(target, n, 0.5);
+    s.position = v.position;
+    s.yaw_deg = v.yaw_deg;
+    s.gimbal_pitch_deg = v.pitch_deg;
+    s.target = target;
+    return s;
+  };
+  for (int i = 0; i < 3; ++i)
+    a.stops.push_back(stop(Vec3(0.3, -0.1 + 0.1 * i, 2.0), Vec3::UnitX()));
+  for (int i = 0; i < 2; ++i)
+    b.stops.push_back(stop(Vec3(0.45, -0.2 + 0.4 * i, 3.1), Vec3(0.2, 0.0, 1.0).normalized()));
+  m.surfaces = {a, b};
+  io::FlightRecord f;
+  f.status = "ok";
+  io::SortieRecord s1, s2;
+  s1.stops = {{0, 2, 1}, {0, 1, 2}, {4, 0, 3}};
+  s2.stops = {{4, 1, 1}, {0, 0, 2}};
+  f.sorties = {s1, s2};
+  m.flight = f;
+  return m;
+}
+
+/// The folder written with `threads` workers (file name → bytes).
+std::map<std::string, std::string> writeFolder(const io::MissionRecord& m,
+                                               const sim::WorldModel& world, int threads,
+                                               const fs::path& dir) {
+  photo::PhotoOptions o;
+  o.threads = threads;
+  photo::writePhotoFolder(m, "mission.json", world, "tower_small.yaml", dir.string(), o);
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file())
+      files[fs::relative(e.path(), dir).string()] = uavip::cli_test::slurp(e.path());
+  }
+  return files;
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("uavip_photo_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(PhotoFolder, FlownOrderIdsAndCamera) {
+  const auto m = towerMission();
+  const photo::PhotoCamera cam = photo::photoCamera(m, "mission.json");
+  EXPECT_EQ(cam.intrinsics.width_px, 120);  // 0.06 m at 0.5 mm/px
+  EXPECT_EQ(cam.intrinsics.height_px, 80);
+  EXPECT_NEAR(cam.gsd_m_per_px, photo::kFootprintPixelM, 1e-12);
+  const auto photos = photo::plannedPhotos(m, cam, "mission.json");
+  ASSERT_EQ(photos.size(), 5U);
+  const std::vector<std::string> ids = {"s0_002", "s0_001", "s4_000", "s4_001", "s0_000"};
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    EXPECT_EQ(photos[i].stop_id, ids[i]);
+    EXPECT_EQ(photos[i].order, i + 1);
+    EXPECT_EQ(photos[i].sortie, i < 3 ? 1 : 2);
+    EXPECT_NEAR(photos[i].footprint_w_m, 0.06, 1e-9);
+  }
+  EXPECT_EQ(photos[2].surface_id, -1);  // a structure view
+  EXPECT_EQ(photos[0].surface_id, 0);
+}
+
+/// Decodes a PNG (libpng's simplified API) to 8-bit RGB.
+std::vector<std::uint8_t> decodePng(const std::string& bytes, int* w, int* h) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) return {};
+  image.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> rgb(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, rgb.data(), 0, nullptr)) return {};
+  *w = static_cast<int>(image.width);
+  *h = static_cast<int>(image.height);
+  return rgb;
+}
+
+TEST(PhotoFolder, SameBytesWithOneAndTwoThreadsAndPngsDecodeToTheRender) {
+  const auto m = towerMission();
+  const sim::WorldModel world = towerWorld();
+  const fs::path d1 = tempDir("t1"), d2 = tempDir("t2");
+  const auto one = writeFolder(m, world, 1, d1);
+  const auto two = writeFolder(m, world, 2, d2);
+  EXPECT_EQ(one.size(), 10U);  // 5 images, 3 sparse files, poses.csv, photos.json
+  EXPECT_TRUE(one == two);
+  // The PNG holds the rendered pixels, and they show texture (not one colour).
+  const photo::RayCaster caster(world);
+  const photo::PhotoCamera cam = photo::photoCamera(m, "mission.json");
+  photo::TextureOptions t;
+  t.finest_feature_m = photo::kFinestFeaturePx * cam.gsd_m_per_px;
+  const photo::SurfaceTexture texture(t);
+  const auto photos = photo::plannedPhotos(m, cam, "mission.json");
+  const photo::Image img = photo::renderPhoto(caster, texture, cam.intrinsics, photos[0].pose);
+  int w = 0, h = 0;
+  const auto decoded = decodePng(one.at("images/s0_002.png"), &w, &h);
+  EXPECT_EQ(w, 120);
+  EXPECT_EQ(h, 80);
+  EXPECT_TRUE(decoded == img.rgb);
+  double sum = 0, sum2 = 0;
+  for (std::size_t i = 0; i < img.rgb.size(); i += 3) {
+    sum += img.rgb[i];
+    sum2 += double(img.rgb[i]) * img.rgb[i];
+  }
+  const double n = double(img.rgb.size() / 3);
+  EXPECT_GT(std::sqrt(sum2 / n - (sum / n) * (sum / n)), 10.0);  // grey levels vary
+  fs::remove_all(d1);
+  fs::remove_all(d2);
+}
+
+/// COLMAP's images.txt and cameras.txt read back: every target projects to the
+/// principal point at the planned standoff.
+TEST(PhotoFolder, ColmapModelReprojectsTheTargetsToTheCentre) {
+  const auto m = towerMission();
+  const photo::PhotoCamera cam = photo::photoCamera(m, "mission.json");
+  const auto photos = photo::plannedPhotos(m, cam, "mission.json");
+  std::istringstream cams(photo::colmapCameras(cam));
+  std::string line;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  while (std::getline(cams, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    int id = 0, w = 0, h = 0;
+    std::string model;
+    ls >> id >> model >> w >> h >> fx >> fy >> cx >> cy;
+    EXPECT_EQ(model, "PINHOLE");
+    EXPECT_EQ(w, 120);
+  }
+  std::istringstream imgs(photo::colmapImages(photos));
+  std::size_t count = 0;
+  while (std::getline(imgs, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::size_t id = 0;
+    int camera_id = 0;
+    double qw, qx, qy, qz, tx, ty, tz;
+    std::string name;
+    ls >> id >> qw >> qx >> qy >> qz >> tx >> ty >> tz >> camera_id >> name;
+    ASSERT_EQ(id, count + 1);
+    const auto& p = photos[count++];
+    EXPECT_EQ(name, p.stop_id + ".png");
+    const Eigen::Matrix3d r = Eigen::Quaterniond(qw, qx, qy, qz).toRotationMatrix();
+    const Vec3 c = r * p.target + Vec3(tx, ty, tz);
+    EXPECT_NEAR(fx * c.x() / c.z() + cx, 60.0, 1e-6);
+    EXPECT_NEAR(fy * c.y() / c.z() + cy, 40.0, 1e-6);
+    EXPECT_NEAR(c.z(), 0.5, 1e-6);
+    // The camera centre −Rᵀt is the stop's position.
+    EXPECT_LT((-(r.transpose() * Vec3(tx, ty, tz)) - p.view.position).norm(), 1e-6);
+  }
+  EXPECT_EQ(count, photos.size());
+}
+
+TEST(PhotoFolder, RefusesAWorldTheMissionWasNotPlannedOn) {
+  const auto m = towerMission();
+  sim::WorldModel other;
+  other.addBox("shaft", Vec3(-0.3, -0.3, 0.0), Vec3(0.3, 0.3, 1.0));  // a shorter tower
+  const fs::path d = tempDir("other");
+  try {
+    writeFolder(m, other, 1, d);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("not planned on this world"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("tower_small.yaml"), std::string::npos) << msg;
+  }
+  EXPECT_FALSE(fs::exists(d / "photos.json"));
+}
+
+TEST(PhotosCli, RunWithPhotosAndAnotherWorld) {
+  const fs::path dir = tempDir("cli");
+  fs::create_directories(dir);
+  const fs::path scenario = dir / "small_wall.yaml";
+  std::ofstream(scenario)
+      << "name: small_wall\n"
+         "world:\n"
+         "  - {type: plane, name: wall, corner: [0.0, 0.0, 0.5], edge_u: [2.0, 0.0, 0.0], "
+         "edge_v: [0.0, 0.0, 1.5]}\n"
+         "sensing: {mode: sample, spacing_m: 0.05, noise_sigma_m: 0.005, outlier_fraction: 0.0, "
+         "seed: 3, viewpoint: [1.0, -4.0, 1.2]}\n"
+         "perception: {min_area_m2: 1.0}\n"
+         "camera: {fx: 200, fy: 200, cx: 80, cy: 60, image_px: [160, 120], gsd_mm_per_px: 5}\n";
+  const auto run = uavip::cli_test::uavip("run " + scenario.string() +
+                                          " -q --no-views --photos -o " + (dir / "out").string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::ifstream poses(dir / "out/photos/poses.csv");
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(poses, line)) ++rows;
+  ASSERT_GT(rows, 1U);
+  std::size_t images = 0;
+  for (const auto& e : fs::directory_iterator(dir / "out/photos/images")) {
+    images += e.path().extension() == ".png" ? 1 : 0;
+  }
+  EXPECT_EQ(images, rows - 1);
+  const auto bad = uavip::cli_test::uavip(
+      "photos " + (dir / "out/mission.json").string() + " --world " + UAVIP_SOURCE_DIR +
+      "/scenarios/single_cube.yaml -o " + (dir / "bad").string());
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_FALSE(fs::exists(dir / "bad/photos.json"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
