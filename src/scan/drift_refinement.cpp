@@ -209,7 +209,7 @@ void addPoint(VoxelStats& v, const NodeWeight& nw, double omega, double r, bool 
   const double a0 = 1.0 - nw.u, a1 = nw.u;
   v.touch(k);
   v.touch(k + 1);
-  const auto u0 = static_cast<std::size_t>(k), u1 = static_cast<std::size_t>(k + 1);
+  const auto u0 = static_cast<std::size_t>(k), u1 = u0 + 1;
   v.s[u0] += omega * a0;
   v.s[u1] += omega * a1;
   v.gk[u0] += omega * a0 * r;
@@ -244,12 +244,13 @@ void accumulate(const VoxelStats& v, const Vec3& n, bool loop_only, System& sys)
   const double rbar = v.r / v.w;
   for (const int k : v.touched) {
     const auto uk = static_cast<std::size_t>(k);
-    sys.g.segment<3>(3 * k) += (v.gk[uk] - v.s[uk] * rbar) * n;
+    const Eigen::Index ik = k;
+    sys.g.segment<3>(3 * ik) += (v.gk[uk] - v.s[uk] * rbar) * n;
     for (const int l : v.touched) {
       const auto ul = static_cast<std::size_t>(l);
       double m = l == k ? v.md[uk] : l == k + 1 ? v.mo[uk] : k == l + 1 ? v.mo[ul] : 0.0;
       m -= v.s[uk] * v.s[ul] / v.w;
-      sys.h.block<3, 3>(3 * k, 3 * l) += m * nn;
+      sys.h.block<3, 3>(3 * ik, 3 * static_cast<Eigen::Index>(l)) += m * nn;
     }
   }
 }
@@ -341,7 +342,7 @@ Problem makeProblem(const std::vector<DriftPoint>& points, const TranslationTrac
     pb.base[i] = points[i].offset + track.at(points[i].t_s);
     pb.w[i] = std::min(1.0, (unit / points[i].sigma_m) * (unit / points[i].sigma_m));
     pb.nw[i] = nodeWeight(node_times_s, points[i].t_s);
-    pb.end[i] = points[i].t_s >= loop_start_s;
+    pb.end[i] = points[i].t_s >= loop_start_s ? 1 : 0;
     (points[i].horizontal ? pb.horizontal : pb.vertical).push_back(static_cast<int>(i));
   }
   return pb;
