@@ -20,12 +20,11 @@
 #include <string>
 #include <vector>
 
+#include "tests/tiling/block_site.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/scene_json.h"
-#include "uavip/sim/surface_sampler.h"
-#include "uavip/sim/world_model.h"
 
 namespace {
 
@@ -76,19 +75,7 @@ class SiteTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("uavip_site_test_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    // A 40 x 4 x 3 m block on a ground, across four 15 m tiles.
-    uavip::sim::WorldModel w;
-    w.addBox("block", Vec3(5.0, 5.0, 0.0), Vec3(45.0, 9.0, 3.0));
-    w.addPlane({"ground", Vec3(0.0, 0.0, 0.0), Vec3(50.0, 0.0, 0.0), Vec3(0.0, 14.0, 0.0)});
-    uavip::sim::SampleOptions so;
-    so.spacing_m = 0.1;
-    so.noise_sigma_m = 0.005;
-    so.seed = 5;
-    points_ = uavip::sim::sampleSurfaces(w, so);
-    std::ofstream out(dir_ / "site.xyz");
-    out.precision(10);
-    for (const Vec3& p : points_) out << p.x() << " " << p.y() << " " << p.z() << "\n";
-    out.close();
+    points_ = uavip::test::writeBlockSite(dir_ / "site.xyz");
     config_ = app::parseConfig(
         "camera: {footprint_m: [3.0, 2.0]}\ncoverage: {standoff_m: 2.0}\n"
         "perception: {min_area_m2: 4.0}\n",

@@ -13,8 +13,7 @@
 #include <string>
 
 #include "tests/cli/cli_runner.h"
-#include "uavip/sim/surface_sampler.h"
-#include "uavip/sim/world_model.h"
+#include "tests/tiling/block_site.h"
 
 namespace {
 
@@ -36,19 +35,7 @@ class TileCli : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("uavip_tile_cli_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    // A 40 x 4 x 3 m block on a ground, across three 15 m tiles.
-    uavip::sim::WorldModel w;
-    w.addBox("block", Vec3(5.0, 5.0, 0.0), Vec3(45.0, 9.0, 3.0));
-    w.addPlane({"ground", Vec3(0.0, 0.0, 0.0), Vec3(50.0, 0.0, 0.0), Vec3(0.0, 14.0, 0.0)});
-    uavip::sim::SampleOptions so;
-    so.spacing_m = 0.1;
-    so.noise_sigma_m = 0.005;
-    so.seed = 5;
-    std::ofstream out(dir_ / "site.xyz");
-    out.precision(10);
-    for (const Vec3& p : uavip::sim::sampleSurfaces(w, so))
-      out << p.x() << " " << p.y() << " " << p.z() << "\n";
-    out.close();
+    uavip::test::writeBlockSite(dir_ / "site.xyz");
     std::ofstream cfg(dir_ / "site.yaml");
     cfg << "camera: {footprint_m: [3.0, 2.0]}\ncoverage: {standoff_m: 2.0}\n"
            "perception: {min_area_m2: 4.0}\n";
