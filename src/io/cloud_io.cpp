@@ -46,17 +46,24 @@ pcl::PCLPointCloud2 readBlob(const std::string& path, const std::string& ext) {
 
 }  // namespace
 
-void CloudReadOptions::validate(const std::string& where) const {
-  for (const int c : drop_classes) {
-    if (c < 0 || c > 255)
-      throw InputError(where + ": drop_classes holds " + std::to_string(c) +
-                       ", a class must be 0..255");
-  }
-  if (!(std::isfinite(scale) && scale > 0.0)) {
-    throw InputError(
-        where + ": scale must be > 0 and finite (0.001 for millimetres, 0.3048 for feet), got " +
-        formatNumber(scale));
-  }
+void CloudReadOptions::validate(const std::string& where) const { table().check(*this, where); }
+
+const params::Table<CloudReadOptions>& CloudReadOptions::table() {
+  static const params::Table<CloudReadOptions> t = [] {
+    using O = CloudReadOptions;
+    params::Table<O> p;
+    p.add("drop_classes", &O::drop_classes,
+          "LAS only: ASPRS classes whose points are dropped ([] keeps every point)")
+        .count(0, 256)
+        .within(0, 255)
+        .integral();
+    p.add("scale", &O::scale,
+          "× every coordinate to give metres: 0.001 for millimetres, 0.3048 for international "
+          "feet")
+        .positive();
+    return p;
+  }();
+  return t;
 }
 
 PointList loadCloud(const std::string& path, const CloudReadOptions& options, CloudReadInfo* info) {

@@ -18,13 +18,30 @@
 namespace uavip::preprocess {
 
 void PreprocessOptions::validate(const std::string& where) const {
-  if (outlier_k < 1) {
-    throw InputError(where + ": outlier_k must be >= 1, got " + std::to_string(outlier_k));
-  }
-  requirePositive(outlier_std_ratio, where, "outlier_std_ratio");
-  requirePositive(voxel_m, where, "voxel_m");
+  table().check(*this, where);
   if (threads < 1)
     throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
+}
+
+const params::Table<PreprocessOptions>& PreprocessOptions::table() {
+  static const params::Table<PreprocessOptions> t = [] {
+    using O = PreprocessOptions;
+    params::Table<O> p;
+    p.add("remove_outliers", &O::remove_outliers, "statistical outlier removal (paper: on)");
+    p.add("outlier_k", &O::outlier_k, "neighbours of each point's mean distance (PCL's meanK)")
+        .atLeast(1);
+    p.add("outlier_std_ratio", &O::outlier_std_ratio,
+          "d_t: a point whose mean neighbour distance is above mu + d_t·sigma is removed")
+        .positive();
+    p.add("voxelize", &O::voxelize, "voxel-grid down-sampling (paper: on)");
+    p.add("voxel_m", &O::voxel_m,
+          "voxel edge; each occupied voxel becomes its centroid (paper: 5 cm)")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    return p;
+  }();
+  return t;
 }
 
 PointList removeStatisticalOutliers(const PointList& cloud, int k, double std_ratio, int threads,

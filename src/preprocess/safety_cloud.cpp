@@ -11,18 +11,24 @@
 
 namespace uavip::preprocess {
 
-void SafetyOptions::validate(const std::string& where) const {
-  if (!(std::isfinite(cell_m) && cell_m > 0.0 && cell_m <= 1.0)) {
-    throw InputError(
-        where + ": cell_m must be in (0, 1] m (its diagonal is added to every clearance), got " +
-        formatNumber(cell_m));
-  }
-  if (!(std::isfinite(sparse_factor) && sparse_factor >= 0.0 && sparse_factor <= 5.0)) {
-    throw InputError(
-        where +
-        ": sparse_factor must be in [0, 5] (0.71: a planar surface between its points), got " +
-        formatNumber(sparse_factor));
-  }
+void SafetyOptions::validate(const std::string& where) const { table().check(*this, where); }
+
+const params::Table<SafetyOptions>& SafetyOptions::table() {
+  static const params::Table<SafetyOptions> t = [] {
+    using O = SafetyOptions;
+    params::Table<O> p;
+    p.add("cell_m", &O::cell_m,
+          "thinning lattice of every measured point; its diagonal is added to every clearance")
+        .unitIs("m")
+        .above(0)
+        .atMost(1);
+    p.add("sparse_factor", &O::sparse_factor,
+          "× the cloud's spacing kept from the points (0.71: a planar surface between its "
+          "points; 0 trusts the points)")
+        .within(0, 5);
+    return p;
+  }();
+  return t;
 }
 
 SafetyCloud safetyCloud(const PointList& raw, double cell_m) {
@@ -43,7 +49,9 @@ SafetyCloud safetyCloud(const PointList& raw, double cell_m) {
   // lattice's floored origin).
   const double span = (box.max - box.min).maxCoeff();
   const double cell = std::max(cell_m, span / static_cast<double>(VoxelKeyer::kCells - 2));
-  const VoxelKeyer keyer(box.min, box.max, cell, "safety.cell_m");
+  const SafetyOptions defaults;
+  const VoxelKeyer keyer(box.min, box.max, cell,
+                         "safety." + SafetyOptions::table().find(defaults, &defaults.cell_m)->key);
   std::vector<KeyedIndex> keyed(raw.size());
   for (std::size_t i = 0; i < raw.size(); ++i)
     keyed[i] = {keyer.key(raw[i]), static_cast<std::uint32_t>(i)};

@@ -561,28 +561,57 @@ std::string toString(Method method) {
 }
 
 void RegistrationOptions::validate(const std::string& where) const {
-  if (!(overlap_margin_m >= 0.0) || !std::isfinite(overlap_margin_m)) {
-    throw InputError(where + ": overlap_margin_m must be >= 0, got " +
-                     formatNumber(overlap_margin_m));
-  }
-  requirePositive(downsample_m, where, "downsample_m");
-  requirePositive(max_correspondence_m, where, "max_correspondence_m");
-  if (max_iterations < 1)
-    throw InputError(where + ": max_iterations must be >= 1, got " +
-                     std::to_string(max_iterations));
-  requirePositive(ndt_resolution_m, where, "ndt_resolution_m");
-  if (!(search_radius_m >= 0.0) || !std::isfinite(search_radius_m)) {
-    throw InputError(where + ": search_radius_m must be >= 0, got " +
-                     formatNumber(search_radius_m));
-  }
-  requirePositive(search_step_m, where, "search_step_m");
+  table().check(*this, where);
   if (threads < 1)
     throw InputError(where + ": threads must be >= 1, got " + std::to_string(threads));
-  requireThat(normal_k >= 3, where, "normal_k", ">= 3", normal_k);
-  requireThat(pcl_normal_k >= 3, where, "pcl_normal_k", ">= 3", pcl_normal_k);
-  if (!(output_voxel_m >= 0.0) || !std::isfinite(output_voxel_m)) {
-    throw InputError(where + ": output_voxel_m must be >= 0, got " + formatNumber(output_voxel_m));
-  }
+}
+
+const params::Table<RegistrationOptions>& RegistrationOptions::table() {
+  static const params::Table<RegistrationOptions> t = [] {
+    using O = RegistrationOptions;
+    params::Table<O> p;
+    std::vector<std::string> methods;
+    for (const Method m : {Method::None, Method::PointToPlaneTranslation, Method::Icp,
+                           Method::IcpPointToPlane, Method::Gicp, Method::Ndt})
+      methods.push_back(toString(m));
+    p.add(
+         "method", params::Kind::Text,
+         [](const O& o) { return params::toValue(toString(o.method)); },
+         [](O& o, const params::Value& v) { o.method = methodFromString(v.text); },
+         "stage 2's algorithm (translation: uavip's point-to-plane translation; the others PCL's)")
+        .oneOf(methods)
+        .storedAt([](const O& o) -> const void* { return &o.method; });
+    p.add("overlap_margin_m", &O::overlap_margin_m,
+          "growth of the bounding boxes that predict the overlap")
+        .unitIs("m")
+        .atLeast(0);
+    p.add("search_radius_m", &O::search_radius_m,
+          "coarse translation search around the recorded position, ± this per axis (0: none)")
+        .unitIs("m")
+        .atLeast(0);
+    p.add("search_step_m", &O::search_step_m, "the coarse search's grid step and occupancy cell")
+        .unitIs("m")
+        .positive();
+    p.add("downsample_m", &O::downsample_m, "voxel edge of the clouds ICP sees")
+        .unitIs("m")
+        .positive();
+    p.add("max_correspondence_m", &O::max_correspondence_m, "ICP pairs farther apart are rejected")
+        .unitIs("m")
+        .positive();
+    p.add("max_iterations", &O::max_iterations, "ICP iterations").atLeast(1);
+    p.add("ndt_resolution_m", &O::ndt_resolution_m, "NDT cell").unitIs("m").positive();
+    p.add("use_recorded_yaw", &O::use_recorded_yaw,
+          "rotate each station by its recorded yaw minus the IMU's at its first scan");
+    p.add("output_voxel_m", &O::output_voxel_m,
+          "the merged cloud down-sampled to this voxel (0: keep every point)")
+        .unitIs("m")
+        .atLeast(0);
+    p.add("normal_k", &O::normal_k, "neighbours of a point's PCA normal (method translation)")
+        .atLeast(3);
+    p.add("pcl_normal_k", &O::pcl_normal_k, "the same for PCL's icp_point_to_plane").atLeast(3);
+    return p;
+  }();
+  return t;
 }
 
 Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index, bool use_recorded_yaw,

@@ -10,6 +10,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/voxel_key.h"
+#include "uavip/scan/station_assembler.h"
 
 namespace uavip::scan {
 namespace {
@@ -58,7 +59,10 @@ Cells binPoints(const std::vector<Vec3>& p, const std::vector<int>& subset, doub
     hi = hi.cwiseMax(p[static_cast<std::size_t>(i)]);
   }
   if (subset.empty()) lo = hi = Vec3::Zero();
-  const VoxelKeyer keyer(lo, hi, cell_m, "assembly.drift_voxel_m");
+  const AssemblerOptions defaults;
+  const VoxelKeyer keyer(
+      lo, hi, cell_m,
+      "assembly." + AssemblerOptions::table().find(defaults, &defaults.drift_voxel_m)->key);
   // A column is the voxel key with z dropped.
   const auto cellKey = [&](const Vec3& q) {
     const auto c = keyer.cell(q);

@@ -59,32 +59,62 @@ std::string toString(IcpMethod method) {
 }
 
 void AssemblerOptions::validate(const std::string& where) const {
-  if (max_iterations < 1)
-    throw InputError(where + ": max_iterations must be >= 1, got " +
-                     std::to_string(max_iterations));
-  requirePositive(max_correspondence_m, where, "max_correspondence_m");
+  table().check(*this, where);
   requirePositive(convergence_m, where, "convergence_m");
-  requirePositive(keyframe_yaw_deg, where, "keyframe_yaw_deg");
-  requirePositive(keyframe_translation_m, where, "keyframe_translation_m");
-  if (horizontal_stride < 1)
-    throw InputError(where + ": horizontal_stride must be >= 1, got " +
-                     std::to_string(horizontal_stride));
-  if (!(imu_smoothing_s >= 0.0) || !std::isfinite(imu_smoothing_s)) {
-    throw InputError(where + ": imu_smoothing_s must be >= 0, got " +
-                     formatNumber(imu_smoothing_s));
-  }
-  requirePositive(max_imu_gap_s, where, "max_imu_gap_s");
-  if (!(z_cone_deg > 0.0 && z_cone_deg < 90.0))
-    throw InputError(where + ": z_cone_deg must be in (0, 90), got " + formatNumber(z_cone_deg));
-  if (!(drift_segment_deg > 0.0 && drift_segment_deg <= 360.0)) {
-    throw InputError(where + ": drift_segment_deg must be in (0, 360], got " +
-                     formatNumber(drift_segment_deg));
-  }
-  if (drift_iterations < 1)
-    throw InputError(where + ": drift_iterations must be >= 1, got " +
-                     std::to_string(drift_iterations));
-  requirePositive(drift_voxel_m, where, "drift_voxel_m");
   tuning.validate(where + ".tuning");
+}
+
+const params::Table<AssemblerOptions>& AssemblerOptions::table() {
+  static const params::Table<AssemblerOptions> t = [] {
+    using O = AssemblerOptions;
+    params::Table<O> p;
+    p.add("use_imu_prior", &O::use_imu_prior,
+          "rotate horizontal scans by the IMU before ICP (paper)");
+    p.add(
+         "icp", params::Kind::Text, [](const O& o) { return params::toValue(toString(o.icp)); },
+         [](O& o, const params::Value& v) { o.icp = icpMethodFromString(v.text); },
+         "horizontal ICP: point_to_line (2D, uavip's) or pcl (PCL's point-to-point)")
+        .oneOf({toString(IcpMethod::PointToLine2D), toString(IcpMethod::PclPointToPoint)})
+        .storedAt([](const O& o) -> const void* { return &o.icp; });
+    p.add("max_iterations", &O::max_iterations, "ICP iterations per scan pair").atLeast(1);
+    p.add("max_correspondence_m", &O::max_correspondence_m, "ICP pairs farther apart are ignored")
+        .unitIs("m")
+        .positive();
+    p.add("keyframe_yaw_deg", &O::keyframe_yaw_deg, "new keyframe after this much yaw")
+        .unitIs("deg")
+        .positive();
+    p.add("keyframe_translation_m", &O::keyframe_translation_m, "… or after this much translation")
+        .unitIs("m")
+        .positive();
+    p.add("horizontal_stride", &O::horizontal_stride, "use every n-th horizontal beam in ICP")
+        .atLeast(1);
+    p.add("imu_smoothing_s", &O::imu_smoothing_s,
+          "> 0: local-linear fit of the IMU attitude over this window")
+        .unitIs("s")
+        .atLeast(0);
+    p.add("max_imu_gap_s", &O::max_imu_gap_s, "an IMU gap longer than this is an error")
+        .unitIs("s")
+        .positive();
+    p.add("estimate_z", &O::estimate_z,
+          "vertical drift from the vertical scanner's nadir and zenith beams");
+    p.add("z_cone_deg", &O::z_cone_deg, "beams within this angle of straight down/up give z")
+        .unitIs("deg")
+        .above(0)
+        .below(90);
+    p.add("include_horizontal", &O::include_horizontal,
+          "also put the horizontal scanner's points in the cloud (paper: no)");
+    p.add("refine_drift", &O::refine_drift, "all beams of the sweep join the drift estimate");
+    p.add("drift_segment_deg", &O::drift_segment_deg, "refinement node spacing in yaw")
+        .unitIs("deg")
+        .above(0)
+        .atMost(360);
+    p.add("drift_iterations", &O::drift_iterations, "refinement steps").atLeast(1);
+    p.add("drift_voxel_m", &O::drift_voxel_m, "refinement voxel and column edge")
+        .unitIs("m")
+        .positive();
+    return p;
+  }();
+  return t;
 }
 
 void AssemblerTuning::validate(const std::string& where) const {

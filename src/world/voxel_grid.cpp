@@ -92,18 +92,30 @@ void VoxelGrid::requireFits(const Aabb& region, const GridOptions& options) {
 }
 
 void GridOptions::validate(const std::string& where) const {
-  requirePositive(resolution_m, where, "resolution_m");
+  table().check(*this, where);
   if (!(std::isfinite(inflation_radius_m) && inflation_radius_m >= 0.0)) {
     std::ostringstream os;
     os << "inflation_radius_m must be >= 0, got " << inflation_radius_m;
     require(false, where, os.str());
   }
-  if (!(std::isfinite(padding_m) && padding_m >= 0.0)) {
-    std::ostringstream os;
-    os << "padding_m must be >= 0, got " << padding_m;
-    require(false, where, os.str());
-  }
   require(max_voxels > 0, where, "max_voxels must be > 0, got 0");
+}
+
+const params::Table<GridOptions>& GridOptions::table() {
+  static const params::Table<GridOptions> t = [] {
+    using O = GridOptions;
+    params::Table<O> p;
+    p.add("resolution_m", &O::resolution_m,
+          "voxel edge of the planning grid (paper: 0.2 m); a grid over max_voxels is refused")
+        .unitIs("m")
+        .positive()
+        .mayBeAuto();
+    p.add("padding_m", &O::padding_m, "free margin around the cloud's bounds")
+        .unitIs("m")
+        .atLeast(0);
+    return p;
+  }();
+  return t;
 }
 
 VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,

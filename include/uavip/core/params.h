@@ -161,6 +161,11 @@ struct KindOf<Vec3> {
   static constexpr Kind kind = Kind::Numbers;
   static constexpr std::size_t count = 3;
 };
+template <>
+struct KindOf<std::vector<int>> {
+  static constexpr Kind kind = Kind::Numbers;
+  static constexpr std::size_t count = 1;  ///< set the row's count(lo, hi)
+};
 template <typename T>
 struct KindOf<std::optional<T>> : KindOf<T> {};
 
@@ -180,6 +185,7 @@ struct Param {
   std::size_t min_count{1};  ///< Numbers: how many
   std::size_t max_count{1};
   bool scalar_ok{false};             ///< Numbers: a single number stands for all
+  bool whole{false};                 ///< Numbers: each must be a whole number
   std::vector<std::string> choices;  ///< Text: the values allowed (empty: any)
   std::function<Value(const O&)> get;
   std::function<void(O&, const Value&)> set;
@@ -226,6 +232,17 @@ struct Param {
     scalar_ok = true;
     return *this;
   }
+  /// Numbers: each a whole number (pixel counts, class codes).
+  Param& integral() {
+    whole = true;
+    return *this;
+  }
+  /// The address of the field a function row stores (its first field), so that
+  /// Table::find and Config::keyOf find the row.
+  Param& storedAt(std::function<const void*(const O&)> a) {
+    address = std::move(a);
+    return *this;
+  }
   /// `auto` may set it (app/config.h: resolved from the measured cloud).
   Param& mayBeAuto() {
     layers |= kAuto;
@@ -267,6 +284,7 @@ struct Param {
                       (!std::isfinite(min) || (min_open ? d > min : d >= min)) &&
                       (!std::isfinite(max) || (max_open ? d < max : d <= max));
       if (!ok) return "must be " + (bounded() ? range() : "finite") + ", got " + formatNumber(d);
+      if (whole && d != std::floor(d)) return "must hold whole numbers, got " + formatNumber(d);
     }
     return {};
   }
@@ -321,6 +339,7 @@ class Table {
       p.min_count = q.min_count;
       p.max_count = q.max_count;
       p.scalar_ok = q.scalar_ok;
+      p.whole = q.whole;
       p.choices = q.choices;
       p.get = [member, g = q.get](const O& o) { return g(o.*member); };
       p.set = [member, s = q.set](O& o, const Value& v) { s(o.*member, v); };

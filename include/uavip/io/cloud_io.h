@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 
 namespace uavip::io {
@@ -26,6 +27,8 @@ struct CloudReadOptions {
   double scale{1.0};
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "input") const;
+  /// The keys of `input:` this struct holds (core/params.h).
+  static const params::Table<CloudReadOptions>& table();
 };
 
 /// What reading did besides returning points (for the printout and scene.json).

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "uavip/core/neighbour_index.h"
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 
 namespace uavip::preprocess {
@@ -28,6 +29,8 @@ struct PreprocessOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "preprocess") const;
+  /// The keys of `preprocess:` this struct holds (core/params.h).
+  static const params::Table<PreprocessOptions>& table();
 };
 
 /// Counts of stage 3.

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <string>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 
 namespace uavip::preprocess {
@@ -32,6 +33,8 @@ struct SafetyOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "safety") const;
+  /// The keys of `safety:` this struct holds (core/params.h).
+  static const params::Table<SafetyOptions>& table();
 };
 
 /// The safety cloud of `raw` (every measured point, see the file comment): one point

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/raw_log.h"
 #include "uavip/core/types.h"
 
@@ -76,6 +77,8 @@ struct RegistrationOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "registration") const;
+  /// The keys of `registration:` this struct holds (core/params.h).
+  static const params::Table<RegistrationOptions>& table();
 };
 
 /// One station's cloud in its own frame and its initial pose in the world.

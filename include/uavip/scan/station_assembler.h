@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/raw_log.h"
 #include "uavip/core/types.h"
 #include "uavip/scan/drift_refinement.h"
@@ -128,6 +129,8 @@ struct AssemblerOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "scan") const;
+  /// The keys of `assembly:` this struct holds (core/params.h).
+  static const params::Table<AssemblerOptions>& table();
 };
 
 /// Counts and timings of one station's assembly.

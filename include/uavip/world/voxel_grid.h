@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "uavip/core/geometry.h"
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 #include "uavip/world/free_space.h"
 
@@ -38,6 +39,8 @@ struct GridOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "grid") const;
+  /// The keys of `grid:` this struct holds (core/params.h).
+  static const params::Table<GridOptions>& table();
 };
 
 /// Integer voxel coordinates.
