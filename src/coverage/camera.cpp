@@ -13,40 +13,22 @@ double Camera::maxStandoff() const {
 }
 
 void Camera::validate(const std::string& where) const {
-  if (!(std::isfinite(max_range_m) && max_range_m >= 0.0))
-    throw InputError(where + ": max_range_m must be > 0 (or left out), got " +
-                     formatNumber(max_range_m));
+  table().check(*this, where);
   if (pinhole) {
-    requirePositive(fx_px, where, "fx");
-    requirePositive(fy_px, where, "fy");
-    requirePositive(static_cast<double>(image_w_px), where, "image_px[0]");
-    requirePositive(static_cast<double>(image_h_px), where, "image_px[1]");
     if (!(cx_px >= 0.0 && cx_px <= image_w_px))
       throw InputError(where + ": cx " + formatNumber(cx_px) + " px lies outside the image width " +
                        std::to_string(image_w_px));
     if (!(cy_px >= 0.0 && cy_px <= image_h_px))
       throw InputError(where + ": cy " + formatNumber(cy_px) +
                        " px lies outside the image height " + std::to_string(image_h_px));
-    if (!(std::isfinite(gsd_mm_per_px) && gsd_mm_per_px >= 0.0))
-      throw InputError(where + ": gsd_mm_per_px must be > 0 (or left out), got " +
-                       formatNumber(gsd_mm_per_px));
     if (!(gsd_mm_per_px * std::min(fx_px, fy_px) / 1000.0 <= maxStandoff()))
       throw InputError(where + ": gsd_mm_per_px " + formatNumber(gsd_mm_per_px) +
                        " puts the camera beyond " + formatNumber(maxStandoff()) +
                        " m; give the GSD in mm per pixel, or set camera.max_range_m");
     return;
   }
-  if (!from_sensor) {
-    requirePositive(footprint_w_m, where, "footprint_w_m");
-    requirePositive(footprint_h_m, where, "footprint_h_m");
-    return;
-  }
-  requirePositive(sensor_w_mm, where, "sensor_w_mm");
-  requirePositive(sensor_h_mm, where, "sensor_h_mm");
-  requirePositive(focal_mm, where, "focal_mm");
-  requirePositive(static_cast<double>(image_w_px), where, "image_w_px");
-  requirePositive(static_cast<double>(image_h_px), where, "image_h_px");
-  requirePositive(gsd_mm_per_px, where, "gsd_mm_per_px");
+  if (!from_sensor) return;
+  requirePositive(gsd_mm_per_px, where, table().find(*this, &gsd_mm_per_px)->key);
   // The standoff of solveCamera: the GSD is met on both axes.
   const double standoff_m = std::min(image_w_px * gsd_mm_per_px * focal_mm / sensor_w_mm,
                                      image_h_px * gsd_mm_per_px * focal_mm / sensor_h_mm) /
@@ -59,6 +41,151 @@ void Camera::validate(const std::string& where) const {
                           ? "its max_range_m " + formatNumber(max_range_m)
                           : formatNumber(kMaxStandoffWithoutRangeM) + " m (no max_range_m given)") +
                      "; give the GSD in mm per pixel (e.g. 2), or set camera.max_range_m");
+}
+
+namespace {
+
+/// A camera key's value, read as unset (none) unless the camera is of the model
+/// `active` says.
+template <typename F>
+params::Value when(bool active, F&& value) {
+  return active ? value() : params::Value{{}, {}, false};
+}
+
+/// A sensor key was read: the camera is a sensor camera unless a pinhole key says pinhole.
+void sensorKey(Camera& c) { c.from_sensor = !c.pinhole; }
+/// A pinhole key was read.
+void pinholeKey(Camera& c) {
+  c.pinhole = true;
+  c.from_sensor = false;
+}
+
+/// The row of a pinhole intrinsic `field` [px].
+params::Param<Camera>& addPinhole(params::Table<Camera>& p, const std::string& key,
+                                  double Camera::*field, const std::string& help) {
+  return p
+      .add(
+          key, params::Kind::Number,
+          [field](const Camera& c) {
+            return when(c.pinhole, [&] { return params::toValue(c.*field); });
+          },
+          [field](Camera& c, const params::Value& v) {
+            c.*field = v.number();
+            pinholeKey(c);
+          },
+          help)
+      .unitIs("px")
+      .storedAt([field](const Camera& c) -> const void* { return &(c.*field); })
+      .fromProfile();
+}
+
+/// The rows of the footprint and the sensor (QGroundControl's CameraCalc).
+void addSensor(params::Table<Camera>& p) {
+  using V = params::Value;
+  p.add(
+       "footprint_m", params::Kind::Numbers,
+       [](const Camera& c) {
+         return when(!c.from_sensor && !c.pinhole, [&] {
+           return V{{c.footprint_w_m, c.footprint_h_m}, {}, true};
+         });
+       },
+       [](Camera& c, const V& v) {
+         c.footprint_w_m = v.numbers.at(0);
+         c.footprint_h_m = v.numbers.at(1);
+       },
+       "photo [width, height] on the surface, given directly (paper: 0.6 × 0.4 m at 1.5 m)")
+      .count(2, 2)
+      .unitIs("m")
+      .positive()
+      .storedAt([](const Camera& c) -> const void* { return &c.footprint_w_m; });
+  p.add(
+       "sensor_mm", params::Kind::Numbers,
+       [](const Camera& c) {
+         return when(c.from_sensor, [&] { return V{{c.sensor_w_mm, c.sensor_h_mm}, {}, true}; });
+       },
+       [](Camera& c, const V& v) {
+         c.sensor_w_mm = v.numbers.at(0);
+         c.sensor_h_mm = v.numbers.at(1);
+         sensorKey(c);
+       },
+       "sensor [width, height] (with focal_mm, image_px and gsd_mm_per_px)")
+      .count(2, 2)
+      .unitIs("mm")
+      .positive()
+      .storedAt([](const Camera& c) -> const void* { return &c.sensor_w_mm; })
+      .fromProfile();
+  p.add(
+       "focal_mm", params::Kind::Number,
+       [](const Camera& c) {
+         return when(c.from_sensor, [&] { return params::toValue(c.focal_mm); });
+       },
+       [](Camera& c, const V& v) {
+         c.focal_mm = v.number();
+         sensorKey(c);
+       },
+       "focal length of a sensor camera")
+      .unitIs("mm")
+      .positive()
+      .storedAt([](const Camera& c) -> const void* { return &c.focal_mm; })
+      .fromProfile();
+}
+
+/// The rows a sensor and a pinhole camera share, and the range.
+void addImage(params::Table<Camera>& p) {
+  using V = params::Value;
+  p.add(
+       "image_px", params::Kind::Numbers,
+       [](const Camera& c) {
+         return when(c.from_sensor || c.pinhole, [&] {
+           return V{
+               {static_cast<double>(c.image_w_px), static_cast<double>(c.image_h_px)}, {}, true};
+         });
+       },
+       [](Camera& c, const V& v) {
+         c.image_w_px = static_cast<int>(v.numbers.at(0));
+         c.image_h_px = static_cast<int>(v.numbers.at(1));
+         sensorKey(c);
+       },
+       "image [width, height] in pixels")
+      .count(2, 2)
+      .unitIs("px")
+      .within(1, 1e6)
+      .integral()
+      .storedAt([](const Camera& c) -> const void* { return &c.image_w_px; })
+      .fromProfile();
+  p.add(
+       "gsd_mm_per_px", params::Kind::Number,
+       [](const Camera& c) {
+         return when(c.from_sensor || c.pinhole, [&] { return params::toValue(c.gsd_mm_per_px); });
+       },
+       [](Camera& c, const V& v) {
+         c.gsd_mm_per_px = v.number();
+         sensorKey(c);
+       },
+       "required ground sample distance, met on both axes (pinhole: 0 = none)")
+      .unitIs("mm/px")
+      .atLeast(0)
+      .storedAt([](const Camera& c) -> const void* { return &c.gsd_mm_per_px; });
+}
+
+}  // namespace
+
+const params::Table<Camera>& Camera::table() {
+  static const params::Table<Camera> t = [] {
+    params::Table<Camera> p;
+    addSensor(p);
+    addImage(p);
+    addPinhole(p, "fx", &Camera::fx_px, "pinhole focal length along the image width").positive();
+    addPinhole(p, "fy", &Camera::fy_px, "pinhole focal length along the image height").positive();
+    addPinhole(p, "cx", &Camera::cx_px, "pinhole principal point x (default: image centre)");
+    addPinhole(p, "cy", &Camera::cy_px, "pinhole principal point y (default: image centre)");
+    p.add("max_range_m", &Camera::max_range_m,
+          "farthest distance the camera works at (0: none, then 1 km bounds the standoff)")
+        .unitIs("m")
+        .atLeast(0);
+    return p;
+  }();
+  return t;
 }
 
 CameraGeometry solveCamera(const Camera& camera, double standoff_m) {

@@ -61,16 +61,59 @@ bool isDeterministic(const std::string& name) {
 }
 
 void AStarOptions::validate(const std::string& where) const {
-  requirePositive(a1, where, "a1");
-  requirePositive(a2, where, "a2");
-  requirePositive(a3, where, "a3");
+  table().check(*this, where);
   requireThat(coarse_factor == 0 || (coarse_factor >= 2 && coarse_factor <= 16), where,
-              "coarse_factor", "0 or in [2, 16]", coarse_factor);
+              table().find(*this, &coarse_factor)->key, "0 or in [2, 16]", coarse_factor);
+}
+
+const params::Table<AStarOptions>& AStarOptions::table() {
+  static const params::Table<AStarOptions> t = [] {
+    using O = AStarOptions;
+    params::Table<O> p;
+    p.add(
+         "cost_weights", params::Kind::Numbers,
+         [](const O& o) {
+           return params::Value{{o.a1, o.a2, o.a3}, {}, true};
+         },
+         [](O& o, const params::Value& v) {
+           o.a1 = v.numbers.at(0);
+           o.a2 = v.numbers.at(1);
+           o.a3 = v.numbers.at(2);
+         },
+         "grid A*'s weights [a1, a2, a3] of x, y and z moves (§II-G)")
+        .count(3, 3)
+        .positive()
+        .storedAt([](const O& o) -> const void* { return &o.a1; });
+    p.add("max_expansions", &O::max_expansions,
+          "grid A*'s budget of expanded voxels per leg (0: unlimited), else status Timeout")
+        .atLeast(0);
+    p.add("coarse_factor", &O::coarse_factor,
+          "grid A*: 0 plans on the whole grid, k in [2, 16] coarse to fine (0: the planner's own)")
+        .within(0, 16);
+    return p;
+  }();
+  return t;
 }
 
 void PlannerSettings::validate(const std::string& where) const {
+  table().check(*this, where);
   astar.validate(where);
-  requirePositive(time_limit_s, where, "time_limit_s");
+}
+
+const params::Table<PlannerSettings>& PlannerSettings::table() {
+  static const params::Table<PlannerSettings> t = [] {
+    using O = PlannerSettings;
+    params::Table<O> p;
+    p.add("time_limit_s", &O::time_limit_s, "budget of an OMPL planner per leg")
+        .unitIs("s")
+        .positive();
+    p.add("seed", &O::seed, "seed of OMPL's random stream (the first seed of a process counts)")
+        .atLeast(0);
+    p.add("simplify", &O::simplify, "simplify OMPL paths (reduce vertices, shortcut)");
+    p.include("", &O::astar, AStarOptions::table());
+    return p;
+  }();
+  return t;
 }
 
 }  // namespace uavip::planning

@@ -80,27 +80,68 @@ double FlightModel::pathSeconds(const PointList& path) const {
   return t;
 }
 
-void FlightModel::validate(const std::string& where) const {
-  requirePositive(cruise_speed_m_s, where, "cruise_speed_m_s");
-  requirePositive(climb_speed_m_s, where, "climb_speed_m_s");
-  requirePositive(descent_speed_m_s, where, "descent_speed_m_s");
-  require(std::isfinite(hover_s) && hover_s >= 0.0, where, "hover_s must be >= 0 s");
-  require(std::isfinite(settle_s) && settle_s >= 0.0, where, "settle_s must be >= 0 s");
-  requirePositive(endurance_s, where, "endurance_s");
-  require(reserve >= 0.0 && reserve < 1.0, where,
-          "reserve must be in [0, 1) (a share of endurance_s)");
+void FlightModel::validate(const std::string& where) const { table().check(*this, where); }
+
+const params::Table<FlightModel>& FlightModel::table() {
+  static const params::Table<FlightModel> t = [] {
+    using O = FlightModel;
+    params::Table<O> p;
+    p.add("cruise_speed_m_s", &O::cruise_speed_m_s, "horizontal speed")
+        .unitIs("m/s")
+        .positive()
+        .fromProfile();
+    p.add("climb_speed_m_s", &O::climb_speed_m_s, "vertical speed up")
+        .unitIs("m/s")
+        .positive()
+        .fromProfile();
+    p.add("descent_speed_m_s", &O::descent_speed_m_s, "vertical speed down")
+        .unitIs("m/s")
+        .positive()
+        .fromProfile();
+    p.add("hover_s", &O::hover_s, "hover per photo").unitIs("s").atLeast(0);
+    p.add("settle_s", &O::settle_s, "turn to the stop's yaw and settle the gimbal")
+        .unitIs("s")
+        .atLeast(0);
+    p.add("endurance_s", &O::endurance_s, "battery endurance (one sortie)")
+        .unitIs("s")
+        .positive()
+        .fromProfile();
+    p.add("reserve", &O::reserve, "share of endurance_s kept for landing and wind")
+        .atLeast(0)
+        .below(1);
+    return p;
+  }();
+  return t;
 }
 
 void MissionOptions::validate(const std::string& where) const {
-  requireThat(max_skipped_fraction >= 0.0 && max_skipped_fraction <= 1.0, where,
-              "max_skipped_fraction", "in [0, 1]", max_skipped_fraction);
-  requireThat(min_coverage >= 0.0 && min_coverage <= 1.0, where, "min_coverage", "in [0, 1]",
-              min_coverage);
-  requireThat(max_standoff_factor >= 1.0 && max_standoff_factor <= 3.0, where,
-              "max_standoff_factor", "in [1, 3] (× the standoff)", max_standoff_factor);
-  if (start) require(start->allFinite(), where, "start must be finite");
+  table().check(*this, where);
   requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal pitch_min_deg",
               "<= pitch_max_deg", gimbal.pitch_min_deg);
+}
+
+const params::Table<MissionOptions>& MissionOptions::table() {
+  static const params::Table<MissionOptions> t = [] {
+    using O = MissionOptions;
+    params::Table<O> p;
+    p.add("simplify", &O::simplify, "shortcut the voxel paths (line of sight on the grid)");
+    p.add("max_skipped_fraction", &O::max_skipped_fraction,
+          "a surface whose unusable stops exceed this share is blocked, else partial")
+        .within(0, 1);
+    p.add("start", &O::start,
+          "take-off / entry point [x, y, z]; must be free (default: the "
+          "first stop)")
+        .unitIs("m");
+    p.add("repair_stops", &O::repair_stops,
+          "move a stop inside the obstacle space to a free pose that still sees its centre");
+    p.add("min_coverage", &O::min_coverage, "a flyable surface measured below this is partial")
+        .within(0, 1);
+    p.add("max_standoff_factor", &O::max_standoff_factor,
+          "farthest repaired stop, × the standoff (footprint and GSD grow by it)")
+        .within(1, 3);
+    return p;
+  }();
+  return t;
 }
 
 void FlightOptions::validate(const std::string& where) const {

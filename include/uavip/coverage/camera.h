@@ -21,6 +21,7 @@
 #include <string>
 
 #include "uavip/core/math.h"
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 
 namespace uavip::coverage {
@@ -55,6 +56,10 @@ struct Camera {
   void validate(const std::string& where = "camera") const;
   /// The farthest standoff flown: max_range_m, else kMaxStandoffWithoutRangeM [m].
   double maxStandoff() const;
+  /// The keys of `camera:` (core/params.h). A sensor key (sensor_mm, focal_mm, and
+  /// image_px or gsd_mm_per_px without fx/fy/cx/cy) sets from_sensor, a pinhole key
+  /// (fx, fy, cx, cy) sets pinhole; a model's keys read as unset under another model.
+  static const params::Table<Camera>& table();
 };
 
 /// Farthest standoff of a camera without max_range_m [m]: beyond 1 km no inspection

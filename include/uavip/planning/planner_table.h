@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
+
 namespace uavip::planning {
 
 /// Step cost model of the grid A* (planners/astar.h, §II-G).
@@ -30,6 +32,8 @@ struct AStarOptions {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "planner") const;
+  /// The keys of `planner:` this struct holds (core/params.h).
+  static const params::Table<AStarOptions>& table();
 };
 
 /// Settings shared by the planners (config section `planner:`).
@@ -45,6 +49,8 @@ struct PlannerSettings {
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "planner") const;
+  /// The keys of `planner:` these settings hold, the grid A*'s included (core/params.h).
+  static const params::Table<PlannerSettings>& table();
 };
 
 /// What builds a row's planner: uavip's grid A* or one of OMPL's geometric planners.

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 #include "uavip/coverage/flight_strategy.h"
 
@@ -89,6 +90,8 @@ struct MissionOptions {
   /// (max_skipped_fraction and min_coverage in [0, 1], max_standoff_factor in [1, 3],
   /// a finite start, valid gimbal limits). planSurfaceMission calls it.
   void validate(const std::string& where) const;
+  /// The keys of `mission:` this struct holds (core/params.h).
+  static const params::Table<MissionOptions>& table();
 };
 
 /// What structure coverage (app::planStructure; coverage/structure_views.h) found and reached.
@@ -179,6 +182,8 @@ struct FlightModel {
   double usableSeconds() const { return endurance_s * (1.0 - reserve); }
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "flight") const;
+  /// The keys of `flight:` (core/params.h).
+  static const params::Table<FlightModel>& table();
 };
 
 /// Options of the flight.
