@@ -33,15 +33,6 @@ void resolve(ResolvedConfig& r, T& field, T auto_value, const std::string& rule)
   r.values.push_back({row.key, static_cast<double>(field), auto_set ? "auto: " + rule : "set"});
 }
 
-/// As resolve(), for a section not yet in Config::table().
-template <typename T>
-void resolveKey(ResolvedConfig& r, const std::string& key, T& field, T auto_value,
-                const std::string& rule) {
-  const bool auto_set = r.config.sources.set(key, params::Source::Auto);
-  if (auto_set) field = auto_value;
-  r.values.push_back({key, static_cast<double>(field), auto_set ? "auto: " + rule : "set"});
-}
-
 /// Records a key `auto` leaves as it is: "set" when the file set it, else `otherwise`.
 void record(ResolvedConfig& r, const void* field, double value, const std::string& otherwise) {
   const std::string& key = r.config.keyOf(field);
@@ -63,8 +54,7 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   const double spacing = stats.spacing_m > 0.0 ? stats.spacing_m : 0.05;
   const double noise = std::max(stats.noise_m, 0.0);
 
-  resolveKey(r, "preprocess.voxel_m", c.preprocess.voxel_m, mm(std::max(0.05, spacing)),
-             "max(0.05, spacing)");
+  resolve(r, c.preprocess.voxel_m, mm(std::max(0.05, spacing)), "max(0.05, spacing)");
   const double s_eff = c.preprocess.voxelize ? std::max(spacing, c.preprocess.voxel_m) : spacing;
 
   auto& planes = c.perception.planes;
@@ -106,7 +96,7 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     cam.image_w_px = 5472;
     cam.image_h_px = 3648;
     cam.gsd_mm_per_px = 2.0;
-    r.values.push_back({"camera.gsd_mm_per_px", cam.gsd_mm_per_px,
+    r.values.push_back({c.keyOf(&cam.gsd_mm_per_px), cam.gsd_mm_per_px,
                         "auto: 1-inch 20 MP camera (structure > 20 m)"});
   } else {
     r.values.push_back(
@@ -115,9 +105,8 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
 
   // The planning grid of the whole site (app::plan applies the rule again to the
   // region it plans): a 1 km site gets a coarser grid, not an error.
-  resolveKey(r, "grid.resolution_m", c.grid.resolution_m,
-             autoGridResolution(stats.extent_m, c.grid),
-             "max(0.2, (site volume / (max_voxels/4))^(1/3))");
+  resolve(r, c.grid.resolution_m, autoGridResolution(stats.extent_m, c.grid),
+          "max(0.2, (site volume / (max_voxels/4))^(1/3))");
   c.validate("config");
   return r;
 }

@@ -542,13 +542,13 @@ void checkKeepOuts(const Scene& scene, const Config& config, const std::vector<i
     const KeepOut& k = edits.keep_out[i].volume;
     const std::string where = at(edits.file, edits.keep_out[i].line) + ": keep_out[" +
                               std::to_string(i) + "] '" + k.name + "'";
-    const auto point = [&](const std::optional<Vec3>& p, const char* name) {
+    const auto point = [&](const std::optional<Vec3>& p, const std::string& name) {
       if (p && k.contains(*p))
         throw InputError(where + " contains " + name + " " + formatPoint(*p) +
                          "; move the keep-out or the " + name);
     };
-    point(config.flight.home, "mission.home");
-    point(config.mission.start, "mission.start");
+    point(config.flight.home, config.keyOf(&config.flight.home));
+    point(config.mission.start, config.keyOf(&config.mission.start));
     for (const int id : surface_ids) {
       const auto it = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
                                    [&](const Surface& s) { return s.id == id; });

@@ -214,7 +214,7 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   region.min.array() -= kLocalMarginM;
   region.max.array() += kLocalMarginM;
   world::GridOptions grid_options = config.gridOptions(clearance_m);
-  if (!config.sources.fromFile("grid.resolution_m"))
+  if (!config.setInFile(&config.grid.resolution_m))
     grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   world::VoxelGrid::requireFits(region,
                                 grid_options);  // before the solids are sampled at the resolution
@@ -345,8 +345,10 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   PointList stop_positions;
   for (const auto& strategy : strategies)
     for (const auto& stop : strategy.stops) stop_positions.push_back(stop.position);
-  requireWithinReach(config.mission.start, "mission.start", stop_positions, config.flight.model);
-  requireWithinReach(config.flight.home, "mission.home", stop_positions, config.flight.model);
+  requireWithinReach(config.mission.start, config.keyOf(&config.mission.start), stop_positions,
+                     config.flight.model);
+  requireWithinReach(config.flight.home, config.keyOf(&config.flight.home), stop_positions,
+                     config.flight.model);
   if (config.mission.start) stop_positions.push_back(*config.mission.start);
   if (config.flight.home) stop_positions.push_back(*config.flight.home);
   result.times.coverage_s = secondsSince(t0);
@@ -358,8 +360,8 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.clearance_m = space.clearance_m;
   const world::VoxelGrid& grid = space.grid;
   const planning::PathValidator& validator = space.validator;
-  requireFree(config.mission.start, "mission.start", validator);
-  requireFree(config.flight.home, "mission.home", validator);
+  requireFree(config.mission.start, config.keyOf(&config.mission.start), validator);
+  requireFree(config.flight.home, config.keyOf(&config.flight.home), validator);
   result.grid_resolution_m = grid.resolution();
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();

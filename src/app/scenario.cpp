@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <sstream>
@@ -18,82 +19,6 @@ namespace uavip::app {
 namespace {
 
 using yaml::Section;
-
-void parsePreprocess(Section s, preprocess::PreprocessOptions& o) {
-  o.remove_outliers = s.boolean("remove_outliers", o.remove_outliers);
-  o.outlier_k = s.integer("outlier_k", o.outlier_k);
-  o.outlier_std_ratio = s.number("outlier_std_ratio", o.outlier_std_ratio);
-  o.voxelize = s.boolean("voxelize", o.voxelize);
-  o.voxel_m = s.number("voxel_m", o.voxel_m);
-  s.finish();
-}
-
-void parseSafety(Section s, preprocess::SafetyOptions& o) {
-  o.cell_m = s.number("cell_m", o.cell_m);
-  o.sparse_factor = s.number("sparse_factor", o.sparse_factor);
-  s.finish();
-}
-
-void parseUav(Section s, UavConfig& o) {
-  o.size_m = s.vec3("size_m", o.size_m);
-  if (s.has("inflation_radius_m")) o.inflation_radius_m = s.number("inflation_radius_m");
-  s.finish();
-}
-
-void parseGrid(Section s, world::GridOptions& o) {
-  o.resolution_m = s.number("resolution_m", o.resolution_m);
-  o.padding_m = s.number("padding_m", o.padding_m);
-  s.finish();
-}
-
-/// Pinhole keys (fx, fy, cx, cy with image_px); the other camera models' keys conflict.
-void parsePinhole(Section& s, coverage::Camera& c) {
-  for (const char* other : {"footprint_m", "sensor_mm", "focal_mm"}) {
-    if (s.has(other))
-      s.fail(other, "conflicts with fx/fy (a pinhole camera); describe the camera one way only");
-  }
-  c.pinhole = true;
-  c.fx_px = s.number("fx");
-  c.fy_px = s.number("fy");
-  const auto px = s.numbers("image_px", 2, 2);
-  if (px[0] != std::floor(px[0]) || px[1] != std::floor(px[1]) || px[0] > 1e6 || px[1] > 1e6 ||
-      px[0] < 1 || px[1] < 1) {
-    s.fail("image_px", "must be two whole positive pixel counts");
-  }
-  c.image_w_px = static_cast<int>(px[0]);
-  c.image_h_px = static_cast<int>(px[1]);
-  c.cx_px = s.number("cx", 0.5 * px[0]);
-  c.cy_px = s.number("cy", 0.5 * px[1]);
-  c.gsd_mm_per_px = s.number("gsd_mm_per_px", 0.0);
-  c.max_range_m = s.number("max_range_m", c.max_range_m);
-  s.finish();
-}
-
-void parseCamera(Section s, coverage::Camera& c) {
-  if (s.has("fx") || s.has("fy") || s.has("cx") || s.has("cy")) return parsePinhole(s, c);
-  if (s.has("footprint_m")) {
-    const auto f = s.numbers("footprint_m", 2, 2);
-    c.footprint_w_m = f[0];
-    c.footprint_h_m = f[1];
-  }
-  if (s.has("sensor_mm") || s.has("focal_mm") || s.has("image_px") || s.has("gsd_mm_per_px")) {
-    if (s.has("footprint_m")) s.fail("", "gives both footprint_m and a sensor; use one of them");
-    c.from_sensor = true;
-    const auto sensor = s.numbers("sensor_mm", 2, 2);
-    c.sensor_w_mm = sensor[0];
-    c.sensor_h_mm = sensor[1];
-    c.focal_mm = s.number("focal_mm");
-    const auto px = s.numbers("image_px", 2, 2);
-    if (px[0] != std::floor(px[0]) || px[1] != std::floor(px[1]) || px[0] > 1e6 || px[1] > 1e6) {
-      s.fail("image_px", "must be two whole pixel counts");
-    }
-    c.image_w_px = static_cast<int>(px[0]);
-    c.image_h_px = static_cast<int>(px[1]);
-    c.gsd_mm_per_px = s.number("gsd_mm_per_px");
-  }
-  c.max_range_m = s.number("max_range_m", c.max_range_m);
-  s.finish();
-}
 
 void parseCoverage(Section s, coverage::CoverageOptions& o) {
   if (s.has("overlap")) {
@@ -119,28 +44,6 @@ void parseCoverage(Section s, coverage::CoverageOptions& o) {
     o.gimbal.pitch_min_deg = v[0];
     o.gimbal.pitch_max_deg = v[1];
   }
-  s.finish();
-}
-
-void parsePlanner(Section s, Config& c) {
-  c.planner = s.text("name", c.planner);
-  c.planner_settings.time_limit_s = s.number("time_limit_s", c.planner_settings.time_limit_s);
-  const int seed = s.integer("seed", static_cast<int>(c.planner_settings.seed));
-  if (seed < 0) s.fail("seed", "must be >= 0, got " + std::to_string(seed));
-  c.planner_settings.seed = static_cast<std::uint32_t>(seed);
-  c.planner_settings.simplify = s.boolean("simplify", c.planner_settings.simplify);
-  auto& a = c.planner_settings.astar;
-  if (s.has("cost_weights")) {
-    const auto w = s.numbers("cost_weights", 3, 3);
-    a.a1 = w[0];
-    a.a2 = w[1];
-    a.a3 = w[2];
-  }
-  const int budget = s.integer("max_expansions", static_cast<int>(a.max_expansions));
-  if (budget < 0)
-    s.fail("max_expansions", "must be >= 0 (0 = unlimited), got " + std::to_string(budget));
-  a.max_expansions = static_cast<std::size_t>(budget);
-  a.coarse_factor = s.integer("coarse_factor", a.coarse_factor);
   s.finish();
 }
 
@@ -170,97 +73,6 @@ void parseBench(Section s, BenchSpec& b) {
   }
   b.max_legs = s.integer("max_legs", b.max_legs);
   if (b.max_legs < 1) s.fail("max_legs", "must be >= 1, got " + std::to_string(b.max_legs));
-  s.finish();
-}
-
-void parseMission(Section s, planning::MissionOptions& o, planning::FlightOptions& flight) {
-  o.simplify = s.boolean("simplify", o.simplify);
-  o.max_skipped_fraction = s.number("max_skipped_fraction", o.max_skipped_fraction);
-  if (s.has("start")) o.start = s.vec3("start");
-  if (s.has("home")) flight.home = s.vec3("home");
-  o.repair_stops = s.boolean("repair_stops", o.repair_stops);
-  o.min_coverage = s.number("min_coverage", o.min_coverage);
-  o.max_standoff_factor = s.number("max_standoff_factor", o.max_standoff_factor);
-  s.finish();
-}
-
-/// The flight model (planning/flight_planner.h), section `flight:`.
-void parseFlight(Section s, planning::FlightModel& o) {
-  o.cruise_speed_m_s = s.number("cruise_speed_m_s", o.cruise_speed_m_s);
-  o.climb_speed_m_s = s.number("climb_speed_m_s", o.climb_speed_m_s);
-  o.descent_speed_m_s = s.number("descent_speed_m_s", o.descent_speed_m_s);
-  o.hover_s = s.number("hover_s", o.hover_s);
-  o.settle_s = s.number("settle_s", o.settle_s);
-  o.endurance_s = s.number("endurance_s", o.endurance_s);
-  o.reserve = s.number("reserve", o.reserve);
-  s.finish();
-}
-
-/// A name parsed by `from_string` (which throws "<module>: <key> must be ..., got '…'"),
-/// re-thrown with the file and the YAML path.
-template <typename T, typename F>
-T named(Section& s, const std::string& key, T fallback, F&& from_string) {
-  if (!s.has(key)) return fallback;
-  const std::string name = s.text(key);
-  try {
-    return from_string(name);
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    const std::size_t pos = msg.find(" must be");
-    s.fail(key, pos == std::string::npos ? "is not valid: " + msg : msg.substr(pos + 1));
-  }
-}
-
-/// Stage 1 (scan/station_assembler.h); mode scan only.
-void parseAssembly(Section s, scan::AssemblerOptions& o) {
-  o.use_imu_prior = s.boolean("use_imu_prior", o.use_imu_prior);
-  o.icp = named(s, "icp", o.icp, [](const std::string& n) { return scan::icpMethodFromString(n); });
-  o.max_iterations = s.integer("max_iterations", o.max_iterations);
-  o.max_correspondence_m = s.number("max_correspondence_m", o.max_correspondence_m);
-  o.keyframe_yaw_deg = s.number("keyframe_yaw_deg", o.keyframe_yaw_deg);
-  o.keyframe_translation_m = s.number("keyframe_translation_m", o.keyframe_translation_m);
-  o.horizontal_stride = s.integer("horizontal_stride", o.horizontal_stride);
-  o.imu_smoothing_s = s.number("imu_smoothing_s", o.imu_smoothing_s);
-  o.max_imu_gap_s = s.number("max_imu_gap_s", o.max_imu_gap_s);
-  o.estimate_z = s.boolean("estimate_z", o.estimate_z);
-  o.z_cone_deg = s.number("z_cone_deg", o.z_cone_deg);
-  o.include_horizontal = s.boolean("include_horizontal", o.include_horizontal);
-  o.refine_drift = s.boolean("refine_drift", o.refine_drift);
-  o.drift_segment_deg = s.number("drift_segment_deg", o.drift_segment_deg);
-  o.drift_iterations = s.integer("drift_iterations", o.drift_iterations);
-  o.drift_voxel_m = s.number("drift_voxel_m", o.drift_voxel_m);
-  s.finish();
-}
-
-/// Stage 2 (registration/station_registration.h); mode scan only.
-void parseRegistration(Section s, registration::RegistrationOptions& o) {
-  o.method = named(s, "method", o.method,
-                   [](const std::string& n) { return registration::methodFromString(n); });
-  o.overlap_margin_m = s.number("overlap_margin_m", o.overlap_margin_m);
-  o.search_radius_m = s.number("search_radius_m", o.search_radius_m);
-  o.search_step_m = s.number("search_step_m", o.search_step_m);
-  o.downsample_m = s.number("downsample_m", o.downsample_m);
-  o.max_correspondence_m = s.number("max_correspondence_m", o.max_correspondence_m);
-  o.max_iterations = s.integer("max_iterations", o.max_iterations);
-  o.ndt_resolution_m = s.number("ndt_resolution_m", o.ndt_resolution_m);
-  o.use_recorded_yaw = s.boolean("use_recorded_yaw", o.use_recorded_yaw);
-  o.output_voxel_m = s.number("output_voxel_m", o.output_voxel_m);
-  o.normal_k = s.integer("normal_k", o.normal_k);
-  o.pcl_normal_k = s.integer("pcl_normal_k", o.pcl_normal_k);
-  s.finish();
-}
-
-/// Reads the config sections present in `top` (unknown keys are left to the caller).
-void parseInput(Section s, io::CloudReadOptions& o) {
-  if (s.has("drop_classes")) {
-    o.drop_classes.clear();
-    for (const double v : s.numbers("drop_classes", 0, 256)) {
-      if (v != std::floor(v) || v < 0 || v > 255)
-        s.fail("drop_classes", "must hold ASPRS class codes 0..255");
-      o.drop_classes.push_back(static_cast<int>(v));
-    }
-  }
-  o.scale = s.number("scale", o.scale);
   s.finish();
 }
 
@@ -316,7 +128,7 @@ void readTableKeys(Section& top, Config& c) {
 
 /// Records the keys the file gives in sections still read by hand.
 void recordFileKeys(const YAML::Node& top, Config& c) {
-  for (const char* section : {"preprocess", "grid", "coverage", "camera"}) {
+  for (const char* section : {"coverage"}) {
     const YAML::Node n = top[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
     for (const auto& kv : n) {
@@ -326,20 +138,45 @@ void recordFileKeys(const YAML::Node& top, Config& c) {
   }
 }
 
+/// The camera model the file's camera keys describe (coverage/camera.h: a sensor key
+/// sets from_sensor, a pinhole key pinhole): refuses a second model's keys and a missing
+/// key of the model; a pinhole's principal point defaults to the image centre.
+void completeCamera(Section& top, Config& c) {
+  using Fields = std::initializer_list<const void*>;
+  coverage::Camera& cam = c.coverage.camera;
+  const auto missing = [&](const void* field, const std::string& needs) {
+    if (!c.setInFile(field)) top.fail(c.keyOf(field), "is missing (" + needs + ")");
+  };
+  const auto conflicts = [&](const void* field, const std::string& what) {
+    if (c.setInFile(field)) top.fail(c.keyOf(field), what);
+  };
+  if (cam.pinhole) {
+    const std::string what =
+        "conflicts with fx/fy (a pinhole camera); describe the camera one way only";
+    for (const void* f : Fields{&cam.footprint_w_m, &cam.sensor_w_mm, &cam.focal_mm})
+      conflicts(f, what);
+    const std::string needs = "a pinhole camera needs fx, fy and image_px";
+    for (const void* f : Fields{&cam.fx_px, &cam.fy_px, &cam.image_w_px}) missing(f, needs);
+    if (!c.setInFile(&cam.cx_px)) cam.cx_px = 0.5 * cam.image_w_px;
+    if (!c.setInFile(&cam.cy_px)) cam.cy_px = 0.5 * cam.image_h_px;
+  } else if (cam.from_sensor) {
+    if (c.setInFile(&cam.footprint_w_m)) {
+      const std::string& key = c.keyOf(&cam.footprint_w_m);
+      top.fail(key.substr(0, key.find('.')),
+               "gives both footprint_m and a sensor; use one of them");
+    }
+    const std::string needs =
+        "a sensor camera needs sensor_mm, focal_mm, image_px and gsd_mm_per_px";
+    for (const void* f :
+         Fields{&cam.sensor_w_mm, &cam.focal_mm, &cam.image_w_px, &cam.gsd_mm_per_px})
+      missing(f, needs);
+  }
+}
+
 void parseConfigSections(Section& top, Config& c) {
-  if (top.has("input")) parseInput(top.child("input"), c.input);
-  if (top.has("preprocess")) parsePreprocess(top.child("preprocess"), c.preprocess);
-  if (top.has("safety")) parseSafety(top.child("safety"), c.safety);
-  if (top.has("uav")) parseUav(top.child("uav"), c.uav);
-  if (top.has("grid")) parseGrid(top.child("grid"), c.grid);
-  if (top.has("camera")) parseCamera(top.child("camera"), c.coverage.camera);
   if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
-  if (top.has("planner")) parsePlanner(top.child("planner"), c);
-  if (top.has("mission")) parseMission(top.child("mission"), c.mission, c.flight);
-  if (top.has("flight")) parseFlight(top.child("flight"), c.flight.model);
-  if (top.has("assembly")) parseAssembly(top.child("assembly"), c.assembly);
-  if (top.has("registration")) parseRegistration(top.child("registration"), c.registration);
   readTableKeys(top, c);
+  completeCamera(top, c);
   recordFileKeys(top.node(), c);
 }
 
@@ -473,8 +310,7 @@ void Config::validate(const std::string& where) const {
     preprocess.validate("preprocess");
     safety.validate("safety");
     perception.validate("perception");
-    for (int i = 0; i < 3; ++i) requirePositive(uav.size_m[i], "uav", "size_m");
-    requirePositive(uav.inflationRadius(), "uav", "inflation_radius_m");
+    uav.validate("uav");
     gridOptions().validate("grid");
     coverage.validate("coverage");
     planner_settings.validate("planner");
@@ -487,10 +323,56 @@ void Config::validate(const std::string& where) const {
   });
 }
 
+void UavConfig::validate(const std::string& where) const { table().check(*this, where); }
+
+const params::Table<UavConfig>& UavConfig::table() {
+  static const params::Table<UavConfig> t = [] {
+    params::Table<UavConfig> p;
+    p.add("size_m", &UavConfig::size_m, "the UAV's [x, y, z] extent (paper: 0.6 × 0.6 × 0.4 m)")
+        .unitIs("m")
+        .positive()
+        .fromProfile();
+    p.add("inflation_radius_m", &UavConfig::inflation_radius_m,
+          "radius kept from every point (default: the largest of size_m)")
+        .unitIs("m")
+        .positive()
+        .fromProfile();
+    return p;
+  }();
+  return t;
+}
+
 const params::Table<Config>& Config::table() {
   static const params::Table<Config> t = [] {
     params::Table<Config> p;
+    p.include("input.", &Config::input, io::CloudReadOptions::table());
+    p.include("assembly.", &Config::assembly, scan::AssemblerOptions::table());
+    p.include("registration.", &Config::registration, registration::RegistrationOptions::table());
+    p.include("preprocess.", &Config::preprocess, preprocess::PreprocessOptions::table());
+    p.include("safety.", &Config::safety, preprocess::SafetyOptions::table());
     p.include("perception.", &Config::perception, perception::PerceptionOptions::table());
+    p.include("uav.", &Config::uav, UavConfig::table());
+    p.include("grid.", &Config::grid, world::GridOptions::table());
+    params::Table<coverage::CoverageOptions> camera;  // section camera: is coverage.camera
+    camera.include("", &coverage::CoverageOptions::camera, coverage::Camera::table());
+    p.include("camera.", &Config::coverage, camera);
+    p.add("planner.name", &Config::planner, "the planner of every leg (planning/planner_table.h)")
+        .oneOf(planning::plannerNames());
+    p.include("planner.", &Config::planner_settings, planning::PlannerSettings::table());
+    p.include("mission.", &Config::mission, planning::MissionOptions::table());
+    // mission.home is a field of the flight (planning/types.h FlightOptions::home).
+    p.add(
+         "mission.home", params::Kind::Numbers,
+         [](const Config& c) { return params::toValue(c.flight.home); },
+         [](Config& c, const params::Value& v) { params::fromValue(v, c.flight.home); },
+         "take-off and landing point [x, y, z] of every sortie; must be free (default: "
+         "mission.start, else the lowest stop)")
+        .count(3, 3)
+        .unitIs("m")
+        .storedAt([](const Config& c) -> const void* { return &c.flight.home; });
+    params::Table<planning::FlightOptions> flight;  // section flight: is flight.model
+    flight.include("", &planning::FlightOptions::model, planning::FlightModel::table());
+    p.include("flight.", &Config::flight, flight);
     return p;
   }();
   return t;

@@ -264,8 +264,8 @@ world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
   PlanningSpace space = planningSpace(scene, world, config, corners);
   world::VoxelGrid grid = std::move(space.grid);
   validator = std::make_unique<planning::PathValidator>(std::move(space.validator));
-  requireFree(config.mission.start, "mission.start", *validator);
-  requireFree(config.flight.home, "mission.home", *validator);
+  requireFree(config.mission.start, config.keyOf(&config.mission.start), *validator);
+  requireFree(config.flight.home, config.keyOf(&config.flight.home), *validator);
   result.grid_resolution_m = grid.resolution();
   result.grid_voxels = grid.voxelCount();
   result.grid_blocked = grid.blockedCount();

@@ -36,6 +36,10 @@ struct UavConfig {
   double inflationRadius() const {
     return inflation_radius_m ? *inflation_radius_m : size_m.maxCoeff();
   }
+  /// Throws InputError naming the bad key (prefix `where`).
+  void validate(const std::string& where = "uav") const;
+  /// The keys of `uav:` (core/params.h).
+  static const params::Table<UavConfig>& table();
 };
 
 /// Every stage's parameters (the non-world part of a scenario; also the `-c`

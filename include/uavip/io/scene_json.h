@@ -22,7 +22,7 @@ inline constexpr const char* kSafetyCloudFile = "cloud_safety.pcd";
 
 /// One resolved parameter (app/config.h), as scene.json's `parameters` records it.
 struct ParameterRecord {
-  std::string key;  ///< "preprocess.voxel_m"
+  std::string key;  ///< "section.key", e.g. preprocess.voxel_m
   double value{0.0};
   std::string source;  ///< "set", "auto: max(0.05, spacing)", "default (paper)"
 };
