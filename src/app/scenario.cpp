@@ -95,33 +95,6 @@ void parseCamera(Section s, coverage::Camera& c) {
   s.finish();
 }
 
-void parseCoverage(Section s, coverage::CoverageOptions& o) {
-  if (s.has("overlap")) {
-    if (s.node()["overlap"].IsSequence()) {
-      const auto v = s.numbers("overlap", 2, 2);
-      o.overlap_w = v[0];
-      o.overlap_h = v[1];
-    } else {
-      o.overlap_w = o.overlap_h = s.number("overlap");
-    }
-  }
-  o.standoff_m = s.number("standoff_m", o.standoff_m);
-  o.max_stops = s.number("max_stops", o.max_stops);
-  o.mode = s.text("mode", o.mode);
-  if (o.mode != "surfaces" && o.mode != "structure")
-    s.fail("mode", "'" + o.mode +
-                       "' is not a coverage mode; use surfaces (plane by plane) or structure (the "
-                       "whole structure)");
-  if (s.has("ground_z_m")) o.ground_z_m = s.number("ground_z_m");
-  o.structure_target = s.number("structure_target", o.structure_target);
-  if (s.has("gimbal_pitch_deg")) {
-    const auto v = s.numbers("gimbal_pitch_deg", 2, 2);
-    o.gimbal.pitch_min_deg = v[0];
-    o.gimbal.pitch_max_deg = v[1];
-  }
-  s.finish();
-}
-
 void parsePlanner(Section s, Config& c) {
   c.planner = s.text("name", c.planner);
   c.planner_settings.time_limit_s = s.number("time_limit_s", c.planner_settings.time_limit_s);
@@ -316,7 +289,7 @@ void readTableKeys(Section& top, Config& c) {
 
 /// Records the keys the file gives in sections still read by hand.
 void recordFileKeys(const YAML::Node& top, Config& c) {
-  for (const char* section : {"preprocess", "grid", "coverage", "camera"}) {
+  for (const char* section : {"preprocess", "grid", "camera"}) {
     const YAML::Node n = top[section];
     if (!n.IsDefined() || !n.IsMap()) continue;
     for (const auto& kv : n) {
@@ -333,7 +306,6 @@ void parseConfigSections(Section& top, Config& c) {
   if (top.has("uav")) parseUav(top.child("uav"), c.uav);
   if (top.has("grid")) parseGrid(top.child("grid"), c.grid);
   if (top.has("camera")) parseCamera(top.child("camera"), c.coverage.camera);
-  if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
   if (top.has("planner")) parsePlanner(top.child("planner"), c);
   if (top.has("mission")) parseMission(top.child("mission"), c.mission, c.flight);
   if (top.has("flight")) parseFlight(top.child("flight"), c.flight.model);
@@ -491,6 +463,7 @@ const params::Table<Config>& Config::table() {
   static const params::Table<Config> t = [] {
     params::Table<Config> p;
     p.include("perception.", &Config::perception, perception::PerceptionOptions::table());
+    p.include("coverage.", &Config::coverage, coverage::CoverageOptions::table());
     return p;
   }();
   return t;
