@@ -562,8 +562,9 @@ def stitch_all(folder, rows, max_photos):
 
 
 def prepare_scenario(src, work, overlap, structure, purpose=None):
-    """The scenario, with coverage.overlap replaced, coverage.purpose and coverage.mode
-    structure set when asked (`uavip run` has no --cover; a copy in work)."""
+    """The scenario, with coverage.overlap replaced, coverage.purpose (without the
+    scenario's own overlap unless --overlap gives one) and coverage.mode structure set
+    when asked (`uavip run` has no --cover; a copy in work)."""
     if overlap is None and not structure and purpose is None:
         return os.path.abspath(src)
     import yaml  # noqa: PLC0415
@@ -577,6 +578,8 @@ def prepare_scenario(src, work, overlap, structure, purpose=None):
         coverage["mode"] = "structure"
     if purpose is not None:
         coverage["purpose"] = purpose
+        if overlap is None:  # the purpose's own overlap, not the scenario's paper 0.2
+            coverage.pop("overlap", None)
     if "edits" in doc:
         doc["edits"] = os.path.join(os.path.dirname(os.path.abspath(src)), doc["edits"])
     path = os.path.join(work, os.path.basename(src))

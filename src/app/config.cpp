@@ -108,8 +108,8 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     r.values.push_back({"camera.gsd_mm_per_px", cam.gsd_mm_per_px,
                         "auto: 1-inch 20 MP camera (structure > 20 m)"});
   } else {
-    r.values.push_back(
-        {"coverage.standoff_m", c.coverage.standoff_m, camera_set ? "set" : "default (paper)"});
+    r.values.push_back({c.keyOf(&c.coverage.standoff_m), c.coverage.standoff_m,
+                        camera_set ? "set" : "default (paper)"});
   }
 
   // A mosaic's photos overlap 0.6 along the rows and 0.3 across them unless the file
