@@ -338,7 +338,9 @@ def match_and_map(colmap, folder, db, work, matcher, threads, logf):
     common = ["--database_path", db, "--SiftMatching.use_gpu", "0",
               "--SiftMatching.num_threads", str(threads)]
     if matcher == "spatial":
+        # ignore_z 0: the photos of a wall differ in height, not only in x and y.
         run([colmap, "spatial_matcher", *common, "--SpatialMatching.is_gps", "0",
+             "--SpatialMatching.ignore_z", "0",
              "--SpatialMatching.max_num_neighbors", str(MATCH_NEIGHBOURS),
              "--SpatialMatching.max_distance", "1000"], logf, env)
     else:
@@ -559,10 +561,11 @@ def stitch_all(folder, rows, max_photos):
 # The case
 
 
-def prepare_scenario(src, work, overlap, structure):
-    """The scenario, with coverage.overlap replaced and coverage.mode structure set when
-    asked (`uavip run` has no --cover; a copy in work)."""
-    if overlap is None and not structure:
+def prepare_scenario(src, work, overlap, structure, purpose=None):
+    """The scenario, with coverage.overlap replaced, coverage.purpose (without the
+    scenario's own overlap unless --overlap gives one) and coverage.mode structure set
+    when asked (`uavip run` has no --cover; a copy in work)."""
+    if overlap is None and not structure and purpose is None:
         return os.path.abspath(src)
     import yaml  # noqa: PLC0415
 
@@ -573,6 +576,10 @@ def prepare_scenario(src, work, overlap, structure):
         coverage["overlap"] = overlap
     if structure:
         coverage["mode"] = "structure"
+    if purpose is not None:
+        coverage["purpose"] = purpose
+        if overlap is None:  # the purpose's own overlap, not the scenario's paper 0.2
+            coverage.pop("overlap", None)
     if "edits" in doc:
         doc["edits"] = os.path.join(os.path.dirname(os.path.abspath(src)), doc["edits"])
     path = os.path.join(work, os.path.basename(src))
@@ -581,10 +588,27 @@ def prepare_scenario(src, work, overlap, structure):
     return path
 
 
+def plan_summary(mission_json):
+    """Photos, path, sorties and the multi-view counts of a plan (mission.json)."""
+    with open(mission_json) as f:
+        m = json.load(f)
+    flight = m["flight"]
+    views = [s["coverage"] for s in m["surfaces"] if s.get("coverage") and "views_min" in s["coverage"]]
+    out = {"photos": sum(s["stop_count"] for s in m["surfaces"]),
+           "path_m": flight["length_m"], "sorties": flight["sortie_count"]}
+    if views:
+        out["views_min"] = min(v["views_min"] for v in views)
+        out["triangulation_deg_min"] = min(v["triangulation_deg_min"] for v in views)
+        out["consecutive_share_min"] = min(v["consecutive_share_min"] for v in views)
+    return out
+
+
 def case_name(args):
     base = os.path.splitext(os.path.basename(args.scenario))[0]
     if args.cover_structure:
         base += "-structure"
+    if args.purpose:
+        base += f"-{args.purpose}"
     base += f"-overlap{args.overlap}" if args.overlap is not None else "-asplanned"
     return base + (f"-first{args.max_photos}" if args.max_photos else "")
 
@@ -599,13 +623,15 @@ def run_case(args):
     timings = {}
     result = {"case": name, "scenario": os.path.relpath(os.path.abspath(args.scenario), ROOT),
               "overlap": args.overlap, "cover": "structure" if args.cover_structure else "surfaces",
-              "matcher": args.matcher, "threads": args.threads}
+              "purpose": args.purpose, "matcher": args.matcher, "threads": args.threads}
     folder = args.photos_dir
-    scenario = prepare_scenario(args.scenario, work, args.overlap, args.cover_structure)
+    scenario = prepare_scenario(args.scenario, work, args.overlap, args.cover_structure,
+                                args.purpose)
     if folder is None:
         t0 = time.time()
         run([args.uavip, "run", scenario, "-o", os.path.join(work, "plan"), "-q"], logf)
         timings["plan_s"] = round(time.time() - t0, 1)
+        result["plan"] = plan_summary(os.path.join(work, "plan", "mission.json"))
         t0 = time.time()
         folder = os.path.join(work, "photos")
         run([args.uavip, "photos", os.path.join(work, "plan", "mission.json"), "--world", scenario,
@@ -707,6 +733,8 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenario", help="scenario YAML (e.g. scenarios/wall_small.yaml)")
     ap.add_argument("--overlap", type=float, help="replace coverage.overlap (a copy of the scenario)")
+    ap.add_argument("--purpose", choices=("inspection", "mosaic", "reconstruction"),
+                    help="set coverage.purpose (a copy of the scenario)")
     ap.add_argument("--cover-structure", action="store_true",
                     help="coverage.mode structure (as plan --cover structure)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "photo_check"), help="output folder")

@@ -24,7 +24,9 @@ set -euo pipefail
 #   keys of the scenario's own sections (app/scenario.cpp): size_m (a grass primitive),
 #   max_range_m (sensing:, also the raw log's field)
 #   voxel_m: the default label of core/voxel_key.h's VoxelKeyer
-shared_names=(footprint_m sensor_mm focal_mm image_px gsd_mm_per_px cost_weights
+#   standoff_m: a field of mission.json's and photos.json's camera records
+#   gimbal_pitch_deg: a field of every stop in mission.json and the map exports
+shared_names=(standoff_m gimbal_pitch_deg footprint_m sensor_mm focal_mm image_px gsd_mm_per_px cost_weights
   inflation_radius_m resolution_m cruise_speed_m_s climb_speed_m_s descent_speed_m_s hover_s settle_s
   endurance_s drop_classes cell_m use_recorded_yaw output_voxel_m size_m max_range_m voxel_m)
 # Full keys written by code that reports or reads a file format, "FILE KEY" (each with

@@ -22,6 +22,9 @@ if [ "${SKIP_APT:-0}" != 1 ] && ! dpkg-query -W -f='${Status}' chromium 2>/dev/n
   $SUDO apt-get update -q
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends chromium
 fi
+# The heavy test PhotoCheckWallSmall runs COLMAP and OpenCV: benchmarks/packages.txt,
+# installed for the tests only (photo_check.sh skips apt-get itself when SKIP_APT=1).
+[ "${UAVIP_SANITIZE:-OFF}" = ON ] || bash benchmarks/photo_check.sh --install-only
 BUILD_DIR=${BUILD_DIR:-build}
 # The install test (label install) builds a consumer against the installed tree; it runs
 # in the Release suite only (an instrumented tree needs an instrumented consumer).

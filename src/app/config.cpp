@@ -84,8 +84,7 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   // Camera: the paper's 0.6 × 0.4 m footprint at 1.5 m suits its small cases; a
   // building or bridge (largest extent > 20 m) with no camera in the config gets a
   // 1-inch 20 MP inspection camera at 2 mm/px (7.3 m standoff, 10.9 × 7.3 m photos).
-  const bool camera_set =
-      c.sources.anyFromFile("camera.") || c.sources.fromFile("coverage.standoff_m");
+  const bool camera_set = c.sources.anyFromFile("camera.") || c.setInFile(&c.coverage.standoff_m);
   // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
   if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
     auto& cam = c.coverage.camera;
@@ -99,8 +98,17 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
     r.values.push_back({c.keyOf(&cam.gsd_mm_per_px), cam.gsd_mm_per_px,
                         "auto: 1-inch 20 MP camera (structure > 20 m)"});
   } else {
-    r.values.push_back(
-        {"coverage.standoff_m", c.coverage.standoff_m, camera_set ? "set" : "default (paper)"});
+    r.values.push_back({c.keyOf(&c.coverage.standoff_m), c.coverage.standoff_m,
+                        camera_set ? "set" : "default (paper)"});
+  }
+
+  // A mosaic's photos overlap 0.6 along the rows and 0.3 across them unless the file
+  // sets coverage.overlap.
+  if (c.coverage.purpose == "mosaic" && !c.setInFile(&c.coverage.overlap_w)) {
+    c.coverage.overlap_w = coverage::kMosaicOverlapW;
+    c.coverage.overlap_h = coverage::kMosaicOverlapH;
+    r.values.push_back({c.keyOf(&c.coverage.overlap_w), c.coverage.overlap_w,
+                        "purpose mosaic: 0.6 along the rows, 0.3 across them"});
   }
 
   // The planning grid of the whole site (app::plan applies the rule again to the

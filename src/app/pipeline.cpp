@@ -17,6 +17,7 @@
 #include "uavip/core/text.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
+#include "uavip/coverage/multi_view.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/preprocess/safety_cloud.h"
@@ -35,9 +36,37 @@ namespace {
 /// Free space kept around the photo stops when the planning grid is cropped to them [m].
 constexpr double kLocalMarginM = 6.0;
 
+/// The poses of a mission's flown stops.
+std::vector<coverage::ViewPose> flownViews(const planning::SurfaceMission& m) {
+  std::vector<coverage::ViewPose> views;
+  for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
+    if (m.stop_problems[k] != planning::StopProblem::None) continue;
+    const auto& s = m.strategy.stops[k];
+    views.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
+  }
+  return views;
+}
+
+/// The camera the flown photos' coverage is measured with: the footprint frustum, out
+/// to 1.5 × the standoff (or mission.max_standoff_factor).
+coverage::FootprintCamera coverageCamera(const app::Config& config) {
+  coverage::FootprintCameraOptions camera_options;
+  camera_options.camera = config.coverage.camera;
+  camera_options.standoff_m = config.coverage.standoff_m;
+  camera_options.range_slack = std::max(1.5, config.mission.max_standoff_factor);
+  return coverage::FootprintCamera(camera_options);
+}
+
+/// What counts as imaged in a mission's coverage: incidence <= 75°.
+coverage::CoverageCriteria coverageCriteria() {
+  coverage::CoverageCriteria criteria;
+  criteria.max_incidence_deg = 75.0;
+  return criteria;
+}
+
 /// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
-/// standoff), incidence ≤ kMaxIncidenceDeg, line of sight through the cloud's voxels.
+/// standoff), incidence ≤ 75° (coverageCriteria), line of sight through the cloud's voxels.
 /// Nothing when the mission is not flyable or the surface has no points; applyCoverage
 /// writes it into the mission. The views are shared by every core, but beside the
 /// flight only the calling thread works until `gate` opens (the flight's A* legs use
@@ -46,23 +75,36 @@ std::optional<coverage::CoverageResult> coverageOf(const planning::SurfaceMissio
                                                    const Surface& surface,
                                                    const coverage::LineOfSight& sight,
                                                    const app::Config& config, WorkerGate& gate) {
-  constexpr double kMaxIncidenceDeg = 75.0;
   if (!planning::flyable(m.status) || surface.inliers.empty()) return std::nullopt;
-  std::vector<coverage::ViewPose> views;
+  return coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, flownViews(m),
+                                    coverageCamera(config), coverageCriteria(), &sight,
+                                    hardwareThreads(), nullptr, &gate);
+}
+
+/// Views per point, triangulation angles (coverage/multi_view.h, the same test as
+/// coverageOf) and the least footprint share of consecutive flown photos, recorded in
+/// a mission whose coverage was measured, for a purpose other than inspection.
+void applyMultiView(planning::SurfaceMission& m, const Surface& surface,
+                    const coverage::LineOfSight& sight, const app::Config& config) {
+  if (config.coverage.purpose == "inspection" || !m.coverage.evaluated) return;
+  const coverage::MultiViewStats st = coverage::multiViewStats(
+      surface.inliers, {surface.plane.normal}, flownViews(m), coverageCamera(config),
+      coverageCriteria(), &sight, hardwareThreads());
+  auto& c = m.coverage;
+  c.multi_view = true;
+  c.views_min = st.views_min;
+  c.views_median = st.views_median;
+  c.angle_min_deg = st.angle_min_deg;
+  c.angle_median_deg = st.angle_median_deg;
+  const coverage::Stop* previous = nullptr;
   for (std::size_t k = 0; k < m.strategy.stops.size(); ++k) {
     if (m.stop_problems[k] != planning::StopProblem::None) continue;
-    const auto& s = m.strategy.stops[k];
-    views.push_back({s.position, s.yaw_deg, s.gimbal_pitch_deg});
+    const coverage::Stop& s = m.strategy.stops[k];
+    if (previous != nullptr)
+      c.consecutive_share_min =
+          std::min(c.consecutive_share_min, coverage::footprintShare(m.strategy, *previous, s));
+    previous = &s;
   }
-  coverage::FootprintCameraOptions camera_options;
-  camera_options.camera = config.coverage.camera;
-  camera_options.standoff_m = config.coverage.standoff_m;
-  camera_options.range_slack = std::max(1.5, config.mission.max_standoff_factor);
-  const coverage::FootprintCamera camera(camera_options);
-  coverage::CoverageCriteria criteria;
-  criteria.max_incidence_deg = kMaxIncidenceDeg;
-  return coverage::evaluateCoverage(surface.inliers, {surface.plane.normal}, views, camera,
-                                    criteria, &sight, hardwareThreads(), nullptr, &gate);
 }
 
 /// Records coverageOf's result `r` in the mission. Below mission.min_coverage an `ok`
@@ -393,8 +435,9 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.times.planning_s = secondsSince(t2);
   auto [flown, flight_s] = flight.get();
   for (std::size_t i = 0; i < strategies.size(); ++i) {
-    if (measured[i])
-      applyCoverage(result.missions[i], *measured[i], surfaceById(scene, surface_ids[i]), config);
+    if (!measured[i]) continue;
+    applyCoverage(result.missions[i], *measured[i], surfaceById(scene, surface_ids[i]), config);
+    applyMultiView(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config);
   }
   result.flight = std::move(flown);
   result.times.flight_s = flight_s;
@@ -426,6 +469,7 @@ io::MissionExtras missionExtras(const PlanResult& planned, const app::Config& co
   e.inflation_radius_m = config.uav.inflationRadius();
   e.overlap_w = config.coverage.overlap_w;
   e.overlap_h = config.coverage.overlap_h;
+  e.purpose = config.coverage.purpose;
   e.camera = config.coverage.camera;
   e.grid_voxels = planned.grid_voxels;
   e.grid_blocked = planned.grid_blocked;

@@ -20,33 +20,6 @@ namespace {
 
 using yaml::Section;
 
-void parseCoverage(Section s, coverage::CoverageOptions& o) {
-  if (s.has("overlap")) {
-    if (s.node()["overlap"].IsSequence()) {
-      const auto v = s.numbers("overlap", 2, 2);
-      o.overlap_w = v[0];
-      o.overlap_h = v[1];
-    } else {
-      o.overlap_w = o.overlap_h = s.number("overlap");
-    }
-  }
-  o.standoff_m = s.number("standoff_m", o.standoff_m);
-  o.max_stops = s.number("max_stops", o.max_stops);
-  o.mode = s.text("mode", o.mode);
-  if (o.mode != "surfaces" && o.mode != "structure")
-    s.fail("mode", "'" + o.mode +
-                       "' is not a coverage mode; use surfaces (plane by plane) or structure (the "
-                       "whole structure)");
-  if (s.has("ground_z_m")) o.ground_z_m = s.number("ground_z_m");
-  o.structure_target = s.number("structure_target", o.structure_target);
-  if (s.has("gimbal_pitch_deg")) {
-    const auto v = s.numbers("gimbal_pitch_deg", 2, 2);
-    o.gimbal.pitch_min_deg = v[0];
-    o.gimbal.pitch_max_deg = v[1];
-  }
-  s.finish();
-}
-
 void parseBench(Section s, BenchSpec& b) {
   if (s.has("legs")) {
     const YAML::Node legs = s.node()["legs"];
@@ -126,18 +99,6 @@ void readTableKeys(Section& top, Config& c) {
   for (const auto& entry : sections) entry.second.finish();
 }
 
-/// Records the keys the file gives in sections still read by hand.
-void recordFileKeys(const YAML::Node& top, Config& c) {
-  for (const char* section : {"coverage"}) {
-    const YAML::Node n = top[section];
-    if (!n.IsDefined() || !n.IsMap()) continue;
-    for (const auto& kv : n) {
-      if (kv.first.IsScalar())
-        c.sources.set(std::string(section) + "." + kv.first.Scalar(), params::Source::File);
-    }
-  }
-}
-
 /// The camera model the file's camera keys describe (coverage/camera.h: a sensor key
 /// sets from_sensor, a pinhole key pinhole): refuses a second model's keys and a missing
 /// key of the model; a pinhole's principal point defaults to the image centre.
@@ -174,10 +135,8 @@ void completeCamera(Section& top, Config& c) {
 }
 
 void parseConfigSections(Section& top, Config& c) {
-  if (top.has("coverage")) parseCoverage(top.child("coverage"), c.coverage);
   readTableKeys(top, c);
   completeCamera(top, c);
-  recordFileKeys(top.node(), c);
 }
 
 /// A non-negative `seed` key, or the fallback.
@@ -356,6 +315,7 @@ const params::Table<Config>& Config::table() {
     params::Table<coverage::CoverageOptions> camera;  // section camera: is coverage.camera
     camera.include("", &coverage::CoverageOptions::camera, coverage::Camera::table());
     p.include("camera.", &Config::coverage, camera);
+    p.include("coverage.", &Config::coverage, coverage::CoverageOptions::table());
     p.add("planner.name", &Config::planner, "the planner of every leg (planning/planner_table.h)")
         .oneOf(planning::plannerNames());
     p.include("planner.", &Config::planner_settings, planning::PlannerSettings::table());

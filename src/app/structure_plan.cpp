@@ -119,9 +119,18 @@ coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double
   return k;
 }
 
+/// Throws InputError unless coverage.purpose is inspection: a mosaic or a
+/// reconstruction is planned plane by plane only.
+void requireInspectionPurpose(const app::Config& config) {
+  if (config.coverage.purpose != "inspection")
+    throw InputError(config.keyOf(&config.coverage.purpose) + " " + config.coverage.purpose +
+                     " is planned plane by plane only; plan with --surface, or with purpose "
+                     "inspection for --cover structure");
+}
+
 /// coverage.standoff_m when set, else what the camera's GSD implies.
 double viewingDistance(const app::Config& config) {
-  if (config.sources.fromFile("coverage.standoff_m")) return config.coverage.standoff_m;
+  if (config.setInFile(&config.coverage.standoff_m)) return config.coverage.standoff_m;
   return coverage::solveCamera(config.coverage.camera, config.coverage.standoff_m).standoff_m;
 }
 
@@ -349,6 +358,7 @@ void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
 }  // namespace
 
 PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
+  requireInspectionPurpose(config);
   PlanResult result;
   planning::StructureSummary summary;
   const auto t0 = SteadyClock::now();

@@ -53,6 +53,12 @@ constexpr double kInsetFraction = 0.25;
 constexpr int kCentreSamples = 24;
 /// Grids of at least this many cells find their rows on every core.
 constexpr double kParallelCells = 1000.0;
+/// Reconstruction: the first and last photo centres of an axis lie this far inside
+/// the boundary's extent, so they are on the surface, not on its edge [m].
+constexpr double kEdgeInsetM = 1e-3;
+/// Reconstruction: footprints per spacing are raised to this much above an even
+/// count, so an edge point keeps its extra footprint despite rounding.
+constexpr double kEdgeMargin = 0.1;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -131,9 +137,7 @@ Vec3 anyOrthogonal(const Vec3& n) {
 
 void CoverageOptions::validate(const std::string& where) const {
   camera.validate(where + ".camera");
-  requireThat(overlap_w >= 0.0 && overlap_w < 1.0, where, "overlap_w", "in [0, 1)", overlap_w);
-  requireThat(overlap_h >= 0.0 && overlap_h < 1.0, where, "overlap_h", "in [0, 1)", overlap_h);
-  requirePositive(standoff_m, where, "standoff_m");
+  table().check(*this, where);
   if (!camera.from_sensor && standoff_m > camera.maxStandoff())
     throw InputError(
         where + ": standoff_m " + formatNumber(standoff_m) + " is beyond " +
@@ -141,21 +145,78 @@ void CoverageOptions::validate(const std::string& where) const {
              ? "camera.max_range_m " + formatNumber(camera.max_range_m)
              : formatNumber(kMaxStandoffWithoutRangeM) + " m (no camera.max_range_m given)") +
         "; fly closer, or set camera.max_range_m");
-  requireThat(max_stops >= 1.0 && max_stops <= 1e8, where, "max_stops", "in [1, 1e8]", max_stops);
-  if (mode != "surfaces" && mode != "structure")
-    throw InputError(where + ": mode '" + mode +
-                     "' is not a coverage mode; use surfaces or structure");
-  if (ground_z_m)
-    requireThat(std::isfinite(*ground_z_m), where, "ground_z_m", "finite", *ground_z_m);
-  requireThat(structure_target > 0.0 && structure_target <= 1.0, where, "structure_target",
-              "in (0, 1]", structure_target);
-  requireThat(gimbal.pitch_min_deg >= -90.0 && gimbal.pitch_min_deg <= 90.0, where,
-              "gimbal.pitch_min_deg", "in [-90, 90]", gimbal.pitch_min_deg);
-  requireThat(gimbal.pitch_max_deg >= -90.0 && gimbal.pitch_max_deg <= 90.0, where,
-              "gimbal.pitch_max_deg", "in [-90, 90]", gimbal.pitch_max_deg);
   requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
               "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
               gimbal.pitch_min_deg);
+  if (mode == "structure" && purpose != "inspection")
+    throw InputError(where + ": purpose " + purpose +
+                     " is planned plane by plane only; use coverage.mode surfaces, or purpose "
+                     "inspection with mode structure");
+}
+
+const params::Table<CoverageOptions>& CoverageOptions::table() {
+  static const params::Table<CoverageOptions> t = [] {
+    using O = CoverageOptions;
+    params::Table<O> p;
+    p.add(
+         "overlap", params::Kind::Numbers,
+         [](const O& o) {
+           return params::Value{{o.overlap_w, o.overlap_h}, {}, true};
+         },
+         [](O& o, const params::Value& v) {
+           o.overlap_w = v.numbers.at(0);
+           o.overlap_h = v.numbers.size() > 1 ? v.numbers[1] : v.numbers[0];
+         },
+         "overlap of neighbouring photos [along the width, along the height] (paper: 0.2)")
+        .count(2, 2)
+        .orScalar()
+        .atLeast(0.0)
+        .below(1.0)
+        .address = [](const O& o) -> const void* { return &o.overlap_w; };
+    p.add("standoff_m", &O::standoff_m,
+          "distance from the surface when the camera gives a footprint directly (paper: 1.5 m)")
+        .unitIs("m")
+        .positive();
+    p.add("max_stops", &O::max_stops, "most photo stops one surface may get").within(1.0, 1e8);
+    p.add("mode", &O::mode,
+          "surfaces (the paper's rows, plane by plane) or structure (one view selection over "
+          "the whole structure)")
+        .oneOf({"surfaces", "structure"});
+    p.add("ground_z_m", &O::ground_z_m,
+          "structure mode: points below this height are ground (unset: the lowest level "
+          "surfaces)")
+        .unitIs("m");
+    p.add("structure_target", &O::structure_target,
+          "structure mode: share of the imageable structure points the photos must image")
+        .above(0.0)
+        .atMost(1.0);
+    p.add(
+         "gimbal_pitch_deg", params::Kind::Numbers,
+         [](const O& o) {
+           return params::Value{{o.gimbal.pitch_min_deg, o.gimbal.pitch_max_deg}, {}, true};
+         },
+         [](O& o, const params::Value& v) {
+           o.gimbal.pitch_min_deg = v.numbers.at(0);
+           o.gimbal.pitch_max_deg = v.numbers.at(1);
+         },
+         "gimbal pitch limits [most downward, most upward] (-90 = straight down)")
+        .unitIs("deg")
+        .count(2, 2)
+        .within(-90.0, 90.0)
+        .address = [](const O& o) -> const void* { return &o.gimbal; };
+    p.add("purpose", &O::purpose,
+          "inspection (the paper's rows at overlap), mosaic (overlap 0.6 / 0.3 unless set) or "
+          "reconstruction (min_views photos of every point, 60 % shared by consecutive photos)")
+        .oneOf({"inspection", "mosaic", "reconstruction"});
+    p.add("min_views", &O::min_views, "reconstruction: photos that image every surface point")
+        .within(2, 50);
+    p.add("min_triangulation_deg", &O::min_triangulation_deg,
+          "reconstruction: largest angle between two rays to a point, at least")
+        .unitIs("deg")
+        .within(0.0, 60.0);
+    return p;
+  }();
+  return t;
 }
 
 namespace {
@@ -282,14 +343,30 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
   return best;
 }
 
-/// Sets fs.cols and fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi];
-/// throws InputError beyond options.max_stops.
+/// Cells along an axis of extent `len` at most `spacing` apart, counted in double
+/// (a tiny footprint or a huge boundary must not overflow). Rows: max(⌈len/spacing⌉,
+/// 1), tolerant of rounding (4.8/0.48 = 10), centred on the extent. Edge to edge
+/// (reconstruction): the first and last photo centres kEdgeInsetM inside the extent's
+/// ends, so a point at an edge is in as many footprints as half a footprint holds.
+double cellsAlong(double len, double spacing, bool edge_to_edge) {
+  if (!edge_to_edge) return std::max(1.0, std::ceil(len / spacing - 1e-9));
+  const double span = len - 2.0 * kEdgeInsetM;
+  return span > 0.0 ? std::ceil(span / spacing - 1e-9) + 1.0 : 1.0;
+}
+
+/// The spacing of `cells` centres edge to edge over `len` (cellsAlong) [m].
+double edgeSpacing(double len, double cells, double spacing) {
+  return cells > 1.0 ? (len - 2.0 * kEdgeInsetM) / (cells - 1.0) : spacing;
+}
+
+/// Sets fs.cols and fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi]
+/// (edge to edge for reconstruction, which narrows the spacing to fit); throws
+/// InputError beyond options.max_stops.
 void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions& options,
               double wlo, double whi, double hlo, double hhi) {
-  // Cells per axis: max(⌈extent/spacing⌉, 1), tolerant of rounding (4.8/0.48 = 10),
-  // counted in double first: a tiny footprint or a huge boundary must not overflow.
-  const double cols = std::max(1.0, std::ceil((whi - wlo) / fs.spacing_w_m - 1e-9));
-  const double rows = std::max(1.0, std::ceil((hhi - hlo) / fs.spacing_h_m - 1e-9));
+  const bool edges = options.purpose == "reconstruction";
+  const double cols = cellsAlong(whi - wlo, fs.spacing_w_m, edges);
+  const double rows = cellsAlong(hhi - hlo, fs.spacing_h_m, edges);
   if (!(cols * rows <= options.max_stops)) {
     std::ostringstream os;
     os << "surface " << surface.id << " (" << whi - wlo << " x " << hhi - hlo << " m) would need "
@@ -300,6 +377,30 @@ void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions&
   }
   fs.cols = static_cast<int>(cols);
   fs.rows = static_cast<int>(rows);
+  if (edges) {
+    fs.spacing_w_m = edgeSpacing(whi - wlo, cols, fs.spacing_w_m);
+    fs.spacing_h_m = edgeSpacing(hhi - hlo, rows, fs.spacing_h_m);
+  }
+}
+
+/// Footprints per spacing (1 / (1 − overlap)) on each axis of a reconstruction: at
+/// least 1/(1 − kReconstructionShare) (consecutive photos along a row or from row to
+/// row share that much) and the file's overlap, raised until every point is in
+/// min_views footprints. With centres edge to edge at spacing footprint/m, a point
+/// lies in ⌊m⌋ footprints per axis inside and ⌊m/2⌋ + 1 at an edge; the product
+/// counts (the footprints are a grid). An axis is raised to just above the next even
+/// m, where its edge count grows by one.
+std::pair<double, double> reconstructionDensity(const CoverageOptions& options) {
+  const double base = 1.0 / (1.0 - kReconstructionShare);
+  double mw = std::max(base, 1.0 / (1.0 - options.overlap_w));
+  double mh = std::max(base, 1.0 / (1.0 - options.overlap_h));
+  const auto edge = [](double m) { return std::floor(0.5 * m) + 1.0; };
+  while (std::min(edge(mw) * edge(mh), std::floor(mw) * std::floor(mh)) <
+         static_cast<double>(options.min_views)) {
+    double& m = edge(mw) <= edge(mh) ? mw : mh;
+    m = 2.0 * edge(m) + kEdgeMargin;
+  }
+  return {mw, mh};
 }
 
 /// Row r's stops, on the grid centred on (wc, hc) in the frame about origin, whose
@@ -364,6 +465,11 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   fs.camera = solveCamera(options.camera, options.standoff_m);
   fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
   fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
+  if (options.purpose == "reconstruction") {
+    const auto [mw, mh] = reconstructionDensity(options);
+    fs.spacing_w_m = fs.camera.footprint_w_m / mw;
+    fs.spacing_h_m = fs.camera.footprint_h_m / mh;
+  }
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
@@ -382,6 +488,15 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
   placeStops(fs, surface, f, origin, region, at, 0.5 * (wlo + whi), 0.5 * (hlo + hhi));
   return fs;
+}
+
+double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b) {
+  const Vec3 d = b.target - a.target;
+  const double fw = fs.camera.footprint_w_m;
+  const double fh = fs.camera.footprint_h_m;
+  if (!(fw > 0.0) || !(fh > 0.0)) return 0.0;
+  return std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_w)) / fw) *
+         std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_h)) / fh);
 }
 
 }  // namespace uavip::coverage

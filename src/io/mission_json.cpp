@@ -24,6 +24,20 @@ json validationToJson(const planning::ValidationResult& v) {
 
 }  // namespace
 
+/// A mission's measured coverage; the multi-view counts only where they were measured.
+json coverageToJson(const planning::SurfaceMission::Coverage& c) {
+  if (!c.evaluated) return nullptr;
+  json j = {{"fraction", round4(c.fraction)}, {"points", c.points}, {"uncovered", c.uncovered}};
+  if (c.multi_view) {
+    j["views_min"] = c.views_min;
+    j["views_median"] = c.views_median;
+    j["triangulation_deg_min"] = round4(c.angle_min_deg);
+    j["triangulation_deg_median"] = round4(c.angle_median_deg);
+    j["consecutive_share_min"] = round4(c.consecutive_share_min);
+  }
+  return j;
+}
+
 json surfaceMissionToJson(const planning::SurfaceMission& m) {
   json stops = json::array();
   for (std::size_t i = 0; i < m.strategy.stops.size(); ++i) {
@@ -55,10 +69,7 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
             {"grid", {m.strategy.cols, m.strategy.rows}}}},
           {"stop_count", m.strategy.stops.size()},
           {"moved_stop_count", m.moved_stops.size()},
-          {"coverage", m.coverage.evaluated ? json{{"fraction", round4(m.coverage.fraction)},
-                                                   {"points", m.coverage.points},
-                                                   {"uncovered", m.coverage.uncovered}}
-                                            : json(nullptr)},
+          {"coverage", coverageToJson(m.coverage)},
           {"stops", stops},
           {"waypoint_count", m.waypoints.size()},
           {"waypoints", waypoints},
@@ -172,6 +183,7 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
                   {"blocked", e.grid_blocked},
                   {"resolution_m", e.grid_resolution_m}};
   meta["safety_clearance_m"] = e.safety_clearance_m;
+  if (e.purpose != "inspection") meta["purpose"] = e.purpose;
   if (e.structure) {
     meta["structure"] = structureToJson(*e.structure);
     meta["timings"]["prepare_s"] = e.structure->prepare_s;

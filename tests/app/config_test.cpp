@@ -112,6 +112,27 @@ TEST(ResolveConfig, LargeStructureWithoutACameraGetsAnInspectionCamera) {
   EXPECT_DOUBLE_EQ(own.config.coverage.camera.footprint_w_m, 1.0);
 }
 
+TEST(ResolveConfig, MosaicOverlapsUnlessTheFileSetsThem) {
+  const CloudStats stats = preprocess::measureCloud(lattice(4.0, 4.0, 0.1, 0.0));
+  const ResolvedConfig paper = resolveConfig(app::parseConfig("", "cfg"), stats);
+  EXPECT_DOUBLE_EQ(paper.config.coverage.overlap_w, 0.2);
+  EXPECT_DOUBLE_EQ(paper.config.coverage.overlap_h, 0.2);
+  const ResolvedConfig mosaic =
+      resolveConfig(app::parseConfig("coverage: {purpose: mosaic}\n", "cfg"), stats);
+  EXPECT_DOUBLE_EQ(mosaic.config.coverage.overlap_w, 0.6);
+  EXPECT_DOUBLE_EQ(mosaic.config.coverage.overlap_h, 0.3);
+  const ResolvedConfig own = resolveConfig(
+      app::parseConfig("coverage: {purpose: mosaic, overlap: [0.5, 0.4]}\n", "cfg"), stats);
+  EXPECT_DOUBLE_EQ(own.config.coverage.overlap_w, 0.5);
+  EXPECT_DOUBLE_EQ(own.config.coverage.overlap_h, 0.4);
+  const ResolvedConfig scalar =
+      resolveConfig(app::parseConfig("coverage: {purpose: mosaic, overlap: 0.45}\n", "cfg"), stats);
+  EXPECT_DOUBLE_EQ(scalar.config.coverage.overlap_h, 0.45);
+  EXPECT_THROW(app::parseConfig("coverage: {purpose: survey}\n", "cfg"), InputError);
+  EXPECT_THROW(app::parseConfig("coverage: {purpose: mosaic, mode: structure}\n", "cfg"),
+               InputError);
+}
+
 TEST(ResolveConfig, SiteGridStaysWithinTheMemoryGuard) {
   CloudStats stats;
   stats.spacing_m = 0.5;

@@ -457,11 +457,11 @@ std::string errorOf(const CoverageOptions& o) {
 TEST(CoverageOptions, ValidateNamesTheField) {
   CoverageOptions o;
   EXPECT_EQ(errorOf(o), "");
-  o.overlap_w = 1.0;
-  EXPECT_NE(errorOf(o).find("overlap_w"), std::string::npos);
+  o.overlap_w = 1.0;  // the key a file writes: overlap [w, h]
+  EXPECT_NE(errorOf(o).find("overlap must be in [0, 1), got 1"), std::string::npos);
   o = CoverageOptions{};
   o.overlap_h = -0.1;
-  EXPECT_NE(errorOf(o).find("overlap_h"), std::string::npos);
+  EXPECT_NE(errorOf(o).find("overlap must be in [0, 1), got -0.1"), std::string::npos);
   o = CoverageOptions{};
   o.standoff_m = 0.0;
   EXPECT_NE(errorOf(o).find("standoff_m"), std::string::npos);
@@ -471,10 +471,18 @@ TEST(CoverageOptions, ValidateNamesTheField) {
   EXPECT_NE(errorOf(o).find("pitch_min_deg"), std::string::npos);
   o = CoverageOptions{};
   o.gimbal.pitch_max_deg = 100.0;
-  EXPECT_NE(errorOf(o).find("pitch_max_deg"), std::string::npos);
+  EXPECT_NE(errorOf(o).find("gimbal_pitch_deg must be in [-90, 90], got 100"), std::string::npos);
   o = CoverageOptions{};
   o.gimbal.pitch_min_deg = -91.0;
-  EXPECT_NE(errorOf(o).find("pitch_min_deg"), std::string::npos);
+  EXPECT_NE(errorOf(o).find("gimbal_pitch_deg must be in [-90, 90], got -91"), std::string::npos);
+  o = CoverageOptions{};
+  o.purpose = "survey";
+  EXPECT_NE(errorOf(o).find("purpose must be one of inspection, mosaic, reconstruction"),
+            std::string::npos);
+  o = CoverageOptions{};
+  o.purpose = "mosaic";
+  o.mode = "structure";
+  EXPECT_NE(errorOf(o).find("plane by plane only"), std::string::npos);
   o = CoverageOptions{};
   o.camera.footprint_h_m = 0.0;
   EXPECT_NE(errorOf(o).find("footprint_h_m"), std::string::npos);

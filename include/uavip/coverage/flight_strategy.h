@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/params.h"
 #include "uavip/core/types.h"
 #include "uavip/coverage/camera.h"
 
@@ -45,10 +46,27 @@ struct CoverageOptions {
   std::optional<double> ground_z_m;
   /// Structure mode: share of the imageable structure points the photos must image, (0, 1].
   double structure_target{0.99};
+  /// What the photos are for: "inspection" (the paper's rows at `overlap`),
+  /// "mosaic" (rows the app gives 0.6 / 0.3 overlap unless the file sets it) or
+  /// "reconstruction" (rows dense enough that every point is in min_views
+  /// footprints and consecutive photos share >= kReconstructionShare of theirs).
+  std::string purpose{"inspection"};
+  /// Reconstruction: photos that must image every surface point.
+  int min_views{3};
+  /// Reconstruction: the largest angle between two rays to a point, at least [deg].
+  double min_triangulation_deg{5.0};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "coverage") const;
+  /// The keys of the `coverage:` section (core/params.h); camera is its own section.
+  static const params::Table<CoverageOptions>& table();
 };
+
+/// Share of its footprint a photo of a reconstruction plan shares with the next one.
+constexpr double kReconstructionShare = 0.6;
+/// Overlaps of a mosaic when the file sets none (front = along the image width, side).
+constexpr double kMosaicOverlapW = 0.6;
+constexpr double kMosaicOverlapH = 0.3;
 
 /// One photo stop.
 struct Stop {
@@ -75,6 +93,11 @@ struct FlightStrategy {
   std::vector<Stop>
       stops;  ///< boustrophedon order: rows along axis_h, alternating direction along axis_w
 };
+
+/// Share of the footprint two photos of one planar surface's rows have in common:
+/// (1 − |Δw|/footprint_w)·(1 − |Δh|/footprint_h), each factor clamped at 0, Δ their
+/// targets' offset along the strategy's axes [0, 1].
+double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per
 /// axis, grid centred on the boundary's extent. A surface with < 3 boundary

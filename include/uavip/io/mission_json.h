@@ -51,8 +51,10 @@ struct MissionExtras {
   double inflation_radius_m{0.0};   ///< the UAV's radius [m]
   double overlap_w{0.0};            ///< photo overlap asked, along the rows [0, 1)
   double overlap_h{0.0};            ///< and across them [0, 1)
-  coverage::Camera camera;          ///< written as `camera_model`
-  std::size_t grid_voxels{0};       ///< planning grid (`grid`)
+  /// coverage.purpose; written (meta.purpose) unless it is inspection.
+  std::string purpose{"inspection"};
+  coverage::Camera camera;     ///< written as `camera_model`
+  std::size_t grid_voxels{0};  ///< planning grid (`grid`)
   std::size_t grid_blocked{0};
   double grid_resolution_m{0.0};  ///< [m]
   /// Distance kept from every measured point: the UAV's radius + the safety margin [m].

@@ -145,6 +145,16 @@ struct SurfaceMission {
     std::size_t points{0};
     std::size_t uncovered{0};
     PointList uncovered_points;  ///< [m], for the overview
+    /// Views per point and triangulation angles (coverage/multi_view.h), measured
+    /// for a mosaic or reconstruction purpose only.
+    bool multi_view{false};
+    int views_min{0};
+    int views_median{0};
+    double angle_min_deg{0.0};     ///< [deg]
+    double angle_median_deg{0.0};  ///< [deg]
+    /// Least share of its footprint a photo has in common with the next one
+    /// (coverage::footprintShare) [0, 1]; 1 for fewer than two flown photos.
+    double consecutive_share_min{1.0};
   } coverage;
   std::vector<Leg> legs;
   PointList raw_path;   ///< every voxel step (the paper's waypoint count) [m]

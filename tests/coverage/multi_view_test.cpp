@@ -1,0 +1,196 @@
+// Tests of the multi-view counts (coverage/multi_view.h) against a brute-force count
+// written out here: every (view, point) pair tested with the footprint frustum, the
+// range, the incidence and a blocker of its own, and the rays' angles compared pair
+// by pair; and a reconstruction plan checked by the same count.
+#include "uavip/coverage/multi_view.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "uavip/coverage/flight_strategy.h"
+
+namespace uavip::coverage {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+/// Blocks every segment that crosses the square |y| <= 0.15, |z - 0.5| <= 0.15 of the
+/// plane x = 1.0 (a post between some cameras and the wall).
+class PostBlocker final : public LineOfSight {
+ public:
+  bool clear(const Vec3& from, const Vec3& to) const override {
+    const double dx = to.x() - from.x();
+    if (std::abs(dx) < 1e-12) return true;
+    const double t = (1.0 - from.x()) / dx;
+    if (t <= 0.0 || t >= 1.0) return true;
+    const Vec3 q = from + t * (to - from);
+    return !(std::abs(q.y()) <= 0.15 && std::abs(q.z() - 0.5) <= 0.15);
+  }
+};
+
+/// A 2 m x 1 m wall in the plane x = 0 facing +x: y in [-1, 1], z in [0, 1], sampled
+/// every 5 cm at cell centres.
+PointList wallSamples(double w = 2.0, double h = 1.0, double step = 0.05) {
+  PointList pts;
+  for (double y = -0.5 * w + 0.5 * step; y < 0.5 * w; y += step)
+    for (double z = 0.5 * step; z < h; z += step) pts.emplace_back(0.0, y, z);
+  return pts;
+}
+
+/// The brute-force test of one pair: the footprint frustum of a camera whose photo is
+/// fw x fh at distance d (forward, right and up from yaw and pitch, no roll), range
+/// <= d * slack, incidence to the normal +x <= max_incidence_deg, line of sight.
+bool sees(const ViewPose& v, const Vec3& p, double fw, double fh, double d, double slack,
+          double max_incidence_deg, const LineOfSight& los) {
+  const double y = v.yaw_deg * kDeg, t = v.pitch_deg * kDeg;
+  const Vec3 f(std::cos(t) * std::cos(y), std::cos(t) * std::sin(y), std::sin(t));
+  const Vec3 r(std::sin(y), -std::cos(y), 0.0);
+  const Vec3 u = r.cross(f);
+  const Vec3 q = p - v.position;
+  const double z = q.dot(f);
+  if (z <= 0.0) return false;
+  if (std::abs(q.dot(r)) > z * fw / (2.0 * d) || std::abs(q.dot(u)) > z * fh / (2.0 * d))
+    return false;
+  if (q.norm() > d * slack) return false;
+  const Vec3 to_cam = -q.normalized();
+  if (std::acos(std::clamp(to_cam.x(), -1.0, 1.0)) > max_incidence_deg * kDeg) return false;
+  return los.clear(v.position, p);
+}
+
+TEST(MultiView, MatchesBruteForceCount) {
+  const PointList pts = wallSamples();
+  // Six cameras 1.5 m off the wall looking at it (yaw 180 = -x), two turned, one
+  // behind the post, one too far, one looking away.
+  const std::vector<ViewPose> views = {
+      {Vec3(1.5, -0.4, 0.5), 180.0, 0.0},  {Vec3(1.5, 0.3, 0.5), 180.0, 0.0},
+      {Vec3(1.4, 0.0, 0.6), 170.0, -8.0},  {Vec3(1.3, 0.8, 0.4), 195.0, 5.0},
+      {Vec3(3.0, 0.0, 0.5), 180.0, 0.0},   {Vec3(1.5, 0.0, 0.5), 0.0, 0.0},
+      {Vec3(1.2, -0.9, 0.9), 160.0, -20.0}};
+  FootprintCameraOptions co;  // 1.2 x 0.8 m at 1.5 m, range 1.5 x 1.5 m
+  co.camera.footprint_w_m = 1.2;
+  co.camera.footprint_h_m = 0.8;
+  const FootprintCamera camera(co);
+  CoverageCriteria criteria;
+  criteria.max_incidence_deg = 75.0;
+  const PostBlocker post;
+  const MultiViewStats st = multiViewStats(pts, {Vec3::UnitX()}, views, camera, criteria, &post, 2);
+  ASSERT_EQ(st.points, pts.size());
+  ASSERT_EQ(st.views.size(), pts.size());
+  std::vector<int> counts;
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    std::vector<Vec3> rays;
+    for (const auto& v : views) {
+      if (sees(v, pts[i], 1.2, 0.8, 1.5, 1.5, 75.0, post)) rays.push_back(v.position - pts[i]);
+    }
+    double angle = 0.0;
+    for (std::size_t a = 0; a < rays.size(); ++a)
+      for (std::size_t b = a + 1; b < rays.size(); ++b)
+        angle = std::max(angle, std::acos(std::clamp(rays[a].normalized().dot(rays[b].normalized()),
+                                                     -1.0, 1.0)) /
+                                    kDeg);
+    EXPECT_EQ(st.views[i], static_cast<int>(rays.size())) << "point " << i;
+    EXPECT_NEAR(st.angle_deg[i], angle, 1e-9) << "point " << i;
+    counts.push_back(static_cast<int>(rays.size()));
+    angles.push_back(angle);
+  }
+  std::sort(counts.begin(), counts.end());
+  std::sort(angles.begin(), angles.end());
+  EXPECT_EQ(st.views_min, counts.front());
+  EXPECT_EQ(st.views_median, counts[(counts.size() - 1) / 2]);
+  EXPECT_NEAR(st.angle_min_deg, angles.front(), 1e-9);
+  EXPECT_NEAR(st.angle_median_deg, angles[(angles.size() - 1) / 2], 1e-9);
+  EXPECT_GE(counts.back(), 3);  // the scene does hold multi-view points
+  // The post hides part of the wall from some camera: a count differs with it.
+  const MultiViewStats open =
+      multiViewStats(pts, {Vec3::UnitX()}, views, camera, criteria, nullptr, 1);
+  int differ = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) differ += open.views[i] != st.views[i] ? 1 : 0;
+  EXPECT_GT(differ, 0);
+}
+
+/// A hand-built 2 m x 1 m wall facing +x (the plane x = 0, y in [-1, 1], z in [0, 1]).
+Surface smallWall() {
+  Surface s;
+  s.id = 1;
+  s.plane.normal = Vec3::UnitX();
+  s.plane.offset = 0.0;
+  s.boundary = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(0, 1, 1), Vec3(0, -1, 1)};
+  s.inliers = s.boundary;
+  s.centroid = Vec3(0, 0, 0.5);
+  s.axis_u = Vec3::UnitY();
+  s.axis_v = s.plane.normal.cross(s.axis_u);
+  s.area_m2 = 2.0;
+  s.density_area_m2 = 2.0;
+  return s;
+}
+
+/// Share of footprint a's rectangle (fw x fh about its target, in y and z) that b's holds.
+double sharedShare(const Stop& a, const Stop& b, double fw, double fh) {
+  const double oy = std::max(0.0, fw - std::abs(a.target.y() - b.target.y()));
+  const double oz = std::max(0.0, fh - std::abs(a.target.z() - b.target.z()));
+  return oy * oz / (fw * fh);
+}
+
+TEST(MultiView, ReconstructionPlanMeetsItsTargets) {
+  const Surface wall = smallWall();
+  for (const int k : {3, 5}) {
+    CoverageOptions o;  // the paper's 0.6 x 0.4 m footprint at 1.5 m
+    o.purpose = "reconstruction";
+    o.min_views = k;
+    const FlightStrategy fs = planFlightStrategy(wall, o);
+    ASSERT_FALSE(fs.stops.empty());
+    // Brute force over points every 1 cm (inside the wall, off its edges by 0.5 cm):
+    // footprints that hold the point, and the rays' largest angle.
+    int min_views = 1 << 20;
+    double min_angle = 180.0;
+    for (double y = -0.995; y < 1.0; y += 0.01) {
+      for (double z = 0.005; z < 1.0; z += 0.01) {
+        const Vec3 p(0.0, y, z);
+        std::vector<Vec3> rays;
+        for (const auto& s : fs.stops) {
+          if (std::abs(p.y() - s.target.y()) <= 0.3 && std::abs(p.z() - s.target.z()) <= 0.2)
+            rays.push_back((s.position - p).normalized());
+        }
+        double angle = 0.0;
+        for (std::size_t a = 0; a < rays.size(); ++a)
+          for (std::size_t b = a + 1; b < rays.size(); ++b)
+            angle = std::max(angle, std::acos(std::clamp(rays[a].dot(rays[b]), -1.0, 1.0)) / kDeg);
+        min_views = std::min(min_views, static_cast<int>(rays.size()));
+        min_angle = std::min(min_angle, angle);
+      }
+    }
+    EXPECT_GE(min_views, k) << "min_views " << k;
+    EXPECT_GE(min_angle, o.min_triangulation_deg) << "min_views " << k;
+    for (std::size_t i = 1; i < fs.stops.size(); ++i) {
+      EXPECT_GE(sharedShare(fs.stops[i - 1], fs.stops[i], 0.6, 0.4), kReconstructionShare - 1e-9)
+          << "stops " << i - 1 << ", " << i;
+      EXPECT_NEAR(footprintShare(fs, fs.stops[i - 1], fs.stops[i]),
+                  sharedShare(fs.stops[i - 1], fs.stops[i], 0.6, 0.4), 1e-9);
+    }
+    for (const auto& s : fs.stops) EXPECT_NEAR((s.position - s.target).norm(), 1.5, 1e-9);
+  }
+}
+
+TEST(MultiView, InspectionAndMosaicKeepThePaperRows) {
+  const Surface wall = smallWall();
+  CoverageOptions o;
+  const FlightStrategy paper = planFlightStrategy(wall, o);
+  for (const char* purpose : {"inspection", "mosaic"}) {
+    o.purpose = purpose;  // mosaic's own overlap is the app's default, not the planner's
+    const FlightStrategy fs = planFlightStrategy(wall, o);
+    ASSERT_EQ(fs.stops.size(), paper.stops.size()) << purpose;
+    EXPECT_EQ(fs.spacing_w_m, paper.spacing_w_m);
+    EXPECT_EQ(fs.spacing_h_m, paper.spacing_h_m);
+    for (std::size_t i = 0; i < fs.stops.size(); ++i) {
+      EXPECT_EQ(fs.stops[i].position, paper.stops[i].position) << purpose << " stop " << i;
+      EXPECT_EQ(fs.stops[i].target, paper.stops[i].target);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace uavip::coverage
