@@ -88,7 +88,8 @@ const params::Table<AStarOptions>& AStarOptions::table() {
           "grid A*'s budget of expanded voxels per leg (0: unlimited), else status Timeout")
         .atLeast(0);
     p.add("coarse_factor", &O::coarse_factor,
-          "grid A*: 0 plans on the whole grid, k in [2, 16] coarse to fine (0: the planner's own)")
+          "grid A*'s coarse block in voxels, 2..16 (0: the planner's own: astar-coarse 4, astar "
+          "none)")
         .within(0, 16);
     return p;
   }();

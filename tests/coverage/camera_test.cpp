@@ -82,33 +82,35 @@ std::string errorOf(const Camera& c) {
   return "";
 }
 
+// Validation names the config key of the bad field (camera.footprint_m holds
+// footprint_w_m and footprint_h_m) and the value.
 TEST(Camera, ValidateNamesTheField) {
   Camera c;
   EXPECT_EQ(errorOf(c), "");
   c.footprint_w_m = 0.0;
-  EXPECT_NE(errorOf(c).find("footprint_w_m"), std::string::npos);
+  EXPECT_NE(errorOf(c).find("footprint_m must be > 0, got 0"), std::string::npos);
   c = Camera{};
   c.footprint_h_m = -1.0;
-  EXPECT_NE(errorOf(c).find("footprint_h_m"), std::string::npos);
+  EXPECT_NE(errorOf(c).find("footprint_m must be > 0, got -1"), std::string::npos);
   EXPECT_NE(errorOf(c).find("camera:"), std::string::npos);
 
   const Camera good = sensorCamera(13.2, 8.8, 8.8, 5472, 3648, 1.0);
   EXPECT_EQ(errorOf(good), "");
   Camera bad = good;
   bad.sensor_w_mm = 0.0;
-  EXPECT_NE(errorOf(bad).find("sensor_w_mm"), std::string::npos);
+  EXPECT_NE(errorOf(bad).find("sensor_mm must be > 0, got 0"), std::string::npos);
   bad = good;
   bad.sensor_h_mm = -2.0;
-  EXPECT_NE(errorOf(bad).find("sensor_h_mm"), std::string::npos);
+  EXPECT_NE(errorOf(bad).find("sensor_mm must be > 0, got -2"), std::string::npos);
   bad = good;
   bad.focal_mm = 0.0;
   EXPECT_NE(errorOf(bad).find("focal_mm"), std::string::npos);
   bad = good;
   bad.image_w_px = 0;
-  EXPECT_NE(errorOf(bad).find("image_w_px"), std::string::npos);
+  EXPECT_NE(errorOf(bad).find("image_px must be in [1, 1e+06], got 0"), std::string::npos);
   bad = good;
   bad.image_h_px = -5;
-  EXPECT_NE(errorOf(bad).find("image_h_px"), std::string::npos);
+  EXPECT_NE(errorOf(bad).find("image_px must be in [1, 1e+06], got -5"), std::string::npos);
   bad = good;
   bad.gsd_mm_per_px = 0.0;
   EXPECT_NE(errorOf(bad).find("gsd_mm_per_px"), std::string::npos);

@@ -485,7 +485,7 @@ TEST(CoverageOptions, ValidateNamesTheField) {
   EXPECT_NE(errorOf(o).find("plane by plane only"), std::string::npos);
   o = CoverageOptions{};
   o.camera.footprint_h_m = 0.0;
-  EXPECT_NE(errorOf(o).find("footprint_h_m"), std::string::npos);
+  EXPECT_NE(errorOf(o).find("footprint_m must be > 0, got 0"), std::string::npos);
   EXPECT_THROW(planFlightStrategy(wallFacingX(), o), InputError);
 }
 
