@@ -168,7 +168,7 @@ int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
 /// The DJI options of the command line, validated.
 io::WpmlOptions wpmlOptions(const ExportArgs& a) {
   io::WpmlOptions o;
-  o.drone = io::withPayload(io::findDjiDrone(a.drone), a.payload);
+  o.drone = io::findDjiDrone(a.drone, a.payload);
   o.height_mode = io::parseWpmlHeightMode(a.height_mode);
   o.speed_m_s = a.speed_m_s;
   o.hold_s = a.hold_s;
@@ -232,7 +232,7 @@ int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
   outputs.commit();
   if (!v.quiet) {
     const io::Geodetic home = place.geo->toGeodetic(place.home);
-    std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload << "), heights "
+    std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload.model << "), heights "
               << (o.height_mode == io::WpmlHeightMode::Relative
                       ? "relativeToStartPoint (above home: take off there)"
                       : "WGS84 (above the ellipsoid)")
