@@ -88,6 +88,7 @@ double gsdAt(const aircraft::CameraSpec& camera, double distance_m) {
 }
 
 std::vector<std::string> applyAircraftProfile(Config& config, const std::string& where) {
+  if (config.uav.model == "generic" && config.uav.payload.empty()) return {};
   const aircraft::Profile p = aircraft::findProfile(config.uav.model, config.uav.payload,
                                                     where + ": " + config.keyOf(&config.uav.model));
   if (p.isGeneric()) return {};
