@@ -480,6 +480,10 @@ io::MissionExtras missionExtras(const PlanResult& planned, const app::Config& co
   e.planning_s = planned.times.planning_s;
   e.flight_s = planned.times.flight_s;
   e.structure = planned.structure;
+  if (config.uav.model != "generic") {
+    e.drone = config.uav.model;
+    e.payload = config.uav.payload;
+  }
   return e;
 }
 

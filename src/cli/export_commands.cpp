@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 /// Options of export, kept alive until dispatch.
 struct ExportArgs {
   std::string mission, format, origin, crs, out, surface, autopilot{"px4"}, scene;
-  std::string drone{"m350"}, payload, height_mode{"relative"}, vertical;
+  std::string drone, payload, height_mode{"relative"}, vertical;
   int sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
   std::size_t max_waypoints{io::kWpmlMaxWaypoints};
@@ -165,10 +165,29 @@ int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
   return kExitOk;
 }
 
-/// The DJI options of the command line, validated.
-io::WpmlOptions wpmlOptions(const ExportArgs& a) {
+/// The aircraft without --drone: the one mission.json was planned for, else the M350.
+constexpr const char* kDefaultDrone = "m350";
+
+/// The DJI options of the command line, validated; the aircraft is the mission's
+/// (mission.json `aircraft`) unless --drone names another (a warning says so).
+io::WpmlOptions wpmlOptions(const ExportArgs& a, const io::MissionRecord& mission,
+                            const Verbosity& v) {
   io::WpmlOptions o;
-  o.drone = io::withPayload(io::findDjiDrone(a.drone), a.payload);
+  const bool planned_dji = !mission.drone.empty() && mission.drone != "generic";
+  if (a.drone.empty()) {
+    o.drone = planned_dji
+                  ? io::findDjiDrone(mission.drone, a.payload.empty() ? mission.payload : a.payload)
+                  : io::findDjiDrone(kDefaultDrone, a.payload);
+  } else {
+    o.drone = io::findDjiDrone(a.drone, a.payload);
+    if (planned_dji &&
+        (a.drone != mission.drone || (!a.payload.empty() && a.payload != mission.payload)) &&
+        !v.quiet)
+      std::cerr << "uavip: warning: " << a.mission << " was planned for the " << mission.drone
+                << (mission.payload.empty() ? "" : " with the " + mission.payload)
+                << "; exporting for the " << o.drone.name
+                << ": its camera, gimbal and speed may not fly the plan as planned\n";
+  }
   o.height_mode = io::parseWpmlHeightMode(a.height_mode);
   o.speed_m_s = a.speed_m_s;
   o.hold_s = a.hold_s;
@@ -204,9 +223,10 @@ std::string stageRoute(io::StagedOutputs& outputs, const std::string& path, cons
 }
 
 /// --format dji-kmz: one KMZ per sortie (and per part of a sortie too long for WPML).
-int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
-              const app::MissionPlacement& place, const planning::PathValidator& validator) {
-  const io::WpmlOptions o = wpmlOptions(a);
+int djiExport(const ExportArgs& a, const Verbosity& v, const io::MissionRecord& mission,
+              const std::vector<io::Flight>& flights, const app::MissionPlacement& place,
+              const planning::PathValidator& validator) {
+  const io::WpmlOptions o = wpmlOptions(a, mission, v);
   const std::vector<std::string> paths = outputPaths(flights, a.out);
   io::StagedOutputs outputs;
   std::vector<std::string> lines;  // the report, printed once everything is in place
@@ -232,7 +252,8 @@ int djiExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
   outputs.commit();
   if (!v.quiet) {
     const io::Geodetic home = place.geo->toGeodetic(place.home);
-    std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload << "), heights "
+    std::cout << "DJI WPML for the " << o.drone.model << " (" << o.drone.payload.model
+              << "), heights "
               << (o.height_mode == io::WpmlHeightMode::Relative
                       ? "relativeToStartPoint (above home: take off there)"
                       : "WGS84 (above the ellipsoid)")
@@ -263,7 +284,7 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
   const app::MissionPlacement place = app::placeMission(mission, flights, a.placement());
   if (!v.quiet)
     for (const auto& w : place.warnings) std::cerr << "uavip: warning: " << w << "\n";
-  return a.format == "dji-kmz" ? djiExport(a, v, flights, place, *validator)
+  return a.format == "dji-kmz" ? djiExport(a, v, mission, flights, place, *validator)
                                : mapExport(a, v, flights, place);
 }
 
@@ -318,11 +339,14 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   ex->add_option("--vertical", a->vertical,
                  "What the cloud's z is measured from: egm96, egm2008 or ellipsoid (default: the "
                  "CRS's vertical part, else egm96); dji-kmz, kml, geojson");
-  ex->add_option("--drone", a->drone, "dji-kmz: the DJI model: " + io::djiDroneList())
-      ->capture_default_str();
-  ex->add_option("--payload", a->payload,
-                 "dji-kmz, m300/m350 only: the Zenmuse camera, h20 (default), h20t, h20n, h30 or "
-                 "h30t (each its own enum value and gimbal pitch range)");
+  ex->add_option("--drone", a->drone,
+                 "dji-kmz: the DJI model (default: the one mission.json was planned for, else "
+                 "m350): " +
+                     io::djiDroneList());
+  ex->add_option(
+      "--payload", a->payload,
+      "dji-kmz, m300/m350 only: the Zenmuse camera (default: the mission's, else h20): " +
+          aircraft::payloadList() + " (each its own enum value and gimbal pitch range)");
   ex->add_option("--height-mode", a->height_mode,
                  "dji-kmz: relative (relativeToStartPoint: metres above home, take off there) or "
                  "ellipsoid (WGS84: metres above the WGS84 ellipsoid; needs RTK-grade heights)")

@@ -13,6 +13,7 @@
 #include "planners/registry.h"
 #include "src/cli/commands.h"
 #include "src/cli/scenario_dir.h"
+#include "uavip/app/aircraft_profile.h"
 #include "uavip/app/edits.h"
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
@@ -244,9 +245,24 @@ void stageViews(io::StagedOutputs& outputs, const std::string& out,
   if (views.valid()) view::stageViews(outputs, out, views.get());
 }
 
+/// --drone / --payload of run and plan (empty: the config's uav.model).
+struct AircraftArgs {
+  std::string drone;
+  std::string payload;
+};
+
+/// --drone / --payload: the aircraft profile the config plans for (app/aircraft_profile.h);
+/// prints what the profile set.
+void chooseAircraft(app::Config& config, const AircraftArgs& aircraft, const Verbosity& v) {
+  const std::vector<std::string> notes =
+      app::selectAircraft(config, aircraft.drone, aircraft.payload);
+  if (v.quiet) return;
+  for (const auto& n : notes) std::cerr << "uavip: " << config.uav.model << ": " << n << "\n";
+}
+
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
-               bool surface_given, const std::string& planner, bool views, bool photos,
-               const Verbosity& v) {
+               bool surface_given, const std::string& planner, const AircraftArgs& aircraft,
+               bool views, bool photos, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = bundledScenarioDir() + "/single_cube.yaml";
@@ -258,6 +274,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     scenario.config.planner = planner;
     scenario.config.validate("--planner");
   }
+  chooseAircraft(scenario.config, aircraft, v);
   if (out.empty()) out = "out/" + scenario.name;
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
@@ -414,8 +431,8 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
 
 int planCommand(const std::string& scene_path, const std::string& config_path,
                 const std::string& surface, const std::string& cover, const std::string& planner,
-                const std::string& edits_path, const std::string& out, bool views,
-                const Verbosity& v) {
+                const AircraftArgs& aircraft, const std::string& edits_path, const std::string& out,
+                bool views, const Verbosity& v) {
   const bool structure = structureCover(cover, !surface.empty());
   app::Config config =
       config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
@@ -423,6 +440,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
     config.planner = planner;
     config.validate("--planner");
   }
+  chooseAircraft(config, aircraft, v);
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();
   const Scene detected = io::sceneFromJson(scene_json, scene_path);
   const app::Config resolved = app::resolveForScene(detected, config).config;
@@ -499,9 +517,20 @@ constexpr const char* kPlanFooter =
     "Coverage: rule (a) FC-Planner's pixel rule; rule (b) GSD and range <= 1.25 x the viewing\n"
     "distance, <= 75 deg incidence, clear line of sight.";
 
+/// --drone / --payload on run and plan.
+void addAircraftOptions(CLI::App& cmd, AircraftArgs& a) {
+  cmd.add_option("--drone", a.drone,
+                 "Plan for this aircraft (camera, gimbal pitch, speed, endurance, size; the "
+                 "config's own keys win): " +
+                     aircraft::profileList());
+  cmd.add_option("--payload", a.payload,
+                 "m300/m350: the camera on the gimbal (" + aircraft::payloadList() + ")");
+}
+
 /// Options of run / detect / plan, kept alive until dispatch.
 struct PipelineArgs {
   std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical, edits;
+  AircraftArgs aircraft;
   bool no_views{false};
   bool photos{false};
 };
@@ -548,13 +577,14 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   run->add_option("-o,--out", a->out, "Output directory (default: out/<scenario name>)");
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
   run->add_option("--planner", a->planner, planner_help);
+  addAircraftOptions(*run, a->aircraft);
   run->add_flag("--no-views", a->no_views, views_help);
   run->add_flag("--photos", a->photos,
                 "Also render every photo stop against the scenario's world into OUT/photos (as "
                 "uavip photos)");
   registry.add(run, [a, &v] {
     return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface,
-                      !a->surface.empty(), a->planner, !a->no_views, a->photos, v);
+                      !a->surface.empty(), a->planner, a->aircraft, !a->no_views, a->photos, v);
   });
 
   auto* det = cli.add_subcommand(
@@ -584,14 +614,15 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
                  "'structure': cover the whole structure (instead of --surface)");
   pl->add_option("-c,--config", a->config, "Config YAML (camera, overlap, uav, grid, planner)");
   pl->add_option("--planner", a->planner, planner_help);
+  addAircraftOptions(*pl, a->aircraft);
   pl->add_option("--edits", a->edits,
                  "Edits YAML (uavip-edits: 1): boundaries, deleted or merged surfaces, keep-out "
                  "volumes; mission.html's edit mode saves one");
   pl->add_option("-o,--out", a->out, "Output directory")->required();
   pl->add_flag("--no-views", a->no_views, views_help);
   registry.add(pl, [a, &v] {
-    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->edits, a->out,
-                       !a->no_views, v);
+    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->aircraft, a->edits,
+                       a->out, !a->no_views, v);
   });
 }
 

@@ -58,26 +58,30 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
   json waypoints = json::array();
   for (const auto& p : m.waypoints) waypoints.push_back(vec(p));
   const auto& cam = m.strategy.camera;
-  return {{"surface_id", m.surface_id},
-          {"kind", m.kind},
-          {"status", planning::toString(m.status)},
-          {"reason", m.reason},
-          {"camera",
-           {{"footprint_m", {round4(cam.footprint_w_m), round4(cam.footprint_h_m)}},
-            {"standoff_m", round4(cam.standoff_m)},
-            {"spacing_m", {round4(m.strategy.spacing_w_m), round4(m.strategy.spacing_h_m)}},
-            {"grid", {m.strategy.cols, m.strategy.rows}}}},
-          {"stop_count", m.strategy.stops.size()},
-          {"moved_stop_count", m.moved_stops.size()},
-          {"coverage", coverageToJson(m.coverage)},
-          {"stops", stops},
-          {"waypoint_count", m.waypoints.size()},
-          {"waypoints", waypoints},
-          {"raw_waypoint_count", m.raw_waypoint_count},
-          {"path_length_m", round4(m.path_length_m)},
-          {"raw_path_length_m", round4(m.raw_length_m)},
-          {"validation", validationToJson(m.validation)},
-          {"timings", {{"planning_s", round4(m.seconds)}}}};
+  json out = {{"surface_id", m.surface_id},
+              {"kind", m.kind},
+              {"status", planning::toString(m.status)},
+              {"reason", m.reason},
+              {"camera",
+               {{"footprint_m", {round4(cam.footprint_w_m), round4(cam.footprint_h_m)}},
+                {"standoff_m", round4(cam.standoff_m)},
+                {"spacing_m", {round4(m.strategy.spacing_w_m), round4(m.strategy.spacing_h_m)}},
+                {"grid", {m.strategy.cols, m.strategy.rows}}}},
+              {"stop_count", m.strategy.stops.size()},
+              {"moved_stop_count", m.moved_stops.size()},
+              {"coverage", coverageToJson(m.coverage)},
+              {"stops", stops},
+              {"waypoint_count", m.waypoints.size()},
+              {"waypoints", waypoints},
+              {"raw_waypoint_count", m.raw_waypoint_count},
+              {"path_length_m", round4(m.path_length_m)},
+              {"raw_path_length_m", round4(m.raw_length_m)},
+              {"validation", validationToJson(m.validation)},
+              {"timings", {{"planning_s", round4(m.seconds)}}}};
+  // Written only when the gimbal's limits moved a stop (a mission planned for a
+  // gimbal that turns anywhere reads as before).
+  if (!m.gimbal_moved_stops.empty()) out["gimbal_moved_stop_count"] = m.gimbal_moved_stops.size();
+  return out;
 }
 
 json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& model) {
@@ -183,7 +187,11 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
                   {"blocked", e.grid_blocked},
                   {"resolution_m", e.grid_resolution_m}};
   meta["safety_clearance_m"] = e.safety_clearance_m;
+<<<<<<< HEAD
   if (e.purpose != "inspection") meta["purpose"] = e.purpose;
+=======
+  if (!e.drone.empty()) meta["aircraft"] = {{"drone", e.drone}, {"payload", e.payload}};
+>>>>>>> profiles
   if (e.structure) {
     meta["structure"] = structureToJson(*e.structure);
     meta["timings"]["prepare_s"] = e.structure->prepare_s;

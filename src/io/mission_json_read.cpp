@@ -125,6 +125,10 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
         r.number(j.at("inflation_radius_m"), "inflation_radius_m", 1e-6, 1e3, "m");
   if (j.contains("source")) m.source = r.text(j.at("source"), "source");
   if (j.contains("camera_model")) m.camera = readCameraModel(r, j.at("camera_model"));
+  if (j.contains("aircraft")) {
+    m.drone = r.text(r.at(j.at("aircraft"), "drone", "aircraft"), "aircraft.drone");
+    m.payload = r.text(r.at(j.at("aircraft"), "payload", "aircraft"), "aircraft.payload");
+  }
   const json& surfaces = r.list(r.at(j, "surfaces", ""), "surfaces");
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const std::string f = JsonReader::item("surfaces", i);

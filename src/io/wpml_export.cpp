@@ -80,9 +80,10 @@ void missionConfig(std::ostringstream& os, const Flight& flight, const Georefere
      << "        <wpml:droneSubEnumValue>" << d.drone_sub_enum << "</wpml:droneSubEnumValue>\n"
      << "      </wpml:droneInfo>\n"
      << "      <wpml:payloadInfo>\n"
-     << "        <wpml:payloadEnumValue>" << d.payload_enum << "</wpml:payloadEnumValue>\n"
+     << "        <wpml:payloadEnumValue>" << d.payload.payload_enum << "</wpml:payloadEnumValue>\n"
      << "        <wpml:payloadSubEnumValue>0</wpml:payloadSubEnumValue>\n"
-     << "        <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+     << "        <wpml:payloadPositionIndex>" << d.payload.position_index
+     << "</wpml:payloadPositionIndex>\n"
      << "      </wpml:payloadInfo>\n"
      << "    </wpml:missionConfig>\n";
 }
@@ -124,6 +125,7 @@ void stopActions(std::ostringstream& os, int group, int index, const FlightWaypo
   double turn = std::fmod(heading - previous_heading, 360.0);
   if (turn > 180.0) turn -= 360.0;
   if (turn <= -180.0) turn += 360.0;
+  const std::string position = std::to_string(o.drone.payload.position_index);
   os << "        <wpml:actionGroup>\n"
      << "          <wpml:actionGroupId>" << group << "</wpml:actionGroupId>\n"
      << "          <wpml:actionGroupStartIndex>" << index << "</wpml:actionGroupStartIndex>\n"
@@ -142,10 +144,10 @@ void stopActions(std::ostringstream& os, int group, int index, const FlightWaypo
              param("gimbalRollRotateEnable", "0") + param("gimbalRollRotateAngle", "0") +
              param("gimbalYawRotateEnable", "0") + param("gimbalYawRotateAngle", "0") +
              param("gimbalRotateTimeEnable", "0") + param("gimbalRotateTime", "0") +
-             param("payloadPositionIndex", "0"));
+             param("payloadPositionIndex", position));
   action(os, 2, "hover", param("hoverTime", formatFixed(o.hold_s, 1)));
   action(os, 3, "takePhoto",
-         param("payloadPositionIndex", "0") + param("fileSuffix", stopId(w)) +
+         param("payloadPositionIndex", position) + param("fileSuffix", stopId(w)) +
              param("payloadLensIndex", "wide") + param("useGlobalPayloadLensIndex", "0"));
   os << "        </wpml:actionGroup>\n";
 }
@@ -160,15 +162,16 @@ void header(std::ostringstream& os) {
 void requireReachablePitch(const Flight& flight, const DjiDrone& d) {
   for (const auto& w : flight.waypoints) {
     if (!w.isStop()) continue;
-    if (w.gimbal_pitch_deg < d.pitch_min_deg - 1e-9 || w.gimbal_pitch_deg > d.pitch_max_deg + 1e-9)
+    if (!aircraft::pitchWithin(w.gimbal_pitch_deg, d.payload.pitch_min_deg,
+                               d.payload.pitch_max_deg))
       throw InputError("--drone " + d.name + ": photo stop " + stopId(w) + " needs gimbal pitch " +
                        formatFixed(w.gimbal_pitch_deg, 1) + "°, beyond the " + d.model + "'s " +
-                       d.payload + " (" + formatNumber(d.pitch_min_deg) + "° to " +
-                       formatNumber(d.pitch_max_deg) +
+                       d.payload.model + " (" + formatNumber(d.payload.pitch_min_deg) + "° to " +
+                       formatNumber(d.payload.pitch_max_deg) +
                        "°); choose a drone or --payload whose gimbal reaches it, or plan with "
                        "coverage: {gimbal_pitch_deg: [" +
-                       formatNumber(d.pitch_min_deg) + ", " + formatNumber(d.pitch_max_deg) +
-                       "]} in the config (uavip plan -c)");
+                       formatNumber(d.payload.pitch_min_deg) + ", " +
+                       formatNumber(d.payload.pitch_max_deg) + "]} in the config (uavip plan -c)");
   }
 }
 
@@ -305,70 +308,32 @@ double wpmlNumber(const tinyxml2::XMLElement* e, const std::string& path) {
 
 }  // namespace
 
-const std::vector<DjiDrone>& djiDrones() {
-  // Drone and payload enumerations: DJI Cloud API "Product Support" (aircraft
-  // type-subtype, camera type-subtype-gimbalindex). Pitch ranges: PSDK "Gimbal
-  // Management" limit table (M300/M350 with H20: -120..45; M30/M30T: -120..45) and
-  // the controllable tilt of the Mavic 3 Enterprise and Matrice 4 specifications
-  // (-90..35). docs/formats.md lists the sources.
-  static const std::vector<DjiDrone> drones = {
-      {"m300", "Matrice 300 RTK", 60, 0, 42, "Zenmuse H20", -120.0, 45.0, false},
-      {"m350", "Matrice 350 RTK", 89, 0, 42, "Zenmuse H20", -120.0, 45.0, false},
-      {"m30", "Matrice 30", 67, 0, 52, "M30 Camera", -120.0, 45.0, true},
-      {"m30t", "Matrice 30T", 67, 1, 53, "M30T Camera", -120.0, 45.0, true},
-      {"m3e", "Mavic 3 Enterprise (M3E)", 77, 0, 66, "Mavic 3E Camera", -90.0, 35.0, true},
-      {"m3t", "Mavic 3 Thermal (M3T)", 77, 1, 67, "Mavic 3T Camera", -90.0, 35.0, true},
-      {"m4e", "Matrice 4E", 99, 0, 88, "M4E Camera", -90.0, 35.0, true},
-      {"m4t", "Matrice 4T", 99, 1, 89, "M4T Camera", -90.0, 35.0, true},
-  };
-  return drones;
-}
-
-const std::vector<DjiPayload>& djiPayloads() {
-  // Zenmuse cameras of the M300 RTK / M350 RTK (Cloud API camera enumeration;
-  // pitch: PSDK "Gimbal Management", mounted below, default limits).
-  static const std::vector<DjiPayload> payloads = {
-      {"h20", "Zenmuse H20", 42, -120.0, 45.0},   {"h20t", "Zenmuse H20T", 43, -120.0, 30.0},
-      {"h20n", "Zenmuse H20N", 61, -120.0, 30.0}, {"h30", "Zenmuse H30", 82, -120.0, 60.0},
-      {"h30t", "Zenmuse H30T", 83, -120.0, 60.0},
-  };
-  return payloads;
-}
-
-DjiDrone withPayload(const DjiDrone& drone, const std::string& payload) {
-  if (payload.empty()) return drone;
-  if (drone.name != "m300" && drone.name != "m350")
-    throw InputError("--payload: the " + drone.model + " has its own camera (" + drone.payload +
-                     "); --payload is for the m300 and m350 (h20, h20t, h20n, h30, h30t)");
-  for (const DjiPayload& p : djiPayloads()) {
-    if (p.name != payload) continue;
-    DjiDrone d = drone;
-    d.payload = p.model;
-    d.payload_enum = p.payload_enum;
-    d.pitch_min_deg = p.pitch_min_deg;
-    d.pitch_max_deg = p.pitch_max_deg;
-    return d;
+std::vector<DjiDrone> djiDrones() {
+  std::vector<DjiDrone> out;
+  for (const aircraft::Profile& p : aircraft::profiles()) {
+    if (p.drone_enum != 0) out.push_back(p);
   }
-  throw InputError("--payload: unknown camera '" + payload +
-                   "'; one of h20, h20t, h20n, h30, h30t");
+  return out;
 }
 
 std::string djiDroneList() {
   std::string out;
   for (const DjiDrone& d : djiDrones()) {
-    out += (out.empty() ? "" : ", ") + d.name + " (" + d.model + ", " + d.payload + ", pitch " +
-           formatNumber(d.pitch_min_deg) + ".." + formatNumber(d.pitch_max_deg) + ")";
+    out += (out.empty() ? "" : ", ") + d.name + " (" + d.model + ", " + d.payload.model +
+           ", pitch " + formatNumber(d.payload.pitch_min_deg) + ".." +
+           formatNumber(d.payload.pitch_max_deg) + ")";
   }
   return out;
 }
 
-const DjiDrone& findDjiDrone(const std::string& name) {
-  for (const DjiDrone& d : djiDrones()) {
-    if (d.name == name) return d;
+DjiDrone findDjiDrone(const std::string& name, const std::string& payload) {
+  const DjiDrone d = aircraft::findProfile(name, payload, "--drone");
+  if (d.drone_enum == 0) {
+    std::string names;
+    for (const DjiDrone& k : djiDrones()) names += (names.empty() ? "" : ", ") + k.name;
+    throw InputError("--drone: '" + name + "' is not a DJI aircraft; one of " + names);
   }
-  std::string names;
-  for (const DjiDrone& d : djiDrones()) names += (names.empty() ? "" : ", ") + d.name;
-  throw InputError("--drone: unknown DJI model '" + name + "'; one of " + names);
+  return d;
 }
 
 WpmlHeightMode parseWpmlHeightMode(const std::string& text) {

@@ -2,11 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 
+#include "uavip/core/aircraft.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
@@ -38,6 +40,28 @@ bool clearSight(const world::VoxelGrid& grid, const Vec3& from, const Vec3& targ
   return true;
 }
 
+/// Points `stop` from `p` at its target when `p` is free, in clear sight of the target
+/// and the pitch it needs is within the gimbal's limits; returns whether it did.
+bool lookFrom(coverage::Stop& stop, const Vec3& p, const world::VoxelGrid& grid,
+              const MissionOptions& options) {
+  if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3))
+    return false;
+  const Vec3 look = stop.target - p;
+  const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi;
+  if (!aircraft::pitchWithin(pitch, options.gimbal.pitch_min_deg, options.gimbal.pitch_max_deg))
+    return false;
+  stop.position = p;
+  stop.gimbal_pitch_deg = pitch;
+  if (look.head<2>().norm() > 1e-6) stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / kPi;
+  stop.gimbal_ok = true;
+  return true;
+}
+
+/// The distances a repaired stop is tried at, × the standoff.
+std::array<double, 3> repairFactors(const MissionOptions& options) {
+  return {1.0, 0.5 * (1.0 + options.max_standoff_factor), options.max_standoff_factor};
+}
+
 /// A free pose near an infeasible stop that still photographs its target: the
 /// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
@@ -52,28 +76,42 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                       ? Vec3(-strategy.axis_h)
                       : strategy.axis_h;
   const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
-  const double factors[3] = {1.0, 0.5 * (1.0 + options.max_standoff_factor),
-                             options.max_standoff_factor};
-  for (const double f : factors) {
+  for (const double f : repairFactors(options)) {
     for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
       const double a = deg * kPi / 180.0;
       for (const auto& side : sides) {
         if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
         const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-        const Vec3 p = stop.target + f * standoff * dir;
-        if (!grid.isFree(p) || !clearSight(grid, p, stop.target, 0.5 * grid.resolution() + 0.3))
-          continue;
-        const Vec3 look = stop.target - p;
-        const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi;
-        if (pitch < options.gimbal.pitch_min_deg - 1e-9 ||
-            pitch > options.gimbal.pitch_max_deg + 1e-9)
-          continue;
-        stop.position = p;
-        stop.gimbal_pitch_deg = pitch;
-        if (look.head<2>().norm() > 1e-6)
-          stop.yaw_deg = std::atan2(look.y(), look.x()) * 180.0 / kPi;
-        return true;
+        if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
       }
+    }
+  }
+  return false;
+}
+
+/// The search for a stop the gimbal cannot take when repairStop finds nothing: every
+/// direction of a Fibonacci spiral (kGimbalSearchDirections) within
+/// kMaxIncidenceDeg of the surface's outward normal, each at the repair distances;
+/// the pose closest in angle to the normal, then nearest, wins. A stop it finds
+/// nothing for is reported outside the gimbal limits.
+bool searchGimbalPose(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
+                      const world::VoxelGrid& grid, const MissionOptions& options) {
+  constexpr int kGimbalSearchDirections = 256;
+  constexpr double kMaxIncidenceDeg = 75.0;
+  const double standoff = strategy.camera.standoff_m;
+  if (!(standoff > 0.0)) return false;
+  const Vec3 n = ((stop.position - stop.target) / standoff).normalized();
+  const Vec3 u = (strategy.axis_w - strategy.axis_w.dot(n) * n).normalized();
+  const Vec3 v = n.cross(u);
+  const double cos_max = std::cos(kMaxIncidenceDeg * kPi / 180.0);
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < kGimbalSearchDirections; ++k) {
+    const double c = 1.0 - (1.0 - cos_max) * (k + 0.5) / kGimbalSearchDirections;
+    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double phi = golden * k;
+    const Vec3 dir = c * n + s * (std::cos(phi) * u + std::sin(phi) * v);
+    for (const double f : repairFactors(options)) {
+      if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
     }
   }
   return false;
@@ -95,8 +133,9 @@ void requireFreeStart(const world::VoxelGrid& grid, const PathValidator& validat
   throw InputError(os.str());
 }
 
-/// Per-stop checks: gimbal limits, then the inflated obstacle space (where stop
-/// repair may move the stop). Fills m.stop_problems and m.moved_stops; returns the
+/// Per-stop checks: gimbal limits (where stop repair, then the wider search, may turn
+/// the stop into a pose the gimbal reaches), then the inflated obstacle space (where
+/// stop repair may move the stop). Fills m.stop_problems and m.moved_stops; returns the
 /// first usable stop, −1 if none.
 int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
                const world::VoxelGrid& grid, const MissionOptions& options) {
@@ -104,7 +143,15 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
   int first_usable = -1;
   for (std::size_t i = 0; i < stops.size(); ++i) {
     if (!stops[i].gimbal_ok) {
-      m.stop_problems[i] = StopProblem::GimbalLimit;
+      if (options.repair_stops && stops[i].position.allFinite() &&
+          (repairStop(stops[i], strategy, grid, options) ||
+           searchGimbalPose(stops[i], strategy, grid, options))) {
+        m.moved_stops.push_back(static_cast<int>(i));
+        m.gimbal_moved_stops.push_back(static_cast<int>(i));
+        if (first_usable < 0) first_usable = static_cast<int>(i);
+      } else {
+        m.stop_problems[i] = StopProblem::GimbalLimit;
+      }
     } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
       if (options.repair_stops && stops[i].position.allFinite() &&
           repairStop(stops[i], strategy, grid, options)) {

@@ -111,8 +111,9 @@ void checkMissionConfig(const XMLElement* doc, const io::DjiDrone& d) {
   EXPECT_GT(num(mc, "wpml:globalTransitionalSpeed"), 0.0);
   EXPECT_EQ(num(need(mc, "wpml:droneInfo"), "wpml:droneEnumValue"), d.drone_enum);
   EXPECT_EQ(num(need(mc, "wpml:droneInfo"), "wpml:droneSubEnumValue"), d.drone_sub_enum);
-  EXPECT_EQ(num(need(mc, "wpml:payloadInfo"), "wpml:payloadEnumValue"), d.payload_enum);
-  EXPECT_EQ(num(need(mc, "wpml:payloadInfo"), "wpml:payloadPositionIndex"), 0);
+  EXPECT_EQ(num(need(mc, "wpml:payloadInfo"), "wpml:payloadEnumValue"), d.payload.payload_enum);
+  EXPECT_EQ(num(need(mc, "wpml:payloadInfo"), "wpml:payloadPositionIndex"),
+            d.payload.position_index);
 }
 
 struct ReadBack {
@@ -180,8 +181,8 @@ ReadBack checkWaylines(const std::string& xml, const io::Flight& f, const io::Dj
       } else if (funcs.back() == "gimbalRotate") {
         const double pitch = num(p, "wpml:gimbalPitchRotateAngle");
         EXPECT_NEAR(pitch, w.gimbal_pitch_deg, 0.01);
-        EXPECT_GE(pitch, d.pitch_min_deg);
-        EXPECT_LE(pitch, d.pitch_max_deg);
+        EXPECT_GE(pitch, d.payload.pitch_min_deg);
+        EXPECT_LE(pitch, d.payload.pitch_max_deg);
         EXPECT_EQ(text(p, "wpml:gimbalRotateMode"), "absoluteAngle");
       } else if (funcs.back() == "takePhoto") {
         EXPECT_EQ(text(p, "wpml:fileSuffix"), io::stopId(w));
@@ -198,7 +199,7 @@ ReadBack checkWaylines(const std::string& xml, const io::Flight& f, const io::Dj
 class Wpml : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Wpml, EveryWaypointReadsBackWithin2CmInBothHeightModes) {
-  const io::DjiDrone& drone = io::findDjiDrone(GetParam());
+  const io::DjiDrone drone = io::findDjiDrone(GetParam());
   const io::Georeference geo(io::GeoOrigin{kLat0, kLon0, kAltMsl});
   // The origin's ellipsoidal height from NGA's published geoid height, not from uavip.
   const double h0 = kAltMsl + kN0;
@@ -273,13 +274,13 @@ TEST(WpmlLimits, APitchBeyondTheGimbalAnUnknownDroneAndBadOptionsAreRefused) {
   }
   // An M350 with the H30 reaches +60, the H20T only +30 (PSDK gimbal limits).
   f.waypoints[2].gimbal_pitch_deg = 50.0;
-  o.drone = io::withPayload(io::findDjiDrone("m350"), "h30");
-  EXPECT_EQ(o.drone.payload_enum, 82);
+  o.drone = io::findDjiDrone("m350", "h30");
+  EXPECT_EQ(o.drone.payload.payload_enum, 82);
   EXPECT_NO_THROW(io::wpmlDocuments(f, geo, Vec3::Zero(), o));
-  o.drone = io::withPayload(io::findDjiDrone("m350"), "h20t");
+  o.drone = io::findDjiDrone("m350", "h20t");
   EXPECT_THROW(io::wpmlDocuments(f, geo, Vec3::Zero(), o), uavip::InputError);
-  EXPECT_THROW(io::withPayload(io::findDjiDrone("m3e"), "h30"), uavip::InputError);
-  EXPECT_THROW(io::withPayload(io::findDjiDrone("m300"), "p1"), uavip::InputError);
+  EXPECT_THROW(io::findDjiDrone("m3e", "h30"), uavip::InputError);
+  EXPECT_THROW(io::findDjiDrone("m300", "p1"), uavip::InputError);
   o.takeoff_security_height_m = 0.5;
   EXPECT_THROW(o.validate(), uavip::InputError);
 }

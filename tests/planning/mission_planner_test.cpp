@@ -141,8 +141,10 @@ TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   const auto grid = gridFor(cloud, strategy);
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
-  const SurfaceMission m =
-      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  // A gimbal that looks 80-90° up: no pose within 75° of the wall's normal reaches it.
+  MissionOptions options;
+  options.gimbal = {80.0, 90.0};
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, options);
   EXPECT_EQ(m.status, SurfaceStatus::Blocked);
   EXPECT_TRUE(m.waypoints.empty());
   EXPECT_TRUE(m.legs.empty());
@@ -155,6 +157,117 @@ TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   EXPECT_EQ(m.reason.find("does not fit"), std::string::npos)
       << m.reason;  // not mostly a tight space
   EXPECT_STREQ(toString(m.status), "blocked");
+}
+
+/// A horizontal slab of points z = `z`, x, y ∈ [0, 3] (spacing 0.1 m).
+PointList slab(double z) {
+  PointList cloud;
+  for (double x = 0.0; x <= 3.0001; x += 0.1)
+    for (double y = 0.0; y <= 3.0001; y += 0.1) cloud.emplace_back(x, y, z);
+  return cloud;
+}
+
+/// Four stops 1.5 m below the slab's underside, looking straight up (as the flight
+/// strategy places them: pitch +90, beyond a gimbal that stops at `max_pitch`).
+coverage::FlightStrategy strategyBelow(double z, double max_pitch) {
+  coverage::FlightStrategy s;
+  s.surface_id = 5;
+  s.camera.standoff_m = 1.5;
+  s.axis_w = Vec3::UnitX();
+  s.axis_h = Vec3::UnitY();
+  for (int k = 0; k < 4; ++k) {
+    coverage::Stop stop;
+    stop.index = k;
+    stop.surface_id = 5;
+    stop.col = k;
+    stop.target = Vec3(0.9 + 0.4 * k, 1.5, z);
+    stop.position = stop.target - 1.5 * Vec3::UnitZ();
+    stop.gimbal_pitch_deg = 90.0;
+    stop.gimbal_ok = 90.0 <= max_pitch;
+    s.stops.push_back(stop);
+  }
+  return s;
+}
+
+/// Brute force over a regular lattice of positions (5 cm) around `target`: a pose
+/// 1–1.25 × the standoff from it, within 75° of `normal`, free in the grid, in the
+/// gimbal's pitch range and with no measured point within 0.15 m of its line of sight
+/// (up to 0.4 m before the target). True when one exists.
+bool brutePoseExists(const Vec3& target, const Vec3& normal, double standoff,
+                     const coverage::GimbalLimits& gimbal, const world::VoxelGrid& grid,
+                     const PointList& cloud) {
+  const double r = 1.25 * standoff;
+  for (double dx = -r; dx <= r; dx += 0.05)
+    for (double dy = -r; dy <= r; dy += 0.05)
+      for (double dz = -r; dz <= r; dz += 0.05) {
+        const Vec3 d(dx, dy, dz);
+        const double dist = d.norm();
+        if (dist < standoff || dist > r || d.dot(normal) < dist * std::cos(75.0 * kPi / 180.0))
+          continue;
+        const Vec3 p = target + d;
+        const double pitch = std::atan2(-d.z(), d.head<2>().norm()) * 180.0 / kPi;
+        if (pitch < gimbal.pitch_min_deg || pitch > gimbal.pitch_max_deg || !grid.isFree(p))
+          continue;
+        const Vec3 end = target + d * (0.4 / dist);
+        const bool seen = std::none_of(cloud.begin(), cloud.end(), [&](const Vec3& q) {
+          return pointSegmentDistance(q, p, end) < 0.15;
+        });
+        if (seen) return true;
+      }
+  return false;
+}
+
+TEST(MissionPlanner, AStopBeyondTheGimbalIsTakenFromAPoseItReaches) {
+  const PointList cloud = slab(4.0);
+  const auto strategy = strategyBelow(4.0, 35.0);
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  MissionOptions options;
+  options.gimbal = {-90.0, 35.0};  // the Mavic 3 Enterprise's camera
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, options);
+  ASSERT_EQ(m.status, SurfaceStatus::Ok) << m.reason;
+  EXPECT_EQ(m.gimbal_moved_stops.size(), 4u);
+  for (const auto& stop : m.strategy.stops) {
+    EXPECT_LE(stop.gimbal_pitch_deg, 35.0 + 1e-6);
+    const Vec3 d = stop.position - stop.target;
+    EXPECT_GE(d.norm(), 1.5 - 1e-9);
+    EXPECT_LE(d.norm(), 1.25 * 1.5 + 1e-9);
+    // The camera looks at the target: pitch and yaw recomputed here from the pose.
+    const Vec3 look = stop.target - stop.position;
+    EXPECT_NEAR(stop.gimbal_pitch_deg, std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi,
+                1e-9);
+    EXPECT_NEAR(std::remainder(stop.yaw_deg - std::atan2(look.y(), look.x()) * 180.0 / kPi, 360.0),
+                0.0, 1e-9);
+    // Within 75° of the underside's normal (−z).
+    EXPECT_GE(-d.z(), d.norm() * std::cos(75.0 * kPi / 180.0));
+  }
+  EXPECT_TRUE(m.validation.collision_free);
+  expectStopsInOrderAndSafe(m, cloud);
+}
+
+TEST(MissionPlanner, AStopIsDroppedForTheGimbalOnlyWhenBruteForceFindsNoPose) {
+  // A gimbal that looks 80-90° down cannot see an underside: every pose within 75° of
+  // its normal lies below it.
+  const PointList cloud = slab(4.0);
+  const auto strategy = strategyBelow(4.0, -80.0);
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  MissionOptions options;
+  options.gimbal = {-90.0, -80.0};
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, options);
+  for (std::size_t i = 0; i < strategy.stops.size(); ++i) {
+    const auto& s = strategy.stops[i];
+    EXPECT_FALSE(brutePoseExists(s.target, -Vec3::UnitZ(), 1.5, options.gimbal, grid, cloud));
+    EXPECT_EQ(m.stop_problems[i], StopProblem::GimbalLimit);
+  }
+  EXPECT_TRUE(m.gimbal_moved_stops.empty());
+  // With the Mavic's limits the same brute force finds a pose for each, and so does
+  // the planner (previous test).
+  const coverage::GimbalLimits m3e{-90.0, 35.0};
+  for (const auto& s : strategy.stops)
+    EXPECT_TRUE(brutePoseExists(s.target, -Vec3::UnitZ(), 1.5, m3e, grid, cloud));
 }
 
 TEST(MissionPlanner, EnclosedStopIsUnreachable) {

@@ -30,6 +30,10 @@ namespace uavip::app {
 
 /// The UAV (paper §III: 0.6 × 0.6 × 0.4 m).
 struct UavConfig {
+  /// The aircraft profile (core/aircraft.h; app/aircraft_profile.h): "generic" sets
+  /// nothing, any other name its camera, gimbal, speed, endurance and size.
+  std::string model{"generic"};
+  std::string payload;         ///< the camera of an m300/m350 ("" its default)
   Vec3 size_m{0.6, 0.6, 0.4};  ///< [m]
   /// Inflation radius of the grid [m]; default: the largest dimension (paper).
   std::optional<double> inflation_radius_m;

@@ -65,6 +65,10 @@ struct MissionExtras {
   double flight_s{0.0};                                 ///< order, legs, sorties [s]
   std::optional<planning::StructureSummary> structure;  ///< plan --cover structure
   std::optional<EditsSummary> edits;                    ///< plan --edits, scenario edits:
+  /// The aircraft profile planned for (core/aircraft.h; `aircraft` {drone, payload});
+  /// empty for `generic`, then not written.
+  std::string drone;
+  std::string payload;  ///< its camera (`--payload`); empty: the drone's default
 };
 
 /// The text of mission.json: missionToJson with the extras, `flight` and (structure
@@ -128,6 +132,10 @@ struct MissionRecord {
   std::optional<FlightRecord> flight;  ///< absent in files of older versions
   /// The keep-out volumes of the edits the plan applied (`edits.keep_out`; none without).
   std::vector<KeepOut> keep_out;
+  /// The aircraft profile planned for (`aircraft.drone`, `aircraft.payload`); empty when
+  /// the file names none (planned for a generic UAV, or by an older version).
+  std::string drone;
+  std::string payload;
   /// The surface with `id`, or nullptr.
   const SurfaceRecord* surface(int id) const;
 };

@@ -22,43 +22,21 @@
 #include <string>
 #include <vector>
 
+#include "uavip/core/aircraft.h"
 #include "uavip/io/geodesy.h"
 #include "uavip/io/mission_export.h"
 
 namespace uavip::io {
 
-/// A DJI aircraft and camera as WPML names them (droneInfo, payloadInfo), with the
-/// gimbal pitch its camera reaches.
-struct DjiDrone {
-  std::string name;               ///< --drone value, e.g. "m350"
-  std::string model;              ///< "Matrice 350 RTK"
-  int drone_enum{0};              ///< wpml:droneEnumValue
-  int drone_sub_enum{0};          ///< wpml:droneSubEnumValue
-  int payload_enum{0};            ///< wpml:payloadEnumValue (the default camera)
-  std::string payload;            ///< the camera's name
-  double pitch_min_deg{-90.0};    ///< lowest gimbal pitch, up positive [deg]
-  double pitch_max_deg{30.0};     ///< highest gimbal pitch [deg]
-  bool take_off_ref_point{true};  ///< wpml:takeOffRefPoint is documented for the model
-};
+/// A DJI aircraft and its camera (core/aircraft.h: WPML's droneInfo and payloadInfo
+/// enumerations, the gimbal pitch its camera reaches).
+using DjiDrone = aircraft::Profile;
 
-/// Every model `--drone` takes, in the order --help lists them.
-const std::vector<DjiDrone>& djiDrones();
-/// The model named `name`; throws InputError "--drone: … (one of …)" listing the names.
-const DjiDrone& findDjiDrone(const std::string& name);
-/// A Zenmuse camera the M300 RTK and M350 RTK carry (`--payload`).
-struct DjiPayload {
-  std::string name;              ///< --payload value, e.g. "h30"
-  std::string model;             ///< "Zenmuse H30"
-  int payload_enum{0};           ///< wpml:payloadEnumValue
-  double pitch_min_deg{-120.0};  ///< [deg], up positive
-  double pitch_max_deg{45.0};    ///< [deg]
-};
-/// The cameras --payload takes.
-const std::vector<DjiPayload>& djiPayloads();
-/// `drone` carrying `payload` ("" keeps its default camera); throws InputError for an
-/// unknown name or a drone with a built-in camera.
-DjiDrone withPayload(const DjiDrone& drone, const std::string& payload);
-
+/// Every DJI profile `--drone` takes (all of aircraft::profiles() but `generic`).
+std::vector<DjiDrone> djiDrones();
+/// The DJI aircraft `name` with `payload` ("" keeps its default camera); throws
+/// InputError naming the value and listing the names.
+DjiDrone findDjiDrone(const std::string& name, const std::string& payload = "");
 /// "m300 (Matrice 300 RTK, Zenmuse H20, pitch -120..45), …": for --help and errors.
 std::string djiDroneList();
 

@@ -137,6 +137,8 @@ struct SurfaceMission {
   coverage::FlightStrategy strategy;
   std::vector<StopProblem> stop_problems;  ///< one per stop of the strategy
   std::vector<int> moved_stops;  ///< stops moved by repair (strategy.stops holds the new pose)
+  /// The moved stops whose planned pose needed a pitch beyond the gimbal's limits.
+  std::vector<int> gimbal_moved_stops;
   /// Share of the surface's points some flown photo images (coverage_evaluator.h),
   /// filled by the caller that knows the surface's points (app::plan).
   struct Coverage {
