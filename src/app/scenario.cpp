@@ -261,6 +261,8 @@ void parseInput(Section s, io::CloudReadOptions& o) {
     }
   }
   o.scale = s.number("scale", o.scale);
+  o.mesh_spacing_m =
+      s.number("mesh_spacing_m", o.mesh_spacing_m);  // meshes only (io/mesh_reader.h)
   s.finish();
 }
 
