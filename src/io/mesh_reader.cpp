@@ -6,6 +6,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
@@ -49,12 +50,28 @@ bool yUpOnceRead(const std::string& ext) {
   return ext == ".gltf" || ext == ".glb" || ext == ".dae" || ext == ".3ds";
 }
 
-/// Appends the triangles of `m` (indices shifted past the vertices already held).
-void appendMesh(const aiMesh& m, bool y_up, double scale, TriangleMesh& out) {
+/// A node's placement: x' = linear x + shift, in double.
+struct Placement {
+  Eigen::Matrix3d linear{Eigen::Matrix3d::Identity()};
+  Vec3 shift{Vec3::Zero()};
+};
+
+Placement operator*(const Placement& parent, const aiMatrix4x4& m) {
+  Placement local;
+  local.linear << m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3;
+  local.shift = Vec3(m.a4, m.b4, m.c4);
+  return {parent.linear * local.linear, parent.linear * local.shift + parent.shift};
+}
+
+/// Appends the triangles of `m` placed by `at` (indices shifted past the vertices
+/// already held).
+void appendMesh(const aiMesh& m, const Placement& at, bool y_up, double scale, TriangleMesh& out) {
   const std::size_t base = out.vertices.size();
+  out.vertices.reserve(base + m.mNumVertices);
+  out.triangles.reserve(out.triangles.size() + m.mNumFaces);
   for (unsigned v = 0; v < m.mNumVertices; ++v) {
     const aiVector3D& p = m.mVertices[v];
-    const Vec3 q(p.x, p.y, p.z);
+    const Vec3 q = at.linear * Vec3(p.x, p.y, p.z) + at.shift;
     out.vertices.push_back(scale * (y_up ? Vec3(q.x(), -q.z(), q.y()) : q));
   }
   for (unsigned f = 0; f < m.mNumFaces; ++f) {
@@ -63,6 +80,25 @@ void appendMesh(const aiMesh& m, bool y_up, double scale, TriangleMesh& out) {
     out.triangles.push_back({static_cast<std::uint32_t>(base + face.mIndices[0]),
                              static_cast<std::uint32_t>(base + face.mIndices[1]),
                              static_cast<std::uint32_t>(base + face.mIndices[2])});
+  }
+}
+
+/// Appends every mesh `node` and its children show, each placed by the product of
+/// its nodes' transforms (what aiProcess_PreTransformVertices does, without copying
+/// the scene).
+void appendNode(const aiScene& scene, const aiNode& node, const Placement& parent, bool y_up,
+                double scale, const std::string& path, TriangleMesh& out) {
+  const Placement at = parent * node.mTransformation;
+  for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+    const aiMesh* m = node.mMeshes[k] < scene.mNumMeshes ? scene.mMeshes[node.mMeshes[k]] : nullptr;
+    if (m == nullptr) continue;
+    if (out.vertices.size() + m->mNumVertices > std::numeric_limits<std::uint32_t>::max())
+      throw InputError(path + ": the mesh has more than 4e9 vertices; split it");
+    appendMesh(*m, at, y_up, scale, out);
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) {
+    if (node.mChildren[c] != nullptr)
+      appendNode(scene, *node.mChildren[c], at, y_up, scale, path, out);
   }
 }
 
@@ -95,9 +131,8 @@ TriangleMesh readMesh(const std::string& path, double scale, MeshReadInfo* info)
   // Points and lines are dropped at import: only faces carry a surface.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                                  aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   if (scene == nullptr) {
     std::string why = importer.GetErrorString();
     std::replace(why.begin(), why.end(), '\n', ' ');
@@ -110,13 +145,8 @@ TriangleMesh readMesh(const std::string& path, double scale, MeshReadInfo* info)
   }
   const bool y_up = yUpOnceRead(ext);
   TriangleMesh mesh;
-  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
-    const aiMesh* m = scene->mMeshes[i];
-    if (m == nullptr) continue;
-    if (mesh.vertices.size() + m->mNumVertices > std::numeric_limits<std::uint32_t>::max())
-      throw InputError(path + ": the mesh has more than 4e9 vertices; split it");
-    appendMesh(*m, y_up, scale, mesh);
-  }
+  if (scene->mRootNode != nullptr)
+    appendNode(*scene, *scene->mRootNode, Placement{}, y_up, scale, path, mesh);
   requireSinglePrecisionFits(path, mesh);
   if (mesh.triangles.empty()) throwNoFaces(path);
   if (info != nullptr) {

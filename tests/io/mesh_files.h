@@ -116,8 +116,10 @@ inline std::string base64(const std::string& bytes) {
 }
 
 /// A glTF 2.0 file of the triangles (as given: y up is the file's convention), its
-/// float positions in one buffer embedded as a base64 data URI.
-inline void writeGltf(const std::string& path, const Triangles& tris) {
+/// float positions in one buffer embedded as a base64 data URI, the mesh's node moved
+/// by `translation` (in the file's frame).
+inline void writeGltf(const std::string& path, const Triangles& tris,
+                      const Vec3& translation = Vec3::Zero()) {
   std::string bin;
   Vec3 lo = tris[0][0], hi = lo;
   for (const auto& t : tris) {
@@ -135,7 +137,8 @@ inline void writeGltf(const std::string& path, const Triangles& tris) {
   std::ofstream out(path);
   out.precision(9);
   out << "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],"
-      << " \"nodes\": [{\"mesh\": 0}],"
+      << " \"nodes\": [{\"mesh\": 0, \"translation\": [" << translation.x() << ", "
+      << translation.y() << ", " << translation.z() << "]}],"
       << " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"mode\": 4}]}],"
       << " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": "
       << 3 * tris.size() << ", \"type\": \"VEC3\", \"min\": [" << lo.x() << ", " << lo.y() << ", "

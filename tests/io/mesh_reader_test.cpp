@@ -155,17 +155,18 @@ TEST(MeshReader, AutomaticSpacingFollowsTheMeshScale) {
 }
 
 TEST(MeshReader, GltfIsTurnedFromYUpToZUp) {
-  // A horizontal triangle 2 m up in glTF's frame (y up): z = 2 once read.
+  // A horizontal triangle 2 m up in glTF's frame (y up), its node moved 1 m further
+  // up and 0.5 m along x: z = 3 once read.
   const fs::path d = testDir("gltf");
-  const Vec3 a(0, 2, 0), b(1, 2, 0), c(0, 2, -1);
-  mesh_test::writeGltf((d / "t.gltf").string(), {{a, b, c}});
+  const Vec3 up(0.5, 1, 0), a = Vec3(0, 2, 0) + up, b = Vec3(1, 2, 0) + up, c = Vec3(0, 2, -1) + up;
+  mesh_test::writeGltf((d / "t.gltf").string(), {{a - up, b - up, c - up}}, up);
   CloudReadInfo info;
   const PointList points = loadCloud((d / "t.gltf").string(), spacing(0.02), &info);
   EXPECT_EQ(info.mesh.axes, "y up turned to z up");
   const auto zUp = [](const Vec3& p) { return Vec3(p.x(), -p.z(), p.y()); };
   ASSERT_GT(points.size(), 1000u);
   expectOnMesh(points, {{zUp(a), zUp(b), zUp(c)}});
-  for (const Vec3& p : points) EXPECT_NEAR(p.z(), 2.0, 1e-6);
+  for (const Vec3& p : points) EXPECT_NEAR(p.z(), 3.0, 1e-6);
 }
 
 TEST(MeshReader, ScaleTurnsMillimetresIntoMetres) {
