@@ -73,7 +73,7 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
 
 /// What loadCloud and streamCloud say of an extension no reader knows.
 [[noreturn]] void unknownExtension(const std::string& path, const std::string& ext) {
-  throw InputError(path + ": unknown cloud or mesh extension '" + ext +
+  throw InputError(path + ": unknown cloud extension '" + ext +
                    "' (clouds: .pcd, .ply, .xyz, .txt, .csv, .las; meshes: .stl, .obj, .ply with "
                    "faces, .gltf, .glb, .dae, .fbx, .3ds, .off)");
 }

@@ -235,7 +235,7 @@ TEST(MeshReader, BadMeshesAreRefusedNamingTheFile) {
   mesh_test::writeStlBinary((d / "big.stl").string(), mesh_test::boxTriangles(kLo, kHi * 1000.0));
   expectRefused((d / "big.stl").string(), "input.mesh_spacing_m >=");
   { std::ofstream((d / "x.unknownext").string()) << "1 2 3\n"; }
-  expectRefused((d / "x.unknownext").string(), "unknown cloud or mesh extension");
+  expectRefused((d / "x.unknownext").string(), "unknown cloud extension");
 }
 
 TEST(MeshSampler, CorruptIndicesAndNonFiniteVerticesAreRefused) {
