@@ -5,12 +5,12 @@
 # printf), then prints the executions per target and in total. A crash, leak or
 # sanitizer report stops with exit 1 and leaves the input in FUZZ_DIR (default build-fuzz).
 # Usage: bash scripts/fuzz.sh [SECONDS]      (SKIP_APT=1 to skip apt-get;
-#        FUZZ_TARGETS="cloud json" builds and runs only those, default all four)
+#        FUZZ_TARGETS="cloud json" builds and runs only those, default all five)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET=${1:-60}
 OUT=${FUZZ_DIR:-build-fuzz}
-TARGETS=${FUZZ_TARGETS:-cloud json yaml rawlog}
+TARGETS=${FUZZ_TARGETS:-cloud json yaml rawlog mesh}
 
 # clang and its libFuzzer runtime, and what the project configures with (packages.txt).
 if [ "${SKIP_APT:-0}" != 1 ]; then
@@ -85,6 +85,12 @@ printf '%s\n' 'input: {drop_classes: [3, 4, 5, 7]}' \
   'registration: {method: translation, overlap_margin_m: 1.0, search_radius_m: 2.0, search_step_m: 0.2,' \
   '  downsample_m: 0.15, max_correspondence_m: 1.0, max_iterations: 40, ndt_resolution_m: 1.0,' \
   '  use_recorded_yaw: false, output_voxel_m: 0.02}' | seed yaml 1 full_config.yaml
+# fuzz_mesh: vertex count, spacing byte, float x y z per vertex, index triples.
+mkdir -p "$OUT/corpus_mesh"
+python3 -c 'import struct, sys
+v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1)]
+sys.stdout.buffer.write(bytes([len(v), 4]) + b"".join(struct.pack("<3f", *p) for p in v)
+                        + bytes([0, 1, 2, 0, 2, 3, 0, 1, 4, 1, 1, 2]))' > "$OUT/corpus_mesh/pyramid.bin"
 # A minimal valid raw log: one station, two scans per scanner, IMU samples over them.
 mkdir -p "$OUT/corpus_rawlog"
 station() {  # id, position: a log.json station record naming the files of station 0

@@ -452,8 +452,9 @@ io::SceneExtras sceneExtras(const DetectResult& detected, const io::CloudReadInf
   e.perception_s = detected.times.perception_s;
   if (read != nullptr) {
     const io::CloudReadOptions& input = detected.resolved.config.input;
-    e.input_read = io::InputReadRecord{input.scale, input.drop_classes, read->origin_m,
-                                       read->crs,   read->crs_vertical, read->crs_source};
+    e.input_read =
+        io::InputReadRecord{input.scale,        input.drop_classes, read->origin_m, read->crs,
+                            read->crs_vertical, read->crs_source,   read->mesh};
   }
   return e;
 }

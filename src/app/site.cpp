@@ -224,6 +224,9 @@ TileDetectResult detectTile(const tiling::Manifest& manifest, long index, const 
   r.detected.scene.safety->sha256 = t.sha256;
   r.out = sitePath(manifest.dir(), t.out);
   r.read.origin_m = manifest.source_offset_m;  // scene.json's source_offset_m: the input's
+  r.read.crs = manifest.crs;                   // and its CRS, for export
+  r.read.crs_source = manifest.crs_source;
+  r.read.crs_vertical = manifest.crs_vertical;
   return r;
 }
 

@@ -73,6 +73,13 @@ std::pair<CLI::App*, std::shared_ptr<Args>> missionCommand(CLI::App& cli, const 
 std::optional<io::GeoFit> pageGeoFit(const std::optional<io::SceneCrsRecord>& crs,
                                      const Scene& scene, const Verbosity& v);
 
+/// The CRS scene.json records: --crs for a cloud that does not state one (a
+/// contradiction of the file's is a warning naming both), the vertical datum from
+/// --vertical, else from a compound CRS's vertical part (EGM96 / EGM2008 height)
+/// (pipeline_commands.cpp; detect, tile).
+void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const std::string& crs,
+                const std::string& vertical, const Verbosity& v);
+
 /// Stages scene.json and the clean and safety clouds beside it in `out` (`read`: how
 /// a cloud file was read; null for a scenario) (pipeline_commands.cpp).
 void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,

@@ -347,9 +347,9 @@ bool structureCover(const std::string& cover, bool surface_given) {
   return true;
 }
 
-/// The CRS scene.json records: --crs for a cloud that does not state one (a
-/// contradiction of the file's is a warning naming both), the vertical datum from
-/// --vertical, else from a compound CRS's vertical part (EGM96 / EGM2008 height).
+}  // namespace
+
+// Declared in commands.h.
 void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const std::string& crs,
                 const std::string& vertical, const Verbosity& v) {
   if (!crs.empty()) {
@@ -381,6 +381,8 @@ void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const st
     read.crs_vertical = io::verticalDatumName(*d);
   }
 }
+
+namespace {
 
 int detectCommand(const std::string& cloud_path, const std::string& config_path,
                   const std::string& out, const std::string& crs, const std::string& vertical,
@@ -429,6 +431,31 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   return kExitOk;
 }
 
+/// plan -o OTHER: scene.json and the safety cloud it names copied beside mission.json,
+/// so that export and validate find the scene there as after run (nothing when OUT is
+/// the scene's own folder).
+void stageSceneBeside(io::StagedOutputs& outputs, const std::string& scene_path,
+                      const nlohmann::json& scene_json, const std::string& out) {
+  const fs::path from = fs::absolute(scene_path).parent_path();
+  std::error_code ec;
+  if (fs::equivalent(from, out, ec)) return;
+  std::vector<std::pair<fs::path, fs::path>> copies = {{scene_path, fs::path(out) / "scene.json"}};
+  if (scene_json.contains("safety") && scene_json["safety"].contains("file") &&
+      scene_json["safety"]["file"].is_string()) {
+    const std::string name = scene_json["safety"]["file"].get<std::string>();
+    if (fs::exists(from / name)) copies.emplace_back(from / name, fs::path(out) / name);
+  }
+  for (const auto& [src, dst] : copies) {
+    outputs.writeWith(dst.string(), [&src = src, &dst = dst](const std::string& tmp) {
+      std::error_code copy_ec;
+      fs::copy_file(src, tmp, fs::copy_options::overwrite_existing, copy_ec);
+      if (copy_ec)
+        throw InputError(dst.string() + ": cannot copy the scene's " + src.string() + " here (" +
+                         copy_ec.message() + ")");
+    });
+  }
+}
+
 int planCommand(const std::string& scene_path, const std::string& config_path,
                 const std::string& surface, const std::string& cover, const std::string& planner,
                 const AircraftArgs& aircraft, const std::string& edits_path, const std::string& out,
@@ -457,6 +484,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
   auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, resolved, scene_path, edited.summary);
+  stageSceneBeside(outputs, scene_path, scene_json, out);
   stageViews(outputs, out, rendered);
   outputs.commit();
   if (!v.quiet) {
@@ -590,7 +618,10 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   auto* det = cli.add_subcommand(
       "detect", "Stages 3-5 on a point cloud file: clean cloud, surfaces, obstacles");
   det->footer(kDetectFooter);
-  det->add_option("cloud", a->cloud, "Cloud file (.pcd, .ply, .xyz, .txt, .las)")->required();
+  det->add_option("cloud", a->cloud,
+                  "Cloud file (.pcd, .ply, .xyz, .txt, .las) or mesh (.stl, .obj, .ply with faces, "
+                  ".gltf, .glb, .dae, .fbx, .3ds, .off: its surface sampled)")
+      ->required();
   det->add_option("-c,--config", a->config,
                   "Config YAML (scenario sections; default: auto from the cloud, see below)");
   det->add_option("-o,--out", a->out, "Output directory")->required();

@@ -41,6 +41,12 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
   io::StagedOutputs outputs;
   tiling::Manifest m = tiling::tileCloud(cloud, config.input, options, out, outputs);
   m.input_sha256 = io::sha256File(cloud);
+  if (!m.crs.empty()) {  // its vertical datum as detect finds it
+    io::CloudReadInfo read;
+    read.crs = m.crs;
+    resolveCrs(read, cloud, "", "", v);
+    m.crs_vertical = read.crs_vertical;
+  }
   m.config = config_path.empty()
                  ? std::string()
                  : std::filesystem::absolute(config_path).lexically_normal().string();
@@ -55,7 +61,7 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
               << largest << " points (core + buffer)"
               << (io::streamsInBoundedMemory(cloud)
                       ? ""
-                      : "; note: PCD and PLY are read whole, LAS and text are streamed")
+                      : "; note: PCD, PLY and meshes are read whole, LAS and text are streamed")
               << "\n";
     std::cout << "time: " << formatFixed(secondsSince(t0), 2) << " s\n";
     std::cout << "results: " << pathIn(out, "manifest.json") << "\n";
@@ -94,6 +100,9 @@ void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const a
   io::ensureDirectory(s.out);
   io::CloudReadInfo read;
   read.origin_m = m.source_offset_m;
+  read.crs = m.crs;  // the input's CRS (manifest.json), so export needs no --crs
+  read.crs_source = m.crs_source;
+  read.crs_vertical = m.crs_vertical;
   const app::Config& resolved = s.detected.resolved.config;
   writeScene(outputs, s.out, s.detected, &read);
   writeMission(outputs, s.out, s.planned, resolved, m.path);

@@ -82,6 +82,10 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
       options.scale = r.at("scale").get<double>();
     if (r.contains("drop_classes") && r.at("drop_classes").is_array())
       options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
+    // A mesh is sampled again at the spacing detect used: the same points.
+    if (r.contains("mesh") && r.at("mesh").contains("spacing_m") &&
+        r.at("mesh").at("spacing_m").is_number())
+      options.mesh_spacing_m = r.at("mesh").at("spacing_m").get<double>();
   }
   if (j.contains("source_offset_m"))
     scene_offset =

@@ -18,6 +18,12 @@
 
 namespace uavip::io {
 
+/// Throws InputError: `path` is a mesh without triangle faces (mesh_sampler.cpp).
+[[noreturn]] void throwNoFaces(const std::string& path);
+
+/// The extension of `path` in lower case, with its dot (".ply"); empty if none.
+std::string lowerExtension(const std::string& path);
+
 /// Parses an x y z text cloud from `in` line by line, handing each point to `point`
 /// (the one parser of .xyz/.txt/.csv; loadCloud and streamCloud use it).
 void parseXyz(std::istream& in, const std::string& path,

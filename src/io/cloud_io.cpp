@@ -21,9 +21,9 @@
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/las_reader.h"
+#include "uavip/io/mesh_reader.h"
 
 namespace uavip::io {
-namespace {
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -31,6 +31,8 @@ std::string lowerExtension(const std::string& path) {
                  [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
+
+namespace {
 
 /// Reads a PCD (uavip's own reader, pcd_reader.cpp) or PLY (PCL's reader after the
 /// header checks, ply_reader.cpp) file into a PCLPointCloud2.
@@ -42,6 +44,38 @@ pcl::PCLPointCloud2 readBlob(const std::string& path, const std::string& ext) {
   if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
   if (ext == ".pcd") return readPcd(path, in, size);
   return readPly(path, in, size);
+}
+
+/// A mesh's surface sampled into points, input.scale applied (io/mesh_reader.h); the
+/// read line and the mesh record go to `info`.
+PointList readMeshPoints(const std::string& path, const CloudReadOptions& options,
+                         CloudReadInfo* info) {
+  MeshReadInfo mesh;
+  MeshSampleOptions sample;
+  sample.spacing_m = options.mesh_spacing_m;
+  PointList points = sampleMesh(readMesh(path, options.scale, &mesh), sample, path, &mesh);
+  if (info != nullptr) {
+    std::ostringstream os;
+    os << path << ": mesh (" << mesh.format << "), " << mesh.triangles << " triangles";
+    if (mesh.degenerate > 0) os << " (" << mesh.degenerate << " without area, skipped)";
+    os << ", " << formatNumber(mesh.area_m2, 4) << " m2, sampled every "
+       << formatNumber(mesh.spacing_m, 3) << " m ("
+       << (mesh.spacing_source == "auto" ? "auto; set input.mesh_spacing_m to change"
+                                         : "input.mesh_spacing_m")
+       << "): " << points.size() << " points; " << mesh.axes;
+    if (options.scale != 1.0)
+      os << "; coordinates scaled by input.scale " << formatNumber(options.scale);
+    info->note = os.str();
+    info->mesh = mesh;
+  }
+  return points;
+}
+
+/// What loadCloud and streamCloud say of an extension no reader knows.
+[[noreturn]] void unknownExtension(const std::string& path, const std::string& ext) {
+  throw InputError(path + ": unknown cloud extension '" + ext +
+                   "' (clouds: .pcd, .ply, .xyz, .txt, .csv, .las; meshes: .stl, .obj, .ply with "
+                   "faces, .gltf, .glb, .dae, .fbx, .3ds, .off)");
 }
 
 }  // namespace
@@ -61,6 +95,11 @@ const params::Table<CloudReadOptions>& CloudReadOptions::table() {
           "× every coordinate to give metres: 0.001 for millimetres, 0.3048 for international "
           "feet")
         .positive();
+    p.add("mesh_spacing_m", &O::mesh_spacing_m,
+          "meshes: distance between the points sampled on the triangles (0: chosen from the "
+          "mesh's area and size)")
+        .unitIs("m")
+        .atLeast(0);
     return p;
   }();
   return t;
@@ -72,6 +111,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
   requireRegularFile(path);
   PointList points;
   Vec3 origin = Vec3::Zero();  // already subtracted from points (LAS)
+  bool scaled = false;         // input.scale already applied (a mesh, sampled in metres)
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
@@ -104,14 +144,16 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
       throw InputError(path + ": no point is left after drop_classes; drop fewer classes");
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     points = loadXyz(path);
+  } else if (isMeshFile(path)) {
+    points = readMeshPoints(path, options, info);
+    scaled = true;
   } else if (ext == ".pcd" || ext == ".ply") {
     points = fromBlob(readBlob(path, ext), path);
   } else {
-    throw InputError(path + ": unknown cloud extension '" + ext +
-                     "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
+    unknownExtension(path, ext);
   }
   if (points.empty()) throw InputError(path + ": the cloud has no points");
-  if (options.scale != 1.0) {
+  if (options.scale != 1.0 && !scaled) {
     for (auto& p : points) p *= options.scale;
     origin *= options.scale;
     if (info != nullptr) {
@@ -153,10 +195,11 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
   const std::string ext = lowerExtension(path);
   PointList chunk;
   chunk.reserve(chunk_points);
+  double scale = options.scale;  // 1 for a mesh: sampled in metres
   const auto flush = [&] {
     if (chunk.empty()) return;
-    if (options.scale != 1.0)
-      for (Vec3& p : chunk) p *= options.scale;
+    if (scale != 1.0)
+      for (Vec3& p : chunk) p *= scale;
     sink(chunk);
     chunk.clear();
   };
@@ -176,12 +219,15 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the file, check its permissions");
     parseXyz(in, path, add);
+  } else if (isMeshFile(path)) {
+    // A mesh is sampled whole, then handed on in chunks.
+    scale = 1.0;
+    for (const Vec3& p : readMeshPoints(path, options, nullptr)) add(p);
   } else if (ext == ".pcd" || ext == ".ply") {
     // PCD and PLY are read whole (PCL's blob), then handed on in chunks.
     for (const Vec3& p : fromBlob(readBlob(path, ext), path)) add(p);
   } else {
-    throw InputError(path + ": unknown cloud extension '" + ext +
-                     "' (use .pcd, .ply, .xyz, .txt, .csv or .las)");
+    unknownExtension(path, ext);
   }
   flush();
   return las;
@@ -230,6 +276,8 @@ CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& opt
   info.max = hi - shift;
   if (las) {
     info.crs_unit = las->unit_name + " (" + las->unit_source + ")";
+    info.read.crs = las->crs;
+    info.read.crs_source = las->crs_source;
     info.read.note = path + ": LAS " + std::to_string(las->version_major) + "." +
                      std::to_string(las->version_minor) + ", " +
                      std::to_string(las->points_in_file) + " points, " +

@@ -62,6 +62,22 @@ SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& p
   return sc;
 }
 
+/// input_read.mesh: the mesh and how its surface became points (the file's sha256 is
+/// safety.sha256).
+json meshRecord(const MeshReadInfo& m) {
+  const bool gltf = m.format == "gltf" || m.format == "glb";
+  return {{"format", m.format},
+          {"triangles", m.triangles},
+          {"degenerate_triangles", m.degenerate},
+          {"area_m2", round4(m.area_m2)},
+          {"spacing_m", m.spacing_m},
+          {"spacing_source", m.spacing_source},
+          {"seed", m.seed},
+          {"unit", gltf ? "metres (glTF), times input.scale"
+                        : "the file states none: its numbers times input.scale are metres"},
+          {"axes", m.axes}};
+}
+
 }  // namespace
 
 json sceneToJson(const Scene& scene) {
@@ -131,6 +147,8 @@ std::string sceneJsonText(const Scene& scene, const SceneExtras& extras) {
   if (extras.input_read) {
     const InputReadRecord& read = *extras.input_read;
     j["input_read"] = {{"scale", read.scale}, {"drop_classes", read.drop_classes}};
+    if (read.mesh.present) j["input_read"]["source_kind"] = "mesh";
+    if (read.mesh.present) j["input_read"]["mesh"] = meshRecord(read.mesh);
     // The cloud's CRS, as the file or detect --crs states it (export places the flight by it).
     if (!read.crs.empty())
       j["crs"] = {

@@ -151,6 +151,9 @@ std::string manifestJsonText(const Manifest& m) {
                         {"rows", m.rows}}},
                       {"bounds", {{"min", io::vec(m.min)}, {"max", io::vec(m.max)}}},
                       {"tiles", tiles}};
+  // The input's CRS (a LAS file's): every tile's and the merged scene.json record it.
+  if (!m.crs.empty())
+    j["crs"] = {{"definition", m.crs}, {"source", m.crs_source}, {"vertical", m.crs_vertical}};
   return j.dump(1) + "\n";
 }
 
@@ -171,6 +174,12 @@ Manifest loadManifest(const std::string& path) {
     m.read.drop_classes.push_back(static_cast<int>(r.integer(c, "input.drop_classes", 0, 255)));
   m.source_offset_m = r.vec3(r.at(in, "source_offset_m", "input"), "input.source_offset_m", false);
   m.crs_unit = r.text(r.at(in, "crs_unit", "input"), "input.crs_unit");
+  if (j.contains("crs")) {  // written since the CRS travels with the tiles
+    const nlohmann::json& crs = j.at("crs");
+    m.crs = r.text(r.at(crs, "definition", "crs"), "crs.definition");
+    m.crs_source = r.text(r.at(crs, "source", "crs"), "crs.source");
+    m.crs_vertical = r.text(r.at(crs, "vertical", "crs"), "crs.vertical");
+  }
   m.config = r.text(r.at(j, "config", ""), "config");
   m.tile_size_m = r.number(r.at(j, "tile_size_m", ""), "tile_size_m", 1e-3, 1e6, "m");
   m.buffer_m = r.number(r.at(j, "buffer_m", ""), "buffer_m", 0.0, 1e6, "m");
@@ -218,6 +227,8 @@ void setGrid(Manifest& m, const io::CloudStreamInfo& info, const std::string& cl
   m.max = info.max;
   m.source_offset_m = info.read.origin_m;
   m.crs_unit = info.crs_unit;
+  m.crs = info.read.crs;
+  m.crs_source = info.read.crs_source;
   m.grid_origin = Eigen::Vector2d(info.min.x(), info.min.y());
   const double cols = std::max(1.0, std::ceil((info.max.x() - info.min.x()) / m.tile_size_m));
   const double rows = std::max(1.0, std::ceil((info.max.y() - info.min.y()) / m.tile_size_m));

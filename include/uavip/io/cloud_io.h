@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Point cloud files: PCD and PLY (PCL readers/writers) and XYZ text
-/// ("x y z" per line, extra columns ignored, '#' comments).
+/// ("x y z" per line, extra columns ignored, '#' comments); triangle meshes are read
+/// as the points sampled on their surface (io/mesh_reader.h).
 
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "uavip/core/params.h"
 #include "uavip/core/types.h"
+#include "uavip/io/mesh_reader.h"
 
 namespace uavip::io {
 
@@ -25,6 +27,9 @@ struct CloudReadOptions {
   /// unit conversion: 0.001 for a cloud in millimetres, 0.01 in centimetres, 0.3048
   /// in international feet. 1 = the file is in metres (or a LAS file says its unit).
   double scale{1.0};
+  /// Meshes only: the sampling spacing [m], one point per spacing² of surface on
+  /// average; 0 = chosen from the mesh's area and size (io::autoMeshSpacing).
+  double mesh_spacing_m{0.0};
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "input") const;
   /// The keys of `input:` this struct holds (core/params.h).
@@ -42,6 +47,7 @@ struct CloudReadInfo {
   std::string crs_vertical;
   Vec3 origin_m{
       Vec3::Zero()};  ///< subtracted from the file's coordinates (after unit conversion) [m]
+  MeshReadInfo mesh;  ///< the mesh read and how it was sampled; mesh.present false for a cloud
 };
 
 /// A cloud whose bounding box reaches farther than this from the file's origin, on
@@ -72,7 +78,9 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// Reads a cloud by extension (.pcd, .ply, .las; .xyz, .txt and .csv: x y z first on
 /// each line, separated by spaces, tabs or commas, one optional header line of
 /// names such as "x,y,z" or "//X Y Z Intensity"; .laz is refused with the command
-/// that decompresses it), then applies options.scale. Every coordinate is read as a
+/// that decompresses it), then applies options.scale. A mesh (io::isMeshFile: .stl,
+/// .obj, .gltf, .glb, .ply with faces, …) is read by Assimp, scaled and sampled at
+/// options.mesh_spacing_m (io::sampleMesh; info->mesh records how). Every coordinate is read as a
 /// double; a cloud far from the origin (farFromOrigin; a LAS file always) is recentred
 /// by recentringOrigin before anything becomes float, said in info->note, and
 /// info->origin_m holds the offset (scene.json's source_offset_m). Throws InputError
@@ -92,12 +100,12 @@ struct CloudStreamInfo {
   std::uint64_t points{0};  ///< points handed on (after drop_classes)
   Vec3 min{Vec3::Zero()};   ///< bounding box of the handed-on points [m]
   Vec3 max{Vec3::Zero()};   ///< [m]
-  CloudReadInfo read;       ///< origin_m: as loadCloud's; note: a LAS file's summary
+  CloudReadInfo read;       ///< origin_m: as loadCloud's; note: a LAS file's summary; its CRS
   std::string crs_unit;     ///< a LAS file's unit and where it came from; else empty
 };
 
-/// True when streamCloud reads `path` in bounded memory (LAS and x y z text); PCD and
-/// PLY are read whole and then handed on in chunks.
+/// True when streamCloud reads `path` in bounded memory (LAS and x y z text); PCD,
+/// PLY and meshes are read whole and then handed on in chunks.
 bool streamsInBoundedMemory(const std::string& path);
 
 /// The points loadCloud would return, in the same frame (same origin_m, same

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "uavip/core/types.h"
+#include "uavip/io/mesh_reader.h"
 
 namespace uavip::io {
 
@@ -37,6 +38,8 @@ struct InputReadRecord {
   std::string crs;
   std::string crs_vertical;  ///< "egm96", "egm2008", "ellipsoid" or empty
   std::string crs_source;
+  /// A mesh input: format, triangles, area, sampling spacing, axes (input_read.mesh).
+  MeshReadInfo mesh;
 };
 
 /// What scene.json holds beside the scene itself.

@@ -70,9 +70,14 @@ struct Manifest {
   io::CloudReadOptions read;           ///< how the input was read (input: section)
   Vec3 source_offset_m{Vec3::Zero()};  ///< add to a point to get file coordinates [m]
   std::string crs_unit;                ///< a LAS file's unit and its source; else empty
-  std::string config;                  ///< the -c config given to tile (absolute), or empty
-  double tile_size_m{0.0};             ///< [m]
-  double buffer_m{0.0};                ///< [m]
+  /// The input's CRS (a LAS file's WKT) as detect records it, so every tile's and the
+  /// merged scene.json keep it; empty when the input states none.
+  std::string crs;
+  std::string crs_source;    ///< where crs came from ("LAS WKT record 2112")
+  std::string crs_vertical;  ///< "egm96", "egm2008", "ellipsoid" or empty (unknown)
+  std::string config;        ///< the -c config given to tile (absolute), or empty
+  double tile_size_m{0.0};   ///< [m]
+  double buffer_m{0.0};      ///< [m]
   Eigen::Vector2d grid_origin{Eigen::Vector2d::Zero()};  ///< minimum x, y of the cloud [m]
   int columns{0};
   int rows{0};
