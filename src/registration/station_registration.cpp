@@ -22,8 +22,10 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
+#include <queue>
 #include <sstream>
 #include <unordered_set>
 
@@ -650,15 +652,19 @@ void insideBox(const std::vector<const Placed*>& sets, const Aabb& box, PointLis
 
 namespace merging {
 
-/// Centroid sums of the merged cloud's voxels (edge `leaf`), station by station: an
-/// open-addressing table on voxelDownsample's keys, so the centroids (sums in point
-/// order) and their key order are voxelDownsample's on the concatenated stations.
+/// Centroid sums of the merged cloud's voxels (edge `leaf`), station by station, on
+/// voxelDownsample's keys, so the centroids (sums in point order) and their key
+/// order are voxelDownsample's on the concatenated stations. kTables open-addressing
+/// tables chosen by the key's hash: each grows on its own, so a growth copies a
+/// small part of the map, not all of it (one table's doubling held the old and the
+/// new table at once: the peak of the whole assembly).
 class VoxelSums {
  public:
   explicit VoxelSums(double leaf) : leaf_(leaf) {}
 
   /// Adds points (world frame) in order. Throws InputError like voxelDownsample when
-  /// the points seen so far span more than 2^21 voxels on an axis.
+  /// the points seen so far span more than 2^21 voxels on an axis, and before a
+  /// table grows beyond the memory budget.
   void add(const PointList& points) {
     for (const auto& p : points) {
       const auto c = VoxelKeyer::latticeIndex(p, leaf_, kVoxelWhat);
@@ -667,29 +673,44 @@ class VoxelSums {
         hi_[a] = any_ ? std::max(hi_[a], c[a]) : c[a];
       }
       any_ = true;
-      if (10 * (used_ + 1) > 7 * slots_.size()) grow();
-      Slot& s = find(VoxelKeyer::wrappedKey(c));
-      if (s.count == 0) ++used_;
+      const std::uint64_t key = VoxelKeyer::wrappedKey(c);
+      const std::uint64_t hash = key * 0x9E3779B97F4A7C15ULL;
+      Table& t = tables_[hash >> (64 - kTableBits)];
+      if (20 * (t.used + 1) > 17 * t.slots.size()) grow(t);
+      Slot& s = t.find(key, hash << kTableBits);
+      if (s.count == 0) ++t.used;
       s.sum += p;
       ++s.count;
     }
     if (any_) (void)VoxelKeyer::forIndexBox(lo_, hi_, leaf_, kVoxelWhat);  // throws beyond 2^21
   }
-  std::size_t size() const { return used_; }
 
-  /// The centroids in key order; empties the table.
-  PointList centroids() {
+  std::size_t size() const {
     std::size_t n = 0;
-    for (std::size_t i = 0; i < slots_.size(); ++i)
-      if (slots_[i].count > 0) slots_[n++] = slots_[i];
-    slots_.resize(n);
-    std::sort(slots_.begin(), slots_.end(),
-              [](const Slot& a, const Slot& b) { return a.key < b.key; });
+    for (const Table& t : tables_) n += t.used;
+    return n;
+  }
+
+  /// The centroids in key order; empties the map.
+  PointList centroids() {
+    for (Table& t : tables_) t.sortEntries();
     PointList out;
-    out.reserve(n);
-    for (const Slot& s : slots_) out.push_back(s.sum / static_cast<double>(s.count));
-    slots_ = {};
-    used_ = 0;
+    out.reserve(size());
+    // Every table's entries ascend by key: a merge of kTables runs.
+    using Head = std::pair<std::uint64_t, std::size_t>;  // key, table
+    std::priority_queue<Head, std::vector<Head>, std::greater<>> heads;
+    std::array<std::size_t, kTables> next{};
+    for (std::size_t i = 0; i < kTables; ++i)
+      if (!tables_[i].slots.empty()) heads.push({tables_[i].slots.front().key, i});
+    while (!heads.empty()) {
+      const std::size_t i = heads.top().second;
+      heads.pop();
+      const Slot& s = tables_[i].slots[next[i]++];
+      out.push_back(s.sum / static_cast<double>(s.count));
+      if (next[i] < tables_[i].slots.size()) heads.push({tables_[i].slots[next[i]].key, i});
+    }
+    tables_ = {};
+    slot_bytes_ = 0.0;
     return out;
   }
 
@@ -699,36 +720,56 @@ class VoxelSums {
     Vec3 sum{Vec3::Zero()};
     std::uint32_t count{0};  ///< 0: empty
   };
+  /// One open-addressing table (linear probing; slots a power of two).
+  struct Table {
+    std::vector<Slot> slots;
+    std::size_t used{0};
+    int shift{64};
+    /// The slot of key (empty if new); `spread` = the key's hash without the table bits.
+    Slot& find(std::uint64_t key, std::uint64_t spread) {
+      const std::size_t mask = slots.size() - 1;
+      for (std::size_t i = spread >> shift;; i = (i + 1) & mask) {
+        Slot& s = slots[i];
+        if (s.count == 0) {
+          s.key = key;
+          return s;
+        }
+        if (s.key == key) return s;
+      }
+    }
+    /// Keeps only the used slots, ascending by key.
+    void sortEntries() {
+      std::size_t n = 0;
+      for (std::size_t i = 0; i < slots.size(); ++i)
+        if (slots[i].count > 0) slots[n++] = slots[i];
+      slots.resize(n);
+      slots.shrink_to_fit();
+      std::sort(slots.begin(), slots.end(),
+                [](const Slot& a, const Slot& b) { return a.key < b.key; });
+    }
+  };
+  static constexpr int kTableBits = 6;
+  static constexpr std::size_t kTables = std::size_t{1} << kTableBits;
   static constexpr const char* kVoxelWhat = "registration.downsample_m/output_voxel_m";
 
-  Slot& find(std::uint64_t key) {
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = (key * 0x9E3779B97F4A7C15ULL) >> shift_;; i = (i + 1) & mask) {
-      Slot& s = slots_[i];
-      if (s.count == 0) {
-        s.key = key;
-        return s;
-      }
-      if (s.key == key) return s;
-    }
-  }
-  void grow() {
-    const std::size_t capacity = slots_.empty() ? std::size_t{1} << 16 : 2 * slots_.size();
-    requireMemory(
-        static_cast<double>((capacity + slots_.size()) * sizeof(Slot)),
-        "the merged cloud's " + std::to_string(used_) + "+ voxels of " + formatNumber(leaf_) + " m",
-        "raise registration.output_voxel_m");
+  void grow(Table& t) {
+    const std::size_t capacity = t.slots.empty() ? std::size_t{1} << 10 : 2 * t.slots.size();
+    const double added = static_cast<double>(capacity * sizeof(Slot));
+    requireMemory(slot_bytes_ + added,
+                  "the merged cloud's " + std::to_string(size()) + "+ voxels of " +
+                      formatNumber(leaf_) + " m",
+                  "raise registration.output_voxel_m");
     std::vector<Slot> old(capacity);
-    old.swap(slots_);
-    shift_ = 64 - static_cast<int>(std::log2(static_cast<double>(capacity)) + 0.5);
+    old.swap(t.slots);
+    t.shift = 64 - static_cast<int>(std::log2(static_cast<double>(capacity)) + 0.5);
     for (const Slot& s : old)
-      if (s.count > 0) find(s.key) = s;
+      if (s.count > 0) t.find(s.key, (s.key * 0x9E3779B97F4A7C15ULL) << kTableBits) = s;
+    slot_bytes_ += added - static_cast<double>(old.size() * sizeof(Slot));
   }
 
   double leaf_;
-  std::vector<Slot> slots_;
-  std::size_t used_{0};
-  int shift_{64};
+  std::array<Table, kTables> tables_;
+  double slot_bytes_{0.0};  ///< memory of every table's slots [bytes]
   bool any_{false};
   std::array<std::int64_t, 3> lo_{}, hi_{};
 };
