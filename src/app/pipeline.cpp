@@ -10,6 +10,7 @@
 #include "plan_steps.h"
 #include "planners/registry.h"
 #include "uavip/app/assemble.h"
+#include "uavip/app/assemble_truth.h"
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/parallel.h"
@@ -18,6 +19,7 @@
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/coverage/multi_view.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/perception/scene_builder.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/preprocess/safety_cloud.h"
@@ -133,6 +135,31 @@ PointList sense(const app::Scenario& scenario) {
   // Mode scan: simulate the raw scans, then stages 1-2 (app/assemble.h).
   if (scenario.sensing_mode == "scan") return senseScans(scenario).cloud;
   return sim::sampleSurfaces(scenario.world, scenario.sample);
+}
+
+Vec3 recentreScenario(app::Scenario& scenario) {
+  Aabb box;
+  for (const auto& r : scenario.world.rects()) {
+    for (const Vec3& p : {r.corner, Vec3(r.corner + r.edge_u), Vec3(r.corner + r.edge_v),
+                          Vec3(r.corner + r.edge_u + r.edge_v)})
+      box.extend(p);
+  }
+  for (const auto& s : scenario.world.segments()) {
+    box.extend(s.a);
+    box.extend(s.b);
+  }
+  for (const auto& p : scenario.world.points()) box.extend(p.p);
+  if (box.empty() || !io::farFromOrigin(box.min, box.max)) return Vec3::Zero();
+  const Vec3 origin = io::recentringOrigin(box.min, box.max);
+  scenario.world = worldInLogFrame(scenario.world, origin);
+  for (Vec3& s : scenario.scan.stations) s -= origin;
+  auto& planes = scenario.config.perception.planes;
+  planes.viewpoint -= origin;
+  for (Vec3& v : planes.extra_viewpoints) v -= origin;
+  for (std::optional<Vec3>* p : {&scenario.config.mission.start, &scenario.config.flight.home,
+                                 &scenario.config.flight.start})
+    if (*p) **p -= origin;
+  return origin;
 }
 
 preprocess::CloudStats measure(const PointList& raw, const app::Scenario* scenario,

@@ -63,6 +63,10 @@ int runUavip(int argc, char** argv) {
   Verbosity v;
   cli.add_flag("-q,--quiet", v.quiet, "Print nothing but errors");
   cli.add_flag("-v,--verbose", v.verbose, "Show progress even when stderr is not a terminal");
+  std::string max_memory;
+  cli.add_option("--max-memory", max_memory,
+                 "Refuse inputs whose estimated memory exceeds this (e.g. 4G, 512M; default 80 % "
+                 "of the available memory or the cgroup's limit, whichever is lower)");
 
   CommandRegistry registry(v);
   addPipelineCommands(cli, registry);
@@ -107,6 +111,8 @@ int runUavip(int argc, char** argv) {
 
   try {
     if (v.quiet && v.verbose) throw uavip::InputError("--quiet and --verbose: choose one");
+    if (!max_memory.empty())
+      uavip::setMemoryBudget(uavip::parseMemorySize(max_memory, "--max-memory"));
     uavip::io::setPclConsole(v.verbose);
     return registry.dispatch();
   } catch (const uavip::InputError& e) {

@@ -278,6 +278,13 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   if (out.empty()) out = "out/" + scenario.name;
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
+  // A world far from the origin is planned recentred, as a far cloud is read.
+  io::CloudReadInfo recentred;
+  recentred.origin_m = app::recentreScenario(scenario);
+  const bool far = recentred.origin_m != Vec3::Zero();
+  if (far && !v.quiet)
+    std::cerr << "uavip: the world lies far from the origin: planned in a frame moved by "
+              << formatRawPoint(recentred.origin_m) << " m (scene.json source_offset_m)\n";
 
   const auto t0 = SteadyClock::now();
   if (progress) progress("sensing " + scenario.name + " (" + scenario.sensing_mode + ")");
@@ -303,7 +310,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
       views, edited.scene, p.missions,
       overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
   io::StagedOutputs outputs;
-  writeScene(outputs, out, d);
+  writeScene(outputs, out, d, far ? &recentred : nullptr);
   writeMission(outputs, out, p, d.resolved.config, path, edited.summary);
   stageViews(outputs, out, rendered);
   outputs.commit();

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -210,10 +211,27 @@ int assembleCommand(const std::string& dir, const std::string& out, const std::s
   }
   const app::Progress progress = progressPrinter(v);
   if (progress) progress("reading " + dir);
+  // The stations are read one at a time as assembly needs them (bounded memory).
+  const io::RawLogReader reader(dir);
   io::RawLogReadStats read;
-  const RawLog log = io::readRawLog(dir, &read);
+  std::mutex read_mutex;
+  app::StationSource source;
+  source.header = reader.header();
+  source.read = [&](std::size_t i) {
+    io::RawLogReadStats s;
+    Station st = reader.readStation(i, s);
+    const std::lock_guard<std::mutex> lock(read_mutex);
+    read.scans += s.scans;
+    read.beams += s.beams;
+    read.no_return += s.no_return;
+    read.replaced_ranges += s.replaced_ranges;
+    read.imu_samples += s.imu_samples;
+    return st;
+  };
+  for (std::size_t i = 0; i < reader.stationCount(); ++i)
+    source.file_bytes.push_back(static_cast<double>(reader.stationFileBytes(i)));
   const std::optional<io::RawLogTruthFile> truth = io::readRawLogTruth(dir);
-  const app::AssembleResult r = app::assemble(log, options, truth ? &truth->poses : nullptr,
+  const app::AssembleResult r = app::assemble(source, options, truth ? &truth->poses : nullptr,
                                               truth ? &truth->world : nullptr, progress);
   const fs::path parent = fs::path(out).parent_path();
   if (!parent.empty()) io::ensureDirectory(parent.string());

@@ -478,7 +478,7 @@ void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth,
   writeFileAtomic((fs::path(dir) / rawLogTruthName()).string(), j.dump() + "\n");
 }
 
-RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
+RawLogReader::RawLogReader(const std::string& dir) {
   const std::string index_path = (fs::path(dir) / rawLogIndexName()).string();
   if (!fs::is_directory(dir))
     throw InputError(dir + ": not a raw log directory (expected " + index_path + ")");
@@ -490,7 +490,7 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
   if (jr.number(j, "version", "") != kVersion) {
     jr.fail("version", "must be " + std::to_string(kVersion) + ", got " + j.at("version").dump());
   }
-  RawLog log;
+  RawLog& log = header_;
   log.max_range_m = jr.number(j, "max_range_m", "");
   log.min_range_m = jr.number(j, "min_range_m", "");
   if (!(log.max_range_m <=
@@ -510,8 +510,6 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
   const json& stations = jr.get(j, "stations", "");
   if (!stations.is_array() || stations.empty())
     jr.fail("stations", "must be a non-empty list of station records");
-
-  RawLogReadStats stats;
   std::set<int> ids;
   for (std::size_t i = 0; i < stations.size(); ++i) {
     const std::string path = "stations[" + std::to_string(i) + "].";
@@ -533,11 +531,36 @@ RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
       }
       return (fs::path(dir) / name).string();
     };
-    st.vertical = readScans(file("vertical_scans"), log, stats);
-    st.horizontal = readScans(file("horizontal_scans"), log, stats);
-    st.imu = readImu(file("imu"), st, stats);
+    files_.push_back({file("vertical_scans"), file("horizontal_scans"), file("imu")});
     log.stations.push_back(std::move(st));
   }
+}
+
+std::uintmax_t RawLogReader::stationFileBytes(std::size_t i) const {
+  std::uintmax_t bytes = 0;
+  for (const std::string* f :
+       {&files_.at(i).vertical, &files_.at(i).horizontal, &files_.at(i).imu}) {
+    std::error_code ec;
+    const std::uintmax_t n = fs::file_size(*f, ec);
+    if (!ec) bytes += n;
+  }
+  return bytes;
+}
+
+Station RawLogReader::readStation(std::size_t i, RawLogReadStats& stats) const {
+  Station st = header_.stations.at(i);
+  st.vertical = readScans(files_[i].vertical, header_, stats);
+  st.horizontal = readScans(files_[i].horizontal, header_, stats);
+  st.imu = readImu(files_[i].imu, st, stats);
+  return st;
+}
+
+RawLog readRawLog(const std::string& dir, RawLogReadStats* stats_out) {
+  const RawLogReader reader(dir);
+  RawLog log = reader.header();
+  RawLogReadStats stats;
+  for (std::size_t i = 0; i < reader.stationCount(); ++i)
+    log.stations[i] = reader.readStation(i, stats);
   if (stats_out) *stats_out = stats;
   return log;
 }

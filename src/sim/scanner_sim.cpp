@@ -8,6 +8,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/memory.h"
 #include "uavip/core/random.h"
 #include "uavip/core/text.h"
 
@@ -544,6 +545,12 @@ void simulateStation(Sweep& w, std::size_t s, SimulatedLog& out) {
 SimulatedLog simulateScans(const WorldModel& world, const ScanSimOptions& o,
                            const SimProgress& progress) {
   o.validate();
+  // Every range is held as a float until the log is written.
+  const double readings =
+      static_cast<double>(o.stations.size()) * o.scansPerStation() * 2.0 * o.scanner.beamCount();
+  requireMemory(readings * sizeof(float),
+                "simulating " + formatNumber(readings / 1e6, 3) + " M range readings",
+                "use fewer stations, a smaller turn_deg or a faster yaw_rate_deg_s");
   const RayCaster caster(world, o.thin_radius_m);
   const ScannerModel& sc = o.scanner;
   Sweep w(o, caster);

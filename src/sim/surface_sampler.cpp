@@ -8,6 +8,8 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
+#include "uavip/core/memory.h"
+#include "uavip/core/text.h"
 
 namespace uavip::sim {
 
@@ -60,6 +62,9 @@ PointList sampleSurfaces(const WorldModel& world, const SampleOptions& options) 
        << kMaxSamples << "; raise sensing.spacing_m";
     throw InputError(os.str());
   }
+  requireMemory(expected * (1.0 + options.outlier_fraction) * sizeof(Vec3),
+                "sampling about " + formatNumber(expected, 3) + " points",
+                "raise sensing.spacing_m");
 
   PointList out;
   // Draw order: rectangles (in insertion order, s outer, t inner, one normal draw each),

@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "uavip/core/error.h"
+#include "uavip/core/memory.h"
+#include "uavip/core/text.h"
 
 namespace uavip::world {
 
@@ -78,6 +80,10 @@ double gridShape(const Vec3& lo, const Vec3& hi, const GridOptions& options, Vec
        << " (or leave it out: auto), reduce padding_m or crop the cloud, or raise max_voxels";
     throw InputError(os.str());
   }
+  requireMemory(
+      count * kBytesPerVoxel,
+      "the planning grid's " + formatNumber(count, 3) + " voxels of " + formatNumber(res) + " m",
+      "set a larger grid.resolution_m, reduce padding_m or crop the cloud");
   return count;
 }
 

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -75,9 +76,32 @@ struct AssembleResult {
   std::size_t scored_points{0};          ///< points used for the two above (an even subsample)
 };
 
-/// Runs stages 1–2. `truth` (true poses) and `world` (the true surfaces in the log
+/// The stations of a raw log, handed to assemble one at a time so that memory holds
+/// a few stations' scans, not the recording (io::RawLogReader reads each from disk).
+struct StationSource {
+  /// The mounts and ranges, and every station's record (id, recorded position and
+  /// yaw); its stations need no scans or IMU samples.
+  RawLog header;
+  /// Station i with its scans and IMU samples; called once per station, from
+  /// options.threads threads at once (it must be thread-safe).
+  std::function<Station(std::size_t)> read;
+  /// Each station's bytes on disk (empty: unknown), for the memory estimate.
+  std::vector<double> file_bytes;
+};
+
+/// Runs stages 1–2 on the stations of `source`, options.threads × 2 at a time:
+/// each is read, assembled (stage 1), registered against the ones before it and
+/// merged into the cloud (registration::StationMerger), then released, so memory
+/// grows with the merged cloud, not with the number of stations. Before each
+/// batch, refuses (requireMemory) when its stations' estimated memory exceeds the
+/// budget. `truth` (true poses) and `world` (the true surfaces in the log
 /// frame) are optional and only score. Throws InputError for bad raw data (see
 /// scan::assembleStation) or when no station has any point.
+AssembleResult assemble(const StationSource& source, const AssembleOptions& options = {},
+                        const RawLogTruth* truth = nullptr, const sim::WorldModel* world = nullptr,
+                        const Progress& progress = {});
+
+/// The same on a raw log held in memory.
 AssembleResult assemble(const RawLog& log, const AssembleOptions& options = {},
                         const RawLogTruth* truth = nullptr, const sim::WorldModel* world = nullptr,
                         const Progress& progress = {});

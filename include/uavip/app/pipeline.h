@@ -142,6 +142,13 @@ PlanResult planStructure(const Scene& scene, const app::Config& config,
 /// returning the merged cloud in scenario coordinates.
 PointList sense(const app::Scenario& scenario);
 
+/// Moves a scenario whose world reaches farther than io::kRecentreBeyondM from the
+/// origin (io::farFromOrigin on the world's primitives) by −origin, where origin is
+/// io::recentringOrigin of their box, the readers' rule for a far cloud: the world,
+/// the scan stations, the viewpoints, mission.start and the flight's home and start.
+/// Returns origin (zero for a world near the origin; scene.json's source_offset_m).
+Vec3 recentreScenario(app::Scenario& scenario);
+
 /// What scene.json records beside the scene (io::sceneJsonText): the resolved
 /// parameters, the stage times and, for a cloud file (`read` not null), how it was read.
 io::SceneExtras sceneExtras(const DetectResult& detected, const io::CloudReadInfo* read);

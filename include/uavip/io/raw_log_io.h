@@ -13,8 +13,10 @@
 /// max_range_m is a no-return beam and becomes 0.
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "uavip/core/raw_log.h"
 #include "uavip/sim/world_model.h"
@@ -57,7 +59,34 @@ void writeRawLogTruth(const std::string& dir, const RawLogTruth& truth,
                       const sim::WorldModel& world, const Vec3& origin_m,
                       const std::string& scenario);
 
-/// Reads a raw log directory. Throws InputError "<file>:<line>: <what>" on bad data.
+/// A raw log read one station at a time, so that memory holds one station's scans,
+/// not the whole recording: log.json is read and checked when the reader is made,
+/// a station's three CSV files when that station is asked for.
+class RawLogReader {
+ public:
+  /// Reads log.json of `dir`. Throws InputError "<file>: <key> ..." like readRawLog.
+  explicit RawLogReader(const std::string& dir);
+  /// The mounts and ranges, and every station's record (id, recorded position and
+  /// yaw) without its scans and IMU samples.
+  const RawLog& header() const { return header_; }
+  std::size_t stationCount() const { return header_.stations.size(); }
+  /// Bytes of station i's three files on disk (0 for a missing one): its text holds
+  /// each range in 2-8 characters, so this bounds what reading it allocates.
+  std::uintmax_t stationFileBytes(std::size_t i) const;
+  /// Station i (0-based, in log.json's order) with its scans and IMU samples; adds to
+  /// `stats`. Throws InputError "<file>:<line>: <what>" on bad data.
+  Station readStation(std::size_t i, RawLogReadStats& stats) const;
+
+ private:
+  struct StationFiles {
+    std::string vertical, horizontal, imu;
+  };
+  RawLog header_;
+  std::vector<StationFiles> files_;
+};
+
+/// Reads a whole raw log directory (RawLogReader, every station). Throws InputError
+/// "<file>:<line>: <what>" on bad data.
 RawLog readRawLog(const std::string& dir, RawLogReadStats* stats = nullptr);
 
 /// Reads truth.json when present (std::nullopt if the file does not exist).

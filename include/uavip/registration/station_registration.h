@@ -24,6 +24,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,11 @@ struct RegistrationOptions {
   int normal_k{
       10};  ///< neighbours of a point's PCA normal (translation method; its coarse search too)
   int pcl_normal_k{12};  ///< the same for PCL's point-to-plane ICP (icp_point_to_plane)
+  /// The last this many placed stations are registration targets with every
+  /// down-sampled point; the older ones only with the first point of each
+  /// downsample_m voxel, so the target, its memory and its time stay bounded
+  /// however many stations a log holds (not a config key).
+  int recent_stations{8};
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "registration") const;
@@ -122,9 +128,52 @@ Eigen::Isometry3d initialStationPose(const RawLog& log, std::size_t index,
                                      bool use_recorded_yaw = false, double imu_yaw_rad = 0.0,
                                      double imu_yaw0_rad = 0.0);
 
+/// A station's down-sampled cloud (downsample_m) and its PCA normals, in the station
+/// frame, oriented toward the station: the part of registration that does not
+/// depend on the other stations.
+struct PreparedStation {
+  PointList downsampled;
+  std::vector<Vec3> normals;
+  double seconds{0.0};  ///< time it took [s]
+};
+
+/// Stage 2 one station at a time: what registerStations does, in memory that does
+/// not grow with the number of stations. Each station added is registered against
+/// the ones placed before it (the targets: RegistrationOptions::recent_stations) and
+/// its full cloud is at once moved to its pose and summed into the merged voxels
+/// (output_voxel_m), so the caller may release it. The merged cloud is the one
+/// registerStations returns, bit for bit: the same centroids (sums in station
+/// order, then point order) in the same voxel key order.
+/// prepare() is const and may run on several stations at once; add() and finish()
+/// are called from one thread, add() in station order.
+class StationMerger {
+ public:
+  /// Throws InputError for bad options.
+  explicit StationMerger(const RegistrationOptions& options);
+  ~StationMerger();
+  StationMerger(const StationMerger&) = delete;
+  StationMerger& operator=(const StationMerger&) = delete;
+
+  /// Station `in`'s down-sampled cloud and normals (empty for a station without points).
+  PreparedStation prepare(const StationInput& in) const;
+  /// Registers station `in` (the first with points is the reference and keeps its
+  /// initial pose) and merges its cloud; `prepared` is prepare(in).
+  StationResult add(const StationInput& in, PreparedStation prepared);
+  /// Points merged so far (voxels, or points with output_voxel_m = 0).
+  std::size_t mergedSize() const;
+  /// The merged cloud, world frame; the merger is empty afterwards. Throws
+  /// InputError if no station had a point.
+  PointList finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
 /// Registers the stations (the first is the reference, pose = its initial pose)
-/// and merges them. Stations with no points are kept in the result with converged
-/// = false and contribute nothing. Throws InputError if every station is empty.
+/// and merges them (StationMerger, each station prepared on options.threads).
+/// Stations with no points are kept in the result with converged = false and
+/// contribute nothing. Throws InputError if every station is empty.
 RegistrationResult registerStations(const std::vector<StationInput>& stations,
                                     const RegistrationOptions& options = {});
 
