@@ -137,9 +137,10 @@ FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m
     r.fail("fleet.model", e.what());
   }
   f.makespan_s = r.number(r.at(j, "makespan_s", "fleet"), "fleet.makespan_s");
-  const json& uavs = r.list(r.at(j, "uavs", "fleet"), "fleet.uavs");
+  const std::string list = JsonReader::join("fleet", "uavs");
+  const json& uavs = r.list(r.at(j, "uavs", "fleet"), list);
   for (std::size_t u = 0; u < uavs.size(); ++u) {
-    const std::string fu = JsonReader::item("fleet.uavs", u);
+    const std::string fu = JsonReader::item(list, u);
     FleetUavRecord rec;
     rec.home = r.vec3(r.at(uavs[u], "home", fu), fu + ".home");
     const json& sorties = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");

@@ -318,7 +318,8 @@ std::vector<FleetUav> fleetHomes(const FlightPlan& single, const PointList& stop
   std::vector<FleetUav> out;
   for (std::size_t i = 0; i < fleet.homes.size(); ++i) {
     const Vec3& p = fleet.homes[i];
-    const std::string what = "fleet.homes " + std::to_string(i + 1) + " " + formatPoint(p);
+    const std::string what = "fleet." + FleetOptions::keyOf(&FleetOptions::homes) + " " +
+                             std::to_string(i + 1) + " " + formatPoint(p);
     const double c = grid.isFree(p) ? validator.clearance(p) : 0.0;
     if (c < validator.requiredClearance()) {
       throw InputError(what + " lies " + formatFixed(c, 2) +
@@ -330,7 +331,7 @@ std::vector<FleetUav> fleetHomes(const FlightPlan& single, const PointList& stop
       throw InputError(what + " cannot reach the structure on the planning grid; move it");
     FleetUav uav;
     uav.home = p;
-    uav.home_source = "fleet.homes";
+    uav.home_source = "fleet." + FleetOptions::keyOf(&FleetOptions::homes);
     out.push_back(std::move(uav));
   }
   return out;

@@ -56,12 +56,10 @@ class FleetCli : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("uavip_fleet_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    for (const auto& [name, uavs] : std::vector<std::pair<std::string, int>>{{"single_plane", 0},
-                                                                             {"single_plane", 1},
-                                                                             {"single_plane", 2},
-                                                                             {"single_plane", 3},
-                                                                             {"single_cube", 2},
-                                                                             {"single_cube", 3}}) {
+    const std::vector<std::pair<std::string, int>> runs{
+        {"single_plane", 0}, {"single_plane", 1}, {"single_plane", 2}, {"single_plane", 3},
+        {"single_cube", 2},  {"single_cube", 3},  {"tower", 2}};
+    for (const auto& [name, uavs] : runs) {
       const std::string key = name + "_" + std::to_string(uavs);
       const std::string flag = uavs > 0 ? " --uavs " + std::to_string(uavs) : "";
       runs_[key] = uavip("run " + scenario(name) + flag + " -q --no-views -o " + out(key).string());
@@ -94,7 +92,7 @@ std::map<std::pair<int, int>, int> singleStops(const nlohmann::json& mission) {
 
 TEST_F(FleetCli, FleetsAreConflictFreeAndFlyEveryStopOnce) {
   for (const std::string key :
-       {"single_plane_2", "single_plane_3", "single_cube_2", "single_cube_3"}) {
+       {"single_plane_2", "single_plane_3", "single_cube_2", "single_cube_3", "tower_2"}) {
     SCOPED_TRACE(key);
     ASSERT_EQ(runs_[key].code, 0) << runs_[key].out;
     const auto mission = readJson(out(key) / "mission.json");
@@ -129,6 +127,40 @@ TEST_F(FleetCli, FleetsAreConflictFreeAndFlyEveryStopOnce) {
     const Result v = uavip("validate " + (out(key) / "mission.json").string());
     EXPECT_EQ(v.code, 0) << v.out;
     EXPECT_NE(v.out.find("fleet: " + std::to_string(k) + " UAVs"), std::string::npos) << v.out;
+  }
+}
+
+TEST_F(FleetCli, ExportWritesOneFilePerUavAndSortie) {
+  ASSERT_EQ(runs_["tower_2"].code, 0) << runs_["tower_2"].out;
+  const auto mission = readJson(out("tower_2") / "mission.json");
+  const fs::path dir = dir_ / "export";
+  const std::string m = (out("tower_2") / "mission.json").string();
+  const Result plan =
+      uavip("export " + m + " --surface all --format qgc-plan --origin 47,8,400 -o " +
+            (dir / "tower.plan").string());
+  ASSERT_EQ(plan.code, 0) << plan.out;
+  const Result geo = uavip("export " + m + " --surface all --format geojson --origin 47,8,400 -o " +
+                           (dir / "tower.geojson").string());
+  ASSERT_EQ(geo.code, 0) << geo.out;
+  for (std::size_t u = 0; u < mission["fleet"]["uavs"].size(); ++u) {
+    const auto& uav = mission["fleet"]["uavs"][u];
+    const std::string n = std::to_string(u + 1);
+    if (uav["sorties"].empty()) continue;
+    EXPECT_NE(plan.out.find("uav " + n + ": home"), std::string::npos) << plan.out;
+    for (std::size_t s = 0; s < uav["sorties"].size(); ++s) {
+      const fs::path f = dir / ("tower_uav" + n + "_sortie" + std::to_string(s + 1) + ".plan");
+      ASSERT_TRUE(fs::exists(f)) << f;
+      EXPECT_FALSE(readJson(f)["mission"]["items"].empty());
+    }
+    // The map files carry the UAV in their path's properties.
+    const auto g = readJson(dir / ("tower_uav" + n + ".geojson"));
+    int paths = 0;
+    for (const auto& feature : g["features"]) {
+      if (feature["properties"]["kind"] != "path") continue;
+      ++paths;
+      EXPECT_EQ(feature["properties"]["uav"].get<std::size_t>(), u + 1);
+    }
+    EXPECT_EQ(paths, static_cast<int>(uav["sorties"].size()));
   }
 }
 

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -46,11 +47,13 @@ struct FleetOptions {
   void validate(const std::string& where = "fleet") const;
   /// The keys of `fleet:` (core/params.h).
   static const params::Table<FleetOptions>& table();
-  /// The key of a field of this struct ("separation_m"), for messages and files.
+  /// The key of a field of this struct (e.g. the separation's), for messages and files.
   template <typename T>
   static const std::string& keyOf(T FleetOptions::*field) {
     static const FleetOptions defaults;
-    return table().find(defaults, &(defaults.*field))->key;
+    const auto* row = table().find(defaults, &(defaults.*field));
+    if (row == nullptr) throw std::logic_error("FleetOptions::keyOf: a field no table lists");
+    return row->key;
   }
 };
 
@@ -119,7 +122,7 @@ SeparationCheck checkSeparation(const std::vector<std::vector<MotionPiece>>& uav
 /// takes off.
 struct FleetUav {
   Vec3 home{Vec3::Zero()};
-  std::string home_source;             ///< "fleet.homes", or how the default was placed
+  std::string home_source;             ///< the fleet's homes key, or how the default was placed
   FlightPlan flight;                   ///< its own flight (planning/flight_planner.h) from `home`
   std::vector<double> sortie_start_s;  ///< take-off of each sortie [s] from the fleet's t = 0
   double wait_s{0.0};                  ///< waits the schedule added before its sorties [s]
