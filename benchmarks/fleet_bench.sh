@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # fleet_bench.sh [UAVIP] [SCENARIO…]: makespan of K = 1..5 UAVs (planning/fleet.h) per
 # scenario, against one UAV and the lower bound, with the closest approach, the waits
-# and the compute time; every fleet re-checked by `uavip validate` (exit 0 required).
-# Prints one Markdown table row per (scenario, K). Default scenarios: single_cube,
+# and the run time (sense, detect, plan); every fleet re-checked by `uavip validate` (exit 0 required).
+# Prints one Markdown table row per (scenario, K); KS="1 2" limits the fleet sizes. Default scenarios: single_cube,
 # tower, bridge_sampled.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,10 +12,10 @@ scenarios=("$@")
 [ ${#scenarios[@]} -gt 0 ] || scenarios=(single_cube tower bridge_sampled)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "| scenario | K | makespan [min] | one UAV [min] | speed-up | lower bound [min] | makespan / bound | waits | closest approach nominal / swept [m] | UAVs flying | sorties per UAV | plan time [s] | validate |"
+echo "| scenario | K | makespan [min] | one UAV [min] | speed-up | lower bound [min] | makespan / bound | waits | closest approach nominal / swept [m] | UAVs flying | sorties per UAV | run time [s] | validate |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for s in "${scenarios[@]}"; do
-  for k in 1 2 3 4 5; do
+  for k in ${KS:-1 2 3 4 5}; do
     out="$work/$s-$k"
     start=$(date +%s.%N)
     "$uavip" run "scenarios/$s.yaml" --uavs "$k" -q --no-views -o "$out" >/dev/null 2>&1 || true

@@ -269,17 +269,25 @@ bool usableHome(const Vec3& p, const Vec3& home, const world::VoxelGrid& grid,
 }
 
 /// K homes beside `home` along a horizontal line (0, +s, −s, +2s, … or 0, s, 2s, …) in
-/// one of 8 directions: of the lines whose homes are all usable, the one whose homes
-/// lie nearest the stops (least sum of distances to the nearest stop).
+/// one of 8 directions, s the larger of fleetHomeSpacing and the stops' extent along the
+/// line / K (each UAV near its own part of a long structure): of the lines whose homes
+/// are all usable, the one whose homes lie nearest the stops (least sum of distances to
+/// the nearest stop).
 std::vector<FleetUav> defaultHomes(const Vec3& home, const std::string& home_source,
                                    const PointList& stops, const world::VoxelGrid& grid,
                                    const PathValidator& validator, const FleetOptions& fleet) {
-  const double s = fleetHomeSpacing(fleet);
   std::vector<FleetUav> best;
   double best_score = kInf;
   for (int turn = 0; turn < 16; ++turn) {
     const double a = (turn % 8) * kPi / 8.0 + (turn >= 8 ? kPi : 0.0);
     const Vec3 u(std::cos(a), std::sin(a), 0.0);
+    double lo = kInf;
+    double hi = -kInf;
+    for (const auto& q : stops) {
+      lo = std::min(lo, q.dot(u));
+      hi = std::max(hi, q.dot(u));
+    }
+    const double s = std::max(fleetHomeSpacing(fleet), (hi - lo) / fleet.uavs);
     const bool one_side = turn >= 8;  // then 0, s, 2s, … on one side (both ways round)
     std::vector<FleetUav> out;
     double score = 0.0;
@@ -305,8 +313,8 @@ std::vector<FleetUav> defaultHomes(const Vec3& home, const std::string& home_sou
   }
   if (!best.empty()) return best;
   throw InputError("fleet: no free place for " + std::to_string(fleet.uavs) + " homes " +
-                   formatFixed(s, 1) + " m apart beside home " + formatPoint(home) +
-                   " within the planning grid; give fleet.homes");
+                   formatFixed(fleetHomeSpacing(fleet), 1) + " m apart beside home " +
+                   formatPoint(home) + " within the planning grid; give fleet.homes");
 }
 
 /// The fleet's homes: fleet.homes checked, else the default ones.

@@ -31,7 +31,7 @@ const params::Table<FleetOptions>& FleetOptions::table() {
          },
          "take-off point [[x, y, z], …] of each UAV; none: spaced beside the single flight's home")
         .unitIs("m")
-        .count(3, 3 * 64)
+        .count(3, std::size_t{192})
         .address = [](const O& o) -> const void* { return &o.homes; };
     p.add("separation_m", &O::separation_m, "least distance between two UAVs at any instant")
         .unitIs("m")
