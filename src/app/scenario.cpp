@@ -488,7 +488,7 @@ void Config::validate(const std::string& where) const {
     flightOptions().validate("flight");
     fleet.validate("fleet");
     requireThat(
-        fleet.separation_m >= 2.0 * uav.inflationRadius(), "fleet",
+        !fleet.active() || fleet.separation_m >= 2.0 * uav.inflationRadius(), "fleet",
         planning::FleetOptions::keyOf(&planning::FleetOptions::separation_m),
         ">= " + formatNumber(2.0 * uav.inflationRadius()) + " m (twice uav.inflation_radius_m)",
         fleet.separation_m);
