@@ -390,6 +390,30 @@ planning::FlightPlan flyMissions(const std::vector<planning::SurfaceMission>& mi
   return planning::planFlight(missions, grid, validator, planner, config.flightOptions());
 }
 
+void addFleetRegion(const app::Config& config, PointList& positions, std::size_t stops) {
+  if (!config.fleet.active() || positions.empty()) return;
+  if (static_cast<std::size_t>(config.fleet.uavs) > stops) {
+    throw InputError("fleet: uavs " + std::to_string(config.fleet.uavs) + " is more than the " +
+                     std::to_string(stops) + " photo stops to fly; use at most one UAV per stop");
+  }
+  Vec3 anchor = positions.front();
+  for (const auto& p : positions)
+    if (p.z() < anchor.z()) anchor = p;
+  if (config.mission.start) anchor = *config.mission.start;
+  if (config.flight.home) anchor = *config.flight.home;
+  for (const auto& p : planning::fleetRegion(config.fleet, anchor)) positions.push_back(p);
+}
+
+std::optional<planning::FleetPlan> flyFleet(const std::vector<planning::SurfaceMission>& missions,
+                                            const planning::FlightPlan& single,
+                                            const world::VoxelGrid& grid,
+                                            const planning::PathValidator& validator,
+                                            planning::Planner& planner, const app::Config& config) {
+  if (!config.fleet.active() || single.status != planning::FlightPlan::Status::Ok) return {};
+  return planning::planFleet(missions, single, grid, validator, planner, config.flightOptions(),
+                             config.fleet);
+}
+
 PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {
   PlanResult result;
@@ -418,6 +442,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
                      config.flight.model);
   requireWithinReach(config.flight.home, config.keyOf(&config.flight.home), stop_positions,
                      config.flight.model);
+  addFleetRegion(config, stop_positions, stop_positions.size());
   if (config.mission.start) stop_positions.push_back(*config.mission.start);
   if (config.flight.home) stop_positions.push_back(*config.flight.home);
   result.times.coverage_s = secondsSince(t0);
@@ -468,6 +493,7 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   }
   result.flight = std::move(flown);
   result.times.flight_s = flight_s;
+  result.fleet = flyFleet(result.missions, result.flight, grid, validator, *planner, config);
   result.times.total_s = secondsSince(t0);
   return result;
 }
@@ -512,6 +538,7 @@ io::MissionExtras missionExtras(const PlanResult& planned, const app::Config& co
     e.drone = config.uav.model;
     e.payload = config.uav.payload;
   }
+  e.fleet = planned.fleet;
   return e;
 }
 

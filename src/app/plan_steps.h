@@ -7,6 +7,7 @@
 #include <string>
 
 #include "uavip/app/scenario.h"
+#include "uavip/planning/fleet.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
@@ -30,5 +31,19 @@ planning::FlightPlan flyMissions(const std::vector<planning::SurfaceMission>& mi
                                  const world::VoxelGrid& grid,
                                  const planning::PathValidator& validator,
                                  planning::Planner& planner, const app::Config& config);
+
+/// With a fleet (fleet.uavs > 1 or fleet.homes), the points the planning grid must
+/// also cover for its homes (planning::fleetRegion) around mission.home, else
+/// mission.start, else the lowest of `positions`; appended to `positions`. Throws
+/// InputError for more UAVs than `stops` (the photo stops, when known).
+void addFleetRegion(const app::Config& config, PointList& positions, std::size_t stops);
+
+/// The fleet over the single flight (planning/fleet.h), when the config asks for one
+/// and the single flight is ok.
+std::optional<planning::FleetPlan> flyFleet(const std::vector<planning::SurfaceMission>& missions,
+                                            const planning::FlightPlan& single,
+                                            const world::VoxelGrid& grid,
+                                            const planning::PathValidator& validator,
+                                            planning::Planner& planner, const app::Config& config);
 
 }  // namespace uavip::app

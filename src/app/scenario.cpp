@@ -69,6 +69,10 @@ params::Value readValue(Section& s, const params::Param<O>& p, const std::string
     case params::Kind::Numbers:
       if (p.scalar_ok && s.node()[key].IsScalar()) {
         v.numbers = {s.number(key)};
+      } else if (s.node()[key].IsSequence() && s.node()[key].size() > 0 &&
+                 s.node()[key][0].IsSequence()) {  // [[x, y, z], …]
+        for (const auto& q : s.vec3List(key))
+          v.numbers.insert(v.numbers.end(), {q.x(), q.y(), q.z()});
       } else {
         v.numbers = s.numbers(key, p.min_count, p.max_count);
       }
@@ -277,6 +281,12 @@ void Config::validate(const std::string& where) const {
     missionOptions().validate("mission");
     if (flight.home) require(flight.home->allFinite(), "mission", "home must be finite");
     flightOptions().validate("flight");
+    fleet.validate("fleet");
+    requireThat(
+        !fleet.active() || fleet.separation_m >= 2.0 * uav.inflationRadius(), "fleet",
+        planning::FleetOptions::keyOf(&planning::FleetOptions::separation_m),
+        ">= " + formatNumber(2.0 * uav.inflationRadius()) + " m (twice uav.inflation_radius_m)",
+        fleet.separation_m);
     assembly.validate("assembly");
     registration.validate("registration");
   });
@@ -333,6 +343,7 @@ const params::Table<Config>& Config::table() {
     params::Table<planning::FlightOptions> flight;  // section flight: is flight.model
     flight.include("", &planning::FlightOptions::model, planning::FlightModel::table());
     p.include("flight.", &Config::flight, flight);
+    p.include("fleet.", &Config::fleet, planning::FleetOptions::table());
     return p;
   }();
   return t;

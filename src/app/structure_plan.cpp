@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <memory>
 
 #include "plan_steps.h"
@@ -270,6 +271,7 @@ world::VoxelGrid structureGrid(const Scene& scene, const app::Config& config,
   PointList corners = {box.min, box.max};
   if (config.mission.start) corners.push_back(*config.mission.start);
   if (config.flight.home) corners.push_back(*config.flight.home);
+  addFleetRegion(config, corners, std::numeric_limits<std::size_t>::max());
   PlanningSpace space = planningSpace(scene, world, config, corners);
   world::VoxelGrid grid = std::move(space.grid);
   validator = std::make_unique<planning::PathValidator>(std::move(space.validator));
@@ -432,6 +434,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   reportProgress(progress, "flight: connecting legs, sorties");
   result.flight = flyMissions(result.missions, grid, *validator, *planner, config);
   result.times.flight_s = secondsSince(t3);
+  result.fleet = flyFleet(result.missions, result.flight, grid, *validator, *planner, config);
   result.times.total_s = secondsSince(t0);
   result.structure = summary;
   return result;

@@ -33,6 +33,9 @@ struct ExportArgs {
   std::string mission, format, origin, crs, out, surface, autopilot{"px4"}, scene;
   std::string drone, payload, height_mode{"relative"}, vertical;
   int sortie{0};
+  int uav{0};  ///< --uav: only this UAV of a fleet (from 1); 0 = every UAV
+  /// Set per UAV of a fleet: file names get _uavN_sortieM, flights carry the UAV.
+  int fleet_uav{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
   std::size_t max_waypoints{io::kWpmlMaxWaypoints};
   /// Where the flight lies and the scene it is checked against (app/placement.h).
@@ -69,6 +72,7 @@ std::vector<io::Flight> flightsToExport(const io::MissionRecord& mission, const 
       throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission +
                        " has " + std::to_string(flights.size()) + " sortie(s), numbered from 1");
     if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
+    for (auto& f : flights) f.uav = a.fleet_uav;
     return flights;
   }
   return {io::flightFromMission(mission, a.mission, a.surface)};
@@ -92,12 +96,18 @@ void warnBelowHome(const std::vector<io::Flight>& flights, const io::ExportOptio
 }
 
 /// The output file of each flight: OUT, or for several sorties one file each, OUT
-/// with _sortieN before the extension.
+/// with _sortieN before the extension (a fleet's UAV: always _uavN_sortieM).
 std::vector<std::string> outputPaths(const std::vector<io::Flight>& flights,
                                      const std::string& out_arg) {
   std::vector<std::string> paths;
   for (const auto& f : flights) {
-    if (flights.size() == 1) {
+    if (f.uav > 0) {
+      const fs::path out(out_arg);
+      paths.push_back(
+          (out.parent_path() / (out.stem().string() + "_uav" + std::to_string(f.uav) + "_sortie" +
+                                std::to_string(f.sortie) + out.extension().string()))
+              .string());
+    } else if (flights.size() == 1) {
       paths.push_back(out_arg);
     } else {
       const fs::path out(out_arg);
@@ -148,20 +158,27 @@ std::string partPath(const std::string& path, std::size_t k, std::size_t parts) 
       .string();
 }
 
-/// --format kml|geojson: the whole flight in one file.
+/// --format kml|geojson: the whole flight in one file (a fleet's UAV: OUT with _uavN).
 int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Flight>& flights,
               const app::MissionPlacement& place) {
-  const std::string name = fs::path(a.out).stem().string();
-  io::requireDistinctOutputs({a.mission, a.placement().scenePath()}, {a.out});
+  std::string path = a.out;
+  if (a.fleet_uav > 0) {
+    const fs::path out(a.out);
+    path = (out.parent_path() /
+            (out.stem().string() + "_uav" + std::to_string(a.fleet_uav) + out.extension().string()))
+               .string();
+  }
+  const std::string name = fs::path(path).stem().string();
+  io::requireDistinctOutputs({a.mission, a.placement().scenePath()}, {path});
   io::StagedOutputs outputs;
-  outputs.write(a.out,
+  outputs.write(path,
                 a.format == "kml"
                     ? io::flightsKml(flights, *place.geo, place.home, name)
                     : io::flightsGeoJson(flights, *place.geo, place.home, name).dump(1) + "\n");
   outputs.commit();
   if (!v.quiet)
     std::cout << "exported " << flights.size() << " flight(s) as " << a.format << " ("
-              << place.geo->describe() << ") -> " << a.out << "\n";
+              << place.geo->describe() << ") -> " << path << "\n";
   return kExitOk;
 }
 
@@ -269,8 +286,7 @@ int djiExport(const ExportArgs& a, const Verbosity& v, const io::MissionRecord& 
 /// export --format dji-kmz|kml|geojson: placed on the Earth with true heights; each
 /// KMZ is read back, converted to the local frame and validated as the aircraft will
 /// fly it before anything is renamed into place.
-int geographicExport(const ExportArgs& a, const Verbosity& v) {
-  const io::MissionRecord mission = io::loadMission(a.mission);
+int geographicExport(const ExportArgs& a, const Verbosity& v, const io::MissionRecord& mission) {
   std::vector<io::Flight> flights;
   std::unique_ptr<planning::PathValidator> validator;
   try {
@@ -288,11 +304,10 @@ int geographicExport(const ExportArgs& a, const Verbosity& v) {
                                : mapExport(a, v, flights, place);
 }
 
-int exportCommand(const ExportArgs& a, const Verbosity& v) {
-  if (isGeographicFormat(a.format)) return geographicExport(a, v);
+int exportOne(const ExportArgs& a, const Verbosity& v, const io::MissionRecord& mission) {
+  if (isGeographicFormat(a.format)) return geographicExport(a, v, mission);
   io::ExportOptions options = exportOptions(a);
   const io::ExportFormat format = io::parseExportFormat(a.format);
-  const io::MissionRecord mission = io::loadMission(a.mission);
   std::vector<io::Flight> flights;
   try {
     flights = flightsToExport(mission, a);
@@ -313,6 +328,42 @@ int exportCommand(const ExportArgs& a, const Verbosity& v) {
   outputs.commit();
   if (!v.quiet) reportExport(a, options, format, flights, paths);
   return kExitOk;
+}
+
+/// A fleet's flights (mission.json `fleet`, --surface all or --sortie or --uav): each
+/// UAV's sorties exported from its own home, after a line with its take-off times.
+int exportFleet(const ExportArgs& a, const Verbosity& v, const io::MissionRecord& mission) {
+  const io::FleetRecord& fleet = *mission.fleet;
+  if (a.uav < 0 || a.uav > static_cast<int>(fleet.uavs.size()))
+    throw InputError("--uav: " + std::to_string(a.uav) + " does not exist; " + a.mission + " has " +
+                     std::to_string(fleet.uavs.size()) + " UAVs, numbered from 1");
+  for (std::size_t u = 0; u < fleet.uavs.size(); ++u) {
+    if (a.uav > 0 && static_cast<int>(u) + 1 != a.uav) continue;
+    const io::FleetUavRecord& rec = fleet.uavs[u];
+    if (!v.quiet) {
+      std::cout << "uav " << u + 1 << ": home " << formatPoint(rec.home) << ", "
+                << rec.sorties.size() << " sorties, take-off at";
+      for (const double t : rec.start_s) std::cout << " +" << formatFixed(t, 1) << " s";
+      std::cout << (rec.sorties.empty() ? " - (stays on the ground)" : "") << "\n";
+    }
+    if (rec.sorties.empty()) continue;
+    io::MissionRecord own = mission;
+    own.flight = io::FlightRecord{fleet.status, "", rec.sorties};
+    ExportArgs b = a;
+    b.fleet_uav = static_cast<int>(u) + 1;
+    b.surface = "all";
+    const int code = exportOne(b, v, own);
+    if (code != kExitOk) return code;
+  }
+  return kExitOk;
+}
+
+int exportCommand(const ExportArgs& a, const Verbosity& v) {
+  const io::MissionRecord mission = io::loadMission(a.mission);
+  if (mission.fleet && (a.surface == "all" || a.sortie != 0 || a.uav != 0))
+    return exportFleet(a, v, mission);
+  if (a.uav != 0) throw InputError("--uav: " + a.mission + " has no fleet (plan with --uavs K)");
+  return exportOne(a, v, mission);
 }
 
 }  // namespace
@@ -363,6 +414,9 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
                  "when several); "
                  "default: the only surface with a mission");
   ex->add_option("--sortie", a->sortie, "Only this sortie of the ordered flight (from 1)");
+  ex->add_option("--uav", a->uav,
+                 "A fleet (plan --uavs K): only this UAV's sorties (from 1); default: every UAV's, "
+                 "one file per UAV and sortie (OUT_uavN_sortieM)");
   ex->add_option("--scene", a->scene,
                  "scene.json the mission was planned in (default: beside the mission); every "
                  "exported leg is checked against it");

@@ -260,9 +260,41 @@ void chooseAircraft(app::Config& config, const AircraftArgs& aircraft, const Ver
   for (const auto& n : notes) std::cerr << "uavip: " << config.uav.model << ": " << n << "\n";
 }
 
+/// --uavs K (K >= 0 when given) sets fleet.uavs and checks the config again.
+void setUavs(app::Config& config, int uavs) {
+  if (uavs < 0) return;
+  config.fleet.uavs = uavs;
+  config.sources.set(config.keyOf(&config.fleet.uavs), params::Source::File);
+  config.validate("--uavs");
+}
+
+/// The fleet: makespan against the single flight and the bound, separation, each UAV.
+void printFleet(const std::optional<planning::FleetPlan>& fleet) {
+  if (!fleet) return;
+  const planning::FleetPlan& f = *fleet;
+  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
+  std::cout << "fleet: " << f.uavs.size() << " UAVs, makespan " << minutes(f.makespan_s)
+            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
+            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
+            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " jobs, "
+            << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
+            << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "")
+            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
+            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
+            << formatNumber(f.options.slack_s) << " s slack (separation "
+            << formatNumber(f.options.separation_m) << " m)\n";
+  for (std::size_t i = 0; i < f.uavs.size(); ++i) {
+    const auto& u = f.uavs[i];
+    std::cout << "  uav " << i + 1 << ": home " << formatPoint(u.home) << ", " << u.stops
+              << " stops, " << u.flight.sorties.size() << " sorties, take-off at "
+              << formatFixed(u.sortie_start_s.empty() ? 0.0 : u.sortie_start_s.front(), 1)
+              << " s, lands " << formatFixed(u.end_s, 1) << " s\n";
+  }
+}
+
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
                bool surface_given, const std::string& planner, const AircraftArgs& aircraft,
-               bool views, bool photos, const Verbosity& v) {
+               int uavs, bool views, bool photos, const Verbosity& v) {
   std::string path = scenario_arg;
   if (path.empty()) {
     path = bundledScenarioDir() + "/single_cube.yaml";
@@ -275,6 +307,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
     scenario.config.validate("--planner");
   }
   chooseAircraft(scenario.config, aircraft, v);
+  setUavs(scenario.config, uavs);
   if (out.empty()) out = "out/" + scenario.name;
   io::ensureDirectory(out);
   const app::Progress progress = progressPrinter(v);
@@ -325,6 +358,7 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
               << formatFixed(d.times.total_s, 2) << " s, grid " << formatFixed(p.times.grid_s, 2)
               << " s, planning " << formatFixed(p.times.planning_s, 2) << " s)\n";
     printTotals(p);
+    printFleet(p.fleet);
     std::cout << "results: " << out << "/mission.json, " << out << "/scene.json, " << out
               << "/cloud_clean.pcd, " << out << "/" << io::kSafetyCloudFile << "\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out +
@@ -465,8 +499,8 @@ void stageSceneBeside(io::StagedOutputs& outputs, const std::string& scene_path,
 
 int planCommand(const std::string& scene_path, const std::string& config_path,
                 const std::string& surface, const std::string& cover, const std::string& planner,
-                const AircraftArgs& aircraft, const std::string& edits_path, const std::string& out,
-                bool views, const Verbosity& v) {
+                const AircraftArgs& aircraft, int uavs, const std::string& edits_path,
+                const std::string& out, bool views, const Verbosity& v) {
   const bool structure = structureCover(cover, !surface.empty());
   app::Config config =
       config_path.empty() ? app::parseConfig("", "(defaults)") : app::loadConfig(config_path);
@@ -475,6 +509,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
     config.validate("--planner");
   }
   chooseAircraft(config, aircraft, v);
+  setUavs(config, uavs);
   const nlohmann::json scene_json = io::JsonReader(scene_path).load();
   const Scene detected = io::sceneFromJson(scene_json, scene_path);
   const app::Config resolved = app::resolveForScene(detected, config).config;
@@ -498,6 +533,7 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
     printEdits(edited.summary);
     printPlanSummary(p);
     printTotals(p);
+    printFleet(p.fleet);
     std::cout << "results: " << out << "/mission.json\n"
               << (views ? "views: " + out + "/overview.png, " + out + "/scene.ply, " + out +
                               "/path.obj, " + out + "/mission.html\n"
@@ -566,6 +602,7 @@ void addAircraftOptions(CLI::App& cmd, AircraftArgs& a) {
 struct PipelineArgs {
   std::string scenario, out, surface, planner, cloud, config, scene, cover, crs, vertical, edits;
   AircraftArgs aircraft;
+  int uavs{-1};  ///< --uavs; −1 when not given
   bool no_views{false};
   bool photos{false};
 };
@@ -605,6 +642,8 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   const std::string views_help =
       "Skip overview.png, scene.ply, path.obj and mission.html (the views are drawn on a second "
       "thread)";
+  const std::string uavs_help =
+      "Fly the site with K UAVs at once (fleet.uavs; section 'fleet:' in the config)";
 
   auto* run = cli.add_subcommand(
       "run", "Sense a scenario, detect surfaces and obstacles, plan photo stops and waypoints");
@@ -613,13 +652,15 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   run->add_option("--surface", a->surface, "Surface id, a list '0,3,5', or 'all' (default: all)");
   run->add_option("--planner", a->planner, planner_help);
   addAircraftOptions(*run, a->aircraft);
+  run->add_option("--uavs", a->uavs, uavs_help);
   run->add_flag("--no-views", a->no_views, views_help);
   run->add_flag("--photos", a->photos,
                 "Also render every photo stop against the scenario's world into OUT/photos (as "
                 "uavip photos)");
   registry.add(run, [a, &v] {
     return runCommand(a->scenario, a->out, a->surface.empty() ? "all" : a->surface,
-                      !a->surface.empty(), a->planner, a->aircraft, !a->no_views, a->photos, v);
+                      !a->surface.empty(), a->planner, a->aircraft, a->uavs, !a->no_views,
+                      a->photos, v);
   });
 
   auto* det = cli.add_subcommand(
@@ -657,9 +698,11 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
                  "Edits YAML (uavip-edits: 1): boundaries, deleted or merged surfaces, keep-out "
                  "volumes; mission.html's edit mode saves one");
   pl->add_option("-o,--out", a->out, "Output directory")->required();
+  pl->add_option("--uavs", a->uavs, uavs_help);
   pl->add_flag("--no-views", a->no_views, views_help);
   registry.add(pl, [a, &v] {
-    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->aircraft, a->edits,
+    return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->aircraft, a->uavs,
+                       a->edits,
                        a->out, !a->no_views, v);
   });
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/path_validator.h"
 #include "uavip/world/collision_world.h"
 
@@ -40,7 +42,70 @@ std::vector<NamedPath> pathsOf(const io::MissionRecord& mission) {
       out.push_back(
           {"sortie " + std::to_string(i + 1), "ok", mission.flight->sorties[i].waypoints});
   }
+  if (mission.fleet) {
+    for (std::size_t u = 0; u < mission.fleet->uavs.size(); ++u) {
+      const auto& sorties = mission.fleet->uavs[u].sorties;
+      for (std::size_t i = 0; i < sorties.size(); ++i)
+        out.push_back({"uav " + std::to_string(u + 1) + " sortie " + std::to_string(i + 1), "ok",
+                       sorties[i].waypoints});
+    }
+  }
   return out;
+}
+
+/// The fleet's separation, recomputed from the waypoints, the take-off times and the
+/// flight model (planning/fleet_types.h), and every stop of the flight flown once by
+/// the fleet. Empty when both hold, else the error line.
+std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mission,
+                       std::ostream& out) {
+  std::vector<std::vector<planning::MotionPiece>> motion;
+  std::map<std::pair<int, std::size_t>, int> flown;
+  for (const auto& u : fleet.uavs) {
+    std::vector<planning::MotionPiece> m;
+    for (std::size_t i = 0; i < u.sorties.size(); ++i) {
+      std::vector<std::size_t> at;
+      for (const auto& st : u.sorties[i].stops) {
+        at.push_back(st.waypoint);
+        ++flown[{st.surface_id, st.stop}];
+      }
+      const auto pieces = planning::sortieMotion(u.sorties[i].waypoints, at, fleet.model,
+                                                 fleet.options.takeoff_landing_s, u.start_s[i],
+                                                 static_cast<int>(i));
+      m.insert(m.end(), pieces.begin(), pieces.end());
+    }
+    motion.push_back(std::move(m));
+  }
+  const planning::SeparationCheck c =
+      planning::checkSeparation(motion, fleet.options.separation_m, fleet.options.slack_s);
+  out << "fleet: " << fleet.uavs.size() << " UAVs, closest approach "
+      << formatFixed(c.nominal_min_m, 3)
+      << " m on schedule (t = " << formatFixed(c.nominal_time_s, 1) << " s), "
+      << formatFixed(c.swept_min_m, 3) << " m with up to " << formatNumber(fleet.options.slack_s)
+      << " s of delay; separation " << formatNumber(fleet.options.separation_m) << " m, " << c.pairs
+      << " segment pairs\n";
+  if (c.conflict) {
+    const auto& k = *c.conflict;
+    std::ostringstream msg;
+    msg << "uav " << k.uav_a + 1 << " (sortie " << k.sortie_a + 1 << ") and uav " << k.uav_b + 1
+        << " (sortie " << k.sortie_b + 1 << ") may come " << formatFixed(k.distance_m, 3)
+        << " m apart at t = " << formatFixed(k.time_s, 1) << " s, closer than the separation "
+        << formatNumber(fleet.options.separation_m) << " m (with up to "
+        << formatNumber(fleet.options.slack_s) << " s of delay)";
+    return msg.str();
+  }
+  if (mission.flight) {
+    for (const auto& s : mission.flight->sorties) {
+      for (const auto& st : s.stops) {
+        const auto it = flown.find({st.surface_id, st.stop});
+        const int n = it == flown.end() ? 0 : it->second;
+        if (n != 1)
+          return "fleet: stop " + std::to_string(st.stop) + " of surface " +
+                 std::to_string(st.surface_id) + " is flown " + std::to_string(n) +
+                 " times by the fleet, not once";
+      }
+    }
+  }
+  return {};
 }
 
 /// The input cloud a mission is checked against point by point: --cloud, else the
@@ -212,6 +277,9 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   const auto t1 = SteadyClock::now();
   Tally t;
   for (const auto& s : paths) validatePath(c, s, t);
+  std::ostringstream fleet_out;
+  const std::string fleet_error =
+      mission.fleet ? checkFleet(*mission.fleet, mission, fleet_out) : std::string();
   const double check_s = secondsSince(t1);
 
   if (!v.quiet) {
@@ -231,7 +299,7 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
                                  : "")
               << "\n";
     std::cout << input.note << "\n";
-    std::cout << t.out.str();
+    std::cout << t.out.str() << fleet_out.str();
     std::cout << "validated " << t.checked << " of " << paths.size()
               << " paths (surfaces and sorties): "
               << (t.violated == 0 ? std::string("all collision-free")
@@ -242,6 +310,10 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   }
   if (t.violated > 0) {
     std::cerr << "uavip: " << t.first_error << "\n";
+    return kExitNoMission;
+  }
+  if (!fleet_error.empty()) {
+    std::cerr << "uavip: " << fleet_error << "\n";
     return kExitNoMission;
   }
   return kExitOk;

@@ -22,7 +22,9 @@ double geoRounded(double v, int decimals) {
 }
 
 std::string sortieName(const Flight& f) {
-  if (f.sortie > 0) return "sortie " + std::to_string(f.sortie);
+  if (f.sortie > 0)
+    return (f.uav > 0 ? "uav " + std::to_string(f.uav) + " " : "") + "sortie " +
+           std::to_string(f.sortie);
   std::string ids;
   for (int id : f.surface_ids) ids += (ids.empty() ? "" : ",") + std::to_string(id);
   return "surface " + ids;
@@ -50,6 +52,9 @@ std::string flightsKml(const std::vector<Flight>& flights, const Georeference& g
     os << "    <Folder>\n      <name>" << sortieName(f) << "</name>\n"
        << "      <Placemark>\n        <name>" << sortieName(f) << " path</name>\n"
        << "        <styleUrl>#path</styleUrl>\n"
+       << (f.uav > 0 ? "        <ExtendedData><Data name=\"uav\"><value>" + std::to_string(f.uav) +
+                           "</value></Data></ExtendedData>\n"
+                     : std::string())
        << "        <LineString><altitudeMode>absolute</altitudeMode><coordinates>\n";
     for (const auto& w : f.waypoints)
       os << "          " << kmlCoordinate(geo, geo.toGeodetic(w.enu)) << "\n";
@@ -97,6 +102,7 @@ nlohmann::json flightsGeoJson(const std::vector<Flight>& flights, const Georefer
         {{"type", "Feature"},
          {"geometry", {{"type", "LineString"}, {"coordinates", line}}},
          {"properties", {{"kind", "path"}, {"name", sortieName(f)}, {"sortie", f.sortie}}}});
+    if (f.uav > 0) features.back()["properties"]["uav"] = f.uav;
     for (const auto& w : f.waypoints) {
       if (!w.isStop()) continue;
       const Geodetic g = geo.toGeodetic(w.enu);

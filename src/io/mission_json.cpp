@@ -14,6 +14,8 @@ using nlohmann::json;
 /// JSON has no infinity: an unbounded clearance is written as null.
 json finiteOrNull(double v) { return std::isfinite(v) ? json(round4(v)) : json(nullptr); }
 
+json modelToJson(const planning::FlightModel& model);
+
 json validationToJson(const planning::ValidationResult& v) {
   return {{"collision_free", v.collision_free},
           {"min_clearance_m", finiteOrNull(v.min_clearance_m)},
@@ -125,19 +127,96 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
       {"length_m", round4(f.length_m)},
       {"duration_s", round4(f.duration_s)},
       {"sortie_count", f.sorties.size()},
-      {"model",
-       {{"cruise_speed_m_s", model.cruise_speed_m_s},
-        {"climb_speed_m_s", model.climb_speed_m_s},
-        {"descent_speed_m_s", model.descent_speed_m_s},
-        {"hover_s", model.hover_s},
-        {"settle_s", model.settle_s},
-        {"endurance_s", model.endurance_s},
-        {"reserve", model.reserve}}},
+      {"model", modelToJson(model)},
       {"sorties", sorties},
       {"timings",
        {{"order_s", round4(f.order_seconds)},
         {"validate_s", round4(f.validate_seconds)},
         {"flight_s", round4(f.seconds)}}}};
+}
+
+namespace {
+
+json modelToJson(const planning::FlightModel& model) {
+  return {{"cruise_speed_m_s", model.cruise_speed_m_s},
+          {"climb_speed_m_s", model.climb_speed_m_s},
+          {"descent_speed_m_s", model.descent_speed_m_s},
+          {"hover_s", model.hover_s},
+          {"settle_s", model.settle_s},
+          {"endurance_s", model.endurance_s},
+          {"reserve", model.reserve}};
+}
+
+/// Arrival time at each waypoint of a sortie that takes off at `start_s` [s]
+/// (the motion of planning/fleet_types.h).
+json arrivalTimes(const planning::Sortie& s, const planning::FleetPlan& f, double start_s) {
+  std::vector<int> hovers(s.waypoints.size(), 0);
+  for (const auto& st : s.stops) ++hovers.at(st.waypoint);
+  json out = json::array();
+  double t = start_s + 0.5 * f.options.takeoff_landing_s;
+  for (std::size_t i = 0; i < s.waypoints.size(); ++i) {
+    if (i > 0) t += f.model.segmentSeconds(s.waypoints[i - 1], s.waypoints[i]);
+    out.push_back(round4(t));
+    t += hovers[i] * f.model.stopSeconds();
+  }
+  return out;
+}
+
+json fleetUavToJson(const planning::FleetUav& u, std::size_t index, const planning::FleetPlan& f) {
+  json sorties = json::array();
+  for (std::size_t i = 0; i < u.flight.sorties.size(); ++i) {
+    const auto& s = u.flight.sorties[i];
+    json stops = json::array();
+    for (const auto& st : s.stops)
+      stops.push_back(
+          {{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
+    json waypoints = json::array();
+    for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
+    sorties.push_back({{"sortie", i + 1},
+                       {"start_s", round4(u.sortie_start_s.at(i))},
+                       {"duration_s", round4(s.duration_s)},
+                       {"length_m", round4(s.length_m)},
+                       {"stops", stops},
+                       {"waypoints", waypoints},
+                       {"times_s", arrivalTimes(s, f, u.sortie_start_s.at(i))},
+                       {"validation", validationToJson(s.validation)}});
+  }
+  return {{"uav", index + 1},      {"home", vec(u.home)},        {"home_source", u.home_source},
+          {"stop_count", u.stops}, {"wait_s", round4(u.wait_s)}, {"end_s", round4(u.end_s)},
+          {"sorties", sorties}};
+}
+
+}  // namespace
+
+json fleetToJson(const planning::FleetPlan& f) {
+  json options = json::object();
+  for (const auto& row : planning::FleetOptions::table().rows()) {
+    const params::Value v = row.get(f.options);
+    if (v.present && v.numbers.size() == 1) options[row.key] = v.number();
+  }
+  json uavs = json::array();
+  for (std::size_t i = 0; i < f.uavs.size(); ++i) uavs.push_back(fleetUavToJson(f.uavs[i], i, f));
+  const auto& sep = f.separation;
+  return {{"status", planning::toString(f.status)},
+          {"reason", f.reason},
+          {"options", options},
+          {"makespan_s", round4(f.makespan_s)},
+          {"single_uav_s", round4(f.single_uav_s)},
+          {"speedup", f.makespan_s > 0.0 ? round4(f.single_uav_s / f.makespan_s) : 0.0},
+          {"lower_bound_s", round4(f.lower_bound_s)},
+          {"work_s", round4(f.work_s)},
+          {"jobs", f.jobs},
+          {"split_surfaces", f.split_surfaces},
+          {"waits", f.waits},
+          {"fallback_single", f.fallback_single},
+          {"closest_approach",
+           {{"nominal_m", finiteOrNull(sep.nominal_min_m)},
+            {"at_s",
+             std::isfinite(sep.nominal_min_m) ? json(round4(sep.nominal_time_s)) : json(nullptr)},
+            {"swept_m", finiteOrNull(sep.swept_min_m)}}},
+          {"model", modelToJson(f.model)},
+          {"uavs", uavs},
+          {"timings", {{"fleet_s", round4(f.seconds)}}}};
 }
 
 namespace {
@@ -187,11 +266,8 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
                   {"blocked", e.grid_blocked},
                   {"resolution_m", e.grid_resolution_m}};
   meta["safety_clearance_m"] = e.safety_clearance_m;
-<<<<<<< HEAD
   if (e.purpose != "inspection") meta["purpose"] = e.purpose;
-=======
   if (!e.drone.empty()) meta["aircraft"] = {{"drone", e.drone}, {"payload", e.payload}};
->>>>>>> profiles
   if (e.structure) {
     meta["structure"] = structureToJson(*e.structure);
     meta["timings"]["prepare_s"] = e.structure->prepare_s;
@@ -217,6 +293,7 @@ std::string missionJsonText(const std::vector<planning::SurfaceMission>& mission
   }
   json doc = missionToJson(missions, meta);
   doc["flight"] = flightToJson(flight, model);
+  if (e.fleet) doc["fleet"] = fleetToJson(*e.fleet);
   return doc.dump(1) + "\n";
 }
 

@@ -1,6 +1,7 @@
 // Reading mission.json back (io/mission_json.h): kept apart from the writer so that
 // readers (export, validate, the fuzz target) need no planning code.
 
+#include "uavip/core/error.h"
 #include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
 
@@ -106,6 +107,54 @@ SortieRecord readSortie(const JsonReader& r, const json& j, const std::string& f
   return s;
 }
 
+/// `fleet`: the options (through their table), the flight model, each UAV's sorties.
+FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m) {
+  FleetRecord f;
+  f.status = r.text(r.at(j, "status", "fleet"), "fleet.status");
+  const json& options = r.at(j, "options", "fleet");
+  for (const auto& row : planning::FleetOptions::table().rows()) {
+    if (!options.contains(row.key)) continue;
+    params::Value v;
+    v.numbers = {r.number(options.at(row.key), "fleet.options." + row.key)};
+    const std::string what = row.problem(v);
+    if (!what.empty()) r.fail("fleet.options." + row.key, what);
+    row.set(f.options, v);
+  }
+  const json& model = r.at(j, "model", "fleet");
+  const auto field = [&](const char* key, double& out) {
+    out = r.number(r.at(model, key, "fleet.model"), std::string("fleet.model.") + key);
+  };
+  field("cruise_speed_m_s", f.model.cruise_speed_m_s);
+  field("climb_speed_m_s", f.model.climb_speed_m_s);
+  field("descent_speed_m_s", f.model.descent_speed_m_s);
+  field("hover_s", f.model.hover_s);
+  field("settle_s", f.model.settle_s);
+  field("endurance_s", f.model.endurance_s);
+  field("reserve", f.model.reserve);
+  try {
+    f.model.validate("fleet.model");
+  } catch (const InputError& e) {
+    r.fail("fleet.model", e.what());
+  }
+  f.makespan_s = r.number(r.at(j, "makespan_s", "fleet"), "fleet.makespan_s");
+  const std::string list = JsonReader::join("fleet", "uavs");
+  const json& uavs = r.list(r.at(j, "uavs", "fleet"), list);
+  for (std::size_t u = 0; u < uavs.size(); ++u) {
+    const std::string fu = JsonReader::item(list, u);
+    FleetUavRecord rec;
+    rec.home = r.vec3(r.at(uavs[u], "home", fu), fu + ".home");
+    const json& sorties = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
+    for (std::size_t i = 0; i < sorties.size(); ++i) {
+      const std::string fs = JsonReader::item(fu + ".sorties", i);
+      rec.start_s.push_back(
+          r.number(r.at(sorties[i], "start_s", fs), fs + ".start_s", 0.0, 1e9, "s"));
+      rec.sorties.push_back(readSortie(r, sorties[i], fs, m));
+    }
+    f.uavs.push_back(std::move(rec));
+  }
+  return f;
+}
+
 }  // namespace
 
 const SurfaceRecord* MissionRecord::surface(int id) const {
@@ -148,6 +197,7 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
       flight.sorties.push_back(readSortie(r, sorties[i], JsonReader::item("flight.sorties", i), m));
     m.flight = std::move(flight);
   }
+  if (j.contains("fleet")) m.fleet = readFleet(r, j.at("fleet"), m);
   if (j.contains("edits")) {
     const json& volumes = r.list(r.at(j.at("edits"), "keep_out", "edits"), "edits.keep_out");
     for (std::size_t i = 0; i < volumes.size(); ++i) {

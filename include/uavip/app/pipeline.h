@@ -17,6 +17,7 @@
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/planning/mission_planner.h"
 #include "uavip/planning/path_validator.h"
@@ -68,6 +69,8 @@ struct PlanResult {
   planning::FlightPlan flight;
   StageTimes times;
   std::optional<planning::StructureSummary> structure;  ///< set by planStructure
+  /// Several UAVs at once (planning/fleet.h): with fleet.uavs > 1 or fleet.homes.
+  std::optional<planning::FleetPlan> fleet;
 };
 
 /// The raw cloud's kd-tree: built by measure(), searched again by detect()'s

@@ -14,6 +14,7 @@
 #include "uavip/coverage/flight_strategy.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/perception/scene_builder.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/planner_table.h"
 #include "uavip/planning/types.h"
 #include "uavip/preprocess/filters.h"
@@ -68,6 +69,8 @@ struct Config {
   /// The flight over all chosen surfaces: `mission.home` and section `flight:`
   /// (speeds, hover and settle time, endurance, reserve; planning/flight_planner.h).
   planning::FlightOptions flight;
+  /// Several UAVs at once, section `fleet:` (planning/fleet.h).
+  planning::FleetOptions fleet;
   /// Which layer set each key (core/params.h: default < profile < auto < file): the
   /// reader records the file's keys, app::resolveConfig the `auto` ones.
   params::Sources sources;

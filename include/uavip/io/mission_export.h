@@ -108,6 +108,7 @@ struct FlightWaypoint {
 /// What is flown: one surface's path, or one sortie of the ordered flight.
 struct Flight {
   int sortie{0};  ///< sortie number (from 1) of the ordered flight; 0 for one surface's path
+  int uav{0};     ///< UAV number (from 1) of a fleet's flight; 0 for a single UAV
   std::vector<int> surface_ids;
   std::vector<FlightWaypoint> waypoints;
   std::size_t stopCount() const;

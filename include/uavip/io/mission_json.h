@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/types.h"
 
 namespace uavip::io {
@@ -27,6 +28,16 @@ nlohmann::json surfaceMissionToJson(const planning::SurfaceMission& mission);
 /// stop, waypoint (index in this sortie's waypoints)}, waypoints (home … home),
 /// validation}.
 nlohmann::json flightToJson(const planning::FlightPlan& flight, const planning::FlightModel& model);
+
+/// The fleet (`fleet` of mission.json, planning/fleet_types.h): status, reason,
+/// uav_count, the fleet keys (separation_m, launch_interval_s, slack_s,
+/// takeoff_landing_s, battery_swap_s), makespan_s, single_uav_s, speedup,
+/// lower_bound_s, work_s, jobs, split_surfaces, waits, fallback_single,
+/// closest_approach {nominal_m, at_s, swept_m}, model {…}, uavs[] {uav (from 1), home,
+/// home_source, stop_count, wait_s, end_s, sorties[] {sortie (from 1), start_s,
+/// duration_s, length_m, stops[], waypoints, times_s (arrival at each waypoint),
+/// validation}}.
+nlohmann::json fleetToJson(const planning::FleetPlan& fleet);
 
 /// The whole mission file; `meta` is merged at the top level (version, source,
 /// planner, camera…).
@@ -69,6 +80,7 @@ struct MissionExtras {
   /// empty for `generic`, then not written.
   std::string drone;
   std::string payload;  ///< its camera (`--payload`); empty: the drone's default
+  std::optional<planning::FleetPlan> fleet;             ///< several UAVs (planning/fleet.h)
 };
 
 /// The text of mission.json: missionToJson with the extras, `flight` and (structure
@@ -122,6 +134,22 @@ struct FlightRecord {
   std::vector<SortieRecord> sorties;
 };
 
+/// One UAV of the fleet as recorded: its home and sorties with their take-off times.
+struct FleetUavRecord {
+  Vec3 home{Vec3::Zero()};
+  std::vector<double> start_s;        ///< take-off of each sortie [s]
+  std::vector<SortieRecord> sorties;  ///< home … home
+};
+
+/// The fleet as recorded (`fleet`): what `validate` needs to recompute the motion.
+struct FleetRecord {
+  std::string status;
+  planning::FleetOptions options;  ///< uavs and the fleet keys
+  planning::FlightModel model;
+  double makespan_s{0.0};
+  std::vector<FleetUavRecord> uavs;
+};
+
 /// A mission.json read back.
 struct MissionRecord {
   double inflation_radius_m{std::numeric_limits<double>::quiet_NaN()};  ///< NaN when absent [m]
@@ -130,6 +158,7 @@ struct MissionRecord {
   std::optional<coverage::Camera> camera;
   std::vector<SurfaceRecord> surfaces;
   std::optional<FlightRecord> flight;  ///< absent in files of older versions
+  std::optional<FleetRecord> fleet;    ///< only when planned for several UAVs
   /// The keep-out volumes of the edits the plan applied (`edits.keep_out`; none without).
   std::vector<KeepOut> keep_out;
   /// The aircraft profile planned for (`aircraft.drone`, `aircraft.payload`); empty when
