@@ -48,7 +48,7 @@ void applyCamera(Config& c, const aircraft::Payload& payload, std::vector<std::s
 /// same view as one above it with the aircraft turned round).
 void applyGimbal(Config& c, const aircraft::Payload& payload, std::vector<std::string>& notes) {
   auto& g = c.coverage.gimbal;
-  if (!byProfile(c, &g.pitch_min_deg)) return;
+  if (!byProfile(c, &g)) return;
   g.pitch_min_deg = std::max(-90.0, payload.pitch_min_deg);
   g.pitch_max_deg = std::min(90.0, payload.pitch_max_deg);
   notes.push_back("gimbal pitch: " + formatNumber(g.pitch_min_deg) + " to " +
@@ -89,8 +89,9 @@ double gsdAt(const aircraft::CameraSpec& camera, double distance_m) {
 
 std::vector<std::string> applyAircraftProfile(Config& config, const std::string& where) {
   if (config.uav.model == "generic" && config.uav.payload.empty()) return {};
-  const aircraft::Profile p = aircraft::findProfile(config.uav.model, config.uav.payload,
-                                                    where + ": " + config.keyOf(&config.uav.model));
+  const aircraft::Profile p =
+      aircraft::findProfile(config.uav.model, config.uav.payload,
+                            (where.empty() ? "" : where + ": ") + config.keyOf(&config.uav.model));
   if (p.isGeneric()) return {};
   std::vector<std::string> notes;
   applyCamera(config, p.payload, notes);

@@ -86,8 +86,16 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
   // 1-inch 20 MP inspection camera at 2 mm/px (7.3 m standoff, 10.9 × 7.3 m photos).
   const bool camera_set = c.sources.anyFromFile("camera.") || c.setInFile(&c.coverage.standoff_m);
   // A single terrestrial scan (a room, a street) is close-range work: the paper's camera.
-  if (!camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin) {
-    auto& cam = c.coverage.camera;
+  const bool large =
+      !camera_set && stats.extent_m.maxCoeff() > kLargeStructureM && !stats.scanned_from_origin;
+  auto& cam = c.coverage.camera;
+  if (large && c.sources.of(c.keyOf(&cam.sensor_w_mm)) == params::Source::Profile) {
+    // The aircraft profile's camera stays; only its GSD follows the structure's size.
+    c.sources.set(c.keyOf(&cam.gsd_mm_per_px), params::Source::Auto);
+    cam.gsd_mm_per_px = 2.0;
+    r.values.push_back({c.keyOf(&cam.gsd_mm_per_px), cam.gsd_mm_per_px,
+                        "auto: the profile's camera at 2 mm/px (structure > 20 m)"});
+  } else if (large) {
     cam.from_sensor = true;
     cam.sensor_w_mm = 13.2;
     cam.sensor_h_mm = 8.8;

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "uavip/app/aircraft_profile.h"
+#include "uavip/core/aircraft.h"
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
@@ -141,6 +143,7 @@ void completeCamera(Section& top, Config& c) {
 void parseConfigSections(Section& top, Config& c) {
   readTableKeys(top, c);
   completeCamera(top, c);
+  applyAircraftProfile(c, "");
 }
 
 /// A non-negative `seed` key, or the fallback.
@@ -297,6 +300,17 @@ void UavConfig::validate(const std::string& where) const { table().check(*this, 
 const params::Table<UavConfig>& UavConfig::table() {
   static const params::Table<UavConfig> t = [] {
     params::Table<UavConfig> p;
+    std::vector<std::string> models;
+    for (const auto& a : aircraft::profiles()) models.push_back(a.name);
+    p.add("model", &UavConfig::model,
+          "aircraft profile (core/aircraft.h): its camera, gimbal, speed, endurance and size "
+          "where the file sets none; generic sets nothing")
+        .oneOf(models);
+    std::vector<std::string> payloads{""};
+    for (const auto& a : aircraft::payloads()) payloads.push_back(a.name);
+    p.add("payload", &UavConfig::payload,
+          "m300/m350: the camera on the gimbal (empty: the drone's default)")
+        .oneOf(payloads);
     p.add("size_m", &UavConfig::size_m, "the UAV's [x, y, z] extent (paper: 0.6 × 0.6 × 0.4 m)")
         .unitIs("m")
         .positive()

@@ -702,8 +702,7 @@ void addPipelineCommands(CLI::App& cli, CommandRegistry& registry) {
   pl->add_flag("--no-views", a->no_views, views_help);
   registry.add(pl, [a, &v] {
     return planCommand(a->scene, a->config, a->surface, a->cover, a->planner, a->aircraft, a->uavs,
-                       a->edits,
-                       a->out, !a->no_views, v);
+                       a->edits, a->out, !a->no_views, v);
   });
 }
 

@@ -203,6 +203,7 @@ const params::Table<CoverageOptions>& CoverageOptions::table() {
         .unitIs("deg")
         .count(2, 2)
         .within(-90.0, 90.0)
+        .fromProfile()
         .address = [](const O& o) -> const void* { return &o.gimbal; };
     p.add("purpose", &O::purpose,
           "inspection (the paper's rows at overlap), mosaic (overlap 0.6 / 0.3 unless set) or "

@@ -80,7 +80,7 @@ struct MissionExtras {
   /// empty for `generic`, then not written.
   std::string drone;
   std::string payload;  ///< its camera (`--payload`); empty: the drone's default
-  std::optional<planning::FleetPlan> fleet;             ///< several UAVs (planning/fleet.h)
+  std::optional<planning::FleetPlan> fleet;  ///< several UAVs (planning/fleet.h)
 };
 
 /// The text of mission.json: missionToJson with the extras, `flight` and (structure
