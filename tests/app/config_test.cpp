@@ -9,6 +9,9 @@
 #include <random>
 
 #include "uavip/app/scenario.h"
+#include "uavip/core/aircraft.h"
+#include "uavip/core/error.h"
+#include "uavip/coverage/camera.h"
 #include "uavip/preprocess/cloud_stats.h"
 
 namespace uavip::app {
@@ -141,6 +144,48 @@ TEST(ResolveConfig, SiteGridStaysWithinTheMemoryGuard) {
   const Vec3 span = stats.extent_m + Vec3::Constant(2.0 * r.config.grid.padding_m);
   const double voxels = span.prod() / std::pow(r.config.grid.resolution_m, 3);
   EXPECT_LE(voxels, static_cast<double>(r.config.grid.max_voxels) / 4.0 * 1.01);
+}
+
+}  // namespace
+}  // namespace uavip::app
+
+namespace uavip::app {
+namespace {
+
+// Aircraft profiles (app/aircraft_profile.h): the profile fills what the file leaves
+// unset, the file's keys win, the reference is the profile table itself.
+TEST(AircraftProfile, FillsWhatTheFileLeavesAndTheFileWins) {
+  const aircraft::Profile m3e = aircraft::findProfile("m3e");
+  const Config c = parseConfig("uav: {model: m3e}\nflight: {endurance_s: 900}\n", "p.yaml");
+  EXPECT_TRUE(c.coverage.camera.from_sensor);
+  EXPECT_DOUBLE_EQ(c.coverage.camera.focal_mm, m3e.payload.camera.focal_mm);
+  EXPECT_EQ(c.coverage.camera.image_w_px, m3e.payload.camera.image_w_px);
+  // The GSD the camera gives at the standoff, on its coarser axis: the standoff stays.
+  const coverage::CameraGeometry g = coverage::solveCamera(c.coverage.camera, 0.0);
+  EXPECT_NEAR(g.standoff_m, c.coverage.standoff_m, 1e-9);
+  EXPECT_DOUBLE_EQ(c.coverage.gimbal.pitch_max_deg, m3e.payload.pitch_max_deg);
+  EXPECT_DOUBLE_EQ(c.coverage.gimbal.pitch_min_deg, -90.0);
+  EXPECT_DOUBLE_EQ(c.flight.model.endurance_s, 900.0);  // the file's
+  EXPECT_DOUBLE_EQ(c.uav.size_m.x(), m3e.span_m);
+  EXPECT_EQ(c.sources.of(c.keyOf(&c.uav.size_m)), params::Source::Profile);
+
+  // A file that describes its camera keeps it whole; speeds above the maker's are capped.
+  Config f = parseConfig(
+      "uav: {model: m3e, size_m: [1, 1, 1]}\ncamera: {footprint_m: [0.6, 0.4]}\n"
+      "flight: {cruise_speed_m_s: 30}\n",
+      "q.yaml");
+  EXPECT_FALSE(f.coverage.camera.from_sensor);
+  EXPECT_DOUBLE_EQ(f.coverage.camera.footprint_w_m, 0.6);
+  EXPECT_DOUBLE_EQ(f.flight.model.cruise_speed_m_s, m3e.max_speed_mps);
+  EXPECT_DOUBLE_EQ(f.uav.size_m.x(), 1.0);
+  EXPECT_FALSE(f.uav.inflation_radius_m.has_value());
+  EXPECT_DOUBLE_EQ(f.flight.model.endurance_s, m3e.enduranceS());
+
+  // generic sets nothing; an unknown model or a payload on a drone with its own camera is
+  // refused naming the file.
+  EXPECT_FALSE(parseConfig("uav: {model: generic}\n", "g.yaml").coverage.camera.from_sensor);
+  EXPECT_THROW(parseConfig("uav: {model: phantom}\n", "b.yaml"), InputError);
+  EXPECT_THROW(parseConfig("uav: {model: m3e, payload: h30}\n", "b.yaml"), InputError);
 }
 
 }  // namespace
