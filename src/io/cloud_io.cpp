@@ -55,13 +55,15 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
   sample.spacing_m = options.mesh_spacing_m;
   PointList points = sampleMesh(readMesh(path, options.scale, &mesh), sample, path, &mesh);
   if (info != nullptr) {
+    // The key as the config writes it ("input." + the table's row).
+    const std::string key =
+        "input." + CloudReadOptions::table().find(options, &options.mesh_spacing_m)->key;
     std::ostringstream os;
     os << path << ": mesh (" << mesh.format << "), " << mesh.triangles << " triangles";
     if (mesh.degenerate > 0) os << " (" << mesh.degenerate << " without area, skipped)";
     os << ", " << formatNumber(mesh.area_m2, 4) << " m2, sampled every "
        << formatNumber(mesh.spacing_m, 3) << " m ("
-       << (mesh.spacing_source == "auto" ? "auto; set input.mesh_spacing_m to change"
-                                         : "input.mesh_spacing_m")
+       << (mesh.spacing_source == "auto" ? "auto; set " + key + " to change" : key)
        << "): " << points.size() << " points; " << mesh.axes;
     if (options.scale != 1.0)
       os << "; coordinates scaled by input.scale " << formatNumber(options.scale);
