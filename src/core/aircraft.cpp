@@ -37,90 +37,50 @@ const std::vector<Payload>& payloads() {
   return list;
 }
 
+namespace {
+
+/// A profile from its figures; `payload` is its camera (built in, or the default one).
+Profile aircraftOf(const char* name, const char* model, int drone_enum, int sub_enum, bool built_in,
+                   const Payload& payload, double speed_mps, double hover_min, double span_m,
+                   double height_m) {
+  Profile p;
+  p.name = name;
+  p.model = model;
+  p.drone_enum = drone_enum;
+  p.drone_sub_enum = sub_enum;
+  p.take_off_ref_point = built_in;  // documented for the models with their own camera
+  p.built_in_camera = built_in;
+  p.payload = payload;
+  p.max_speed_mps = speed_mps;
+  p.hover_time_s = hover_min * kMin;
+  p.span_m = span_m;
+  p.height_m = height_m;
+  return p;
+}
+
+}  // namespace
+
 const std::vector<Profile>& profiles() {
-  // Aircraft: DJI Cloud API "Product Support" enumerations; speed, hover time and
-  // size from each aircraft's published specifications (docs/formats.md).
-  const auto& p = payloads();
+  // Aircraft: DJI Cloud API "Product Support" enumerations; speed, hover time [min] and
+  // size [m] from each aircraft's published specifications (docs/formats.md).
+  const Payload& h20 = payloads()[0];
   static const std::vector<Profile> list = {
-      {"generic",
-       "generic UAV (the config's own figures)",
-       0,
-       0,
-       true,
-       true,
-       {"generic", "the config's camera", 0, -90.0, 90.0, {}},
-       0.0,
-       0.0,
-       0.0,
-       0.0},
-      {"m300", "Matrice 300 RTK", 60, 0, false, false, p[0], 23.0, 55 * kMin, 1.43, 0.43},
-      {"m350", "Matrice 350 RTK", 89, 0, false, false, p[0], 23.0, 53 * kMin, 1.43, 0.43},
-      {"m30",
-       "Matrice 30",
-       67,
-       0,
-       true,
-       true,
-       {"m30", "M30 Camera", 52, -120.0, 45.0, kM30Wide},
-       23.0,
-       36 * kMin,
-       1.09,
-       0.22},
-      {"m30t",
-       "Matrice 30T",
-       67,
-       1,
-       true,
-       true,
-       {"m30t", "M30T Camera", 53, -120.0, 45.0, kM30Wide},
-       23.0,
-       36 * kMin,
-       1.09,
-       0.22},
-      {"m3e",
-       "Mavic 3 Enterprise (M3E)",
-       77,
-       0,
-       true,
-       true,
-       {"m3e", "Mavic 3E Camera", 66, -90.0, 35.0, kFourThirds},
-       15.0,
-       38 * kMin,
-       0.62,
-       0.11},
-      {"m3t",
-       "Mavic 3 Thermal (M3T)",
-       77,
-       1,
-       true,
-       true,
-       {"m3t", "Mavic 3T Camera", 67, -90.0, 35.0, kM3tWide},
-       15.0,
-       38 * kMin,
-       0.62,
-       0.11},
-      {"m4e",
-       "Matrice 4E",
-       99,
-       0,
-       true,
-       true,
-       {"m4e", "M4E Camera", 88, -90.0, 35.0, kFourThirds},
-       21.0,
-       42 * kMin,
-       0.71,
-       0.15},
-      {"m4t",
-       "Matrice 4T",
-       99,
-       1,
-       true,
-       true,
-       {"m4t", "M4T Camera", 89, -90.0, 35.0, kM4tWide},
-       21.0,
-       42 * kMin,
-       0.71,
-       0.15},
+      aircraftOf("generic", "generic UAV (the config's own figures)", 0, 0, true,
+                 {"generic", "the config's camera", 0, -90.0, 90.0, {}}, 0.0, 0.0, 0.0, 0.0),
+      aircraftOf("m300", "Matrice 300 RTK", 60, 0, false, h20, 23.0, 55, 1.43, 0.43),
+      aircraftOf("m350", "Matrice 350 RTK", 89, 0, false, h20, 23.0, 53, 1.43, 0.43),
+      aircraftOf("m30", "Matrice 30", 67, 0, true,
+                 {"m30", "M30 Camera", 52, -120.0, 45.0, kM30Wide}, 23.0, 36, 1.09, 0.22),
+      aircraftOf("m30t", "Matrice 30T", 67, 1, true,
+                 {"m30t", "M30T Camera", 53, -120.0, 45.0, kM30Wide}, 23.0, 36, 1.09, 0.22),
+      aircraftOf("m3e", "Mavic 3 Enterprise (M3E)", 77, 0, true,
+                 {"m3e", "Mavic 3E Camera", 66, -90.0, 35.0, kFourThirds}, 15.0, 38, 0.62, 0.11),
+      aircraftOf("m3t", "Mavic 3 Thermal (M3T)", 77, 1, true,
+                 {"m3t", "Mavic 3T Camera", 67, -90.0, 35.0, kM3tWide}, 15.0, 38, 0.62, 0.11),
+      aircraftOf("m4e", "Matrice 4E", 99, 0, true,
+                 {"m4e", "M4E Camera", 88, -90.0, 35.0, kFourThirds}, 21.0, 42, 0.71, 0.15),
+      aircraftOf("m4t", "Matrice 4T", 99, 1, true, {"m4t", "M4T Camera", 89, -90.0, 35.0, kM4tWide},
+                 21.0, 42, 0.71, 0.15),
   };
   return list;
 }

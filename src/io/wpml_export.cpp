@@ -327,7 +327,7 @@ std::string djiDroneList() {
 }
 
 DjiDrone findDjiDrone(const std::string& name, const std::string& payload) {
-  const DjiDrone d = aircraft::findProfile(name, payload, "--drone");
+  DjiDrone d = aircraft::findProfile(name, payload, "--drone");
   if (d.drone_enum == 0) {
     std::string names;
     for (const DjiDrone& k : djiDrones()) names += (names.empty() ? "" : ", ") + k.name;
