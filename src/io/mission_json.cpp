@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "uavip/io/json_numbers.h"
 
@@ -86,6 +87,21 @@ json surfaceMissionToJson(const planning::SurfaceMission& m) {
   return out;
 }
 
+namespace {
+
+/// A sortie's photo stops ({surface_id, stop, waypoint}) and waypoints, as mission.json
+/// writes them for the flight and for each UAV of a fleet.
+std::pair<json, json> sortieStopsAndWaypoints(const planning::Sortie& s) {
+  json stops = json::array();
+  for (const auto& st : s.stops)
+    stops.push_back({{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
+  json waypoints = json::array();
+  for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
+  return {stops, waypoints};
+}
+
+}  // namespace
+
 json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& model) {
   json order = json::array();
   for (const auto& v : f.order)
@@ -96,12 +112,7 @@ json flightToJson(const planning::FlightPlan& f, const planning::FlightModel& mo
   json sorties = json::array();
   for (std::size_t i = 0; i < f.sorties.size(); ++i) {
     const auto& s = f.sorties[i];
-    json stops = json::array();
-    for (const auto& st : s.stops)
-      stops.push_back(
-          {{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
-    json waypoints = json::array();
-    for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
+    const auto [stops, waypoints] = sortieStopsAndWaypoints(s);
     sorties.push_back({{"sortie", i + 1},
                        {"length_m", round4(s.length_m)},
                        {"duration_s", round4(s.duration_s)},
@@ -166,12 +177,7 @@ json fleetUavToJson(const planning::FleetUav& u, std::size_t index, const planni
   json sorties = json::array();
   for (std::size_t i = 0; i < u.flight.sorties.size(); ++i) {
     const auto& s = u.flight.sorties[i];
-    json stops = json::array();
-    for (const auto& st : s.stops)
-      stops.push_back(
-          {{"surface_id", st.surface_id}, {"stop", st.stop}, {"waypoint", st.waypoint}});
-    json waypoints = json::array();
-    for (const auto& p : s.waypoints) waypoints.push_back(vec(p));
+    const auto [stops, waypoints] = sortieStopsAndWaypoints(s);
     sorties.push_back({{"sortie", i + 1},
                        {"start_s", round4(u.sortie_start_s.at(i))},
                        {"duration_s", round4(s.duration_s)},
