@@ -32,6 +32,15 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
 
 Writes OUT/<case>/result.json and appends one Markdown row to OUT/results.md.
 The ground truth comes from build/uavip_world_truth (the scenario loader's rectangles).
+
+Mesh mode (`--mesh MESH --mission MISSION`, a real structure, issue 46 item 5): the
+photos of an existing plan are rendered against a mesh of the structure (`uavip photos
+MISSION --world MESH`; benchmarks/mesh_cloud.cpp meshes a cloud) and the mesh is the
+truth: accuracy is the exact distance to its triangles (Open3D's RaycastingScene);
+completeness is over area-uniform samples of the mesh (seeded; 2 cm apart, coarser
+when that would pass MESH_MAX_SAMPLES), both of the whole mesh and of the part the
+plan images (a sample inside some photo's image, within 1.25 x the standoff and seen
+unoccluded from its centre).
 """
 
 import argparse
@@ -55,6 +64,9 @@ MATCH_NEIGHBOURS = 10
 NOISE_POSITION_M = 0.03
 NOISE_ROTATION_DEG = 0.5
 PLACEMENT_TOLERANCE = 0.10  # share of a footprint
+MESH_SPACING_M = 0.02
+MESH_MAX_SAMPLES = 3_000_000
+MESH_RANGE_FACTOR = 1.25
 MAX_COMPOSITE_MP = 25.0
 
 
@@ -229,6 +241,79 @@ class Truth:
             if on.any():
                 out.append(r)
         return out
+
+
+class MeshTruth:
+    """A triangle mesh as the truth (mesh mode): exact distances, area-uniform samples."""
+
+    def __init__(self, path, seed=46):
+        import open3d as o3d  # noqa: PLC0415
+
+        mesh = o3d.io.read_triangle_mesh(path)
+        self.v = np.asarray(mesh.vertices, float)
+        self.f = np.asarray(mesh.triangles, np.int64)
+        if len(self.f) == 0:
+            raise CheckError(f"{path}: no triangle")
+        self.scene = o3d.t.geometry.RaycastingScene()
+        self.scene.add_triangles(o3d.core.Tensor(self.v.astype(np.float32)),
+                                 o3d.core.Tensor(self.f.astype(np.uint32)))
+        a, b, c = self.v[self.f[:, 0]], self.v[self.f[:, 1]], self.v[self.f[:, 2]]
+        area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+        self.area_m2 = float(area.sum())
+        self.spacing = max(MESH_SPACING_M, math.sqrt(self.area_m2 / MESH_MAX_SAMPLES))
+        n = int(self.area_m2 / self.spacing ** 2)
+        rng = np.random.default_rng(seed)
+        tri = rng.choice(len(self.f), size=n, p=area / area.sum())
+        r1, r2 = rng.random(n), rng.random(n)
+        flip = r1 + r2 > 1
+        r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
+        self.samples = a[tri] + r1[:, None] * (b - a)[tri] + r2[:, None] * (c - a)[tri]
+        self.o3d = o3d
+
+    def distance(self, points):
+        """Exact distance [m] from each point to the mesh."""
+        q = self.o3d.core.Tensor(np.asarray(points, np.float32))
+        return self.scene.compute_distance(q).numpy().astype(float)
+
+    def imaged(self, rows, camera):
+        """Mask of the samples some photo images: inside its image, nearer than
+        MESH_RANGE_FACTOR x the standoff, and the first surface on the ray from its centre."""
+        k = camera
+        seen = np.zeros(len(self.samples), bool)
+        max_range = MESH_RANGE_FACTOR * k["standoff_m"]
+        for r in rows:
+            c = np.array(r["centre"])
+            rot = quat_to_rot(*r["q"])  # camera to world
+            d = self.samples - c
+            near = np.einsum("ij,ij->i", d, d) < max_range ** 2
+            idx = np.nonzero(near & ~seen)[0]
+            if len(idx) == 0:
+                continue
+            cam = d[idx] @ rot
+            z = cam[:, 2]
+            ok = z > 1e-6
+            u = k["fx_px"] * cam[:, 0] / np.where(ok, z, 1) + k["cx_px"]
+            v = k["fy_px"] * cam[:, 1] / np.where(ok, z, 1) + k["cy_px"]
+            ok &= (u >= 0) & (u < k["width_px"]) & (v >= 0) & (v < k["height_px"])
+            idx = idx[ok]
+            if len(idx) == 0:
+                continue
+            dist = np.linalg.norm(d[idx], axis=1)
+            dirs = d[idx] / dist[:, None]
+            rays = np.hstack([np.repeat(c[None, :], len(idx), 0), dirs]).astype(np.float32)
+            t = self.scene.cast_rays(self.o3d.core.Tensor(rays))["t_hit"].numpy()
+            seen[idx[t >= dist - max(0.01, 2 * self.spacing)]] = True
+        return seen
+
+    def completeness(self, points, mask=None, taus=TAUS_M):
+        """Share of the samples (those in `mask`) within each tau of a point."""
+        from scipy.spatial import cKDTree  # noqa: PLC0415
+
+        samples = self.samples if mask is None else self.samples[mask]
+        if len(samples) == 0 or len(points) == 0:
+            return {tau: 0.0 for tau in taus}, len(samples)
+        d, _ = cKDTree(points).query(samples, distance_upper_bound=max(taus))
+        return {tau: float((d <= tau).mean()) for tau in taus}, len(samples)
 
 
 def samples_along(length, spacing):
@@ -433,7 +518,12 @@ def score_models(models, rows, fit_centres, truth, chosen):
     out["sparse_points"] = int(len(pts))
     if len(pts):
         out["accuracy_p90_m"] = float(np.percentile(truth.distance(pts), 90))
-    comp, total = completeness(truth, chosen, pts)
+    if isinstance(truth, MeshTruth):
+        comp, total = truth.completeness(pts, chosen)
+        whole, _ = truth.completeness(pts)
+        out["completeness_whole_mesh"] = {f"{int(round(tau * 100))}cm": v for tau, v in whole.items()}
+    else:
+        comp, total = completeness(truth, chosen, pts)
     out["completeness"] = {f"{int(round(tau * 100))}cm": v for tau, v in comp.items()}
     out["truth_samples"] = total
     return out
@@ -604,6 +694,9 @@ def plan_summary(mission_json):
 
 
 def case_name(args):
+    if args.mesh:
+        return (os.path.splitext(os.path.basename(args.mesh))[0] + "-" +
+                os.path.basename(os.path.dirname(os.path.abspath(args.mission))))
     base = os.path.splitext(os.path.basename(args.scenario))[0]
     if args.cover_structure:
         base += "-structure"
@@ -621,10 +714,13 @@ def run_case(args):
     open(logf, "w").close()
     t_start = time.time()
     timings = {}
-    result = {"case": name, "scenario": os.path.relpath(os.path.abspath(args.scenario), ROOT),
+    scenario_rel = os.path.relpath(os.path.abspath(args.scenario), ROOT) if args.scenario else None
+    result = {"case": name, "scenario": scenario_rel,
               "overlap": args.overlap, "cover": "structure" if args.cover_structure else "surfaces",
               "purpose": args.purpose, "matcher": args.matcher, "threads": args.threads}
     folder = args.photos_dir
+    if args.mesh:
+        return run_mesh_case(args, name, work, logf, t_start, result)
     scenario = prepare_scenario(args.scenario, work, args.overlap, args.cover_structure,
                                 args.purpose)
     if folder is None:
@@ -650,7 +746,47 @@ def run_case(args):
     truth = Truth(truth_json)
     chosen = truth.chosen(np.array([r["target"] for r in rows]))
     result["chosen_rects"] = [r["name"] for r in chosen]
+    return check_photos(args, name, work, logf, t_start, timings, result, folder, meta, rows,
+                        truth, chosen)
 
+
+def run_mesh_case(args, name, work, logf, t_start, result):
+    """Mesh mode: the plan's photos rendered against the mesh, the mesh as the truth."""
+    timings = {}
+    result.update({"mesh": os.path.abspath(args.mesh), "mission": os.path.abspath(args.mission),
+                   "scenario": None, "cover": "as planned"})
+    result["plan"] = plan_summary(args.mission)
+    folder = args.photos_dir
+    if folder is None:
+        t0 = time.time()
+        folder = os.path.join(work, "photos")
+        cmd = [args.uavip, "photos", args.mission, "--world", args.mesh, "-o", folder,
+               "--threads", str(args.threads), "-q"]
+        if args.scene:
+            cmd += ["--scene", args.scene]
+        run(cmd, logf)
+        timings["photos_s"] = round(time.time() - t0, 1)
+    meta, rows = read_photo_folder(folder)
+    result["photos_planned"] = len(rows)
+    if args.max_photos:
+        rows = rows[:args.max_photos]
+    result["photos"] = len(rows)
+    result["camera"] = meta["camera"]
+    t0 = time.time()
+    truth = MeshTruth(args.mesh, args.seed)
+    imaged = truth.imaged(rows, meta["camera"])
+    timings["truth_s"] = round(time.time() - t0, 1)
+    result["mesh_truth"] = {"area_m2": round(truth.area_m2, 1), "triangles": int(len(truth.f)),
+                            "sample_spacing_m": round(truth.spacing, 4),
+                            "samples": int(len(truth.samples)),
+                            "imaged_share": float(imaged.mean())}
+    return check_photos(args, name, work, logf, t_start, timings, result, folder, meta, rows,
+                        truth, imaged)
+
+
+def check_photos(args, name, work, logf, t_start, timings, result, folder, meta, rows, truth,
+                 chosen):
+    """COLMAP (plan priors, then noisy priors) and the stitcher on a photo folder."""
     if not args.no_colmap:
         t0 = time.time()
         db = extract_features(args.colmap, folder, meta, rows, work, args.threads, logf)
@@ -731,7 +867,11 @@ HEADER = ("| case | photos | registered | models | largest | reproj. error [px] 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scenario", help="scenario YAML (e.g. scenarios/wall_small.yaml)")
+    ap.add_argument("scenario", nargs="?", help="scenario YAML (e.g. scenarios/wall_small.yaml)")
+    ap.add_argument("--mesh", help="mesh mode: render --mission against this mesh, the truth")
+    ap.add_argument("--mission", help="mesh mode: the mission.json whose photos are checked")
+    ap.add_argument("--scene", help="mesh mode: the scene.json giving the mesh's frame "
+                    "(default: beside the mission)")
     ap.add_argument("--overlap", type=float, help="replace coverage.overlap (a copy of the scenario)")
     ap.add_argument("--purpose", choices=("inspection", "mosaic", "reconstruction"),
                     help="set coverage.purpose (a copy of the scenario)")
@@ -757,6 +897,8 @@ def main():
     ap.add_argument("--require-centre-max-m", type=float,
                     help="exit 1 unless every camera centre of the largest model is this close to the plan")
     args = ap.parse_args()
+    if bool(args.mesh) != bool(args.mission) or bool(args.mesh) == bool(args.scenario):
+        ap.error("give a scenario, or --mesh and --mission")
     try:
         res = run_case(args)
     except (CheckError, OSError, subprocess.CalledProcessError) as e:

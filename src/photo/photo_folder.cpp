@@ -136,6 +136,22 @@ WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldM
   return m;
 }
 
+WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const RayCaster& mesh,
+                     const PhotoCamera& camera) {
+  WorldMatch m;
+  m.tolerance_m = std::max(0.1, 0.05 * camera.standoff_m);
+  std::vector<double> d;
+  for (const auto& p : photos) {
+    const Vec3 to = p.target - p.pose.position;
+    const RayHit hit = to.norm() > 0.0 ? mesh.cast(p.pose.position, to.normalized()) : RayHit{};
+    d.push_back(hit.hit ? (hit.point - p.target).norm() : kInf);
+    if (d.back() > m.tolerance_m) ++m.far;
+  }
+  m.targets = d.size();
+  m.median_m = d.empty() ? 0.0 : median(d);
+  return m;
+}
+
 std::string colmapCameras(const PhotoCamera& camera) {
   const auto& k = camera.intrinsics;
   return "# Camera list with one line of data per camera:\n"
@@ -220,23 +236,20 @@ std::string photosJson(const std::string& mission_path, const std::string& world
                    std::to_string(m.targets) + " photo targets lie more than " +
                    formatNumber(m.tolerance_m, 3) + " m from the surfaces of world " + world_path +
                    " (median " + formatNumber(m.median_m, 3) +
-                   " m): the mission was not planned on this world; give --world the scenario it "
-                   "was planned from" +
+                   " m): the mission was not planned on this world; give --world the scenario or "
+                   "mesh it was planned from" +
                    (source.empty() ? std::string() : " (mission.json source: " + source + ")"));
 }
 
 }  // namespace
 
-PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
-                              const sim::WorldModel& world, const std::string& world_path,
-                              const std::string& out, const PhotoOptions& options) {
-  const PhotoCamera camera = photoCamera(mission, mission_path);
-  const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
-  PhotoSummary summary;
-  summary.match = matchWorld(photos, world, camera);
-  if (!summary.match.matches())
-    worldMismatch(summary.match, mission_path, world_path, mission.source);
-  const RayCaster caster(world);
+namespace {
+
+/// Renders every photo against `caster` and writes the folder (writePhotoFolder).
+PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCamera& camera,
+                          const RayCaster& caster, const std::string& mission_path,
+                          const std::string& world_path, const std::string& out,
+                          const PhotoOptions& options, PhotoSummary summary) {
   TextureOptions texture;
   texture.seed = options.texture_seed;
   texture.finest_feature_m = kFinestFeaturePx * camera.gsd_m_per_px;
@@ -269,6 +282,34 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
                photosJson(mission_path, world_path, camera, texture, photos.size()));
   staged.commit();
   return summary;
+}
+
+}  // namespace
+
+PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                              const sim::WorldModel& world, const std::string& world_path,
+                              const std::string& out, const PhotoOptions& options) {
+  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
+  PhotoSummary summary;
+  summary.match = matchWorld(photos, world, camera);
+  if (!summary.match.matches())
+    worldMismatch(summary.match, mission_path, world_path, mission.source);
+  const RayCaster caster(world);
+  return renderFolder(photos, camera, caster, mission_path, world_path, out, options, summary);
+}
+
+PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                              const io::TriangleMesh& mesh, const std::string& mesh_path,
+                              const std::string& out, const PhotoOptions& options) {
+  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
+  const RayCaster caster(mesh, mesh_path);
+  PhotoSummary summary;
+  summary.match = matchMesh(photos, caster, camera);
+  if (!summary.match.matches())
+    worldMismatch(summary.match, mission_path, mesh_path, mission.source);
+  return renderFolder(photos, camera, caster, mission_path, mesh_path, out, options, summary);
 }
 
 }  // namespace uavip::photo

@@ -1,8 +1,10 @@
 // The photos of a plan (photo/): rays against a brute-force intersection with the
 // world's rectangles, the outer surface only, the view centre on the target, the
 // COLMAP model re-projecting the targets, PNG bytes independent of the thread count
-// and decoding to the rendered pixels, a world that does not match refused; and the
-// CLI end to end (run --photos, photos against another world).
+// and decoding to the rendered pixels, a world that does not match refused; a mesh:
+// rays against a brute-force Möller–Trumbore over every triangle, the world as
+// triangles rendering as its rectangles do; and the CLI end to end (run --photos,
+// photos against another world, photos against the mesh a mission was detected from).
 
 #include <gtest/gtest.h>
 #include <png.h>
@@ -383,4 +385,147 @@ TEST(PhotosCli, RunWithPhotosAndAnotherWorld) {
   fs::remove_all(dir);
 }
 
+/// The world's rectangles as a triangle mesh, two triangles a rectangle.
+io::TriangleMesh meshOf(const sim::WorldModel& w) {
+  io::TriangleMesh mesh;
+  for (const auto& r : w.rects()) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    for (const Vec3& c : {r.corner, Vec3(r.corner + r.edge_u), Vec3(r.corner + r.edge_u + r.edge_v),
+                          Vec3(r.corner + r.edge_v)})
+      mesh.vertices.push_back(c);
+    mesh.triangles.push_back({base, base + 1, base + 2});
+    mesh.triangles.push_back({base, base + 2, base + 3});
+  }
+  return mesh;
+}
+
+/// Brute force: the nearest triangle a ray meets (Möller–Trumbore in double; t = inf
+/// when none).
+double bruteForceTriangleHit(const io::TriangleMesh& mesh, const Vec3& o, const Vec3& d) {
+  double best = kInf;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const Vec3 e1 = b - a, e2 = c - a, p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-14) continue;
+    const Vec3 s = o - a;
+    const double u = s.dot(p) / det;
+    const Vec3 q = s.cross(e1);
+    const double v = d.dot(q) / det, dist = e2.dot(q) / det;
+    if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9 || !(dist > 1e-9)) continue;
+    best = std::min(best, dist);
+  }
+  return best;
+}
+
+TEST(RayCaster, MeshRaysHitWhatBruteForceFinds) {
+  // A twisted soup: the tower world's triangles, every vertex moved by up to 5 cm.
+  io::TriangleMesh mesh = meshOf(towerWorld());
+  std::mt19937 jitter(5);
+  std::uniform_real_distribution<double> small(-0.05, 0.05);
+  for (Vec3& v : mesh.vertices) v += Vec3(small(jitter), small(jitter), small(jitter));
+  mesh.triangles.push_back({0, 0, 1});  // degenerate: left out
+  const photo::RayCaster caster(mesh, "soup.stl");
+  EXPECT_EQ(caster.faces(), mesh.triangles.size() - 1);
+  const auto k = smallCamera();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> ux(0.0, k.width_px), uy(0.0, k.height_px);
+  int hits = 0;
+  for (const auto& view : towerViews()) {
+    const PhotoPose pose = photo::poseFromView(view);
+    for (int i = 0; i < 200; ++i) {
+      const Vec3 d = photo::pixelRay(k, pose, ux(rng), uy(rng));
+      const double t = bruteForceTriangleHit(mesh, pose.position, d);
+      const photo::RayHit hit = caster.cast(pose.position, d);
+      ASSERT_EQ(hit.hit, std::isfinite(t));
+      if (!hit.hit) continue;
+      ++hits;
+      EXPECT_NEAR(hit.t, t, 1e-4);
+      const auto& tri = mesh.triangles[hit.face];
+      EXPECT_NEAR(hit.normal.dot(hit.point - mesh.vertices[tri[0]]), 0.0, 1e-9);
+    }
+  }
+  EXPECT_GT(hits, 500);
+}
+
+TEST(RayCaster, MeshWithoutAreaIsRefused) {
+  io::TriangleMesh flat;
+  flat.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  flat.triangles = {{0, 1, 2}};
+  try {
+    const photo::RayCaster caster(flat, "line.stl");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line.stl"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Renderer, TheWorldAsTrianglesRendersAsItsRectangles) {
+  const sim::WorldModel world = towerWorld();
+  const photo::RayCaster rects(world), triangles(meshOf(world), "tower.stl");
+  const photo::SurfaceTexture texture(photo::TextureOptions{});
+  const auto k = smallCamera();
+  std::size_t pixels = 0, differ = 0, surface = 0;
+  for (const auto& view : towerViews()) {
+    const PhotoPose pose = photo::poseFromView(view);
+    const photo::Image a = photo::renderPhoto(rects, texture, k, pose);
+    const photo::Image b = photo::renderPhoto(triangles, texture, k, pose);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    for (std::size_t i = 0; i < a.rgb.size(); i += 3) {
+      ++pixels;
+      int diff = 0;
+      for (std::size_t c = 0; c < 3; ++c) diff = std::max(diff, std::abs(a.rgb[i + c] - b.rgb[i + c]));
+      differ += diff > 1 ? 1 : 0;
+      surface += a.rgb[i] != photo::kSkyRgb[0] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(surface, pixels / 2);
+  // Only pixels on a shared diagonal or a box edge may tie another way.
+  EXPECT_LE(differ * 500, pixels) << differ << " of " << pixels;
+}
+
+TEST(PhotosCli, AgainstTheMeshAMissionWasDetectedFrom) {
+  const fs::path dir = tempDir("mesh");
+  fs::create_directories(dir);
+  // A 2 x 1.5 m wall facing -y, 20 km east of the file's origin: detect recentres it.
+  const auto writeWall = [&](const fs::path& file, double x0) {
+    std::ofstream(file) << "v " << x0 << " 0 0.5\nv " << x0 + 2 << " 0 0.5\nv " << x0 + 2
+                        << " 0 2\nv " << x0 << " 0 2\nf 1 2 3\nf 1 3 4\n";
+  };
+  writeWall(dir / "wall.obj", 20000.0);
+  writeWall(dir / "moved.obj", 20010.0);
+  std::ofstream(dir / "cfg.yaml")
+      << "perception: {min_area_m2: 1.0}\n"
+         "camera: {fx: 200, fy: 200, cx: 80, cy: 60, image_px: [160, 120], gsd_mm_per_px: 5}\n";
+  const std::string d = (dir / "out").string(), cfg = (dir / "cfg.yaml").string();
+  const auto det = uavip::cli_test::uavip("detect " + (dir / "wall.obj").string() + " -c " + cfg +
+                                          " -q --no-views -o " + d);
+  ASSERT_EQ(det.code, 0) << det.out;
+  const auto plan = uavip::cli_test::uavip("plan " + d + "/scene.json --surface all -c " + cfg +
+                                           " -q --no-views -o " + d);
+  ASSERT_EQ(plan.code, 0) << plan.out;
+  const auto photos = uavip::cli_test::uavip("photos " + d + "/mission.json --world " +
+                                             (dir / "wall.obj").string() + " -o " + d + "/photos");
+  ASSERT_EQ(photos.code, 0) << photos.out;
+  EXPECT_NE(photos.out.find("targets on the world"), std::string::npos) << photos.out;
+  std::ifstream poses(d + "/photos/poses.csv");
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(poses, line)) ++rows;
+  ASSERT_GT(rows, 1U);
+  std::size_t images = 0;
+  for (const auto& e : fs::directory_iterator(d + "/photos/images")) {
+    images += e.path().extension() == ".png" ? 1 : 0;
+  }
+  EXPECT_EQ(images, rows - 1);
+  // The same wall 10 m along: not the model the mission was planned on.
+  const auto bad = uavip::cli_test::uavip("photos " + d + "/mission.json --world " +
+                                          (dir / "moved.obj").string() + " -o " + d + "/bad");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_FALSE(fs::exists(d + "/bad/photos.json"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
+

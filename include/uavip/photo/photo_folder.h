@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// `uavip photos`: every photo stop of a mission, in flown order, rendered against the
-/// ground-truth world, and the folder other photogrammetry tools read
+/// ground-truth world (or a mesh of the structure), and the folder other photogrammetry
+/// tools read
 /// (docs/formats.md "The photo folder"): images/<stop_id>.png, a COLMAP text model
 /// with the planned poses and intrinsics (sparse/cameras.txt, images.txt, empty
 /// points3D.txt), poses.csv and photos.json.
@@ -22,6 +23,7 @@
 #include "uavip/core/types.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/io/mission_json.h"
+#include "uavip/photo/ray_caster.h"
 #include "uavip/photo/renderer.h"
 #include "uavip/sim/world_model.h"
 
@@ -77,6 +79,12 @@ struct WorldMatch {
 WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldModel& world,
                       const PhotoCamera& camera);
 
+/// The same test against a mesh (a RayCaster's faces): a target's distance is from it
+/// to the first face the ray from the camera through the target meets (infinite when
+/// none), so a target hidden behind another part of the model counts as far too.
+WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const RayCaster& mesh,
+                     const PhotoCamera& camera);
+
 /// The COLMAP text model (cameras.txt: one PINHOLE camera; images.txt: per photo
 /// IMAGE_ID QW QX QY QZ TX TY TZ 1 NAME, world to camera, and an empty points line;
 /// points3D.txt: the header only).
@@ -107,6 +115,13 @@ struct PhotoSummary {
 /// and what to do) when the world does not match the mission (matchWorld).
 PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
                               const sim::WorldModel& world, const std::string& world_path,
+                              const std::string& out, const PhotoOptions& options);
+
+/// The same against a triangle mesh in the mission's frame (the model the structure
+/// was detected from, or any mesh of it: the world texture is laid on its triangles),
+/// checked by matchMesh. Throws InputError naming `mesh_path` when no triangle has area.
+PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                              const io::TriangleMesh& mesh, const std::string& mesh_path,
                               const std::string& out, const PhotoOptions& options);
 
 }  // namespace uavip::photo
