@@ -267,7 +267,7 @@ const std::vector<double> kTargetLadder = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0
 /// One scene at one target: the chain `runs` times (median compute), the scores of the
 /// first run, its files under OUT/<scene>[_<label>]; appends its rows.
 void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs,
-                const app::Config& config, double target, const std::string& label,
+                double target, const std::string& label,
                 const std::string& home_note, const std::string& out, nlohmann::json& results,
                 std::ostringstream& md, std::ostringstream& split_md) {
   std::vector<double> times;
@@ -285,9 +285,11 @@ void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs,
   fs::create_directories(dir);
   io::writeFileAtomic((dir / "scene.json").string(),
                       io::sceneToJson(first.detect.scene).dump(1) + "\n");
-  nlohmann::json mission = io::missionToJson(plan.missions, {{"scene", p.name}});
-  mission["flight"] = io::flightToJson(plan.flight, config.flight.model);
-  io::writeFileAtomic((dir / "mission.json").string(), mission.dump(1) + "\n");
+  // Through mission.json's one writer: the camera model and targets uavip photos reads.
+  const app::Config& planned_with = first.detect.resolved.config;
+  io::writeFileAtomic((dir / "mission.json").string(),
+                      io::missionJsonText(plan.missions, plan.flight, planned_with.flight.model,
+                                          app::missionExtras(plan, planned_with, p.name)));
   const auto split = medianSplit(runs);
   nlohmann::json split_json = nlohmann::json::object();
   for (const auto& [stage, seconds] : split) split_json[stage] = seconds;
@@ -351,7 +353,7 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
   const double default_target = coverage::CoverageOptions{}.structure_target;
   const double first_target = o.target ? *o.target : default_target;
   const std::vector<Run> runs = runAt(p, d, first_target, o.runs, home_note, config);
-  reportRuns(p, d, runs, config, first_target, o.target ? "given" : "default", home_note, o.out,
+  reportRuns(p, d, runs, first_target, o.target ? "given" : "default", home_note, o.out,
              results, md, split_md);
   if (o.target) return;
   for (const double t : kTargetLadder) {
@@ -362,7 +364,7 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
               << " at target " << t << "\n";
     const std::vector<Run> more = runAt(p, d, t, o.runs - 1, home_note, config);
     one.insert(one.end(), more.begin(), more.end());
-    reportRuns(p, d, one, config, t, matched ? "matched" : "unmatched", home_note, o.out, results,
+    reportRuns(p, d, one, t, matched ? "matched" : "unmatched", home_note, o.out, results,
                md, split_md);
     return;
   }

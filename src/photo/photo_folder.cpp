@@ -25,6 +25,29 @@ std::string format(const char* fmt, Args... args) {
   return std::string(buf, static_cast<std::size_t>(std::max(0, n)));
 }
 
+/// Distance from p to the triangle abc [m] (Ericson, Real-Time Collision Detection,
+/// §5.1.5: the closest point by the Voronoi region of p).
+double pointTriangleDistance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denom = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
 /// The first finite standoff of a flyable surface [m] (NaN if none).
 double plannedStandoff(const io::MissionRecord& mission) {
   for (const auto& s : mission.surfaces) {
@@ -136,17 +159,29 @@ WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldM
   return m;
 }
 
-WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const RayCaster& mesh,
+WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const io::TriangleMesh& mesh,
                      const PhotoCamera& camera) {
   WorldMatch m;
   m.tolerance_m = std::max(0.1, 0.05 * camera.standoff_m);
-  std::vector<double> d;
-  for (const auto& p : photos) {
-    const Vec3 to = p.target - p.pose.position;
-    const RayHit hit = to.norm() > 0.0 ? mesh.cast(p.pose.position, to.normalized()) : RayHit{};
-    d.push_back(hit.hit ? (hit.point - p.target).norm() : kInf);
-    if (d.back() > m.tolerance_m) ++m.far;
+  std::vector<Aabb> boxes;
+  boxes.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    Aabb b;
+    for (const auto i : t) b.extend(mesh.vertices[i]);
+    boxes.push_back(b);
   }
+  std::vector<double> d(photos.size(), kInf);
+  parallelFor(photos.size(), hardwareThreads(), [&](std::size_t k, std::size_t /*worker*/) {
+    const Vec3& p = photos[k].target;
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const Vec3 gap = (boxes[i].min - p).cwiseMax(p - boxes[i].max).cwiseMax(0.0);
+      if (gap.norm() >= d[k]) continue;
+      const auto& t = mesh.triangles[i];
+      d[k] = std::min(d[k], pointTriangleDistance(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                                  mesh.vertices[t[2]]));
+    }
+  });
+  for (const double x : d) m.far += x > m.tolerance_m ? 1 : 0;
   m.targets = d.size();
   m.median_m = d.empty() ? 0.0 : median(d);
   return m;
@@ -304,9 +339,9 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
                               const std::string& out, const PhotoOptions& options) {
   const PhotoCamera camera = photoCamera(mission, mission_path);
   const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
-  const RayCaster caster(mesh, mesh_path);
+  const RayCaster caster(mesh, mesh_path);  // checks the indices matchMesh reads
   PhotoSummary summary;
-  summary.match = matchMesh(photos, caster, camera);
+  summary.match = matchMesh(photos, mesh, camera);
   if (!summary.match.matches())
     worldMismatch(summary.match, mission_path, mesh_path, mission.source);
   return renderFolder(photos, camera, caster, mission_path, mesh_path, out, options, summary);

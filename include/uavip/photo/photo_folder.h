@@ -79,10 +79,9 @@ struct WorldMatch {
 WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldModel& world,
                       const PhotoCamera& camera);
 
-/// The same test against a mesh (a RayCaster's faces): a target's distance is from it
-/// to the first face the ray from the camera through the target meets (infinite when
-/// none), so a target hidden behind another part of the model counts as far too.
-WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const RayCaster& mesh,
+/// The same test against a mesh: a target's distance is to the nearest triangle
+/// (exact, brute force over the triangles' boxes, on every core).
+WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const io::TriangleMesh& mesh,
                      const PhotoCamera& camera);
 
 /// The COLMAP text model (cameras.txt: one PINHOLE camera; images.txt: per photo
