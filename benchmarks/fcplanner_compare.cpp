@@ -103,13 +103,15 @@ const std::vector<Peer> kPeers = {
 
 /// Their settings as a uavip config: pinhole 640 × 480, drone radius 0.3 m, gimbal
 /// −85° to +70°, no photo overlap asked (their coverage rule has none), one sortie
-/// (no battery limit), home at their start.
-app::Config peerConfig(const Peer& p, bool with_start, double target) {
+/// (no battery limit), home at their start. `purpose` (issue 46): coverage.purpose, the
+/// purpose's own overlap instead of 0 (empty: inspection with FC-Planner's none).
+app::Config peerConfig(const Peer& p, bool with_start, double target, const std::string& purpose) {
   std::ostringstream y;
   y << "camera: {fx: 417.0467, fy: 461.0951, cx: 320, cy: 240, image_px: [640, 480], max_range_m: "
     << p.visible_range_m << "}\n"
     << "coverage: {mode: structure, standoff_m: " << p.standoff_m << ", gimbal_pitch_deg: [-85, 70]"
-    << ", structure_target: " << target << ", overlap: 0"
+    << ", structure_target: " << target
+    << (purpose.empty() ? std::string(", overlap: 0") : ", purpose: " + purpose)
     << (p.ground_z_m ? ", ground_z_m: " + std::to_string(*p.ground_z_m) : std::string()) << "}\n"
     << "uav: {inflation_radius_m: 0.3}\n"
     << "flight: {endurance_s: 1000000}\n";
@@ -239,15 +241,15 @@ struct SceneData {
 /// The chain `runs` times at `target` (the first also decides home: their start, or
 /// the lowest photo stop when it is not free); `home_note` says which.
 std::vector<Run> runAt(const Peer& p, const SceneData& d, double target, int runs,
-                       std::string& home_note, app::Config& config) {
+                       const std::string& purpose, std::string& home_note, app::Config& config) {
   home_note = "their start";
-  config = peerConfig(p, true, target);
+  config = peerConfig(p, true, target, purpose);
   std::vector<Run> out;
   try {
     out.push_back(runChain(d.raw, config));
   } catch (const InputError& e) {
     home_note = std::string("lowest photo stop (their start is not free: ") + e.what() + ")";
-    config = peerConfig(p, false, target);
+    config = peerConfig(p, false, target, purpose);
     out.push_back(runChain(d.raw, config));
   }
   for (int k = 1; k < runs; ++k) out.push_back(runChain(d.raw, config));
@@ -338,6 +340,7 @@ struct CompareOptions {
   std::optional<double> target;  ///< one fixed target instead of default + matched
   std::vector<std::string> scenes;
   int runs{3};
+  std::string purpose;  ///< coverage.purpose; empty: inspection as FC-Planner plans
 };
 
 /// One scene: the default target and the smallest target of kTargetLadder whose rule
@@ -352,17 +355,17 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
   app::Config config;
   const double default_target = coverage::CoverageOptions{}.structure_target;
   const double first_target = o.target ? *o.target : default_target;
-  const std::vector<Run> runs = runAt(p, d, first_target, o.runs, home_note, config);
+  const std::vector<Run> runs = runAt(p, d, first_target, o.runs, o.purpose, home_note, config);
   reportRuns(p, d, runs, first_target, o.target ? "given" : "default", home_note, o.out,
              results, md, split_md);
   if (o.target) return;
   for (const double t : kTargetLadder) {
-    std::vector<Run> one = runAt(p, d, t, 1, home_note, config);
+    std::vector<Run> one = runAt(p, d, t, 1, o.purpose, home_note, config);
     const bool matched = ruleA(p, d, one.front()) >= p.fc_coverage;
     if (!matched && t != kTargetLadder.back()) continue;
     std::cerr << "fcplanner_compare: " << p.name << (matched ? " matched" : " not matched even")
               << " at target " << t << "\n";
-    const std::vector<Run> more = runAt(p, d, t, o.runs - 1, home_note, config);
+    const std::vector<Run> more = runAt(p, d, t, o.runs - 1, o.purpose, home_note, config);
     one.insert(one.end(), more.begin(), more.end());
     reportRuns(p, d, one, t, matched ? "matched" : "unmatched", home_note, o.out, results,
                md, split_md);
@@ -398,17 +401,21 @@ int main(int argc, char** argv) {
         o.target = numberArg(argv[++i], "--target");
       } else if (a == "--scene" && i + 1 < argc) {
         o.scenes.emplace_back(argv[++i]);
+      } else if (a == "--purpose" && i + 1 < argc) {
+        o.purpose = argv[++i];
       } else if (a == "--runs" && i + 1 < argc) {
         o.runs = std::max(1, static_cast<int>(numberArg(argv[++i], "--runs")));
       } else if (a == "-h" || a == "--help") {
         std::cout
             << "usage: uavip_fcplanner_compare [DATA_DIR] -o OUT [--target T] [--scene NAME]... "
-               "[--runs N]\n"
+               "[--runs N] [--purpose P]\n"
                "  without --target: the default coverage.structure_target, and the smallest "
                "of 0.90 … 0.99 whose rule (a) reaches FC-Planner's\n"
                "  --target T: that coverage.structure_target only\n"
                "  --scene NAME: MBS, christ or pipe (default: all three)\n"
                "  --runs N: runs of the chain per target, the median is reported (default 3)\n"
+               "  --purpose P: coverage.purpose (inspection, mosaic, reconstruction) with its "
+               "own overlap (default: inspection, no overlap, as FC-Planner)\n"
                "  DATA_DIR holds fcplanner_{MBS,MBSmore,christ,christmore,pipe}.pcd (default "
                "../shared/data/real)\n";
         return 0;

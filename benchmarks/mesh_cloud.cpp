@@ -6,7 +6,7 @@
 //   uavip_mesh_cloud CLOUD -o MESH.ply [--radius-factor F] [--k K]
 //
 // Normals: PCL's NormalEstimation over the K nearest points (default 20). The search
-// radius is F (default 3) times the cloud's median nearest-neighbour spacing. The mesh
+// radius is F (default 6) times the cloud's median nearest-neighbour spacing. The mesh
 // is written as a binary PLY with faces (read back by uavip as a mesh) in the cloud's
 // file coordinates, as read (input.scale 1, not recentred: the FC-Planner clouds are small).
 
@@ -48,7 +48,7 @@ double medianSpacing(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud) {
 
 int main(int argc, char** argv) {
   std::string cloud_path, out;
-  double radius_factor = 3.0;
+  double radius_factor = 6.0;
   int k = 20;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
