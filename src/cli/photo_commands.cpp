@@ -2,6 +2,7 @@
 // truth or a mesh of the structure, with the COLMAP model and poses beside them
 // (photo/photo_folder.h).
 
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "uavip/core/parallel.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/io/json_reader.h"
 #include "uavip/io/mesh_reader.h"
 #include "uavip/photo/photo_folder.h"
@@ -48,23 +50,55 @@ void printSummary(const photo::PhotoSummary& s, const std::string& out, const Ve
   }
 }
 
-/// A mesh in the mission's frame: the file's coordinates times input.scale, less
-/// source_offset_m, as scene.json records them for the input detect read (the same
-/// file, or a mesh of it in the same coordinates). No scene.json: the file's own frame.
-io::TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::string& scene_path) {
-  double scale = 1.0;
-  Vec3 offset = Vec3::Zero();
-  if (std::filesystem::exists(scene_path)) {
-    const io::JsonReader reader(scene_path);
-    const nlohmann::json j = reader.load();
-    if (j.contains("input_read") && j.at("input_read").contains("scale"))
-      scale = reader.number(j.at("input_read").at("scale"), "input_read.scale");
-    if (j.contains("source_offset_m"))
-      offset = reader.vec3(j.at("source_offset_m"), "source_offset_m", false);
+/// How detect read its input, as scene.json records it: input.scale, drop_classes and
+/// source_offset_m (defaults when there is no scene.json).
+struct InputFrame {
+  io::CloudReadOptions options;
+  Vec3 offset{Vec3::Zero()};  ///< subtracted from the file's (scaled) coordinates [m]
+};
+
+InputFrame inputFrame(const std::string& scene_path) {
+  InputFrame f;
+  if (!std::filesystem::exists(scene_path)) return f;
+  const io::JsonReader reader(scene_path);
+  const nlohmann::json j = reader.load();
+  if (j.contains("input_read")) {
+    const nlohmann::json& r = j.at("input_read");
+    if (r.contains("scale")) f.options.scale = reader.number(r.at("scale"), "input_read.scale");
+    if (r.contains("drop_classes") && r.at("drop_classes").is_array())
+      f.options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
   }
-  io::TriangleMesh mesh = io::readMesh(mesh_path, scale);
-  for (Vec3& p : mesh.vertices) p -= offset;
+  if (j.contains("source_offset_m"))
+    f.offset = reader.vec3(j.at("source_offset_m"), "source_offset_m", false);
+  return f;
+}
+
+/// A mesh in the mission's frame: the file's coordinates times input.scale, less
+/// source_offset_m (inputFrame). No scene.json: the file's own frame.
+io::TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::string& scene_path) {
+  const InputFrame frame = inputFrame(scene_path);
+  io::TriangleMesh mesh = io::readMesh(mesh_path, frame.options.scale);
+  for (Vec3& p : mesh.vertices) p -= frame.offset;
   return mesh;
+}
+
+/// A cloud in the mission's frame, read as detect read it (inputFrame), with its colours.
+photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path, const std::string& scene_path,
+                                        std::string& colour_source) {
+  const InputFrame frame = inputFrame(scene_path);
+  io::CloudReadInfo info;
+  photo::PreviewCloud cloud;
+  cloud.points = io::loadCloud(cloud_path, frame.options, &info);
+  const Vec3 shift = info.origin_m - frame.offset;  // the reader's origin less the scene's
+  if (shift != Vec3::Zero()) {
+    for (Vec3& p : cloud.points) p += shift;
+  }
+  io::PointColours colours = io::loadCloudColours(cloud_path);
+  if (colours.rgb.size() == cloud.points.size()) {
+    cloud.rgb = std::move(colours.rgb);
+    colour_source = colours.source;
+  }
+  return cloud;
 }
 
 }  // namespace
@@ -97,10 +131,45 @@ int renderMeshPhotos(const std::string& mission_path, const std::string& mesh_pa
   return kExitOk;
 }
 
+/// `uavip photos` previewed from a measured cloud (photo::writePreviewFolder): splats
+/// 2 x the cloud's median spacing wide unless `splat_m` > 0, points up to
+/// `max_depth_m` (0: 4 x the standoff, at least 10 m).
+int renderCloudPreview(const std::string& mission_path, const std::string& cloud_path,
+                       std::string scene_path, double splat_m, double max_depth_m,
+                       const std::string& out, int threads, const Verbosity& v) {
+  const io::MissionRecord mission = io::loadMission(mission_path);
+  if (scene_path.empty())
+    scene_path = (std::filesystem::path(mission_path).parent_path() / "scene.json").string();
+  io::requireDistinctOutputs({mission_path, cloud_path}, {out + "/photos.json"});
+  std::string colour_source;
+  photo::PreviewCloud cloud = cloudInMissionFrame(cloud_path, scene_path, colour_source);
+  cloud.splat_m = splat_m > 0.0 ? splat_m : 2.0 * photo::medianSpacing(cloud.points);
+  if (!(cloud.splat_m > 0.0)) cloud.splat_m = 0.01;  // every point in one place
+  const double standoff = photo::photoCamera(mission, mission_path).standoff_m;
+  cloud.max_depth_m = max_depth_m > 0.0 ? max_depth_m : std::max(10.0, 4.0 * standoff);
+  if (v.showProgress())
+    std::cerr << "uavip: preview from " << cloud.points.size() << " points ("
+              << (colour_source.empty() ? std::string("height ramp") : colour_source)
+              << "), splats " << formatNumber(cloud.splat_m, 3) << " m, up to "
+              << formatNumber(cloud.max_depth_m, 3) << " m\n";
+  printSummary(photo::writePreviewFolder(mission, mission_path, cloud, cloud_path, colour_source,
+                                         out, photoOptions(threads, v)),
+               out, v);
+  return kExitOk;
+}
+
+/// True for a scenario file (.yaml, .yml): --world is then the simulator's world.
+bool isScenarioFile(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".yaml" || ext == ".yml";
+}
+
 /// Options of photos, kept alive until dispatch.
 struct PhotoArgs {
   std::string mission, world, scene, out;
   int threads{0};
+  double splat_m{0.0}, max_depth_m{0.0};
 };
 
 }  // namespace
@@ -113,19 +182,28 @@ void addPhotoCommands(CLI::App& cli, CommandRegistry& registry) {
   const Verbosity& v = registry.verbosity();
   photos
       ->add_option("--world", a->world,
-                   "Scenario YAML whose world the mission was planned on, or a mesh of the "
+                   "Scenario YAML whose world the mission was planned on; a mesh of the "
                    "structure (.stl, .obj, .ply with faces, .gltf, .glb, ...) in the coordinates "
-                   "of the input detect read")
+                   "of the input detect read; or a cloud (.pcd, .ply, .las, .xyz): a preview "
+                   "drawn from its points")
       ->required();
   photos->add_option("--scene", a->scene,
-                     "A mesh's frame: the scene.json whose input.scale and source_offset_m "
-                     "apply (default: beside the mission)");
+                     "A mesh's or cloud's frame: the scene.json whose input.scale and "
+                     "source_offset_m apply (default: beside the mission)");
+  photos->add_option("--splat", a->splat_m,
+                     "Cloud preview: a point's drawn width [m] (default 2 x the median spacing)");
+  photos->add_option("--max-depth", a->max_depth_m,
+                     "Cloud preview: points farther from the camera are not drawn [m] (default 4 x "
+                     "the standoff, at least 10)");
   photos->add_option("-o,--out", a->out, "Output folder (images/, sparse/, poses.csv, photos.json)")
       ->required();
   photos->add_option("--threads", a->threads, "Worker threads (default: every core)");
   registry.add(photos, [a = a, &v] {
     if (io::isMeshFile(a->world))
       return renderMeshPhotos(a->mission, a->world, a->scene, a->out, a->threads, v);
+    if (!isScenarioFile(a->world))
+      return renderCloudPreview(a->mission, a->world, a->scene, a->splat_m, a->max_depth_m, a->out,
+                                a->threads, v);
     const app::Scenario scenario = app::loadScenario(a->world);
     return renderPlanPhotos(a->mission, scenario.world, a->world, a->out, a->threads, v);
   });

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <initializer_list>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -138,6 +140,107 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
       }
       out.push_back(p);
     }
+  }
+  return out;
+}
+
+namespace {
+
+/// The field named one of `names` (first found), or null.
+const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob,
+                                    std::initializer_list<const char*> names) {
+  for (const char* name : names) {
+    for (const auto& f : blob.fields) {
+      if (f.name == name && f.datatype >= pcl::PCLPointField::INT8 &&
+          f.datatype <= pcl::PCLPointField::FLOAT64)
+        return &f;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob) {
+  PointColours out;
+  const pcl::PCLPointField* xyz[3] = {findField(blob, {"x"}), findField(blob, {"y"}),
+                                      findField(blob, {"z"})};
+  const pcl::PCLPointField* packed = findField(blob, {"rgb", "rgba"});
+  const pcl::PCLPointField* rgb[3] = {findField(blob, {"red", "r"}), findField(blob, {"green", "g"}),
+                                      findField(blob, {"blue", "b"})};
+  const bool channels = rgb[0] != nullptr && rgb[1] != nullptr && rgb[2] != nullptr;
+  const pcl::PCLPointField* intensity =
+      findField(blob, {"intensity", "Intensity", "scalar_Intensity", "i"});
+  if (xyz[0] == nullptr || xyz[1] == nullptr || xyz[2] == nullptr) return out;
+  // A packed colour is 4 bytes; an ascii PCD's are parsed as floats and stored in double.
+  if (packed != nullptr && packed->datatype != pcl::PCLPointField::FLOAT32 &&
+      packed->datatype != pcl::PCLPointField::FLOAT64 &&
+      packed->datatype != pcl::PCLPointField::UINT32 &&
+      packed->datatype != pcl::PCLPointField::INT32)
+    packed = nullptr;
+  if (packed == nullptr && !channels && intensity == nullptr) return out;
+  const std::size_t sizes[9] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+  for (const auto* f : {xyz[0], xyz[1], xyz[2], packed, rgb[0], rgb[1], rgb[2], intensity}) {
+    if (f != nullptr && f->offset + sizes[f->datatype] > blob.point_step) return out;
+  }
+  const std::size_t width = blob.width, height = blob.height;
+  if (height == 0 || width == 0 || blob.row_step < width * blob.point_step ||
+      blob.data.size() < height * blob.row_step)
+    return out;
+  // The records of the points fromBlob keeps (finite x y z).
+  std::vector<const std::uint8_t*> kept;
+  kept.reserve(width * height);
+  for (std::size_t r = 0; r < height; ++r) {
+    for (std::size_t c = 0; c < width; ++c) {
+      const std::uint8_t* at = blob.data.data() + r * blob.row_step + c * blob.point_step;
+      bool finite = true;
+      for (const auto* f : xyz) finite = finite && std::isfinite(fieldValue(at + f->offset, f->datatype));
+      if (finite) kept.push_back(at);
+    }
+  }
+  out.rgb.reserve(kept.size());
+  if (packed != nullptr) {
+    out.source = packed->name;
+    for (const std::uint8_t* at : kept) {
+      std::uint32_t v = 0;
+      if (packed->datatype == pcl::PCLPointField::FLOAT64) {
+        const auto f = static_cast<float>(fieldValue(at + packed->offset, packed->datatype));
+        std::memcpy(&v, &f, 4);
+      } else {
+        std::memcpy(&v, at + packed->offset, 4);
+      }
+      out.rgb.push_back({static_cast<std::uint8_t>((v >> 16) & 0xff),
+                         static_cast<std::uint8_t>((v >> 8) & 0xff),
+                         static_cast<std::uint8_t>(v & 0xff)});
+    }
+    return out;
+  }
+  // Channels or intensity: scaled by the 1st and 99th percentiles (16-bit channels and
+  // any intensity range alike).
+  const int n = channels ? 3 : 1;
+  std::vector<double> all;
+  all.reserve(kept.size() * static_cast<std::size_t>(n));
+  for (const std::uint8_t* at : kept) {
+    for (int a = 0; a < n; ++a) {
+      const auto* f = channels ? rgb[a] : intensity;
+      all.push_back(fieldValue(at + f->offset, f->datatype));
+    }
+  }
+  std::vector<double> sorted = all;
+  std::sort(sorted.begin(), sorted.end());
+  const double lo = channels ? 0.0 : sorted[sorted.size() / 100];
+  double hi = sorted[sorted.size() - 1 - sorted.size() / 100];
+  if (channels) hi = hi > 255.0 ? 65535.0 : 255.0;
+  const double span = hi > lo ? hi - lo : 1.0;
+  const auto byte = [&](double v) {
+    return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp((v - lo) / span, 0.0, 1.0)));
+  };
+  out.source = channels ? rgb[0]->name + "," + rgb[1]->name + "," + rgb[2]->name : intensity->name;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    if (channels)
+      out.rgb.push_back({byte(all[3 * i]), byte(all[3 * i + 1]), byte(all[3 * i + 2])});
+    else
+      out.rgb.push_back({byte(all[i]), byte(all[i]), byte(all[i])});
   }
   return out;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "uavip/core/types.h"
+#include "uavip/io/cloud_io.h"
 
 namespace uavip::io {
 
@@ -57,6 +58,9 @@ std::vector<std::string> headerWords(const std::string& line);
 /// An organized cloud (height > 1, a sensor frame) marks missing returns with NaN:
 /// those are skipped. Any other non-finite point is an error naming its index.
 PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path);
+
+/// The colours of the points fromBlob keeps (io::loadCloudColours).
+PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob);
 
 /// Throws InputError when the cloud spans more than kMaxCloudExtentM on an axis,
 /// naming the point farthest (on one axis) from the per-axis median of the cloud:

@@ -299,6 +299,12 @@ CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& opt
   return info;
 }
 
+PointColours loadCloudColours(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  if ((ext != ".pcd" && ext != ".ply") || isMeshFile(path)) return {};
+  return coloursFromBlob(readBlob(path, ext));
+}
+
 void setPclConsole(bool verbose) {
   pcl::console::setVerbosityLevel(verbose ? pcl::console::L_WARN : pcl::console::L_ALWAYS);
 }

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
@@ -239,29 +241,35 @@ std::string posesCsv(const std::vector<PlannedPhoto>& photos) {
 
 namespace {
 
+/// photos.json; `look` is how the pixels were made ({"texture": …} or {"preview": …}).
 std::string photosJson(const std::string& mission_path, const std::string& world_path,
-                       const PhotoCamera& camera, const TextureOptions& texture,
+                       const PhotoCamera& camera, const nlohmann::json& look,
                        std::size_t photos) {
   const auto& k = camera.intrinsics;
-  const nlohmann::json j = {{"mission", mission_path},
-                            {"world", world_path},
-                            {"camera",
-                             {{"width_px", k.width_px},
-                              {"height_px", k.height_px},
-                              {"fx_px", k.fx_px},
-                              {"fy_px", k.fy_px},
-                              {"cx_px", k.cx_px},
-                              {"cy_px", k.cy_px},
-                              {"standoff_m", camera.standoff_m},
-                              {"gsd_m_per_px", camera.gsd_m_per_px}}},
-                            {"texture",
-                             {{"seed", texture.seed},
-                              {"finest_feature_px", kFinestFeaturePx},
-                              {"finest_feature_m", texture.finest_feature_m},
-                              {"octaves", texture.octaves}}},
-                            {"photos", photos},
-                            {"frame", "local ENU"}};
+  nlohmann::json j = {{"mission", mission_path},
+                      {"world", world_path},
+                      {"camera",
+                       {{"width_px", k.width_px},
+                        {"height_px", k.height_px},
+                        {"fx_px", k.fx_px},
+                        {"fy_px", k.fy_px},
+                        {"cx_px", k.cx_px},
+                        {"cy_px", k.cy_px},
+                        {"standoff_m", camera.standoff_m},
+                        {"gsd_m_per_px", camera.gsd_m_per_px}}}};
+  j.update(look);
+  j["photos"] = photos;
+  j["frame"] = "local ENU";
   return j.dump(2) + "\n";
+}
+
+/// The `texture` block of photos.json.
+nlohmann::json textureJson(const TextureOptions& texture) {
+  return {{"texture",
+           {{"seed", texture.seed},
+            {"finest_feature_px", kFinestFeaturePx},
+            {"finest_feature_m", texture.finest_feature_m},
+            {"octaves", texture.octaves}}}};
 }
 
 /// The one-line refusal when the mission was planned on another world.
@@ -280,16 +288,15 @@ std::string photosJson(const std::string& mission_path, const std::string& world
 
 namespace {
 
-/// Renders every photo against `caster` and writes the folder (writePhotoFolder).
-PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCamera& camera,
-                          const RayCaster& caster, const std::string& mission_path,
-                          const std::string& world_path, const std::string& out,
-                          const PhotoOptions& options, PhotoSummary summary) {
-  TextureOptions texture;
-  texture.seed = options.texture_seed;
-  texture.finest_feature_m = kFinestFeaturePx * camera.gsd_m_per_px;
-  const SurfaceTexture surface_texture(texture);
+/// Draws one photo.
+using PhotoDrawer = std::function<Image(const PhotoPose&)>;
 
+/// Renders every photo with `draw` and writes the folder (writePhotoFolder).
+PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCamera& camera,
+                          const PhotoDrawer& draw, const nlohmann::json& look,
+                          const std::string& mission_path, const std::string& world_path,
+                          const std::string& out, const PhotoOptions& options,
+                          PhotoSummary summary) {
   const auto t0 = SteadyClock::now();
   io::StagedOutputs staged;
   const int threads = std::max(1, options.threads);
@@ -298,8 +305,7 @@ PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCa
     const std::size_t n = std::min(batch, photos.size() - first);
     std::vector<std::string> png(n);
     parallelFor(n, threads, [&](std::size_t i, std::size_t /*worker*/) {
-      png[i] = encodePng(
-          renderPhoto(caster, surface_texture, camera.intrinsics, photos[first + i].pose));
+      png[i] = encodePng(draw(photos[first + i].pose));
     });
     for (std::size_t i = 0; i < n; ++i)
       staged.write(out + "/images/" + photos[first + i].stop_id + ".png", png[i]);
@@ -314,9 +320,32 @@ PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCa
   staged.write(out + "/sparse/points3D.txt", colmapPoints());
   staged.write(out + "/poses.csv", posesCsv(photos));
   staged.write(out + "/photos.json",
-               photosJson(mission_path, world_path, camera, texture, photos.size()));
+               photosJson(mission_path, world_path, camera, look, photos.size()));
   staged.commit();
   return summary;
+}
+
+/// The world texture at the camera's GSD (texture.h).
+TextureOptions textureFor(const PhotoCamera& camera, const PhotoOptions& options) {
+  TextureOptions texture;
+  texture.seed = options.texture_seed;
+  texture.finest_feature_m = kFinestFeaturePx * camera.gsd_m_per_px;
+  return texture;
+}
+
+/// Renders against `caster` with the world texture.
+PhotoSummary renderTextured(const std::vector<PlannedPhoto>& photos, const PhotoCamera& camera,
+                            const RayCaster& caster, const std::string& mission_path,
+                            const std::string& world_path, const std::string& out,
+                            const PhotoOptions& options, const PhotoSummary& summary) {
+  const TextureOptions texture = textureFor(camera, options);
+  const SurfaceTexture surface_texture(texture);
+  return renderFolder(
+      photos, camera,
+      [&](const PhotoPose& pose) {
+        return renderPhoto(caster, surface_texture, camera.intrinsics, pose);
+      },
+      textureJson(texture), mission_path, world_path, out, options, summary);
 }
 
 }  // namespace
@@ -331,7 +360,7 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
   if (!summary.match.matches())
     worldMismatch(summary.match, mission_path, world_path, mission.source);
   const RayCaster caster(world);
-  return renderFolder(photos, camera, caster, mission_path, world_path, out, options, summary);
+  return renderTextured(photos, camera, caster, mission_path, world_path, out, options, summary);
 }
 
 PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
@@ -344,7 +373,50 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
   summary.match = matchMesh(photos, mesh, camera);
   if (!summary.match.matches())
     worldMismatch(summary.match, mission_path, mesh_path, mission.source);
-  return renderFolder(photos, camera, caster, mission_path, mesh_path, out, options, summary);
+  return renderTextured(photos, camera, caster, mission_path, mesh_path, out, options, summary);
+}
+
+WorldMatch matchCloud(const std::vector<PlannedPhoto>& photos, const PointList& points,
+                      const PhotoCamera& camera) {
+  WorldMatch m;
+  m.tolerance_m = std::max(0.1, 0.05 * camera.standoff_m);
+  if (points.empty()) {
+    m.targets = m.far = photos.size();
+    m.median_m = kInf;
+    return m;
+  }
+  const NeighbourIndex index(points);
+  std::vector<double> d;
+  for (const auto& p : photos) {
+    const int i = index.nearestTo(p.target);
+    d.push_back(i < 0 ? kInf : (points[static_cast<std::size_t>(i)] - p.target).norm());
+    if (d.back() > m.tolerance_m) ++m.far;
+  }
+  m.targets = d.size();
+  m.median_m = d.empty() ? 0.0 : median(d);
+  return m;
+}
+
+PhotoSummary writePreviewFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                                const PreviewCloud& cloud, const std::string& cloud_path,
+                                const std::string& colour_source, const std::string& out,
+                                const PhotoOptions& options) {
+  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
+  PhotoSummary summary;
+  summary.match = matchCloud(photos, cloud.points, camera);
+  if (!summary.match.matches())
+    worldMismatch(summary.match, mission_path, cloud_path, mission.source);
+  const nlohmann::json look = {
+      {"preview",
+       {{"points", cloud.points.size()},
+        {"colour", colour_source.empty() ? std::string("height") : colour_source},
+        {"splat_m", cloud.splat_m},
+        {"max_depth_m", cloud.max_depth_m}}}};
+  return renderFolder(
+      photos, camera,
+      [&](const PhotoPose& pose) { return renderPointPreview(cloud, camera.intrinsics, pose); },
+      look, mission_path, cloud_path, out, options, summary);
 }
 
 }  // namespace uavip::photo

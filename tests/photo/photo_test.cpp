@@ -3,15 +3,19 @@
 // COLMAP model re-projecting the targets, PNG bytes independent of the thread count
 // and decoding to the rendered pixels, a world that does not match refused; a mesh:
 // rays against a brute-force Möller–Trumbore over every triangle, the world as
-// triangles rendering as its rectangles do; and the CLI end to end (run --photos,
-// photos against another world, photos against the mesh a mission was detected from).
+// triangles rendering as its rectangles do; a cloud preview: splats where the
+// projection puts them, nearest first, a PCD's colours in the order of its points; and
+// the CLI end to end (run --photos, photos against another world, against the mesh a
+// mission was detected from, a preview from the cloud it was detected from).
 
 #include <gtest/gtest.h>
 #include <png.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -24,6 +28,8 @@
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/text.h"
+#include "uavip/io/cloud_io.h"
+#include "uavip/io/mission_json.h"
 #include "uavip/photo/photo_folder.h"
 
 namespace {
@@ -523,6 +529,144 @@ TEST(PhotosCli, AgainstTheMeshAMissionWasDetectedFrom) {
                                           (dir / "moved.obj").string() + " -o " + d + "/bad");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_FALSE(fs::exists(d + "/bad/photos.json"));
+  fs::remove_all(dir);
+}
+
+TEST(PointPreview, SplatsLandWhereProjectionPredictsNearestFirst) {
+  const auto k = smallCamera();
+  const PhotoPose pose = photo::poseFromView(viewAt(Vec3(0, 0, 0), -Vec3::UnitY(), 2.0));
+  photo::PreviewCloud cloud;
+  // Two points on the optical axis (the far one first in the list), one off it.
+  cloud.points = {Vec3(0.0, 1.0, 0.0), Vec3(0.0, 0.5, 0.0), Vec3(0.3, 0.0, 0.2)};
+  cloud.rgb = {{{200, 0, 0}}, {{0, 200, 0}}, {{0, 0, 200}}};
+  cloud.splat_m = 0.02;
+  cloud.max_depth_m = 10.0;
+  const photo::Image img = photo::renderPointPreview(cloud, k, pose);
+  const auto at = [&](const Vec3& p) {
+    const Eigen::Vector3d px = photo::projectToImage(k, pose, p);
+    const std::size_t i = static_cast<std::size_t>(std::floor(px.y())) * img.width +
+                          static_cast<std::size_t>(std::floor(px.x()));
+    return std::array<int, 3>{img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]};
+  };
+  // The nearer green point (depth 1.5 m) hides the red one behind it (3 m).
+  const auto centre = at(Vec3(0.0, 0.5, 0.0));
+  EXPECT_EQ(centre[0], 0);
+  EXPECT_GT(centre[1], 150);
+  const auto off = at(Vec3(0.3, 0.0, 0.2));
+  EXPECT_GT(off[2], 150);
+  EXPECT_EQ(off[0], 0);
+  // A pixel far from every splat is sky.
+  EXPECT_EQ(img.rgb[0], photo::kSkyRgb[0]);
+  // Beyond max_depth_m nothing is drawn.
+  cloud.max_depth_m = 1.0;
+  const photo::Image none = photo::renderPointPreview(cloud, k, pose);
+  for (std::size_t i = 0; i < none.rgb.size(); i += 3) ASSERT_EQ(none.rgb[i], photo::kSkyRgb[0]);
+}
+
+TEST(PointPreview, ColoursOfAPcdInTheOrderOfItsPoints) {
+  const fs::path dir = tempDir("colours");
+  fs::create_directories(dir);
+  // rgb packed in a float (PCL's convention), one point without a return (organized).
+  const auto packed = [](std::uint32_t r, std::uint32_t g, std::uint32_t b) {
+    const std::uint32_t v = (r << 16) | (g << 8) | b;
+    float f;
+    std::memcpy(&f, &v, 4);
+    return f;
+  };
+  {
+    std::ofstream pcd(dir / "c.pcd");
+    pcd << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\n"
+           "COUNT 1 1 1 1\nWIDTH 3\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 6\nDATA ascii\n";
+    const std::uint32_t rgb[6][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255},
+                                     {10, 20, 30}, {0, 0, 0}, {200, 100, 50}};
+    for (int i = 0; i < 6; ++i) {
+      pcd << (i == 4 ? std::string("nan nan nan") : std::to_string(i) + " 0 0") << " "
+          << formatNumber(packed(rgb[i][0], rgb[i][1], rgb[i][2]), 12) << "\n";
+    }
+  }
+  const PointList points = io::loadCloud((dir / "c.pcd").string());
+  const io::PointColours c = io::loadCloudColours((dir / "c.pcd").string());
+  ASSERT_EQ(points.size(), 5U);
+  ASSERT_EQ(c.rgb.size(), points.size());
+  EXPECT_EQ(c.source, "rgb");
+  EXPECT_EQ(c.rgb[0], (std::array<std::uint8_t, 3>{255, 0, 0}));
+  EXPECT_EQ(c.rgb[3], (std::array<std::uint8_t, 3>{10, 20, 30}));
+  EXPECT_EQ(c.rgb[4], (std::array<std::uint8_t, 3>{200, 100, 50}));  // after the skipped one
+  EXPECT_NEAR(points[4].x(), 5.0, 1e-9);
+  // Intensity only: grey, stretched; x y z text: no colour.
+  std::ofstream(dir / "i.pcd")
+      << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+         "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n"
+         "0 0 0 100\n1 0 0 3000\n";
+  const io::PointColours i = io::loadCloudColours((dir / "i.pcd").string());
+  ASSERT_EQ(i.rgb.size(), 2U);
+  EXPECT_EQ(i.rgb[0][0], 0);
+  EXPECT_EQ(i.rgb[1][0], 255);
+  std::ofstream(dir / "p.xyz") << "0 0 0\n1 1 1\n";
+  EXPECT_TRUE(io::loadCloudColours((dir / "p.xyz").string()).rgb.empty());
+  fs::remove_all(dir);
+}
+
+TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
+  const fs::path dir = tempDir("preview");
+  fs::create_directories(dir);
+  const fs::path scenario = dir / "small_wall.yaml";
+  std::ofstream(scenario)
+      << "name: small_wall\n"
+         "world:\n"
+         "  - {type: plane, name: wall, corner: [0.0, 0.0, 0.5], edge_u: [2.0, 0.0, 0.0], "
+         "edge_v: [0.0, 0.0, 1.5]}\n"
+         "sensing: {mode: sample, spacing_m: 0.05, noise_sigma_m: 0.005, outlier_fraction: 0.0, "
+         "seed: 3, viewpoint: [1.0, -4.0, 1.2]}\n"
+         "perception: {min_area_m2: 1.0}\n"
+         "camera: {fx: 200, fy: 200, cx: 80, cy: 60, image_px: [160, 120], gsd_mm_per_px: 5}\n";
+  const std::string d = (dir / "out").string();
+  const auto run = uavip::cli_test::uavip("run " + scenario.string() + " -q --no-views -o " + d);
+  ASSERT_EQ(run.code, 0) << run.out;
+  const auto preview = uavip::cli_test::uavip("photos " + d + "/mission.json --world " + d +
+                                              "/cloud_clean.pcd -q -o " + d + "/preview");
+  ASSERT_EQ(preview.code, 0) << preview.out;
+  const std::string json = uavip::cli_test::slurp(d + "/preview/photos.json");
+  EXPECT_NE(json.find("\"preview\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"height\""), std::string::npos) << json;  // a PCD without colour
+  // Against the truth (the wall: x in [0, 2], z in [0.5, 2] on y = 0): pixels whose ray
+  // meets the wall well inside show a point, pixels whose ray passes well clear show sky.
+  const io::MissionRecord mission = io::loadMission(d + "/mission.json");
+  const photo::PhotoCamera cam = photo::photoCamera(mission, d + "/mission.json");
+  std::size_t images = 0, inside = 0, inside_drawn = 0, outside = 0, outside_sky = 0;
+  for (const auto& p : photo::plannedPhotos(mission, cam, d + "/mission.json")) {
+    int w = 0, h = 0;
+    const auto rgb = decodePng(uavip::cli_test::slurp(d + "/preview/images/" + p.stop_id + ".png"),
+                               &w, &h);
+    ASSERT_EQ(w, cam.intrinsics.width_px);
+    for (int y = 0; y < h; y += 3) {
+      for (int x = 0; x < w; x += 3) {
+        const Vec3 ray = photo::pixelRay(cam.intrinsics, p.pose, x + 0.5, y + 0.5);
+        const double t = std::abs(ray.y()) > 1e-9 ? -p.pose.position.y() / ray.y() : -1.0;
+        const Vec3 hit = p.pose.position + t * ray;
+        const bool in = t > 0 && hit.x() > 0.1 && hit.x() < 1.9 && hit.z() > 0.6 && hit.z() < 1.9;
+        const bool out = t <= 0 || hit.x() < -0.2 || hit.x() > 2.2 || hit.z() < 0.3 || hit.z() > 2.2;
+        const std::size_t c = 3 * (static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
+        const bool sky = rgb[c] == photo::kSkyRgb[0] && rgb[c + 1] == photo::kSkyRgb[1] &&
+                         rgb[c + 2] == photo::kSkyRgb[2];
+        inside += in ? 1 : 0;
+        inside_drawn += in && !sky ? 1 : 0;
+        outside += out ? 1 : 0;
+        outside_sky += out && sky ? 1 : 0;
+      }
+    }
+    ++images;
+  }
+  EXPECT_GT(inside, 1000U);
+  EXPECT_GE(inside_drawn * 100, inside * 95) << inside_drawn << " of " << inside;
+  EXPECT_GE(outside_sky * 1000, outside * 995) << outside_sky << " of " << outside;
+  EXPECT_GT(images, 0U);
+  // A cloud elsewhere: refused, nothing written.
+  std::ofstream(dir / "far.xyz") << "50 50 50\n51 50 50\n50 51 50\n";
+  const auto bad = uavip::cli_test::uavip("photos " + d + "/mission.json --world " +
+                                          (dir / "far.xyz").string() + " -o " + d + "/bad");
+  EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_FALSE(fs::exists(d + "/bad/photos.json"));
   fs::remove_all(dir);
 }

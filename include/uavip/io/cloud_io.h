@@ -4,6 +4,7 @@
 /// ("x y z" per line, extra columns ignored, '#' comments); triangle meshes are read
 /// as the points sampled on their surface (io/mesh_reader.h).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -91,6 +92,19 @@ bool farFromOrigin(const Vec3& lo, const Vec3& hi);
 /// 1 % of the points lie far from it, else pointing at input.scale).
 PointList loadCloud(const std::string& path, const CloudReadOptions& options = {},
                     CloudReadInfo* info = nullptr);
+
+/// What colour a cloud file gives its points (for a preview of photos, uavip photos).
+struct PointColours {
+  std::vector<std::array<std::uint8_t, 3>> rgb;  ///< one per point; empty: the file has none
+  std::string source;  ///< the field(s) read: "rgb", "red,green,blue", "intensity", ...
+};
+
+/// The colour of every point loadCloud returns for `path`, in the same order: a PCD or
+/// PLY file's packed rgb/rgba or its red, green, blue fields (16-bit ones scaled), else
+/// its intensity as grey (stretched between its 1st and 99th percentiles). Empty when
+/// the file has none, or is not PCD/PLY (LAS, text and meshes are not read for colour).
+/// Throws InputError like loadCloud for an unreadable file.
+PointColours loadCloudColours(const std::string& path);
 
 /// Receives one chunk of points [m] of a streamed cloud.
 using CloudChunkSink = std::function<void(const PointList& points)>;

@@ -23,6 +23,7 @@
 #include "uavip/core/types.h"
 #include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/io/mission_json.h"
+#include "uavip/photo/point_preview.h"
 #include "uavip/photo/ray_caster.h"
 #include "uavip/photo/renderer.h"
 #include "uavip/sim/world_model.h"
@@ -84,6 +85,10 @@ WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldM
 WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const io::TriangleMesh& mesh,
                      const PhotoCamera& camera);
 
+/// The same test against a measured cloud: a target's distance is to the nearest point.
+WorldMatch matchCloud(const std::vector<PlannedPhoto>& photos, const PointList& points,
+                      const PhotoCamera& camera);
+
 /// The COLMAP text model (cameras.txt: one PINHOLE camera; images.txt: per photo
 /// IMAGE_ID QW QX QY QZ TX TY TZ 1 NAME, world to camera, and an empty points line;
 /// points3D.txt: the header only).
@@ -122,5 +127,14 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
 PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
                               const io::TriangleMesh& mesh, const std::string& mesh_path,
                               const std::string& out, const PhotoOptions& options);
+
+/// A preview of the photos drawn from a measured cloud in the mission's frame
+/// (point_preview.h; `colour_source` names the file's colour fields, empty for the
+/// height ramp), the same folder with a `preview` block in photos.json instead of
+/// `texture`. Checked by matchCloud; throws InputError like writePhotoFolder.
+PhotoSummary writePreviewFolder(const io::MissionRecord& mission, const std::string& mission_path,
+                                const PreviewCloud& cloud, const std::string& cloud_path,
+                                const std::string& colour_source, const std::string& out,
+                                const PhotoOptions& options);
 
 }  // namespace uavip::photo
