@@ -379,7 +379,7 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
 WorldMatch matchCloud(const std::vector<PlannedPhoto>& photos, const PointList& points,
                       const PhotoCamera& camera) {
   WorldMatch m;
-  m.tolerance_m = std::max(0.1, 0.05 * camera.standoff_m);
+  m.tolerance_m = std::max({0.1, 0.05 * camera.standoff_m, 3.0 * medianSpacing(points)});
   if (points.empty()) {
     m.targets = m.far = photos.size();
     m.median_m = kInf;

@@ -85,7 +85,9 @@ WorldMatch matchWorld(const std::vector<PlannedPhoto>& photos, const sim::WorldM
 WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const io::TriangleMesh& mesh,
                      const PhotoCamera& camera);
 
-/// The same test against a measured cloud: a target's distance is to the nearest point.
+/// The same test against a measured cloud: a target's distance is to the nearest point,
+/// the tolerance at least 3 × the cloud's median spacing (a stop aims at its surface's
+/// plane, which passes between the points of a sparse scan).
 WorldMatch matchCloud(const std::vector<PlannedPhoto>& photos, const PointList& points,
                       const PhotoCamera& camera);
 
