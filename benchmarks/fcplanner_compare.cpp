@@ -268,10 +268,9 @@ const std::vector<double> kTargetLadder = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0
 
 /// One scene at one target: the chain `runs` times (median compute), the scores of the
 /// first run, its files under OUT/<scene>[_<label>]; appends its rows.
-void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs,
-                double target, const std::string& label,
-                const std::string& home_note, const std::string& out, nlohmann::json& results,
-                std::ostringstream& md, std::ostringstream& split_md) {
+void reportRuns(const Peer& p, const SceneData& d, const std::vector<Run>& runs, double target,
+                const std::string& label, const std::string& home_note, const std::string& out,
+                nlohmann::json& results, std::ostringstream& md, std::ostringstream& split_md) {
   std::vector<double> times;
   times.reserve(runs.size());
   for (const Run& r : runs) times.push_back(r.seconds);
@@ -356,8 +355,8 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
   const double default_target = coverage::CoverageOptions{}.structure_target;
   const double first_target = o.target ? *o.target : default_target;
   const std::vector<Run> runs = runAt(p, d, first_target, o.runs, o.purpose, home_note, config);
-  reportRuns(p, d, runs, first_target, o.target ? "given" : "default", home_note, o.out,
-             results, md, split_md);
+  reportRuns(p, d, runs, first_target, o.target ? "given" : "default", home_note, o.out, results,
+             md, split_md);
   if (o.target) return;
   for (const double t : kTargetLadder) {
     std::vector<Run> one = runAt(p, d, t, 1, o.purpose, home_note, config);
@@ -367,8 +366,8 @@ void runScene(const Peer& p, const CompareOptions& o, nlohmann::json& results,
               << " at target " << t << "\n";
     const std::vector<Run> more = runAt(p, d, t, o.runs - 1, o.purpose, home_note, config);
     one.insert(one.end(), more.begin(), more.end());
-    reportRuns(p, d, one, t, matched ? "matched" : "unmatched", home_note, o.out, results,
-               md, split_md);
+    reportRuns(p, d, one, t, matched ? "matched" : "unmatched", home_note, o.out, results, md,
+               split_md);
     return;
   }
 }

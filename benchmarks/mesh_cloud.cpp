@@ -108,9 +108,10 @@ int main(int argc, char** argv) {
     const std::string tmp = out + ".tmp";
     if (pcl::io::savePLYFileBinary(tmp, mesh) != 0 || std::rename(tmp.c_str(), out.c_str()) != 0)
       throw uavip::InputError(out + ": cannot write the mesh");
-    std::printf("%s: %zu points, median spacing %.3f m, search radius %.3f m -> %zu triangles in %s\n",
-                cloud_path.c_str(), points.size(), spacing, radius_factor * spacing,
-                mesh.polygons.size(), out.c_str());
+    std::printf(
+        "%s: %zu points, median spacing %.3f m, search radius %.3f m -> %zu triangles in %s\n",
+        cloud_path.c_str(), points.size(), spacing, radius_factor * spacing, mesh.polygons.size(),
+        out.c_str());
   } catch (const std::exception& e) {
     std::cerr << "uavip_mesh_cloud: " << e.what() << "\n";
     return 2;

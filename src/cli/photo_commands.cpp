@@ -83,8 +83,8 @@ io::TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::str
 }
 
 /// A cloud in the mission's frame, read as detect read it (inputFrame), with its colours.
-photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path, const std::string& scene_path,
-                                        std::string& colour_source) {
+photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path,
+                                        const std::string& scene_path, std::string& colour_source) {
   const InputFrame frame = inputFrame(scene_path);
   io::CloudReadInfo info;
   photo::PreviewCloud cloud;

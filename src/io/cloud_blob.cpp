@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <initializer_list>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
 
@@ -159,6 +159,23 @@ const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob,
   return nullptr;
 }
 
+/// The records of the points fromBlob keeps (finite x y z), in order.
+std::vector<const std::uint8_t*> keptRecords(const pcl::PCLPointCloud2& blob,
+                                             const pcl::PCLPointField* const (&xyz)[3]) {
+  std::vector<const std::uint8_t*> kept;
+  kept.reserve(static_cast<std::size_t>(blob.width) * blob.height);
+  for (std::size_t r = 0; r < blob.height; ++r) {
+    for (std::size_t c = 0; c < blob.width; ++c) {
+      const std::uint8_t* at = blob.data.data() + r * blob.row_step + c * blob.point_step;
+      bool finite = true;
+      for (const auto* f : xyz)
+        finite = finite && std::isfinite(fieldValue(at + f->offset, f->datatype));
+      if (finite) kept.push_back(at);
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob) {
@@ -166,7 +183,8 @@ PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob) {
   const pcl::PCLPointField* xyz[3] = {findField(blob, {"x"}), findField(blob, {"y"}),
                                       findField(blob, {"z"})};
   const pcl::PCLPointField* packed = findField(blob, {"rgb", "rgba"});
-  const pcl::PCLPointField* rgb[3] = {findField(blob, {"red", "r"}), findField(blob, {"green", "g"}),
+  const pcl::PCLPointField* rgb[3] = {findField(blob, {"red", "r"}),
+                                      findField(blob, {"green", "g"}),
                                       findField(blob, {"blue", "b"})};
   const bool channels = rgb[0] != nullptr && rgb[1] != nullptr && rgb[2] != nullptr;
   const pcl::PCLPointField* intensity =
@@ -187,17 +205,7 @@ PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob) {
   if (height == 0 || width == 0 || blob.row_step < width * blob.point_step ||
       blob.data.size() < height * blob.row_step)
     return out;
-  // The records of the points fromBlob keeps (finite x y z).
-  std::vector<const std::uint8_t*> kept;
-  kept.reserve(width * height);
-  for (std::size_t r = 0; r < height; ++r) {
-    for (std::size_t c = 0; c < width; ++c) {
-      const std::uint8_t* at = blob.data.data() + r * blob.row_step + c * blob.point_step;
-      bool finite = true;
-      for (const auto* f : xyz) finite = finite && std::isfinite(fieldValue(at + f->offset, f->datatype));
-      if (finite) kept.push_back(at);
-    }
-  }
+  const std::vector<const std::uint8_t*> kept = keptRecords(blob, xyz);
   out.rgb.reserve(kept.size());
   if (packed != nullptr) {
     out.source = packed->name;

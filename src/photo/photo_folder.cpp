@@ -243,8 +243,7 @@ namespace {
 
 /// photos.json; `look` is how the pixels were made ({"texture": …} or {"preview": …}).
 std::string photosJson(const std::string& mission_path, const std::string& world_path,
-                       const PhotoCamera& camera, const nlohmann::json& look,
-                       std::size_t photos) {
+                       const PhotoCamera& camera, const nlohmann::json& look, std::size_t photos) {
   const auto& k = camera.intrinsics;
   nlohmann::json j = {{"mission", mission_path},
                       {"world", world_path},

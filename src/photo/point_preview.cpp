@@ -16,8 +16,8 @@ std::array<std::uint8_t, 3> heightColour(double z, double z_min, double z_max) {
   const double u = t < 0.5 ? 2.0 * t : 2.0 * t - 1.0;
   std::array<std::uint8_t, 3> out{};
   for (int c = 0; c < 3; ++c)
-    out[c] = static_cast<std::uint8_t>(
-        std::lround((1.0 - u) * stops[seg][c] + u * stops[seg + 1][c]));
+    out[c] =
+        static_cast<std::uint8_t>(std::lround((1.0 - u) * stops[seg][c] + u * stops[seg + 1][c]));
   return out;
 }
 
@@ -72,7 +72,8 @@ Image renderPointPreview(const PreviewCloud& cloud, const coverage::PinholeIntri
 double medianSpacing(const PointList& points, std::size_t sample) {
   if (points.size() < 2) return 0.0;
   const NeighbourIndex index(points);
-  const std::size_t step = std::max<std::size_t>(1, points.size() / std::max<std::size_t>(1, sample));
+  const std::size_t step =
+      std::max<std::size_t>(1, points.size() / std::max<std::size_t>(1, sample));
   std::vector<double> d;
   std::vector<int> idx;
   std::vector<float> sq;

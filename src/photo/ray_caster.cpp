@@ -34,8 +34,8 @@ namespace {
 
 /// One geometry of `corners_per_face` vertices a face (4: quads, 3: triangles) from
 /// `faces` (relative to the caster's origin) in the empty `scene`, committed.
-void fillScene(RTCDevice device, RTCScene scene, RTCGeometryType type,
-               std::size_t corners_per_face, const std::vector<Vec3>& faces) {
+void fillScene(RTCDevice device, RTCScene scene, RTCGeometryType type, std::size_t corners_per_face,
+               const std::vector<Vec3>& faces) {
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
   const std::size_t n = faces.size() / corners_per_face;
   RTCGeometry g = rtcNewGeometry(device, type);
@@ -82,8 +82,8 @@ RayCaster::RayCaster(const sim::WorldModel& world) : impl_(std::make_unique<Impl
   std::vector<Vec3> faces;
   for (const auto& r : world.rects()) {
     const Vec3 c = r.corner - m.origin;
-    for (const Vec3& corner : {c, Vec3(c + r.edge_u), Vec3(c + r.edge_u + r.edge_v),
-                               Vec3(c + r.edge_v)})
+    for (const Vec3& corner :
+         {c, Vec3(c + r.edge_u), Vec3(c + r.edge_u + r.edge_v), Vec3(c + r.edge_v)})
       faces.push_back(corner);
   }
   m.device = newDevice();

@@ -480,7 +480,8 @@ TEST(Renderer, TheWorldAsTrianglesRendersAsItsRectangles) {
     for (std::size_t i = 0; i < a.rgb.size(); i += 3) {
       ++pixels;
       int diff = 0;
-      for (std::size_t c = 0; c < 3; ++c) diff = std::max(diff, std::abs(a.rgb[i + c] - b.rgb[i + c]));
+      for (std::size_t c = 0; c < 3; ++c)
+        diff = std::max(diff, std::abs(a.rgb[i + c] - b.rgb[i + c]));
       differ += diff > 1 ? 1 : 0;
       surface += a.rgb[i] != photo::kSkyRgb[0] ? 1 : 0;
     }
@@ -578,8 +579,8 @@ TEST(PointPreview, ColoursOfAPcdInTheOrderOfItsPoints) {
     std::ofstream pcd(dir / "c.pcd");
     pcd << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\n"
            "COUNT 1 1 1 1\nWIDTH 3\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 6\nDATA ascii\n";
-    const std::uint32_t rgb[6][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255},
-                                     {10, 20, 30}, {0, 0, 0}, {200, 100, 50}};
+    const std::uint32_t rgb[6][3] = {{255, 0, 0},  {0, 255, 0}, {0, 0, 255},
+                                     {10, 20, 30}, {0, 0, 0},   {200, 100, 50}};
     for (int i = 0; i < 6; ++i) {
       pcd << (i == 4 ? std::string("nan nan nan") : std::to_string(i) + " 0 0") << " "
           << formatNumber(packed(rgb[i][0], rgb[i][1], rgb[i][2]), 12) << "\n";
@@ -637,8 +638,8 @@ TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
   std::size_t images = 0, inside = 0, inside_drawn = 0, outside = 0, outside_sky = 0;
   for (const auto& p : photo::plannedPhotos(mission, cam, d + "/mission.json")) {
     int w = 0, h = 0;
-    const auto rgb = decodePng(uavip::cli_test::slurp(d + "/preview/images/" + p.stop_id + ".png"),
-                               &w, &h);
+    const auto rgb =
+        decodePng(uavip::cli_test::slurp(d + "/preview/images/" + p.stop_id + ".png"), &w, &h);
     ASSERT_EQ(w, cam.intrinsics.width_px);
     for (int y = 0; y < h; y += 3) {
       for (int x = 0; x < w; x += 3) {
@@ -646,7 +647,8 @@ TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
         const double t = std::abs(ray.y()) > 1e-9 ? -p.pose.position.y() / ray.y() : -1.0;
         const Vec3 hit = p.pose.position + t * ray;
         const bool in = t > 0 && hit.x() > 0.1 && hit.x() < 1.9 && hit.z() > 0.6 && hit.z() < 1.9;
-        const bool out = t <= 0 || hit.x() < -0.2 || hit.x() > 2.2 || hit.z() < 0.3 || hit.z() > 2.2;
+        const bool out =
+            t <= 0 || hit.x() < -0.2 || hit.x() > 2.2 || hit.z() < 0.3 || hit.z() > 2.2;
         const std::size_t c = 3 * (static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
         const bool sky = rgb[c] == photo::kSkyRgb[0] && rgb[c + 1] == photo::kSkyRgb[1] &&
                          rgb[c + 2] == photo::kSkyRgb[2];
@@ -672,4 +674,3 @@ TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
 }
 
 }  // namespace
-

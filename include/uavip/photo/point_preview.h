@@ -22,10 +22,10 @@ namespace uavip::photo {
 
 /// The cloud a preview is drawn from.
 struct PreviewCloud {
-  PointList points;                                ///< [m], the mission's frame
-  std::vector<std::array<std::uint8_t, 3>> rgb;   ///< one per point, or empty (height ramp)
-  double splat_m{0.05};                           ///< a point's drawn width [m] (> 0)
-  double max_depth_m{50.0};                       ///< points farther are not drawn [m]
+  PointList points;                              ///< [m], the mission's frame
+  std::vector<std::array<std::uint8_t, 3>> rgb;  ///< one per point, or empty (height ramp)
+  double splat_m{0.05};                          ///< a point's drawn width [m] (> 0)
+  double max_depth_m{50.0};                      ///< points farther are not drawn [m]
 };
 
 /// The colour of height z on the ramp from z_min (blue) to z_max (yellow).
