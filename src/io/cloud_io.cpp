@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -53,8 +54,10 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
   MeshReadInfo mesh;
   MeshSampleOptions sample;
   sample.spacing_m = options.mesh_spacing_m;
-  PointList points = sampleMesh(readMesh(path, options.scale, &mesh), sample, path, &mesh);
+  const TriangleMesh triangles = readMesh(path, options.scale, &mesh);
+  PointList points = sampleMesh(triangles, sample, path, &mesh);
   if (info != nullptr) {
+    info->triangles = std::make_shared<const TriangleMesh>(surfaceTriangles(triangles, path));
     // The key as the config writes it ("input." + the table's row).
     const std::string key =
         "input." + CloudReadOptions::table().find(options, &options.mesh_spacing_m)->key;
@@ -176,6 +179,11 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     const Vec3 shift = recentringOrigin(lo, hi);
     for (Vec3& p : points) p -= shift;
     origin += shift;
+    if (info != nullptr && info->triangles) {  // the mesh with its points
+      auto moved = std::make_shared<TriangleMesh>(*info->triangles);
+      for (Vec3& v : moved->vertices) v -= shift;
+      info->triangles = std::move(moved);
+    }
     if (info != nullptr) {
       info->origin_m = origin;
       info->note += std::string(info->note.empty() ? path + ": " : "; ") +
@@ -183,6 +191,11 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
                     formatNumber(shift.y(), 12) + ", " + formatNumber(shift.z(), 12) +
                     ") m (scene.json source_offset_m adds it back)";
     }
+  }
+  if (info != nullptr && info->triangles) {  // float, as the copy beside scene.json holds it
+    auto rounded = std::make_shared<TriangleMesh>(*info->triangles);
+    for (Vec3& v : rounded->vertices) v = v.cast<float>().cast<double>();
+    info->triangles = std::move(rounded);
   }
   return points;
 }
