@@ -76,6 +76,15 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
   return points;
 }
 
+/// A mesh's triangles moved into the frame of its points (by `shift`, the recentring)
+/// and rounded to float, as the copy beside scene.json holds them; nothing for a cloud.
+void placeMeshTriangles(CloudReadInfo& info, const Vec3& shift) {
+  if (!info.triangles) return;
+  auto placed = std::make_shared<TriangleMesh>(*info.triangles);
+  for (Vec3& v : placed->vertices) v = (v - shift).cast<float>().cast<double>();
+  info.triangles = std::move(placed);
+}
+
 /// What loadCloud and streamCloud say of an extension no reader knows.
 [[noreturn]] void unknownExtension(const std::string& path, const std::string& ext) {
   throw InputError(path + ": unknown cloud extension '" + ext +
@@ -179,11 +188,6 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
     const Vec3 shift = recentringOrigin(lo, hi);
     for (Vec3& p : points) p -= shift;
     origin += shift;
-    if (info != nullptr && info->triangles) {  // the mesh with its points
-      auto moved = std::make_shared<TriangleMesh>(*info->triangles);
-      for (Vec3& v : moved->vertices) v -= shift;
-      info->triangles = std::move(moved);
-    }
     if (info != nullptr) {
       info->origin_m = origin;
       info->note += std::string(info->note.empty() ? path + ": " : "; ") +
@@ -192,11 +196,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
                     ") m (scene.json source_offset_m adds it back)";
     }
   }
-  if (info != nullptr && info->triangles) {  // float, as the copy beside scene.json holds it
-    auto rounded = std::make_shared<TriangleMesh>(*info->triangles);
-    for (Vec3& v : rounded->vertices) v = v.cast<float>().cast<double>();
-    info->triangles = std::move(rounded);
-  }
+  if (info != nullptr) placeMeshTriangles(*info, origin);  // a mesh's origin: the recentring
   return points;
 }
 
