@@ -213,7 +213,10 @@ DetectResult detect(const PointList& raw, const app::Config& config,
 
 double safetyClearance(const Scene& scene, const app::Config& config) {
   const double uav = config.uav.inflationRadius();
-  if (!scene.safety) return uav;
+  // No safety cloud (an older scene): the points alone. A mesh input: the collision
+  // world measures to its triangles exactly, so neither the thinning margin nor the
+  // sparse-cloud allowance is needed (the grid marks every triangle, solidSamples).
+  if (!scene.safety || scene.safety->mesh) return uav;
   const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
   return uav + preprocess::safetyMargin(*scene.safety, spacing, config.safety);
 }

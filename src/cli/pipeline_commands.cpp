@@ -94,6 +94,10 @@ void printDetectSummary(const app::DetectResult& d) {
               << " that outlier removal dropped): " << sc.points.size() << " points on a "
               << formatFixed(sc.cell_m, 3) << " m lattice, within " << formatFixed(sc.margin_m, 3)
               << " m of each input point\n";
+    if (sc.mesh)
+      std::cout << "safety: the mesh's " << sc.mesh->triangles.size()
+                << " triangles kept beside scene.json (" << io::kSafetyMeshFile
+                << "): clearances are measured to them exactly\n";
   }
   std::cout << "surfaces: " << d.scene.surfaces.size()
             << ", obstacles: " << d.scene.obstacles.size() << "\n";
@@ -450,6 +454,7 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   // The input file, so that validate can measure a flight against every point of it.
   d.scene.safety->source = fs::absolute(cloud_path).lexically_normal().string();
   d.scene.safety->sha256 = io::sha256File(cloud_path);
+  d.scene.safety->mesh = read.triangles;  // a mesh: its triangles, measured exactly
   const std::vector<planning::SurfaceMission> no_missions;
   view::OverviewOptions view_options = overviewOptions(fs::path(cloud_path).stem().string());
   if (views && !read.crs.empty())
@@ -472,7 +477,8 @@ int detectCommand(const std::string& cloud_path, const std::string& config_path,
   return kExitOk;
 }
 
-/// plan -o OTHER: scene.json and the safety cloud it names copied beside mission.json,
+/// plan -o OTHER: scene.json and the safety cloud (and a mesh input's triangles) it names
+/// copied beside mission.json,
 /// so that export and validate find the scene there as after run (nothing when OUT is
 /// the scene's own folder).
 void stageSceneBeside(io::StagedOutputs& outputs, const std::string& scene_path,
@@ -485,6 +491,12 @@ void stageSceneBeside(io::StagedOutputs& outputs, const std::string& scene_path,
       scene_json["safety"]["file"].is_string()) {
     const std::string name = scene_json["safety"]["file"].get<std::string>();
     if (fs::exists(from / name)) copies.emplace_back(from / name, fs::path(out) / name);
+    const nlohmann::json& safety = scene_json["safety"];
+    if (safety.contains("mesh") && safety["mesh"].contains("file") &&
+        safety["mesh"]["file"].is_string()) {  // a mesh input's triangles
+      const std::string mesh = safety["mesh"]["file"].get<std::string>();
+      if (fs::exists(from / mesh)) copies.emplace_back(from / mesh, fs::path(out) / mesh);
+    }
   }
   for (const auto& [src, dst] : copies) {
     outputs.writeWith(dst.string(), [&src = src, &dst = dst](const std::string& tmp) {
@@ -620,6 +632,12 @@ void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::D
     outputs.writeWith(safety, [&](const std::string& tmp) {
       io::writeCloudPcdFile(tmp, d.scene.safety->points, safety);
     });
+    if (d.scene.safety->mesh) {
+      const std::string stl = (std::filesystem::path(out) / io::kSafetyMeshFile).string();
+      outputs.writeWith(stl, [&](const std::string& tmp) {
+        io::writeMeshStlFile(tmp, *d.scene.safety->mesh, stl);
+      });
+    }
   }
   outputs.write((std::filesystem::path(out) / "scene.json").string(),
                 io::sceneJsonText(d.scene, app::sceneExtras(d, read)));

@@ -10,6 +10,7 @@
 
 #include "src/cli/commands.h"
 #include "uavip/core/error.h"
+#include "uavip/core/math.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 #include "uavip/io/cloud_io.h"
@@ -114,6 +115,9 @@ std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mi
 struct InputCloud {
   std::string path;
   PointList points;  ///< in the scene's frame [m]; empty when none
+  /// A mesh input's triangles in the scene's frame: measured against exactly, in
+  /// place of the points sampled on them; null for a cloud.
+  std::shared_ptr<const TriangleMesh> triangles;
   std::string note;
 };
 
@@ -161,8 +165,16 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
   if (shift != Vec3::Zero()) {
     for (auto& p : in.points) p += shift;
   }
+  if (info.triangles) {
+    auto moved = std::make_shared<TriangleMesh>(*info.triangles);
+    for (Vec3& p : moved->vertices) p += shift;
+    in.triangles = std::move(moved);
+  }
   in.path = path;
-  in.note = "input " + path + ": " + std::to_string(in.points.size()) + " points" +
+  in.note = "input " + path + ": " +
+            (in.triangles ? "mesh of " + std::to_string(in.triangles->triangles.size()) +
+                                " triangles, measured exactly"
+                          : std::to_string(in.points.size()) + " points") +
             (cloud_arg.empty() ? " (from scene.json, sha256 checked)" : " (--cloud)");
   return in;
 }
@@ -189,18 +201,22 @@ struct Checkers {
   double margin{0.0};  ///< added to the clearance in the world check [m]
   std::unique_ptr<const planning::PathValidator> validator;
   std::unique_ptr<const planning::PathValidator> raw;  ///< null without the input file
+  bool input_mesh{false};                              ///< `raw` holds a mesh input's triangles
   double clearance{0.0};                               ///< [m]
 };
 
-/// The path's validation, and the clearance it was checked at [m].
+/// The path's validation, the clearance it was checked at [m] and its clearance to
+/// the input alone [m] (inf when not checked against the input).
 planning::ValidationResult checkPath(const Checkers& c, const PointList& waypoints,
-                                     double& required) {
+                                     double& required, double& input_clearance) {
   planning::ValidationResult r = c.validator->validate(waypoints);
   required = c.validator->requiredClearance();
-  if (r.collision_free && c.raw) {  // then every input point, exactly
+  input_clearance = kInf;
+  if (r.collision_free && c.raw) {  // then every input point (or triangle), exactly
     planning::ValidationResult to_input = c.raw->validate(waypoints);
+    input_clearance = to_input.min_clearance_m;
     if (!to_input.collision_free) {
-      to_input.violation_object = "input point";
+      to_input.violation_object = c.input_mesh ? "input mesh triangle" : "input point";
       r = std::move(to_input);
       required = c.clearance;
     } else {
@@ -227,15 +243,19 @@ void validatePath(const Checkers& c, const NamedPath& s, Tally& t) {
   }
   ++t.checked;
   double required = 0.0;
-  const planning::ValidationResult r = checkPath(c, s.waypoints, required);
+  double to_input = kInf;
+  const planning::ValidationResult r = checkPath(c, s.waypoints, required, to_input);
   std::size_t bad = 0;
   for (const double x : r.segment_clearance_m) bad += x < required - 1e-9;
   const std::string min = std::isfinite(r.min_clearance_m)
                               ? formatFixed(r.min_clearance_m, 3) + " m"
                               : std::string("unbounded");
   if (r.collision_free) {
-    t.out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min
-          << "\n";
+    t.out << "collision-free, " << s.waypoints.size() << " waypoints, min clearance " << min;
+    // A mesh input: the exact distance to its triangles, to the micrometre.
+    if (c.input_mesh && std::isfinite(to_input))
+      t.out << ", to the input mesh's triangles " << formatFixed(to_input, 6) << " m";
+    t.out << "\n";
     return;
   }
   ++t.violated;
@@ -267,11 +287,20 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
   const InputCloud input = inputCloud(scene_path, scene_json, scene, cloud_arg);
   c.world = std::make_shared<const world::CollisionWorld>(scene);
   // Without the input file, the safety cloud stands for it: every input point lies
-  // within its margin of a safety point, so the world check keeps that much more.
-  c.margin = input.points.empty() && scene.safety ? scene.safety->margin_m : 0.0;
+  // within its margin of a safety point, so the world check keeps that much more. A
+  // mesh input's triangles are in the world themselves: no margin.
+  c.margin =
+      input.points.empty() && scene.safety && !scene.safety->mesh ? scene.safety->margin_m : 0.0;
   c.validator = std::make_unique<const planning::PathValidator>(c.world, c.clearance + c.margin);
-  if (!input.points.empty())
+  if (input.triangles) {  // a mesh: every triangle, exactly
+    c.input_mesh = true;
+    c.raw = std::make_unique<const planning::PathValidator>(
+        std::make_shared<const world::CollisionWorld>(
+            world::CollisionWorld::fromMesh(input.triangles)),
+        c.clearance);
+  } else if (!input.points.empty()) {
     c.raw = std::make_unique<const planning::PathValidator>(input.points, c.clearance);
+  }
   const double build_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
@@ -288,8 +317,10 @@ int validateCommand(const std::string& mission_path, std::string scene_path, dou
               << (clearance_given ? ", from --clearance" : ", inflation_radius_m of the mission")
               << ")\n";
     std::cout << "world: " << c.world->objects().size() << " objects (" << scene.surfaces.size()
-              << " surfaces, " << scene.obstacles.size() << " obstacles, cloud of "
-              << c.world->cloudSize() << " points"
+              << " surfaces, " << scene.obstacles.size() << " obstacles, "
+              << (c.world->meshTriangles() > 0
+                      ? "mesh of " + std::to_string(c.world->meshTriangles()) + " triangles"
+                      : "cloud of " + std::to_string(c.world->cloudSize()) + " points")
               << (scene.keep_out.empty()
                       ? std::string()
                       : ", " + std::to_string(scene.keep_out.size()) + " keep-out volumes")

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -53,8 +54,10 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
   MeshReadInfo mesh;
   MeshSampleOptions sample;
   sample.spacing_m = options.mesh_spacing_m;
-  PointList points = sampleMesh(readMesh(path, options.scale, &mesh), sample, path, &mesh);
+  const TriangleMesh triangles = readMesh(path, options.scale, &mesh);
+  PointList points = sampleMesh(triangles, sample, path, &mesh);
   if (info != nullptr) {
+    info->triangles = std::make_shared<const TriangleMesh>(surfaceTriangles(triangles, path));
     // The key as the config writes it ("input." + the table's row).
     const std::string key =
         "input." + CloudReadOptions::table().find(options, &options.mesh_spacing_m)->key;
@@ -71,6 +74,15 @@ PointList readMeshPoints(const std::string& path, const CloudReadOptions& option
     info->mesh = mesh;
   }
   return points;
+}
+
+/// A mesh's triangles moved into the frame of its points (by `shift`, the recentring)
+/// and rounded to float, as the copy beside scene.json holds them; nothing for a cloud.
+void placeMeshTriangles(CloudReadInfo& info, const Vec3& shift) {
+  if (!info.triangles) return;
+  auto placed = std::make_shared<TriangleMesh>(*info.triangles);
+  for (Vec3& v : placed->vertices) v = (v - shift).cast<float>().cast<double>();
+  info.triangles = std::move(placed);
 }
 
 /// What loadCloud and streamCloud say of an extension no reader knows.
@@ -184,6 +196,7 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
                     ") m (scene.json source_offset_m adds it back)";
     }
   }
+  if (info != nullptr) placeMeshTriangles(*info, origin);  // a mesh's origin: the recentring
   return points;
 }
 

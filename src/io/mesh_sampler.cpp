@@ -1,14 +1,20 @@
 // A triangle mesh's surface as points (io/mesh_reader.h, sampleMesh): counts by
-// area with a seeded fraction per triangle, R2 points folded onto each triangle.
+// area with a seeded fraction per triangle, R2 points folded onto each triangle; the
+// triangles with area (the safety surface) and their binary STL copy.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <limits>
+#include <vector>
 
 #include "cloud_formats.h"
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
 #include "uavip/core/text.h"
+#include "uavip/io/atomic_file.h"
 #include "uavip/io/mesh_reader.h"
 
 namespace uavip::io {
@@ -174,6 +180,57 @@ PointList sampleMesh(const TriangleMesh& mesh, const MeshSampleOptions& options,
     info->seed = options.seed;
   }
   return points;
+}
+
+}  // namespace uavip::io
+
+namespace uavip::io {
+
+TriangleMesh surfaceTriangles(const TriangleMesh& mesh, const std::string& path) {
+  TriangleMesh out;
+  constexpr auto kUnused = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> renumber(mesh.vertices.size(), kUnused);
+  out.triangles.reserve(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    if (corners(mesh, i, path).area == 0.0) continue;
+    std::array<std::uint32_t, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t& v = renumber[mesh.triangles[i][static_cast<std::size_t>(k)]];
+      if (v == kUnused) {
+        v = static_cast<std::uint32_t>(out.vertices.size());
+        out.vertices.push_back(mesh.vertices[mesh.triangles[i][static_cast<std::size_t>(k)]]);
+      }
+      t[static_cast<std::size_t>(k)] = v;
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
+void writeMeshStlFile(const std::string& file, const TriangleMesh& mesh, const std::string& path) {
+  std::ofstream out(file, std::ios::binary);
+  // Not "solid…": a binary STL whose header starts so is taken for ASCII by readers.
+  std::string header = "uavip: a mesh input's triangles, metres, the scene's frame";
+  header.resize(80, ' ');
+  out.write(header.data(), 80);
+  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+  out.write(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& t : mesh.triangles) {
+    std::array<float, 12> f{};  // normal (left 0: readers recompute it), three corners
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t a = 0; a < 3; ++a)
+        f[3 + 3 * k + a] = static_cast<float>(mesh.vertices[t[k]][static_cast<Eigen::Index>(a)]);
+    out.write(reinterpret_cast<const char*>(f.data()), sizeof(float) * f.size());
+    const std::uint16_t attributes = 0;
+    out.write(reinterpret_cast<const char*>(&attributes), 2);
+  }
+  out.flush();
+  if (!out)
+    throw InputError(path + ": cannot write the STL file (no permission, or the disk is full)");
+}
+
+void saveMeshStl(const std::string& path, const TriangleMesh& mesh) {
+  replaceFileAtomic(path, [&](const std::string& tmp) { writeMeshStlFile(tmp, mesh, path); });
 }
 
 }  // namespace uavip::io

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -29,6 +30,32 @@ std::size_t count(const JsonReader& r, const json& j, const std::string& field) 
   return static_cast<std::size_t>(v);
 }
 
+/// `safety.mesh`: a mesh input's triangles, read from the STL it names beside `path`.
+std::shared_ptr<const TriangleMesh> readSafetyMesh(const JsonReader& r, const json& jm,
+                                                   const std::string& path) {
+  const json& file = r.at(jm, "file", "safety.mesh");
+  if (!file.is_string() || file.get<std::string>().empty() ||
+      std::filesystem::path(file.get<std::string>()).has_parent_path()) {
+    r.fail("safety.mesh.file",
+           std::string("must be a file name beside the scene, e.g. ") + kSafetyMeshFile);
+  }
+  const std::size_t triangles =
+      count(r, r.at(jm, "triangles", "safety.mesh"), "safety.mesh.triangles");
+  const std::string stl =
+      (std::filesystem::path(path).parent_path() / file.get<std::string>()).string();
+  if (!std::filesystem::exists(stl)) {
+    throw InputError(path + ": safety.mesh.file " + stl +
+                     " is missing; keep it beside scene.json (or run detect again)");
+  }
+  auto mesh = std::make_shared<TriangleMesh>(readMesh(stl, 1.0));
+  if (mesh->triangles.size() != triangles) {
+    throw InputError(stl + ": holds " + std::to_string(mesh->triangles.size()) + " triangles, " +
+                     path + " says safety.mesh.triangles " + std::to_string(triangles) +
+                     "; run detect again");
+  }
+  return mesh;
+}
+
 /// The `safety` block and its points, read from the file it names beside `path`.
 SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& path) {
   SafetyCloud sc;
@@ -47,6 +74,7 @@ SafetyCloud readSafety(const JsonReader& r, const json& js, const std::string& p
     sc.source = js.at("source").get<std::string>();
   if (js.contains("sha256") && js.at("sha256").is_string())
     sc.sha256 = js.at("sha256").get<std::string>();
+  if (js.contains("mesh")) sc.mesh = readSafetyMesh(r, js.at("mesh"), path);
   if (points == 0) return sc;
   const std::string cloud =
       (std::filesystem::path(path).parent_path() / file.get<std::string>()).string();
@@ -132,6 +160,8 @@ json sceneToJson(const Scene& scene) {
                    {"perception_dropped", sc.perception_dropped},
                    {"source", sc.source},
                    {"sha256", sc.sha256}};
+    if (sc.mesh)
+      j["safety"]["mesh"] = {{"file", kSafetyMeshFile}, {"triangles", sc.mesh->triangles.size()}};
   }
   return j;
 }

@@ -200,6 +200,125 @@ struct PointIndex {
   }
 };
 
+/// Exact triangle distances through a bounding-volume tree over a mesh's triangles:
+/// the triangles' boxes in a binary tree (median splits of their centres on the
+/// longest axis, up to kLeafCells triangles a leaf). A segment is cut into pieces of
+/// kPieceLength and each piece searched as PointIndex does; every triangle read is
+/// measured to the whole segment (segmentTriangle, exact), so the result is that of
+/// brute force over every triangle: the nearest triangle's box lies no farther from
+/// the piece holding the nearest point of the segment than the distance itself.
+struct TriangleIndex {
+  struct Node {
+    Aabb box;
+    std::uint32_t first{0}, count{0};  ///< leaf: triangles order[first … first + count)
+    std::int32_t left{-1}, right{-1};  ///< children (−1 for a leaf)
+  };
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::vector<Aabb> tri_box;         ///< per triangle
+  std::vector<std::uint32_t> order;  ///< triangles, leaf by leaf
+  std::vector<Node> nodes;           ///< nodes[0] is the root
+
+  void build(std::shared_ptr<const TriangleMesh> m) {
+    mesh = std::move(m);
+    const std::size_t n = mesh ? mesh->triangles.size() : 0;
+    tri_box.assign(n, Aabb{});
+    order.resize(n);
+    nodes.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const std::uint32_t v : mesh->triangles[i]) tri_box[i].extend(mesh->vertices[v]);
+      order[i] = static_cast<std::uint32_t>(i);
+    }
+    if (n == 0) return;
+    nodes.reserve(2 * n / kLeafCells + 2);
+    buildNode(0, static_cast<std::uint32_t>(n));
+  }
+
+  std::int32_t buildNode(std::uint32_t first, std::uint32_t count) {
+    const auto at = static_cast<std::int32_t>(nodes.size());
+    nodes.emplace_back();
+    Aabb b;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      b.extend(tri_box[order[k]].min);
+      b.extend(tri_box[order[k]].max);
+    }
+    nodes[static_cast<std::size_t>(at)].box = b;
+    if (count <= kLeafCells) {
+      nodes[static_cast<std::size_t>(at)].first = first;
+      nodes[static_cast<std::size_t>(at)].count = count;
+      return at;
+    }
+    int axis = 0;
+    (b.max - b.min).maxCoeff(&axis);
+    const std::uint32_t half = count / 2;
+    const auto centre = [&](std::uint32_t t) {
+      return tri_box[t].min[axis] + tri_box[t].max[axis];
+    };
+    std::nth_element(order.begin() + first, order.begin() + first + half,
+                     order.begin() + first + count, [&](std::uint32_t x, std::uint32_t y) {
+                       return centre(x) < centre(y) || (centre(x) == centre(y) && x < y);
+                     });
+    const std::int32_t left = buildNode(first, half);
+    const std::int32_t right = buildNode(first + half, count - half);
+    nodes[static_cast<std::size_t>(at)].left = left;
+    nodes[static_cast<std::size_t>(at)].right = right;
+    return at;
+  }
+
+  /// Exact distance from segment [a, b] to the nearest triangle; `q` gets its point.
+  double distance(const Vec3& a, const Vec3& b, Vec3& q) const {
+    double best = kInf;
+    if (nodes.empty()) return best;
+    const Vec3 ab = b - a;
+    const double len = ab.norm();
+    const int pieces = static_cast<int>(std::clamp(std::ceil(len / kPieceLength), 1.0, 1e9));
+    const Aabb& root = nodes[0].box;
+    const double slack = 1e-9 * (1.0 + (root.max - root.min).norm() + len);
+    thread_local std::vector<std::int32_t> stack;
+    const auto far = [&](double bound) { return bound - slack >= best; };
+    int first_piece = 0;
+    if (pieces > 1) {
+      const double t =
+          std::clamp((0.5 * (root.min + root.max) - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      first_piece = std::min(pieces - 1, static_cast<int>(t * pieces));
+    }
+    for (int step = 0; step < pieces; ++step) {
+      const int k = (first_piece + step) % pieces;
+      Aabb piece;
+      piece.extend(a + ab * (static_cast<double>(k) / pieces));
+      piece.extend(a + ab * (static_cast<double>(k + 1) / pieces));
+      if (far(boxDistance(piece, root))) continue;
+      stack.clear();
+      stack.push_back(0);
+      while (!stack.empty()) {
+        const Node& node = nodes[static_cast<std::size_t>(stack.back())];
+        stack.pop_back();
+        if (far(boxDistance(piece, node.box))) continue;
+        if (node.left < 0) {
+          for (std::uint32_t e = node.first; e < node.first + node.count; ++e) {
+            const std::uint32_t t = order[e];
+            if (far(boxDistance(piece, tri_box[t]))) continue;
+            const auto& tri = mesh->triangles[t];
+            Vec3 c;
+            const double d = segmentTriangle(a, b, mesh->vertices[tri[0]], mesh->vertices[tri[1]],
+                                             mesh->vertices[tri[2]], c);
+            if (d < best) {
+              best = d;
+              q = c;
+            }
+          }
+          continue;
+        }
+        const Node& l = nodes[static_cast<std::size_t>(node.left)];
+        const Node& r = nodes[static_cast<std::size_t>(node.right)];
+        const bool left_first = boxDistance(piece, l.box) <= boxDistance(piece, r.box);
+        stack.push_back(left_first ? node.right : node.left);
+        stack.push_back(left_first ? node.left : node.right);
+      }
+    }
+    return best;
+  }
+};
+
 }  // namespace detail
 
 namespace {
@@ -259,6 +378,20 @@ struct CollisionWorld::Impl {
   std::unique_ptr<fcl::CollisionObjectd> octree_object;
   std::size_t octree_leaves{0};
   int cloud_object{-1};  ///< index of the cloud object, −1 without one
+  /// A mesh input's triangles (SafetyCloud::mesh) in place of the cloud: their index,
+  /// built on a second thread as the cloud's is, waited for before the first read.
+  detail::TriangleIndex mesh_index;
+  std::shared_future<void> mesh_ready;
+  const detail::TriangleIndex& mesh() const {
+    if (mesh_ready.valid()) mesh_ready.get();
+    return mesh_index;
+  }
+  int mesh_object{-1};  ///< index of the mesh object, −1 without one
+  /// The mesh as an fcl::BVHModel<OBBRSS> for sweepContacts, built on its first use;
+  /// until then the manager holds a box of the mesh's bounds.
+  std::once_flag bvh_once;
+  std::unique_ptr<fcl::CollisionObjectd> bvh_object;
+  const fcl::CollisionObjectd* bvhObject();
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> fcl_objects;  ///< per object
   std::vector<int> index;  ///< per fcl object: its object index (stable storage for user data)
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
@@ -302,6 +435,25 @@ const fcl::CollisionObjectd* CollisionWorld::Impl::octreeObject() {
   return octree_object.get();
 }
 
+const fcl::CollisionObjectd* CollisionWorld::Impl::bvhObject() {
+  if (mesh_object < 0) return nullptr;
+  std::call_once(bvh_once, [this] {
+    const TriangleMesh& m = *mesh().mesh;
+    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    std::vector<fcl::Vector3d> vertices(m.vertices.begin(), m.vertices.end());
+    std::vector<fcl::Triangle> triangles;
+    triangles.reserve(m.triangles.size());
+    for (const auto& t : m.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+    model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(vertices.size()));
+    model->addSubModel(vertices, triangles);
+    model->endModel();
+    bvh_object = std::make_unique<fcl::CollisionObjectd>(model);
+    bvh_object->setUserData(&index[static_cast<std::size_t>(mesh_object)]);
+    bvh_object->computeAABB();
+  });
+  return bvh_object.get();
+}
+
 std::string WorldObject::name() const {
   switch (kind) {
     case ObjectKind::Surface:
@@ -310,6 +462,8 @@ std::string WorldObject::name() const {
       return "obstacle " + std::to_string(id);
     case ObjectKind::Cloud:
       return "cloud";
+    case ObjectKind::Mesh:
+      return "mesh triangle";
     case ObjectKind::KeepOut:
       return "keep-out " + std::to_string(id);
   }
@@ -373,7 +527,22 @@ void CollisionWorld::build(const Scene& scene) {
   }
   for (std::size_t k = 0; k < scene.keep_out.size(); ++k)  // always: the operator's word
     addSolid(ObjectKind::KeepOut, static_cast<int>(k), keepOutSolid(scene.keep_out[k]));
-  PointList cloud = safetyPoints(scene);
+  // A mesh input: its triangles are the measured surface, exactly (the points were
+  // sampled on them), and stand for the cloud.
+  if (options_.include_cloud && scene.safety && scene.safety->mesh &&
+      !scene.safety->mesh->triangles.empty()) {
+    const auto& mesh = scene.safety->mesh;
+    const Aabb box = boundingBox(mesh->vertices);
+    const Vec3 edge = (box.max - box.min).cwiseMax(1e-9);
+    im.mesh_object = static_cast<int>(objects_.size());
+    geoms.push_back(std::make_shared<fcl::Boxd>(edge.x(), edge.y(), edge.z()));
+    objects_.push_back({ObjectKind::Mesh, -1, box});
+    im.solids.emplace_back();
+    im.mesh_ready = std::async(std::launch::async, [&index = im.mesh_index, mesh] {
+                      index.build(mesh);
+                    }).share();
+  }
+  PointList cloud = im.mesh_object >= 0 ? PointList{} : safetyPoints(scene);
   if (options_.include_cloud && !cloud.empty()) {
     im.octree_resolution_m = options_.octree_resolution_m;
     im.cloud_object = static_cast<int>(objects_.size());
@@ -392,7 +561,10 @@ void CollisionWorld::build(const Scene& scene) {
   std::vector<fcl::CollisionObjectd*> raw;
   for (std::size_t i = 0; i < objects_.size(); ++i) {
     im.index[i] = static_cast<int>(i);
-    im.fcl_objects.push_back(std::make_unique<fcl::CollisionObjectd>(geoms[i]));
+    fcl::Transform3d at = fcl::Transform3d::Identity();
+    if (static_cast<int>(i) == im.mesh_object)  // the stand-in box over the mesh's bounds
+      at.translation() = 0.5 * (objects_[i].box.min + objects_[i].box.max);
+    im.fcl_objects.push_back(std::make_unique<fcl::CollisionObjectd>(geoms[i], at));
     im.fcl_objects.back()->setUserData(&im.index[i]);
     im.fcl_objects.back()->computeAABB();
     raw.push_back(im.fcl_objects.back().get());
@@ -406,10 +578,26 @@ PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied
                                        const Aabb* region) const {
   requirePositive(spacing, "world", "solid sample spacing");
   if (!impl_) return {};
-  return shellSamples(impl_->solids, spacing, occupied, region);
+  return shellSamples(impl_->solids, spacing, occupied, region,
+                      impl_->mesh_object >= 0 ? impl_->mesh().mesh.get() : nullptr);
+}
+
+CollisionWorld CollisionWorld::fromMesh(std::shared_ptr<const TriangleMesh> mesh,
+                                        const WorldOptions& options) {
+  CollisionWorld w;
+  w.options_ = options;
+  w.options_.validate();
+  Scene scene;
+  scene.safety = SafetyCloud{};
+  scene.safety->mesh = std::move(mesh);
+  w.build(scene);
+  return w;
 }
 
 std::size_t CollisionWorld::cloudSize() const { return impl_ ? impl_->cloud().points.size() : 0; }
+std::size_t CollisionWorld::meshTriangles() const {
+  return impl_ && impl_->mesh_object >= 0 ? impl_->mesh().mesh->triangles.size() : 0;
+}
 std::size_t CollisionWorld::octreeLeaves() const {
   if (!impl_ || !impl_->octreeObject()) return 0;
   return impl_->octree_leaves;
@@ -420,6 +608,8 @@ namespace {
 struct ProximityQuery {
   const std::vector<Polyhedron>* solids{nullptr};
   const detail::PointIndex* points{nullptr};
+  const detail::TriangleIndex* mesh{nullptr};
+  int mesh_object{-1};
   const fcl::CollisionObjectd* query{nullptr};
   Vec3 a, b;
   double radius{0.0};
@@ -430,6 +620,8 @@ struct ContactQuery {
   const fcl::CollisionObjectd* query{nullptr};
   const fcl::CollisionObjectd* cloud_box{nullptr};  ///< the cloud's stand-in in the manager
   const fcl::CollisionObjectd* octree{nullptr};     ///< the cloud's OcTree, collided instead
+  const fcl::CollisionObjectd* mesh_box{nullptr};   ///< the mesh's stand-in in the manager
+  const fcl::CollisionObjectd* bvh{nullptr};        ///< the mesh's BVHModel, collided instead
   std::vector<int> hits;
 };
 
@@ -441,6 +633,8 @@ Proximity CollisionWorld::proximity(const Vec3& a, const Vec3& b, double radius)
   fcl::CollisionObjectd swept = sweptVolume(a, b, std::max(0.0, radius));
   q.solids = &impl_->solids;
   q.points = &impl_->cloud();
+  q.mesh = &impl_->mesh();
+  q.mesh_object = impl_->mesh_object;
   q.query = &swept;
   q.a = a;
   q.b = b;
@@ -454,8 +648,9 @@ Proximity CollisionWorld::proximity(const Vec3& a, const Vec3& b, double radius)
     const int i = objectOf(obj);
     const auto& solid = (*pq.solids)[static_cast<std::size_t>(i)];
     Vec3 point;
-    const double d = solid.triangles.empty() ? pq.points->distance(pq.a, pq.b, point)
-                                             : solid.distance(pq.a, pq.b, point);
+    const double d = i == pq.mesh_object       ? pq.mesh->distance(pq.a, pq.b, point)
+                     : solid.triangles.empty() ? pq.points->distance(pq.a, pq.b, point)
+                                               : solid.distance(pq.a, pq.b, point);
     if (d < pq.best.distance_m) {
       pq.best.distance_m = d;
       pq.best.object = i;
@@ -477,10 +672,15 @@ std::vector<int> CollisionWorld::sweepContacts(const Vec3& a, const Vec3& b, dou
     q.cloud_box = impl_->fcl_objects[static_cast<std::size_t>(impl_->cloud_object)].get();
     q.octree = impl_->octreeObject();
   }
+  if (impl_->mesh_object >= 0) {
+    q.mesh_box = impl_->fcl_objects[static_cast<std::size_t>(impl_->mesh_object)].get();
+    q.bvh = impl_->bvhObject();
+  }
   auto callback = [](fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data) {
     auto& cq = *static_cast<ContactQuery*>(data);
     const fcl::CollisionObjectd* other = o1 == cq.query ? o2 : o1;
     if (other == cq.cloud_box) other = cq.octree;
+    if (other == cq.mesh_box) other = cq.bvh;
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
     fcl::collide(cq.query, other, request, result);

@@ -85,8 +85,8 @@ double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3
   return (c1 - c2).norm();
 }
 
-/// Distance from segment [a, b] to triangle (t0, t1, t2); `q` gets the nearest
-/// point of the triangle.
+}  // namespace
+
 double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2,
                        Vec3& q) {
   const Vec3 n = (t1 - t0).cross(t2 - t0);
@@ -122,8 +122,6 @@ double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3&
   }
   return best;
 }
-
-}  // namespace
 
 // ---------------------------------------------------------------- polyhedron
 
@@ -461,7 +459,7 @@ void sampleTriangle(const std::array<Vec3, 3>& p, double spacing, const VoxelKey
 }  // namespace
 
 PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
-                       const PointList& occupied, const Aabb* region) {
+                       const PointList& occupied, const Aabb* region, const TriangleMesh* mesh) {
   requirePositive(spacing, "world", "solid sample spacing");
   const auto meets = [region](const Aabb& b) {
     return region == nullptr || (((b.max - region->min).array() >= 0.0).all() &&
@@ -476,6 +474,19 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
     all.extend(b.min);
     all.extend(b.max);
   }
+  // A mesh's triangles that meet the region, each with its box.
+  std::vector<std::uint32_t> mesh_triangles;
+  if (mesh != nullptr) {
+    for (std::size_t i = 0; i < mesh->triangles.size(); ++i) {
+      Aabb b;
+      for (const std::uint32_t v : mesh->triangles[i]) b.extend(mesh->vertices[v]);
+      if (!meets(b)) continue;
+      if (region != nullptr) b = Aabb{b.min.cwiseMax(region->min), b.max.cwiseMin(region->max)};
+      all.extend(b.min);
+      all.extend(b.max);
+      mesh_triangles.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
   if (all.empty()) return {};
   const VoxelKeyer keyer(all.min, all.max, spacing, "solid sample spacing");
   std::vector<std::uint64_t> keys;
@@ -487,6 +498,11 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
                       solid.vertices[static_cast<std::size_t>(t[2])]},
                      spacing, keyer, region, keys);
     }
+  }
+  for (const std::uint32_t i : mesh_triangles) {
+    const auto& t = mesh->triangles[i];
+    sampleTriangle({mesh->vertices[t[0]], mesh->vertices[t[1]], mesh->vertices[t[2]]}, spacing,
+                   keyer, region, keys);
   }
   sortUniqueKeys(keys);
   // Voxels the measured points already fill add nothing.

@@ -178,4 +178,42 @@ inline double distanceToMesh(const Vec3& p, const Triangles& tris) {
   return best;
 }
 
+/// Distance from segment [a, b] to the triangle t, by golden-section search on
+/// pointTriangleDistance along the segment (convex along it: t is convex).
+inline double segmentTriangleDistance(const Vec3& a, const Vec3& b, const std::array<Vec3, 3>& t) {
+  const auto f = [&](double s) { return pointTriangleDistance(a + s * (b - a), t[0], t[1], t[2]); };
+  double l = 0.0, r = 1.0;
+  constexpr double kGolden = 0.6180339887498949;
+  double m1 = r - kGolden * (r - l), m2 = l + kGolden * (r - l);
+  double f1 = f(m1), f2 = f(m2);
+  for (int i = 0; i < 80; ++i) {
+    if (f1 < f2) {
+      r = m2;
+      m2 = m1;
+      f2 = f1;
+      m1 = r - kGolden * (r - l);
+      f1 = f(m1);
+    } else {
+      l = m1;
+      m1 = m2;
+      f1 = f2;
+      m2 = l + kGolden * (r - l);
+      f2 = f(m2);
+    }
+  }
+  return std::min({f(0.0), f(1.0), f1, f2});
+}
+
+/// Distance from the polyline `path` to the nearest triangle of `tris` (brute force
+/// over every segment and every triangle).
+inline double pathDistanceToMesh(const std::vector<Vec3>& path, const Triangles& tris) {
+  double best = 1e300;
+  for (std::size_t i = 0; i + 1 < path.size() || (path.size() == 1 && i == 0); ++i) {
+    const Vec3& a = path[i];
+    const Vec3& b = path.size() == 1 ? a : path[i + 1];
+    for (const auto& t : tris) best = std::min(best, segmentTriangleDistance(a, b, t));
+  }
+  return best;
+}
+
 }  // namespace uavip::mesh_test

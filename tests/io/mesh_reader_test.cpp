@@ -207,6 +207,16 @@ TEST(MeshReader, FarMeshIsRecentredLikeACloud) {
   expectOnMesh(points,
                mesh_test::boxTriangles(kLo + shift - info.origin_m, kHi + shift - info.origin_m),
                5e-3);
+  // The triangles kept for safety are in the points' frame too.
+  ASSERT_TRUE(info.triangles);
+  EXPECT_EQ(info.triangles->triangles.size(), 12u);
+  for (const Vec3& v : info.triangles->vertices) {
+    const Vec3 file = v + info.origin_m;
+    const Vec3 corner((file.x() < shift.x() + 0.5 * (kLo.x() + kHi.x()) ? kLo : kHi).x(),
+                      (file.y() < shift.y() + 0.5 * (kLo.y() + kHi.y()) ? kLo : kHi).y(),
+                      (file.z() < 0.5 * (kLo.z() + kHi.z()) ? kLo : kHi).z());
+    EXPECT_LT((file - corner - shift).norm(), 5e-3) << v.transpose();
+  }
 }
 
 void expectRefused(const std::string& path, const std::string& words) {

@@ -4,7 +4,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "uavip/core/error.h"
@@ -276,6 +278,94 @@ TEST(CollisionWorld, NearestPointBetweenProbePositionsIsFound) {
     double brute = std::numeric_limits<double>::infinity();
     for (const auto& p : cloud) brute = std::min(brute, pointSegmentDistance(p, a, b));
     EXPECT_NEAR(world.proximity(a, b, 0.05).distance_m, brute, 1e-12) << k;
+  }
+}
+
+/// Exact distance from p to triangle (a, b, c), written independently of the world's
+/// (projection onto the plane when it falls inside, else the nearest edge).
+double pointTriangleRef(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a).normalized();
+  const Vec3 x = p - n.dot(p - a) * n;
+  const bool inside = n.dot((b - a).cross(x - a)) >= 0 && n.dot((c - b).cross(x - b)) >= 0 &&
+                      n.dot((a - c).cross(x - c)) >= 0;
+  if (inside) return std::abs(n.dot(p - a));
+  return std::min({pointSegmentDistance(p, a, b), pointSegmentDistance(p, b, c),
+                   pointSegmentDistance(p, c, a)});
+}
+
+/// Segment–triangle distance by golden-section search along the segment: the
+/// distance to a convex set is convex along a segment.
+double segmentTriangleRef(const Vec3& a, const Vec3& b, const std::array<Vec3, 3>& t) {
+  auto f = [&](double s) { return pointTriangleRef(a + s * (b - a), t[0], t[1], t[2]); };
+  double l = 0.0, r = 1.0;
+  for (int i = 0; i < 200; ++i) {
+    const double m1 = l + (r - l) / 3.0, m2 = r - (r - l) / 3.0;
+    if (f(m1) < f(m2)) {
+      r = m2;
+    } else {
+      l = m1;
+    }
+  }
+  return std::min({f(0.0), f(1.0), f(0.5 * (l + r))});
+}
+
+TEST(CollisionWorld, MeshDistanceIsBruteForceOverEveryTriangle) {
+  // A bumpy sheet of 2 × 20 × 20 triangles and a small tilted triangle above it.
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> bump(-0.2, 0.2);
+  auto mesh = std::make_shared<TriangleMesh>();
+  const int n = 20;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) mesh->vertices.emplace_back(0.25 * i, 0.25 * j, bump(rng));
+  const auto at = [n](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      mesh->triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh->triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  const auto base = static_cast<std::uint32_t>(mesh->vertices.size());
+  mesh->vertices.insert(mesh->vertices.end(),
+                        {Vec3(2, 2, 1.5), Vec3(2.3, 2.1, 1.7), Vec3(2.1, 2.4, 1.2)});
+  mesh->triangles.push_back({base, base + 1, base + 2});
+  const CollisionWorld world = CollisionWorld::fromMesh(mesh);
+  ASSERT_EQ(world.objects().size(), 1u);
+  EXPECT_EQ(world.objects()[0].name(), "mesh triangle");
+  EXPECT_EQ(world.meshTriangles(), mesh->triangles.size());
+  EXPECT_EQ(world.cloudSize(), 0u);
+  std::uniform_real_distribution<double> xy(-1.0, 6.0), z(-1.0, 3.0);
+  const double r = 0.4;
+  int near = 0, far = 0;
+  for (int k = 0; k < 80; ++k) {
+    const Vec3 a(xy(rng), xy(rng), z(rng));
+    const Vec3 b = k % 4 == 0 ? a : Vec3(xy(rng), xy(rng), z(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& t : mesh->triangles)
+      brute = std::min(
+          brute, segmentTriangleRef(
+                     a, b, {mesh->vertices[t[0]], mesh->vertices[t[1]], mesh->vertices[t[2]]}));
+    const Proximity p = world.proximity(a, b, r);
+    EXPECT_NEAR(p.distance_m, brute, 1e-9) << k;
+    EXPECT_NEAR(pointSegmentDistance(p.point, a, b), brute, 1e-9) << k;
+    // FCL's own sweep against the BVHModel agrees away from the boundary.
+    const bool touched = !world.sweepContacts(a, b, r).empty();
+    if (brute < r - 1e-3) {
+      EXPECT_TRUE(touched) << k;
+      ++near;
+    } else if (brute > r + 1e-3) {
+      EXPECT_FALSE(touched) << k;
+      ++far;
+    }
+  }
+  EXPECT_GT(near, 5);
+  EXPECT_GT(far, 5);
+  // The grid's samples reach every triangle, however small.
+  const PointList samples = world.solidSamples(0.1);
+  for (const auto& t : mesh->triangles) {
+    const Vec3 c = (mesh->vertices[t[0]] + mesh->vertices[t[1]] + mesh->vertices[t[2]]) / 3.0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& q : samples) nearest = std::min(nearest, (q - c).norm());
+    EXPECT_LE(nearest, 0.1 + std::sqrt(3.0) * 0.05);  // a row's step, half a voxel's diagonal
   }
 }
 

@@ -97,7 +97,8 @@ ResolvedConfig resolveForScene(const Scene& scene, const app::Config& config);
 /// obstacles [m]: the UAV's inflation radius, plus (when the scene has a safety cloud)
 /// its thinning margin and safety.sparse_factor × the measured spacing
 /// (preprocess/safety_cloud.h). A flight that keeps it from the safety cloud keeps the
-/// inflation radius from every input point.
+/// inflation radius from every input point. For a mesh input (SafetyCloud::mesh) the
+/// inflation radius alone: the world measures to the triangles themselves.
 double safetyClearance(const Scene& scene, const app::Config& config);
 /// Where stage 7 plans and checks (paper §II-G): the planning grid and the validator.
 struct PlanningSpace {

@@ -4,7 +4,10 @@
 /// World frame: ENU metres, z up.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -103,6 +106,12 @@ struct CloudStats {
   double station_ratio{0.0};
 };
 
+/// Triangles over shared vertices [m] (a mesh input, io/mesh_reader.h).
+struct TriangleMesh {
+  PointList vertices;                                   ///< [m]
+  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into vertices
+};
+
 /// Every measured point, for safety (preprocess/safety_cloud.h): what planning and
 /// validation keep clear of besides the clean cloud. Stage 3 never removes a point
 /// from here; only input options the user sets (LAS classes) do.
@@ -115,6 +124,12 @@ struct SafetyCloud {
   std::size_t perception_dropped{0};
   std::string source;  ///< the input file as given (empty for a simulated scenario)
   std::string sha256;  ///< of the input file's bytes (empty when no file)
+  /// A mesh input's triangles with area, in the scene's frame, vertices rounded to
+  /// float (so the copy beside scene.json reads back identically): the exact surface
+  /// the points were sampled on. The collision world measures distances to these
+  /// instead of to the points, so no sparse-cloud allowance is kept (pipeline.h,
+  /// safetyClearance). Null for a cloud input.
+  std::shared_ptr<const TriangleMesh> mesh;
 };
 
 /// Result of perception: what the clean cloud means. Every measured point stays an

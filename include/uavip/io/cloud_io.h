@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ struct CloudReadInfo {
   Vec3 origin_m{
       Vec3::Zero()};  ///< subtracted from the file's coordinates (after unit conversion) [m]
   MeshReadInfo mesh;  ///< the mesh read and how it was sampled; mesh.present false for a cloud
+  /// A mesh's triangles with area (io::surfaceTriangles) in the frame of the points
+  /// loadCloud returns (recentred with them), vertices rounded to float; null for a cloud.
+  std::shared_ptr<const TriangleMesh> triangles;
 };
 
 /// A cloud whose bounding box reaches farther than this from the file's origin, on

@@ -24,10 +24,7 @@
 namespace uavip::io {
 
 /// Triangles over shared vertices, in metres once read (readMesh applies input.scale).
-struct TriangleMesh {
-  PointList vertices;                                   ///< [m]
-  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into vertices
-};
+using TriangleMesh = uavip::TriangleMesh;
 
 /// What a mesh read recorded (scene.json input_read.mesh; absent for a cloud).
 struct MeshReadInfo {
@@ -94,5 +91,18 @@ bool isMeshFile(const std::string& path);
 /// no triangle, or its coordinates reach so far that single precision rounds them by
 /// more than kMaxMeshRoundingM.
 TriangleMesh readMesh(const std::string& path, double scale, MeshReadInfo* info = nullptr);
+
+/// The triangles of `mesh` with area (those sampleMesh samples; a degenerate one has
+/// no surface), over the vertices they use, in order. Throws InputError naming `path`
+/// like sampleMesh for a bad index or a non-finite vertex.
+TriangleMesh surfaceTriangles(const TriangleMesh& mesh, const std::string& path);
+
+/// Writes `mesh` as a binary STL (float coordinates, as they are) atomically: the
+/// triangles of a mesh input beside scene.json (io/scene_json.h, kSafetyMeshFile),
+/// read back by readMesh(path, 1.0). Throws InputError naming `path` on I/O failure.
+void saveMeshStl(const std::string& path, const TriangleMesh& mesh);
+/// As saveMeshStl, to `file` as it is (a staged temporary, io/atomic_file.h);
+/// messages name `path`.
+void writeMeshStlFile(const std::string& file, const TriangleMesh& mesh, const std::string& path);
 
 }  // namespace uavip::io

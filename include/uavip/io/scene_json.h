@@ -6,7 +6,8 @@
 /// cell_m, margin_m, input_points, perception_dropped, source, sha256} names the
 /// safety cloud beside it (cloud_safety.pcd: every input point, thinned with a
 /// stated margin; preprocess/safety_cloud.h), so `uavip plan` rebuilds the planning
-/// world from these two files.
+/// world from these two files; for a mesh input `safety.mesh` {file, triangles} names
+/// its triangles beside it too (kSafetyMeshFile).
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -20,6 +21,10 @@ namespace uavip::io {
 
 /// File name of the safety cloud, beside scene.json.
 inline constexpr const char* kSafetyCloudFile = "cloud_safety.pcd";
+/// File name of a mesh input's triangles beside scene.json (binary STL, metres, the
+/// scene's frame; `safety.mesh` {file, triangles} names it): the surface the
+/// collision world measures against exactly (SafetyCloud::mesh).
+inline constexpr const char* kSafetyMeshFile = "cloud_safety_mesh.stl";
 
 /// One resolved parameter (app/config.h), as scene.json's `parameters` records it.
 struct ParameterRecord {

@@ -14,7 +14,12 @@
 ///  - every measured point (the clean cloud and the safety cloud, core/geometry.h
 ///    safetyPoints) as one fcl::OcTree built from an octomap::OcTree. proximity() reads
 ///    the points themselves, so the OcTree is built on the first sweepContacts() or
-///    octreeLeaves() only; until then the broadphase holds a box of its bounds.
+///    octreeLeaves() only; until then the broadphase holds a box of its bounds;
+///  - for a mesh input (SafetyCloud::mesh), its triangles in place of the measured
+///    points (the points were sampled on them): one "mesh" object whose distances are
+///    exact segment–triangle distances through a box tree over the triangles, and an
+///    fcl::BVHModel<OBBRSS> of them for sweepContacts() (built on first use). No
+///    sparse-cloud allowance is then needed (app/pipeline.h, safetyClearance).
 ///
 /// Two queries, both sweeping the UAV as a capsule (a sphere of radius r swept along
 /// a segment; a capsule contains exactly the points within r of the segment):
@@ -67,7 +72,7 @@ struct WorldOptions {
 };
 
 /// What a collision object stands for.
-enum class ObjectKind { Surface, Obstacle, Cloud, KeepOut };
+enum class ObjectKind { Surface, Obstacle, Cloud, KeepOut, Mesh };
 
 /// One collision object of the world.
 struct WorldObject {
@@ -75,7 +80,7 @@ struct WorldObject {
   int id{-1};  ///< Surface::id or Obstacle::id, a keep-out's index in Scene::keep_out; −1 for the
                ///< cloud
   Aabb box;    ///< axis-aligned bounds of the object's geometry [m]
-  /// "surface 3", "obstacle 12" or "cloud".
+  /// "surface 3", "obstacle 12", "cloud", "keep-out 0" or "mesh triangle".
   std::string name() const;
 };
 
@@ -93,6 +98,10 @@ class CollisionWorld {
   explicit CollisionWorld(const Scene& scene, const WorldOptions& options = {});
   /// A world of just these points (one "cloud" object; nothing if empty).
   static CollisionWorld fromCloud(const PointList& cloud, const WorldOptions& options = {});
+  /// A world of just these triangles (one "mesh" object; nothing if there is none):
+  /// `uavip validate` against a mesh input's every triangle.
+  static CollisionWorld fromMesh(std::shared_ptr<const TriangleMesh> mesh,
+                                 const WorldOptions& options = {});
   ~CollisionWorld();
   CollisionWorld(CollisionWorld&&) noexcept;
   CollisionWorld& operator=(CollisionWorld&&) noexcept;
@@ -101,6 +110,8 @@ class CollisionWorld {
   const std::vector<WorldObject>& objects() const { return objects_; }
   /// Number of measured points held by the cloud object.
   std::size_t cloudSize() const;
+  /// Number of triangles held by the mesh object (0 without one).
+  std::size_t meshTriangles() const;
   /// Number of occupied OcTree leaves of the cloud object (builds the OcTree once).
   std::size_t octreeLeaves() const;
 
@@ -117,7 +128,9 @@ class CollisionWorld {
   /// (OcTree leaves are boxes) and GJK-accurate (~1e-6 m) for slabs, hulls and boxes.
   std::vector<int> sweepContacts(const Vec3& a, const Vec3& b, double radius) const;
   /// Voxel centres (edge `spacing` [m]) on the shell of every solid (surface slabs,
-  /// obstacle hulls and boxes), each face sampled at ≤ `spacing`, leaving out the
+  /// obstacle hulls and boxes) and on a mesh input's triangles, each face sampled at
+  /// ≤ `spacing` (so a triangle too small to get a sampled point still marks its
+  /// voxels), leaving out the
   /// voxels that already hold a point of `occupied`. A planning grid that marks
   /// these occupied cannot cross what the validator's solids enclose — on sparse,
   /// concave real clusters a hull spans free space the points leave open, and a

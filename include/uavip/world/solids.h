@@ -19,6 +19,13 @@
 
 namespace uavip::world {
 
+/// Exact distance from segment [a, b] (a point if a == b) to the triangle (t0, t1, t2)
+/// of positive area [m], 0 when they meet; `q` gets the triangle's nearest point
+/// (Ericson, Real-Time Collision Detection §5.1.5 and §5.1.9: the segment's crossing
+/// of the plane inside the triangle, else an end of the segment or an edge).
+double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2,
+                       Vec3& q);
+
 /// A convex polyhedron as triangles with outward normals (empty: no triangles).
 struct Polyhedron {
   std::vector<Vec3> vertices;
@@ -80,8 +87,10 @@ PointList interiorSamples(const Polyhedron& solid, double spacing, const Aabb* r
 /// Voxel centres (edge `spacing` [m]) on the shell of every non-empty solid, each
 /// triangle sampled in rows at most `spacing` apart, leaving out the voxels that
 /// already hold a point of `occupied`. Only solids whose bounds meet `region` (when
-/// given) are sampled, and only their samples inside it. Sorted by voxel key.
+/// given) are sampled, and only their samples inside it. Sorted by voxel key. The
+/// triangles of `mesh` (when given) are sampled as the solids' are.
 PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
-                       const PointList& occupied = {}, const Aabb* region = nullptr);
+                       const PointList& occupied = {}, const Aabb* region = nullptr,
+                       const TriangleMesh* mesh = nullptr);
 
 }  // namespace uavip::world
