@@ -80,6 +80,19 @@ std::optional<io::GeoFit> pageGeoFit(const std::optional<io::SceneCrsRecord>& cr
 void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const std::string& crs,
                 const std::string& vertical, const Verbosity& v);
 
+/// An input file read as `detect` read it, in the scene's frame.
+struct SceneFrameInput {
+  PointList points;  ///< [m]; a mesh's points sampled at detect's spacing
+  std::shared_ptr<const TriangleMesh> triangles;  ///< a mesh's triangles with area; null: a cloud
+};
+
+/// Reads `path` with scene.json's input_read (scale, drop_classes, a mesh's sampling
+/// spacing) and moves it into the scene's frame (source_offset_m); `j` is scene.json's
+/// document (`scene_path` names it in messages; an empty object: the file's own frame).
+/// validate_commands.cpp; used by validate and photos.
+SceneFrameInput readInSceneFrame(const std::string& path, const nlohmann::json& j,
+                                 const std::string& scene_path);
+
 /// Stages scene.json and the clean and safety clouds beside it in `out` (`read`: how
 /// a cloud file was read; null for a scenario) (pipeline_commands.cpp).
 void writeScene(io::StagedOutputs& outputs, const std::string& out, const app::DetectResult& d,

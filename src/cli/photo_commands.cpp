@@ -50,49 +50,24 @@ void printSummary(const photo::PhotoSummary& s, const std::string& out, const Ve
   }
 }
 
-/// How detect read its input, as scene.json records it: input.scale, drop_classes and
-/// source_offset_m (defaults when there is no scene.json).
-struct InputFrame {
-  io::CloudReadOptions options;
-  Vec3 offset{Vec3::Zero()};  ///< subtracted from the file's (scaled) coordinates [m]
-};
-
-InputFrame inputFrame(const std::string& scene_path) {
-  InputFrame f;
-  if (!std::filesystem::exists(scene_path)) return f;
-  const io::JsonReader reader(scene_path);
-  const nlohmann::json j = reader.load();
-  if (j.contains("input_read")) {
-    const nlohmann::json& r = j.at("input_read");
-    if (r.contains("scale")) f.options.scale = reader.number(r.at("scale"), "input_read.scale");
-    if (r.contains("drop_classes") && r.at("drop_classes").is_array())
-      f.options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
-  }
-  if (j.contains("source_offset_m"))
-    f.offset = reader.vec3(j.at("source_offset_m"), "source_offset_m", false);
-  return f;
+/// scene.json's document, or an empty one when there is none (the file's own frame).
+nlohmann::json sceneDocument(const std::string& scene_path) {
+  if (!std::filesystem::exists(scene_path)) return nlohmann::json::object();
+  return io::JsonReader(scene_path).load();
 }
 
-/// A mesh in the mission's frame: the file's coordinates times input.scale, less
-/// source_offset_m (inputFrame). No scene.json: the file's own frame.
-io::TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::string& scene_path) {
-  const InputFrame frame = inputFrame(scene_path);
-  io::TriangleMesh mesh = io::readMesh(mesh_path, frame.options.scale);
-  for (Vec3& p : mesh.vertices) p -= frame.offset;
-  return mesh;
+/// A mesh in the mission's frame (readInSceneFrame: as detect read its input).
+TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::string& scene_path) {
+  SceneFrameInput read = readInSceneFrame(mesh_path, sceneDocument(scene_path), scene_path);
+  if (!read.triangles) throw InputError(mesh_path + ": not read as a mesh");
+  return *read.triangles;
 }
 
-/// A cloud in the mission's frame, read as detect read it (inputFrame), with its colours.
-photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path,
-                                        const std::string& scene_path, std::string& colour_source) {
-  const InputFrame frame = inputFrame(scene_path);
-  io::CloudReadInfo info;
+/// A cloud in the mission's frame (readInSceneFrame), with its colours.
+photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path, const std::string& scene_path,
+                                        std::string& colour_source) {
   photo::PreviewCloud cloud;
-  cloud.points = io::loadCloud(cloud_path, frame.options, &info);
-  const Vec3 shift = info.origin_m - frame.offset;  // the reader's origin less the scene's
-  if (shift != Vec3::Zero()) {
-    for (Vec3& p : cloud.points) p += shift;
-  }
+  cloud.points = readInSceneFrame(cloud_path, sceneDocument(scene_path), scene_path).points;
   io::PointColours colours = io::loadCloudColours(cloud_path);
   if (colours.rgb.size() == cloud.points.size()) {
     cloud.rgb = std::move(colours.rgb);
@@ -124,7 +99,7 @@ int renderMeshPhotos(const std::string& mission_path, const std::string& mesh_pa
   if (scene_path.empty())
     scene_path = (std::filesystem::path(mission_path).parent_path() / "scene.json").string();
   io::requireDistinctOutputs({mission_path, mesh_path}, {out + "/photos.json"});
-  const io::TriangleMesh mesh = meshInMissionFrame(mesh_path, scene_path);
+  const TriangleMesh mesh = meshInMissionFrame(mesh_path, scene_path);
   printSummary(photo::writePhotoFolder(mission, mission_path, mesh, mesh_path, out,
                                        photoOptions(threads, v)),
                out, v);

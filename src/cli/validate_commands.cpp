@@ -109,6 +109,44 @@ std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mi
   return {};
 }
 
+}  // namespace
+
+SceneFrameInput readInSceneFrame(const std::string& path, const nlohmann::json& j,
+                                 const std::string& scene_path) {
+  // Read as detect read it (input options from scene.json), in the scene's frame.
+  io::CloudReadOptions options;
+  Vec3 scene_offset = Vec3::Zero();
+  if (j.contains("input_read")) {
+    const nlohmann::json& r = j.at("input_read");
+    if (r.contains("scale") && r.at("scale").is_number())
+      options.scale = r.at("scale").get<double>();
+    if (r.contains("drop_classes") && r.at("drop_classes").is_array())
+      options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
+    // A mesh is sampled again at the spacing detect used: the same points.
+    if (r.contains("mesh") && r.at("mesh").contains("spacing_m") &&
+        r.at("mesh").at("spacing_m").is_number())
+      options.mesh_spacing_m = r.at("mesh").at("spacing_m").get<double>();
+  }
+  if (j.contains("source_offset_m"))
+    scene_offset =
+        io::JsonReader(scene_path).vec3(j.at("source_offset_m"), "source_offset_m", false);
+  io::CloudReadInfo info;
+  SceneFrameInput in;
+  in.points = io::loadCloud(path, options, &info);
+  const Vec3 shift = info.origin_m - scene_offset;  // file coordinates − scene offset
+  if (shift != Vec3::Zero()) {
+    for (auto& p : in.points) p += shift;
+  }
+  if (info.triangles) {
+    auto moved = std::make_shared<TriangleMesh>(*info.triangles);
+    for (Vec3& p : moved->vertices) p += shift;
+    in.triangles = std::move(moved);
+  }
+  return in;
+}
+
+namespace {
+
 /// The input cloud a mission is checked against point by point: --cloud, else the
 /// file scene.json names when it is still there with the same sha256. `note` says
 /// which, or why none.
@@ -142,34 +180,9 @@ InputCloud inputCloud(const std::string& scene_path, const nlohmann::json& j, co
       return in;
     }
   }
-  // Read as detect read it (input options from scene.json), in the scene's frame.
-  io::CloudReadOptions options;
-  Vec3 scene_offset = Vec3::Zero();
-  if (j.contains("input_read")) {
-    const nlohmann::json& r = j.at("input_read");
-    if (r.contains("scale") && r.at("scale").is_number())
-      options.scale = r.at("scale").get<double>();
-    if (r.contains("drop_classes") && r.at("drop_classes").is_array())
-      options.drop_classes = r.at("drop_classes").get<std::vector<int>>();
-    // A mesh is sampled again at the spacing detect used: the same points.
-    if (r.contains("mesh") && r.at("mesh").contains("spacing_m") &&
-        r.at("mesh").at("spacing_m").is_number())
-      options.mesh_spacing_m = r.at("mesh").at("spacing_m").get<double>();
-  }
-  if (j.contains("source_offset_m"))
-    scene_offset =
-        io::JsonReader(scene_path).vec3(j.at("source_offset_m"), "source_offset_m", false);
-  io::CloudReadInfo info;
-  in.points = io::loadCloud(path, options, &info);
-  const Vec3 shift = info.origin_m - scene_offset;  // file coordinates − scene offset
-  if (shift != Vec3::Zero()) {
-    for (auto& p : in.points) p += shift;
-  }
-  if (info.triangles) {
-    auto moved = std::make_shared<TriangleMesh>(*info.triangles);
-    for (Vec3& p : moved->vertices) p += shift;
-    in.triangles = std::move(moved);
-  }
+  SceneFrameInput read = readInSceneFrame(path, j, scene_path);
+  in.points = std::move(read.points);
+  in.triangles = std::move(read.triangles);
   in.path = path;
   in.note = "input " + path + ": " +
             (in.triangles ? "mesh of " + std::to_string(in.triangles->triangles.size()) +

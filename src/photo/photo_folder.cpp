@@ -15,6 +15,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/wpml_export.h"
+#include "uavip/world/solids.h"
 
 namespace uavip::photo {
 namespace {
@@ -25,29 +26,6 @@ std::string format(const char* fmt, Args... args) {
   char buf[512];
   const int n = std::snprintf(buf, sizeof(buf), fmt, args...);
   return std::string(buf, static_cast<std::size_t>(std::max(0, n)));
-}
-
-/// Distance from p to the triangle abc [m] (Ericson, Real-Time Collision Detection,
-/// §5.1.5: the closest point by the Voronoi region of p).
-double pointTriangleDistance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
-  const double denom = 1.0 / (va + vb + vc);
-  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 
 /// The first finite standoff of a flyable surface [m] (NaN if none).
@@ -179,8 +157,10 @@ WorldMatch matchMesh(const std::vector<PlannedPhoto>& photos, const io::Triangle
       const Vec3 gap = (boxes[i].min - p).cwiseMax(p - boxes[i].max).cwiseMax(0.0);
       if (gap.norm() >= d[k]) continue;
       const auto& t = mesh.triangles[i];
-      d[k] = std::min(d[k], pointTriangleDistance(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                                  mesh.vertices[t[2]]));
+      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      if (!((b - a).cross(c - a).norm() > 0.0)) continue;  // no area: nothing to be near
+      Vec3 nearest;
+      d[k] = std::min(d[k], world::segmentTriangle(p, p, a, b, c, nearest));
     }
   });
   for (const double x : d) m.far += x > m.tolerance_m ? 1 : 0;
