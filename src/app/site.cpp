@@ -259,27 +259,24 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
     for (const Vec3& p : sortie.waypoints) w.push_back(fullVec(p));
     sorties.push_back(std::move(w));
   }
-  const nlohmann::json stats = {{"surface_parts", s.stats.surface_parts},
-                                {"surfaces_dropped", s.stats.surfaces_dropped},
-                                {"surfaces_joined", s.stats.surfaces_joined},
-                                {"surfaces_demoted", s.stats.surfaces_demoted},
-                                {"obstacle_parts", s.stats.obstacle_parts},
-                                {"obstacles_joined", s.stats.obstacles_joined},
-                                {"safety_points", s.stats.safety_points}};
-  const nlohmann::json summary = {
-      {"surfaces", s.surfaces},
-      {"obstacles", s.obstacles},
-      {"photo_stops", s.stops},
-      {"flyable", s.flyable},
-      {"merge_s", s.merge_s},
-      {"plan_s", s.plan_s},
-      {"stats", stats},
-      {"flight",
-       {{"status", planning::toString(s.flight.status)},
-        {"reason", s.flight.reason},
-        {"home", fullVec(s.flight.home)},
-        {"length_m", s.flight.length_m},
-        {"sorties", sorties}}}};
+  const nlohmann::json stats = {
+      {"surface_parts", s.stats.surface_parts},     {"surfaces_dropped", s.stats.surfaces_dropped},
+      {"surfaces_joined", s.stats.surfaces_joined}, {"surfaces_demoted", s.stats.surfaces_demoted},
+      {"obstacle_parts", s.stats.obstacle_parts},   {"obstacles_joined", s.stats.obstacles_joined},
+      {"safety_points", s.stats.safety_points}};
+  const nlohmann::json summary = {{"surfaces", s.surfaces},
+                                  {"obstacles", s.obstacles},
+                                  {"photo_stops", s.stops},
+                                  {"flyable", s.flyable},
+                                  {"merge_s", s.merge_s},
+                                  {"plan_s", s.plan_s},
+                                  {"stats", stats},
+                                  {"flight",
+                                   {{"status", planning::toString(s.flight.status)},
+                                    {"reason", s.flight.reason},
+                                    {"home", fullVec(s.flight.home)},
+                                    {"length_m", s.flight.length_m},
+                                    {"sorties", sorties}}}};
   const nlohmann::json j = {{"format", "uavip section 1"},
                             {"manifest", manifest.path},
                             {"manifest_sha256", key.manifest_sha256},
@@ -427,7 +424,8 @@ std::vector<std::vector<double>> clearanceToCloud(
   {
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::size_t i = 0; i < segments.size(); ++i)
-      forCells(segments[i], [&](std::size_t c) { listed[fill[c]++] = static_cast<std::uint32_t>(i); });
+      forCells(segments[i],
+               [&](std::size_t c) { listed[fill[c]++] = static_cast<std::uint32_t>(i); });
   }
   const auto cellOf = [&](const Vec3& p) -> long {
     const double fx = std::floor((p.x() - lo.x()) / edge), fy = std::floor((p.y() - lo.y()) / edge);

@@ -157,9 +157,9 @@ void listSections(const tiling::Manifest& m, int section_tiles) {
   }
 }
 
-int planSectionCommand(const std::string& manifest_path, long section, const std::string& config_path,
-                       int section_tiles, bool views, bool if_stale, bool list,
-                       const Verbosity& v) {
+int planSectionCommand(const std::string& manifest_path, long section,
+                       const std::string& config_path, int section_tiles, bool views, bool if_stale,
+                       bool list, const Verbosity& v) {
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   app::SiteOptions options;
   options.section_tiles = section_tiles;
@@ -169,8 +169,9 @@ int planSectionCommand(const std::string& manifest_path, long section, const std
     return kExitOk;
   }
   if (section < 0)
-    throw InputError("plan-section: give --section S (a Slurm array task: $SLURM_ARRAY_TASK_ID), "
-                     "or --list for the sections");
+    throw InputError(
+        "plan-section: give --section S (a Slurm array task: $SLURM_ARRAY_TASK_ID), "
+        "or --list for the sections");
   core::setFaultTask("plan-section " + std::to_string(section));
   const std::string used_config = config_path.empty() ? m.config : config_path;
   const app::Config config = tileConfig(used_config);
@@ -253,10 +254,10 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
   std::size_t joined = 0;
   for (const auto& r : results) joined += r.joined;
   std::cout << "time: merge " << formatFixed(merge_s, 2) << " s, plan " << formatFixed(plan_s, 2)
-            << " s" << (joined > 0 ? " (" + std::to_string(joined) + " of " +
-                                         std::to_string(results.size()) +
-                                         " section(s) by plan-section)"
-                                   : std::string())
+            << " s"
+            << (joined > 0 ? " (" + std::to_string(joined) + " of " +
+                                 std::to_string(results.size()) + " section(s) by plan-section)"
+                           : std::string())
             << ", validation " << formatFixed(site.check_s, 2) << " s\n";
   std::cout << "results: "
             << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
