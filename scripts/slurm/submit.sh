@@ -120,7 +120,11 @@ report() {
     state=$(grep -o 'JobState=[A-Z_]*' <<<"$line" | cut -d= -f2)
     run=$(grep -o 'RunTime=[0-9:-]*' <<<"$line" | cut -d= -f2)
     echo "  $2 $id: $state, $run" >&2
-    [[ $state == COMPLETED ]] || failed+=("$id")
+    if [[ $state != COMPLETED ]]; then
+      failed+=("$id")
+      # what the task said last (an error naming a tile to run again, say)
+      grep -h 'uavip: .*error' "$TILES/slurm/$2_$id.out" 2>/dev/null | tail -n 1 | sed 's/^/    /' >&2 || true
+    fi
   done < <(scontrol -o show job "$1" | grep ArrayTaskId= | sort -t= -k1,1)
   (IFS=,; echo "${failed[*]}")
 }
@@ -132,6 +136,7 @@ mline=$(scontrol -o show job "$MERGE" 2>/dev/null || true)
 mstate=$(grep -o 'JobState=[A-Z_]*' <<<"$mline" | cut -d= -f2 || true)
 mrun=$(grep -o 'RunTime=[0-9:-]*' <<<"$mline" | cut -d= -f2 || true)
 echo "  merge: ${mstate:-gone}, ${mrun:-}" >&2
+[[ $mstate == COMPLETED ]] || grep -h 'uavip: .*error' "$TILES/slurm/merge.out" 2>/dev/null | tail -n 1 | sed 's/^/    /' >&2 || true
 if [[ -n $tile_failed ]]; then
   echo "submit: tile(s) $tile_failed failed (logs $TILES/slurm/tile_<index>.out); the sections and the merge did not run." \
     "Rerun them, the sections and the merge: $0 $TILES -o $OUT --section-tiles $K --array $tile_failed" >&2
