@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
     const uavip::planning::PathValidator validator(chunk, 0.6);
     for (std::size_t f = 0; f < plans.size(); ++f)
       for (std::size_t s = 0; s < plans[f].sorties.size(); ++s)
-        loop[f][s] = std::min(loop[f][s],
-                              validator.validate(plans[f].sorties[s].waypoints).min_clearance_m);
+        loop[f][s] =
+            std::min(loop[f][s], validator.validate(plans[f].sorties[s].waypoints).min_clearance_m);
   });
   const double loop_s = since(t0);
 
