@@ -178,6 +178,7 @@ SectionSummary readSummary(const nlohmann::json& j) {
 /// sets each section's min_clearance_to_input_m; returns the points read.
 std::uint64_t checkAgainstInput(const tiling::Manifest& m, std::vector<SectionSummary>& sections) {
   std::vector<const planning::FlightPlan*> flights;
+  flights.reserve(sections.size());
   for (const auto& s : sections) flights.push_back(&s.flight);
   Vec3 origin = Vec3::Zero();
   std::uint64_t points = 0;
@@ -361,95 +362,130 @@ SectionResult readSectionResult(const tiling::Manifest& manifest, const SectionK
   return r;
 }
 
-std::vector<std::vector<double>> clearanceToCloud(
-    const std::string& input, const io::CloudReadOptions& read,
-    const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
-    std::size_t chunk_points, Vec3* origin, std::uint64_t* points) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  struct Segment {
-    std::size_t flight, sortie;
-    Vec3 a, b;
-  };
-  std::vector<std::vector<double>> clear(flights.size());
-  std::vector<Segment> segments;
-  for (std::size_t f = 0; f < flights.size(); ++f) {
-    const auto& sorties = flights[f]->sorties;
-    clear[f].assign(sorties.size(), kInf);
-    for (std::size_t s = 0; s < sorties.size(); ++s) {
-      const PointList& w = sorties[s].waypoints;
-      if (w.size() == 1) segments.push_back({f, s, w[0], w[0]});
-      for (std::size_t i = 0; i + 1 < w.size(); ++i) segments.push_back({f, s, w[i], w[i + 1]});
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// One leg of a sortie (a → b; a == b for a sortie of one waypoint).
+struct Leg {
+  std::size_t flight, sortie;
+  Vec3 a, b;
+};
+
+/// Square cells of edge `edge` over the legs' x, y boxes grown by `cutoff`; each
+/// leg listed in every cell its grown box meets (compressed rows: first[c] … first[c + 1]).
+struct LegGrid {
+  Eigen::Vector2d lo{Eigen::Vector2d::Zero()};
+  double edge{1.0};
+  long nx{0}, ny{0};
+  std::vector<std::uint32_t> first{0}, listed;
+
+  LegGrid(const std::vector<Leg>& legs, double cutoff) : edge(cutoff) {
+    if (legs.empty()) return;
+    Eigen::Vector2d hi = Eigen::Vector2d::Constant(-kInfinity);
+    lo = -hi;
+    for (const auto& l : legs) {
+      lo = lo.cwiseMin(l.a.head<2>().cwiseMin(l.b.head<2>()));
+      hi = hi.cwiseMax(l.a.head<2>().cwiseMax(l.b.head<2>()));
     }
-  }
-  // Square cells over the segments' x, y boxes grown by the cutoff; each segment
-  // listed in every cell its grown box meets (compressed rows: first[c] … first[c + 1]).
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(kInf), hi = -lo;
-  for (const auto& s : segments) {
-    lo = lo.cwiseMin(s.a.head<2>().cwiseMin(s.b.head<2>()));
-    hi = hi.cwiseMax(s.a.head<2>().cwiseMax(s.b.head<2>()));
-  }
-  lo.array() -= cutoff_m;
-  hi.array() += cutoff_m;
-  double edge = cutoff_m;
-  long nx = 0, ny = 0;
-  const auto size = [&] {
-    nx = static_cast<long>(std::floor((hi.x() - lo.x()) / edge)) + 1;
-    ny = static_cast<long>(std::floor((hi.y() - lo.y()) / edge)) + 1;
-  };
-  if (!segments.empty()) {
-    size();
-    while (static_cast<double>(nx) * static_cast<double>(ny) > 4e6) {  // at most 4 M cells
+    lo.array() -= cutoff;
+    hi.array() += cutoff;
+    do {  // at most 4 M cells
+      nx = static_cast<long>(std::floor((hi.x() - lo.x()) / edge)) + 1;
+      ny = static_cast<long>(std::floor((hi.y() - lo.y()) / edge)) + 1;
       edge *= 2.0;
-      size();
-    }
-  }
-  const auto cellRange = [&](double a, double b, double origin_m, long n) {
-    const long i0 = std::clamp(static_cast<long>(std::floor((a - origin_m) / edge)), 0L, n - 1);
-    const long i1 = std::clamp(static_cast<long>(std::floor((b - origin_m) / edge)), 0L, n - 1);
-    return std::pair<long, long>(i0, i1);
-  };
-  const std::size_t cells = static_cast<std::size_t>(nx * ny);
-  std::vector<std::uint32_t> first(cells + 1, 0);
-  const auto forCells = [&](const Segment& s, const auto& fn) {
-    const auto [x0, x1] = cellRange(std::min(s.a.x(), s.b.x()) - cutoff_m,
-                                    std::max(s.a.x(), s.b.x()) + cutoff_m, lo.x(), nx);
-    const auto [y0, y1] = cellRange(std::min(s.a.y(), s.b.y()) - cutoff_m,
-                                    std::max(s.a.y(), s.b.y()) + cutoff_m, lo.y(), ny);
-    for (long y = y0; y <= y1; ++y)
-      for (long x = x0; x <= x1; ++x) fn(static_cast<std::size_t>(y * nx + x));
-  };
-  for (const auto& s : segments) forCells(s, [&](std::size_t c) { ++first[c + 1]; });
-  for (std::size_t c = 0; c < cells; ++c) first[c + 1] += first[c];
-  std::vector<std::uint32_t> listed(first.back());
-  {
+    } while (static_cast<double>(nx) * static_cast<double>(ny) > 4e6);
+    edge /= 2.0;
+    first.assign(static_cast<std::size_t>(nx * ny) + 1, 0);
+    for (const auto& l : legs) forCells(l, cutoff, [&](std::size_t c) { ++first[c + 1]; });
+    for (std::size_t c = 0; c + 1 < first.size(); ++c) first[c + 1] += first[c];
+    listed.resize(first.back());
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::size_t i = 0; i < segments.size(); ++i)
-      forCells(segments[i],
+    for (std::size_t i = 0; i < legs.size(); ++i)
+      forCells(legs[i], cutoff,
                [&](std::size_t c) { listed[fill[c]++] = static_cast<std::uint32_t>(i); });
   }
-  const auto cellOf = [&](const Vec3& p) -> long {
+  std::size_t cells() const { return first.size() - 1; }
+  /// The cell of p, or −1 outside the grid.
+  long cellOf(const Vec3& p) const {
     const double fx = std::floor((p.x() - lo.x()) / edge), fy = std::floor((p.y() - lo.y()) / edge);
     if (!(fx >= 0.0 && fy >= 0.0 && fx < static_cast<double>(nx) && fy < static_cast<double>(ny)))
       return -1;
     return static_cast<long>(fy) * nx + static_cast<long>(fx);
-  };
-  std::vector<std::uint64_t> cell_seen(cells, 0), segment_seen(segments.size(), 0);
+  }
+
+ private:
+  template <typename Fn>
+  void forCells(const Leg& l, double cutoff, const Fn& fn) const {
+    const auto range = [&](double a, double b, double origin, long n) {
+      return std::pair<long, long>(
+          std::clamp(static_cast<long>(std::floor((a - origin) / edge)), 0L, n - 1),
+          std::clamp(static_cast<long>(std::floor((b - origin) / edge)), 0L, n - 1));
+    };
+    const auto [x0, x1] =
+        range(std::min(l.a.x(), l.b.x()) - cutoff, std::max(l.a.x(), l.b.x()) + cutoff, lo.x(), nx);
+    const auto [y0, y1] =
+        range(std::min(l.a.y(), l.b.y()) - cutoff, std::max(l.a.y(), l.b.y()) + cutoff, lo.y(), ny);
+    for (long y = y0; y <= y1; ++y)
+      for (long x = x0; x <= x1; ++x) fn(static_cast<std::size_t>(y * nx + x));
+  }
+};
+
+/// The sorties with no point within the cutoff (clearance above it) measured again
+/// against every point, their whole path per chunk.
+void remeasureFar(const std::string& input, const io::CloudReadOptions& read,
+                  const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
+                  std::size_t chunk_points, std::vector<std::vector<double>>& clear) {
+  std::vector<std::pair<std::size_t, std::size_t>> far;
+  for (std::size_t f = 0; f < flights.size(); ++f)
+    for (std::size_t s = 0; s < clear[f].size(); ++s)
+      if (!(clear[f][s] <= cutoff_m) && !flights[f]->sorties[s].waypoints.empty())
+        far.emplace_back(f, s);
+  if (far.empty()) return;
+  for (const auto& [f, s] : far) clear[f][s] = kInfinity;
+  io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
+    const planning::PathValidator validator(chunk_cloud, cutoff_m);
+    for (const auto& [f, s] : far)
+      clear[f][s] = std::min(clear[f][s],
+                             validator.validate(flights[f]->sorties[s].waypoints).min_clearance_m);
+  });
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> clearanceToCloud(
+    const std::string& input, const io::CloudReadOptions& read,
+    const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
+    std::size_t chunk_points, Vec3* origin, std::uint64_t* points) {
+  std::vector<std::vector<double>> clear(flights.size());
+  std::vector<Leg> legs;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const auto& sorties = flights[f]->sorties;
+    clear[f].assign(sorties.size(), kInfinity);
+    for (std::size_t s = 0; s < sorties.size(); ++s) {
+      const PointList& w = sorties[s].waypoints;
+      if (w.size() == 1) legs.push_back({f, s, w[0], w[0]});
+      for (std::size_t i = 0; i + 1 < w.size(); ++i) legs.push_back({f, s, w[i], w[i + 1]});
+    }
+  }
+  const LegGrid grid(legs, cutoff_m);
+  std::vector<std::uint64_t> cell_seen(grid.cells(), 0), leg_seen(legs.size(), 0);
   std::uint64_t chunk = 0;
   const io::CloudStreamInfo info =
       io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
         ++chunk;
-        PointList near;
+        PointList near;  // the chunk's points in cells with a leg, and those legs
         std::vector<std::uint32_t> touched;
         for (const Vec3& p : chunk_cloud) {
-          const long c = segments.empty() ? -1 : cellOf(p);
-          if (c < 0 || first[c] == first[c + 1]) continue;
+          const long c = legs.empty() ? -1 : grid.cellOf(p);
+          if (c < 0 || grid.first[c] == grid.first[c + 1]) continue;
           near.push_back(p);
           if (cell_seen[c] == chunk) continue;
           cell_seen[c] = chunk;
-          for (std::uint32_t k = first[c]; k < first[c + 1]; ++k)
-            if (segment_seen[listed[k]] != chunk) {
-              segment_seen[listed[k]] = chunk;
-              touched.push_back(listed[k]);
+          for (std::uint32_t k = grid.first[c]; k < grid.first[c + 1]; ++k)
+            if (leg_seen[grid.listed[k]] != chunk) {
+              leg_seen[grid.listed[k]] = chunk;
+              touched.push_back(grid.listed[k]);
             }
         }
         if (near.empty()) return;
@@ -457,30 +493,17 @@ std::vector<std::vector<double>> clearanceToCloud(
         const planning::PathValidator validator(near, cutoff_m);
         std::vector<double> d(touched.size());
         parallelFor(touched.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
-          const Segment& s = segments[touched[i]];
-          d[i] = validator.world().proximity(s.a, s.b, cutoff_m).distance_m;
+          const Leg& l = legs[touched[i]];
+          d[i] = validator.world().proximity(l.a, l.b, cutoff_m).distance_m;
         });
         for (std::size_t i = 0; i < touched.size(); ++i) {
-          const Segment& s = segments[touched[i]];
-          clear[s.flight][s.sortie] = std::min(clear[s.flight][s.sortie], d[i]);
+          const Leg& l = legs[touched[i]];
+          clear[l.flight][l.sortie] = std::min(clear[l.flight][l.sortie], d[i]);
         }
       });
   if (origin) *origin = info.read.origin_m;
   if (points) *points = info.points;
-  // A sortie with no point within the cutoff: every point, the whole path, again.
-  std::vector<std::pair<std::size_t, std::size_t>> far;
-  for (std::size_t f = 0; f < flights.size(); ++f)
-    for (std::size_t s = 0; s < clear[f].size(); ++s)
-      if (!(clear[f][s] <= cutoff_m) && !flights[f]->sorties[s].waypoints.empty())
-        far.emplace_back(f, s);
-  if (far.empty() || info.points == 0) return clear;
-  for (const auto& [f, s] : far) clear[f][s] = kInf;
-  io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
-    const planning::PathValidator validator(chunk_cloud, cutoff_m);
-    for (const auto& [f, s] : far)
-      clear[f][s] = std::min(clear[f][s],
-                             validator.validate(flights[f]->sorties[s].waypoints).min_clearance_m);
-  });
+  if (info.points > 0) remeasureFar(input, read, flights, cutoff_m, chunk_points, clear);
   return clear;
 }
 

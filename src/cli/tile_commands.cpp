@@ -58,14 +58,15 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
   if (!v.quiet) {
     std::uint64_t largest = 0;
     for (const auto& t : m.tiles) largest = std::max(largest, t.core_points + t.buffer_points);
-    std::cout << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows
-              << " cells of " << formatNumber(m.tile_size_m) << " m, buffer "
-              << formatNumber(m.buffer_m) << " m; " << m.input_points << " points, largest tile "
-              << largest << " points (core + buffer)"
-              << (io::streamsInBoundedMemory(cloud)
-                      ? ""
-                      : "; note: PCD, PLY and meshes are read whole, LAS and text are streamed")
-              << "\n";
+    std::cout
+        << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows << " cells of "
+        << formatNumber(m.tile_size_m) << " m, buffer " << formatNumber(m.buffer_m) << " m; "
+        << m.input_points << " points, largest tile " << largest << " points (core + buffer)"
+        << (io::streamsInBoundedMemory(cloud)
+                ? ""
+                : "; note: PLY, compressed PCD and meshes are read whole; LAS, text and other PCD "
+                  "are streamed")
+        << "\n";
     std::cout << "time: " << formatFixed(secondsSince(t0), 2) << " s\n";
     std::cout << "results: " << pathIn(out, "manifest.json") << "\n";
   }
