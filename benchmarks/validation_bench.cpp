@@ -10,6 +10,8 @@
 // segments, the points and both wall times; exit 1 when a clearance differs.
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -27,9 +29,7 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using uavip::Vec3;
   std::vector<std::string> files;
   int repeat = 1;
@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
       plans.push_back(std::move(plan));
     }
   std::vector<const uavip::planning::FlightPlan*> flights;
+  flights.reserve(plans.size());
   for (const auto& p : plans) flights.push_back(&p);
   const uavip::io::CloudReadOptions read;
   constexpr std::size_t kChunk = std::size_t{1} << 21;  // as the merge streams
@@ -101,4 +102,15 @@ int main(int argc, char** argv) {
             << segments << " segments: indexed " << indexed_s << " s, chunk x sortie loop "
             << loop_s << " s, reading alone " << read_s << " s\n";
   return indexed == loop ? 0 : (std::cerr << "clearances differ\n", 1);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "uavip_validation_bench: " << e.what() << "\n";
+    return 2;
+  }
 }
