@@ -10,9 +10,11 @@
 #include <utility>
 
 #include "uavip/core/error.h"
+#include "uavip/core/parallel.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 #include "uavip/coverage/camera.h"
+#include "uavip/io/atomic_file.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/json_numbers.h"
 #include "uavip/io/scene_json.h"
@@ -123,43 +125,72 @@ SectionPlan planSectionOf(const tiling::Manifest& m,
   return r;
 }
 
-/// What stays of a planned section.
-SectionSummary summaryOf(const SectionPlan& p) {
+std::string tileResultPath(const tiling::Manifest& m, std::size_t tile) {
+  return sitePath(sitePath(m.dir(), m.tiles[tile].out), "scene.json");
+}
+
+nlohmann::json fullVec(const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); }
+
+Vec3 readVec(const nlohmann::json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+planning::FlightPlan::Status statusNamed(const std::string& name) {
+  for (const auto s : {planning::FlightPlan::Status::Ok, planning::FlightPlan::Status::Empty,
+                       planning::FlightPlan::Status::Failed})
+    if (name == planning::toString(s)) return s;
+  throw InputError("flight status '" + name + "'");
+}
+
+/// The summary of section.json (sectionResultJsonText).
+SectionSummary readSummary(const nlohmann::json& j) {
   SectionSummary s;
-  s.out = p.out;
-  s.tiles = p.tiles;
-  s.stats = p.stats;
-  s.surfaces = p.detected.scene.surfaces.size();
-  s.obstacles = p.detected.scene.obstacles.size();
-  for (const auto& mission : p.planned.missions) s.stops += mission.strategy.stops.size();
-  s.flight = p.planned.flight;
-  s.flyable = s.flight.status == planning::FlightPlan::Status::Ok && !s.flight.sorties.empty();
-  s.merge_s = p.merge_s;
-  s.plan_s = p.plan_s;
+  s.tiles = j.at("tiles").get<std::vector<int>>();
+  const nlohmann::json& r = j.at("summary");
+  s.surfaces = r.at("surfaces").get<std::size_t>();
+  s.obstacles = r.at("obstacles").get<std::size_t>();
+  s.stops = r.at("photo_stops").get<std::size_t>();
+  s.flyable = r.at("flyable").get<bool>();
+  s.merge_s = r.at("merge_s").get<double>();
+  s.plan_s = r.at("plan_s").get<double>();
+  const nlohmann::json& st = r.at("stats");
+  s.stats.surface_parts = st.at("surface_parts").get<int>();
+  s.stats.surfaces_dropped = st.at("surfaces_dropped").get<int>();
+  s.stats.surfaces_joined = st.at("surfaces_joined").get<int>();
+  s.stats.surfaces_demoted = st.at("surfaces_demoted").get<int>();
+  s.stats.obstacle_parts = st.at("obstacle_parts").get<int>();
+  s.stats.obstacles_joined = st.at("obstacles_joined").get<int>();
+  s.stats.safety_points = st.at("safety_points").get<std::size_t>();
+  const nlohmann::json& f = r.at("flight");
+  s.flight.status = statusNamed(f.at("status").get<std::string>());
+  s.flight.reason = f.at("reason").get<std::string>();
+  s.flight.home = readVec(f.at("home"));
+  s.flight.length_m = f.at("length_m").get<double>();
+  for (const auto& sortie : f.at("sorties")) {
+    planning::Sortie out;
+    for (const auto& w : sortie) out.waypoints.push_back(readVec(w));
+    s.flight.sorties.push_back(std::move(out));
+  }
   return s;
 }
 
 /// Every sortie of every section measured against every input point, streamed once:
 /// sets each section's min_clearance_to_input_m; returns the points read.
-std::uint64_t checkAgainstInput(const tiling::Manifest& m, std::vector<SectionSummary>& sections,
-                                double clearance) {
-  for (auto& s : sections)
-    s.min_clearance_to_input_m.assign(s.flight.sorties.size(),
-                                      std::numeric_limits<double>::infinity());
-  const io::CloudStreamInfo info =
-      io::streamCloud(m.input, m.read, kSiteStreamChunk, [&](const PointList& points) {
-        const planning::PathValidator validator(points, clearance);
-        for (auto& section : sections)
-          for (std::size_t s = 0; s < section.flight.sorties.size(); ++s) {
-            const planning::ValidationResult r =
-                validator.validate(section.flight.sorties[s].waypoints);
-            section.min_clearance_to_input_m[s] =
-                std::min(section.min_clearance_to_input_m[s], r.min_clearance_m);
-          }
-      });
-  if ((info.read.origin_m - m.source_offset_m).norm() > 1e-6)
+std::uint64_t checkAgainstInput(const tiling::Manifest& m, std::vector<SectionSummary>& sections) {
+  std::vector<const planning::FlightPlan*> flights;
+  flights.reserve(sections.size());
+  for (const auto& s : sections) flights.push_back(&s.flight);
+  Vec3 origin = Vec3::Zero();
+  std::uint64_t points = 0;
+  // A sortie's nearest point is nearly always within the tile buffer (its stops fly
+  // the standoff out); farther ones are measured in a second pass.
+  auto clear = clearanceToCloud(m.input, m.read, flights, std::max(10.0, m.buffer_m),
+                                kSiteStreamChunk, &origin, &points);
+  for (std::size_t i = 0; i < sections.size(); ++i)
+    sections[i].min_clearance_to_input_m = std::move(clear[i]);
+  if ((origin - m.source_offset_m).norm() > 1e-6)
     throw InputError(m.input + ": read in another frame than when it was tiled; tile it again");
-  return info.points;
+  return points;
 }
 
 /// The smallest clearance of every sortie [m]; InputError naming the sortie when one
@@ -182,6 +213,299 @@ double requireClearOfInput(const tiling::Manifest& m, const std::vector<SectionS
 }
 
 }  // namespace
+
+SectionSummary summarize(const SectionPlan& p) {
+  SectionSummary s;
+  s.out = p.out;
+  s.tiles = p.tiles;
+  s.stats = p.stats;
+  s.surfaces = p.detected.scene.surfaces.size();
+  s.obstacles = p.detected.scene.obstacles.size();
+  for (const auto& mission : p.planned.missions) s.stops += mission.strategy.stops.size();
+  s.flight = p.planned.flight;
+  s.flyable = s.flight.status == planning::FlightPlan::Status::Ok && !s.flight.sorties.empty();
+  s.merge_s = p.merge_s;
+  s.plan_s = p.plan_s;
+  return s;
+}
+
+SectionKey sectionKey(const tiling::Manifest& manifest, const std::string& config_path,
+                      int section_tiles, bool views) {
+  SectionKey k;
+  k.manifest_sha256 = io::sha256File(manifest.path);
+  k.config_sha256 = config_path.empty() ? std::string() : io::sha256File(config_path);
+  k.section_tiles = section_tiles;
+  k.views = views;
+  return k;
+}
+
+std::string sectionResultFolder(const tiling::Manifest& manifest, std::size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "section_%03zu", index);
+  return sitePath(manifest.dir(), name);
+}
+
+std::string sectionResultJsonText(const tiling::Manifest& manifest, const SectionKey& key,
+                                  const SectionPlan& plan,
+                                  const std::vector<std::pair<std::string, std::string>>& files) {
+  const SectionSummary s = summarize(plan);
+  nlohmann::json results = nlohmann::json::array();
+  for (const int t : s.tiles)
+    results.push_back(io::sha256File(tileResultPath(manifest, static_cast<std::size_t>(t))));
+  nlohmann::json file_list = nlohmann::json::array();
+  for (const auto& [name, sha] : files) file_list.push_back({{"name", name}, {"sha256", sha}});
+  nlohmann::json sorties = nlohmann::json::array();
+  for (const auto& sortie : s.flight.sorties) {
+    nlohmann::json w = nlohmann::json::array();
+    for (const Vec3& p : sortie.waypoints) w.push_back(fullVec(p));
+    sorties.push_back(std::move(w));
+  }
+  const nlohmann::json stats = {
+      {"surface_parts", s.stats.surface_parts},     {"surfaces_dropped", s.stats.surfaces_dropped},
+      {"surfaces_joined", s.stats.surfaces_joined}, {"surfaces_demoted", s.stats.surfaces_demoted},
+      {"obstacle_parts", s.stats.obstacle_parts},   {"obstacles_joined", s.stats.obstacles_joined},
+      {"safety_points", s.stats.safety_points}};
+  const nlohmann::json summary = {{"surfaces", s.surfaces},
+                                  {"obstacles", s.obstacles},
+                                  {"photo_stops", s.stops},
+                                  {"flyable", s.flyable},
+                                  {"merge_s", s.merge_s},
+                                  {"plan_s", s.plan_s},
+                                  {"stats", stats},
+                                  {"flight",
+                                   {{"status", planning::toString(s.flight.status)},
+                                    {"reason", s.flight.reason},
+                                    {"home", fullVec(s.flight.home)},
+                                    {"length_m", s.flight.length_m},
+                                    {"sorties", sorties}}}};
+  const nlohmann::json j = {{"format", "uavip section 1"},
+                            {"manifest", manifest.path},
+                            {"manifest_sha256", key.manifest_sha256},
+                            {"config_sha256", key.config_sha256},
+                            {"section_tiles", key.section_tiles},
+                            {"views", key.views},
+                            {"section", plan.index},
+                            {"sections", plan.count},
+                            {"tiles", s.tiles},
+                            {"tile_results_sha256", results},
+                            {"files", file_list},
+                            {"summary", summary}};
+  return j.dump(1) + "\n";
+}
+
+SectionResult readSectionResult(const tiling::Manifest& manifest, const SectionKey& key,
+                                const std::vector<std::vector<std::size_t>>& parts,
+                                std::size_t index, const std::string& out) {
+  SectionResult r;
+  r.index = index;
+  r.folder = sectionResultFolder(manifest, index);
+  const std::string record = sitePath(r.folder, kSectionResultFile);
+  if (!std::filesystem::exists(record)) {
+    r.why = "no result";
+    return r;
+  }
+  try {
+    const nlohmann::json j = nlohmann::json::parse(io::readFile(record));
+    if (j.at("format") != "uavip section 1") {
+      r.why = "section.json of another format";
+      return r;
+    }
+    if (j.at("manifest_sha256") != key.manifest_sha256) {
+      r.why = "made from another manifest.json (sha256 differs)";
+      return r;
+    }
+    if (j.at("config_sha256") != key.config_sha256) {
+      r.why = "planned with another config (sha256 differs)";
+      return r;
+    }
+    if (j.at("section_tiles") != key.section_tiles || j.at("sections") != parts.size() ||
+        j.at("section") != index) {
+      r.why = "planned for another --section-tiles";
+      return r;
+    }
+    if (j.at("views") != key.views) {
+      r.why = key.views ? "planned without views" : "planned with views";
+      return r;
+    }
+    const auto tiles = j.at("tiles").get<std::vector<std::size_t>>();
+    const auto digests = j.at("tile_results_sha256").get<std::vector<std::string>>();
+    if (tiles != parts[index] || digests.size() != tiles.size()) {
+      r.why = "made for other tiles";
+      return r;
+    }
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+      const std::string path = tileResultPath(manifest, tiles[i]);
+      if (!std::filesystem::exists(path) || io::sha256File(path) != digests[i]) {
+        r.why = "tile " + std::to_string(tiles[i]) + "'s result changed since (run-tile again)";
+        return r;
+      }
+    }
+    for (const auto& f : j.at("files")) {
+      const std::string name = f.at("name").get<std::string>();
+      const std::string path = sitePath(r.folder, name);
+      if (name.find('/') != std::string::npos || !std::filesystem::exists(path) ||
+          io::sha256File(path) != f.at("sha256").get<std::string>()) {
+        r.why = name + " is missing or changed";
+        r.files.clear();
+        return r;
+      }
+      r.files.push_back(name);
+    }
+    SectionSummary s = readSummary(j);
+    s.out = sectionFolder(out, index, parts.size());
+    s.joined = true;
+    r.summary = std::move(s);
+  } catch (const std::exception& e) {
+    r.why = std::string("section.json unreadable (") + e.what() + ")";
+    r.files.clear();
+  }
+  return r;
+}
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// One leg of a sortie (a → b; a == b for a sortie of one waypoint).
+struct Leg {
+  std::size_t flight, sortie;
+  Vec3 a, b;
+};
+
+/// Square cells of edge `edge` over the legs' x, y boxes grown by `cutoff`; each
+/// leg listed in every cell its grown box meets (compressed rows: first[c] … first[c + 1]).
+struct LegGrid {
+  Eigen::Vector2d lo{Eigen::Vector2d::Zero()};
+  double edge{1.0};
+  long nx{0}, ny{0};
+  std::vector<std::uint32_t> first{0}, listed;
+
+  LegGrid(const std::vector<Leg>& legs, double cutoff) : edge(cutoff) {
+    if (legs.empty()) return;
+    Eigen::Vector2d hi = Eigen::Vector2d::Constant(-kInfinity);
+    lo = -hi;
+    for (const auto& l : legs) {
+      lo = lo.cwiseMin(l.a.head<2>().cwiseMin(l.b.head<2>()));
+      hi = hi.cwiseMax(l.a.head<2>().cwiseMax(l.b.head<2>()));
+    }
+    lo.array() -= cutoff;
+    hi.array() += cutoff;
+    do {  // at most 4 M cells
+      nx = static_cast<long>(std::floor((hi.x() - lo.x()) / edge)) + 1;
+      ny = static_cast<long>(std::floor((hi.y() - lo.y()) / edge)) + 1;
+      edge *= 2.0;
+    } while (static_cast<double>(nx) * static_cast<double>(ny) > 4e6);
+    edge /= 2.0;
+    first.assign(static_cast<std::size_t>(nx * ny) + 1, 0);
+    for (const auto& l : legs) forCells(l, cutoff, [&](std::size_t c) { ++first[c + 1]; });
+    for (std::size_t c = 0; c + 1 < first.size(); ++c) first[c + 1] += first[c];
+    listed.resize(first.back());
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < legs.size(); ++i)
+      forCells(legs[i], cutoff,
+               [&](std::size_t c) { listed[fill[c]++] = static_cast<std::uint32_t>(i); });
+  }
+  std::size_t cells() const { return first.size() - 1; }
+  /// The cell of p, or −1 outside the grid.
+  long cellOf(const Vec3& p) const {
+    const double fx = std::floor((p.x() - lo.x()) / edge), fy = std::floor((p.y() - lo.y()) / edge);
+    if (!(fx >= 0.0 && fy >= 0.0 && fx < static_cast<double>(nx) && fy < static_cast<double>(ny)))
+      return -1;
+    return static_cast<long>(fy) * nx + static_cast<long>(fx);
+  }
+
+ private:
+  template <typename Fn>
+  void forCells(const Leg& l, double cutoff, const Fn& fn) const {
+    const auto range = [&](double a, double b, double origin, long n) {
+      return std::pair<long, long>(
+          std::clamp(static_cast<long>(std::floor((a - origin) / edge)), 0L, n - 1),
+          std::clamp(static_cast<long>(std::floor((b - origin) / edge)), 0L, n - 1));
+    };
+    const auto [x0, x1] =
+        range(std::min(l.a.x(), l.b.x()) - cutoff, std::max(l.a.x(), l.b.x()) + cutoff, lo.x(), nx);
+    const auto [y0, y1] =
+        range(std::min(l.a.y(), l.b.y()) - cutoff, std::max(l.a.y(), l.b.y()) + cutoff, lo.y(), ny);
+    for (long y = y0; y <= y1; ++y)
+      for (long x = x0; x <= x1; ++x) fn(static_cast<std::size_t>(y * nx + x));
+  }
+};
+
+/// The sorties with no point within the cutoff (clearance above it) measured again
+/// against every point, their whole path per chunk.
+void remeasureFar(const std::string& input, const io::CloudReadOptions& read,
+                  const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
+                  std::size_t chunk_points, std::vector<std::vector<double>>& clear) {
+  std::vector<std::pair<std::size_t, std::size_t>> far;
+  for (std::size_t f = 0; f < flights.size(); ++f)
+    for (std::size_t s = 0; s < clear[f].size(); ++s)
+      if (!(clear[f][s] <= cutoff_m) && !flights[f]->sorties[s].waypoints.empty())
+        far.emplace_back(f, s);
+  if (far.empty()) return;
+  for (const auto& [f, s] : far) clear[f][s] = kInfinity;
+  io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
+    const planning::PathValidator validator(chunk_cloud, cutoff_m);
+    for (const auto& [f, s] : far)
+      clear[f][s] = std::min(clear[f][s],
+                             validator.validate(flights[f]->sorties[s].waypoints).min_clearance_m);
+  });
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> clearanceToCloud(
+    const std::string& input, const io::CloudReadOptions& read,
+    const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
+    std::size_t chunk_points, Vec3* origin, std::uint64_t* points) {
+  std::vector<std::vector<double>> clear(flights.size());
+  std::vector<Leg> legs;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const auto& sorties = flights[f]->sorties;
+    clear[f].assign(sorties.size(), kInfinity);
+    for (std::size_t s = 0; s < sorties.size(); ++s) {
+      const PointList& w = sorties[s].waypoints;
+      if (w.size() == 1) legs.push_back({f, s, w[0], w[0]});
+      for (std::size_t i = 0; i + 1 < w.size(); ++i) legs.push_back({f, s, w[i], w[i + 1]});
+    }
+  }
+  const LegGrid grid(legs, cutoff_m);
+  std::vector<std::uint64_t> cell_seen(grid.cells(), 0), leg_seen(legs.size(), 0);
+  std::uint64_t chunk = 0;
+  const io::CloudStreamInfo info =
+      io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
+        ++chunk;
+        PointList near;  // the chunk's points in cells with a leg, and those legs
+        std::vector<std::uint32_t> touched;
+        for (const Vec3& p : chunk_cloud) {
+          const long c = legs.empty() ? -1 : grid.cellOf(p);
+          if (c < 0 || grid.first[c] == grid.first[c + 1]) continue;
+          near.push_back(p);
+          if (cell_seen[c] == chunk) continue;
+          cell_seen[c] = chunk;
+          for (std::uint32_t k = grid.first[c]; k < grid.first[c + 1]; ++k)
+            if (leg_seen[grid.listed[k]] != chunk) {
+              leg_seen[grid.listed[k]] = chunk;
+              touched.push_back(grid.listed[k]);
+            }
+        }
+        if (near.empty()) return;
+        std::sort(touched.begin(), touched.end());
+        const planning::PathValidator validator(near, cutoff_m);
+        std::vector<double> d(touched.size());
+        parallelFor(touched.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
+          const Leg& l = legs[touched[i]];
+          d[i] = validator.world().proximity(l.a, l.b, cutoff_m).distance_m;
+        });
+        for (std::size_t i = 0; i < touched.size(); ++i) {
+          const Leg& l = legs[touched[i]];
+          clear[l.flight][l.sortie] = std::min(clear[l.flight][l.sortie], d[i]);
+        }
+      });
+  if (origin) *origin = info.read.origin_m;
+  if (points) *points = info.points;
+  if (info.points > 0) remeasureFar(input, read, flights, cutoff_m, chunk_points, clear);
+  return clear;
+}
 
 double leastTileBuffer(const Config& config) {
   const double standoff =
@@ -289,25 +613,53 @@ bool SiteResult::flyable() const {
 }
 
 SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
-                    const SiteOptions& options, const SectionSink& sink, const Progress& progress) {
+                    const SiteOptions& options, const SectionSink& sink, const Progress& progress,
+                    const SectionJoin& join) {
   options.validate();
   requireSiteInput(manifest);
-  std::vector<std::size_t> all(manifest.tiles.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
-  requireTileResults(manifest, all);
   const auto parts = siteSections(manifest, options.section_tiles);
+  std::vector<SectionResult> found(parts.size());
+  std::vector<std::size_t> here;  // sections planned here, and their tiles
+  std::vector<std::size_t> tiles;
+  std::string missing, why;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (options.results)
+      found[i] = readSectionResult(manifest, *options.results, parts, i, options.out);
+    else
+      found[i].why = "no result";
+    if (found[i].summary) continue;
+    here.push_back(i);
+    tiles.insert(tiles.end(), parts[i].begin(), parts[i].end());
+    missing += (missing.empty() ? "" : ",") + std::to_string(i);
+    why += (why.empty() ? "" : "; ") + std::to_string(i) + ": " + found[i].why;
+  }
+  if (options.results && options.require_results && !here.empty())
+    throw InputError(manifest.path + ": no usable result of plan-section for section(s) " +
+                     missing + " (" + why + "); plan them: uavip plan-section " + manifest.path +
+                     " --section S (Slurm: scripts/slurm/submit.sh " + manifest.dir() +
+                     " --sections " + missing + "), then merge again");
+  std::sort(tiles.begin(), tiles.end());
+  requireTileResults(manifest, tiles);
   SiteResult site;
   for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (found[i].summary) {
+      if (join) join(found[i]);
+      site.sections.push_back(*found[i].summary);
+      continue;
+    }
+    if (options.results && found[i].why != "no result")
+      site.notes.push_back("section " + std::to_string(i) + ": the result in " + found[i].folder +
+                           " is not used (" + found[i].why + "); planned here");
     const SectionPlan section = planSectionOf(manifest, parts, i, config, options, progress);
     if (sink) sink(section);
-    site.sections.push_back(summaryOf(section));
+    site.sections.push_back(summarize(section));
     if (parts.size() > 1)
       reportProgress(progress, "section " + std::to_string(i + 1) + " of " +
                                    std::to_string(parts.size()) + " planned");
   }
   const auto t0 = SteadyClock::now();
   site.required_clearance_m = config.uav.inflationRadius();
-  site.input_points = checkAgainstInput(manifest, site.sections, site.required_clearance_m);
+  site.input_points = checkAgainstInput(manifest, site.sections);
   site.min_clearance_m = requireClearOfInput(manifest, site.sections, site.required_clearance_m);
   site.check_s = secondsSince(t0);
   return site;

@@ -1,5 +1,6 @@
-// uavip tile | run-tile | merge: a kilometre-scale cloud in tiles, each tile's stages
-// 3–5 in a process of its own (a Slurm array task), one validated mission from all.
+// uavip tile | run-tile | plan-section | merge: a kilometre-scale cloud in tiles, each
+// tile's stages 3–5 in a process of its own (a Slurm array task), each section planned
+// in one of its own (a second array), one validated mission from all.
 // The work is app/site.h's; here the options are parsed, outputs staged and printed
 // (tiling/tiles.h, tiling/merge.h, scripts/slurm/).
 
@@ -13,7 +14,9 @@
 #include "src/cli/commands.h"
 #include "uavip/app/scenario.h"
 #include "uavip/app/site.h"
+#include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
+#include "uavip/core/test_fault.h"
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/cloud_io.h"
@@ -55,14 +58,15 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
   if (!v.quiet) {
     std::uint64_t largest = 0;
     for (const auto& t : m.tiles) largest = std::max(largest, t.core_points + t.buffer_points);
-    std::cout << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows
-              << " cells of " << formatNumber(m.tile_size_m) << " m, buffer "
-              << formatNumber(m.buffer_m) << " m; " << m.input_points << " points, largest tile "
-              << largest << " points (core + buffer)"
-              << (io::streamsInBoundedMemory(cloud)
-                      ? ""
-                      : "; note: PCD, PLY and meshes are read whole, LAS and text are streamed")
-              << "\n";
+    std::cout
+        << "tiles: " << m.tiles.size() << " of " << m.columns << " x " << m.rows << " cells of "
+        << formatNumber(m.tile_size_m) << " m, buffer " << formatNumber(m.buffer_m) << " m; "
+        << m.input_points << " points, largest tile " << largest << " points (core + buffer)"
+        << (io::streamsInBoundedMemory(cloud)
+                ? ""
+                : "; note: PLY, compressed PCD and meshes are read whole; LAS, text and other PCD "
+                  "are streamed")
+        << "\n";
     std::cout << "time: " << formatFixed(secondsSince(t0), 2) << " s\n";
     std::cout << "results: " << pathIn(out, "manifest.json") << "\n";
   }
@@ -71,6 +75,7 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
 
 int runTileCommand(const std::string& manifest_path, long index, const std::string& config_path,
                    bool views, const Verbosity& v) {
+  core::setFaultTask("run-tile " + std::to_string(index));
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   const tiling::TileRecord& t = m.tile(index);
   const app::Config config = tileConfig(config_path.empty() ? m.config : config_path);
@@ -84,6 +89,7 @@ int runTileCommand(const std::string& manifest_path, long index, const std::stri
     o.title = "tile " + std::to_string(t.index) + ": uavip scene";
     view::stageViews(outputs, r.out, view::renderViews(r.detected.scene, {}, o, nullptr));
   }
+  core::failIfArmed();
   outputs.commit();
   if (!v.quiet)
     std::cout << "tile " << t.index << " (column " << t.column << ", row " << t.row
@@ -94,7 +100,8 @@ int runTileCommand(const std::string& manifest_path, long index, const std::stri
   return kExitOk;
 }
 
-/// Stages a planned section's scene.json, mission.json and views in its folder.
+/// Stages a planned section's scene.json, views and mission.json in its folder
+/// (mission.json last: renamed last, it marks the folder complete).
 void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const app::SectionPlan& s,
                   bool views) {
   io::ensureDirectory(s.out);
@@ -105,7 +112,6 @@ void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const a
   read.crs_vertical = m.crs_vertical;
   const app::Config& resolved = s.detected.resolved.config;
   writeScene(outputs, s.out, s.detected, &read);
-  writeMission(outputs, s.out, s.planned, resolved, m.path);
   if (views) {
     view::OverviewOptions o;
     o.title = s.alone()
@@ -115,6 +121,100 @@ void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const a
     view::stageViews(outputs, s.out,
                      view::renderViews(s.detected.scene, s.planned.missions, o, &s.planned.flight));
   }
+  writeMission(outputs, s.out, s.planned, resolved, m.path);
+}
+
+/// Stages copies of a plan-section result's files in the section's folder of the site.
+void stageJoined(io::StagedOutputs& outputs, const app::SectionResult& r) {
+  io::ensureDirectory(r.summary->out);
+  for (const std::string& name : r.files) {
+    const std::string from = pathIn(r.folder, name);
+    outputs.writeWith(pathIn(r.summary->out, name), [&](const std::string& tmp) {
+      std::error_code ec;
+      std::filesystem::copy_file(from, tmp, std::filesystem::copy_options::overwrite_existing, ec);
+      if (ec) throw InputError(from + ": cannot copy (" + ec.message() + "); merge again");
+    });
+  }
+}
+
+/// The file whose presence marks a merged site complete: site.json, or the only
+/// section's mission.json.
+std::string mergeMark(const std::string& out, std::size_t sections) {
+  return pathIn(out, sections > 1 ? "site.json" : "mission.json");
+}
+
+/// `plan-section --list`: one line per section (its tiles and points) for scripts.
+void listSections(const tiling::Manifest& m, int section_tiles) {
+  const auto parts = app::siteSections(m, section_tiles);
+  std::cout << "sections: " << parts.size() << "\n";
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    std::uint64_t points = 0;
+    std::string tiles;
+    for (const std::size_t t : parts[i]) {
+      points += m.tiles[t].core_points + m.tiles[t].buffer_points;
+      tiles += (tiles.empty() ? "" : ",") + std::to_string(t);
+    }
+    std::cout << "section " << i << ": tiles " << tiles << "; " << points << " points\n";
+  }
+}
+
+int planSectionCommand(const std::string& manifest_path, long section,
+                       const std::string& config_path, int section_tiles, bool views, bool if_stale,
+                       bool list, const Verbosity& v) {
+  const tiling::Manifest m = tiling::loadManifest(manifest_path);
+  app::SiteOptions options;
+  options.section_tiles = section_tiles;
+  options.validate();
+  if (list) {
+    listSections(m, section_tiles);
+    return kExitOk;
+  }
+  if (section < 0)
+    throw InputError(
+        "plan-section: give --section S (a Slurm array task: $SLURM_ARRAY_TASK_ID), "
+        "or --list for the sections");
+  core::setFaultTask("plan-section " + std::to_string(section));
+  const std::string used_config = config_path.empty() ? m.config : config_path;
+  const app::Config config = tileConfig(used_config);
+  const app::SectionKey key = app::sectionKey(m, used_config, section_tiles, views);
+  const auto t0 = SteadyClock::now();
+  const std::string folder = app::sectionResultFolder(m, static_cast<std::size_t>(section));
+  if (if_stale) {
+    const auto parts = app::siteSections(m, section_tiles);
+    if (static_cast<std::size_t>(section) < parts.size() &&
+        app::readSectionResult(m, key, parts, static_cast<std::size_t>(section), "").summary) {
+      if (!v.quiet)
+        std::cout << "section " << section << ": its result in " << folder
+                  << " is up to date; nothing to do\n";
+      return kExitOk;
+    }
+  }
+  app::SectionPlan plan =
+      app::planSection(m, config, static_cast<std::size_t>(section), options, progressPrinter(v));
+  plan.out = folder;
+  // Without its record the folder is no result: a task killed while it writes leaves none.
+  std::error_code ec;
+  std::filesystem::remove(pathIn(folder, app::kSectionResultFile), ec);
+  io::StagedOutputs outputs;
+  stageSection(outputs, m, plan, views);
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& [tmp, target] : outputs.staged())
+    files.emplace_back(std::filesystem::path(target).filename().string(), io::sha256File(tmp));
+  outputs.write(pathIn(folder, app::kSectionResultFile),
+                app::sectionResultJsonText(m, key, plan, files));
+  core::failIfArmed();
+  outputs.commit();
+  if (!v.quiet) {
+    std::size_t stops = 0;
+    for (const auto& mission : plan.planned.missions) stops += mission.strategy.stops.size();
+    std::cout << "section " << section << " of " << plan.count << " (tiles " << plan.tiles.size()
+              << "): " << plan.detected.scene.surfaces.size() << " surfaces, " << stops
+              << " photo stops, flight " << planning::toString(plan.planned.flight.status) << ", "
+              << plan.planned.flight.sorties.size() << " sorties, "
+              << formatFixed(secondsSince(t0), 2) << " s -> "
+              << pathIn(folder, app::kSectionResultFile) << "\n";
+  }
+  return kExitOk;
 }
 
 void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
@@ -152,8 +252,14 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
             << (std::isfinite(site.min_clearance_m) ? formatFixed(site.min_clearance_m, 3) + " m"
                                                     : std::string("-"))
             << " (required " << formatFixed(site.required_clearance_m, 3) << " m)\n";
+  std::size_t joined = 0;
+  for (const auto& r : results) joined += r.joined;
   std::cout << "time: merge " << formatFixed(merge_s, 2) << " s, plan " << formatFixed(plan_s, 2)
-            << " s, validation " << formatFixed(site.check_s, 2) << " s\n";
+            << " s"
+            << (joined > 0 ? " (" + std::to_string(joined) + " of " +
+                                 std::to_string(results.size()) + " section(s) by plan-section)"
+                           : std::string())
+            << ", validation " << formatFixed(site.check_s, 2) << " s\n";
   std::cout << "results: "
             << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
                             (views ? ", " + pathIn(out, "mission.html") : std::string())
@@ -163,18 +269,31 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
 }
 
 int mergeCommand(const std::string& manifest_path, const std::string& config_path,
-                 const std::string& out, int section_tiles, bool views, const Verbosity& v) {
+                 const std::string& out, int section_tiles, bool views, bool require_sections,
+                 const Verbosity& v) {
+  core::setFaultTask("merge");
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   app::SiteOptions options;
   options.section_tiles = section_tiles;
   options.out = out;
   options.validate();
-  const app::Config config = tileConfig(config_path.empty() ? m.config : config_path);
+  const std::string used_config = config_path.empty() ? m.config : config_path;
+  const app::Config config = tileConfig(used_config);
+  const app::SectionKey key = app::sectionKey(m, used_config, section_tiles, views);
+  options.results = &key;
+  options.require_results = require_sections;
   io::StagedOutputs outputs;  // temporaries on disk: a section's scene is freed once staged
   const app::SiteResult site = app::planSite(
       m, config, options, [&](const app::SectionPlan& s) { stageSection(outputs, m, s, views); },
-      progressPrinter(v));
+      progressPrinter(v), [&](const app::SectionResult& r) { stageJoined(outputs, r); });
+  for (const std::string& note : site.notes) std::cerr << "uavip: note: " << note << "\n";
   if (site.sections.size() > 1) outputs.write(pathIn(out, "site.json"), app::siteJsonText(m, site));
+  core::failIfArmed();
+  // The mark of a complete site goes first and comes back last: a merge killed while it
+  // renames leaves no site.json (no mission.json of a single section), never a mix
+  // taken as done.
+  std::error_code ec;
+  std::filesystem::remove(mergeMark(out, site.sections.size()), ec);
   outputs.commit();
   if (!v.quiet) printMergeSummary(m, site, out, views);
   if (!site.flyable()) {
@@ -188,10 +307,10 @@ int mergeCommand(const std::string& manifest_path, const std::string& config_pat
 struct TileArgs {
   std::string cloud, manifest, config, out;
   double tile_size{0.0}, buffer{0.0};
-  long index{-1};
+  long index{-1}, section{-1};
   int section_tiles{0};
   CLI::Option* buffer_opt{nullptr};
-  bool views{false}, no_views{false};
+  bool views{false}, no_views{false}, require_sections{false}, if_stale{false}, list{false};
 };
 
 }  // namespace
@@ -238,8 +357,33 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
                     "when the site holds at most 2 M points, else sections that do)");
   merge->add_flag("--no-views", a->no_views,
                   "Skip overview.png, scene.ply, path.obj, mission.html");
+  merge->add_flag("--require-sections", a->require_sections,
+                  "Join only results of plan-section (the Slurm merge): refuse, naming the "
+                  "sections to plan, instead of planning a missing or stale one here");
   registry.add(merge, [a, &v] {
-    return mergeCommand(a->manifest, a->config, a->out, a->section_tiles, !a->no_views, v);
+    return mergeCommand(a->manifest, a->config, a->out, a->section_tiles, !a->no_views,
+                        a->require_sections, v);
+  });
+
+  auto* section = cli.add_subcommand(
+      "plan-section",
+      "Merge and plan one section of a tiled site -> TILES/section_NNN/ (joined by merge)");
+  section->add_option("manifest", a->manifest, "TILES/manifest.json written by uavip tile")
+      ->required();
+  section->add_option("--section", a->section,
+                      "Section index from 0 (a Slurm array task: $SLURM_ARRAY_TASK_ID)");
+  section->add_option("-c,--config", a->config,
+                      "Config YAML (default: the one given to uavip tile); give merge the same");
+  section->add_option("--section-tiles", a->section_tiles,
+                      "Sections of K x K tiles, as merge's option (give merge the same)");
+  section->add_flag("--no-views", a->no_views,
+                    "Skip the views (give merge the same: a result is joined only as made)");
+  section->add_flag("--if-stale", a->if_stale,
+                    "Do nothing when the section's result is there and up to date");
+  section->add_flag("--list", a->list, "Print the sections (tiles and points) and exit");
+  registry.add(section, [a, &v] {
+    return planSectionCommand(a->manifest, a->section, a->config, a->section_tiles, !a->no_views,
+                              a->if_stale, a->list, v);
   });
 }
 

@@ -2,12 +2,14 @@
 
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "uavip/core/error.h"
+#include "uavip/core/test_fault.h"
 
 namespace uavip::io {
 
@@ -22,8 +24,18 @@ void replaceFileAtomic(const std::string& path,
 
 namespace {
 
+/// The host and process in the name: two tasks of one array index on two nodes of a
+/// shared file system (a task run twice) never write one temporary.
 std::string temporaryFor(const std::string& path) {
-  return path + ".tmp" + std::to_string(::getpid());
+  static const std::string host = [] {
+    char name[256] = {};
+    if (::gethostname(name, sizeof name - 1) != 0) return std::string();
+    std::string h(name);
+    for (char& c : h)
+      if (c == '/' || c == '.') c = '-';
+    return h + "-";
+  }();
+  return path + ".tmp" + host + std::to_string(::getpid());
 }
 
 /// Writes `text` to `file`; messages name `path`, the file the user asked for.
@@ -69,7 +81,10 @@ void StagedOutputs::write(const std::string& path, const std::string& text) {
 }
 
 void StagedOutputs::commit() {
-  for (const auto& [tmp, path] : staged_) {
+  const bool kill_half = core::faultArmed("kill-mid-write");  // the fault tests' hook
+  for (std::size_t i = 0; i < staged_.size(); ++i) {
+    if (kill_half && i == staged_.size() / 2) std::raise(SIGKILL);
+    const auto& [tmp, path] = staged_[i];
     std::error_code ec;
     fs::rename(tmp, path, ec);
     if (ec) throw InputError(path + ": cannot write (" + ec.message() + "); choose another -o");

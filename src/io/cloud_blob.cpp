@@ -94,6 +94,11 @@ std::vector<std::string> headerWords(const std::string& line) {
 }
 
 PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
+  return fromBlob(blob, path, blob.height > 1, 0);
+}
+
+PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path, bool organized,
+                   std::uint64_t first) {
   const pcl::PCLPointField* fields[3] = {nullptr, nullptr, nullptr};
   const char* names[3] = {"x", "y", "z"};
   for (const auto& f : blob.fields) {
@@ -123,7 +128,6 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
     throw InputError(path + ": the point data is shorter than the header says (" +
                      std::to_string(width * height) + " points)");
   }
-  const bool organized = height > 1;
   PointList out;
   out.reserve(width * height);
   for (std::size_t r = 0; r < height; ++r) {
@@ -135,7 +139,7 @@ PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path) {
       if (!p.allFinite()) {
         if (organized) continue;  // no return in a sensor frame
         throw InputError(
-            path + ": point " + std::to_string(r * width + c) + " " + formatRawPoint(p) +
+            path + ": point " + std::to_string(first + r * width + c) + " " + formatRawPoint(p) +
             " is not finite; remove NaN/inf points (e.g. pcl::removeNaNFromPointCloud)");
       }
       out.push_back(p);

@@ -38,6 +38,15 @@ PointList loadXyz(const std::string& path);
 /// `in` is the file opened at its start, `file_size` its size [bytes].
 pcl::PCLPointCloud2 readPcd(const std::string& path, std::istream& in, std::uint64_t file_size);
 
+/// The points of an ascii or binary PCD file (as fromBlob of readPcd gives them),
+/// read `chunk_points` records at a time and handed to `sink` in file order; false,
+/// having read only the header, for binary_compressed (one LZF block: read it whole).
+bool streamPcd(const std::string& path, std::istream& in, std::uint64_t file_size,
+               std::size_t chunk_points, const std::function<void(const PointList&)>& sink);
+
+/// True when the PCD file's header (checked) says ascii or binary: streamPcd streams it.
+bool pcdStreams(const std::string& path, std::istream& in, std::uint64_t file_size);
+
 /// A PLY file read by PCL after uavip's header checks (PCL's reader crashes on some
 /// malformed headers); `in` and `file_size` as for readPcd.
 pcl::PCLPointCloud2 readPly(const std::string& path, std::istream& in, std::uint64_t file_size);
@@ -58,6 +67,10 @@ std::vector<std::string> headerWords(const std::string& line);
 /// An organized cloud (height > 1, a sensor frame) marks missing returns with NaN:
 /// those are skipped. Any other non-finite point is an error naming its index.
 PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path);
+/// The same for part of a cloud: `organized` as the whole cloud is, `first` the index
+/// of the blob's first point in it (messages).
+PointList fromBlob(const pcl::PCLPointCloud2& blob, const std::string& path, bool organized,
+                   std::uint64_t first);
 
 /// The colours of the points fromBlob keeps (io::loadCloudColours).
 PointColours coloursFromBlob(const pcl::PCLPointCloud2& blob);

@@ -202,6 +202,17 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
 
 namespace {
 
+/// An ascii or binary PCD file streamed to `sink` (false for binary_compressed).
+bool streamPcdChunks(const std::string& path, std::size_t chunk_points,
+                     const std::function<void(const PointList&)>& sink) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot read (permission?)");
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
+  return streamPcd(path, in, size, chunk_points, sink);
+}
+
 /// One pass over the cloud in the frame loadCloud gives before its own recentring
 /// (a LAS file recentred by its header, then input.scale), in chunks to `sink`.
 /// Returns the LAS header information for LAS files (nullopt otherwise).
@@ -238,8 +249,12 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
     // A mesh is sampled whole, then handed on in chunks.
     scale = 1.0;
     for (const Vec3& p : readMeshPoints(path, options, nullptr)) add(p);
+  } else if (ext == ".pcd" && streamPcdChunks(path, chunk_points, [&](const PointList& points) {
+               for (const Vec3& p : points) add(p);
+             })) {
+    // ascii and binary PCD: streamed
   } else if (ext == ".pcd" || ext == ".ply") {
-    // PCD and PLY are read whole (PCL's blob), then handed on in chunks.
+    // PLY and binary_compressed PCD are read whole (PCL's blob), then handed on in chunks.
     for (const Vec3& p : fromBlob(readBlob(path, ext), path)) add(p);
   } else {
     unknownExtension(path, ext);
@@ -252,6 +267,16 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
 
 bool streamsInBoundedMemory(const std::string& path) {
   const std::string ext = lowerExtension(path);
+  if (ext == ".pcd") {  // all but binary_compressed (the header alone is read)
+    std::ifstream in(path, std::ios::binary);
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    try {
+      return in && !ec && pcdStreams(path, in, size);
+    } catch (const InputError&) {
+      return false;
+    }
+  }
   return ext == ".las" || ext == ".xyz" || ext == ".txt" || ext == ".csv";
 }
 

@@ -185,16 +185,16 @@ std::uint8_t pclType(char type, std::uint64_t size) {
   return 0;
 }
 
-/// The data of a checked PCD file as a PCLPointCloud2 (records of the fields in
-/// order). uavip reads PCD itself: PCL's PCDReader crashes on damaged files that
-/// pass every header check (tests/fuzz/fuzz_cloud), ours refuses them by name.
-/// ascii values are stored as FLOAT64.
-pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
+/// An empty blob of `n` records of the layout of `h` (records of the fields in order;
+/// ascii values stored as FLOAT64): width and height of the file when n is all of its
+/// points, else n × 1.
+pcl::PCLPointCloud2 pcdBlob(const std::string& path, const PcdHeader& h, std::uint64_t n) {
   pcl::PCLPointCloud2 blob;
-  blob.width = static_cast<std::uint32_t>(h.width);
-  blob.height = static_cast<std::uint32_t>(h.height);
   if (h.width > UINT32_MAX || h.height > UINT32_MAX)
     throw InputError(path + ": WIDTH or HEIGHT above 2^32");
+  const bool whole = n == h.points;
+  blob.width = static_cast<std::uint32_t>(whole ? h.width : n);
+  blob.height = static_cast<std::uint32_t>(whole ? h.height : 1);
   const bool ascii = h.data == "ascii";
   std::uint64_t offset = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
@@ -208,39 +208,54 @@ pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
     offset += (ascii ? 8 : h.sizes[f]) * h.counts[f];
   }
   blob.point_step = static_cast<std::uint32_t>(offset);
-  blob.row_step = static_cast<std::uint32_t>(offset * h.width);
-  blob.data.resize(static_cast<std::size_t>(offset * h.points));
+  blob.row_step = static_cast<std::uint32_t>(offset * blob.width);
+  blob.data.resize(static_cast<std::size_t>(offset * n));
+  return blob;
+}
 
-  std::ifstream in(path, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(h.body));
-  if (ascii) {
+/// Reads the next records of an ascii or binary PCD body from `in` into `blob`
+/// (pcdBlob); `first` is the index of the first of them in the file (messages).
+void readPcdRecords(const std::string& path, const PcdHeader& h, std::istream& in,
+                    std::uint64_t first, pcl::PCLPointCloud2& blob) {
+  if (h.data == "ascii") {
     // A 4-byte float field is parsed as a float (as PCL does), anything else as double.
     std::vector<bool> single;
     for (std::size_t f = 0; f < h.fields.size(); ++f)
       single.insert(single.end(), h.counts[f], h.types[f] == 'F' && h.sizes[f] == 4);
     const std::uint64_t values = single.size();
+    const std::uint64_t n = blob.data.size() / 8 / std::max<std::uint64_t>(values, 1);
     auto* out = reinterpret_cast<double*>(blob.data.data());
     std::string token;
-    for (std::uint64_t k = 0; k < values * h.points; ++k) {
+    for (std::uint64_t k = 0; k < values * n; ++k) {
       if (!(in >> token))
-        throw InputError(path + ": point " + std::to_string(k / values) +
+        throw InputError(path + ": point " + std::to_string(first + k / values) +
                          " has fewer values than FIELDS/COUNT say (" + std::to_string(values) +
                          " per point); the file is truncated");
       char* end = nullptr;
       const double v = single[k % values] ? static_cast<double>(std::strtof(token.c_str(), &end))
                                           : std::strtod(token.c_str(), &end);
       if (end != token.c_str() + token.size())
-        throw InputError(path + ": point " + std::to_string(k / values) + ": '" +
+        throw InputError(path + ": point " + std::to_string(first + k / values) + ": '" +
                          token.substr(0, 20) + "' is not a number");
       out[k] = v;
     }
-    return blob;
+    return;
   }
-  if (h.data == "binary") {
-    in.read(reinterpret_cast<char*>(blob.data.data()),
-            static_cast<std::streamsize>(blob.data.size()));
-    if (static_cast<std::size_t>(in.gcount()) != blob.data.size())
-      throw InputError(path + ": the binary data is truncated");
+  in.read(reinterpret_cast<char*>(blob.data.data()),
+          static_cast<std::streamsize>(blob.data.size()));
+  if (static_cast<std::size_t>(in.gcount()) != blob.data.size())
+    throw InputError(path + ": the binary data is truncated");
+}
+
+/// The data of a checked PCD file as a PCLPointCloud2 (pcdBlob). uavip reads PCD
+/// itself: PCL's PCDReader crashes on damaged files that pass every header check
+/// (tests/fuzz/fuzz_cloud), ours refuses them by name.
+pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
+  pcl::PCLPointCloud2 blob = pcdBlob(path, h, h.points);
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(h.body));
+  if (h.data != "binary_compressed") {
+    readPcdRecords(path, h, in, 0, blob);
     return blob;
   }
   // binary_compressed: uint32 compressed size, uint32 size, LZF stream of the
@@ -273,6 +288,29 @@ pcl::PCLPointCloud2 readPcdBody(const std::string& path, const PcdHeader& h) {
 
 pcl::PCLPointCloud2 readPcd(const std::string& path, std::istream& in, std::uint64_t file_size) {
   return readPcdBody(path, checkPcdHeader(path, in, file_size));
+}
+
+bool pcdStreams(const std::string& path, std::istream& in, std::uint64_t file_size) {
+  return checkPcdHeader(path, in, file_size).data != "binary_compressed";
+}
+
+bool streamPcd(const std::string& path, std::istream& in, std::uint64_t file_size,
+               std::size_t chunk_points, const std::function<void(const PointList&)>& sink) {
+  const PcdHeader h = checkPcdHeader(path, in, file_size);
+  if (h.data == "binary_compressed") return false;
+  std::ifstream data(path, std::ios::binary);
+  data.seekg(static_cast<std::streamoff>(h.body));
+  const bool organized = h.height > 1;
+  for (std::uint64_t first = 0; first < h.points; first += chunk_points) {
+    const std::uint64_t n = std::min<std::uint64_t>(chunk_points, h.points - first);
+    pcl::PCLPointCloud2 blob = pcdBlob(path, h, n);
+    blob.width = static_cast<std::uint32_t>(n);
+    blob.height = 1;
+    blob.row_step = static_cast<std::uint32_t>(blob.point_step * n);
+    readPcdRecords(path, h, data, first, blob);
+    sink(fromBlob(blob, path, organized, first));
+  }
+  return true;
 }
 
 }  // namespace uavip::io

@@ -23,6 +23,7 @@
 #include "tests/tiling/block_site.h"
 #include "uavip/core/error.h"
 #include "uavip/io/atomic_file.h"
+#include "uavip/io/cloud_io.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/scene_json.h"
 
@@ -215,6 +216,115 @@ TEST_F(SiteTest, AnInputPointOnASortieIsRefusedNamingIt) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("sortie 1 comes 0.000 m"), std::string::npos) << e.what();
   }
+}
+
+TEST_F(SiteTest, IndexedClearanceEqualsBruteForceNearAndFar) {
+  // The points as read back (the file holds them rounded); chunks of 500 points.
+  const PointList read = io::loadCloud(p("site.xyz"));
+  const app::SiteResult site = [&] {
+    app::SiteOptions options;
+    options.out = p("out_index");
+    return app::planSite(manifest_, config_, options);
+  }();
+  uavip::planning::FlightPlan planned = site.sections[0].flight;
+  ASSERT_FALSE(planned.sorties.empty());
+  uavip::planning::FlightPlan extra;
+  extra.sorties.resize(4);
+  extra.sorties[0].waypoints = {Vec3(25.0, 200.0, 5.0), Vec3(30.0, 260.0, 5.0)};  // far off
+  extra.sorties[1].waypoints = {Vec3(-5.0, -5.0, 3.0)};                           // one point
+  extra.sorties[2].waypoints = {Vec3(-40.0, 5.0, 2.0), Vec3(90.0, 5.0, 2.0)};     // across all
+  const std::vector<const uavip::planning::FlightPlan*> flights{&planned, &extra};
+  for (const double cutoff : {0.5, 3.0, 40.0}) {
+    std::uint64_t points = 0;
+    Vec3 origin = Vec3::Constant(1.0);
+    const auto clear =
+        app::clearanceToCloud(p("site.xyz"), config_.input, flights, cutoff, 500, &origin, &points);
+    EXPECT_EQ(points, read.size());
+    EXPECT_EQ(origin, Vec3::Zero());
+    ASSERT_EQ(clear.size(), 2U);
+    for (std::size_t f = 0; f < 2; ++f) {
+      ASSERT_EQ(clear[f].size(), flights[f]->sorties.size());
+      for (std::size_t s = 0; s < clear[f].size(); ++s) {
+        PointList path = flights[f]->sorties[s].waypoints;
+        if (path.size() == 1) path.push_back(path[0]);
+        const double brute =
+            path.empty() ? std::numeric_limits<double>::infinity() : bruteClearance(path, read);
+        if (std::isinf(brute))
+          EXPECT_TRUE(std::isinf(clear[f][s]));
+        else
+          EXPECT_NEAR(clear[f][s], brute, 1e-9)
+              << "cutoff " << cutoff << ", flight " << f << ", sortie " << s + 1;
+      }
+    }
+  }
+}
+
+TEST_F(SiteTest, ASectionResultIsJoinedOnlyWhileItsInputsAreUnchanged) {
+  app::SiteOptions options;
+  options.section_tiles = 2;
+  options.out = p("joined");
+  const auto parts = app::siteSections(manifest_, 2);
+  ASSERT_EQ(parts.size(), 2U);
+  app::SectionKey key;
+  key.manifest_sha256 = io::sha256File(manifest_.path);
+  key.section_tiles = 2;
+  // Section 1's result as plan-section leaves it (its record only: no other file).
+  app::SectionPlan plan = app::planSection(manifest_, config_, 1, options);
+  const std::string folder = app::sectionResultFolder(manifest_, 1);
+  io::writeFileAtomic((fs::path(folder) / app::kSectionResultFile).string(),
+                      app::sectionResultJsonText(manifest_, key, plan, {}));
+  const app::SectionResult r = app::readSectionResult(manifest_, key, parts, 1, p("joined"));
+  ASSERT_TRUE(r.summary) << r.why;
+  EXPECT_EQ(r.summary->out, app::sectionFolder(p("joined"), 1, 2));
+  ASSERT_EQ(r.summary->flight.sorties.size(), plan.planned.flight.sorties.size());
+  for (std::size_t s = 0; s < plan.planned.flight.sorties.size(); ++s)  // bit for bit
+    EXPECT_EQ(r.summary->flight.sorties[s].waypoints, plan.planned.flight.sorties[s].waypoints);
+  EXPECT_EQ(r.summary->stops, app::summarize(plan).stops);
+
+  // Joined by the site plan (section 0 planned there): the same clearances as when
+  // every section is planned there.
+  std::vector<std::size_t> planned_here, joined;
+  options.results = &key;
+  const app::SiteResult site = app::planSite(
+      manifest_, config_, options,
+      [&](const app::SectionPlan& s) { planned_here.push_back(s.index); }, {},
+      [&](const app::SectionResult& j) { joined.push_back(j.index); });
+  EXPECT_EQ(planned_here, std::vector<std::size_t>{0});
+  EXPECT_EQ(joined, std::vector<std::size_t>{1});
+  app::SiteOptions fresh = options;
+  fresh.results = nullptr;
+  const app::SiteResult all_here = app::planSite(manifest_, config_, fresh);
+  ASSERT_EQ(site.sections.size(), 2U);
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_EQ(site.sections[i].min_clearance_to_input_m,
+              all_here.sections[i].min_clearance_to_input_m);
+
+  // Stale: another manifest, another --section-tiles, a tile's result rewritten.
+  app::SectionKey other = key;
+  other.manifest_sha256 = "0";
+  EXPECT_NE(app::readSectionResult(manifest_, other, parts, 1, "").why.find("another manifest"),
+            std::string::npos);
+  other = key;
+  other.section_tiles = 0;
+  EXPECT_FALSE(app::readSectionResult(manifest_, other, parts, 1, "").summary);
+  const std::string scene =
+      (fs::path(manifest_.dir()) / manifest_.tiles[parts[1][0]].out / "scene.json").string();
+  const std::string before = io::readFile(scene);
+  io::writeFileAtomic(scene, before + " ");
+  const app::SectionResult stale = app::readSectionResult(manifest_, key, parts, 1, "");
+  EXPECT_FALSE(stale.summary);
+  EXPECT_NE(stale.why.find("tile " + std::to_string(parts[1][0])), std::string::npos) << stale.why;
+  // Required: refused naming both sections and the command.
+  options.require_results = true;
+  try {
+    app::planSite(manifest_, config_, options);
+    ADD_FAILURE() << "a stale section result was joined";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("section(s) 0,1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("uavip plan-section"), std::string::npos) << e.what();
+  }
+  io::writeFileAtomic(scene, before);
+  fs::remove_all(folder);
 }
 
 TEST_F(SiteTest, MissingResultsAndBadOptionsAreRefused) {

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -314,6 +315,70 @@ TEST(CloudIoPcd, OwnReaderMatchesPclOnEveryDataLayout) {
   damaged[data + 4] = static_cast<char>(damaged[data + 4] + 1);  // uncompressed size off by one
   std::ofstream(dir / "e.pcd", std::ios::binary) << damaged;
   EXPECT_THROW(loadCloud((dir / "e.pcd").string()), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+/// Every point streamCloud hands on, in order.
+PointList streamed(const std::string& path, std::size_t chunk) {
+  PointList out;
+  streamCloud(path, CloudReadOptions{}, chunk, [&](const PointList& points) {
+    EXPECT_LE(points.size(), chunk);
+    out.insert(out.end(), points.begin(), points.end());
+  });
+  return out;
+}
+
+// ascii and binary PCD are streamed a chunk at a time: the same points as loadCloud
+// (which reads the whole file), organized clouds' missing returns skipped alike, a
+// bad point named by its index in the file; binary_compressed is read whole.
+TEST(CloudIoPcd, StreamedAsLoadedChunkByChunk) {
+  pcl::PointCloud<pcl::PointXYZ> organized(60, 40);  // a sensor frame with missing returns
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-20.0f, 20.0f);
+  for (std::size_t i = 0; i < organized.size(); ++i) {
+    organized[i].getVector3fMap() = Eigen::Vector3f(u(rng), u(rng), u(rng));
+    if (i % 7 == 3) organized[i].x = std::numeric_limits<float>::quiet_NaN();
+  }
+  pcl::PointCloud<pcl::PointXYZ> flat;
+  for (int i = 0; i < 3000; ++i) flat.push_back(pcl::PointXYZ(u(rng), u(rng), u(rng)));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uavip_pcd_stream_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto at = [&](const std::string& name) { return (dir / name).string(); };
+  pcl::io::savePCDFileASCII(at("a.pcd"), flat);
+  pcl::io::savePCDFileBinary(at("b.pcd"), flat);
+  pcl::io::savePCDFileBinaryCompressed(at("c.pcd"), flat);
+  pcl::io::savePCDFileBinary(at("o.pcd"), organized);
+  pcl::io::savePCDFileASCII(at("oa.pcd"), organized);
+  for (const std::string& f : {at("a.pcd"), at("b.pcd"), at("c.pcd"), at("o.pcd"), at("oa.pcd"),
+                               std::string(UAVIP_SOURCE_DIR) + "/tests/data/room_scan1.pcd",
+                               std::string(UAVIP_SOURCE_DIR) + "/tests/data/fcplanner_MBS.pcd"}) {
+    const PointList whole = loadCloud(f);
+    if (f.rfind(dir.string(), 0) == 0) {  // written here: all but c.pcd stream
+      EXPECT_EQ(streamsInBoundedMemory(f), f != at("c.pcd")) << f;
+    }
+    for (const std::size_t chunk : {std::size_t{1}, std::size_t{777}, std::size_t{1} << 20}) {
+      if (chunk == 1 && whole.size() > 20000) continue;
+      EXPECT_EQ(streamed(f, chunk), whole) << f << ", chunks of " << chunk;
+    }
+  }
+  EXPECT_EQ(loadCloud(at("o.pcd")).size(), organized.size() - (organized.size() + 3) / 7);
+  // A non-finite point of an unorganized cloud: the same message, naming point 2345.
+  flat[2345].z = std::numeric_limits<float>::infinity();
+  pcl::io::savePCDFileBinary(at("bad.pcd"), flat);
+  std::string loaded, streamed_error;
+  try {
+    loadCloud(at("bad.pcd"));
+  } catch (const InputError& e) {
+    loaded = e.what();
+  }
+  try {
+    streamed(at("bad.pcd"), 1000);
+  } catch (const InputError& e) {
+    streamed_error = e.what();
+  }
+  EXPECT_NE(loaded.find("point 2345 "), std::string::npos) << loaded;
+  EXPECT_EQ(streamed_error, loaded);
   std::filesystem::remove_all(dir);
 }
 

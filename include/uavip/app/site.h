@@ -4,14 +4,19 @@
 /// tile's stages 3–5, and the site plan: the tiles' scenes merged into sections
 /// (tiling/merge.h), each section planned by app::plan (its own flight and home), and
 /// every sortie of every section checked against every input point, streamed once.
-/// `uavip tile`, `run-tile` and `merge` call these; nothing here prints or writes files
-/// (the caller stages each section's outputs as it is handed over, then it is freed).
+/// A section may be planned apart (`uavip plan-section`, a second Slurm array): its
+/// result, TILES/section_NNN/ with section.json written last, is then only joined by the
+/// merge when it was made from this manifest, config and tile results (SectionKey).
+/// `uavip tile`, `run-tile`, `plan-section` and `merge` call these; nothing here prints
+/// or writes files (the caller stages each section's outputs as it is handed over, then
+/// it is freed).
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uavip/app/pipeline.h"
@@ -56,6 +61,8 @@ TileDetectResult detectTile(const tiling::Manifest& manifest, long index, const 
 /// before the next.
 constexpr std::uint64_t kSectionPoints = 2'000'000;
 
+struct SectionKey;
+
 /// Options of the site plan (`uavip merge`).
 struct SiteOptions {
   /// Sections of K × K tile cells, one flight each; 0: the largest K whose every section
@@ -64,6 +71,12 @@ struct SiteOptions {
   /// The output folder: the only section's, or the parent of `section_NNN/` each
   /// (sectionFolder). Only named here, in messages and SectionPlan::out.
   std::string out;
+  /// Join the results plan-section left beside the manifest when they were made for
+  /// this key (readSectionResult); null: plan every section here.
+  const SectionKey* results{nullptr};
+  /// With `results`: refuse (InputError naming each section without a usable result
+  /// and the command that plans it) instead of planning such a section here.
+  bool require_results{false};
   /// Throws InputError naming --section-tiles when negative.
   void validate() const;
 };
@@ -109,13 +122,62 @@ struct SectionSummary {
   planning::FlightPlan flight;
   bool flyable{false};  ///< status ok with at least one sortie
   double merge_s{0.0}, plan_s{0.0};
+  bool joined{false};  ///< read from plan-section's result, not planned by the merge
   /// The smallest distance of each sortie to any input point [m] (infinity: none read).
   std::vector<double> min_clearance_to_input_m;
 };
 
+/// What stays of a planned section.
+SectionSummary summarize(const SectionPlan& plan);
+
+/// What a section's result was made from: a result made for other values is stale.
+struct SectionKey {
+  std::string manifest_sha256;  ///< of manifest.json
+  std::string config_sha256;    ///< of the config file used; empty for the defaults
+  int section_tiles{0};         ///< SiteOptions::section_tiles as given (0: chosen)
+  bool views{true};             ///< the section's views were drawn
+};
+
+/// The key of `manifest` planned with the config file `config_path` (empty: defaults).
+SectionKey sectionKey(const tiling::Manifest& manifest, const std::string& config_path,
+                      int section_tiles, bool views);
+
+/// The record of a section's result, written after its other files (their presence
+/// without it is no result).
+inline constexpr const char* kSectionResultFile = "section.json";
+
+/// The folder of section `index`'s result beside the manifest: TILES/section_NNN.
+std::string sectionResultFolder(const tiling::Manifest& manifest, std::size_t index);
+
+/// The text of section.json (its one writer): the key, the section's tiles with the
+/// sha256 of each tile's scene.json it was planned from, `files` (name beside it,
+/// sha256) and the summary, the flight's waypoints at full precision.
+std::string sectionResultJsonText(const tiling::Manifest& manifest, const SectionKey& key,
+                                  const SectionPlan& plan,
+                                  const std::vector<std::pair<std::string, std::string>>& files);
+
+/// A section's result as plan-section left it.
+struct SectionResult {
+  std::size_t index{0};
+  std::string folder;  ///< TILES/section_NNN
+  /// Usable: made for the key, from the section's tiles and their present results,
+  /// every file there with its sha256. `out` is the site's folder of the section.
+  std::optional<SectionSummary> summary;
+  std::vector<std::string> files;  ///< names beside section.json, in the order written
+  std::string why;                 ///< why not usable ("no result", "made from another …")
+};
+
+/// Reads section `index` of `parts` (siteSections) beside the manifest; never throws
+/// for a missing, stale or damaged result (SectionResult::why says which).
+SectionResult readSectionResult(const tiling::Manifest& manifest, const SectionKey& key,
+                                const std::vector<std::vector<std::size_t>>& parts,
+                                std::size_t index, const std::string& out);
+
 /// The site plan: each section's summary and the check against the input.
 struct SiteResult {
   std::vector<SectionSummary> sections;
+  /// One line per section planned here although a result was there, and why.
+  std::vector<std::string> notes;
   std::uint64_t input_points{0};     ///< input points streamed by the check
   double required_clearance_m{0.0};  ///< the UAV's inflation radius [m]
   double min_clearance_m{0.0};       ///< over every sortie [m] (infinity: no sortie)
@@ -127,16 +189,34 @@ struct SiteResult {
 /// Called with each section as soon as it is planned (to stage its files); the section
 /// is freed when it returns.
 using SectionSink = std::function<void(const SectionPlan&)>;
+/// Called with each usable result of plan-section (to stage copies of its files).
+using SectionJoin = std::function<void(const SectionResult&)>;
 
 /// The site plan of `uavip merge`: checks that the input is there and unchanged
-/// (sha256) and that every tile has a result, plans each section (planSection), hands it
-/// to `sink`, then validates every sortie of every section against every input point,
-/// streamed once (a planning::PathValidator per chunk). Throws InputError naming the
+/// (sha256); joins each section's usable result (options.results; handed to `join`)
+/// and plans each other one here (planSection; handed to `sink`), after checking that
+/// its tiles have results; then validates every sortie of every section against every
+/// input point, streamed once (validateAgainstInput). Throws InputError naming the
 /// section and sortie when one comes closer than the inflation radius, so that the
-/// caller commits nothing, and for a bad manifest, input or tile result.
+/// caller commits nothing, for a bad manifest, input or tile result, and (with
+/// options.require_results) naming each section without a usable result.
 SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
                     const SiteOptions& options, const SectionSink& sink = {},
-                    const Progress& progress = {});
+                    const Progress& progress = {}, const SectionJoin& join = {});
+
+/// The smallest distance [m] from each sortie of `flights` to any point of the cloud
+/// `input` (read with `read`), streamed once in chunks of `chunk_points` (infinity: no
+/// point). Exact, and linear in points + segments: the segments are binned into square
+/// cells of edge `cutoff_m` over their x, y boxes grown by `cutoff_m`; a chunk's points
+/// in cells without a segment are dropped, and each segment is measured
+/// (world::CollisionWorld::proximity) only against the chunks whose points fell into
+/// its cells. A sortie whose nearest point lies farther than `cutoff_m` is measured
+/// again against every point (a second pass, for those sorties only). `origin` gets
+/// the read's origin (io::CloudReadInfo::origin_m), `points` the points read.
+std::vector<std::vector<double>> clearanceToCloud(
+    const std::string& input, const io::CloudReadOptions& read,
+    const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
+    std::size_t chunk_points, Vec3* origin = nullptr, std::uint64_t* points = nullptr);
 
 /// OUT/site.json of a site in several sections: each section's folder, tiles and flight,
 /// and its clearance to the input (its one writer).

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace uavip::io {
@@ -33,8 +34,11 @@ class StagedOutputs {
   void write(const std::string& path, const std::string& text);
   /// Stages the file write(tmp_path) makes for `path`.
   void writeWith(const std::string& path, const std::function<void(const std::string&)>& write);
-  /// Renames every staged file onto its target, in the order staged.
+  /// Renames every staged file onto its target, in the order staged (the one a reader
+  /// takes as the mark of a complete result goes last). Test hook: core/test_fault.h.
   void commit();
+  /// The files staged so far: (temporary, target), in the order staged.
+  const std::vector<std::pair<std::string, std::string>>& staged() const { return staged_; }
 
  private:
   std::vector<std::pair<std::string, std::string>> staged_;  ///< (temporary, target)

@@ -122,8 +122,9 @@ struct CloudStreamInfo {
   std::string crs_unit;     ///< a LAS file's unit and where it came from; else empty
 };
 
-/// True when streamCloud reads `path` in bounded memory (LAS and x y z text); PCD,
-/// PLY and meshes are read whole and then handed on in chunks.
+/// True when streamCloud reads `path` in bounded memory (LAS, x y z text, ascii and
+/// binary PCD); binary_compressed PCD (one LZF block), PLY and meshes are read whole
+/// and then handed on in chunks.
 bool streamsInBoundedMemory(const std::string& path);
 
 /// The points loadCloud would return, in the same frame (same origin_m, same
