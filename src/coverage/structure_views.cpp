@@ -283,6 +283,7 @@ std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
                        const StructureViewOptions& o, std::vector<std::size_t>& chosen,
                        std::size_t& added) {
   std::vector<Vec3> axis;
+  axis.reserve(usable.size());
   for (const auto& c : usable) axis.push_back((c.target - c.pose.position).normalized());
   const double min_cos = std::cos(o.link_max_angle_deg * kDegToRad);
   std::vector<char> is_chosen(usable.size(), 0);
@@ -353,6 +354,8 @@ std::vector<std::size_t> chooseMultiCover(const PointList& points,
                                           const StructureViewOptions& o, StructureViews& out) {
   std::vector<Vec3> centres;
   std::vector<double> weights;
+  centres.reserve(usable.size());
+  weights.reserve(usable.size());
   for (const auto& c : usable) {
     centres.push_back(c.pose.position);
     weights.push_back(o.prefer_consistent ? 1.0 / (1.0 + c.tilt + c.factor) : 1.0);
