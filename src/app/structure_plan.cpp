@@ -17,6 +17,7 @@
 #include "uavip/core/text.h"
 #include "uavip/core/voxel_key.h"
 #include "uavip/coverage/coverage_evaluator.h"
+#include "uavip/coverage/multi_view.h"
 #include "uavip/coverage/pixel_coverage.h"
 #include "uavip/coverage/structure_views.h"
 #include "uavip/planning/tour.h"
@@ -30,6 +31,12 @@ constexpr double kRangeAllowance = 1.25;   ///< photos count up to 1.25 × the v
 /// The view selection scores at most this many structure points (a voxel grid thins more).
 constexpr std::size_t kMaxScoredPoints = 40000;
 constexpr int kNormalNeighbours = 12;
+/// A reconstruction's photos are linked (structure_views.h) when they image this share
+/// of the smaller one's points in common, their axes within kLinkMaxAngleDeg: the
+/// overlap SIFT matching needs across the structure's edges (on the tower 0.3 / 50°
+/// left 7 groups, 0.2 / 60° one).
+constexpr double kLinkShare = 0.2;
+constexpr double kLinkMaxAngleDeg = 60.0;
 
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
 /// structure points; `ground` counts the others, `ground_z` gets the height of the
@@ -120,13 +127,13 @@ coverage::PinholeIntrinsics cropForOverlap(coverage::PinholeIntrinsics k, double
   return k;
 }
 
-/// Throws InputError unless coverage.purpose is inspection: a mosaic or a
-/// reconstruction is planned plane by plane only.
-void requireInspectionPurpose(const app::Config& config) {
-  if (config.coverage.purpose != "inspection")
-    throw InputError(config.keyOf(&config.coverage.purpose) + " " + config.coverage.purpose +
-                     " is planned plane by plane only; plan with --surface, or with purpose "
-                     "inspection for --cover structure");
+/// The camera a photo is chosen for: a reconstruction counts what the whole image
+/// shows (its min_views photos of every point overlap by themselves); inspection and
+/// mosaic crop coverage.overlap off (cropForOverlap).
+coverage::PinholeIntrinsics scoringIntrinsics(const coverage::PinholeIntrinsics& k,
+                                              const app::Config& config) {
+  if (config.coverage.purpose == "reconstruction") return k;
+  return cropForOverlap(k, config.coverage.overlap_w, config.coverage.overlap_h);
 }
 
 /// coverage.standoff_m when set, else what the camera's GSD implies.
@@ -178,9 +185,13 @@ std::vector<char> orientNormals(const PointList& points, std::vector<Vec3>& norm
 constexpr double kBlockedHopFactor = 3.0;
 constexpr double kBlockedHopExtraM = 50.0;
 
+/// `share_cost_m` > 0 (a mosaic or a reconstruction): a hop between photos also costs
+/// share_cost_m × (1 − imagedShare of the two), so that consecutive photos image
+/// what their neighbour does where the path allows it.
 coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views, const Vec3& start,
                                            int id, const coverage::PinholeIntrinsics& k,
-                                           double standoff_m, const world::VoxelGrid& grid) {
+                                           double standoff_m, const world::VoxelGrid& grid,
+                                           double share_cost_m) {
   coverage::FlightStrategy s;
   s.surface_id = id;
   s.camera.standoff_m = standoff_m;
@@ -198,8 +209,13 @@ coverage::FlightStrategy structureStrategy(const coverage::StructureViews& views
       start, positions,
       [&](int a, int b) {
         const PointList hop = planning::straightOrDetour(grid, at(a), at(b));
-        return hop.empty() ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
-                           : polylineLength(hop);
+        const double length = hop.empty()
+                                  ? kBlockedHopFactor * (at(a) - at(b)).norm() + kBlockedHopExtraM
+                                  : polylineLength(hop);
+        if (share_cost_m <= 0.0 || a < 0 || b < 0) return length;
+        return length + share_cost_m * (1.0 - coverage::imagedShare(
+                                                  views.imaged[static_cast<std::size_t>(a)],
+                                                  views.imaged[static_cast<std::size_t>(b)]));
       },
       50, hardwareThreads());
   s.cols = static_cast<int>(order.size());
@@ -315,6 +331,13 @@ coverage::StructureViewOptions viewOptions(const app::Config& config,
   options.gimbal = config.coverage.gimbal;
   options.criteria = ruleB(k, config.coverage.camera, standoff);
   options.threads = hardwareThreads();
+  if (config.coverage.purpose != "inspection") options.prefer_consistent = true;
+  if (config.coverage.purpose == "reconstruction") {
+    options.min_views = config.coverage.min_views;
+    options.min_triangulation_deg = config.coverage.min_triangulation_deg;
+    options.link_share = kLinkShare;
+    options.link_max_angle_deg = kLinkMaxAngleDeg;
+  }
   return options;
 }
 
@@ -325,6 +348,29 @@ Vec3 pathStart(const std::optional<Vec3>& home, const coverage::StructureViews& 
   for (std::size_t k = 0; k < views.views.size(); ++k)
     if (k == 0 || views.views[k].position.z() < start.z()) start = views.views[k].position;
   return start;
+}
+
+/// A mosaic's or a reconstruction's multi-view counts of the flown photos
+/// (coverage/multi_view.h, rule (b) with the full image) and the least share of what
+/// consecutive flown photos image (imagedShare), into the mission.
+void multiViewFlown(planning::SurfaceMission& mission, const StructurePoints& s,
+                    const std::vector<coverage::ViewPose>& flown,
+                    const coverage::PinholeCamera& camera,
+                    const coverage::StructureViewOptions& options,
+                    const coverage::LineOfSight& sight) {
+  const coverage::MultiViewStats st = coverage::multiViewStats(
+      s.points, s.normals, flown, camera, options.criteria, &sight, options.threads, &s.two_sided);
+  auto& c = mission.coverage;
+  c.multi_view = true;
+  c.views_min = st.views_min;
+  c.views_median = st.views_median;
+  c.angle_min_deg = st.angle_min_deg;
+  c.angle_median_deg = st.angle_median_deg;
+  const auto imaged = coverage::imagedByView(s.points, s.normals, flown, camera, options.criteria,
+                                             &sight, options.threads, &s.two_sided);
+  for (std::size_t i = 1; i < imaged.size(); ++i)
+    c.consecutive_share_min =
+        std::min(c.consecutive_share_min, coverage::imagedShare(imaged[i - 1], imaged[i]));
 }
 
 /// Both coverage rules at the flown stops, into the mission and the summary.
@@ -355,12 +401,13 @@ void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
   mission.coverage.points = b.points;
   mission.coverage.uncovered = b.uncovered.size();
   for (const auto i : b.uncovered) mission.coverage.uncovered_points.push_back(s.points[i]);
+  if (config.coverage.purpose != "inspection")
+    multiViewFlown(mission, s, flown, camera, options, sight);
 }
 
 }  // namespace
 
 PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
-  requireInspectionPurpose(config);
   PlanResult result;
   planning::StructureSummary summary;
   const auto t0 = SteadyClock::now();
@@ -384,8 +431,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   const coverage::ViewpointFree is_free = viewpointTest(grid, home, s.ground_z, result.clearance_m);
   const coverage::PinholeIntrinsics intrinsics =
       structureIntrinsics(config.coverage.camera, standoff);
-  const coverage::PinholeCamera scoring_camera(
-      cropForOverlap(intrinsics, config.coverage.overlap_w, config.coverage.overlap_h));
+  const coverage::PinholeCamera scoring_camera(scoringIntrinsics(intrinsics, config));
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
   s.two_sided = orientNormals(s.points, s.normals, sight, is_free,
                               result.clearance_m + 2.0 * grid.resolution());
@@ -401,13 +447,16 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   summary.free_candidates = views.free_candidates;
   summary.imageable = views.imageable;
   summary.photos = views.views.size();
+  summary.linking_photos = views.linking;
+  summary.photo_groups = views.components;
   result.times.coverage_s = secondsSince(t0);
 
   const auto t2 = SteadyClock::now();
   for (const auto& surface : scene.surfaces)
     summary.surface_id = std::max(summary.surface_id, surface.id + 1);
-  const coverage::FlightStrategy strategy = structureStrategy(
-      views, pathStart(home, views), summary.surface_id, intrinsics, standoff, grid);
+  const coverage::FlightStrategy strategy =
+      structureStrategy(views, pathStart(home, views), summary.surface_id, intrinsics, standoff,
+                        grid, config.coverage.purpose == "inspection" ? 0.0 : standoff);
   summary.order_s = secondsSince(t2);
   const auto t_legs = SteadyClock::now();
   reportProgress(progress, "structure: " + std::to_string(strategy.stops.size()) +

@@ -121,7 +121,11 @@ void printPlanSummary(const app::PlanResult& p) {
               << " candidate views kept (free, nearest per direction), " << st.photos
               << " photos at " << formatFixed(st.standoff_m, 2) << " m; coverage rule (a) "
               << formatFixed(100.0 * st.rule_a, 1) << " %, rule (b) "
-              << formatFixed(100.0 * st.rule_b, 1) << " %\n";
+              << formatFixed(100.0 * st.rule_b, 1) << " %";
+    if (st.photo_groups > 0)
+      std::cout << "; " << st.linking_photos << " photos added to link them, " << st.photo_groups
+                << " linked group" << (st.photo_groups == 1 ? "" : "s");
+    std::cout << "\n";
   }
   for (const auto& m : p.missions) {
     std::cout << "  " << (m.kind == "structure" ? "structure " : "surface ") << m.surface_id << ": "

@@ -148,10 +148,6 @@ void CoverageOptions::validate(const std::string& where) const {
   requireThat(gimbal.pitch_min_deg <= gimbal.pitch_max_deg, where, "gimbal.pitch_min_deg",
               "<= gimbal.pitch_max_deg (" + std::to_string(gimbal.pitch_max_deg) + ")",
               gimbal.pitch_min_deg);
-  if (mode == "structure" && purpose != "inspection")
-    throw InputError(where + ": purpose " + purpose +
-                     " is planned plane by plane only; use coverage.mode surfaces, or purpose "
-                     "inspection with mode structure");
 }
 
 const params::Table<CoverageOptions>& CoverageOptions::table() {

@@ -22,9 +22,10 @@ T lowerMedian(std::vector<T> values) {
 
 MultiViewStats multiViewStats(const PointList& points, const std::vector<Vec3>& normals,
                               const std::vector<ViewPose>& views, const CameraModel& camera,
-                              const CoverageCriteria& criteria, const LineOfSight* los,
-                              int threads) {
-  const auto imaged = imagedByView(points, normals, views, camera, criteria, los, threads);
+                              const CoverageCriteria& criteria, const LineOfSight* los, int threads,
+                              const std::vector<char>* two_sided) {
+  const auto imaged =
+      imagedByView(points, normals, views, camera, criteria, los, threads, two_sided);
   MultiViewStats st;
   st.points = points.size();
   std::vector<std::vector<std::uint32_t>> seen_by(points.size());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <queue>
 #include <utility>
 
@@ -20,6 +21,8 @@ struct Candidate {
   ViewPose pose;
   Vec3 target;
   std::size_t direction{0};
+  int tilt{0};    ///< 0 along ±n, k for tilts_deg[k − 1]
+  int factor{0};  ///< index into distance_factors
 };
 
 /// Viewing directions at a seed with normal n: n (and −n when two-sided), each also
@@ -74,10 +77,13 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
     ++seeds;
     const Vec3& p = points[best];
     const bool both = !two_sided.empty() && two_sided[best] != 0;
-    for (const Vec3& dir : viewingDirections(normals[best], both, o.tilts_deg)) {
-      for (const double factor : o.distance_factors) {
-        const Vec3 c = p + factor * o.standoff_m * dir;
-        out.push_back({lookAt(c, p), p, directions});
+    const std::vector<Vec3> dirs = viewingDirections(normals[best], both, o.tilts_deg);
+    const std::size_t per_side = 1 + 2 * o.tilts_deg.size();
+    for (std::size_t d = 0; d < dirs.size(); ++d) {
+      const int tilt = static_cast<int>((d % per_side + 1) / 2);
+      for (std::size_t f = 0; f < o.distance_factors.size(); ++f) {
+        const Vec3 c = p + o.distance_factors[f] * o.standoff_m * dirs[d];
+        out.push_back({lookAt(c, p), p, directions, tilt, static_cast<int>(f)});
       }
       ++directions;
     }
@@ -137,7 +143,264 @@ std::vector<std::size_t> pruneRedundant(const std::vector<std::vector<std::uint3
   return out;
 }
 
+/// The multi-cover of the file comment: per point the rays counted so far.
+class MultiCover {
+ public:
+  MultiCover(const PointList& points, const std::vector<Vec3>& centres, int min_views,
+             double min_angle_deg)
+      : points_(points),
+        centres_(centres),
+        m_(static_cast<std::size_t>(min_views)),
+        max_cos_(std::cos(min_angle_deg * kDegToRad)),
+        level_(points.size(), 0),
+        rays_(points.size() * m_) {}
+
+  /// True when view v's ray to point p differs enough from p's counted rays and p's
+  /// level is below min_views.
+  [[nodiscard]] bool raises(std::size_t v, std::uint32_t p) const {
+    if (level_[p] >= m_) return false;
+    const Vec3 ray = (centres_[v] - points_[p]).normalized();
+    for (std::size_t k = 0; k < level_[p]; ++k)
+      if (ray.dot(rays_[p * m_ + k]) > max_cos_) return false;
+    return true;
+  }
+  std::size_t gain(std::size_t v, const std::vector<std::uint32_t>& set) const {
+    std::size_t g = 0;
+    for (const auto p : set) g += raises(v, p) ? 1 : 0;
+    return g;
+  }
+  /// Counts view v at its points; returns the levels raised.
+  std::size_t add(std::size_t v, const std::vector<std::uint32_t>& set) {
+    std::size_t g = 0;
+    for (const auto p : set) {
+      if (!raises(v, p)) continue;
+      rays_[p * m_ + level_[p]] = (centres_[v] - points_[p]).normalized();
+      ++level_[p];
+      ++g;
+    }
+    return g;
+  }
+  void reset() { std::fill(level_.begin(), level_.end(), 0); }
+  [[nodiscard]] std::size_t level(std::uint32_t p) const { return level_[p]; }
+
+ private:
+  const PointList& points_;
+  const std::vector<Vec3>& centres_;
+  std::size_t m_;
+  double max_cos_;
+  std::vector<std::size_t> level_;
+  std::vector<Vec3> rays_;
+};
+
+/// Lazy greedy multi-cover with weighted gains (file comment): photos in order of
+/// choice until `needed` levels are reached or no candidate raises one.
+std::vector<std::size_t> greedyMultiCover(const std::vector<std::vector<std::uint32_t>>& sets,
+                                          const std::vector<double>& weights, MultiCover& cover,
+                                          std::size_t needed) {
+  // Max-heap on (weighted gain, −index): equal keys go to the lower index.
+  std::priority_queue<std::pair<double, std::int64_t>> heap;
+  for (std::size_t i = 0; i < sets.size(); ++i)
+    if (!sets[i].empty())
+      heap.push({weights[i] * static_cast<double>(sets[i].size()), -static_cast<std::int64_t>(i)});
+  std::vector<std::size_t> chosen;
+  std::size_t done = 0;
+  while (done < needed && !heap.empty()) {
+    const auto [stale_key, neg] = heap.top();
+    heap.pop();
+    const auto i = static_cast<std::size_t>(-neg);
+    const std::size_t gain = cover.gain(i, sets[i]);
+    if (gain == 0) continue;
+    const double key = weights[i] * static_cast<double>(gain);
+    if (!heap.empty() && key < heap.top().first) {  // stale: push back with its true key
+      heap.push({key, neg});
+      continue;
+    }
+    chosen.push_back(i);
+    done += cover.add(i, sets[i]);
+  }
+  return chosen;
+}
+
+/// Removes, latest first, every chosen photo whose removal lowers no point's level (the
+/// levels recounted in order of choice without it).
+std::vector<std::size_t> pruneMultiCover(const std::vector<std::vector<std::uint32_t>>& sets,
+                                         const std::vector<std::size_t>& chosen,
+                                         const PointList& points, const std::vector<Vec3>& centres,
+                                         int min_views, double min_angle_deg) {
+  const double max_cos = std::cos(min_angle_deg * kDegToRad);
+  const auto m = static_cast<std::size_t>(min_views);
+  // Per point the chosen photos (ranks in order of choice) that image it.
+  std::vector<std::vector<std::uint32_t>> by_point(points.size());
+  for (std::size_t k = 0; k < chosen.size(); ++k)
+    for (const auto p : sets[chosen[k]]) by_point[p].push_back(static_cast<std::uint32_t>(k));
+  std::vector<char> keep(chosen.size(), 1);
+  // p's level by the kept photos other than rank `skip`, counted in order of choice.
+  std::vector<Vec3> rays;
+  const auto level = [&](std::uint32_t p, std::size_t skip) {
+    rays.clear();
+    for (const auto k : by_point[p]) {
+      if (k == skip || keep[k] == 0) continue;
+      const Vec3 ray = (centres[chosen[k]] - points[p]).normalized();
+      if (std::all_of(rays.begin(), rays.end(),
+                      [&](const Vec3& r) { return ray.dot(r) <= max_cos; }))
+        rays.push_back(ray);
+      if (rays.size() >= m) break;
+    }
+    return rays.size();
+  };
+  const std::size_t none = chosen.size();
+  for (std::size_t k = chosen.size(); k-- > 0;) {
+    const auto& s = sets[chosen[k]];
+    if (std::all_of(s.begin(), s.end(),
+                    [&](std::uint32_t p) { return level(p, k) >= level(p, none); }))
+      keep[k] = 0;
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < chosen.size(); ++k)
+    if (keep[k]) out.push_back(chosen[k]);
+  return out;
+}
+
+/// Union-find over chosen ranks.
+struct Groups {
+  std::vector<std::size_t> parent;
+  explicit Groups(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  std::size_t find(std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+/// The linking of the file comment: adds candidates to `chosen` until the links join
+/// the chosen photos into one group or no candidate joins two; returns the groups left.
+std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
+                       const std::vector<Candidate>& usable, std::size_t n_points,
+                       const StructureViewOptions& o, std::vector<std::size_t>& chosen,
+                       std::size_t& added) {
+  std::vector<Vec3> axis;
+  axis.reserve(usable.size());
+  for (const auto& c : usable) axis.push_back((c.target - c.pose.position).normalized());
+  const double min_cos = std::cos(o.link_max_angle_deg * kDegToRad);
+  std::vector<char> is_chosen(usable.size(), 0);
+  for (const auto i : chosen) is_chosen[i] = 1;
+  added = 0;
+  while (true) {
+    std::vector<std::vector<std::uint32_t>> by_point(n_points);
+    for (std::size_t k = 0; k < chosen.size(); ++k)
+      for (const auto p : sets[chosen[k]]) by_point[p].push_back(static_cast<std::uint32_t>(k));
+    std::vector<std::size_t> common(chosen.size(), 0);
+    std::vector<std::uint32_t> touched;
+    // The chosen ranks candidate i is linked to.
+    const auto links = [&](std::size_t i) {
+      touched.clear();
+      for (const auto p : sets[i]) {
+        for (const auto k : by_point[p]) {
+          if (common[k]++ == 0) touched.push_back(k);
+        }
+      }
+      std::vector<std::uint32_t> out;
+      for (const auto k : touched) {
+        const std::size_t j = chosen[k];
+        const double smaller = static_cast<double>(std::min(sets[i].size(), sets[j].size()));
+        if (j != i && axis[i].dot(axis[j]) >= min_cos &&
+            static_cast<double>(common[k]) >= o.link_share * smaller)
+          out.push_back(k);
+        common[k] = 0;
+      }
+      return out;
+    };
+    Groups groups(chosen.size());
+    for (std::size_t k = 0; k < chosen.size(); ++k)
+      for (const auto l : links(chosen[k])) groups.join(k, l);
+    std::vector<std::size_t> size(chosen.size(), 0);
+    std::size_t n_groups = 0;
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      n_groups += groups.find(k) == k ? 1 : 0;
+      ++size[groups.find(k)];
+    }
+    if (n_groups <= 1) return n_groups;
+    std::size_t best = usable.size(), best_groups = 1, best_joined = 0;
+    for (std::size_t i = 0; i < usable.size(); ++i) {
+      if (is_chosen[i] != 0) continue;
+      std::vector<std::size_t> roots;
+      for (const auto k : links(i)) roots.push_back(groups.find(k));
+      std::sort(roots.begin(), roots.end());
+      roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
+      std::size_t joined = 0;
+      for (const auto r : roots) joined += size[r];
+      if (roots.size() > best_groups ||
+          (roots.size() == best_groups && roots.size() >= 2 && joined > best_joined)) {
+        best = i;
+        best_groups = roots.size();
+        best_joined = joined;
+      }
+    }
+    if (best == usable.size()) return n_groups;
+    chosen.push_back(best);
+    is_chosen[best] = 1;
+    ++added;
+  }
+}
+
+/// The multi-cover choice (file comment); fills out.achievable, reached and covered.
+std::vector<std::size_t> chooseMultiCover(const PointList& points,
+                                          const std::vector<Candidate>& usable,
+                                          const std::vector<std::vector<std::uint32_t>>& sets,
+                                          const StructureViewOptions& o, StructureViews& out) {
+  std::vector<Vec3> centres;
+  std::vector<double> weights;
+  centres.reserve(usable.size());
+  weights.reserve(usable.size());
+  for (const auto& c : usable) {
+    centres.push_back(c.pose.position);
+    weights.push_back(o.prefer_consistent ? 1.0 / (1.0 + c.tilt + c.factor) : 1.0);
+  }
+  std::vector<std::size_t> candidates_of(points.size(), 0);
+  for (const auto& s : sets)
+    for (const auto p : s) ++candidates_of[p];
+  const auto m = static_cast<std::size_t>(o.min_views);
+  for (const auto n : candidates_of) out.achievable += std::min(m, n);
+  const auto needed =
+      static_cast<std::size_t>(std::ceil(o.target_coverage * static_cast<double>(out.achievable)));
+  MultiCover cover(points, centres, o.min_views, o.min_triangulation_deg);
+  std::vector<std::size_t> chosen =
+      pruneMultiCover(sets, greedyMultiCover(sets, weights, cover, needed), points, centres,
+                      o.min_views, o.min_triangulation_deg);
+  if (o.link_share > 0.0)
+    out.components = linkGroups(sets, usable, points.size(), o, chosen, out.linking);
+  cover.reset();
+  for (const auto i : chosen) cover.add(i, sets[i]);
+  for (std::uint32_t p = 0; p < points.size(); ++p) {
+    out.reached += cover.level(p);
+    out.covered += cover.level(p) > 0 ? 1 : 0;
+  }
+  return chosen;
+}
+
 }  // namespace
+
+double imagedShare(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+  const std::size_t most = std::max(a.size(), b.size());
+  if (most == 0) return 0.0;
+  std::size_t common = 0;
+  for (std::size_t i = 0, j = 0; i < a.size() && j < b.size();) {
+    if (a[i] < b[j]) {
+      ++i;
+    } else if (b[j] < a[i]) {
+      ++j;
+    } else {
+      ++common;
+      ++i;
+      ++j;
+    }
+  }
+  return static_cast<double>(common) / static_cast<double>(most);
+}
 
 void StructureViewOptions::validate(const std::string& where) const {
   requireThat(std::isfinite(standoff_m) && standoff_m > 0.0, where, "standoff_m", "> 0 and finite",
@@ -159,6 +422,15 @@ void StructureViewOptions::validate(const std::string& where) const {
   requireThat(target_coverage > 0.0 && target_coverage <= 1.0, where, "target_coverage",
               "in (0, 1]", target_coverage);
   requireThat(threads >= 1, where, "threads", ">= 1", threads);
+  requireThat(std::isfinite(link_share) && link_share >= 0.0 && link_share <= 1.0, where,
+              "link_share", "in [0, 1]", link_share);
+  requireThat(
+      std::isfinite(link_max_angle_deg) && link_max_angle_deg > 0.0 && link_max_angle_deg <= 180.0,
+      where, "link_max_angle_deg", "in (0, 180]", link_max_angle_deg);
+  requireThat(min_views >= 1 && min_views <= 64, where, "min_views", "in [1, 64]", min_views);
+  requireThat(std::isfinite(min_triangulation_deg) && min_triangulation_deg >= 0.0 &&
+                  min_triangulation_deg < 90.0,
+              where, "min_triangulation_deg", "in [0, 90)", min_triangulation_deg);
   criteria.validate(where + ".criteria");
 }
 
@@ -208,14 +480,22 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   for (const auto& s : sets)
     for (const auto p : s) seen[p] = 1;
   for (const char s : seen) out.imageable += s != 0;
-  const auto needed = static_cast<std::size_t>(
-      std::ceil(options.target_coverage * static_cast<double>(out.imageable)));
-  std::vector<int> count;
-  const auto chosen = pruneRedundant(sets, greedyCover(sets, points.size(), needed, count), count);
-  for (const int c : count) out.covered += c > 0;
+  std::vector<std::size_t> chosen;
+  if (options.min_views == 1 && !options.prefer_consistent) {
+    const auto needed = static_cast<std::size_t>(
+        std::ceil(options.target_coverage * static_cast<double>(out.imageable)));
+    std::vector<int> count;
+    chosen = pruneRedundant(sets, greedyCover(sets, points.size(), needed, count), count);
+    for (const int c : count) out.covered += c > 0;
+    out.achievable = out.imageable;
+    out.reached = out.covered;
+  } else {
+    chosen = chooseMultiCover(points, usable, sets, options, out);
+  }
   for (const auto i : chosen) {
     out.views.push_back(usable[i].pose);
     out.targets.push_back(usable[i].target);
+    out.imaged.push_back(sets[i]);
   }
   return out;
 }

@@ -243,12 +243,17 @@ json cameraModel(const coverage::Camera& cam) {
 
 /// `structure`: rule (a) FC-Planner's pixel rule, rule (b) ours (docs/ARCHITECTURE.md).
 json structureToJson(const planning::StructureSummary& st) {
-  return {{"surface_id", st.surface_id},       {"points", st.points},
-          {"ground_points", st.ground_points}, {"seeds", st.seeds},
-          {"candidates", st.candidates},       {"free_candidates", st.free_candidates},
-          {"imageable_points", st.imageable},  {"photos", st.photos},
-          {"standoff_m", st.standoff_m},       {"visible_range_m", st.visible_range_m},
-          {"coverage_rule_a", st.rule_a},      {"coverage_rule_b", st.rule_b}};
+  json j = {{"surface_id", st.surface_id},       {"points", st.points},
+            {"ground_points", st.ground_points}, {"seeds", st.seeds},
+            {"candidates", st.candidates},       {"free_candidates", st.free_candidates},
+            {"imageable_points", st.imageable},  {"photos", st.photos},
+            {"standoff_m", st.standoff_m},       {"visible_range_m", st.visible_range_m},
+            {"coverage_rule_a", st.rule_a},      {"coverage_rule_b", st.rule_b}};
+  if (st.photo_groups > 0) {
+    j["linking_photos"] = st.linking_photos;
+    j["photo_groups"] = st.photo_groups;
+  }
+  return j;
 }
 
 }  // namespace

@@ -132,7 +132,11 @@ TEST(ResolveConfig, MosaicOverlapsUnlessTheFileSetsThem) {
       resolveConfig(app::parseConfig("coverage: {purpose: mosaic, overlap: 0.45}\n", "cfg"), stats);
   EXPECT_DOUBLE_EQ(scalar.config.coverage.overlap_h, 0.45);
   EXPECT_THROW(app::parseConfig("coverage: {purpose: survey}\n", "cfg"), InputError);
-  EXPECT_THROW(app::parseConfig("coverage: {purpose: mosaic, mode: structure}\n", "cfg"),
+  // Structure mode plans every purpose (structure_views.h's multi-cover).
+  EXPECT_EQ(app::parseConfig("coverage: {purpose: reconstruction, mode: structure}\n", "cfg")
+                .coverage.purpose,
+            "reconstruction");
+  EXPECT_THROW(app::parseConfig("coverage: {purpose: reconstruction, min_views: 1}\n", "cfg"),
                InputError);
 }
 

@@ -151,7 +151,7 @@ class BadInput : public ::testing::Test {
     write("fx_focal.yaml", "camera: {fx: 400, fy: 400, image_px: [640, 480], focal_mm: 8.8}\n");
     write("standoff_in.yaml", "coverage: {standoff_m: 0.5}\nuav: {inflation_radius_m: 0.6}\n");
     write("mode.yaml", "coverage: {mode: everything}\n");
-    write("mosaic.yaml", "coverage: {purpose: mosaic}\n");
+    write("min_views.yaml", "coverage: {purpose: reconstruction, min_views: 1}\n");
     write("start_in.yaml", "mission: {start: [0, 0, 1.5]}\n");  // inside the single_plane wall
     write("home_in.yaml", "mission: {home: [0, 0, 1.5]}\n");
     write("start_far.yaml", "mission: {start: [100000, 0, 2]}\n");  // 100 km: beyond one battery
@@ -315,8 +315,8 @@ TEST_F(BadInput, EveryCaseIsOneLineWithItsExitCodeAndNothingIsLost) {
        "plan " + scene + " --cover structure -c $D/standoff_in.yaml -o $D/prev", 2, "standoff_m"},
       {"unknown coverage mode", "plan " + scene + " --cover structure -c $D/mode.yaml -o $D/prev",
        2, "everything"},
-      {"a mosaic of the whole structure",
-       "plan " + scene + " --cover structure -c $D/mosaic.yaml -o $D/prev", 2, "plane by plane"},
+      {"a reconstruction with one view a point",
+       "plan " + scene + " --cover structure -c $D/min_views.yaml -o $D/prev", 2, "min_views"},
       {"start inside the wall", "plan " + scene + " --surface 0 -c $D/start_in.yaml -o $D/prev", 2,
        "start"},
       {"home inside the wall", "plan " + scene + " --surface 0 -c $D/home_in.yaml -o $D/prev", 2,

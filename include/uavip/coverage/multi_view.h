@@ -32,6 +32,6 @@ struct MultiViewStats {
 MultiViewStats multiViewStats(const PointList& points, const std::vector<Vec3>& normals,
                               const std::vector<ViewPose>& views, const CameraModel& camera,
                               const CoverageCriteria& criteria, const LineOfSight* los,
-                              int threads = 2);
+                              int threads = 2, const std::vector<char>* two_sided = nullptr);
 
 }  // namespace uavip::coverage

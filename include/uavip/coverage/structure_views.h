@@ -24,8 +24,32 @@
 /// `target_coverage` of the points some candidate images are imaged; then, in
 /// reverse order of choice, every photo whose points are all imaged by another chosen
 /// photo is removed. Deterministic for any thread count.
+///
+/// Multi-cover (`min_views` > 1, a reconstruction, issue 46): a point's level is the
+/// number of chosen photos that image it with pairwise distinct rays, counted in order
+/// of choice: a photo counts when its ray to the point (camera centre − point) differs
+/// by ≥ `min_triangulation_deg` from every ray counted before, up to `min_views`. A
+/// candidate's gain is the number of its points whose level it raises; the greedy stops
+/// when `target_coverage` of the achievable levels (per point min(min_views, candidates
+/// that image it)) are reached, then removes, latest first, every photo whose removal
+/// lowers no point's level. A point at level min_views is imaged by min_views photos
+/// whose rays differ pairwise by ≥ min_triangulation_deg (so its triangulation angle,
+/// multi_view.h, is ≥ that). Gains only fall as photos are chosen, so lazy gains are exact.
+///
+/// `prefer_consistent`: a candidate's gain is weighted by 1 / (1 + t + f), t the index of
+/// its tilt (0 along ±n, 1 for tilts_deg[0], ...) and f of its distance factor, so tilted
+/// and farther photos are chosen only for what the level, near ones do not image well:
+/// neighbouring photos then share range and tilt, which feature matching needs.
+///
+/// `link_share` > 0 (a reconstruction): two chosen photos are linked when they image
+/// ≥ link_share × the smaller of their point sets in common and their optical axes
+/// differ by ≤ `link_max_angle_deg` (what feature matching can join); while the links
+/// leave the chosen photos in more than one group, the candidate linked to the most
+/// groups (≥ 2; ties to the larger joined photo count, then the lower index) is added.
+/// `components` reports the groups left (1: one matching graph).
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -43,11 +67,16 @@ struct StructureViewOptions {
   /// Candidates at these multiples of standoff_m, each ≥ 1, nearest first (a farther
   /// one is kept only where the nearer ones are not free: a pocket, a measured outlier).
   std::vector<double> distance_factors{1.0};
-  double seed_spacing_m{0.0};    ///< seed cell edge [m]; 0 = D / 3
-  double target_coverage{0.99};  ///< of the imageable points, in (0, 1]
-  GimbalLimits gimbal;           ///< a candidate's pitch must lie within
-  CoverageCriteria criteria;     ///< what "imaged" means
-  int threads{2};                ///< workers for scoring
+  double seed_spacing_m{0.0};         ///< seed cell edge [m]; 0 = D / 3
+  double target_coverage{0.99};       ///< of the imageable points, in (0, 1]
+  GimbalLimits gimbal;                ///< a candidate's pitch must lie within
+  CoverageCriteria criteria;          ///< what "imaged" means
+  int threads{2};                     ///< workers for scoring
+  int min_views{1};                   ///< photos with distinct rays asked of every point (≥ 1)
+  double min_triangulation_deg{0.0};  ///< least angle between two counted rays [deg]
+  bool prefer_consistent{false};      ///< weight gains toward untilted, near candidates
+  double link_share{0.0};             ///< 0 = no linking; else in (0, 1]
+  double link_max_angle_deg{50.0};    ///< linked photos' optical axes differ by ≤ this [deg]
 
   /// Throws InputError naming the bad field (prefix `where`).
   void validate(const std::string& where = "structure_views") const;
@@ -66,7 +95,17 @@ struct StructureViews {
   std::size_t points{0};           ///< structure points
   std::size_t imageable{0};        ///< points some free candidate images
   std::size_t covered{0};          ///< points the chosen views image
+  /// Per chosen view, the points it images (ascending indices into the points).
+  std::vector<std::vector<std::uint32_t>> imaged;
+  std::size_t achievable{0};  ///< Σ over points of min(min_views, candidates imaging it)
+  std::size_t reached{0};     ///< Σ over points of the chosen views' level (≤ achievable)
+  std::size_t linking{0};     ///< photos added to link the groups (link_share > 0)
+  std::size_t components{0};  ///< groups of linked photos left (link_share > 0)
 };
+
+/// Share of what two views image in common: |a ∩ b| / max(|a|, |b|) (0 when both are
+/// empty); `a` and `b` ascending.
+double imagedShare(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b);
 
 /// Selects the photos of a structure (see the file comment). `normals` holds one
 /// normal per point, `two_sided` one flag per point or nothing (every normal

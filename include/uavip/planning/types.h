@@ -105,15 +105,19 @@ struct StructureSummary {
                                    ///< seed and direction the nearest such
   std::size_t imageable{0};        ///< structure points some free candidate images
   std::size_t photos{0};           ///< photos chosen
-  double standoff_m{0.0};          ///< viewing distance [m]
-  double visible_range_m{0.0};     ///< rule (a)'s range [m]
-  double rule_a{0.0};              ///< FC-Planner's pixel rule at the flown stops [0, 1]
-  double rule_b{0.0};              ///< our rule (GSD, incidence ≤ 75°, line of sight) [0, 1]
-  double prepare_s{0.0};  ///< grid components, line-of-sight index, normals' orientation [s]
-  double select_s{0.0};   ///< wall time of the view selection [s]
-  double order_s{0.0};    ///< ordering the photos into one open path [s]
-  double legs_s{0.0};     ///< the legs between consecutive photos [s]
-  double score_s{0.0};    ///< rules (a) and (b) at the flown stops [s]
+  /// A reconstruction's linking (coverage/structure_views.h): photos added to join the
+  /// matching groups, and the groups left (0 = no linking asked).
+  std::size_t linking_photos{0};
+  std::size_t photo_groups{0};
+  double standoff_m{0.0};       ///< viewing distance [m]
+  double visible_range_m{0.0};  ///< rule (a)'s range [m]
+  double rule_a{0.0};           ///< FC-Planner's pixel rule at the flown stops [0, 1]
+  double rule_b{0.0};           ///< our rule (GSD, incidence ≤ 75°, line of sight) [0, 1]
+  double prepare_s{0.0};        ///< grid components, line-of-sight index, normals' orientation [s]
+  double select_s{0.0};         ///< wall time of the view selection [s]
+  double order_s{0.0};          ///< ordering the photos into one open path [s]
+  double legs_s{0.0};           ///< the legs between consecutive photos [s]
+  double score_s{0.0};          ///< rules (a) and (b) at the flown stops [s]
 };
 
 /// A planned leg between two consecutive path points.
