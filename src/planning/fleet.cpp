@@ -384,7 +384,7 @@ double clearShift(const MotionPiece& q, const std::vector<MotionPiece>& other, d
   for (const MotionPiece& p : other) {
     if (p.t1 + slack_s < q.t0 + shift) continue;
     if (p.t0 > q.t1 + shift + slack_s) break;
-    if (segmentDistance(p.a, p.b, q.a, q.b) < separation_m) shift = p.t1 + slack_s - q.t0 + kEps;
+    if (segmentSegmentDistance(p.a, p.b, q.a, q.b) < separation_m) shift = p.t1 + slack_s - q.t0 + kEps;
   }
   return std::max(shift, kEps);
 }

@@ -84,9 +84,6 @@ struct Approach {
 };
 std::optional<Approach> closestApproach(const MotionPiece& p, const MotionPiece& q);
 
-/// Least distance between the segments [a0, a1] and [b0, b1] (either may be a point) [m].
-double segmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
-
 /// A pair of UAVs closer than the separation.
 struct FleetConflict {
   int uav_a{0};  ///< index (0-based) of the first UAV
