@@ -51,10 +51,10 @@ TEST(Geometry, SegmentSegmentDistanceMatchesDenseSampling) {
     Vec3 a1 = point();
     const Vec3 b0 = point();
     Vec3 b1 = point();
-    if (trial % 7 == 0) b1 = b0;                          // a point
-    if (trial % 13 == 0) a1 = a0;                         // a point
-    if (trial % 11 == 0) a1 = a0 + 0.5 * (b1 - b0);       // parallel
-    if (trial % 17 == 0) a1 = b0 + 0.3 * (b1 - b0);  // touching
+    if (trial % 7 == 0) b1 = b0;                                                       // a point
+    if (trial % 13 == 0) a1 = a0;                                                      // a point
+    if (trial % 11 == 0) a1 = a0 + 0.5 * (b1 - b0);                                    // parallel
+    if (trial % 17 == 0) a1 = b0 + 0.3 * (b1 - b0);                                    // touching
     if (trial % 19 == 0) a1 = a0 + 1e-7 * (b1 - b0).cross(Vec3(1, 2, 3)) + (b1 - b0);  // ~parallel
     double best = std::numeric_limits<double>::infinity();
     const int n = 400;

@@ -1,6 +1,6 @@
 // The fleet's geometry and assignment against independent references: closest
-// approach against brute-force sampling (segment distance: tests/core/geometry_test.cpp), the separation check on
-// hand-made schedules, the min–max assignment against every assignment.
+// approach against brute-force sampling (segment distance: tests/core/geometry_test.cpp), the
+// separation check on hand-made schedules, the min–max assignment against every assignment.
 #include "uavip/planning/fleet.h"
 
 #include <gtest/gtest.h>

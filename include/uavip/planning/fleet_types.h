@@ -143,6 +143,8 @@ struct FleetPlan {
   std::size_t split_surfaces{0};  ///< surfaces shared between UAVs
   std::size_t waits{0};           ///< waits added to resolve conflicts
   bool fallback_single{false};    ///< the fleet was slower: UAV 1 flies everything
+  std::size_t candidates{0};      ///< assignments flown and scheduled (planning/fleet.h)
+  std::string assignment;         ///< the one kept: "min-max", "next best N", "slabs along …"
   SeparationCheck separation;     ///< of the final schedule
   double seconds{0.0};            ///< wall time [s]
 };
