@@ -286,6 +286,9 @@ void printFleet(const std::optional<planning::FleetPlan>& fleet) {
             << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
             << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " jobs, "
             << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
+            << (f.assignment.empty() ? ""
+                                     : ", assignment " + f.assignment + " of " +
+                                           std::to_string(f.candidates) + " tried")
             << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "")
             << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
             << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "

@@ -29,6 +29,46 @@ double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
+double segmentSegmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                              Vec3* on_a, Vec3* on_b) {
+  const Vec3 d1 = a1 - a0;
+  const Vec3 d2 = b1 - b0;
+  const Vec3 r = a0 - b0;
+  const double a = d1.squaredNorm();
+  const double e = d2.squaredNorm();
+  const double f = d2.dot(r);
+  constexpr double kTiny = 1e-18;  // [m²] a segment this short is a point
+  double s = 0.0;
+  double t = 0.0;
+  if (a <= kTiny && e <= kTiny) {
+    // both points: s = t = 0
+  } else if (a <= kTiny) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= kTiny) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2);
+      const double denom = a * e - b * b;
+      s = denom > kTiny * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  const Vec3 pa = a0 + s * d1;
+  const Vec3 pb = b0 + t * d2;
+  if (on_a != nullptr) *on_a = pa;
+  if (on_b != nullptr) *on_b = pb;
+  return (pa - pb).norm();
+}
+
 double polylineLength(const PointList& path) {
   double len = 0.0;
   for (size_t i = 1; i < path.size(); ++i) len += (path[i] - path[i - 1]).norm();

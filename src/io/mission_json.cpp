@@ -215,6 +215,8 @@ json fleetToJson(const planning::FleetPlan& f) {
           {"split_surfaces", f.split_surfaces},
           {"waits", f.waits},
           {"fallback_single", f.fallback_single},
+          {"assignment", f.assignment},
+          {"candidates", f.candidates},
           {"closest_approach",
            {{"nominal_m", finiteOrNull(sep.nominal_min_m)},
             {"at_s",

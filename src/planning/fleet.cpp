@@ -1,10 +1,14 @@
 #include "uavip/planning/fleet.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
+#include <string>
+#include <tuple>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -384,14 +388,16 @@ double clearShift(const MotionPiece& q, const std::vector<MotionPiece>& other, d
   for (const MotionPiece& p : other) {
     if (p.t1 + slack_s < q.t0 + shift) continue;
     if (p.t0 > q.t1 + shift + slack_s) break;
-    if (segmentDistance(p.a, p.b, q.a, q.b) < separation_m) shift = p.t1 + slack_s - q.t0 + kEps;
+    if (segmentSegmentDistance(p.a, p.b, q.a, q.b) < separation_m)
+      shift = p.t1 + slack_s - q.t0 + kEps;
   }
   return std::max(shift, kEps);
 }
 
 /// Waits on the ground until the separation check finds no conflict (fleet.h).
-/// False when the number of waits runs out.
-bool resolveConflicts(FleetPlan& plan) {
+/// False when the number of waits runs out, or as soon as the makespan reaches
+/// `stop_at` [s] (waits only add: that schedule cannot beat it).
+bool resolveConflicts(FleetPlan& plan, double stop_at = kInf) {
   std::vector<std::vector<double>> wait;
   for (const auto& u : plan.uavs) wait.emplace_back(u.flight.sorties.size(), 0.0);
   const double slack = plan.options.slack_s;
@@ -399,6 +405,7 @@ bool resolveConflicts(FleetPlan& plan) {
   constexpr double kEps = 1e-3;
   for (int round = 0; round < 4000; ++round) {
     scheduleSorties(plan, wait);
+    if (plan.makespan_s >= stop_at) return false;
     const auto motion = fleetMotion(plan);
     plan.separation = checkSeparation(motion, plan.options.separation_m, slack);
     if (!plan.separation.conflict) return true;
@@ -426,6 +433,99 @@ bool resolveConflicts(FleetPlan& plan) {
   }
   scheduleSorties(plan, wait);
   return false;
+}
+
+/// List scheduling (fleet.h): sorties taken in the order their UAV is ready (launch
+/// offset, or the previous landing plus the battery swap), each taking off at the
+/// earliest time from then on at which it keeps the separation, with the slack, from
+/// every sortie already placed. Places waits, then checks the whole schedule as
+/// resolveConflicts does. With `free_order` (every sortie a round trip of its own
+/// job, order free) the ready UAV takes, of its sorties left, the one that can take
+/// off earliest, and its sorties are reordered so. False when the check still finds
+/// a conflict or the makespan reaches `stop_at`.
+bool packSorties(FleetPlan& plan, double stop_at, bool free_order = false) {
+  const FleetOptions& o = plan.options;
+  constexpr double kEps = 1e-3;
+  const std::size_t n = plan.uavs.size();
+  std::vector<std::vector<double>> wait;
+  for (const auto& u : plan.uavs) wait.emplace_back(u.flight.sorties.size(), 0.0);
+  std::vector<std::size_t> next(n, 0);
+  std::vector<double> ready(n);
+  for (std::size_t u = 0; u < n; ++u) ready[u] = static_cast<double>(u) * o.launch_interval_s;
+  std::vector<std::vector<MotionPiece>> placed(n);  // per UAV, in time order
+  plan.waits = 0;
+  for (;;) {
+    std::size_t u = n;
+    for (std::size_t v = 0; v < n; ++v)
+      if (next[v] < plan.uavs[v].flight.sorties.size() && (u == n || ready[v] < ready[u])) u = v;
+    if (u == n) break;
+    // The earliest take-off at or after `ready` of pieces `base` (from t = 0) that
+    // keeps clear of every piece placed for the other UAVs.
+    const auto earliest = [&](const std::vector<MotionPiece>& base) {
+      double t = ready[u];
+      for (bool moved = true; moved && t < stop_at;) {
+        moved = false;
+        for (std::size_t v = 0; v < n && !moved; ++v) {
+          if (v == u) continue;
+          for (const MotionPiece& q0 : base) {
+            const double q_t0 = q0.t0 + t;
+            const double q_t1 = q0.t1 + t;
+            for (const MotionPiece& p : placed[v]) {
+              if (p.t1 + o.slack_s < q_t0 || q_t1 + o.slack_s < p.t0) continue;
+              if (segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m) continue;
+              t += p.t1 + o.slack_s - q_t0 + kEps;  // q starts after p's widened window
+              moved = true;
+              break;
+            }
+            if (moved) break;
+          }
+        }
+      }
+      return t;
+    };
+    auto& sorties = plan.uavs[u].flight.sorties;
+    const std::size_t last = free_order ? sorties.size() : next[u] + 1;
+    std::size_t pick = next[u];
+    double t = kInf;
+    std::vector<MotionPiece> base;
+    for (std::size_t k = next[u]; k < last; ++k) {
+      std::vector<std::size_t> at;
+      for (const auto& st : sorties[k].stops) at.push_back(st.waypoint);
+      auto pieces = sortieMotion(sorties[k].waypoints, at, plan.model, o.takeoff_landing_s, 0.0,
+                                 static_cast<int>(next[u]));
+      const double tk = earliest(pieces);
+      if (tk < t - kEps) {
+        t = tk;
+        pick = k;
+        base = std::move(pieces);
+      }
+    }
+    if (t >= stop_at) return false;
+    if (pick != next[u]) {  // fly `pick` now: the sorties between move one later
+      std::rotate(sorties.begin() + static_cast<std::ptrdiff_t>(next[u]),
+                  sorties.begin() + static_cast<std::ptrdiff_t>(pick),
+                  sorties.begin() + static_cast<std::ptrdiff_t>(pick + 1));
+      auto& order = plan.uavs[u].flight.order;
+      if (order.size() == sorties.size())
+        std::rotate(order.begin() + static_cast<std::ptrdiff_t>(next[u]),
+                    order.begin() + static_cast<std::ptrdiff_t>(pick),
+                    order.begin() + static_cast<std::ptrdiff_t>(pick + 1));
+    }
+    const Sortie& sortie = sorties[next[u]];
+    if (t > ready[u] + kEps) ++plan.waits;
+    wait[u][next[u]] = t - ready[u];
+    for (MotionPiece q : base) {
+      q.t0 += t;
+      q.t1 += t;
+      placed[u].push_back(q);
+    }
+    ready[u] = t + o.takeoff_landing_s + sortie.duration_s + o.battery_swap_s;
+    ++next[u];
+  }
+  scheduleSorties(plan, wait);
+  if (plan.makespan_s >= stop_at) return false;
+  plan.separation = checkSeparation(fleetMotion(plan), o.separation_m, o.slack_s);
+  return !plan.separation.conflict;
 }
 
 /// The single flight's time with the fleet's overheads [s].
@@ -562,6 +662,263 @@ void flySingle(FleetPlan& plan, const FlightPlan& single) {
   resolveConflicts(plan);
 }
 
+/// Jobs shared out by some candidates, and how many surfaces they split.
+struct JobSet {
+  std::vector<Job> jobs;
+  std::size_t split{0};
+};
+
+/// An assignment to try: the UAV of each job of sets[set], its estimated makespan.
+struct Candidate {
+  std::size_t set{0};
+  std::vector<int> owner;
+  double estimate_s{kInf};
+  std::string how;  ///< "min-max", "next best N", "slabs along (x, y, z)"
+};
+
+/// Estimated makespan of an assignment (per-UAV costs as in assign()).
+double estimateAssignment(const std::vector<Job>& jobs, const std::vector<int>& owner,
+                          const std::vector<FleetUav>& uavs, const FlightModel& model,
+                          const FleetOptions& fleet) {
+  double worst = 0.0;
+  for (std::size_t u = 0; u < uavs.size(); ++u) {
+    std::vector<const Job*> js;
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+      if (owner[j] == static_cast<int>(u)) js.push_back(&jobs[j]);
+    if (js.empty()) continue;
+    worst = std::max(worst, static_cast<double>(u) * fleet.launch_interval_s +
+                                estimateSeconds(js, uavs[u].home, model, fleet));
+  }
+  return worst;
+}
+
+/// Job sets of at most this many jobs are also tried with one flight per job (and
+/// slab partitions of at most twice this many runs are tried at all).
+constexpr std::size_t kPerJobMax = 24;
+
+/// The next best assignments of the estimates after `first` (at most kNextBest), when
+/// every assignment can be tried (at most 729).
+constexpr std::size_t kNextBest = 8;
+std::vector<Candidate> nextBest(const std::vector<Job>& jobs, const std::vector<FleetUav>& uavs,
+                                const FlightModel& model, const FleetOptions& fleet,
+                                const std::vector<int>& first) {
+  const std::size_t n = jobs.size();
+  const auto k = static_cast<int>(uavs.size());
+  std::vector<Candidate> out;
+  if (std::pow(static_cast<double>(k), static_cast<double>(n)) > kExhaustiveAssignments) return out;
+  std::vector<int> owner(n, 0);
+  std::vector<Candidate> all;
+  for (;;) {
+    if (owner != first)
+      all.push_back({0, owner, estimateAssignment(jobs, owner, uavs, model, fleet), ""});
+    std::size_t i = 0;
+    while (i < n && ++owner[i] == k) owner[i++] = 0;
+    if (i == n) break;
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Candidate& x, const Candidate& y) {
+    return x.estimate_s < y.estimate_s;
+  });
+  for (std::size_t i = 0; i < all.size() && out.size() < kNextBest; ++i) {
+    all[i].how = "next best " + std::to_string(out.size() + 1);
+    out.push_back(std::move(all[i]));
+  }
+  return out;
+}
+
+/// Spatial partitions: the flown stops cut into K slabs of equal stop counts along an
+/// axis (the stops' main horizontal axis, the one across it, and the vertical), each
+/// surface cut into runs of consecutive stops within one slab, every run of slab i
+/// flown by one UAV (the matching of slabs to UAVs with the least estimated makespan).
+/// UAVs then work apart, meeting only where slabs touch.
+void spatialCandidates(const std::vector<Job>& whole, const PointList& stops,
+                       const std::vector<FleetUav>& uavs, const FlightModel& model,
+                       const FleetOptions& fleet, std::vector<JobSet>& sets,
+                       std::vector<Candidate>& out) {
+  const auto k = static_cast<int>(uavs.size());
+  if (stops.empty() || k < 2) return;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : stops) mean += p.head<2>();
+  mean /= static_cast<double>(stops.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : stops) cov += (p.head<2>() - mean) * (p.head<2>() - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  Eigen::Vector2d main = eig.eigenvectors().col(1);
+  if (main.x() < 0.0 || (main.x() == 0.0 && main.y() < 0.0)) main = -main;  // deterministic sign
+  const std::array<Vec3, 3> axes{Vec3(main.x(), main.y(), 0.0), Vec3(-main.y(), main.x(), 0.0),
+                                 Vec3(0.0, 0.0, 1.0)};
+  for (const Vec3& axis : axes) {
+    std::vector<double> along;
+    for (const auto& p : stops) along.push_back(p.dot(axis));
+    std::sort(along.begin(), along.end());
+    std::vector<double> cuts;  // slab i: cuts[i-1] <= x < cuts[i]
+    for (int i = 1; i < k; ++i)
+      cuts.push_back(
+          along[along.size() * static_cast<std::size_t>(i) / static_cast<std::size_t>(k)]);
+    const auto slabOf = [&](const Vec3& p) {
+      return static_cast<int>(std::upper_bound(cuts.begin(), cuts.end(), p.dot(axis)) -
+                              cuts.begin());
+    };
+    JobSet set;
+    std::vector<int> slab;
+    for (const Job& w : whole) {
+      const auto path = flownStops(w.mission);
+      std::size_t k0 = 0;
+      for (std::size_t i = 1; i <= path.size(); ++i) {
+        if (i < path.size() && slabOf(w.mission.waypoints[path[i].waypoint]) ==
+                                   slabOf(w.mission.waypoints[path[k0].waypoint]))
+          continue;
+        set.jobs.push_back(makeJob(w.mission, path, k0, i, model));
+        slab.push_back(slabOf(w.mission.waypoints[path[k0].waypoint]));
+        k0 = i;
+      }
+    }
+    // Slabs to UAVs: every matching for K <= 5, else in order.
+    if (set.jobs.size() > 2 * kPerJobMax)
+      continue;  // many runs: a planned leg each, too slow to try
+    std::vector<int> perm(static_cast<std::size_t>(k));
+    std::iota(perm.begin(), perm.end(), 0);
+    Candidate best;
+    do {
+      std::vector<int> owner;
+      for (const int s : slab) owner.push_back(perm[static_cast<std::size_t>(s)]);
+      const double e = estimateAssignment(set.jobs, owner, uavs, model, fleet);
+      if (e < best.estimate_s - 1e-9) best = {sets.size(), owner, e, ""};
+    } while (k <= 5 && std::next_permutation(perm.begin(), perm.end()));
+    std::set<int> parted;
+    for (const Job& j : set.jobs)
+      if (j.part) parted.insert(j.mission.surface_id);
+    set.split = parted.size();
+    best.how = "slabs along (" + formatFixed(axis.x(), 2) + ", " + formatFixed(axis.y(), 2) + ", " +
+               formatFixed(axis.z(), 2) + ")";
+    sets.push_back(std::move(set));
+    out.push_back(std::move(best));
+  }
+}
+
+/// Short jobs: every surface cut into parts of consecutive stops of about
+/// 2 × and 4 × slack_s of work each (at least 60 s), shared by the min–max assignment;
+/// flown one flight per job, they let the schedule pair far-apart parts.
+void chunkCandidates(const std::vector<Job>& whole, const std::vector<FleetUav>& uavs,
+                     const FlightModel& model, const FleetOptions& fleet, std::vector<JobSet>& sets,
+                     std::vector<Candidate>& out) {
+  for (const double factor : {2.0, 4.0}) {
+    const double chunk = std::max(60.0, factor * fleet.slack_s);
+    JobSet set;
+    for (const Job& w : whole) {
+      const auto path = flownStops(w.mission);
+      const auto parts = std::min<std::size_t>(
+          path.size(), static_cast<std::size_t>(std::max(1.0, std::round(w.inner_s / chunk))));
+      for (std::size_t p = 0; p < parts; ++p) {
+        const std::size_t k0 = path.size() * p / parts;
+        const std::size_t k1 = path.size() * (p + 1) / parts;
+        if (k1 > k0) set.jobs.push_back(makeJob(w.mission, path, k0, k1, model));
+      }
+      if (parts > 1) ++set.split;
+    }
+    if (set.jobs.size() == whole.size() || set.jobs.size() > 24) continue;
+    Assignment a = assign(set.jobs, uavs, model, fleet);
+    out.push_back(
+        {sets.size(), a.owner, a.makespan_s, "parts of ~" + formatFixed(chunk, 0) + " s, min-max"});
+    sets.push_back(std::move(set));
+  }
+}
+
+/// Planned flights per (job set, UAV, jobs): candidates share them.
+using FlightCache = std::map<std::tuple<const void*, int, std::vector<int>>, FlightPlan>;
+
+/// Jobs of `mine` in the order of the shortest tour from `home` (straight-line times).
+std::vector<int> tourOrder(const std::vector<Job>& jobs, const std::vector<int>& mine,
+                           const Vec3& home, const FlightModel& model) {
+  PointList points{home};
+  std::vector<TourCluster> clusters(1);
+  clusters[0].variants.push_back({0, 0, 0.0});
+  for (const int j : mine) {
+    const Job& job = jobs[static_cast<std::size_t>(j)];
+    const int a = static_cast<int>(points.size());
+    points.push_back(job.first);
+    points.push_back(job.last);
+    TourCluster c;
+    c.variants.push_back({a, a + 1, job.inner_s});
+    c.variants.push_back({a + 1, a, job.inner_s});
+    clusters.push_back(c);
+  }
+  TourOptions options;
+  options.exact_max_clusters = 9;
+  const Tour tour = solveTour(
+      clusters, [&](int a, int b) { return model.segmentSeconds(points[a], points[b]); }, options);
+  std::vector<int> out;
+  for (const int c : tour.order) out.push_back(mine[static_cast<std::size_t>(c - 1)]);
+  return out;
+}
+
+/// `add`'s sorties flown after those of `into` (one UAV's flights, one after another).
+void appendFlight(FlightPlan& into, const FlightPlan& add) {
+  into.order.insert(into.order.end(), add.order.begin(), add.order.end());
+  into.excluded.insert(into.excluded.end(), add.excluded.begin(), add.excluded.end());
+  into.sorties.insert(into.sorties.end(), add.sorties.begin(), add.sorties.end());
+  into.tour_length_m += add.tour_length_m;
+  into.inner_length_m += add.inner_length_m;
+  into.lower_bound_m += add.lower_bound_m;
+  into.exact_order = into.exact_order && add.exact_order;
+  into.planned_legs += add.planned_legs;
+  into.order_seconds += add.order_seconds;
+  into.validate_seconds += add.validate_seconds;
+  into.length_m += add.length_m;
+  into.duration_s += add.duration_s;
+  into.seconds += add.seconds;
+  if (add.status != FlightPlan::Status::Ok && into.status == FlightPlan::Status::Ok) {
+    into.status = add.status;
+    into.reason = add.reason;
+  }
+}
+
+/// Flies each UAV's jobs of `owner` from its home (cached): one planFlight over them,
+/// or with `per_job` one flight per job in the order of the tour (each job its own
+/// sorties, so that waits on the ground can shift one job). False when a flight
+/// fails or leaves a surface out.
+bool flyCandidate(FleetPlan& plan, const std::vector<Job>& jobs, const std::vector<int>& owner,
+                  bool per_job, FlightCache& cache, const world::VoxelGrid& grid,
+                  const PathValidator& validator, Planner& planner, const FlightOptions& flight) {
+  FlightOptions own = flight;
+  own.start.reset();
+  own.compare_naive = false;
+  const auto fly = [&](int u, const std::vector<int>& set) -> const FlightPlan& {
+    auto key = std::make_tuple(static_cast<const void*>(&jobs), u, set);
+    auto it = cache.find(key);
+    if (it == cache.end()) {
+      std::vector<SurfaceMission> ms;
+      for (const int j : set) ms.push_back(jobs[static_cast<std::size_t>(j)].mission);
+      own.home = plan.uavs[static_cast<std::size_t>(u)].home;
+      it = cache.emplace(std::move(key), planFlight(ms, grid, validator, planner, own)).first;
+    }
+    return it->second;
+  };
+  for (std::size_t u = 0; u < plan.uavs.size(); ++u) {
+    std::vector<int> mine;
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+      if (owner[j] == static_cast<int>(u)) mine.push_back(static_cast<int>(j));
+    FleetUav& uav = plan.uavs[u];
+    uav.flight = FlightPlan{};
+    uav.flight.status = FlightPlan::Status::Ok;
+    uav.flight.home = uav.home;
+    uav.stops = 0;
+    if (mine.empty()) continue;
+    if (!per_job || mine.size() == 1) {
+      uav.flight = fly(static_cast<int>(u), mine);
+    } else {
+      uav.flight.exact_order = true;
+      for (const int j : tourOrder(jobs, mine, uav.home, flight.model)) {
+        const FlightPlan& f = fly(static_cast<int>(u), {j});
+        if (uav.flight.sorties.empty()) uav.flight.home_source = f.home_source;
+        appendFlight(uav.flight, f);
+      }
+    }
+    uav.stops = flownPositions(uav.flight).size();
+    if (uav.flight.status != FlightPlan::Status::Ok || !uav.flight.excluded.empty()) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPlan& single,
@@ -591,31 +948,68 @@ FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPla
   plan.work_s = bound.work_s;
   plan.lower_bound_s = bound.bound_s;
 
-  Assignment a;
-  const std::vector<Job> jobs =
-      splitSurfaces(surfaceJobs(missions, single, flight.model), plan.uavs, flight.model, fleet, a,
-                    plan.split_surfaces);
-  plan.jobs = jobs.size();
-  bool flown = true;
-  for (std::size_t u = 0; u < plan.uavs.size() && flown; ++u) {
-    std::vector<SurfaceMission> mine;
-    for (std::size_t j = 0; j < jobs.size(); ++j)
-      if (a.owner[j] == static_cast<int>(u)) mine.push_back(jobs[j].mission);
-    FleetUav& uav = plan.uavs[u];
-    uav.flight = FlightPlan{};
-    uav.flight.status = FlightPlan::Status::Ok;
-    uav.flight.home = uav.home;
-    if (mine.empty()) continue;
-    FlightOptions own = flight;
-    own.home = uav.home;
-    own.start.reset();
-    own.compare_naive = false;
-    uav.flight = planFlight(mine, grid, validator, planner, own);
-    uav.stops = flownPositions(uav.flight).size();
-    flown = uav.flight.status == FlightPlan::Status::Ok && uav.flight.excluded.empty();
+  // Candidates (fleet.h): the min–max assignment of the estimates, the next best
+  // assignments, and spatial partitions; each flown and scheduled, the shortest
+  // makespan with its waits kept.
+  std::vector<JobSet> sets;
+  std::vector<Candidate> candidates;
+  {
+    Assignment a;
+    std::size_t split = 0;
+    const std::vector<Job> whole = surfaceJobs(missions, single, flight.model);
+    std::vector<Job> jobs = splitSurfaces(whole, plan.uavs, flight.model, fleet, a, split);
+    sets.push_back({std::move(jobs), split});
+    candidates.push_back({0, a.owner, a.makespan_s, "min-max"});
+    for (auto& c : nextBest(sets[0].jobs, plan.uavs, flight.model, fleet, a.owner))
+      candidates.push_back(std::move(c));
+    spatialCandidates(whole, stops, plan.uavs, flight.model, fleet, sets, candidates);
+    chunkCandidates(whole, plan.uavs, flight.model, fleet, sets, candidates);
   }
-  const bool resolved = flown && resolveConflicts(plan);
-  if (!resolved || plan.makespan_s >= plan.single_uav_s) {
+  std::stable_sort(
+      candidates.begin(), candidates.end(),
+      [](const Candidate& x, const Candidate& y) { return x.estimate_s < y.estimate_s; });
+  // Each candidate flown as one flight per UAV, then (small job sets) one flight per job.
+  std::vector<std::pair<const Candidate*, bool>> tries;
+  for (const bool per_job : {false, true})
+    for (const Candidate& c : candidates)
+      if (!per_job || sets[c.set].jobs.size() <= kPerJobMax) tries.emplace_back(&c, per_job);
+  FlightCache cache;
+  FleetPlan best;
+  bool found = false;
+  for (const auto& [c, per_job] : tries) {
+    FleetPlan trial = plan;
+    const JobSet& set = sets[c->set];
+    if (!flyCandidate(trial, set.jobs, c->owner, per_job, cache, grid, validator, planner, flight))
+      continue;
+    const double bar = found ? best.makespan_s : plan.single_uav_s;
+    // Two ways to place the waits: list scheduling, and the earliest conflict's wait.
+    FleetPlan packed = trial;
+    bool ok_packed = packSorties(packed, bar);
+    if (per_job) {  // every sortie a round trip of one job: any order
+      FleetPlan free = trial;
+      if (packSorties(free, ok_packed ? packed.makespan_s : bar, true)) {
+        packed = std::move(free);
+        ok_packed = true;
+      }
+    }
+    const bool ok = resolveConflicts(trial, ok_packed ? packed.makespan_s : bar) || ok_packed;
+    if (ok_packed && (trial.separation.conflict || trial.makespan_s >= packed.makespan_s))
+      trial = std::move(packed);
+    if (!ok || trial.separation.conflict || trial.makespan_s >= bar) continue;
+    trial.jobs = set.jobs.size();
+    trial.split_surfaces = set.split;
+    trial.assignment = c->how + (per_job ? ", a flight per job" : "");
+    best = std::move(trial);
+    found = true;
+  }
+  plan.candidates = candidates.size();
+  if (found) {
+    const std::size_t n = plan.candidates;
+    plan = std::move(best);
+    plan.candidates = n;
+  } else {
+    plan.jobs = sets[0].jobs.size();
+    plan.split_surfaces = sets[0].split;
     if (plan.uavs[0].home == single.home) {
       flySingle(plan, single);
     } else {  // fleet.homes: the single flight from UAV 1's home

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
 #include "uavip/core/text.h"
 
@@ -133,41 +134,6 @@ std::optional<Approach> closestApproach(const MotionPiece& p, const MotionPiece&
   return Approach{(d0 + (t - lo) * v).norm(), t};
 }
 
-double segmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
-  // Ericson, Real-Time Collision Detection §5.1.9: closest points of two segments.
-  const Vec3 d1 = a1 - a0;
-  const Vec3 d2 = b1 - b0;
-  const Vec3 r = a0 - b0;
-  const double a = d1.squaredNorm();
-  const double e = d2.squaredNorm();
-  const double f = d2.dot(r);
-  constexpr double kTiny = 1e-18;
-  double s = 0.0;
-  double t = 0.0;
-  if (a <= kTiny && e <= kTiny) return r.norm();
-  if (a <= kTiny) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= kTiny) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2);
-      const double denom = a * e - b * b;
-      s = denom > kTiny * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((a0 + s * d1) - (b0 + t * d2)).norm();
-}
-
 namespace {
 
 /// Checks UAVs a and b into `out` (keeps the earliest conflict).
@@ -180,7 +146,7 @@ void checkPair(const std::vector<MotionPiece>& pa, const std::vector<MotionPiece
     for (std::size_t j = first; j < pb.size() && pb[j].t0 <= p.t1 + slack_s; ++j) {
       const MotionPiece& q = pb[j];
       ++out.pairs;
-      const double d = segmentDistance(p.a, p.b, q.a, q.b);
+      const double d = segmentSegmentDistance(p.a, p.b, q.a, q.b);
       out.swept_min_m = std::min(out.swept_min_m, d);
       if (const auto c = closestApproach(p, q); c && c->distance_m < out.nominal_min_m) {
         out.nominal_min_m = c->distance_m;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 #include "uavip/core/key_sort.h"
 #include "uavip/core/math.h"
 #include "uavip/core/voxel_key.h"
@@ -48,43 +49,6 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-/// Closest points of segments p1q1 and p2q2 (Ericson §5.1.9); returns the distance.
-double segmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
-                      Vec3& c2) {
-  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  constexpr double kEps = 1e-300;
-  double s = 0.0, t = 0.0;
-  if (a <= kEps && e <= kEps) {
-    c1 = p1;
-    c2 = p2;
-    return (c1 - c2).norm();
-  }
-  if (a <= kEps) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= kEps) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2);
-      const double denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  c1 = p1 + d1 * s;
-  c2 = p2 + d2 * t;
-  return (c1 - c2).norm();
-}
-
 }  // namespace
 
 double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1, const Vec3& t2,
@@ -114,7 +78,7 @@ double segmentTriangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3&
       {{&t0, &t1}, {&t1, &t2}, {&t2, &t0}}};
   for (const auto& [e0, e1] : edges) {
     Vec3 cs, ce;
-    const double d = segmentSegment(a, b, *e0, *e1, cs, ce);
+    const double d = segmentSegmentDistance(a, b, *e0, *e1, &cs, &ce);
     if (d < best) {
       best = d;
       q = ce;

@@ -35,6 +35,56 @@ TEST(Geometry, PointSegmentDistanceMatchesBruteForce) {
   }
 }
 
+TEST(Geometry, SegmentSegmentDistanceMatchesDenseSampling) {
+  // Random segments, some of them points, parallel or collinear, against the least
+  // distance over a 401 × 401 grid of pairs of points along them.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> d(-5.0, 5.0);
+  const auto point = [&] {
+    const double x = d(rng);
+    const double y = d(rng);
+    const double z = d(rng);
+    return Vec3(x, y, z);
+  };
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 a0 = point();
+    Vec3 a1 = point();
+    const Vec3 b0 = point();
+    Vec3 b1 = point();
+    if (trial % 7 == 0) b1 = b0;                                                       // a point
+    if (trial % 13 == 0) a1 = a0;                                                      // a point
+    if (trial % 11 == 0) a1 = a0 + 0.5 * (b1 - b0);                                    // parallel
+    if (trial % 17 == 0) a1 = b0 + 0.3 * (b1 - b0);                                    // touching
+    if (trial % 19 == 0) a1 = a0 + 1e-7 * (b1 - b0).cross(Vec3(1, 2, 3)) + (b1 - b0);  // ~parallel
+    double best = std::numeric_limits<double>::infinity();
+    const int n = 400;
+    for (int i = 0; i <= n; ++i)
+      for (int k = 0; k <= n; ++k) {
+        const Vec3 a = a0 + (a1 - a0) * (static_cast<double>(i) / n);
+        const Vec3 b = b0 + (b1 - b0) * (static_cast<double>(k) / n);
+        best = std::min(best, (a - b).norm());
+      }
+    Vec3 on_a;
+    Vec3 on_b;
+    const double exact = segmentSegmentDistance(a0, a1, b0, b1, &on_a, &on_b);
+    EXPECT_LE(exact, best + 1e-9) << trial;
+    EXPECT_NEAR(exact, best, 0.05) << trial;  // grid step ≤ 17.4 m / 400
+    EXPECT_NEAR((on_a - on_b).norm(), exact, 1e-12);
+    // The closest points lie on their segments.
+    EXPECT_NEAR(pointSegmentDistance(on_a, a0, a1), 0.0, 1e-9);
+    EXPECT_NEAR(pointSegmentDistance(on_b, b0, b1), 0.0, 1e-9);
+    EXPECT_NEAR(segmentSegmentDistance(b0, b1, a0, a1), exact, 1e-9);  // symmetric
+  }
+}
+
+TEST(Geometry, SegmentSegmentDistanceKnownCases) {
+  // Crossing at right angles 2 m apart, parallel 3 m apart, collinear 1 m apart.
+  EXPECT_NEAR(segmentSegmentDistance({-1, 0, 0}, {1, 0, 0}, {0, -1, 2}, {0, 1, 2}), 2.0, 1e-12);
+  EXPECT_NEAR(segmentSegmentDistance({0, 0, 0}, {4, 0, 0}, {1, 3, 0}, {2, 3, 0}), 3.0, 1e-12);
+  EXPECT_NEAR(segmentSegmentDistance({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 0, 0}), 1.0, 1e-12);
+  EXPECT_NEAR(segmentSegmentDistance({0, 0, 0}, {0, 0, 0}, {3, 4, 0}, {3, 4, 0}), 5.0, 1e-12);
+}
+
 TEST(Geometry, PointSegmentDistanceKnownCases) {
   const Vec3 a(0, 0, 0), b(2, 0, 0);
   EXPECT_NEAR(pointSegmentDistance(Vec3(1, 3, 4), a, b), 5.0, 1e-12);   // interior

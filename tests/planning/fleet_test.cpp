@@ -1,6 +1,6 @@
 // The fleet's geometry and assignment against independent references: closest
-// approach and segment distance against brute-force sampling, the separation check on
-// hand-made schedules, the min–max assignment against every assignment.
+// approach against brute-force sampling (segment distance: tests/core/geometry_test.cpp), the
+// separation check on hand-made schedules, the min–max assignment against every assignment.
 #include "uavip/planning/fleet.h"
 
 #include <gtest/gtest.h>
@@ -52,29 +52,6 @@ TEST(ClosestApproach, MatchesBruteForceSampling) {
     EXPECT_NEAR(exact->distance_m, best, 0.01);  // relative speeds ≤ ~30 m/s, dt ≤ 5e-4 s
     EXPECT_GE(exact->time_s, lo - 1e-12);
     EXPECT_LE(exact->time_s, hi + 1e-12);
-  }
-}
-
-TEST(SegmentDistance, MatchesBruteForceSampling) {
-  std::mt19937 rng(11);
-  for (int trial = 0; trial < 200; ++trial) {
-    const Vec3 a0 = randomPoint(rng, 5.0);
-    Vec3 a1 = randomPoint(rng, 5.0);
-    const Vec3 b0 = randomPoint(rng, 5.0);
-    Vec3 b1 = randomPoint(rng, 5.0);
-    if (trial % 7 == 0) b1 = b0;                     // a point
-    if (trial % 11 == 0) a1 = a0 + 0.5 * (b1 - b0);  // parallel
-    double best = kInf;
-    const int n = 400;
-    for (int i = 0; i <= n; ++i)
-      for (int k = 0; k <= n; ++k) {
-        const Vec3 a = a0 + (a1 - a0) * (static_cast<double>(i) / n);
-        const Vec3 b = b0 + (b1 - b0) * (static_cast<double>(k) / n);
-        best = std::min(best, (a - b).norm());
-      }
-    const double exact = segmentDistance(a0, a1, b0, b1);
-    EXPECT_LE(exact, best + 1e-9);
-    EXPECT_NEAR(exact, best, 0.05);  // grid step ≤ 17.4 m / 400
   }
 }
 

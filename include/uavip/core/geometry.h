@@ -31,6 +31,13 @@ PointList safetyPoints(const Scene& scene);
 /// Euclidean distance from p to the segment [a, b] [m].
 double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b);
 
+/// Least distance between the segments [a0, a1] and [b0, b1] (either may be a point,
+/// shorter than 1e-9 m) [m]; the closest points go to `on_a` and `on_b` when given.
+/// Ericson, Real-Time Collision Detection §5.1.9; nearly parallel segments (sin² of
+/// their angle ≤ 1e-18) take s = 0 on the first.
+double segmentSegmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                              Vec3* on_a = nullptr, Vec3* on_b = nullptr);
+
 /// Sum of segment lengths of a polyline [m].
 double polylineLength(const PointList& path);
 

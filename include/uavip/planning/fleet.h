@@ -17,11 +17,17 @@
 /// them (LPT), then moved and swapped between the latest UAV and the others while the
 /// estimated makespan falls. Each UAV's jobs are then flown by planFlight.
 ///
+/// Conflict-aware: the estimates ignore the separation, so several candidate
+/// assignments (the min–max one, the next best ones, spatial slabs, short parts of
+/// surfaces) are flown — one flight per UAV, and one flight per job — and scheduled,
+/// and the shortest makespan with its waits is kept (docs/fleet.md, "Candidates").
+///
 /// Schedule: UAV i takes off at i × launch_interval_s, each sortie after the last
-/// one's landing and the battery swap. The earliest conflict of the separation check
-/// is resolved by a wait on the ground before the sortie of one of the two UAVs (the
-/// one whose landing moves least), until none is left. When the fleet would land no
-/// sooner than the single flight, UAV 1 flies the single flight alone.
+/// one's landing and the battery swap. List scheduling (each sortie at its earliest
+/// conflict-free take-off) or, whichever lands sooner: the earliest conflict of the separation
+/// check is resolved by a wait on the ground before the sortie of one of the two UAVs (the one
+/// whose landing moves least), until none is left. When the fleet would land no sooner than the
+/// single flight, UAV 1 flies the single flight alone.
 ///
 /// Lower bound of the makespan: the larger of the longest round trip home → stop →
 /// home and (W + launch_interval_s × K'(K'−1)/2) / K' minimised over K' ≤ K UAVs,

@@ -84,9 +84,6 @@ struct Approach {
 };
 std::optional<Approach> closestApproach(const MotionPiece& p, const MotionPiece& q);
 
-/// Least distance between the segments [a0, a1] and [b0, b1] (either may be a point) [m].
-double segmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
-
 /// A pair of UAVs closer than the separation.
 struct FleetConflict {
   int uav_a{0};  ///< index (0-based) of the first UAV
@@ -146,6 +143,8 @@ struct FleetPlan {
   std::size_t split_surfaces{0};  ///< surfaces shared between UAVs
   std::size_t waits{0};           ///< waits added to resolve conflicts
   bool fallback_single{false};    ///< the fleet was slower: UAV 1 flies everything
+  std::size_t candidates{0};      ///< assignments flown and scheduled (planning/fleet.h)
+  std::string assignment;         ///< the one kept: "min-max", "next best N", "slabs along …"
   SeparationCheck separation;     ///< of the final schedule
   double seconds{0.0};            ///< wall time [s]
 };
