@@ -64,8 +64,8 @@ TriangleMesh meshInMissionFrame(const std::string& mesh_path, const std::string&
 }
 
 /// A cloud in the mission's frame (readInSceneFrame), with its colours.
-photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path, const std::string& scene_path,
-                                        std::string& colour_source) {
+photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path,
+                                        const std::string& scene_path, std::string& colour_source) {
   photo::PreviewCloud cloud;
   cloud.points = readInSceneFrame(cloud_path, sceneDocument(scene_path), scene_path).points;
   io::PointColours colours = io::loadCloudColours(cloud_path);

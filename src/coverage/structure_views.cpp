@@ -428,8 +428,7 @@ void StructureViewOptions::validate(const std::string& where) const {
       std::isfinite(link_max_angle_deg) && link_max_angle_deg > 0.0 && link_max_angle_deg <= 180.0,
       where, "link_max_angle_deg", "in (0, 180]", link_max_angle_deg);
   // The coverage table bounds the config's values; these guard a direct caller.
-  requireThat(min_views >= 1 && min_views <= 64, where, "views per point", "in [1, 64]",
-              min_views);
+  requireThat(min_views >= 1 && min_views <= 64, where, "views per point", "in [1, 64]", min_views);
   requireThat(std::isfinite(min_triangulation_deg) && min_triangulation_deg >= 0.0 &&
                   min_triangulation_deg < 90.0,
               where, "triangulation angle [deg]", "in [0, 90)", min_triangulation_deg);
