@@ -89,6 +89,8 @@ struct SceneFrameInput {
 /// Reads `path` with scene.json's input_read (scale, drop_classes, a mesh's sampling
 /// spacing) and moves it into the scene's frame (source_offset_m); `j` is scene.json's
 /// document (`scene_path` names it in messages; an empty object: the file's own frame).
+/// The clouds detect wrote beside scene.json (cloud_clean.pcd, cloud_safety.pcd) are read
+/// as they are: they are in the scene's frame already.
 /// validate_commands.cpp; used by validate and photos.
 SceneFrameInput readInSceneFrame(const std::string& path, const nlohmann::json& j,
                                  const std::string& scene_path);

@@ -113,6 +113,16 @@ std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mi
 
 SceneFrameInput readInSceneFrame(const std::string& path, const nlohmann::json& j,
                                  const std::string& scene_path) {
+  // The clouds detect wrote beside scene.json are in the scene's frame already.
+  const fs::path file(path);
+  std::error_code ec;
+  if ((file.filename() == "cloud_clean.pcd" || file.filename() == io::kSafetyCloudFile) &&
+      fs::equivalent(file.parent_path().empty() ? fs::path(".") : file.parent_path(),
+                     fs::path(scene_path).parent_path().empty()
+                         ? fs::path(".")
+                         : fs::path(scene_path).parent_path(),
+                     ec))
+    return {io::loadCloud(path), nullptr};
   // Read as detect read it (input options from scene.json), in the scene's frame.
   io::CloudReadOptions options;
   Vec3 scene_offset = Vec3::Zero();

@@ -525,6 +525,10 @@ TEST(PhotosCli, AgainstTheMeshAMissionWasDetectedFrom) {
     images += e.path().extension() == ".png" ? 1 : 0;
   }
   EXPECT_EQ(images, rows - 1);
+  // A preview from the scene's own cloud (already recentred, read as it is).
+  const auto own = uavip::cli_test::uavip("photos " + d + "/mission.json --world " + d +
+                                          "/cloud_clean.pcd -q -o " + d + "/preview");
+  EXPECT_EQ(own.code, 0) << own.out;
   // The same wall 10 m along: not the model the mission was planned on.
   const auto bad = uavip::cli_test::uavip("photos " + d + "/mission.json --world " +
                                           (dir / "moved.obj").string() + " -o " + d + "/bad");
