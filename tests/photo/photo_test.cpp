@@ -228,7 +228,7 @@ std::map<std::string, std::string> writeFolder(const io::MissionRecord& m,
 }
 
 fs::path tempDir(const std::string& name) {
-  const fs::path d =
+  fs::path d =
       fs::temp_directory_path() / ("uavip_photo_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
@@ -292,7 +292,7 @@ TEST(PhotoFolder, SameBytesWithOneAndTwoThreadsAndPngsDecodeToTheRender) {
     sum += img.rgb[i];
     sum2 += double(img.rgb[i]) * img.rgb[i];
   }
-  const double n = double(img.rgb.size() / 3);
+  const double n = static_cast<double>(img.rgb.size()) / 3.0;
   EXPECT_GT(std::sqrt(sum2 / n - (sum / n) * (sum / n)), 10.0);  // grey levels vary
   fs::remove_all(d1);
   fs::remove_all(d2);
