@@ -45,6 +45,48 @@ double boxDistance(const Aabb& a, const Aabb& b) {
   return gap.norm();
 }
 
+/// A node of a box tree: the box of what it holds, a leaf's range of entries in the
+/// owner's order, and its children (−1 for a leaf).
+struct BoxNode {
+  Aabb box;
+  std::uint32_t first{0}, count{0};  ///< leaf: order[first … first + count)
+  std::int32_t left{-1}, right{-1};  ///< children (−1 for a leaf)
+};
+
+/// Builds the subtree of a box tree over order[first … first + count) (median splits
+/// of the boxes' centres on the longest axis, ties by index, up to kLeafCells entries
+/// a leaf), appended to `nodes`; returns its index. PointIndex's cells and
+/// TriangleIndex's triangles share it.
+std::int32_t buildBoxNode(const std::vector<Aabb>& boxes, std::vector<std::uint32_t>& order,
+                          std::vector<BoxNode>& nodes, std::uint32_t first, std::uint32_t count) {
+  const auto at = static_cast<std::int32_t>(nodes.size());
+  nodes.emplace_back();
+  Aabb b;
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    b.extend(boxes[order[k]].min);
+    b.extend(boxes[order[k]].max);
+  }
+  nodes[static_cast<std::size_t>(at)].box = b;
+  if (count <= kLeafCells) {
+    nodes[static_cast<std::size_t>(at)].first = first;
+    nodes[static_cast<std::size_t>(at)].count = count;
+    return at;
+  }
+  int axis = 0;
+  (b.max - b.min).maxCoeff(&axis);
+  const std::uint32_t half = count / 2;
+  const auto centre = [&](std::uint32_t c) { return boxes[c].min[axis] + boxes[c].max[axis]; };
+  std::nth_element(order.begin() + first, order.begin() + first + half,
+                   order.begin() + first + count, [&](std::uint32_t x, std::uint32_t y) {
+                     return centre(x) < centre(y) || (centre(x) == centre(y) && x < y);
+                   });
+  const std::int32_t left = buildBoxNode(boxes, order, nodes, first, half);
+  const std::int32_t right = buildBoxNode(boxes, order, nodes, first + half, count - half);
+  nodes[static_cast<std::size_t>(at)].left = left;
+  nodes[static_cast<std::size_t>(at)].right = right;
+  return at;
+}
+
 /// Exact point distances through cells and a bounding-volume tree over the cells.
 /// The points are grouped in cells of kCellEdge, each with the box of its points;
 /// a binary tree of boxes (median splits on the longest axis, up to kLeafCells
@@ -56,11 +98,7 @@ double boxDistance(const Aabb& a, const Aabb& b) {
 /// the pieces: a ball 2 m above a dense surface returned ~100 cells, where the box
 /// bound reads the few under the segment (docs/architecture_notes.md, "Speed").
 struct PointIndex {
-  struct Node {
-    Aabb box;
-    std::uint32_t first{0}, count{0};  ///< leaf: cells cell_order[first … first + count)
-    std::int32_t left{-1}, right{-1};  ///< children (−1 for a leaf)
-  };
+  using Node = BoxNode;  ///< a leaf holds cells cell_order[first … first + count)
   PointList points;
   Aabb box;                               ///< of the points
   std::vector<std::uint32_t> order;       ///< point indices, cell by cell
@@ -100,39 +138,7 @@ struct PointIndex {
     cell_order.resize(cells);
     for (std::size_t c = 0; c < cells; ++c) cell_order[c] = static_cast<std::uint32_t>(c);
     nodes.reserve(2 * cells / kLeafCells + 2);
-    buildNode(0, static_cast<std::uint32_t>(cells));
-  }
-
-  /// Builds the subtree over cell_order[first … first + count); returns its index.
-  std::int32_t buildNode(std::uint32_t first, std::uint32_t count) {
-    const auto at = static_cast<std::int32_t>(nodes.size());
-    nodes.emplace_back();
-    Aabb b;
-    for (std::uint32_t k = first; k < first + count; ++k) {
-      b.extend(cell_box[cell_order[k]].min);
-      b.extend(cell_box[cell_order[k]].max);
-    }
-    nodes[static_cast<std::size_t>(at)].box = b;
-    if (count <= kLeafCells) {
-      nodes[static_cast<std::size_t>(at)].first = first;
-      nodes[static_cast<std::size_t>(at)].count = count;
-      return at;
-    }
-    int axis = 0;
-    (b.max - b.min).maxCoeff(&axis);
-    const std::uint32_t half = count / 2;
-    const auto centre = [&](std::uint32_t c) {
-      return cell_box[c].min[axis] + cell_box[c].max[axis];
-    };
-    std::nth_element(cell_order.begin() + first, cell_order.begin() + first + half,
-                     cell_order.begin() + first + count, [&](std::uint32_t x, std::uint32_t y) {
-                       return centre(x) < centre(y) || (centre(x) == centre(y) && x < y);
-                     });
-    const std::int32_t left = buildNode(first, half);
-    const std::int32_t right = buildNode(first + half, count - half);
-    nodes[static_cast<std::size_t>(at)].left = left;
-    nodes[static_cast<std::size_t>(at)].right = right;
-    return at;
+    buildBoxNode(cell_box, cell_order, nodes, 0, static_cast<std::uint32_t>(cells));
   }
 
   /// Exact distance from segment [a, b] to the nearest point; `q` gets that point.
@@ -208,11 +214,7 @@ struct PointIndex {
 /// brute force over every triangle: the nearest triangle's box lies no farther from
 /// the piece holding the nearest point of the segment than the distance itself.
 struct TriangleIndex {
-  struct Node {
-    Aabb box;
-    std::uint32_t first{0}, count{0};  ///< leaf: triangles order[first … first + count)
-    std::int32_t left{-1}, right{-1};  ///< children (−1 for a leaf)
-  };
+  using Node = BoxNode;  ///< a leaf holds triangles order[first … first + count)
   std::shared_ptr<const TriangleMesh> mesh;
   std::vector<Aabb> tri_box;         ///< per triangle
   std::vector<std::uint32_t> order;  ///< triangles, leaf by leaf
@@ -230,38 +232,7 @@ struct TriangleIndex {
     }
     if (n == 0) return;
     nodes.reserve(2 * n / kLeafCells + 2);
-    buildNode(0, static_cast<std::uint32_t>(n));
-  }
-
-  std::int32_t buildNode(std::uint32_t first, std::uint32_t count) {
-    const auto at = static_cast<std::int32_t>(nodes.size());
-    nodes.emplace_back();
-    Aabb b;
-    for (std::uint32_t k = first; k < first + count; ++k) {
-      b.extend(tri_box[order[k]].min);
-      b.extend(tri_box[order[k]].max);
-    }
-    nodes[static_cast<std::size_t>(at)].box = b;
-    if (count <= kLeafCells) {
-      nodes[static_cast<std::size_t>(at)].first = first;
-      nodes[static_cast<std::size_t>(at)].count = count;
-      return at;
-    }
-    int axis = 0;
-    (b.max - b.min).maxCoeff(&axis);
-    const std::uint32_t half = count / 2;
-    const auto centre = [&](std::uint32_t t) {
-      return tri_box[t].min[axis] + tri_box[t].max[axis];
-    };
-    std::nth_element(order.begin() + first, order.begin() + first + half,
-                     order.begin() + first + count, [&](std::uint32_t x, std::uint32_t y) {
-                       return centre(x) < centre(y) || (centre(x) == centre(y) && x < y);
-                     });
-    const std::int32_t left = buildNode(first, half);
-    const std::int32_t right = buildNode(first + half, count - half);
-    nodes[static_cast<std::size_t>(at)].left = left;
-    nodes[static_cast<std::size_t>(at)].right = right;
-    return at;
+    buildBoxNode(tri_box, order, nodes, 0, static_cast<std::uint32_t>(n));
   }
 
   /// Exact distance from segment [a, b] to the nearest triangle; `q` gets its point.
