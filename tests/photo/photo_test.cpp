@@ -356,9 +356,8 @@ TEST(PhotoFolder, RefusesAWorldTheMissionWasNotPlannedOn) {
   EXPECT_FALSE(fs::exists(d / "photos.json"));
 }
 
-TEST(PhotosCli, RunWithPhotosAndAnotherWorld) {
-  const fs::path dir = tempDir("cli");
-  fs::create_directories(dir);
+/// A 2 x 1.5 m wall scenario with a small pinhole camera, written into `dir`.
+fs::path writeSmallWall(const fs::path& dir) {
   const fs::path scenario = dir / "small_wall.yaml";
   std::ofstream(scenario)
       << "name: small_wall\n"
@@ -369,6 +368,13 @@ TEST(PhotosCli, RunWithPhotosAndAnotherWorld) {
          "seed: 3, viewpoint: [1.0, -4.0, 1.2]}\n"
          "perception: {min_area_m2: 1.0}\n"
          "camera: {fx: 200, fy: 200, cx: 80, cy: 60, image_px: [160, 120], gsd_mm_per_px: 5}\n";
+  return scenario;
+}
+
+TEST(PhotosCli, RunWithPhotosAndAnotherWorld) {
+  const fs::path dir = tempDir("cli");
+  fs::create_directories(dir);
+  const fs::path scenario = writeSmallWall(dir);
   const auto run = uavip::cli_test::uavip("run " + scenario.string() +
                                           " -q --no-views --photos -o " + (dir / "out").string());
   ASSERT_EQ(run.code, 0) << run.out;
@@ -616,16 +622,7 @@ TEST(PointPreview, ColoursOfAPcdInTheOrderOfItsPoints) {
 TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
   const fs::path dir = tempDir("preview");
   fs::create_directories(dir);
-  const fs::path scenario = dir / "small_wall.yaml";
-  std::ofstream(scenario)
-      << "name: small_wall\n"
-         "world:\n"
-         "  - {type: plane, name: wall, corner: [0.0, 0.0, 0.5], edge_u: [2.0, 0.0, 0.0], "
-         "edge_v: [0.0, 0.0, 1.5]}\n"
-         "sensing: {mode: sample, spacing_m: 0.05, noise_sigma_m: 0.005, outlier_fraction: 0.0, "
-         "seed: 3, viewpoint: [1.0, -4.0, 1.2]}\n"
-         "perception: {min_area_m2: 1.0}\n"
-         "camera: {fx: 200, fy: 200, cx: 80, cy: 60, image_px: [160, 120], gsd_mm_per_px: 5}\n";
+  const fs::path scenario = writeSmallWall(dir);
   const std::string d = (dir / "out").string();
   const auto run = uavip::cli_test::uavip("run " + scenario.string() + " -q --no-views -o " + d);
   ASSERT_EQ(run.code, 0) << run.out;
