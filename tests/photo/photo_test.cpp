@@ -358,7 +358,7 @@ TEST(PhotoFolder, RefusesAWorldTheMissionWasNotPlannedOn) {
 
 /// A 2 x 1.5 m wall scenario with a small pinhole camera, written into `dir`.
 fs::path writeSmallWall(const fs::path& dir) {
-  const fs::path scenario = dir / "small_wall.yaml";
+  fs::path scenario = dir / "small_wall.yaml";
   std::ofstream(scenario)
       << "name: small_wall\n"
          "world:\n"
