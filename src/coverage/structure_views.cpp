@@ -9,6 +9,7 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
+#include "uavip/core/union_find.h"
 #include "uavip/core/voxel_key.h"
 
 namespace uavip::coverage {
@@ -261,21 +262,6 @@ std::vector<std::size_t> pruneMultiCover(const std::vector<std::vector<std::uint
   return out;
 }
 
-/// Union-find over chosen ranks.
-struct Groups {
-  std::vector<std::size_t> parent;
-  explicit Groups(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void join(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
-
 /// The linking of the file comment: adds candidates to `chosen` until the links join
 /// the chosen photos into one group or no candidate joins two; returns the groups left.
 std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
@@ -314,7 +300,7 @@ std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
       }
       return out;
     };
-    Groups groups(chosen.size());
+    UnionFind groups(chosen.size());
     for (std::size_t k = 0; k < chosen.size(); ++k)
       for (const auto l : links(chosen[k])) groups.join(k, l);
     std::vector<std::size_t> size(chosen.size(), 0);

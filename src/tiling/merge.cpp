@@ -11,6 +11,7 @@
 #include "uavip/core/math.h"
 #include "uavip/core/neighbour_index.h"
 #include "uavip/core/text.h"
+#include "uavip/core/union_find.h"
 #include "uavip/core/voxel_key.h"
 
 namespace uavip::tiling {
@@ -25,21 +26,6 @@ struct Part {
   PointList points;  ///< owned points [m]
   Aabb box;
   std::unique_ptr<NeighbourIndex> index;  ///< built when first needed
-};
-
-/// Union–find over part indices.
-struct Groups {
-  std::vector<std::size_t> parent;
-  explicit Groups(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void join(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the earliest part leads
-  }
 };
 
 /// True when `p` lies in the core of tile `t` (the owner rule of the manifest).
@@ -132,9 +118,9 @@ Surface refit(PointList points, const Vec3& like, const MergeOptions& o) {
 
 /// Joins parts of neighbouring tiles that `joinable` accepts and that touch.
 template <typename Joinable>
-Groups groupParts(std::vector<Part>& parts, const std::vector<TileScene>& tiles, double gap,
-                  Joinable joinable, int& joined) {
-  Groups g(parts.size());
+UnionFind groupParts(std::vector<Part>& parts, const std::vector<TileScene>& tiles, double gap,
+                     Joinable joinable, int& joined) {
+  UnionFind g(parts.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {
     for (std::size_t j = i + 1; j < parts.size(); ++j) {
       const TileRecord& a = tiles[parts[i].tile].tile;
@@ -153,7 +139,7 @@ Groups groupParts(std::vector<Part>& parts, const std::vector<TileScene>& tiles,
 }
 
 /// The parts of each group, in part order (groups ordered by their first part).
-std::vector<std::vector<std::size_t>> members(Groups& g, std::size_t n) {
+std::vector<std::vector<std::size_t>> members(UnionFind& g, std::size_t n) {
   std::vector<std::vector<std::size_t>> out;
   std::vector<long> slot(n, -1);
   for (std::size_t i = 0; i < n; ++i) {
@@ -258,7 +244,7 @@ void addSafety(const Manifest& manifest, const std::vector<TileScene>& tiles, st
 void joinSurfaces(std::vector<Part>& surfaces, const std::vector<TileScene>& tiles,
                   const MergeOptions& options, Scene& out, std::vector<PointList>& demoted,
                   MergeStats& st) {
-  Groups sg = groupParts(
+  UnionFind sg = groupParts(
       surfaces, tiles, options.planes.cluster_tolerance_m,
       [&](const Part& a, const Part& b) { return samePlane(*a.surface, *b.surface, options); },
       st.surfaces_joined);
@@ -306,7 +292,7 @@ Scene mergeTileScenes(const Manifest& manifest, const std::vector<TileScene>& ti
   }
   std::vector<PointList> demoted;
   joinSurfaces(surfaces, tiles, options, out, demoted, st);
-  Groups og = groupParts(
+  UnionFind og = groupParts(
       obstacles, tiles, options.planes.cluster_tolerance_m,
       [](const Part&, const Part&) { return true; }, st.obstacles_joined);
   for (const auto& group : members(og, obstacles.size())) {
