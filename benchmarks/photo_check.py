@@ -703,6 +703,7 @@ def case_name(args):
     if args.purpose:
         base += f"-{args.purpose}"
     base += f"-overlap{args.overlap}" if args.overlap is not None else "-asplanned"
+    base += f"-scale{args.image_scale:g}" if args.image_scale != 1.0 else ""
     return base + (f"-first{args.max_photos}" if args.max_photos else "")
 
 
@@ -717,7 +718,8 @@ def run_case(args):
     scenario_rel = os.path.relpath(os.path.abspath(args.scenario), ROOT) if args.scenario else None
     result = {"case": name, "scenario": scenario_rel,
               "overlap": args.overlap, "cover": "structure" if args.cover_structure else "surfaces",
-              "purpose": args.purpose, "matcher": args.matcher, "threads": args.threads}
+              "purpose": args.purpose, "matcher": args.matcher, "threads": args.threads,
+              "image_scale": args.image_scale}
     folder = args.photos_dir
     if args.mesh:
         return run_mesh_case(args, name, work, logf, t_start, result)
@@ -731,7 +733,8 @@ def run_case(args):
         t0 = time.time()
         folder = os.path.join(work, "photos")
         run([args.uavip, "photos", os.path.join(work, "plan", "mission.json"), "--world", scenario,
-             "-o", folder, "--threads", str(args.threads), "-q"], logf)
+             "-o", folder, "--threads", str(args.threads), "--image-scale",
+             str(args.image_scale), "-q"], logf)
         timings["photos_s"] = round(time.time() - t0, 1)
     meta, rows = read_photo_folder(folder)
     result["photos_planned"] = len(rows)
@@ -761,7 +764,7 @@ def run_mesh_case(args, name, work, logf, t_start, result):
         t0 = time.time()
         folder = os.path.join(work, "photos")
         cmd = [args.uavip, "photos", args.mission, "--world", args.mesh, "-o", folder,
-               "--threads", str(args.threads), "-q"]
+               "--threads", str(args.threads), "--image-scale", str(args.image_scale), "-q"]
         if args.scene:
             cmd += ["--scene", args.scene]
         run(cmd, logf)
@@ -884,6 +887,9 @@ def main():
     ap.add_argument("--colmap", default=shutil.which("colmap") or "colmap")
     ap.add_argument("--photos-dir", help="an existing photo folder (skips run and photos)")
     ap.add_argument("--max-photos", type=int, help="check only the first N photos in flown order")
+    ap.add_argument("--image-scale", type=float, default=1.0,
+                    help="render the planned views at this fraction of the image size "
+                         "(uavip photos --image-scale; e.g. 0.25 for a 20 MP camera)")
     ap.add_argument("--stitch-max-photos", type=int, default=0,
                     help="stitch only the first N photos of each surface (0: all)")
     ap.add_argument("--matcher", choices=("spatial", "sequential"), default="spatial")

@@ -33,10 +33,13 @@ constexpr std::size_t kMaxScoredPoints = 40000;
 constexpr int kNormalNeighbours = 12;
 /// A reconstruction's photos are linked (structure_views.h) when they image this share
 /// of the smaller one's points in common, their axes within kLinkMaxAngleDeg: the
-/// overlap SIFT matching needs across the structure's edges (on the tower 0.3 / 50°
-/// left 7 groups, 0.2 / 60° one).
-constexpr double kLinkShare = 0.2;
-constexpr double kLinkMaxAngleDeg = 60.0;
+/// overlap and the viewpoint change SIFT matching bridges across the structure's edges.
+/// Corner candidates turned by kCornerYawDeg see both faces of a vertical edge, each
+/// within the link angle of the face-on photos (issue 46: without them the tower's
+/// faces, 90° apart, formed separate COLMAP models).
+constexpr double kLinkShare = 0.3;
+constexpr double kLinkMaxAngleDeg = 50.0;
+constexpr double kCornerYawDeg = 45.0;
 
 /// The clean cloud without the ground (app/pipeline.h, planStructure): returns the
 /// structure points; `ground` counts the others, `ground_z` gets the height of the
@@ -337,6 +340,7 @@ coverage::StructureViewOptions viewOptions(const app::Config& config,
     options.min_triangulation_deg = config.coverage.min_triangulation_deg;
     options.link_share = kLinkShare;
     options.link_max_angle_deg = kLinkMaxAngleDeg;
+    options.yaws_deg = {kCornerYawDeg};
   }
   return options;
 }
@@ -433,6 +437,12 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
       structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera scoring_camera(scoringIntrinsics(intrinsics, config));
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
+  // Aiming: each point closes a cube of max(voxel, spacing) around it, so a face is a
+  // wall without holes and no camera aims at a seed through it (coverage_evaluator.h).
+  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
+  const coverage::VoxelLineOfSight aim_sight(scene.cloud, grid.resolution(),
+                                             3.5 * grid.resolution(),
+                                             std::max(grid.resolution(), spacing));
   s.two_sided = orientNormals(s.points, s.normals, sight, is_free,
                               result.clearance_m + 2.0 * grid.resolution());
   const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
@@ -440,7 +450,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   summary.prepare_s = secondsSince(t_prepare);
   reportProgress(progress, "structure: choosing photos");
   const coverage::StructureViews views = selectStructureViews(
-      s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options);
+      s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options, &aim_sight);
   summary.select_s = secondsSince(t1);
   summary.seeds = views.seeds;
   summary.candidates = views.candidates;

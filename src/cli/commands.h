@@ -134,9 +134,10 @@ void addConfigCommands(CLI::App& cli, CommandRegistry& registry);
 void addPhotoCommands(CLI::App& cli, CommandRegistry& registry);
 
 /// Renders the photos of `mission_path` against `world` into the folder `out`
-/// (photo/photo_folder.h; `threads` 0: every core); run --photos and photos.
+/// (photo/photo_folder.h; `threads` 0: every core; `image_scale` in (0, 1] scales the
+/// image size and pinhole); run --photos and photos.
 int renderPlanPhotos(const std::string& mission_path, const sim::WorldModel& world,
                      const std::string& world_path, const std::string& out, int threads,
-                     const Verbosity& v);
+                     double image_scale, const Verbosity& v);
 
 }  // namespace uavip::cli

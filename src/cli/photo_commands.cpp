@@ -22,9 +22,10 @@ namespace uavip::cli {
 namespace {
 
 /// The options of a render: threads and the progress line about every 5 %.
-photo::PhotoOptions photoOptions(int threads, const Verbosity& v) {
+photo::PhotoOptions photoOptions(int threads, double image_scale, const Verbosity& v) {
   photo::PhotoOptions options;
   options.threads = threads > 0 ? threads : hardwareThreads();
+  options.image_scale = image_scale;
   if (v.showProgress()) {
     // About every 5 %: a line per batch would flood the terminal on long runs.
     options.progress = [last = std::size_t{0}](std::size_t done, std::size_t total) mutable {
@@ -80,11 +81,11 @@ photo::PreviewCloud cloudInMissionFrame(const std::string& cloud_path,
 
 int renderPlanPhotos(const std::string& mission_path, const sim::WorldModel& world,
                      const std::string& world_path, const std::string& out, int threads,
-                     const Verbosity& v) {
+                     double image_scale, const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   io::requireDistinctOutputs({mission_path, world_path}, {out + "/photos.json"});
   printSummary(photo::writePhotoFolder(mission, mission_path, world, world_path, out,
-                                       photoOptions(threads, v)),
+                                       photoOptions(threads, image_scale, v)),
                out, v);
   return kExitOk;
 }
@@ -94,14 +95,14 @@ namespace {
 /// `uavip photos` against a mesh (photo::writePhotoFolder's mesh form).
 int renderMeshPhotos(const std::string& mission_path, const std::string& mesh_path,
                      std::string scene_path, const std::string& out, int threads,
-                     const Verbosity& v) {
+                     double image_scale, const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   if (scene_path.empty())
     scene_path = (std::filesystem::path(mission_path).parent_path() / "scene.json").string();
   io::requireDistinctOutputs({mission_path, mesh_path}, {out + "/photos.json"});
   const TriangleMesh mesh = meshInMissionFrame(mesh_path, scene_path);
   printSummary(photo::writePhotoFolder(mission, mission_path, mesh, mesh_path, out,
-                                       photoOptions(threads, v)),
+                                       photoOptions(threads, image_scale, v)),
                out, v);
   return kExitOk;
 }
@@ -111,7 +112,8 @@ int renderMeshPhotos(const std::string& mission_path, const std::string& mesh_pa
 /// `max_depth_m` (0: 4 x the standoff, at least 10 m).
 int renderCloudPreview(const std::string& mission_path, const std::string& cloud_path,
                        std::string scene_path, double splat_m, double max_depth_m,
-                       const std::string& out, int threads, const Verbosity& v) {
+                       const std::string& out, int threads, double image_scale,
+                       const Verbosity& v) {
   const io::MissionRecord mission = io::loadMission(mission_path);
   if (scene_path.empty())
     scene_path = (std::filesystem::path(mission_path).parent_path() / "scene.json").string();
@@ -120,7 +122,7 @@ int renderCloudPreview(const std::string& mission_path, const std::string& cloud
   photo::PreviewCloud cloud = cloudInMissionFrame(cloud_path, scene_path, colour_source);
   cloud.splat_m = splat_m > 0.0 ? splat_m : 2.0 * photo::medianSpacing(cloud.points);
   if (!(cloud.splat_m > 0.0)) cloud.splat_m = 0.01;  // every point in one place
-  const double standoff = photo::photoCamera(mission, mission_path).standoff_m;
+  const double standoff = photo::photoCamera(mission, mission_path, image_scale).standoff_m;
   cloud.max_depth_m = max_depth_m > 0.0 ? max_depth_m : std::max(10.0, 4.0 * standoff);
   if (v.showProgress())
     std::cerr << "uavip: preview from " << cloud.points.size() << " points ("
@@ -128,7 +130,7 @@ int renderCloudPreview(const std::string& mission_path, const std::string& cloud
               << "), splats " << formatNumber(cloud.splat_m, 3) << " m, up to "
               << formatNumber(cloud.max_depth_m, 3) << " m\n";
   printSummary(photo::writePreviewFolder(mission, mission_path, cloud, cloud_path, colour_source,
-                                         out, photoOptions(threads, v)),
+                                         out, photoOptions(threads, image_scale, v)),
                out, v);
   return kExitOk;
 }
@@ -144,7 +146,7 @@ bool isScenarioFile(const std::string& path) {
 struct PhotoArgs {
   std::string mission, world, scene, out;
   int threads{0};
-  double splat_m{0.0}, max_depth_m{0.0};
+  double splat_m{0.0}, max_depth_m{0.0}, image_scale{1.0};
 };
 
 }  // namespace
@@ -173,14 +175,19 @@ void addPhotoCommands(CLI::App& cli, CommandRegistry& registry) {
   photos->add_option("-o,--out", a->out, "Output folder (images/, sparse/, poses.csv, photos.json)")
       ->required();
   photos->add_option("--threads", a->threads, "Worker threads (default: every core)");
+  photos->add_option("--image-scale", a->image_scale,
+                     "Render the same views with the image size and focal lengths x this, in "
+                     "(0, 1]: a quicker, coarser check (the texture follows the coarser GSD)");
   registry.add(photos, [a = a, &v] {
     if (io::isMeshFile(a->world))
-      return renderMeshPhotos(a->mission, a->world, a->scene, a->out, a->threads, v);
+      return renderMeshPhotos(a->mission, a->world, a->scene, a->out, a->threads, a->image_scale,
+                              v);
     if (!isScenarioFile(a->world))
       return renderCloudPreview(a->mission, a->world, a->scene, a->splat_m, a->max_depth_m, a->out,
-                                a->threads, v);
+                                a->threads, a->image_scale, v);
     const app::Scenario scenario = app::loadScenario(a->world);
-    return renderPlanPhotos(a->mission, scenario.world, a->world, a->out, a->threads, v);
+    return renderPlanPhotos(a->mission, scenario.world, a->world, a->out, a->threads,
+                            a->image_scale, v);
   });
 }
 

@@ -379,7 +379,8 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
   // A scenario without surfaces (the single point, the line) has nothing to fly, as
   // the paper expects: that is a result, not a failure.
   if (p.missions.empty()) return kExitOk;
-  if (photos) renderPlanPhotos(out + "/mission.json", scenario.world, path, out + "/photos", 0, v);
+  if (photos)
+    renderPlanPhotos(out + "/mission.json", scenario.world, path, out + "/photos", 0, 1.0, v);
   return missionExitCode(p, v);
 }
 

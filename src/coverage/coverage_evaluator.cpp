@@ -217,21 +217,49 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
 // ---------------------------------------------------------------- voxel line of sight
 
 VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxel_m,
-                                   double end_slack_m)
+                                   double end_slack_m, double point_extent_m)
     : voxel_m_(voxel_m), end_slack_m_(end_slack_m) {
   const std::string where = "voxel_line_of_sight";
   requirePositive(voxel_m, where, "voxel_m");
   requireThat(std::isfinite(end_slack_m) && end_slack_m >= 0.0, where, "end_slack_m",
               ">= 0 and finite", end_slack_m);
+  requireThat(std::isfinite(point_extent_m) && point_extent_m >= 0.0, where, "point_extent_m",
+              ">= 0 and finite", point_extent_m);
+  const double half = 0.5 * point_extent_m;
+  // Cubes of neighbouring points share voxels: a surface sampled at the voxel size
+  // occupies about 2 voxels a point; the table doubles when it is half full.
   std::size_t capacity = 16;
-  while (capacity < 2 * occupied_points.size()) capacity *= 2;
+  while (capacity < (half > 0.0 ? 6 : 2) * occupied_points.size()) capacity *= 2;
   table_.assign(capacity, kEmptySlot);
   mask_ = capacity - 1;
+  const auto put = [](std::vector<std::uint64_t>& table, std::uint64_t key) {
+    const std::uint64_t mask = table.size() - 1;
+    std::uint64_t slot = mixKey(key) & mask;
+    while (table[slot] != kEmptySlot && table[slot] != key) slot = (slot + 1) & mask;
+    if (table[slot] != kEmptySlot) return false;
+    table[slot] = key;
+    return true;
+  };
   if (occupied_points.empty()) return;
   // Checks every point and that the box spans at most 2^21 voxels per axis.
   (void)VoxelKeyer::forPointsOnLattice(occupied_points, voxel_m, where + ".voxel_m");
-  for (const Vec3& p : occupied_points) {
-    const auto idx = VoxelKeyer::latticeIndex(p, voxel_m);
+  // Calls f(i, j, k) for every voxel a point occupies (its own, or those its cube meets).
+  const auto each_voxel = [&](const auto& f) {
+    for (const Vec3& p : occupied_points) {
+      if (half <= 0.0) {
+        const auto [i, j, k] = VoxelKeyer::latticeIndex(p, voxel_m);
+        f(i, j, k);
+        continue;
+      }
+      const auto lo = VoxelKeyer::latticeIndex(p - Vec3::Constant(half), voxel_m);
+      const auto hi = VoxelKeyer::latticeIndex(p + Vec3::Constant(half), voxel_m);
+      for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+          for (std::int64_t k = lo[2]; k <= hi[2]; ++k) f(i, j, k);
+    }
+  };
+  each_voxel([&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    const std::int64_t idx[3] = {i, j, k};
     if (count_ == 0) {
       for (int a = 0; a < 3; ++a) lo_[a] = hi_[a] = idx[a];
     } else {
@@ -240,14 +268,17 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
         hi_[a] = std::max(hi_[a], idx[a]);
       }
     }
-    const std::uint64_t key = packKey(idx[0], idx[1], idx[2]);
-    std::uint64_t slot = mixKey(key) & mask_;
-    while (table_[slot] != kEmptySlot && table_[slot] != key) slot = (slot + 1) & mask_;
-    if (table_[slot] == kEmptySlot) {
-      table_[slot] = key;
-      ++count_;
-    }
-  }
+    if (!put(table_, packKey(i, j, k))) return;
+    if (++count_ * 2 <= table_.size()) return;
+    std::vector<std::uint64_t> grown(2 * table_.size(), kEmptySlot);
+    for (const std::uint64_t key : table_)
+      if (key != kEmptySlot) put(grown, key);
+    table_ = std::move(grown);
+    mask_ = table_.size() - 1;
+  });
+  for (int a = 0; a < 3; ++a)  // the points' cubes may widen the checked box
+    requireThat(hi_[a] - lo_[a] < (std::int64_t{1} << 21), where, "point_extent_m",
+                "small enough that the occupied box spans < 2^21 voxels", point_extent_m);
   if (count_ == 0) return;
   // Brick bitmap over the occupied box: the smallest brick (≥ 8 voxels) that fits.
   auto brick_count = [&](int shift) {
@@ -258,18 +289,16 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
   while (brick_count(brick_shift_) > kMaxBricks) ++brick_shift_;
   for (int a = 0; a < 3; ++a) brick_dims_[a] = ((hi_[a] - lo_[a]) >> brick_shift_) + 1;
   brick_bits_.assign(static_cast<std::size_t>(brick_count(brick_shift_) / 64.0) + 1, 0);
-  for (const Vec3& p : occupied_points) {
-    const auto [i, j, k] = VoxelKeyer::latticeIndex(p, voxel_m);
+  each_voxel([&](std::int64_t i, std::int64_t j, std::int64_t k) {
     const std::uint64_t b = brickIndex(i, j, k);
     brick_bits_[b >> 6] |= std::uint64_t{1} << (b & 63);
-  }
+  });
   if (brick_count(0) > kMaxDenseVoxels) return;
   dense_bits_.assign(static_cast<std::size_t>(brick_count(0) / 64.0) + 1, 0);
-  for (const Vec3& p : occupied_points) {
-    const auto [i, j, k] = VoxelKeyer::latticeIndex(p, voxel_m);
+  each_voxel([&](std::int64_t i, std::int64_t j, std::int64_t k) {
     const std::uint64_t d = denseIndex(i, j, k);
     dense_bits_[d >> 6] |= std::uint64_t{1} << (d & 63);
-  }
+  });
 }
 
 std::uint64_t VoxelLineOfSight::denseIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {

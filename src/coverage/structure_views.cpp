@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <queue>
 #include <utility>
@@ -23,26 +25,49 @@ struct Candidate {
   Vec3 target;
   std::size_t direction{0};
   int tilt{0};    ///< 0 along ±n, k for tilts_deg[k − 1]
+  int yaw{0};     ///< 0 along ±n, k for yaws_deg[k − 1]
   int factor{0};  ///< index into distance_factors
+};
+
+/// A viewing direction (from the seed toward the camera) and which tilt or yaw made it.
+struct Direction {
+  Vec3 d;
+  int tilt{0};
+  int yaw{0};
 };
 
 /// Viewing directions at a seed with normal n: n (and −n when two-sided), each also
 /// tilted toward +z and −z by each tilt (about the horizontal axis n × z; about x when
-/// n is vertical).
-std::vector<Vec3> viewingDirections(const Vec3& n, bool two_sided,
-                                    const std::vector<double>& tilts_deg) {
+/// n is vertical) and, when ±n is not near vertical, turned left and right about z by
+/// each yaw (the corner photos that see two faces of an edge at once).
+std::vector<Direction> viewingDirections(const Vec3& n, bool two_sided,
+                                         const std::vector<double>& tilts_deg,
+                                         const std::vector<double>& yaws_deg) {
   Vec3 up = Vec3::UnitZ() - n.z() * n;  // the part of +z across n
   if (up.norm() < 1e-6) up = Vec3::UnitX() - n.x() * n;
   up.normalize();
-  std::vector<Vec3> dirs;
+  std::vector<Direction> dirs;
   for (const double sign : {1.0, -1.0}) {
     if (sign < 0.0 && !two_sided) break;
     const Vec3 m = sign * n;
-    dirs.push_back(m);
-    for (const double tilt : tilts_deg) {
-      const double t = tilt * kDegToRad;
-      dirs.push_back((std::cos(t) * m + std::sin(t) * up).normalized());
-      dirs.push_back((std::cos(t) * m - std::sin(t) * up).normalized());
+    dirs.push_back({m, 0, 0});
+    for (std::size_t k = 0; k < tilts_deg.size(); ++k) {
+      const double t = tilts_deg[k] * kDegToRad;
+      const int index = static_cast<int>(k) + 1;
+      dirs.push_back({(std::cos(t) * m + std::sin(t) * up).normalized(), index, 0});
+      dirs.push_back({(std::cos(t) * m - std::sin(t) * up).normalized(), index, 0});
+    }
+    // A yaw turns the horizontal part of m about z; a near-vertical m has none to turn.
+    const double horizontal = std::hypot(m.x(), m.y());
+    if (horizontal < 0.5) continue;
+    for (std::size_t k = 0; k < yaws_deg.size(); ++k) {
+      const int index = static_cast<int>(k) + 1;
+      for (const double turn : {1.0, -1.0}) {
+        const double a = turn * yaws_deg[k] * kDegToRad;
+        const Vec3 r(std::cos(a) * m.x() - std::sin(a) * m.y(),
+                     std::sin(a) * m.x() + std::cos(a) * m.y(), m.z());
+        dirs.push_back({r.normalized(), 0, index});
+      }
     }
   }
   return dirs;
@@ -78,13 +103,10 @@ std::vector<Candidate> makeCandidates(const PointList& points, const std::vector
     ++seeds;
     const Vec3& p = points[best];
     const bool both = !two_sided.empty() && two_sided[best] != 0;
-    const std::vector<Vec3> dirs = viewingDirections(normals[best], both, o.tilts_deg);
-    const std::size_t per_side = 1 + 2 * o.tilts_deg.size();
-    for (std::size_t d = 0; d < dirs.size(); ++d) {
-      const int tilt = static_cast<int>((d % per_side + 1) / 2);
+    for (const Direction& dir : viewingDirections(normals[best], both, o.tilts_deg, o.yaws_deg)) {
       for (std::size_t f = 0; f < o.distance_factors.size(); ++f) {
-        const Vec3 c = p + o.distance_factors[f] * o.standoff_m * dirs[d];
-        out.push_back({lookAt(c, p), p, directions, tilt, static_cast<int>(f)});
+        const Vec3 c = p + o.distance_factors[f] * o.standoff_m * dir.d;
+        out.push_back({lookAt(c, p), p, directions, dir.tilt, dir.yaw, static_cast<int>(f)});
       }
       ++directions;
     }
@@ -344,7 +366,7 @@ std::vector<std::size_t> chooseMultiCover(const PointList& points,
   weights.reserve(usable.size());
   for (const auto& c : usable) {
     centres.push_back(c.pose.position);
-    weights.push_back(o.prefer_consistent ? 1.0 / (1.0 + c.tilt + c.factor) : 1.0);
+    weights.push_back(o.prefer_consistent ? 1.0 / (1.0 + c.tilt + c.yaw + c.factor) : 1.0);
   }
   std::vector<std::size_t> candidates_of(points.size(), 0);
   for (const auto& s : sets)
@@ -403,6 +425,8 @@ void StructureViewOptions::validate(const std::string& where) const {
   }
   for (const double t : tilts_deg)
     requireThat(std::isfinite(t) && t > 0.0 && t < 90.0, where, "tilts_deg", "in (0, 90)", t);
+  for (const double y : yaws_deg)
+    requireThat(std::isfinite(y) && y > 0.0 && y < 90.0, where, "yaws_deg", "in (0, 90)", y);
   requireThat(std::isfinite(seed_spacing_m) && seed_spacing_m >= 0.0, where, "seed_spacing_m",
               ">= 0 (0 = standoff / 3)", seed_spacing_m);
   requireThat(target_coverage > 0.0 && target_coverage <= 1.0, where, "target_coverage",
@@ -434,7 +458,8 @@ ViewPose lookAt(const Vec3& position, const Vec3& target) {
 StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
                                     const std::vector<char>& two_sided, const CameraModel& camera,
                                     const LineOfSight* los, const ViewpointFree& is_free,
-                                    const StructureViewOptions& options) {
+                                    const StructureViewOptions& options,
+                                    const LineOfSight* aim_los) {
   options.validate();
   require(normals.size() == points.size(), "structure_views",
           "one normal per point: " + std::to_string(points.size()) + " points, " +
@@ -449,12 +474,16 @@ StructureViews selectStructureViews(const PointList& points, const std::vector<V
   out.candidates = all.size();
   // Per seed and direction the nearest free candidate: a farther one stands in only
   // where the nearer ones are not free.
+  const LineOfSight* aim = aim_los != nullptr ? aim_los : los;
   std::vector<Candidate> usable;
   for (const Candidate& c : all) {
     if (!usable.empty() && usable.back().direction == c.direction) continue;
     const double pitch = c.pose.pitch_deg;
     if (pitch < options.gimbal.pitch_min_deg || pitch > options.gimbal.pitch_max_deg) continue;
     if (is_free && !is_free(c.pose.position)) continue;
+    // A camera that cannot see its own seed (a normal that points into a hollow) would
+    // photograph whatever stands between, from far nearer than planned.
+    if (aim != nullptr && !aim->clear(c.pose.position, c.target)) continue;
     usable.push_back(c);
   }
   out.free_candidates = usable.size();

@@ -64,7 +64,8 @@ PlannedPhoto makePhoto(const io::SurfaceRecord& surface, std::size_t stop, int s
 
 }  // namespace
 
-PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& path) {
+PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& path,
+                        double image_scale) {
   if (!mission.camera)
     throw InputError(path + ": has no camera_model (written by an older uavip); re-run uavip plan");
   const coverage::Camera& c = *mission.camera;
@@ -98,6 +99,20 @@ PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& pat
     k.fy_px = k.height_px * out.standoff_m / c.footprint_h_m;
     k.cx_px = 0.5 * k.width_px;
     k.cy_px = 0.5 * k.height_px;
+  }
+  if (image_scale != 1.0) {
+    require(std::isfinite(image_scale) && image_scale > 0.0 && image_scale <= 1.0, path,
+            "image scale " + formatNumber(image_scale, 4) + " must lie in (0, 1]");
+    const int w = std::max(1, static_cast<int>(std::lround(k.width_px * image_scale)));
+    const int h = std::max(1, static_cast<int>(std::lround(k.height_px * image_scale)));
+    const double sx = static_cast<double>(w) / k.width_px;
+    const double sy = static_cast<double>(h) / k.height_px;
+    k.width_px = w;
+    k.height_px = h;
+    k.fx_px *= sx;
+    k.cx_px *= sx;
+    k.fy_px *= sy;
+    k.cy_px *= sy;
   }
   out.gsd_m_per_px = out.standoff_m / std::min(k.fx_px, k.fy_px);
   return out;
@@ -332,7 +347,7 @@ PhotoSummary renderTextured(const std::vector<PlannedPhoto>& photos, const Photo
 PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
                               const sim::WorldModel& world, const std::string& world_path,
                               const std::string& out, const PhotoOptions& options) {
-  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const PhotoCamera camera = photoCamera(mission, mission_path, options.image_scale);
   const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
   PhotoSummary summary;
   summary.match = matchWorld(photos, world, camera);
@@ -345,7 +360,7 @@ PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::strin
 PhotoSummary writePhotoFolder(const io::MissionRecord& mission, const std::string& mission_path,
                               const io::TriangleMesh& mesh, const std::string& mesh_path,
                               const std::string& out, const PhotoOptions& options) {
-  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const PhotoCamera camera = photoCamera(mission, mission_path, options.image_scale);
   const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
   const RayCaster caster(mesh, mesh_path);  // checks the indices matchMesh reads
   PhotoSummary summary;
@@ -380,7 +395,7 @@ PhotoSummary writePreviewFolder(const io::MissionRecord& mission, const std::str
                                 const PreviewCloud& cloud, const std::string& cloud_path,
                                 const std::string& colour_source, const std::string& out,
                                 const PhotoOptions& options) {
-  const PhotoCamera camera = photoCamera(mission, mission_path);
+  const PhotoCamera camera = photoCamera(mission, mission_path, options.image_scale);
   const std::vector<PlannedPhoto> photos = plannedPhotos(mission, camera, mission_path);
   PhotoSummary summary;
   summary.match = matchCloud(photos, cloud.points, camera);

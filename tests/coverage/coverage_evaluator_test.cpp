@@ -545,6 +545,44 @@ TEST(VoxelLineOfSight, EndSlackAndStartVoxel) {
   EXPECT_THROW(tight.clear(Vec3(NAN, 0, 0), cam), InputError);
 }
 
+TEST(VoxelLineOfSight, PointExtentClosesAWallSampledOnTheGridsLattice) {
+  // A wall x = 3 sampled every v on the grid's own lattice (a simulator's sampling),
+  // with millimetre noise across it: its points fall on both sides of the voxel
+  // boundary, each layer with holes. Every segment that crosses the wall within its
+  // extent must be blocked (the wall is solid); with each point's cube of edge v the
+  // voxels close, with the points alone some rays slip through.
+  const double v = 0.2;
+  PointList wall;
+  std::mt19937 rng(46);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01);
+  for (int j = -20; j <= 20; ++j)
+    for (int k = 0; k <= 40; ++k) wall.push_back(Vec3(3.0 + noise(rng), j * v, k * v));
+  const VoxelLineOfSight points_only(wall, v, 3.5 * v);
+  const VoxelLineOfSight closed(wall, v, 3.5 * v, v);
+  std::uniform_real_distribution<double> across(-3.0, 3.0), up(1.0, 7.0), tilt(-0.3, 0.3);
+  int crossing = 0, leaked_points_only = 0, leaked_closed = 0, beside_blocked = 0;
+  for (int r = 0; r < 2000; ++r) {
+    const Vec3 from(-1.0, across(rng), up(rng));
+    const Vec3 to(7.0, from.y() + tilt(rng), from.z() + tilt(rng));
+    const double t = (3.0 - from.x()) / (to.x() - from.x());
+    const Vec3 hit = from + t * (to - from);  // where the segment meets the wall's plane
+    if (std::abs(hit.y()) < 3.8 && hit.z() > 0.2 && hit.z() < 7.8) {
+      ++crossing;
+      leaked_points_only += points_only.clear(from, to) ? 1 : 0;
+      leaked_closed += closed.clear(from, to) ? 1 : 0;
+    } else if (std::abs(hit.y()) > 4.0 + v || hit.z() > 8.0 + v) {
+      beside_blocked += closed.clear(from, to) ? 0 : 1;  // past the wall's edge: clear
+    }
+  }
+  EXPECT_GT(crossing, 1000);
+  EXPECT_EQ(leaked_closed, 0) << "of " << crossing << " segments through the wall";
+  EXPECT_GT(leaked_points_only, 0) << "the lattice-aligned wall should leak without extent";
+  EXPECT_EQ(beside_blocked, 0);
+  EXPECT_GE(closed.occupiedVoxels(), points_only.occupiedVoxels());
+  EXPECT_THROW(VoxelLineOfSight(wall, v, 0.1, -0.1), InputError);
+  EXPECT_THROW(VoxelLineOfSight(wall, v, 0.1, NAN), InputError);
+}
+
 /// Tallies of DdaMatchesSlabTestAndMillimetreSampling for one occupancy layout.
 struct RayStats {
   int rays{0}, blocked{0}, clear{0};

@@ -13,12 +13,14 @@
 #include <cstdint>
 #include <functional>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <random>
 #include <vector>
 
 #include "uavip/core/error.h"
+#include "uavip/coverage/coverage_evaluator.h"
 #include "uavip/coverage/pixel_coverage.h"
 #include "uavip/planning/tour.h"
 
@@ -432,6 +434,170 @@ TEST(StructureViews, MultiCoverReachesMinViewsByABruteForceCount) {
   }
   std::cout << "box: " << single.views.size() << " photos for one view, " << multi.views.size()
             << " for 3 views 5 deg apart\n";
+}
+
+/// The four sides of a hollow square prism on a plinth (no top, no bottom: a shaft),
+/// sampled every `step` on a lattice; `inside` is the hollow.
+World shaft(double edge, double height, double step) {
+  World w;
+  for (int axis = 0; axis < 2; ++axis) {
+    for (const double side : {0.0, edge}) {
+      for (double a = 0.0; a <= edge + 1e-9; a += step) {
+        for (double z = 1.0; z <= 1.0 + height + 1e-9; z += step) {
+          Vec3 p(0, 0, z);
+          p[axis] = side;
+          p[1 - axis] = a;
+          w.points.push_back(p);
+          Vec3 n = Vec3::Zero();
+          n[axis] = side == 0.0 ? -1.0 : 1.0;
+          w.normals.push_back(n);
+        }
+      }
+    }
+  }
+  w.inside = [edge, height](const Vec3& c) {
+    return c.x() > -0.05 && c.x() < edge + 0.05 && c.y() > -0.05 && c.y() < edge + 0.05 &&
+           c.z() > 0.95 && c.z() < 1.05 + height;
+  };
+  return w;
+}
+
+/// Groups of views by the link rule, recomputed by breadth-first search: two views
+/// are linked when they image ≥ share × the smaller set in common and their optical
+/// axes (camera → target) differ by ≤ max_deg.
+std::size_t linkedGroups(const StructureViews& v, double share, double max_deg) {
+  const std::size_t n = v.views.size();
+  std::vector<std::vector<std::size_t>> adjacent(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = a + 1; b < n; ++b) {
+      std::vector<std::uint32_t> common;
+      std::set_intersection(v.imaged[a].begin(), v.imaged[a].end(), v.imaged[b].begin(),
+                            v.imaged[b].end(), std::back_inserter(common));
+      const double smaller = static_cast<double>(std::min(v.imaged[a].size(), v.imaged[b].size()));
+      const Vec3 da = (v.targets[a] - v.views[a].position).normalized();
+      const Vec3 db = (v.targets[b] - v.views[b].position).normalized();
+      const double angle = std::acos(std::clamp(da.dot(db), -1.0, 1.0)) * 180.0 / kPi;
+      if (static_cast<double>(common.size()) >= share * smaller && angle <= max_deg) {
+        adjacent[a].push_back(b);
+        adjacent[b].push_back(a);
+      }
+    }
+  }
+  std::vector<char> seen(n, 0);
+  std::size_t groups = 0;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (seen[start] != 0) continue;
+    ++groups;
+    std::vector<std::size_t> stack = {start};
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const std::size_t a = stack.back();
+      stack.pop_back();
+      for (const auto b : adjacent[a]) {
+        if (seen[b] == 0) {
+          seen[b] = 1;
+          stack.push_back(b);
+        }
+      }
+    }
+  }
+  return groups;
+}
+
+TEST(StructureViews, CornerCandidatesJoinTheFacesOfAShaftIntoOneLinkedGroup) {
+  // Four faces 90° apart: no face-on or tilted photo of one face is within 50° of one of
+  // the next, so the faces stay apart; photos turned 45° about z at the edges see both
+  // faces and link them. The groups are recounted from what the views image.
+  const World w = shaft(3.0, 3.0, 0.25);
+  const PinholeCamera camera(PinholeIntrinsics{});
+  const ViewpointFree is_free = [&](const Vec3& c) { return c.z() >= 0.5 && !w.inside(c); };
+  StructureViewOptions o;
+  o.standoff_m = 3.0;
+  o.tilts_deg = {20.0, 45.0};
+  o.criteria.max_incidence_deg = 75.0;
+  o.criteria.max_range_m = 3.75;
+  o.target_coverage = 1.0;
+  o.min_views = 3;
+  o.min_triangulation_deg = 5.0;
+  o.prefer_consistent = true;
+  o.link_share = 0.3;
+  o.link_max_angle_deg = 50.0;
+  const StructureViews apart =
+      selectStructureViews(w.points, w.normals, {}, camera, nullptr, is_free, o);
+  o.yaws_deg = {45.0};
+  const StructureViews joined =
+      selectStructureViews(w.points, w.normals, {}, camera, nullptr, is_free, o);
+  // Candidates per seed: along n, 2 per tilt, 2 per yaw (every normal is horizontal).
+  EXPECT_EQ(apart.candidates, 5 * apart.seeds);
+  EXPECT_EQ(joined.candidates, 7 * joined.seeds);
+  EXPECT_GE(linkedGroups(apart, 0.3, 50.0), 4u);
+  EXPECT_EQ(apart.components, linkedGroups(apart, 0.3, 50.0));
+  EXPECT_EQ(joined.components, 1u);
+  EXPECT_EQ(linkedGroups(joined, 0.3, 50.0), 1u);
+  EXPECT_EQ(joined.reached, joined.achievable);
+  std::cout << "shaft: " << apart.views.size() << " photos in " << apart.components
+            << " groups without corner photos, " << joined.views.size() << " (" << joined.linking
+            << " linking) in one with them\n";
+}
+
+TEST(StructureViews, NoCameraAimsAtItsSeedThroughTheNearWall) {
+  // The shaft with the normals of its face x = 0 turned into the hollow (as a normal
+  // whose outside probe is blocked may be): their candidates stand outside the opposite
+  // face x = 2 and look through it. Sampled on the voxels' own lattice with a centimetre
+  // of noise, the points alone leave holes a ray slips through; the aiming
+  // line of sight with each point's cube closed refuses such a camera. Reference: the
+  // segment camera → seed against the solid shaft's walls.
+  const double v = 0.25;
+  World w = shaft(2.0, 4.0, v);
+  std::mt19937 rng(46);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01);
+  for (std::size_t i = 0; i < w.points.size(); ++i) {
+    for (int a = 0; a < 3; ++a) w.points[i][a] += noise(rng);
+    if (w.normals[i].x() < -0.5) w.normals[i] = Vec3::UnitX();
+  }
+  const PinholeCamera camera(PinholeIntrinsics{});
+  const ViewpointFree is_free = [&](const Vec3& c) { return c.z() >= 0.5 && !w.inside(c); };
+  StructureViewOptions o;
+  o.standoff_m = 2.6;
+  o.tilts_deg = {20.0};
+  o.criteria.max_incidence_deg = 75.0;
+  o.criteria.max_range_m = 3.25;
+  o.target_coverage = 1.0;
+  const VoxelLineOfSight leaky(w.points, v, 3.5 * v);
+  const VoxelLineOfSight closed(w.points, v, 3.5 * v, v);
+  // Through a wall: the segment, short of the seed's own face, passes a wall plane
+  // x or y ∈ {0, 2} inside the shaft's extent.
+  const auto through_wall = [&](const ViewPose& view, const Vec3& target) {
+    const Vec3 a = view.position;
+    for (int axis = 0; axis < 2; ++axis) {
+      for (const double side : {0.0, 2.0}) {
+        if (std::abs(target[axis] - side) < 0.05) continue;  // the seed's own face
+        const double d = target[axis] - a[axis];
+        if (std::abs(d) < 1e-12) continue;
+        const double t = (side - a[axis]) / d;
+        if (t <= 0.0 || t >= 1.0) continue;
+        const Vec3 hit = a + t * (target - a);
+        const int other = 1 - axis;
+        if (hit[other] > 0.0 && hit[other] < 2.0 && hit.z() > 1.0 && hit.z() < 5.0) return true;
+      }
+    }
+    return false;
+  };
+  const auto count_through = [&](const StructureViews& s) {
+    int n = 0;
+    for (std::size_t i = 0; i < s.views.size(); ++i) n += through_wall(s.views[i], s.targets[i]);
+    return n;
+  };
+  const StructureViews aimed =
+      selectStructureViews(w.points, w.normals, {}, camera, &leaky, is_free, o, &closed);
+  const StructureViews unchecked =
+      selectStructureViews(w.points, w.normals, {}, camera, &leaky, is_free, o);
+  ASSERT_FALSE(aimed.views.empty());
+  EXPECT_EQ(count_through(aimed), 0);
+  EXPECT_GT(count_through(unchecked), 0) << "the leaky sight should pass a camera through";
+  std::cout << "shaft, a face's normals inward: " << count_through(unchecked) << " of "
+            << unchecked.views.size() << " photos aim through a wall with the points' voxels, "
+            << count_through(aimed) << " of " << aimed.views.size() << " with closed walls\n";
 }
 
 TEST(ImagedShare, CountsTheCommonIndicesOverTheLargerSet) {

@@ -215,9 +215,10 @@ io::MissionRecord towerMission() {
 /// The folder written with `threads` workers (file name → bytes).
 std::map<std::string, std::string> writeFolder(const io::MissionRecord& m,
                                                const sim::WorldModel& world, int threads,
-                                               const fs::path& dir) {
+                                               const fs::path& dir, double image_scale = 1.0) {
   photo::PhotoOptions o;
   o.threads = threads;
+  o.image_scale = image_scale;
   photo::writePhotoFolder(m, "mission.json", world, "tower_small.yaml", dir.string(), o);
   std::map<std::string, std::string> files;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
@@ -338,6 +339,41 @@ TEST(PhotoFolder, ColmapModelReprojectsTheTargetsToTheCentre) {
     EXPECT_LT((-(r.transpose() * Vec3(tx, ty, tz)) - p.view.position).norm(), 1e-6);
   }
   EXPECT_EQ(count, photos.size());
+}
+
+/// --image-scale: the same views through a pinhole scaled with the image, so every
+/// target still projects to the principal point and the footprints do not change; the
+/// folder's PNGs have the scaled size and photos.json records the scaled camera.
+TEST(PhotoFolder, ImageScaleKeepsTheViewsAndScalesThePinhole) {
+  const auto m = towerMission();
+  const photo::PhotoCamera full = photo::photoCamera(m, "mission.json");
+  const photo::PhotoCamera half = photo::photoCamera(m, "mission.json", 0.5);
+  EXPECT_EQ(half.intrinsics.width_px, 60);
+  EXPECT_EQ(half.intrinsics.height_px, 40);
+  EXPECT_NEAR(half.intrinsics.fx_px, 0.5 * full.intrinsics.fx_px, 1e-9);
+  EXPECT_NEAR(half.intrinsics.cy_px, 0.5 * full.intrinsics.cy_px, 1e-9);
+  EXPECT_NEAR(half.gsd_m_per_px, 2.0 * full.gsd_m_per_px, 1e-12);
+  const auto a = photo::plannedPhotos(m, full, "mission.json");
+  const auto b = photo::plannedPhotos(m, half, "mission.json");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_LT((a[i].pose.position - b[i].pose.position).norm(), 1e-12);
+    EXPECT_NEAR(a[i].footprint_w_m, b[i].footprint_w_m, 1e-12);
+    // The target through the scaled pinhole: the principal point.
+    const Vec3 c = b[i].pose.camera_to_world.transpose() * (b[i].target - b[i].pose.position);
+    EXPECT_NEAR(half.intrinsics.fx_px * c.x() / c.z() + half.intrinsics.cx_px, 30.0, 1e-6);
+    EXPECT_NEAR(half.intrinsics.fy_px * c.y() / c.z() + half.intrinsics.cy_px, 20.0, 1e-6);
+  }
+  const fs::path d = tempDir("scale");
+  const auto files = writeFolder(m, towerWorld(), 1, d, 0.5);
+  int w = 0, h = 0;
+  EXPECT_FALSE(decodePng(files.at("images/s0_002.png"), &w, &h).empty());
+  EXPECT_EQ(w, 60);
+  EXPECT_EQ(h, 40);
+  EXPECT_NE(files.at("photos.json").find("\"width_px\": 60"), std::string::npos);
+  fs::remove_all(d);
+  for (const double bad : {0.0, -0.5, 1.5, std::nan("")})
+    EXPECT_THROW(photo::photoCamera(m, "mission.json", bad), InputError) << bad;
 }
 
 TEST(PhotoFolder, RefusesAWorldTheMissionWasNotPlannedOn) {

@@ -42,8 +42,12 @@ class LineOfSight {
 
 /// Line of sight through the occupied voxels of a cloud. Voxel (i, j, k) is the cube
 /// [i·v, (i+1)·v) × … with v = voxel_m (grid anchored at the world origin); it is
-/// occupied when it holds a point. Keys are VoxelKeyer's (64-bit, 21 bits per axis: the
-/// occupied box may span 2^21 voxels per axis, anywhere) in an open-addressing hash set.
+/// occupied when it holds a point or, with `point_extent_m` e > 0, meets the cube of edge
+/// e centred on a point: a surface sampled at a spacing ≤ e then closes into a wall with
+/// no hole (its points only, on a lattice near the grid's own, leave holes a ray slips
+/// through; issue 46: photos of the tower's far face taken through the near one). Keys are
+/// VoxelKeyer's (64-bit, 21 bits per axis: the occupied box may span 2^21 voxels per axis,
+/// anywhere) in an open-addressing hash set.
 ///
 /// clear(from, to): with L = |to − from|, the segment from + t·(to − from)/L,
 /// t ∈ [0, L − end_slack_m], is walked voxel by voxel (exact 3D DDA,
@@ -58,9 +62,10 @@ class LineOfSight {
 /// non-finite end point.
 class VoxelLineOfSight final : public LineOfSight {
  public:
-  /// Throws InputError for voxel_m ≤ 0, end_slack_m < 0 (or non-finite), a
-  /// non-finite point, or points spanning more than 2^21 voxels on an axis.
-  VoxelLineOfSight(const PointList& occupied_points, double voxel_m, double end_slack_m);
+  /// Throws InputError for voxel_m ≤ 0, end_slack_m < 0 or point_extent_m < 0 (or
+  /// non-finite), a non-finite point, or points spanning more than 2^21 voxels on an axis.
+  VoxelLineOfSight(const PointList& occupied_points, double voxel_m, double end_slack_m,
+                   double point_extent_m = 0.0);
 
   bool clear(const Vec3& from, const Vec3& to) const override;
 

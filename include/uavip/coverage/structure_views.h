@@ -11,9 +11,12 @@
 /// Candidates: the structure is thinned to one seed per `seed_spacing_m` cell; at
 /// each seed with normal n, a camera is put at the viewing distance D (and each
 /// further `distance_factors` × D) along n (and −n when two-sided), and along those
-/// tilted up and down by each of `tilts_deg`, looking at the seed. A candidate is usable when it
+/// tilted up and down by each of `tilts_deg` and, where ±n is not near vertical, turned
+/// left and right about z by each of `yaws_deg`, looking at the seed. A candidate is usable when it
 /// is free (the caller's test: clear of every measured point by the UAV's clearance, in the free
-/// space reachable from home) and its pitch lies within the gimbal limits; per seed and direction
+/// space reachable from home), its pitch lies within the gimbal limits and the aiming line
+/// of sight reaches its own seed (a seed whose normal points into a hollow is not aimed at
+/// through the near wall); per seed and direction
 /// only the nearest usable one is kept (a farther one stands in where the nearer are not free).
 ///
 /// Scoring: what each candidate images of the structure points by the coverage
@@ -36,10 +39,11 @@
 /// whose rays differ pairwise by ≥ min_triangulation_deg (so its triangulation angle,
 /// multi_view.h, is ≥ that). Gains only fall as photos are chosen, so lazy gains are exact.
 ///
-/// `prefer_consistent`: a candidate's gain is weighted by 1 / (1 + t + f), t the index of
-/// its tilt (0 along ±n, 1 for tilts_deg[0], ...) and f of its distance factor, so tilted
-/// and farther photos are chosen only for what the level, near ones do not image well:
-/// neighbouring photos then share range and tilt, which feature matching needs.
+/// `prefer_consistent`: a candidate's gain is weighted by 1 / (1 + t + y + f), t the index
+/// of its tilt (0 along ±n, 1 for tilts_deg[0], ...), y of its yaw (the same for yaws_deg)
+/// and f of its distance factor, so tilted, turned and farther photos are chosen only for what the
+/// level, near ones do not image well: neighbouring photos then share range and tilt, which feature
+/// matching needs.
 ///
 /// `link_share` > 0 (a reconstruction): two chosen photos are linked when they image
 /// ≥ link_share × the smaller of their point sets in common and their optical axes
@@ -64,6 +68,9 @@ namespace uavip::coverage {
 struct StructureViewOptions {
   double standoff_m{0.0};               ///< viewing distance D from a seed [m] (> 0)
   std::vector<double> tilts_deg{35.0};  ///< extra tilts of ±n up and down [deg], each in (0, 90)
+  /// Extra turns of a not-vertical ±n about z, left and right [deg], each in (0, 90):
+  /// corner photos that see both faces of a vertical edge (a reconstruction's links).
+  std::vector<double> yaws_deg;
   /// Candidates at these multiples of standoff_m, each ≥ 1, nearest first (a farther
   /// one is kept only where the nearer ones are not free: a pocket, a measured outlier).
   std::vector<double> distance_factors{1.0};
@@ -109,12 +116,16 @@ double imagedShare(const std::vector<std::uint32_t>& a, const std::vector<std::u
 
 /// Selects the photos of a structure (see the file comment). `normals` holds one
 /// normal per point, `two_sided` one flag per point or nothing (every normal
-/// one-sided). Throws InputError for invalid options, a normal or flag count other
-/// than points.size(), or non-finite input.
+/// one-sided). `los` decides what a candidate images; `aim_los` (nullptr: `los`)
+/// whether it sees its own seed: a closed wall there (VoxelLineOfSight's point extent)
+/// keeps a sparse cloud's gaps from passing a camera that looks through the near face.
+/// Throws InputError for invalid options, a normal or flag count other than
+/// points.size(), or non-finite input.
 StructureViews selectStructureViews(const PointList& points, const std::vector<Vec3>& normals,
                                     const std::vector<char>& two_sided, const CameraModel& camera,
                                     const LineOfSight* los, const ViewpointFree& is_free,
-                                    const StructureViewOptions& options);
+                                    const StructureViewOptions& options,
+                                    const LineOfSight* aim_los = nullptr);
 
 /// The pose at `position` looking at `target`: yaw = atan2 of the horizontal
 /// direction (0 when looking straight up or down), pitch = its elevation [deg].

@@ -42,9 +42,12 @@ struct PhotoCamera {
   double gsd_m_per_px{0.0};                ///< standoff / min(fx, fy) [m/px]
 };
 
-/// The camera of a mission (its `camera_model` and the first flown surface's standoff).
-/// Throws InputError naming `path` when the file has no camera_model (an older uavip).
-PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& path);
+/// The camera of a mission (its `camera_model` and the first flown surface's standoff),
+/// its image size and pinhole scaled by `image_scale` in (0, 1] (a quicker render of the
+/// same views at a coarser GSD). Throws InputError naming `path` when the file has no
+/// camera_model (an older uavip) or the scale is out of range.
+PhotoCamera photoCamera(const io::MissionRecord& mission, const std::string& path,
+                        double image_scale = 1.0);
 
 /// One photo of the flight.
 struct PlannedPhoto {
@@ -104,6 +107,7 @@ std::string posesCsv(const std::vector<PlannedPhoto>& photos);
 struct PhotoOptions {
   int threads{1};                  ///< worker threads (the PNG bytes do not depend on it)
   std::uint32_t texture_seed{46};  ///< the texture's seed
+  double image_scale{1.0};         ///< image size and pinhole × this, in (0, 1] (photoCamera)
   /// Called after each batch of photos with (done, total); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
