@@ -409,6 +409,26 @@ void scoreFlown(planning::SurfaceMission& mission, const StructurePoints& s,
     multiViewFlown(mission, s, flown, camera, options, sight);
 }
 
+/// The line of sight used for aiming: each point closes a cube of max(voxel, point
+/// spacing) around it, so a face is a wall without holes and no camera aims at its seed
+/// through it (coverage_evaluator.h). Scoring keeps the undilated sight.
+coverage::VoxelLineOfSight aimingSight(const Scene& scene, const world::VoxelGrid& grid) {
+  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
+  return coverage::VoxelLineOfSight(scene.cloud, grid.resolution(), 3.5 * grid.resolution(),
+                                    std::max(grid.resolution(), spacing));
+}
+
+/// The selection's counts (seeds, candidates, photos, linking photos, groups) into the summary.
+void copyViewCounts(const coverage::StructureViews& views, planning::StructureSummary& summary) {
+  summary.seeds = views.seeds;
+  summary.candidates = views.candidates;
+  summary.free_candidates = views.free_candidates;
+  summary.imageable = views.imageable;
+  summary.photos = views.views.size();
+  summary.linking_photos = views.linking;
+  summary.photo_groups = views.components;
+}
+
 }  // namespace
 
 PlanResult planStructure(const Scene& scene, const app::Config& config, const Progress& progress) {
@@ -437,12 +457,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
       structureIntrinsics(config.coverage.camera, standoff);
   const coverage::PinholeCamera scoring_camera(scoringIntrinsics(intrinsics, config));
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  // Aiming: each point closes a cube of max(voxel, spacing) around it, so a face is a
-  // wall without holes and no camera aims at a seed through it (coverage_evaluator.h).
-  const double spacing = scene.measured ? scene.measured->spacing_m : 0.0;
-  const coverage::VoxelLineOfSight aim_sight(scene.cloud, grid.resolution(),
-                                             3.5 * grid.resolution(),
-                                             std::max(grid.resolution(), spacing));
+  const coverage::VoxelLineOfSight aim_sight = aimingSight(scene, grid);
   s.two_sided = orientNormals(s.points, s.normals, sight, is_free,
                               result.clearance_m + 2.0 * grid.resolution());
   const coverage::StructureViewOptions options = viewOptions(config, intrinsics, standoff);
@@ -452,13 +467,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   const coverage::StructureViews views = selectStructureViews(
       s.points, s.normals, s.two_sided, scoring_camera, &sight, is_free, options, &aim_sight);
   summary.select_s = secondsSince(t1);
-  summary.seeds = views.seeds;
-  summary.candidates = views.candidates;
-  summary.free_candidates = views.free_candidates;
-  summary.imageable = views.imageable;
-  summary.photos = views.views.size();
-  summary.linking_photos = views.linking;
-  summary.photo_groups = views.components;
+  copyViewCounts(views, summary);
   result.times.coverage_s = secondsSince(t0);
 
   const auto t2 = SteadyClock::now();

@@ -212,6 +212,17 @@ void visitView(const PointGrid& g, const ViewPose& view, const CameraModel& came
   }
 }
 
+/// Puts key into an open-addressing table (linear probing, power-of-two size);
+/// false when it was already there.
+bool putKey(std::vector<std::uint64_t>& table, std::uint64_t key) {
+  const std::uint64_t mask = table.size() - 1;
+  std::uint64_t slot = mixKey(key) & mask;
+  while (table[slot] != kEmptySlot && table[slot] != key) slot = (slot + 1) & mask;
+  if (table[slot] != kEmptySlot) return false;
+  table[slot] = key;
+  return true;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- voxel line of sight
@@ -232,14 +243,6 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
   while (capacity < (half > 0.0 ? 6 : 2) * occupied_points.size()) capacity *= 2;
   table_.assign(capacity, kEmptySlot);
   mask_ = capacity - 1;
-  const auto put = [](std::vector<std::uint64_t>& table, std::uint64_t key) {
-    const std::uint64_t mask = table.size() - 1;
-    std::uint64_t slot = mixKey(key) & mask;
-    while (table[slot] != kEmptySlot && table[slot] != key) slot = (slot + 1) & mask;
-    if (table[slot] != kEmptySlot) return false;
-    table[slot] = key;
-    return true;
-  };
   if (occupied_points.empty()) return;
   // Checks every point and that the box spans at most 2^21 voxels per axis.
   (void)VoxelKeyer::forPointsOnLattice(occupied_points, voxel_m, where + ".voxel_m");
@@ -258,24 +261,7 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
           for (std::int64_t k = lo[2]; k <= hi[2]; ++k) f(i, j, k);
     }
   };
-  each_voxel([&](std::int64_t i, std::int64_t j, std::int64_t k) {
-    const std::int64_t idx[3] = {i, j, k};
-    if (count_ == 0) {
-      for (int a = 0; a < 3; ++a) lo_[a] = hi_[a] = idx[a];
-    } else {
-      for (int a = 0; a < 3; ++a) {
-        lo_[a] = std::min(lo_[a], idx[a]);
-        hi_[a] = std::max(hi_[a], idx[a]);
-      }
-    }
-    if (!put(table_, packKey(i, j, k))) return;
-    if (++count_ * 2 <= table_.size()) return;
-    std::vector<std::uint64_t> grown(2 * table_.size(), kEmptySlot);
-    for (const std::uint64_t key : table_)
-      if (key != kEmptySlot) put(grown, key);
-    table_ = std::move(grown);
-    mask_ = table_.size() - 1;
-  });
+  each_voxel([&](std::int64_t i, std::int64_t j, std::int64_t k) { insert(i, j, k); });
   for (int a = 0; a < 3; ++a)  // the points' cubes may widen the checked box
     requireThat(hi_[a] - lo_[a] < (std::int64_t{1} << 21), where, "point_extent_m",
                 "small enough that the occupied box spans < 2^21 voxels", point_extent_m);
@@ -299,6 +285,21 @@ VoxelLineOfSight::VoxelLineOfSight(const PointList& occupied_points, double voxe
     const std::uint64_t d = denseIndex(i, j, k);
     dense_bits_[d >> 6] |= std::uint64_t{1} << (d & 63);
   });
+}
+
+void VoxelLineOfSight::insert(std::int64_t i, std::int64_t j, std::int64_t k) {
+  const std::int64_t idx[3] = {i, j, k};
+  for (int a = 0; a < 3; ++a) {
+    lo_[a] = count_ == 0 ? idx[a] : std::min(lo_[a], idx[a]);
+    hi_[a] = count_ == 0 ? idx[a] : std::max(hi_[a], idx[a]);
+  }
+  if (!putKey(table_, packKey(i, j, k))) return;
+  if (++count_ * 2 <= table_.size()) return;
+  std::vector<std::uint64_t> grown(2 * table_.size(), kEmptySlot);
+  for (const std::uint64_t key : table_)
+    if (key != kEmptySlot) putKey(grown, key);
+  table_ = std::move(grown);
+  mask_ = table_.size() - 1;
 }
 
 std::uint64_t VoxelLineOfSight::denseIndex(std::int64_t i, std::int64_t j, std::int64_t k) const {

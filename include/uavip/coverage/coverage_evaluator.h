@@ -81,6 +81,8 @@ class VoxelLineOfSight final : public LineOfSight {
   std::uint64_t brickIndex(std::int64_t i, std::int64_t j, std::int64_t k) const;
   /// Linear index of voxel (i, j, k) in the box (dense_bits_).
   std::uint64_t denseIndex(std::int64_t i, std::int64_t j, std::int64_t k) const;
+  /// Marks voxel (i, j, k) occupied: widens the box, and doubles the table at half full.
+  void insert(std::int64_t i, std::int64_t j, std::int64_t k);
   /// Voxel (i, j, k), in the box, is occupied: the dense bits, else the hash table.
   bool occupiedInBox(std::int64_t i, std::int64_t j, std::int64_t k) const;
 
