@@ -240,10 +240,11 @@ view::OverviewOptions overviewOptions(
 std::future<view::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
                                               const std::vector<planning::SurfaceMission>& missions,
                                               const view::OverviewOptions& options,
-                                              const planning::FlightPlan* flight) {
+                                              const planning::FlightPlan* flight,
+                                              const planning::FleetPlan* fleet = nullptr) {
   if (!views) return {};
-  return std::async(std::launch::async, [&scene, &missions, options, flight] {
-    return view::renderViews(scene, missions, options, flight);
+  return std::async(std::launch::async, [&scene, &missions, options, flight, fleet] {
+    return view::renderViews(scene, missions, options, flight, fleet);
   });
 }
 
@@ -350,9 +351,10 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
                                             app::selectSurfaces(edited.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
-  auto rendered = renderViewsAsync(
-      views, edited.scene, p.missions,
-      overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
+  auto rendered =
+      renderViewsAsync(views, edited.scene, p.missions,
+                       overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
+                       &p.flight, p.fleet ? &*p.fleet : nullptr);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d, far ? &recentred : nullptr);
   writeMission(outputs, out, p, d.resolved.config, path, edited.summary);
@@ -542,7 +544,8 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
   view::OverviewOptions view_options = overviewOptions(
       fs::path(scene_path).parent_path().filename().string(), resolved.uav.inflationRadius());
   if (views) view_options.geo = pageGeoFit(io::sceneCrsFromJson(scene_json, scene_path), scene, v);
-  auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight);
+  auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight,
+                                   p.fleet ? &*p.fleet : nullptr);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, resolved, scene_path, edited.summary);
   stageSceneBeside(outputs, scene_path, scene_json, out);

@@ -38,6 +38,7 @@
 
 #include "uavip/core/types.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/types.h"
 
 namespace uavip::view {
@@ -67,9 +68,11 @@ std::string missionPage(const Scene& scene, const nlohmann::json* mission,
                         const std::string& mission_path = "mission.json");
 
 /// The page for the planner's results, as `run` and `plan` write them (the mission is
-/// the document mission.json holds). `flight` may be null (no ordered flight).
+/// the document mission.json holds). `flight` may be null (no ordered flight), and so
+/// may `fleet` (a single UAV).
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                        const planning::FlightPlan* flight, const MissionPageOptions& options = {});
+                        const planning::FlightPlan* flight, const MissionPageOptions& options = {},
+                        const planning::FleetPlan* fleet = nullptr);
 
 /// The three.js r111 library text compiled into the binary (three.min.js followed by
 /// examples/js/controls/OrbitControls.js), for tests.
