@@ -307,18 +307,18 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
       {"obstacle_parts", s.stats.obstacle_parts},   {"obstacles_joined", s.stats.obstacles_joined},
       {"safety_points", s.stats.safety_points}};
   nlohmann::json summary = {{"surfaces", s.surfaces},
-                                  {"obstacles", s.obstacles},
-                                  {"photo_stops", s.stops},
-                                  {"flyable", s.flyable},
-                                  {"merge_s", s.merge_s},
-                                  {"plan_s", s.plan_s},
-                                  {"stats", stats},
-                                  {"flight",
-                                   {{"status", planning::toString(s.flight.status)},
-                                    {"reason", s.flight.reason},
-                                    {"home", fullVec(s.flight.home)},
-                                    {"length_m", s.flight.length_m},
-                                    {"sorties", sorties}}}};
+                            {"obstacles", s.obstacles},
+                            {"photo_stops", s.stops},
+                            {"flyable", s.flyable},
+                            {"merge_s", s.merge_s},
+                            {"plan_s", s.plan_s},
+                            {"stats", stats},
+                            {"flight",
+                             {{"status", planning::toString(s.flight.status)},
+                              {"reason", s.flight.reason},
+                              {"home", fullVec(s.flight.home)},
+                              {"length_m", s.flight.length_m},
+                              {"sorties", sorties}}}};
   if (!s.uav_flights.empty()) {  // a fleet: each UAV's sorties (checked against the input)
     nlohmann::json flights = nlohmann::json::array();
     for (const auto& f : s.uav_flights)
@@ -329,17 +329,17 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
                         {"flights", flights}};
   }
   nlohmann::json j = {{"format", "uavip section 1"},
-                            {"manifest", manifest.path},
-                            {"manifest_sha256", key.manifest_sha256},
-                            {"config_sha256", key.config_sha256},
-                            {"section_tiles", key.section_tiles},
-                            {"views", key.views},
-                            {"section", plan.index},
-                            {"sections", plan.count},
-                            {"tiles", s.tiles},
-                            {"tile_results_sha256", results},
-                            {"files", file_list},
-                            {"summary", summary}};
+                      {"manifest", manifest.path},
+                      {"manifest_sha256", key.manifest_sha256},
+                      {"config_sha256", key.config_sha256},
+                      {"section_tiles", key.section_tiles},
+                      {"views", key.views},
+                      {"section", plan.index},
+                      {"sections", plan.count},
+                      {"tiles", s.tiles},
+                      {"tile_results_sha256", results},
+                      {"files", file_list},
+                      {"summary", summary}};
   if (key.uavs > 1) j["uavs"] = key.uavs;  // absent: one UAV, as before fleets
   return j.dump(1) + "\n";
 }
@@ -754,12 +754,12 @@ std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& sit
     fleets += !s.uav_flights.empty();
   }
   nlohmann::json j = {{"format", "uavip site 1"},
-                            {"manifest", manifest.path},
-                            {"input", manifest.input},
-                            {"input_points", site.input_points},
-                            {"clearance_m", site.required_clearance_m},
-                            {"source_offset_m", io::vec(manifest.source_offset_m)},
-                            {"sections", list}};
+                      {"manifest", manifest.path},
+                      {"input", manifest.input},
+                      {"input_points", site.input_points},
+                      {"clearance_m", site.required_clearance_m},
+                      {"source_offset_m", io::vec(manifest.source_offset_m)},
+                      {"sections", list}};
   if (uavs > 1)
     j["fleet"] = {{"uavs", uavs},
                   {"sections_flown", fleets},

@@ -273,8 +273,8 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
   }
   if (uavs > 1)
     std::cout << "fleet: " << uavs << " UAVs flying "
-              << (alone ? std::string("the site") : "one section at a time")
-              << ", makespan " << formatFixed(makespan / 60.0, 1) << " min (single UAV "
+              << (alone ? std::string("the site") : "one section at a time") << ", makespan "
+              << formatFixed(makespan / 60.0, 1) << " min (single UAV "
               << formatFixed(single / 60.0, 1) << " min, speed-up "
               << formatFixed(makespan > 0.0 ? single / makespan : 0.0, 2) << ")\n";
   std::cout << "results: "
