@@ -805,6 +805,7 @@ void spatialCandidates(const std::vector<Job>& whole, const PointList& stops,
     Candidate best;
     do {
       std::vector<int> owner;
+      owner.reserve(slab.size());
       for (const int s : slab) owner.push_back(perm[static_cast<std::size_t>(s)]);
       const double e = estimateAssignment(set.jobs, owner, uavs, model, fleet);
       if (e < best.estimate_s - 1e-9) best = {sets.size(), owner, e, ""};
@@ -912,6 +913,7 @@ bool flyCandidate(FleetPlan& plan, const std::vector<Job>& jobs, const std::vect
     auto it = cache.find(key);
     if (it == cache.end()) {
       std::vector<SurfaceMission> ms;
+      ms.reserve(set.size());
       for (const int j : set) ms.push_back(jobs[static_cast<std::size_t>(j)].mission);
       own.home = plan.uavs[static_cast<std::size_t>(u)].home;
       it = cache.emplace(std::move(key), planFlight(ms, grid, validator, planner, own)).first;

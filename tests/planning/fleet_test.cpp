@@ -135,8 +135,8 @@ TEST(AssignMinMax, WithinFivePercentOfTheOptimum) {
     const int uavs = 2 + trial % 2;
     std::vector<double> jobs(8);
     for (auto& j : jobs) j = seconds(rng);
-    std::vector<double> offset;
-    for (int u = 0; u < uavs; ++u) offset.push_back(30.0 * u);
+    std::vector<double> offset(static_cast<std::size_t>(uavs));
+    for (int u = 0; u < uavs; ++u) offset[static_cast<std::size_t>(u)] = 30.0 * u;
     const auto cost = [&](int u, const std::vector<int>& set) {
       if (set.empty()) return 0.0;
       double t = offset[static_cast<std::size_t>(u)];
@@ -288,6 +288,7 @@ TEST(PlanFleet, WithinFivePercentOfTheExhaustiveOptimum) {
     const PathValidator validator(post, 0.5);
     const std::unique_ptr<Planner> planner = planners::makePlanner("astar", {});
     std::vector<SurfaceMission> missions;
+    missions.reserve(strategies.size());
     for (const auto& s : strategies)
       missions.push_back(planSurfaceMission(s, grid, validator, *planner, MissionOptions{}));
     FlightOptions flight;

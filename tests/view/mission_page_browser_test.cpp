@@ -625,6 +625,7 @@ TEST_F(MissionPageCli, FleetPageReplaysTheScheduleAndTheClosestApproach) {
   double least = std::numeric_limits<double>::infinity();
   for (double t = 0.0; t <= makespan + dt; t += dt) {
     std::vector<std::optional<Vec3>> at;
+    at.reserve(motion.size());
     for (const auto& mo : motion) at.push_back(referenceAt(mo, t));
     for (std::size_t a = 0; a < at.size(); ++a)
       for (std::size_t b = a + 1; b < at.size(); ++b)
