@@ -578,8 +578,9 @@ json fleetJson(const RecordedMission& m, const Quantiser& q) {
                     {"piece_n", motion[u].size()}});
   }
   json out = m.fleet_extra;
-  out["separation_m"] = fleet.options.separation_m;
-  out["slack_s"] = fleet.options.slack_s;
+  using planning::FleetOptions;  // the keys through the fleet's table
+  out[FleetOptions::keyOf(&FleetOptions::separation_m)] = fleet.options.separation_m;
+  out[FleetOptions::keyOf(&FleetOptions::slack_s)] = fleet.options.slack_s;
   out["uavs"] = uavs;
   return out;
 }
