@@ -632,7 +632,10 @@ TEST_F(MissionPageCli, FleetPageReplaysTheScheduleAndTheClosestApproach) {
         if (at[a] && at[b]) least = std::min(least, (*at[a] - *at[b]).norm());
     running.push_back(least);
   }
-  for (const double f : {0.137, 0.41, 0.77, 1.0}) {
+  // 0.1 s before the planner's closest approach: the least so far lies inside a span of
+  // two pieces still going on (the page clips it at t).
+  const double before_closest = (fleet["closest_approach"]["at_s"].get<double>() - 0.1) / makespan;
+  for (const double f : {0.137, 0.41, 0.77, before_closest, 1.0}) {
     const double t = f * makespan;
     const std::string dom =
         browse(cube / "mission.html", "#view=top&t=" + std::to_string(t), "--dump-dom");
