@@ -166,10 +166,25 @@ SectionSummary readSummary(const nlohmann::json& j) {
   s.flight.reason = f.at("reason").get<std::string>();
   s.flight.home = readVec(f.at("home"));
   s.flight.length_m = f.at("length_m").get<double>();
-  for (const auto& sortie : f.at("sorties")) {
-    planning::Sortie out;
-    for (const auto& w : sortie) out.waypoints.push_back(readVec(w));
-    s.flight.sorties.push_back(std::move(out));
+  const auto readSorties = [](const nlohmann::json& list, planning::FlightPlan& flight) {
+    for (const auto& sortie : list) {
+      planning::Sortie out;
+      for (const auto& w : sortie) out.waypoints.push_back(readVec(w));
+      flight.sorties.push_back(std::move(out));
+    }
+  };
+  readSorties(f.at("sorties"), s.flight);
+  if (r.contains("fleet")) {
+    const nlohmann::json& fl = r.at("fleet");
+    s.uavs = fl.at("uavs").get<int>();
+    s.makespan_s = fl.at("makespan_s").get<double>();
+    s.single_uav_s = fl.at("single_uav_s").get<double>();
+    for (const auto& u : fl.at("flights")) {
+      planning::FlightPlan flight;
+      flight.home = readVec(u.at("home"));
+      readSorties(u.at("sorties"), flight);
+      s.uav_flights.push_back(std::move(flight));
+    }
   }
   return s;
 }
@@ -180,14 +195,21 @@ std::uint64_t checkAgainstInput(const tiling::Manifest& m, std::vector<SectionSu
   std::vector<const planning::FlightPlan*> flights;
   flights.reserve(sections.size());
   for (const auto& s : sections) flights.push_back(&s.flight);
+  for (const auto& s : sections)  // a fleet's flights after the single ones
+    for (const auto& f : s.uav_flights) flights.push_back(&f);
   Vec3 origin = Vec3::Zero();
   std::uint64_t points = 0;
   // A sortie's nearest point is nearly always within the tile buffer (its stops fly
   // the standoff out); farther ones are measured in a second pass.
   auto clear = clearanceToCloud(m.input, m.read, flights, std::max(10.0, m.buffer_m),
                                 kSiteStreamChunk, &origin, &points);
-  for (std::size_t i = 0; i < sections.size(); ++i)
+  std::size_t next = sections.size();
+  for (std::size_t i = 0; i < sections.size(); ++i) {
     sections[i].min_clearance_to_input_m = std::move(clear[i]);
+    sections[i].uav_min_clearance_to_input_m.clear();
+    for (std::size_t u = 0; u < sections[i].uav_flights.size(); ++u)
+      sections[i].uav_min_clearance_to_input_m.push_back(std::move(clear[next++]));
+  }
   if ((origin - m.source_offset_m).norm() > 1e-6)
     throw InputError(m.input + ": read in another frame than when it was tiled; tile it again");
   return points;
@@ -199,16 +221,23 @@ double requireClearOfInput(const tiling::Manifest& m, const std::vector<SectionS
                            double radius) {
   const bool alone = sections.size() == 1;
   double min_clear = std::numeric_limits<double>::infinity();
-  for (const auto& section : sections)
-    for (std::size_t s = 0; s < section.min_clearance_to_input_m.size(); ++s) {
-      const double c = section.min_clearance_to_input_m[s];
+  const auto check = [&](const SectionSummary& section, const std::vector<double>& clear,
+                         const std::string& who) {
+    for (std::size_t s = 0; s < clear.size(); ++s) {
+      const double c = clear[s];
       min_clear = std::min(min_clear, c);
       if (c < radius)
-        throw InputError((alone ? std::string() : section.out + ": ") + "sortie " +
+        throw InputError((alone ? std::string() : section.out + ": ") + who + "sortie " +
                          std::to_string(s + 1) + " comes " + formatFixed(c, 3) +
                          " m from an input point of " + m.input + " (required " +
                          formatFixed(radius, 3) + " m); nothing written");
     }
+  };
+  for (const auto& section : sections) {
+    check(section, section.min_clearance_to_input_m, "");
+    for (std::size_t u = 0; u < section.uav_min_clearance_to_input_m.size(); ++u)
+      check(section, section.uav_min_clearance_to_input_m[u], "uav " + std::to_string(u + 1) + " ");
+  }
   return min_clear;
 }
 
@@ -226,12 +255,20 @@ SectionSummary summarize(const SectionPlan& p) {
   s.flyable = s.flight.status == planning::FlightPlan::Status::Ok && !s.flight.sorties.empty();
   s.merge_s = p.merge_s;
   s.plan_s = p.plan_s;
+  if (p.planned.fleet) {
+    const planning::FleetPlan& f = *p.planned.fleet;
+    s.uavs = static_cast<int>(f.uavs.size());
+    s.makespan_s = f.makespan_s;
+    s.single_uav_s = f.single_uav_s;
+    for (const auto& u : f.uavs) s.uav_flights.push_back(u.flight);
+  }
   return s;
 }
 
 SectionKey sectionKey(const tiling::Manifest& manifest, const std::string& config_path,
-                      int section_tiles, bool views) {
+                      int section_tiles, bool views, int uavs) {
   SectionKey k;
+  k.uavs = uavs;
   k.manifest_sha256 = io::sha256File(manifest.path);
   k.config_sha256 = config_path.empty() ? std::string() : io::sha256File(config_path);
   k.section_tiles = section_tiles;
@@ -254,42 +291,56 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
     results.push_back(io::sha256File(tileResultPath(manifest, static_cast<std::size_t>(t))));
   nlohmann::json file_list = nlohmann::json::array();
   for (const auto& [name, sha] : files) file_list.push_back({{"name", name}, {"sha256", sha}});
-  nlohmann::json sorties = nlohmann::json::array();
-  for (const auto& sortie : s.flight.sorties) {
-    nlohmann::json w = nlohmann::json::array();
-    for (const Vec3& p : sortie.waypoints) w.push_back(fullVec(p));
-    sorties.push_back(std::move(w));
-  }
+  const auto sortiesOf = [](const planning::FlightPlan& flight) {
+    nlohmann::json sorties = nlohmann::json::array();
+    for (const auto& sortie : flight.sorties) {
+      nlohmann::json w = nlohmann::json::array();
+      for (const Vec3& p : sortie.waypoints) w.push_back(fullVec(p));
+      sorties.push_back(std::move(w));
+    }
+    return sorties;
+  };
+  const nlohmann::json sorties = sortiesOf(s.flight);
   const nlohmann::json stats = {
       {"surface_parts", s.stats.surface_parts},     {"surfaces_dropped", s.stats.surfaces_dropped},
       {"surfaces_joined", s.stats.surfaces_joined}, {"surfaces_demoted", s.stats.surfaces_demoted},
       {"obstacle_parts", s.stats.obstacle_parts},   {"obstacles_joined", s.stats.obstacles_joined},
       {"safety_points", s.stats.safety_points}};
-  const nlohmann::json summary = {{"surfaces", s.surfaces},
-                                  {"obstacles", s.obstacles},
-                                  {"photo_stops", s.stops},
-                                  {"flyable", s.flyable},
-                                  {"merge_s", s.merge_s},
-                                  {"plan_s", s.plan_s},
-                                  {"stats", stats},
-                                  {"flight",
-                                   {{"status", planning::toString(s.flight.status)},
-                                    {"reason", s.flight.reason},
-                                    {"home", fullVec(s.flight.home)},
-                                    {"length_m", s.flight.length_m},
-                                    {"sorties", sorties}}}};
-  const nlohmann::json j = {{"format", "uavip section 1"},
-                            {"manifest", manifest.path},
-                            {"manifest_sha256", key.manifest_sha256},
-                            {"config_sha256", key.config_sha256},
-                            {"section_tiles", key.section_tiles},
-                            {"views", key.views},
-                            {"section", plan.index},
-                            {"sections", plan.count},
-                            {"tiles", s.tiles},
-                            {"tile_results_sha256", results},
-                            {"files", file_list},
-                            {"summary", summary}};
+  nlohmann::json summary = {{"surfaces", s.surfaces},
+                            {"obstacles", s.obstacles},
+                            {"photo_stops", s.stops},
+                            {"flyable", s.flyable},
+                            {"merge_s", s.merge_s},
+                            {"plan_s", s.plan_s},
+                            {"stats", stats},
+                            {"flight",
+                             {{"status", planning::toString(s.flight.status)},
+                              {"reason", s.flight.reason},
+                              {"home", fullVec(s.flight.home)},
+                              {"length_m", s.flight.length_m},
+                              {"sorties", sorties}}}};
+  if (!s.uav_flights.empty()) {  // a fleet: each UAV's sorties (checked against the input)
+    nlohmann::json flights = nlohmann::json::array();
+    for (const auto& f : s.uav_flights)
+      flights.push_back({{"home", fullVec(f.home)}, {"sorties", sortiesOf(f)}});
+    summary["fleet"] = {{"uavs", s.uavs},
+                        {"makespan_s", s.makespan_s},
+                        {"single_uav_s", s.single_uav_s},
+                        {"flights", flights}};
+  }
+  nlohmann::json j = {{"format", "uavip section 1"},
+                      {"manifest", manifest.path},
+                      {"manifest_sha256", key.manifest_sha256},
+                      {"config_sha256", key.config_sha256},
+                      {"section_tiles", key.section_tiles},
+                      {"views", key.views},
+                      {"section", plan.index},
+                      {"sections", plan.count},
+                      {"tiles", s.tiles},
+                      {"tile_results_sha256", results},
+                      {"files", file_list},
+                      {"summary", summary}};
+  if (key.uavs > 1) j["uavs"] = key.uavs;  // absent: one UAV, as before fleets
   return j.dump(1) + "\n";
 }
 
@@ -321,6 +372,11 @@ SectionResult readSectionResult(const tiling::Manifest& manifest, const SectionK
     if (j.at("section_tiles") != key.section_tiles || j.at("sections") != parts.size() ||
         j.at("section") != index) {
       r.why = "planned for another --section-tiles";
+      return r;
+    }
+    if (j.value("uavs", 1) != key.uavs) {
+      r.why = "planned for " + std::to_string(j.value("uavs", 1)) + " UAV(s), not " +
+              std::to_string(key.uavs) + " (--uavs)";
       return r;
     }
     if (j.at("views") != key.views) {
@@ -667,9 +723,14 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
 
 std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& site) {
   nlohmann::json list = nlohmann::json::array();
+  double makespan = 0.0, single = 0.0;
+  int uavs = 1;
+  std::size_t fleets = 0;  // sections flown by a fleet
   for (const SectionSummary& s : site.sections) {
     double min_clear = std::numeric_limits<double>::infinity();
     for (const double c : s.min_clearance_to_input_m) min_clear = std::min(min_clear, c);
+    for (const auto& u : s.uav_min_clearance_to_input_m)
+      for (const double c : u) min_clear = std::min(min_clear, c);
     list.push_back(
         {{"folder", std::filesystem::path(s.out).filename().string()},
          {"tiles", s.tiles},
@@ -681,14 +742,30 @@ std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& sit
          {"sorties", s.flight.sorties.size()},
          {"min_clearance_to_input_m",
           std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
+    if (!s.uav_flights.empty()) {
+      list.back()["fleet"] = {{"uavs", s.uavs},
+                              {"makespan_s", io::round4(s.makespan_s)},
+                              {"single_uav_s", io::round4(s.single_uav_s)}};
+      uavs = std::max(uavs, s.uavs);
+    }
+    // One section at a time: the site's makespan sums the sections' fleets'.
+    makespan += s.makespan_s;
+    single += s.single_uav_s;
+    fleets += !s.uav_flights.empty();
   }
-  const nlohmann::json j = {{"format", "uavip site 1"},
-                            {"manifest", manifest.path},
-                            {"input", manifest.input},
-                            {"input_points", site.input_points},
-                            {"clearance_m", site.required_clearance_m},
-                            {"source_offset_m", io::vec(manifest.source_offset_m)},
-                            {"sections", list}};
+  nlohmann::json j = {{"format", "uavip site 1"},
+                      {"manifest", manifest.path},
+                      {"input", manifest.input},
+                      {"input_points", site.input_points},
+                      {"clearance_m", site.required_clearance_m},
+                      {"source_offset_m", io::vec(manifest.source_offset_m)},
+                      {"sections", list}};
+  if (uavs > 1)
+    j["fleet"] = {{"uavs", uavs},
+                  {"sections_flown", fleets},
+                  {"makespan_s", io::round4(makespan)},
+                  {"single_uav_s", io::round4(single)},
+                  {"speedup", makespan > 0.0 ? io::round4(single / makespan) : 0.0}};
   return j.dump(1) + "\n";
 }
 

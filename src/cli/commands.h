@@ -106,6 +106,14 @@ void writeMission(io::StagedOutputs& outputs, const std::string& out, const app:
                   const app::Config& config, const std::string& source,
                   const std::optional<io::EditsSummary>& edits = std::nullopt);
 
+/// --uavs K (K >= 0 when given) sets fleet.uavs and checks the config again
+/// (pipeline_commands.cpp).
+void setUavs(app::Config& config, int uavs);
+
+/// Prints the fleet's makespan against the single flight and the bound, its separation
+/// and each UAV (nothing without a fleet) (pipeline_commands.cpp).
+void printFleet(const std::optional<planning::FleetPlan>& fleet);
+
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 

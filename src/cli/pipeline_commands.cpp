@@ -240,10 +240,11 @@ view::OverviewOptions overviewOptions(
 std::future<view::ViewFiles> renderViewsAsync(bool views, const Scene& scene,
                                               const std::vector<planning::SurfaceMission>& missions,
                                               const view::OverviewOptions& options,
-                                              const planning::FlightPlan* flight) {
+                                              const planning::FlightPlan* flight,
+                                              const planning::FleetPlan* fleet = nullptr) {
   if (!views) return {};
-  return std::async(std::launch::async, [&scene, &missions, options, flight] {
-    return view::renderViews(scene, missions, options, flight);
+  return std::async(std::launch::async, [&scene, &missions, options, flight, fleet] {
+    return view::renderViews(scene, missions, options, flight, fleet);
   });
 }
 
@@ -266,41 +267,6 @@ void chooseAircraft(app::Config& config, const AircraftArgs& aircraft, const Ver
       app::selectAircraft(config, aircraft.drone, aircraft.payload);
   if (v.quiet) return;
   for (const auto& n : notes) std::cerr << "uavip: " << config.uav.model << ": " << n << "\n";
-}
-
-/// --uavs K (K >= 0 when given) sets fleet.uavs and checks the config again.
-void setUavs(app::Config& config, int uavs) {
-  if (uavs < 0) return;
-  config.fleet.uavs = uavs;
-  config.sources.set(config.keyOf(&config.fleet.uavs), params::Source::File);
-  config.validate("--uavs");
-}
-
-/// The fleet: makespan against the single flight and the bound, separation, each UAV.
-void printFleet(const std::optional<planning::FleetPlan>& fleet) {
-  if (!fleet) return;
-  const planning::FleetPlan& f = *fleet;
-  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
-  std::cout << "fleet: " << f.uavs.size() << " UAVs, makespan " << minutes(f.makespan_s)
-            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
-            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
-            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " jobs, "
-            << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
-            << (f.assignment.empty() ? ""
-                                     : ", assignment " + f.assignment + " of " +
-                                           std::to_string(f.candidates) + " tried")
-            << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "")
-            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
-            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
-            << formatNumber(f.options.slack_s) << " s slack (separation "
-            << formatNumber(f.options.separation_m) << " m)\n";
-  for (std::size_t i = 0; i < f.uavs.size(); ++i) {
-    const auto& u = f.uavs[i];
-    std::cout << "  uav " << i + 1 << ": home " << formatPoint(u.home) << ", " << u.stops
-              << " stops, " << u.flight.sorties.size() << " sorties, take-off at "
-              << formatFixed(u.sortie_start_s.empty() ? 0.0 : u.sortie_start_s.front(), 1)
-              << " s, lands " << formatFixed(u.end_s, 1) << " s\n";
-  }
 }
 
 int runCommand(const std::string& scenario_arg, std::string out, const std::string& surface,
@@ -350,9 +316,10 @@ int runCommand(const std::string& scenario_arg, std::string out, const std::stri
                                             app::selectSurfaces(edited.scene, surface), progress);
   // The outputs are staged and renamed together once all of them are written: a run
   // that fails leaves the previous scene, mission and views together.
-  auto rendered = renderViewsAsync(
-      views, edited.scene, p.missions,
-      overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()), &p.flight);
+  auto rendered =
+      renderViewsAsync(views, edited.scene, p.missions,
+                       overviewOptions(scenario.name, d.resolved.config.uav.inflationRadius()),
+                       &p.flight, p.fleet ? &*p.fleet : nullptr);
   io::StagedOutputs outputs;
   writeScene(outputs, out, d, far ? &recentred : nullptr);
   writeMission(outputs, out, p, d.resolved.config, path, edited.summary);
@@ -401,6 +368,41 @@ bool structureCover(const std::string& cover, bool surface_given) {
 }
 
 }  // namespace
+
+/// --uavs K (K >= 0 when given) sets fleet.uavs and checks the config again.
+void setUavs(app::Config& config, int uavs) {
+  if (uavs < 0) return;
+  config.fleet.uavs = uavs;
+  config.sources.set(config.keyOf(&config.fleet.uavs), params::Source::File);
+  config.validate("--uavs");
+}
+
+/// The fleet: makespan against the single flight and the bound, separation, each UAV.
+void printFleet(const std::optional<planning::FleetPlan>& fleet) {
+  if (!fleet) return;
+  const planning::FleetPlan& f = *fleet;
+  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
+  std::cout << "fleet: " << f.uavs.size() << " UAVs, makespan " << minutes(f.makespan_s)
+            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
+            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
+            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " jobs, "
+            << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
+            << (f.assignment.empty() ? ""
+                                     : ", assignment " + f.assignment + " of " +
+                                           std::to_string(f.candidates) + " tried")
+            << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "")
+            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
+            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
+            << formatNumber(f.options.slack_s) << " s slack (separation "
+            << formatNumber(f.options.separation_m) << " m)\n";
+  for (std::size_t i = 0; i < f.uavs.size(); ++i) {
+    const auto& u = f.uavs[i];
+    std::cout << "  uav " << i + 1 << ": home " << formatPoint(u.home) << ", " << u.stops
+              << " stops, " << u.flight.sorties.size() << " sorties, take-off at "
+              << formatFixed(u.sortie_start_s.empty() ? 0.0 : u.sortie_start_s.front(), 1)
+              << " s, lands " << formatFixed(u.end_s, 1) << " s\n";
+  }
+}
 
 // Declared in commands.h.
 void resolveCrs(io::CloudReadInfo& read, const std::string& cloud_path, const std::string& crs,
@@ -543,7 +545,8 @@ int planCommand(const std::string& scene_path, const std::string& config_path,
   view::OverviewOptions view_options = overviewOptions(
       fs::path(scene_path).parent_path().filename().string(), resolved.uav.inflationRadius());
   if (views) view_options.geo = pageGeoFit(io::sceneCrsFromJson(scene_json, scene_path), scene, v);
-  auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight);
+  auto rendered = renderViewsAsync(views, scene, p.missions, view_options, &p.flight,
+                                   p.fleet ? &*p.fleet : nullptr);
   io::StagedOutputs outputs;
   writeMission(outputs, out, p, resolved, scene_path, edited.summary);
   stageSceneBeside(outputs, scene_path, scene_json, out);

@@ -119,7 +119,8 @@ void stageSection(io::StagedOutputs& outputs, const tiling::Manifest& m, const a
                   : std::filesystem::path(s.out).filename().string() + ": uavip mission overview";
     o.clearance_m = resolved.uav.inflationRadius();
     view::stageViews(outputs, s.out,
-                     view::renderViews(s.detected.scene, s.planned.missions, o, &s.planned.flight));
+                     view::renderViews(s.detected.scene, s.planned.missions, o, &s.planned.flight,
+                                       s.planned.fleet ? &*s.planned.fleet : nullptr));
   }
   writeMission(outputs, s.out, s.planned, resolved, m.path);
 }
@@ -160,7 +161,7 @@ void listSections(const tiling::Manifest& m, int section_tiles) {
 
 int planSectionCommand(const std::string& manifest_path, long section,
                        const std::string& config_path, int section_tiles, bool views, bool if_stale,
-                       bool list, const Verbosity& v) {
+                       bool list, int uavs, const Verbosity& v) {
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   app::SiteOptions options;
   options.section_tiles = section_tiles;
@@ -175,8 +176,10 @@ int planSectionCommand(const std::string& manifest_path, long section,
         "or --list for the sections");
   core::setFaultTask("plan-section " + std::to_string(section));
   const std::string used_config = config_path.empty() ? m.config : config_path;
-  const app::Config config = tileConfig(used_config);
-  const app::SectionKey key = app::sectionKey(m, used_config, section_tiles, views);
+  app::Config config = tileConfig(used_config);
+  setUavs(config, uavs);
+  const app::SectionKey key =
+      app::sectionKey(m, used_config, section_tiles, views, config.fleet.uavs);
   const auto t0 = SteadyClock::now();
   const std::string folder = app::sectionResultFolder(m, static_cast<std::size_t>(section));
   if (if_stale) {
@@ -213,6 +216,7 @@ int planSectionCommand(const std::string& manifest_path, long section,
               << plan.planned.flight.sorties.size() << " sorties, "
               << formatFixed(secondsSince(t0), 2) << " s -> "
               << pathIn(folder, app::kSectionResultFile) << "\n";
+    printFleet(plan.planned.fleet);
   }
   return kExitOk;
 }
@@ -260,6 +264,19 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
                                  std::to_string(results.size()) + " section(s) by plan-section)"
                            : std::string())
             << ", validation " << formatFixed(site.check_s, 2) << " s\n";
+  double makespan = 0.0, single = 0.0;
+  int uavs = 1;
+  for (const auto& r : results) {
+    makespan += r.makespan_s;
+    single += r.single_uav_s;
+    uavs = std::max(uavs, r.uavs);
+  }
+  if (uavs > 1)
+    std::cout << "fleet: " << uavs << " UAVs flying "
+              << (alone ? std::string("the site") : "one section at a time") << ", makespan "
+              << formatFixed(makespan / 60.0, 1) << " min (single UAV "
+              << formatFixed(single / 60.0, 1) << " min, speed-up "
+              << formatFixed(makespan > 0.0 ? single / makespan : 0.0, 2) << ")\n";
   std::cout << "results: "
             << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
                             (views ? ", " + pathIn(out, "mission.html") : std::string())
@@ -270,7 +287,7 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
 
 int mergeCommand(const std::string& manifest_path, const std::string& config_path,
                  const std::string& out, int section_tiles, bool views, bool require_sections,
-                 const Verbosity& v) {
+                 int uavs, const Verbosity& v) {
   core::setFaultTask("merge");
   const tiling::Manifest m = tiling::loadManifest(manifest_path);
   app::SiteOptions options;
@@ -278,8 +295,10 @@ int mergeCommand(const std::string& manifest_path, const std::string& config_pat
   options.out = out;
   options.validate();
   const std::string used_config = config_path.empty() ? m.config : config_path;
-  const app::Config config = tileConfig(used_config);
-  const app::SectionKey key = app::sectionKey(m, used_config, section_tiles, views);
+  app::Config config = tileConfig(used_config);
+  setUavs(config, uavs);
+  const app::SectionKey key =
+      app::sectionKey(m, used_config, section_tiles, views, config.fleet.uavs);
   options.results = &key;
   options.require_results = require_sections;
   io::StagedOutputs outputs;  // temporaries on disk: a section's scene is freed once staged
@@ -309,6 +328,7 @@ struct TileArgs {
   double tile_size{0.0}, buffer{0.0};
   long index{-1}, section{-1};
   int section_tiles{0};
+  int uavs{-1};  ///< --uavs; −1 when not given
   CLI::Option* buffer_opt{nullptr};
   bool views{false}, no_views{false}, require_sections{false}, if_stale{false}, list{false};
 };
@@ -360,9 +380,12 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
   merge->add_flag("--require-sections", a->require_sections,
                   "Join only results of plan-section (the Slurm merge): refuse, naming the "
                   "sections to plan, instead of planning a missing or stale one here");
+  merge->add_option("--uavs", a->uavs,
+                    "Fly each section with K UAVs at once, one section after the other "
+                    "(fleet.uavs; give plan-section the same)");
   registry.add(merge, [a, &v] {
     return mergeCommand(a->manifest, a->config, a->out, a->section_tiles, !a->no_views,
-                        a->require_sections, v);
+                        a->require_sections, a->uavs, v);
   });
 
   auto* section = cli.add_subcommand(
@@ -381,9 +404,12 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
   section->add_flag("--if-stale", a->if_stale,
                     "Do nothing when the section's result is there and up to date");
   section->add_flag("--list", a->list, "Print the sections (tiles and points) and exit");
+  section->add_option("--uavs", a->uavs,
+                      "Fly the section with K UAVs at once, as merge's option (give merge the "
+                      "same)");
   registry.add(section, [a, &v] {
     return planSectionCommand(a->manifest, a->section, a->config, a->section_tiles, !a->no_views,
-                              a->if_stale, a->list, v);
+                              a->if_stale, a->list, a->uavs, v);
   });
 }
 

@@ -59,23 +59,11 @@ std::vector<NamedPath> pathsOf(const io::MissionRecord& mission) {
 /// the fleet. Empty when both hold, else the error line.
 std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mission,
                        std::ostream& out) {
-  std::vector<std::vector<planning::MotionPiece>> motion;
   std::map<std::pair<int, std::size_t>, int> flown;
-  for (const auto& u : fleet.uavs) {
-    std::vector<planning::MotionPiece> m;
-    for (std::size_t i = 0; i < u.sorties.size(); ++i) {
-      std::vector<std::size_t> at;
-      for (const auto& st : u.sorties[i].stops) {
-        at.push_back(st.waypoint);
-        ++flown[{st.surface_id, st.stop}];
-      }
-      const auto pieces = planning::sortieMotion(u.sorties[i].waypoints, at, fleet.model,
-                                                 fleet.options.takeoff_landing_s, u.start_s[i],
-                                                 static_cast<int>(i));
-      m.insert(m.end(), pieces.begin(), pieces.end());
-    }
-    motion.push_back(std::move(m));
-  }
+  for (const auto& u : fleet.uavs)
+    for (const auto& s : u.sorties)
+      for (const auto& st : s.stops) ++flown[{st.surface_id, st.stop}];
+  const auto motion = io::recordedFleetMotion(fleet);
   const planning::SeparationCheck c =
       planning::checkSeparation(motion, fleet.options.separation_m, fleet.options.slack_s);
   out << "fleet: " << fleet.uavs.size() << " UAVs, closest approach "

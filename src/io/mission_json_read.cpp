@@ -157,6 +157,23 @@ FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m
 
 }  // namespace
 
+std::vector<std::vector<planning::MotionPiece>> recordedFleetMotion(const FleetRecord& fleet) {
+  std::vector<std::vector<planning::MotionPiece>> motion;
+  for (const auto& u : fleet.uavs) {
+    std::vector<planning::MotionPiece> m;
+    for (std::size_t i = 0; i < u.sorties.size(); ++i) {
+      std::vector<std::size_t> at;
+      for (const auto& st : u.sorties[i].stops) at.push_back(st.waypoint);
+      const auto pieces = planning::sortieMotion(u.sorties[i].waypoints, at, fleet.model,
+                                                 fleet.options.takeoff_landing_s, u.start_s[i],
+                                                 static_cast<int>(i));
+      m.insert(m.end(), pieces.begin(), pieces.end());
+    }
+    motion.push_back(std::move(m));
+  }
+  return motion;
+}
+
 const SurfaceRecord* MissionRecord::surface(int id) const {
   for (const auto& s : surfaces) {
     if (s.surface_id == id) return &s;

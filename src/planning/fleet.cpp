@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numeric>
 #include <set>
@@ -21,8 +22,10 @@ namespace uavip::planning {
 
 namespace {
 
-/// Assignments tried one by one when there are at most this many.
-constexpr double kExhaustiveAssignments = 729.0;
+/// Assignments tried one by one when there are at most this many (3 UAVs and 8 jobs,
+/// 2 and 12): each UAV's estimate is cached by its set of jobs, so a UAV solves at most
+/// 2^jobs tours.
+constexpr double kExhaustiveAssignments = 6561.0;
 
 /// A flown stop of a mission and its waypoint index.
 struct PathStop {
@@ -706,11 +709,33 @@ std::vector<Candidate> nextBest(const std::vector<Job>& jobs, const std::vector<
   const auto k = static_cast<int>(uavs.size());
   std::vector<Candidate> out;
   if (std::pow(static_cast<double>(k), static_cast<double>(n)) > kExhaustiveAssignments) return out;
+  // Each UAV's estimate by its set of jobs (a bit mask: n ≤ 13 here).
+  std::map<std::pair<int, std::uint32_t>, double> cache;
+  const auto estimate = [&](const std::vector<int>& owner) {
+    double worst = 0.0;
+    for (int u = 0; u < k; ++u) {
+      std::uint32_t mask = 0;
+      for (std::size_t j = 0; j < n; ++j)
+        if (owner[j] == u) mask |= std::uint32_t{1} << j;
+      if (mask == 0) continue;
+      auto it = cache.find({u, mask});
+      if (it == cache.end()) {
+        std::vector<int> one(n, -1);
+        for (std::size_t j = 0; j < n; ++j)
+          if (owner[j] == u) one[j] = u;
+        it =
+            cache
+                .emplace(std::make_pair(u, mask), estimateAssignment(jobs, one, uavs, model, fleet))
+                .first;
+      }
+      worst = std::max(worst, it->second);
+    }
+    return worst;
+  };
   std::vector<int> owner(n, 0);
   std::vector<Candidate> all;
   for (;;) {
-    if (owner != first)
-      all.push_back({0, owner, estimateAssignment(jobs, owner, uavs, model, fleet), ""});
+    if (owner != first) all.push_back({0, owner, estimate(owner), ""});
     std::size_t i = 0;
     while (i < n && ++owner[i] == k) owner[i++] = 0;
     if (i == n) break;
@@ -780,6 +805,7 @@ void spatialCandidates(const std::vector<Job>& whole, const PointList& stops,
     Candidate best;
     do {
       std::vector<int> owner;
+      owner.reserve(slab.size());
       for (const int s : slab) owner.push_back(perm[static_cast<std::size_t>(s)]);
       const double e = estimateAssignment(set.jobs, owner, uavs, model, fleet);
       if (e < best.estimate_s - 1e-9) best = {sets.size(), owner, e, ""};
@@ -887,6 +913,7 @@ bool flyCandidate(FleetPlan& plan, const std::vector<Job>& jobs, const std::vect
     auto it = cache.find(key);
     if (it == cache.end()) {
       std::vector<SurfaceMission> ms;
+      ms.reserve(set.size());
       for (const int j : set) ms.push_back(jobs[static_cast<std::size_t>(j)].mission);
       own.home = plan.uavs[static_cast<std::size_t>(u)].home;
       it = cache.emplace(std::move(key), planFlight(ms, grid, validator, planner, own)).first;

@@ -79,6 +79,12 @@ struct Bytes {
   void u32(std::uint32_t v) {
     for (int k = 0; k < 4; ++k) b.push_back(static_cast<std::uint8_t>((v >> (8 * k)) & 0xff));
   }
+  void f64(double v) {
+    std::uint64_t u = 0;
+    std::memcpy(&u, &v, sizeof u);
+    u32(static_cast<std::uint32_t>(u & 0xffffffffu));
+    u32(static_cast<std::uint32_t>(u >> 32));
+  }
   void f32(double v) {
     const float f = static_cast<float>(v);
     std::uint32_t u = 0;
@@ -169,6 +175,7 @@ struct PagePath {
   PointList waypoints;
   /// Where a surface is entered: (waypoint, surface id), numbered in flight order.
   std::vector<std::pair<std::size_t, int>> entries;
+  int uav{0};  ///< the fleet's UAV (1-based) flying it; 0 without a fleet
 };
 
 // ---- the recorded mission (strict), and what the page shows beyond MissionRecord
@@ -179,6 +186,7 @@ struct RecordedMission {
   std::vector<std::vector<StopExtra>> stop_extra;  ///< [surface][stop], as rec.surfaces
   std::vector<json> surface_extra;                 ///< camera, coverage, path_length_m
   json flight_extra = json::object();              ///< length_m, duration_s, home, home_source
+  json fleet_extra = json::object();  ///< makespan_s, single_uav_s, closest_approach (a fleet)
 };
 
 /// The aimed-at point of each of n stops, where the JSON gives a finite one.
@@ -230,6 +238,13 @@ RecordedMission readMission(const json* mission, const std::string& mission_path
     m.surface_extra.push_back(surfaceExtra(sj));
   }
   m.flight_extra = flightExtra(*mission);
+  if (mission->contains("fleet")) {
+    const json& f = mission->at("fleet");
+    for (const char* k : {"makespan_s", "single_uav_s", "lower_bound_s"})
+      if (f.contains(k) && f.at(k).is_number()) m.fleet_extra[k] = f.at(k);
+    if (f.contains("closest_approach") && f.at("closest_approach").is_object())
+      m.fleet_extra["closest_approach"] = f.at("closest_approach");
+  }
   return m;
 }
 
@@ -256,6 +271,39 @@ std::vector<PagePath> sortiePaths(const io::FlightRecord& flight) {
       p.entries.emplace_back(st.waypoint, st.surface_id);
     }
     paths.push_back(std::move(p));
+  }
+  return paths;
+}
+
+/// Whether the page shows a fleet: an "ok" fleet block of at least two UAVs with a sortie.
+/// (K = 1 or no fleet block: the page of a single UAV.)
+bool showsFleet(const io::MissionRecord& rec) {
+  if (!rec.fleet || rec.fleet->status != "ok" || rec.fleet->uavs.size() < 2) return false;
+  for (const auto& u : rec.fleet->uavs)
+    if (!u.sorties.empty()) return true;
+  return false;
+}
+
+/// One path per sortie of every UAV of the fleet, in its UAV's colour, with an entry
+/// wherever the next stop's surface changes.
+std::vector<PagePath> fleetPaths(const io::FleetRecord& fleet) {
+  std::vector<PagePath> paths;
+  for (std::size_t u = 0; u < fleet.uavs.size(); ++u) {
+    int current = -1;
+    const auto& sorties = fleet.uavs[u].sorties;
+    for (std::size_t k = 0; k < sorties.size(); ++k) {
+      PagePath p{"uav " + std::to_string(u + 1) + " sortie " + std::to_string(k + 1),
+                 pathColor(static_cast<int>(u)),
+                 sorties[k].waypoints,
+                 {},
+                 static_cast<int>(u) + 1};
+      for (const auto& st : sorties[k].stops) {
+        if (st.surface_id == current) continue;
+        current = st.surface_id;
+        p.entries.emplace_back(st.waypoint, st.surface_id);
+      }
+      paths.push_back(std::move(p));
+    }
   }
   return paths;
 }
@@ -478,15 +526,17 @@ json resampledPath(const PagePath& p, const Quantiser& q, const Clearance& clear
   }
   json entries = json::array();
   for (const auto& [w, id] : p.entries) entries.push_back({w, id});
-  return {{"label", p.label},
-          {"color", p.color},
-          {"waypoints", wp.str()},
-          {"waypoint_n", p.waypoints.size()},
-          {"sample_of_waypoint", sample_of_waypoint.str()},
-          {"samples", samples.str()},
-          {"sample_n", count},
-          {"clearance_cm", clear.str()},
-          {"entries", entries}};
+  json out = {{"label", p.label},
+              {"color", p.color},
+              {"waypoints", wp.str()},
+              {"waypoint_n", p.waypoints.size()},
+              {"sample_of_waypoint", sample_of_waypoint.str()},
+              {"samples", samples.str()},
+              {"sample_n", count},
+              {"clearance_cm", clear.str()},
+              {"entries", entries}};
+  if (p.uav > 0) out["uav"] = p.uav;
+  return out;
 }
 
 /// All paths resampled to about max_samples samples in all (steps of at least 5 cm), with
@@ -503,6 +553,38 @@ PathLayer pathLayer(const std::vector<PagePath>& paths, const Scene& scene, cons
   return l;
 }
 
+// ---- the fleet: each UAV's motion over the schedule, for the time slider
+
+/// Each UAV's colour, home, sortie count and motion (planning/fleet_types.h, recomputed
+/// from the recorded waypoints and flight model by io::recordedFleetMotion): per piece
+/// t0, t1 [s], then a and b [m] relative to the box's min corner, as float64.
+json fleetJson(const RecordedMission& m, const Quantiser& q) {
+  const io::FleetRecord& fleet = *m.rec.fleet;
+  const auto motion = io::recordedFleetMotion(fleet);
+  json uavs = json::array();
+  for (std::size_t u = 0; u < fleet.uavs.size(); ++u) {
+    Bytes pieces;
+    for (const auto& p : motion[u]) {
+      pieces.f64(p.t0);
+      pieces.f64(p.t1);
+      for (const Vec3& x : {p.a, p.b})
+        for (int a = 0; a < 3; ++a) pieces.f64(x[a] - q.min[a]);
+    }
+    uavs.push_back({{"uav", u + 1},
+                    {"color", pathColor(static_cast<int>(u))},
+                    {"home", vec(fleet.uavs[u].home)},
+                    {"sorties", fleet.uavs[u].sorties.size()},
+                    {"pieces", pieces.str()},
+                    {"piece_n", motion[u].size()}});
+  }
+  json out = m.fleet_extra;
+  using planning::FleetOptions;  // the keys through the fleet's table
+  out[FleetOptions::keyOf(&FleetOptions::separation_m)] = fleet.options.separation_m;
+  out[FleetOptions::keyOf(&FleetOptions::slack_s)] = fleet.options.slack_s;
+  out["uavs"] = uavs;
+  return out;
+}
+
 // ---- the summary line and the counts
 
 /// What the page draws, as the summary and the data both need it.
@@ -511,10 +593,18 @@ struct PageLayers {
   const RecordedMission& m;
   bool has_mission;
   bool flown;
+  bool fleet;  ///< the paths are the fleet's sorties (showsFleet)
   const CloudLayer& cloud;
   const StopLayer& stops;
   const PathLayer& paths;
-  std::size_t sorties() const { return flown ? m.rec.flight->sorties.size() : 0; }
+  std::size_t sorties() const {
+    if (fleet) {
+      std::size_t n = 0;
+      for (const auto& u : m.rec.fleet->uavs) n += u.sorties.size();
+      return n;
+    }
+    return flown ? m.rec.flight->sorties.size() : 0;
+  }
 };
 
 /// The one-line summary under the heading.
@@ -534,7 +624,13 @@ std::string summaryLine(const PageLayers& l) {
     line << " | " << rec.surfaces.size() << " surfaces planned, " << ok
          << " with a flight: " << l.stops.photos << " photo stops, " << l.stops.waypoints
          << " waypoints";
-    if (l.flown) {
+    if (l.fleet) {
+      line << " | fleet of " << l.m.rec.fleet->uavs.size() << " UAVs, " << l.sorties()
+           << " sorties, makespan "
+           << formatFixed(numberOr(l.m.fleet_extra, "makespan_s", 0.0) / 60.0, 1)
+           << " min (one UAV: "
+           << formatFixed(numberOr(l.m.fleet_extra, "single_uav_s", 0.0) / 60.0, 1) << " min)";
+    } else if (l.flown) {
       const std::size_t sorties = l.sorties();
       line << " | flight " << formatFixed(numberOr(l.m.flight_extra, "length_m", 0.0), 1) << " m, "
            << formatFixed(numberOr(l.m.flight_extra, "duration_s", 0.0) / 60.0, 1) << " min, "
@@ -550,20 +646,22 @@ std::string summaryLine(const PageLayers& l) {
 /// The counts the page's test and tools read (uavip-summary).
 json summaryJson(const PageLayers& l) {
   const double c = l.paths.min_clearance;
-  return {{"format", "uavip-mission-page"},
-          {"version", 1},
-          {"photos", l.stops.photos},
-          {"photos_flown", l.stops.photos_flown},
-          {"waypoints", l.stops.waypoints},
-          {"flight_waypoints", l.paths.flight_waypoints},
-          {"sorties", l.sorties()},
-          {"surfaces_planned", l.m.rec.surfaces.size()},
-          {"scene_surfaces", l.scene.surfaces.size()},
-          {"obstacles", l.scene.obstacles.size()},
-          {"cloud_points", l.scene.cloud.size()},
-          {"cloud_points_drawn", l.cloud.drawn},
-          {"min_clearance_m",
-           std::isfinite(c) ? json(std::round(c * 1000.0) / 1000.0) : json(nullptr)}};
+  json out = {{"format", "uavip-mission-page"},
+              {"version", 1},
+              {"photos", l.stops.photos},
+              {"photos_flown", l.stops.photos_flown},
+              {"waypoints", l.stops.waypoints},
+              {"flight_waypoints", l.paths.flight_waypoints},
+              {"sorties", l.sorties()},
+              {"surfaces_planned", l.m.rec.surfaces.size()},
+              {"scene_surfaces", l.scene.surfaces.size()},
+              {"obstacles", l.scene.obstacles.size()},
+              {"cloud_points", l.scene.cloud.size()},
+              {"cloud_points_drawn", l.cloud.drawn},
+              {"min_clearance_m",
+               std::isfinite(c) ? json(std::round(c * 1000.0) / 1000.0) : json(nullptr)}};
+  if (l.fleet) out["uavs"] = l.m.rec.fleet->uavs.size();
+  return out;
 }
 
 // ---- the data the page's script draws
@@ -575,37 +673,39 @@ json dataJson(const PageLayers& l, const json& surfaces, const Quantiser& q,
   const double inflation = l.m.rec.inflation_radius_m;
   const CloudLayer& c = l.cloud;
   const StopLayer& s = l.stops;
-  return {{"title", options.title},
-          {"summary_line", summaryLine(l)},
-          {"box_min", vec(q.min)},
-          {"box_size", vec(q.size)},
-          {"spacing_m", spacing},
-          {"inflation_radius_m", std::isfinite(options.clearance_m) ? json(options.clearance_m)
-                                 : std::isfinite(inflation)         ? json(inflation)
-                                                                    : json(nullptr)},
-          {"colors",
-           {{"other", hex(render::Color{0.78, 0.78, 0.78})},
-            {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
-          {"cloud",
-           {{"n", c.drawn},
-            {"stride", c.stride},
-            {"by_class", c.class_count},
-            {"pos", c.pos.str()},
-            {"cls", c.cls.str()},
-            {"sid", c.sid.str()}}},
-          {"surfaces", surfaces},
-          {"missions", s.missions},
-          {"stops",
-           {{"n", s.photos},
-            {"pos", s.pos.str()},
-            {"target", s.tgt.str()},
-            {"angles", s.ang.str()},
-            {"mission", s.sid.str()},
-            {"index", s.idx.str()},
-            {"flown", s.flown.str()}}},
-          {"flown", l.flown},
-          {"flight", l.m.flight_extra},
-          {"paths", l.paths.list}};
+  json out = {{"title", options.title},
+              {"summary_line", summaryLine(l)},
+              {"box_min", vec(q.min)},
+              {"box_size", vec(q.size)},
+              {"spacing_m", spacing},
+              {"inflation_radius_m", std::isfinite(options.clearance_m) ? json(options.clearance_m)
+                                     : std::isfinite(inflation)         ? json(inflation)
+                                                                        : json(nullptr)},
+              {"colors",
+               {{"other", hex(render::Color{0.78, 0.78, 0.78})},
+                {"obstacle", hex(render::Color{0.30, 0.30, 0.30})}}},
+              {"cloud",
+               {{"n", c.drawn},
+                {"stride", c.stride},
+                {"by_class", c.class_count},
+                {"pos", c.pos.str()},
+                {"cls", c.cls.str()},
+                {"sid", c.sid.str()}}},
+              {"surfaces", surfaces},
+              {"missions", s.missions},
+              {"stops",
+               {{"n", s.photos},
+                {"pos", s.pos.str()},
+                {"target", s.tgt.str()},
+                {"angles", s.ang.str()},
+                {"mission", s.sid.str()},
+                {"index", s.idx.str()},
+                {"flown", s.flown.str()}}},
+              {"flown", l.flown},
+              {"flight", l.m.flight_extra},
+              {"paths", l.paths.list}};
+  if (l.fleet) out["fleet"] = fleetJson(l.m, q);
+  return out;
 }
 
 // ---- the HTML document
@@ -725,21 +825,27 @@ std::string missionPage(const Scene& scene, const json* mission, const MissionPa
   options.validate();
   const RecordedMission m = readMission(mission, mission_path);
   const bool flown = flownInOrder(m.rec);
-  const std::vector<PagePath> paths = flown ? sortiePaths(*m.rec.flight) : surfacePaths(m.rec);
+  const bool fleet = showsFleet(m.rec);
+  const std::vector<PagePath> paths = fleet   ? fleetPaths(*m.rec.fleet)
+                                      : flown ? sortiePaths(*m.rec.flight)
+                                              : surfacePaths(m.rec);
   const Quantiser q = quantiserOver(drawnBox(scene, m, paths));
   const CloudLayer cloud = cloudLayer(scene, q, options.max_cloud_points);
   const json surfaces = surfacesJson(scene, m.rec, q);
   const StopLayer stops = stopLayer(m, q);
   const PathLayer path_layer = pathLayer(paths, scene, q, options.max_path_samples);
-  const PageLayers layers{scene, m, mission != nullptr, flown, cloud, stops, path_layer};
+  const PageLayers layers{scene, m,     mission != nullptr, flown || fleet, fleet,
+                          cloud, stops, path_layer};
   return htmlDocument(options.title, summaryJson(layers), dataJson(layers, surfaces, q, options),
                       geoJson(options.geo), cloud.pos.b.size());
 }
 
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                        const planning::FlightPlan* flight, const MissionPageOptions& options) {
+                        const planning::FlightPlan* flight, const MissionPageOptions& options,
+                        const planning::FleetPlan* fleet) {
   json doc = io::missionToJson(missions, json::object());
   if (flight != nullptr) doc["flight"] = io::flightToJson(*flight, planning::FlightModel{});
+  if (fleet != nullptr) doc["fleet"] = io::fleetToJson(*fleet);
   return missionPage(scene, &doc, options, "mission");
 }
 

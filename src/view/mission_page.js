@@ -22,6 +22,7 @@
   function u16(s) { var b = bytes(s); return new Uint16Array(b.buffer, 0, b.length >> 1); }
   function u32(s) { var b = bytes(s); return new Uint32Array(b.buffer, 0, b.length >> 2); }
   function f32(s) { var b = bytes(s); return new Float32Array(b.buffer, 0, b.length >> 2); }
+  function f64(s) { var b = bytes(s); return new Float64Array(b.buffer, 0, b.length >> 3); }
   function rgb(hex) {
     var v = parseInt(hex.slice(1), 16);
     return [(v >> 16) & 255, (v >> 8) & 255, v & 255];
@@ -81,7 +82,9 @@
     buildStops();
     buildPaths();
     buildHome();
+    buildFleet();
     buildUi();
+    buildFleetUi();
     phases.built = performance.now();
     resize();
     controls.addEventListener('start', function () { userMoved = true; });
@@ -263,7 +266,8 @@
     return [Math.round(220 - 400 * (t - 0.5)), Math.round(230 - 60 * (t - 0.5)), 30];
   }
   function buildPaths() {
-    var number = 0;
+    var number = 0, uavNumber = {};
+    if (D.fleet) pathMode = 'sortie';  // a fleet: each UAV in its colour
     D.paths.forEach(function (P, pi) {
       var s = positions(P.samples), cl = u16(P.clearance_cm), wp = positions(P.waypoints);
       var g = new THREE.BufferGeometry();
@@ -300,8 +304,12 @@
       arrows.renderOrder = 11;
       addToLayer('order', arrows);
       P.entries.forEach(function (e) {
-        var w = e[0];
-        addLabel(D.flown ? String(++number) : 'start ' + e[1], new THREE.Vector3(wp[3 * w], wp[3 * w + 1], wp[3 * w + 2]),
+        var w = e[0], text = D.flown ? String(++number) : 'start ' + e[1];
+        if (P.uav) {  // a fleet: surfaces numbered per UAV, "2.3" = UAV 2's third
+          uavNumber[P.uav] = (uavNumber[P.uav] || 0) + 1;
+          text = P.uav + '.' + uavNumber[P.uav];
+        }
+        addLabel(text, new THREE.Vector3(wp[3 * w], wp[3 * w + 1], wp[3 * w + 2]),
           'order', P.color, 'surface ' + e[1] + ' entered (' + P.label + ')');
       });
       pathObjs.push({ label: P.label, color: P.color, clearance: cl, line: line, name: name });
@@ -319,6 +327,17 @@
     });
   }
   function buildHome() {
+    if (D.fleet) {  // each UAV's home in its colour
+      D.fleet.uavs.forEach(function (u) {
+        var hg = new THREE.BufferGeometry(), hp = new Float32Array([u.home[0] - origin[0], u.home[1] - origin[1], u.home[2] - origin[2]]);
+        hg.setAttribute('position', new THREE.BufferAttribute(hp, 3));
+        var ho = new THREE.Points(hg, new THREE.PointsMaterial({ size: 11, sizeAttenuation: false, color: new THREE.Color(u.color), depthTest: false }));
+        ho.renderOrder = 12;
+        addToLayer('home', ho);
+        addLabel('home ' + u.uav, new THREE.Vector3(hp[0], hp[1], hp[2] + diag / 60), 'home', u.color, 'UAV ' + u.uav + ' takes off and lands here');
+      });
+      return;
+    }
     var h = D.flight && D.flight.home;
     if (!h) return;
     var g = new THREE.BufferGeometry();
@@ -329,6 +348,179 @@
     obj.renderOrder = 12;
     addToLayer('home', obj);
     addLabel('home', new THREE.Vector3(p[0], p[1], p[2] + diag / 60), 'home', '#000000', D.flight.home_source || '');
+  }
+
+  // ---- the fleet (D.fleet): every UAV's motion over the schedule, a time slider that
+  // replays it, and the closest approach between two airborne UAVs up to the slider's
+  // time. Motion: pieces (t0, t1, a, b) at constant velocity, a UAV on the ground at its
+  // home outside them (planning/fleet_types.h). The closest approach of two pieces is
+  // exact: their difference moves linearly, so its squared length is a quadratic in t.
+  var fleet = null;  // {uavs: [{uav, color, home (page), p: Float64Array}], spans, byEnd, pairs, t}
+  function buildFleet() {
+    if (!D.fleet) return;
+    var off = [D.box_min[0] - origin[0], D.box_min[1] - origin[1], D.box_min[2] - origin[2]];
+    fleet = { uavs: [], spans: [], pairs: [], t: 0, end: D.fleet.makespan_s || 0 };
+    D.fleet.uavs.forEach(function (u) {
+      var p = f64(u.pieces);
+      for (var i = 0; i < p.length; i += 8) {
+        for (var a = 0; a < 3; a++) { p[i + 2 + a] += off[a]; p[i + 5 + a] += off[a]; }
+        fleet.end = Math.max(fleet.end, p[i + 1]);
+      }
+      fleet.uavs.push({ uav: u.uav, color: u.color, p: p, n: p.length / 8,
+        home: [u.home[0] - origin[0], u.home[1] - origin[1], u.home[2] - origin[2]] });
+    });
+    // Spans: each time two UAVs are airborne on two pieces at once, with the start
+    // separation d0 (b − a at lo) and relative velocity v; per pair in time order.
+    var U = fleet.uavs;
+    for (var a = 0; a < U.length; a++) {
+      for (var b = a + 1; b < U.length; b++) {
+        var list = [], P = U[a].p, Q = U[b].p, i = 0, j = 0;
+        while (i < U[a].n && j < U[b].n) {
+          var lo = Math.max(P[8 * i], Q[8 * j]), hi = Math.min(P[8 * i + 1], Q[8 * j + 1]);
+          if (lo <= hi) {
+            var pa = pieceAt(P, i, lo), qb = pieceAt(Q, j, lo), va = pieceVel(P, i), vb = pieceVel(Q, j);
+            var sp = { lo: lo, hi: hi, a: a, b: b, d0: [qb[0] - pa[0], qb[1] - pa[1], qb[2] - pa[2]],
+              v: [vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]] };
+            var m = spanMin(sp, hi);
+            sp.min = m[0]; sp.tmin = m[1];
+            list.push(sp);
+            fleet.spans.push(sp);
+          }
+          if (P[8 * i + 1] <= Q[8 * j + 1]) i++; else j++;
+        }
+        fleet.pairs.push(list);
+      }
+    }
+    // Spans by end time with a running minimum: those ended by T in one binary search.
+    fleet.byEnd = fleet.spans.slice().sort(function (x, y) { return x.hi - y.hi; });
+    var best = null;
+    fleet.prefix = fleet.byEnd.map(function (sp) {
+      if (!best || sp.min < best.min || (sp.min === best.min && sp.tmin < best.tmin)) best = sp;
+      return best;
+    });
+    // Markers: one point per UAV; a line between the closest pair so far.
+    var g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * U.length), 3));
+    g.setAttribute('color', new THREE.BufferAttribute(new Uint8Array(3 * U.length), 3, true));
+    fleet.markers = new THREE.Points(g, new THREE.PointsMaterial({ size: 14, sizeAttenuation: false,
+      vertexColors: THREE.VertexColors, depthTest: false }));
+    fleet.markers.renderOrder = 15;
+    addToLayer('fleet', fleet.markers);
+    var lg = new THREE.BufferGeometry();
+    lg.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6), 3));
+    fleet.link = new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0xff0000, depthTest: false }));
+    fleet.link.renderOrder = 16;
+    addToLayer('fleet', fleet.link);
+  }
+  function pieceAt(P, i, t) {  // position on piece i at t (clamped)
+    var o = 8 * i, t0 = P[o], t1 = P[o + 1], s = t1 > t0 ? Math.min(Math.max((t - t0) / (t1 - t0), 0), 1) : 0;
+    return [P[o + 2] + s * (P[o + 5] - P[o + 2]), P[o + 3] + s * (P[o + 6] - P[o + 3]), P[o + 4] + s * (P[o + 7] - P[o + 4])];
+  }
+  function pieceVel(P, i) {
+    var o = 8 * i, dt = P[o + 1] - P[o];
+    return dt > 0 ? [(P[o + 5] - P[o + 2]) / dt, (P[o + 6] - P[o + 3]) / dt, (P[o + 7] - P[o + 4]) / dt] : [0, 0, 0];
+  }
+  function spanMin(sp, upTo) {  // [distance, time] least over [lo, min(hi, upTo)]
+    var hi = Math.min(sp.hi, upTo), d = sp.d0, v = sp.v, vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], t = sp.lo;
+    if (vv > 0) t = Math.min(Math.max(sp.lo - (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / vv, sp.lo), hi);
+    var s = t - sp.lo, x = d[0] + s * v[0], y = d[1] + s * v[1], z = d[2] + s * v[2];
+    return [Math.sqrt(x * x + y * y + z * z), t];
+  }
+  function uavAt(u, t) {  // {p (page), air, sortie (1-based, 0 on the ground)}
+    var P = u.p, lo = 0, hi = u.n - 1, k = -1;
+    while (lo <= hi) { var mid = (lo + hi) >> 1; if (P[8 * mid] <= t) { k = mid; lo = mid + 1; } else hi = mid - 1; }
+    if (k >= 0 && t <= P[8 * k + 1]) return { p: pieceAt(P, k, t), air: true };
+    return { p: u.home.slice(), air: false };
+  }
+  function closestSoFar(T) {  // {d, a, b, t} or null: the least over every span up to T
+    var lo = 0, hi = fleet.byEnd.length - 1, k = -1, best = null;
+    while (lo <= hi) { var mid = (lo + hi) >> 1; if (fleet.byEnd[mid].hi <= T) { k = mid; lo = mid + 1; } else hi = mid - 1; }
+    if (k >= 0) { var b = fleet.prefix[k]; best = { d: b.min, a: b.a, b: b.b, t: b.tmin }; }
+    fleet.pairs.forEach(function (list) {  // the span of each pair going on at T
+      var l = 0, h = list.length - 1, j = -1;
+      while (l <= h) { var m = (l + h) >> 1; if (list[m].lo <= T) { j = m; l = m + 1; } else h = m - 1; }
+      if (j < 0 || list[j].hi <= T) return;
+      var r = spanMin(list[j], T);
+      if (!best || r[0] < best.d || (r[0] === best.d && r[1] < best.t)) best = { d: r[0], a: list[j].a, b: list[j].b, t: r[1] };
+    });
+    return best;
+  }
+  function worldText(p) { return '(' + [p[0] + origin[0], p[1] + origin[1], p[2] + origin[2]].map(function (q) { return fmt(q, 2); }).join(', ') + ')'; }
+  function setFleetTime(t) {
+    if (!fleet) return;
+    t = Math.min(Math.max(t, 0), fleet.end);
+    fleet.t = t;
+    var pos = fleet.markers.geometry.attributes.position, col = fleet.markers.geometry.attributes.color;
+    var state = [], lines = [];
+    fleet.uavs.forEach(function (u, i) {
+      var s = uavAt(u, t), c = rgb(u.color);
+      if (!s.air) c = [Math.round((c[0] + 255) / 2), Math.round((c[1] + 255) / 2), Math.round((c[2] + 255) / 2)];
+      pos.array[3 * i] = s.p[0]; pos.array[3 * i + 1] = s.p[1]; pos.array[3 * i + 2] = s.p[2];
+      col.array[3 * i] = c[0]; col.array[3 * i + 1] = c[1]; col.array[3 * i + 2] = c[2];
+      var w = [s.p[0] + origin[0], s.p[1] + origin[1], s.p[2] + origin[2]];
+      state.push(u.uav + ' ' + w.map(function (q) { return q.toFixed(4); }).join(' ') + ' ' + (s.air ? 1 : 0));
+      lines.push('<div><span class="sw" style="background:' + u.color + '"></span>uav ' + u.uav + ': ' +
+        (s.air ? 'flying at ' + worldText(s.p) : 'on the ground') + '</div>');
+    });
+    pos.needsUpdate = true;
+    col.needsUpdate = true;
+    var c = closestSoFar(t), el = document.getElementById('uavip-state');
+    var lp = fleet.link.geometry.attributes.position;
+    if (c) {
+      var pa = uavAt(fleet.uavs[c.a], c.t).p, pb = uavAt(fleet.uavs[c.b], c.t).p;
+      lp.array.set(pa.concat(pb));
+      lp.needsUpdate = true;
+      fleet.link.visible = layerOn('fleet');
+    } else {
+      fleet.link.visible = false;
+    }
+    el.setAttribute('data-fleet-t', t.toFixed(4));
+    el.setAttribute('data-fleet-positions', state.join(';'));
+    el.setAttribute('data-fleet-closest', c ? [c.d.toFixed(6), fleet.uavs[c.a].uav, fleet.uavs[c.b].uav, c.t.toFixed(4)].join(' ') : 'none');
+    var box = document.getElementById('fleet-state');
+    if (box) {
+      document.getElementById('fleet-time').value = t;
+      document.getElementById('fleet-clock').textContent = 't = ' + fmt(t, 1) + ' s of ' + fmt(fleet.end, 1) + ' s (' +
+        fmt(t / 60, 1) + ' of ' + fmt(fleet.end / 60, 1) + ' min)';
+      box.innerHTML = lines.join('');
+      var sep = D.fleet.separation_m;
+      document.getElementById('fleet-closest').textContent = c ?
+        'closest approach so far: ' + fmt(c.d, 2) + ' m, uav ' + fleet.uavs[c.a].uav + ' and uav ' + fleet.uavs[c.b].uav +
+        ' at t = ' + fmt(c.t, 1) + ' s' + (c.d < sep ? ' \u2014 closer than the separation ' + fmt(sep, 2) + ' m' : ' (separation ' + fmt(sep, 2) + ' m)') :
+        'closest approach so far: no two UAVs in the air at once yet';
+    }
+  }
+  var playing = null;
+  function buildFleetUi() {
+    if (!fleet) return;
+    var anchor = document.getElementById('pick').previousElementSibling;  // the "Picked" heading
+    var h = document.createElement('h2');
+    h.textContent = 'Fleet schedule';
+    var div = document.createElement('div');
+    div.id = 'fleet';
+    div.innerHTML = '<input type="range" id="fleet-time" min="0" max="' + fleet.end + '" step="any" value="0" style="width:100%">' +
+      '<div><button id="fleet-play">play</button> <span id="fleet-clock"></span></div>' +
+      '<div id="fleet-state"></div><div id="fleet-closest" style="margin-top:3px"></div>';
+    anchor.parentNode.insertBefore(h, anchor);
+    anchor.parentNode.insertBefore(div, anchor);
+    var slider = document.getElementById('fleet-time');
+    slider.addEventListener('input', function () { setFleetTime(+slider.value); requestDraw(); });
+    var play = document.getElementById('fleet-play');
+    play.addEventListener('click', function () {
+      if (playing) { cancelAnimationFrame(playing); playing = null; play.textContent = 'play'; return; }
+      if (fleet.t >= fleet.end) setFleetTime(0);
+      play.textContent = 'pause';
+      var last = performance.now();
+      var step = function (now) {  // the whole schedule in one minute
+        setFleetTime(fleet.t + (now - last) / 1000 * fleet.end / 60);
+        last = now;
+        draw();
+        if (fleet.t >= fleet.end) { playing = null; play.textContent = 'play'; return; }
+        playing = requestAnimationFrame(step);
+      };
+      playing = requestAnimationFrame(step);
+    });
+    setFleetTime(0);
   }
 
   // ---- side panel: layers, legends
@@ -375,9 +567,12 @@
     checkbox(L, 'boundaries', 'surface boundaries');
     checkbox(L, 'labels', 'surface ids and status');
     checkbox(L, 'photos', 'photos (' + D.stops.n + ' frusta)');
-    checkbox(L, 'flight', D.flown ? 'flight (' + D.paths.length + ' sorties)' : 'paths (' + D.paths.length + ')');
+    checkbox(L, 'flight', D.fleet ? 'fleet (' + D.fleet.uavs.length + ' UAVs, ' + D.paths.length + ' sorties)' :
+      D.flown ? 'flight (' + D.paths.length + ' sorties)' : 'paths (' + D.paths.length + ')');
     checkbox(L, 'order', 'order (arrows, numbers)');
-    if (D.flight && D.flight.home) checkbox(L, 'home', 'home');
+    if (D.fleet) checkbox(L, 'home', 'homes (' + D.fleet.uavs.length + ' UAVs)');
+    else if (D.flight && D.flight.home) checkbox(L, 'home', 'home');
+    if (D.fleet) checkbox(L, 'fleet', 'UAVs at the slider\'s time');
 
     var C = document.getElementById('legend-cloud'), html = '';
     D.surfaces.forEach(function (s) {
@@ -399,7 +594,8 @@
       b.checked = m === pathMode;
       b.addEventListener('change', function () { pathMode = m; colourPaths(); legendPath(); requestDraw(); });
       l.appendChild(b);
-      l.appendChild(document.createTextNode(m === 'clearance' ? 'colour by clearance to the cloud' : 'colour by ' + (D.flown ? 'sortie' : 'surface')));
+      l.appendChild(document.createTextNode(m === 'clearance' ? 'colour by clearance to the cloud' :
+        'colour by ' + (D.fleet ? 'UAV' : D.flown ? 'sortie' : 'surface')));
       modes.appendChild(l);
     });
     P.appendChild(modes);
@@ -492,6 +688,7 @@
       colourPaths();
       legendPath();
     }
+    if (fleet && h.t !== undefined && isFinite(+h.t)) setFleetTime(+h.t);
     if (h.layers !== undefined) {
       var want = h.layers.split(',');
       var groups = { cloud: ['cloud-surfaces', 'cloud-obstacles', 'cloud-other'] };

@@ -547,7 +547,8 @@ render::Figure overviewFigure(const Scene& scene,
 }
 
 ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                      const OverviewOptions& options, const planning::FlightPlan* flight) {
+                      const OverviewOptions& options, const planning::FlightPlan* flight,
+                      const planning::FleetPlan* fleet) {
   // The PLY text and the overview are independent: the PLY on a second thread
   // (here, if no thread can be started).
   std::future<std::string> ply;
@@ -571,7 +572,7 @@ ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMis
     page_options.geo = options.geo;
     const bool scene_only = missions.empty() && flight == nullptr;
     return scene_only ? missionPage(scene, nullptr, page_options)
-                      : missionPage(scene, missions, flight, page_options);
+                      : missionPage(scene, missions, flight, page_options, fleet);
   };
   try {
     html = std::async(std::launch::async, page);

@@ -169,4 +169,118 @@ TEST_F(TileCli, TileWithoutPointsOrIndexIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ / "T_empty/tile_0000"));
 }
 
+/// Every "timings" object removed (benchmarks/compare_outputs.py).
+nlohmann::json withoutTimings(const nlohmann::json& j) {
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [k, v] : j.items())
+      if (k != "timings") out[k] = withoutTimings(v);
+    return out;
+  }
+  if (j.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& v : j) out.push_back(withoutTimings(v));
+    return out;
+  }
+  return j;
+}
+
+// Issue 45, item 5: `merge --uavs K` flies the tiled site with the fleet, one section at a
+// time. Each section's mission.json has its fleet, which `uavip validate` (the motion
+// recomputed from the waypoints and the flight model, every UAV's leg against every
+// input point) accepts; site.json sums the sections' makespans. K = 1 is today's merge.
+TEST_F(TileCli, FleetFliesEachSectionConflictFree) {
+  ASSERT_EQ(tile_codes_, 0);
+  ASSERT_EQ(merged_.code, 0) << merged_.out;
+  // K = 1: the same mission and scene as the merge without --uavs.
+  const Result one =
+      uavip("-q merge " + p("T/manifest.json") + " -o " + p("one") + " --no-views --uavs 1");
+  ASSERT_EQ(one.code, 0) << one.out;
+  for (const char* f : {"mission.json", "scene.json"})
+    EXPECT_EQ(withoutTimings(nlohmann::json::parse(slurp(dir_ / "one" / f))),
+              withoutTimings(nlohmann::json::parse(slurp(dir_ / "out" / f))))
+        << f;
+  EXPECT_FALSE(nlohmann::json::parse(slurp(dir_ / "one/mission.json")).contains("fleet"));
+
+  // K = 2 over the whole site (one section). The site is small: UAVs launched 5 s apart
+  // with 3 m of separation share it (the defaults, 30 s and 5 m, leave UAV 2 idle).
+  {
+    std::ofstream cfg(dir_ / "fleet.yaml");
+    cfg << slurp(dir_ / "site.yaml")
+        << "fleet: {launch_interval_s: 5.0, separation_m: 3.0, slack_s: 10.0}\n";
+  }
+  const std::string fleet_cfg = " -c " + p("fleet.yaml");
+  const Result whole = uavip("merge " + p("T/manifest.json") + " -o " + p("fleet_whole") +
+                             " --no-views --uavs 2" + fleet_cfg);
+  std::cout << whole.out;
+  ASSERT_EQ(whole.code, 0) << whole.out;
+  const auto mission = nlohmann::json::parse(slurp(dir_ / "fleet_whole/mission.json"));
+  ASSERT_TRUE(mission.contains("fleet"));
+  EXPECT_EQ(mission["fleet"]["uavs"].size(), 2U);
+  const Result vw =
+      uavip("validate " + p("fleet_whole/mission.json") + " --cloud " + p("site.xyz"));
+  EXPECT_EQ(vw.code, 0) << vw.out;
+  EXPECT_NE(vw.out.find("fleet: 2 UAVs"), std::string::npos) << vw.out;
+  EXPECT_FALSE(mission["fleet"]["fallback_single"].get<bool>()) << "both UAVs fly";
+
+  // K = 2, one tile a section: a fleet per section, each validated; site.json's makespan
+  // is the sum of the sections' (flown one after the other).
+  const Result sections = uavip("merge " + p("T/manifest.json") + " -o " + p("fleet_sections") +
+                                " --section-tiles 1 --no-views --uavs 2" + fleet_cfg);
+  std::cout << sections.out;
+  ASSERT_EQ(sections.code, 0) << sections.out;
+  const auto site = nlohmann::json::parse(slurp(dir_ / "fleet_sections/site.json"));
+  ASSERT_TRUE(site.contains("fleet")) << site.dump(1);
+  double makespan = 0.0;
+  std::size_t fleets = 0, shared = 0;
+  for (const auto& s : site["sections"]) {
+    if (s["flight_status"] != "ok") continue;
+    const std::string folder = p("fleet_sections/" + std::string(s["folder"]));
+    const auto m = nlohmann::json::parse(slurp(fs::path(folder) / "mission.json"));
+    ASSERT_TRUE(m.contains("fleet")) << folder;
+    ASSERT_TRUE(s.contains("fleet")) << folder;
+    EXPECT_EQ(m["fleet"]["uavs"].size(), 2U) << folder;
+    EXPECT_NEAR(s["fleet"]["makespan_s"].get<double>(), m["fleet"]["makespan_s"].get<double>(),
+                1e-3);
+    makespan += m["fleet"]["makespan_s"].get<double>();
+    ++fleets;
+    shared += !m["fleet"]["fallback_single"].get<bool>();
+    const Result v = uavip("validate " + folder + "/mission.json --cloud " + p("site.xyz"));
+    EXPECT_EQ(v.code, 0) << folder << ": " << v.out;
+    EXPECT_NE(v.out.find("fleet: 2 UAVs"), std::string::npos) << v.out;
+  }
+  EXPECT_GE(fleets, 1U);
+  EXPECT_GE(shared, 1U) << "no section where both UAVs fly";
+  EXPECT_EQ(site["fleet"]["sections_flown"].get<std::size_t>(), fleets);
+  EXPECT_NEAR(site["fleet"]["makespan_s"].get<double>(), makespan, 1e-2);
+
+  // Sections stay independent tasks: plan-section --uavs 2 results are joined by
+  // merge --uavs 2 as the merge would plan them, and refused as stale by a merge of 1 UAV.
+  fs::copy(dir_ / "T", dir_ / "T_fleet", fs::copy_options::recursive);
+  const std::size_t count = site["sections"].size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Result r =
+        uavip("-q plan-section " + p("T_fleet/manifest.json") + " --section " + std::to_string(i) +
+              " --section-tiles 1 --no-views --uavs 2" + fleet_cfg);
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  const Result joined =
+      uavip("-q merge " + p("T_fleet/manifest.json") + " -o " + p("fleet_joined") +
+            " --section-tiles 1 --no-views --uavs 2 --require-sections" + fleet_cfg);
+  ASSERT_EQ(joined.code, 0) << joined.out;
+  for (const auto& s : site["sections"]) {
+    if (s["flight_status"] != "ok") continue;
+    const std::string f = std::string(s["folder"]) + "/mission.json";
+    auto a = withoutTimings(nlohmann::json::parse(slurp(dir_ / "fleet_joined" / f)));
+    auto b = withoutTimings(nlohmann::json::parse(slurp(dir_ / "fleet_sections" / f)));
+    a.erase("source");  // the manifest's path: T_fleet/ and T/
+    b.erase("source");
+    EXPECT_EQ(a, b) << f;
+  }
+  const Result stale = uavip("-q merge " + p("T_fleet/manifest.json") + " -o " + p("stale_one") +
+                             " --section-tiles 1 --no-views --require-sections" + fleet_cfg);
+  EXPECT_EQ(stale.code, 2) << stale.out;
+  EXPECT_NE(stale.out.find("planned for 2 UAV(s), not 1"), std::string::npos) << stale.out;
+}
+
 }  // namespace

@@ -18,8 +18,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -505,6 +507,193 @@ TEST_F(MissionPageCli, ChromiumDragsABoundaryVertexAndTheEditsReplan) {
   EXPECT_GT(stops, 0u);
   EXPECT_EQ(in_new, stops) << "every photo centre on the edited boundary";
   EXPECT_GT(in_added, 0u) << "the dragged part of the boundary gets photos";
+}
+
+// Issue 45: a fleet's page. Each UAV's sorties in its own colour, and a time slider
+// (hash t=SECONDS) that places every UAV where the schedule has it and reports the
+// closest approach between two airborne UAVs so far. The reference is independent of
+// the page and the planner: the motion recomputed here from mission.json's waypoints,
+// photo stops, take-off times and flight model (segments at min(horizontal / cruise,
+// vertical / climb or descent), hover + settle at each stop, half the take-off/landing
+// time at each end), and the closest approach by sampling every 0.02 s.
+struct RefPiece {
+  double t0, t1;
+  Vec3 a, b;
+};
+
+/// Every UAV's motion from mission.json's fleet block, recomputed.
+std::vector<std::vector<RefPiece>> referenceMotion(const nlohmann::json& fleet) {
+  const auto& m = fleet["model"];
+  const double cruise = m["cruise_speed_m_s"].get<double>(),
+               climb = m["climb_speed_m_s"].get<double>(),
+               descent = m["descent_speed_m_s"].get<double>(),
+               stop = m["hover_s"].get<double>() + m["settle_s"].get<double>(),
+               half = 0.5 * fleet["options"]["takeoff_landing_s"].get<double>();
+  const auto vec3 = [](const nlohmann::json& j) {
+    return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
+  std::vector<std::vector<RefPiece>> out;
+  for (const auto& u : fleet["uavs"]) {
+    std::vector<RefPiece> motion;
+    for (const auto& s : u["sorties"]) {
+      std::vector<Vec3> w;
+      for (const auto& p : s["waypoints"]) w.push_back(vec3(p));
+      std::vector<int> hovers(w.size(), 0);
+      for (const auto& st : s["stops"]) ++hovers.at(st["waypoint"].get<std::size_t>());
+      double t = s["start_s"].get<double>();
+      const auto stay = [&](const Vec3& p, double dt) {
+        motion.push_back({t, t + dt, p, p});
+        t += dt;
+      };
+      stay(w.front(), half);
+      for (std::size_t i = 0; i < w.size(); ++i) {
+        stay(w[i], hovers[i] * stop);
+        if (i + 1 == w.size()) break;
+        const Vec3 d = w[i + 1] - w[i];
+        const double dt = std::max(std::hypot(d.x(), d.y()) / cruise,
+                                   d.z() >= 0.0 ? d.z() / climb : -d.z() / descent);
+        motion.push_back({t, t + dt, w[i], w[i + 1]});
+        t += dt;
+      }
+      stay(w.back(), half);
+    }
+    out.push_back(std::move(motion));
+  }
+  return out;
+}
+
+/// Where a UAV is at t, or nothing when it is on the ground.
+std::optional<Vec3> referenceAt(const std::vector<RefPiece>& motion, double t) {
+  for (const auto& p : motion) {
+    if (t < p.t0 || t > p.t1) continue;
+    const double s = p.t1 > p.t0 ? (t - p.t0) / (p.t1 - p.t0) : 0.0;
+    return p.a + s * (p.b - p.a);
+  }
+  return std::nullopt;
+}
+
+TEST_F(MissionPageCli, FleetPageReplaysTheScheduleAndTheClosestApproach) {
+  const fs::path cube = dir_ / "cube_fleet";
+  const Result run = uavip("run " + std::string(UAVIP_SOURCE_DIR) +
+                           "/scenarios/single_cube.yaml --uavs 3 -q -o " + cube.string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  const nlohmann::json mission = readJson(cube / "mission.json");
+  const nlohmann::json& fleet = mission["fleet"];
+  ASSERT_EQ(fleet["status"], "ok");
+  ASSERT_EQ(fleet["uavs"].size(), 3u);
+  const std::string html = slurp(cube / "mission.html");
+  const nlohmann::json data = block(html, "uavip-data");
+  const nlohmann::json summary = block(html, "uavip-summary");
+  EXPECT_EQ(summary["uavs"].get<std::size_t>(), 3u);
+
+  // One path per sortie of each UAV, in the UAV's colour; the colours differ.
+  std::size_t sorties = 0;
+  for (const auto& u : fleet["uavs"]) sorties += u["sorties"].size();
+  EXPECT_EQ(summary["sorties"].get<std::size_t>(), sorties);
+  ASSERT_EQ(data["paths"].size(), sorties);
+  ASSERT_TRUE(data.contains("fleet"));
+  std::map<int, std::string> colour;
+  std::size_t k = 0;
+  for (std::size_t u = 0; u < fleet["uavs"].size(); ++u) {
+    const auto& uav = fleet["uavs"][u];
+    for (std::size_t s = 0; s < uav["sorties"].size(); ++s, ++k) {
+      const auto& path = data["paths"][k];
+      EXPECT_EQ(path["uav"].get<std::size_t>(), u + 1);
+      EXPECT_EQ(path["waypoint_n"].get<std::size_t>(), uav["sorties"][s]["waypoints"].size());
+      EXPECT_EQ(path["color"], data["fleet"]["uavs"][u]["color"]);
+    }
+    colour[static_cast<int>(u)] = data["fleet"]["uavs"][u]["color"].get<std::string>();
+  }
+  EXPECT_NE(colour[0], colour[1]);
+  EXPECT_NE(colour[0], colour[2]);
+  EXPECT_NE(colour[1], colour[2]);
+
+  if (chromium().empty())
+    GTEST_SKIP() << "chromium is not installed (scripts/test.sh installs it; or set "
+                    "UAVIP_CHROMIUM): no browser test";
+  const auto motion = referenceMotion(fleet);
+  const double makespan = fleet["makespan_s"].get<double>();
+  // Brute force: the least distance between two airborne UAVs at samples 0.02 s apart,
+  // as a running minimum; relative speed ≤ 2 × the fastest (cruise, climb, descent) axis
+  // combination, so the exact minimum is at most that × 0.01 s below a sample's.
+  const double dt = 0.02;
+  const auto& m = fleet["model"];
+  const double vmax = std::hypot(
+      m["cruise_speed_m_s"].get<double>(),
+      std::max(m["climb_speed_m_s"].get<double>(), m["descent_speed_m_s"].get<double>()));
+  std::vector<double> running;  // running[i]: least up to i·dt
+  double least = std::numeric_limits<double>::infinity();
+  for (double t = 0.0; t <= makespan + dt; t += dt) {
+    std::vector<std::optional<Vec3>> at;
+    at.reserve(motion.size());
+    for (const auto& mo : motion) at.push_back(referenceAt(mo, t));
+    for (std::size_t a = 0; a < at.size(); ++a)
+      for (std::size_t b = a + 1; b < at.size(); ++b)
+        if (at[a] && at[b]) least = std::min(least, (*at[a] - *at[b]).norm());
+    running.push_back(least);
+  }
+  // 0.1 s before the planner's closest approach: the least so far lies inside a span of
+  // two pieces still going on (the page clips it at t).
+  const double before_closest = (fleet["closest_approach"]["at_s"].get<double>() - 0.1) / makespan;
+  for (const double f : {0.137, 0.41, 0.77, before_closest, 1.0}) {
+    const double t = f * makespan;
+    const std::string dom =
+        browse(cube / "mission.html", "#view=top&t=" + std::to_string(t), "--dump-dom");
+    ASSERT_NE(dom.find("<title>ready</title>"), std::string::npos) << dom.substr(0, 400);
+    const double page_t = std::stod(stateAttribute(dom, "data-fleet-t"));
+    EXPECT_NEAR(page_t, t, 1e-3);
+    // Each UAV where the schedule has it, airborne or on the ground.
+    std::istringstream rows(stateAttribute(dom, "data-fleet-positions"));
+    std::string row;
+    std::size_t u = 0;
+    for (; std::getline(rows, row, ';'); ++u) {
+      const std::vector<double> v = numbers(row);
+      ASSERT_EQ(v.size(), 5u) << row;
+      ASSERT_LT(u, motion.size());
+      EXPECT_EQ(static_cast<std::size_t>(v[0]), u + 1);
+      const auto ref = referenceAt(motion[u], page_t);
+      EXPECT_EQ(v[4] == 1.0, ref.has_value()) << "uav " << u + 1 << " at t = " << page_t;
+      if (ref) {
+        EXPECT_LT((Vec3(v[1], v[2], v[3]) - *ref).norm(), 2e-3)
+            << "uav " << u + 1 << " at t = " << page_t;
+      }
+    }
+    EXPECT_EQ(u, motion.size());
+    // The closest approach so far: no sample closer, none more than the sampling
+    // error above; the two UAVs it names are that far apart at the time it names.
+    const std::vector<double> c = numbers(stateAttribute(dom, "data-fleet-closest"));
+    const std::size_t i = std::min(static_cast<std::size_t>(page_t / dt), running.size() - 1);
+    if (!std::isfinite(running[i])) {
+      EXPECT_EQ(stateAttribute(dom, "data-fleet-closest"), "none");
+      continue;
+    }
+    ASSERT_EQ(c.size(), 4u) << stateAttribute(dom, "data-fleet-closest");
+    std::cout << "t = " << page_t << " s: closest " << c[0] << " m (uav " << c[1] << ", uav "
+              << c[2] << ", t = " << c[3] << " s); sampled " << running[i] << " m\n";
+    EXPECT_LE(c[0], running[i] + 1e-6);
+    EXPECT_GE(c[0], running[i] - 2.0 * vmax * dt);
+    EXPECT_LE(c[3], page_t + 1e-3);
+    const auto pa = referenceAt(motion.at(static_cast<std::size_t>(c[1]) - 1), c[3]);
+    const auto pb = referenceAt(motion.at(static_cast<std::size_t>(c[2]) - 1), c[3]);
+    ASSERT_TRUE(pa && pb) << "the closest pair is airborne at its time";
+    EXPECT_NEAR((*pa - *pb).norm(), c[0], 2e-3);
+    if (f >= 1.0) {  // the whole schedule: the planner's own closest approach
+      EXPECT_NEAR(c[0], fleet["closest_approach"]["nominal_m"].get<double>(), 1e-3);
+    }
+  }
+}
+
+// K = 1 (or a mission without a fleet block): the page's data is a single UAV's.
+TEST_F(MissionPageCli, OneUavPageHasNoFleet) {
+  ASSERT_EQ(run_.code, 0) << run_.out;
+  const fs::path one = dir_ / "cube_one";
+  const Result r = uavip("run " + std::string(UAVIP_SOURCE_DIR) +
+                         "/scenarios/single_cube.yaml --uavs 1 -q -o " + one.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json a = block(slurp(one / "mission.html"), "uavip-data"),
+                       b = block(slurp(out() / "mission.html"), "uavip-data");
+  EXPECT_FALSE(a.contains("fleet"));
+  EXPECT_EQ(a, b);
 }
 
 }  // namespace

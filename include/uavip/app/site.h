@@ -125,6 +125,14 @@ struct SectionSummary {
   bool joined{false};  ///< read from plan-section's result, not planned by the merge
   /// The smallest distance of each sortie to any input point [m] (infinity: none read).
   std::vector<double> min_clearance_to_input_m;
+  /// A fleet (merge --uavs K, K > 1): each UAV's flight over the section, its makespan
+  /// and the single UAV's [s] (the section is flown by the fleet before the next one).
+  std::vector<planning::FlightPlan> uav_flights;
+  int uavs{1};
+  double makespan_s{0.0};
+  double single_uav_s{0.0};
+  /// Of each UAV's sorties, as min_clearance_to_input_m [m].
+  std::vector<std::vector<double>> uav_min_clearance_to_input_m;
 };
 
 /// What stays of a planned section.
@@ -136,11 +144,12 @@ struct SectionKey {
   std::string config_sha256;    ///< of the config file used; empty for the defaults
   int section_tiles{0};         ///< SiteOptions::section_tiles as given (0: chosen)
   bool views{true};             ///< the section's views were drawn
+  int uavs{1};                  ///< the fleet's UAVs (fleet.uavs, merge --uavs)
 };
 
 /// The key of `manifest` planned with the config file `config_path` (empty: defaults).
 SectionKey sectionKey(const tiling::Manifest& manifest, const std::string& config_path,
-                      int section_tiles, bool views);
+                      int section_tiles, bool views, int uavs = 1);
 
 /// The record of a section's result, written after its other files (their presence
 /// without it is no result).

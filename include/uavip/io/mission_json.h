@@ -150,6 +150,11 @@ struct FleetRecord {
   std::vector<FleetUavRecord> uavs;
 };
 
+/// Every UAV's motion recomputed from the recorded waypoints, photo stops, take-off
+/// times and flight model (planning::sortieMotion over its sorties): what `validate`
+/// checks and what the mission page replays.
+std::vector<std::vector<planning::MotionPiece>> recordedFleetMotion(const FleetRecord& fleet);
+
 /// A mission.json read back.
 struct MissionRecord {
   double inflation_radius_m{std::numeric_limits<double>::quiet_NaN()};  ///< NaN when absent [m]

@@ -8,7 +8,12 @@
 ///  - the surfaces' boundaries with id and mission status;
 ///  - every photo stop (position, yaw, gimbal pitch, surface, index, target);
 ///  - the flight per sortie (or each surface's own path without a flight), resampled
-///    along its segments with the clearance to the nearest cloud point at each sample.
+///    along its segments with the clearance to the nearest cloud point at each sample;
+///  - with a fleet of two or more UAVs (mission.json `fleet`): each UAV's sorties in its
+///    colour, and each UAV's motion (io::recordedFleetMotion) for the time slider, which
+///    shows every UAV at the slider's time and the exact closest approach between two
+///    airborne UAVs so far (docs/fleet.md, "The 3D page"). Hash `t=SECONDS` sets it; the
+///    state has data-fleet-t, data-fleet-positions and data-fleet-closest.
 /// Positions are quantised to 16 bits per axis over the box of everything drawn
 /// (bridge: 1.5 mm a step over 100 m) and inlined as base64, never as JSON numbers.
 /// A JSON block `<script type="application/json" id="uavip-summary">` holds the counts
@@ -38,6 +43,7 @@
 
 #include "uavip/core/types.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/types.h"
 
 namespace uavip::view {
@@ -67,9 +73,11 @@ std::string missionPage(const Scene& scene, const nlohmann::json* mission,
                         const std::string& mission_path = "mission.json");
 
 /// The page for the planner's results, as `run` and `plan` write them (the mission is
-/// the document mission.json holds). `flight` may be null (no ordered flight).
+/// the document mission.json holds). `flight` may be null (no ordered flight), and so
+/// may `fleet` (a single UAV).
 std::string missionPage(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
-                        const planning::FlightPlan* flight, const MissionPageOptions& options = {});
+                        const planning::FlightPlan* flight, const MissionPageOptions& options = {},
+                        const planning::FleetPlan* fleet = nullptr);
 
 /// The three.js r111 library text compiled into the binary (three.min.js followed by
 /// examples/js/controls/OrbitControls.js), for tests.

@@ -26,6 +26,7 @@
 #include "uavip/core/types.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/planning/fleet_types.h"
 #include "uavip/planning/types.h"
 #include "uavip/render/figure.h"
 
@@ -80,9 +81,12 @@ struct ViewFiles {
 
 /// Renders the four views. Reads its arguments only, so it may run on a thread of
 /// its own while the caller writes the scene and the mission.
+/// With a fleet of several UAVs, mission.html draws each UAV's sorties in its colour and
+/// replays the fleet's schedule (view/mission_page.h).
 ViewFiles renderViews(const Scene& scene, const std::vector<planning::SurfaceMission>& missions,
                       const OverviewOptions& options = {},
-                      const planning::FlightPlan* flight = nullptr);
+                      const planning::FlightPlan* flight = nullptr,
+                      const planning::FleetPlan* fleet = nullptr);
 
 /// Stages rendered views as out_dir/scene.ply, path.obj, overview.png and mission.html.
 void stageViews(io::StagedOutputs& outputs, const std::string& out_dir, const ViewFiles& views);
