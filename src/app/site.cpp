@@ -513,8 +513,7 @@ std::vector<std::vector<double>> clearanceToCloud(
       });
   if (origin) *origin = info.read.origin_m;
   if (points) *points = info.points;
-  if (info.points > 0)
-    remeasureFar(input, read, frame_m, flights, cutoff_m, chunk_points, clear);
+  if (info.points > 0) remeasureFar(input, read, frame_m, flights, cutoff_m, chunk_points, clear);
   return clear;
 }
 

@@ -73,8 +73,8 @@ void removeStaleTemporaries(const std::string& path) {
     for (const std::string& name : at->second) {
       if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
       const std::string digits = name.substr(prefix.size());
-      if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(),
-                                            [](char c) { return c >= '0' && c <= '9'; }))
+      if (digits.size() > 9 ||
+          !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
         continue;
       const pid_t pid = static_cast<pid_t>(std::stol(digits));
       if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(name);

@@ -219,9 +219,9 @@ bool streamBlobChunks(const std::string& path, const std::string& ext, std::size
 /// (a LAS file recentred by its header, then input.scale), in chunks to `sink`.
 /// Returns the LAS header information for LAS files (nullopt otherwise).
 /// `on_las_header`, if set, sees a LAS file's header (its origin_m) before the first chunk.
-std::optional<LasCloud> readChunks(
-    const std::string& path, const CloudReadOptions& options, std::size_t chunk_points,
-    const CloudChunkSink& sink, const std::function<void(const LasCloud&)>& on_las_header = {}) {
+std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptions& options,
+                                   std::size_t chunk_points, const CloudChunkSink& sink,
+                                   const std::function<void(const LasCloud&)>& on_las_header = {}) {
   const std::string ext = lowerExtension(path);
   PointList chunk;
   chunk.reserve(chunk_points);
@@ -241,11 +241,12 @@ std::optional<LasCloud> readChunks(
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
-    las = streamLas(path, las_options,
-                    [&](const PointList& points, const std::vector<std::uint8_t>&) {
-                      for (const Vec3& p : points) add(p);
-                    },
-                    on_las_header);
+    las = streamLas(
+        path, las_options,
+        [&](const PointList& points, const std::vector<std::uint8_t>&) {
+          for (const Vec3& p : points) add(p);
+        },
+        on_las_header);
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the file, check its permissions");
@@ -279,8 +280,7 @@ bool streamsInBoundedMemory(const std::string& path) {
     std::error_code ec;
     const std::uint64_t size = std::filesystem::file_size(path, ec);
     try {
-      return in && !ec &&
-             (ext == ".pcd" ? pcdStreams(path, in, size) : plyStreams(path, in, size));
+      return in && !ec && (ext == ".pcd" ? pcdStreams(path, in, size) : plyStreams(path, in, size));
     } catch (const InputError&) {
       return false;
     }

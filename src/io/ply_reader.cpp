@@ -57,12 +57,12 @@ struct PlyElement {
 struct PlyHeader {
   std::string format;
   std::uint64_t vertices{0};
-  std::vector<PlyProperty> vertex;    ///< the vertex element's properties, in order
-  std::vector<PlyElement> elements;   ///< every element, in order
-  bool vertex_first{false};           ///< the vertex element is the first element
-  bool lists{false};                  ///< the vertex element has a list property
-  bool grid{false};                   ///< an `obj_info num_rows` other than 1 (a sensor frame)
-  std::uint64_t body{0};              ///< offset of the first element's data [bytes]
+  std::vector<PlyProperty> vertex;   ///< the vertex element's properties, in order
+  std::vector<PlyElement> elements;  ///< every element, in order
+  bool vertex_first{false};          ///< the vertex element is the first element
+  bool lists{false};                 ///< the vertex element has a list property
+  bool grid{false};                  ///< an `obj_info num_rows` other than 1 (a sensor frame)
+  std::uint64_t body{0};             ///< offset of the first element's data [bytes]
 };
 
 /// PLY header: a vertex element with x y z, known property types, and no more
@@ -119,8 +119,7 @@ PlyHeader checkPlyHeader(const std::string& path, std::istream& in, std::uint64_
   if (!ended) throw InputError(path + ": PLY header has no end_header within 256 lines");
   if (!vertices || xyz < 3)
     throw InputError(path + ": PLY file has no vertex element with x y z properties");
-  if (h.format != "ascii" && h.format != "binary_little_endian" &&
-      h.format != "binary_big_endian")
+  if (h.format != "ascii" && h.format != "binary_little_endian" && h.format != "binary_big_endian")
     throw InputError(
         path + ": PLY format must be ascii, binary_little_endian or binary_big_endian, got '" +
         h.format + "'");

@@ -240,8 +240,8 @@ TEST_F(SiteTest, IndexedClearanceEqualsBruteForceNearAndFar) {
     std::uint64_t points = 0;
     Vec3 origin = Vec3::Constant(1.0);
     const auto clear =
-        app::clearanceToCloud(p("site.xyz"), config_.input, flights, std::abs(cutoff), 500,
-                              &origin, &points, cutoff < 0.0 ? &frame : nullptr);
+        app::clearanceToCloud(p("site.xyz"), config_.input, flights, std::abs(cutoff), 500, &origin,
+                              &points, cutoff < 0.0 ? &frame : nullptr);
     EXPECT_EQ(points, read.size());
     EXPECT_EQ(origin, Vec3::Zero());
     ASSERT_EQ(clear.size(), 2U);

@@ -67,7 +67,8 @@ std::string hostInName() {
 
 TEST(StagedOutputs, AStaleTemporaryOfADeadProcessIsRemovedWhenItsTargetIsWritten) {
   // A folder this process has not written in yet (each folder is looked at once).
-  const fs::path dir = fs::temp_directory_path() / ("uavip_staged_stale_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("uavip_staged_stale_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "b.txt") << "old b";

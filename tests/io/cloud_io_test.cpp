@@ -406,8 +406,8 @@ TEST(CloudIoPly, StreamedAsLoadedChunkByChunk) {
   ASSERT_EQ(pcl::io::savePLYFileBinary(at("o.ply"), organized), 0);
   for (const std::string& f : {at("a.ply"), at("b.ply"), at("o.ply")}) {
     const PointList whole = loadCloud(f);
-    EXPECT_EQ(whole.size(), f == at("o.ply") ? organized.size() - (organized.size() + 3) / 5
-                                             : flat.size())
+    EXPECT_EQ(whole.size(),
+              f == at("o.ply") ? organized.size() - (organized.size() + 3) / 5 : flat.size())
         << f;
     for (const std::size_t chunk : {std::size_t{1}, std::size_t{777}, std::size_t{1} << 20})
       EXPECT_EQ(streamed(f, chunk), whole) << f << ", chunks of " << chunk;

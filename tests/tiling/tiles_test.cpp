@@ -99,12 +99,12 @@ TEST(StreamCloud, InAKnownFrameOnePassGivesTheTwoPassPoints) {
   const fs::path d = tempDir("frame");
   writeCloud(d / "far.xyz", 5000, Vec3(500100.0, 5400200.0, 30.0), Vec3(80.0, 40.0, 10.0), 3);
   writeCloud(d / "near.xyz", 3000, Vec3(-5.0, 2.0, 0.0), Vec3(30.0, 20.0, 5.0), 4);
-  for (const std::string& f :
-       {(d / "far.xyz").string(), (d / "near.xyz").string(),
-        std::string(UAVIP_SOURCE_DIR) + "/tests/data/autzen_trim.las"}) {
+  for (const std::string& f : {(d / "far.xyz").string(), (d / "near.xyz").string(),
+                               std::string(UAVIP_SOURCE_DIR) + "/tests/data/autzen_trim.las"}) {
     PointList two;
-    const io::CloudStreamInfo two_info = io::streamCloud(
-        f, {}, 333, [&](const PointList& chunk) { two.insert(two.end(), chunk.begin(), chunk.end()); });
+    const io::CloudStreamInfo two_info = io::streamCloud(f, {}, 333, [&](const PointList& chunk) {
+      two.insert(two.end(), chunk.begin(), chunk.end());
+    });
     io::CloudStreamInfo info;
     const PointList one = streamedInFrame(f, two_info.read.origin_m, &info);
     EXPECT_EQ(one, two) << f;  // bit for bit
