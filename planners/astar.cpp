@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <future>
 #include <iterator>
 #include <limits>
@@ -88,13 +89,16 @@ class ZeroedArray {
 
 /// Dense scratch reused across searches; `stamp` tells which entries are current,
 /// so a search touches only the voxels it reaches (no O(grid) reset). A voxel's
-/// g-score, stamp and parent share one 16-byte cell: one cache line per visit.
+/// g-score, stamp (24 bits) and parent (8 bits) share one 12-byte cell (4-byte
+/// aligned: the g-score's 8 bytes copied in and out), a quarter less memory than a
+/// 16-byte aligned one for the pages a long search faults in.
 struct DenseStore {
   struct Cell {
-    double g;
-    std::uint32_t stamp;
-    std::uint8_t parent;  // bit 7: closed; low bits: move index
+    std::uint32_t g[2];  ///< the g-score's bytes
+    std::uint32_t tag;   ///< stamp << 8 | parent (bit 7: closed; low bits: move index)
   };
+  static_assert(sizeof(Cell) == 12, "a 12-byte cell");
+  static constexpr std::uint32_t kStamps = std::uint32_t{1} << 24;
   ZeroedArray<Cell> cells;
   std::uint32_t current{0};
 
@@ -104,19 +108,23 @@ struct DenseStore {
       cells.reset(n);
       current = 0;
     }
-    if (++current == 0) {  // wrapped: clear once
+    if (++current == kStamps) {  // wrapped: clear once
       cells.reset(n);
       current = 1;
     }
   }
   NodeState get(std::size_t i) const {
     const Cell& c = cells[i];
-    if (c.stamp != current) return {};
-    const auto bits = static_cast<std::uint8_t>(c.parent & 0x7F);
-    return {c.g, bits == 0x7F ? kNoParent : bits, (c.parent & 0x80) != 0};
+    if ((c.tag >> 8) != current) return {};
+    double g = 0.0;
+    std::memcpy(&g, c.g, sizeof g);
+    const auto bits = static_cast<std::uint8_t>(c.tag & 0x7F);
+    return {g, bits == 0x7F ? kNoParent : bits, (c.tag & 0x80) != 0};
   }
   void set(std::size_t i, const NodeState& s) {
-    cells[i] = {s.g, current, static_cast<std::uint8_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0))};
+    Cell& c = cells[i];
+    std::memcpy(c.g, &s.g, sizeof s.g);
+    c.tag = current << 8 | static_cast<std::uint32_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0));
   }
 };
 

@@ -9,9 +9,10 @@
 # checks that the run failed, that nothing partial is taken as done, and that the
 # failure names the index and the command to rerun it; then runs that command and
 # checks that the merged site equals CLEAN_OUT (every file but the timings).
-#  1. a tile task killed with SIGKILL in the middle of writing its results;
+#  1. a tile task killed with SIGKILL in the middle of writing its results (its
+#     temporaries left, then removed by the rerun);
 #  2. a section task failing;
-#  3. the merge killed in the middle of writing the site;
+#  3. the merge killed in the middle of writing the site (temporaries as in 1);
 #  4. results left from another manifest: a tile's (stale sha256 of its cloud) and a
 #     section's (stale sha256 of the manifest);
 #  5. a tile run twice at once (two tasks of one index).
@@ -62,9 +63,11 @@ if UAVIP_TEST_FAULT="run-tile 2:kill-mid-write" submit -o "$T/f1" --array 2 >"$L
 ls "$T/tile_0002"/* >/dev/null 2>&1 || fail "1: the kill came before any write (no partial output to test)"
 [[ ! -e $T/f1 ]] || fail "1: a merged site after the kill"
 expect_failure "$LOGS/1" "tile(s) 2 failed" "--array 2"
+ls -A "$T/tile_0002" | grep -q '\.tmp' || fail "1: the kill left no temporary (nothing to clean up)"
 if "$UAVIP" -q merge "$M" -o "$T/f1" --section-tiles "$K" --require-sections 2>"$LOGS/1m"; then fail "1: merge took the partial tile"; fi
 expect_failure "$LOGS/1m" "section(s) $S2" "plan-section"
 eval "$(rerun_of "$LOGS/1")" >"$LOGS/1r" 2>&1 || { cat "$LOGS/1r" >&2; fail "1: the rerun failed"; }
+! ls -A "$T/tile_0002" | grep '\.tmp' || fail "1: the killed task's temporaries are left after the rerun"
 same_site "$T/f1"
 say "1 tile killed mid-write: $(grep -o 'tile(s) 2 failed[^;]*' "$LOGS/1" | head -n 1); rerun equal ($(($(date +%s) - t0)) s)"
 
@@ -89,7 +92,9 @@ if UAVIP_TEST_FAULT="merge:kill-mid-write" submit -o "$T/f3" --merge-only >"$LOG
 [[ -d $T/f3 ]] && ls -A "$T/f3" | grep -q . || fail "3: the kill came before any write"
 [[ ! -f $T/f3/site.json && ! -f $T/f3/mission.json ]] || fail "3: the killed merge left its mark of a complete site"
 expect_failure "$LOGS/3" "the merge ended" "--merge-only"
+ls -A "$T/f3" | grep -q '\.tmp' || fail "3: the kill left no temporary (nothing to clean up)"
 eval "$(rerun_of "$LOGS/3")" >"$LOGS/3r" 2>&1 || { cat "$LOGS/3r" >&2; fail "3: the rerun failed"; }
+! find "$T/f3" -name '*.tmp*' | grep . || fail "3: the killed merge's temporaries are left after the rerun"
 same_site "$T/f3"
 say "3 merge killed mid-write: $(grep -o 'the merge ended [A-Z_]*' "$LOGS/3"); rerun equal ($(($(date +%s) - t0)) s)"
 

@@ -201,8 +201,9 @@ std::uint64_t checkAgainstInput(const tiling::Manifest& m, std::vector<SectionSu
   std::uint64_t points = 0;
   // A sortie's nearest point is nearly always within the tile buffer (its stops fly
   // the standoff out); farther ones are measured in a second pass.
+  // One reading pass in the manifest's frame (checked below).
   auto clear = clearanceToCloud(m.input, m.read, flights, std::max(10.0, m.buffer_m),
-                                kSiteStreamChunk, &origin, &points);
+                                kSiteStreamChunk, &origin, &points, &m.source_offset_m);
   std::size_t next = sections.size();
   for (std::size_t i = 0; i < sections.size(); ++i) {
     sections[i].min_clearance_to_input_m = std::move(clear[i]);
@@ -487,9 +488,18 @@ struct LegGrid {
   }
 };
 
+/// The input's points in chunks: in one pass in the frame `frame_m` when given
+/// (io::streamCloudInFrame), else in loadCloud's frame (io::streamCloud, two passes).
+io::CloudStreamInfo streamInput(const std::string& input, const io::CloudReadOptions& read,
+                                const Vec3* frame_m, std::size_t chunk_points,
+                                const io::CloudChunkSink& sink) {
+  if (frame_m) return io::streamCloudInFrame(input, read, *frame_m, chunk_points, sink);
+  return io::streamCloud(input, read, chunk_points, sink);
+}
+
 /// The sorties with no point within the cutoff (clearance above it) measured again
 /// against every point, their whole path per chunk.
-void remeasureFar(const std::string& input, const io::CloudReadOptions& read,
+void remeasureFar(const std::string& input, const io::CloudReadOptions& read, const Vec3* frame_m,
                   const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
                   std::size_t chunk_points, std::vector<std::vector<double>>& clear) {
   std::vector<std::pair<std::size_t, std::size_t>> far;
@@ -499,7 +509,7 @@ void remeasureFar(const std::string& input, const io::CloudReadOptions& read,
         far.emplace_back(f, s);
   if (far.empty()) return;
   for (const auto& [f, s] : far) clear[f][s] = kInfinity;
-  io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
+  streamInput(input, read, frame_m, chunk_points, [&](const PointList& chunk_cloud) {
     const planning::PathValidator validator(chunk_cloud, cutoff_m);
     for (const auto& [f, s] : far)
       clear[f][s] = std::min(clear[f][s],
@@ -512,7 +522,7 @@ void remeasureFar(const std::string& input, const io::CloudReadOptions& read,
 std::vector<std::vector<double>> clearanceToCloud(
     const std::string& input, const io::CloudReadOptions& read,
     const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
-    std::size_t chunk_points, Vec3* origin, std::uint64_t* points) {
+    std::size_t chunk_points, Vec3* origin, std::uint64_t* points, const Vec3* frame_m) {
   std::vector<std::vector<double>> clear(flights.size());
   std::vector<Leg> legs;
   for (std::size_t f = 0; f < flights.size(); ++f) {
@@ -528,7 +538,7 @@ std::vector<std::vector<double>> clearanceToCloud(
   std::vector<std::uint64_t> cell_seen(grid.cells(), 0), leg_seen(legs.size(), 0);
   std::uint64_t chunk = 0;
   const io::CloudStreamInfo info =
-      io::streamCloud(input, read, chunk_points, [&](const PointList& chunk_cloud) {
+      streamInput(input, read, frame_m, chunk_points, [&](const PointList& chunk_cloud) {
         ++chunk;
         PointList near;  // the chunk's points in cells with a leg, and those legs
         std::vector<std::uint32_t> touched;
@@ -559,7 +569,7 @@ std::vector<std::vector<double>> clearanceToCloud(
       });
   if (origin) *origin = info.read.origin_m;
   if (points) *points = info.points;
-  if (info.points > 0) remeasureFar(input, read, flights, cutoff_m, chunk_points, clear);
+  if (info.points > 0) remeasureFar(input, read, frame_m, flights, cutoff_m, chunk_points, clear);
   return clear;
 }
 

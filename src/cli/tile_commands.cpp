@@ -64,8 +64,8 @@ int tileCommand(const std::string& cloud, double tile_size, std::optional<double
         << m.input_points << " points, largest tile " << largest << " points (core + buffer)"
         << (io::streamsInBoundedMemory(cloud)
                 ? ""
-                : "; note: PLY, compressed PCD and meshes are read whole; LAS, text and other PCD "
-                  "are streamed")
+                : "; note: compressed PCD, big-endian PLY and meshes are read whole; LAS, text, "
+                  "other PCD and PLY are streamed")
         << "\n";
     std::cout << "time: " << formatFixed(secondsSince(t0), 2) << " s\n";
     std::cout << "results: " << pathIn(out, "manifest.json") << "\n";

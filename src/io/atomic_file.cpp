@@ -1,12 +1,20 @@
 #include "uavip/io/atomic_file.h"
 
+#include <signal.h>
+#include <sys/types.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "uavip/core/error.h"
 #include "uavip/core/test_fault.h"
@@ -24,9 +32,8 @@ void replaceFileAtomic(const std::string& path,
 
 namespace {
 
-/// The host and process in the name: two tasks of one array index on two nodes of a
-/// shared file system (a task run twice) never write one temporary.
-std::string temporaryFor(const std::string& path) {
+/// This host's name as temporaries carry it ('/' and '.' made '-'), then '-'.
+const std::string& hostTag() {
   static const std::string host = [] {
     char name[256] = {};
     if (::gethostname(name, sizeof name - 1) != 0) return std::string();
@@ -35,7 +42,46 @@ std::string temporaryFor(const std::string& path) {
       if (c == '/' || c == '.') c = '-';
     return h + "-";
   }();
-  return path + ".tmp" + host + std::to_string(::getpid());
+  return host;
+}
+
+/// The host and process in the name: two tasks of one array index on two nodes of a
+/// shared file system (a task run twice) never write one temporary.
+std::string temporaryFor(const std::string& path) {
+  return path + ".tmp" + hostTag() + std::to_string(::getpid());
+}
+
+/// Removes the temporaries of `path` (temporaryFor) that a process of this host no
+/// longer alive left behind (killed mid-write: SIGKILL, a node's OOM killer); those of
+/// a live process, or of another host, stay. Each folder is listed once a process
+/// (what is stale was left before it started), so staging n files costs O(n).
+void removeStaleTemporaries(const std::string& path) {
+  static std::mutex mutex;
+  static std::map<std::string, std::vector<std::string>> listed;  // folder: this host's temporaries
+  const fs::path target(path);
+  const std::string dir = target.has_parent_path() ? target.parent_path().string() : ".";
+  const std::string prefix = target.filename().string() + ".tmp" + hostTag();
+  std::vector<std::string> stale;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto [at, fresh] = listed.try_emplace(dir);
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; fresh && !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.find(".tmp" + hostTag()) != std::string::npos) at->second.push_back(name);
+    }
+    for (const std::string& name : at->second) {
+      if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+      const std::string digits = name.substr(prefix.size());
+      if (digits.size() > 9 ||
+          !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        continue;
+      const pid_t pid = static_cast<pid_t>(std::stol(digits));
+      if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(name);
+    }
+  }
+  std::error_code ec;
+  for (const std::string& name : stale) fs::remove(fs::path(dir) / name, ec);
 }
 
 /// Writes `text` to `file`; messages name `path`, the file the user asked for.
@@ -71,6 +117,7 @@ StagedOutputs::~StagedOutputs() {
 void StagedOutputs::writeWith(const std::string& path,
                               const std::function<void(const std::string&)>& write) {
   prepareTarget(path);
+  removeStaleTemporaries(path);
   const std::string tmp = temporaryFor(path);
   staged_.emplace_back(tmp, path);  // removed by the destructor unless committed
   write(tmp);

@@ -51,6 +51,17 @@ bool pcdStreams(const std::string& path, std::istream& in, std::uint64_t file_si
 /// malformed headers); `in` and `file_size` as for readPcd.
 pcl::PCLPointCloud2 readPly(const std::string& path, std::istream& in, std::uint64_t file_size);
 
+/// The points of a PLY file (as fromBlob of readPly gives them), read `chunk_points`
+/// vertices at a time and handed to `sink` in file order; false, having read only the
+/// header, when the file is not streamed (plyStreams).
+bool streamPly(const std::string& path, std::istream& in, std::uint64_t file_size,
+               std::size_t chunk_points, const std::function<void(const PointList&)>& sink);
+
+/// True when the PLY file's header (checked) lets streamPly stream it: ascii or
+/// binary_little_endian, the vertex element first and of scalar properties only, not a
+/// sensor frame (`obj_info num_rows` above 1). Others are read whole (readPly).
+bool plyStreams(const std::string& path, std::istream& in, std::uint64_t file_size);
+
 /// A header count: a whole number >= 0 (no sign, no fraction), else InputError
 /// naming the file, the key and the text.
 std::uint64_t headerCount(const std::string& path, const std::string& key, const std::string& text);

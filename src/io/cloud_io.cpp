@@ -202,22 +202,26 @@ PointList loadCloud(const std::string& path, const CloudReadOptions& options, Cl
 
 namespace {
 
-/// An ascii or binary PCD file streamed to `sink` (false for binary_compressed).
-bool streamPcdChunks(const std::string& path, std::size_t chunk_points,
-                     const std::function<void(const PointList&)>& sink) {
+/// An ascii or binary PCD file, or an ascii or binary_little_endian PLY one (of
+/// points), streamed to `sink`; false for the others (read whole).
+bool streamBlobChunks(const std::string& path, const std::string& ext, std::size_t chunk_points,
+                      const std::function<void(const PointList&)>& sink) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read (permission?)");
   std::error_code ec;
   const std::uint64_t size = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
-  return streamPcd(path, in, size, chunk_points, sink);
+  if (ext == ".pcd") return streamPcd(path, in, size, chunk_points, sink);
+  return streamPly(path, in, size, chunk_points, sink);
 }
 
 /// One pass over the cloud in the frame loadCloud gives before its own recentring
 /// (a LAS file recentred by its header, then input.scale), in chunks to `sink`.
 /// Returns the LAS header information for LAS files (nullopt otherwise).
+/// `on_las_header`, if set, sees a LAS file's header (its origin_m) before the first chunk.
 std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptions& options,
-                                   std::size_t chunk_points, const CloudChunkSink& sink) {
+                                   std::size_t chunk_points, const CloudChunkSink& sink,
+                                   const std::function<void(const LasCloud&)>& on_las_header = {}) {
   const std::string ext = lowerExtension(path);
   PointList chunk;
   chunk.reserve(chunk_points);
@@ -237,10 +241,12 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
   if (ext == ".las" || ext == ".laz") {
     LasOptions las_options;
     las_options.drop_classes = options.drop_classes;
-    las = streamLas(path, las_options,
-                    [&](const PointList& points, const std::vector<std::uint8_t>&) {
-                      for (const Vec3& p : points) add(p);
-                    });
+    las = streamLas(
+        path, las_options,
+        [&](const PointList& points, const std::vector<std::uint8_t>&) {
+          for (const Vec3& p : points) add(p);
+        },
+        on_las_header);
   } else if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open the file, check its permissions");
@@ -249,12 +255,14 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
     // A mesh is sampled whole, then handed on in chunks.
     scale = 1.0;
     for (const Vec3& p : readMeshPoints(path, options, nullptr)) add(p);
-  } else if (ext == ".pcd" && streamPcdChunks(path, chunk_points, [&](const PointList& points) {
+  } else if ((ext == ".pcd" || ext == ".ply") &&
+             streamBlobChunks(path, ext, chunk_points, [&](const PointList& points) {
                for (const Vec3& p : points) add(p);
              })) {
-    // ascii and binary PCD: streamed
+    // ascii and binary PCD, ascii and binary_little_endian PLY: streamed
   } else if (ext == ".pcd" || ext == ".ply") {
-    // PLY and binary_compressed PCD are read whole (PCL's blob), then handed on in chunks.
+    // binary_compressed PCD (one LZF block) and the other PLY files are read whole
+    // (PCL's blob), then handed on in chunks.
     for (const Vec3& p : fromBlob(readBlob(path, ext), path)) add(p);
   } else {
     unknownExtension(path, ext);
@@ -267,18 +275,82 @@ std::optional<LasCloud> readChunks(const std::string& path, const CloudReadOptio
 
 bool streamsInBoundedMemory(const std::string& path) {
   const std::string ext = lowerExtension(path);
-  if (ext == ".pcd") {  // all but binary_compressed (the header alone is read)
+  if (ext == ".pcd" || (ext == ".ply" && !isMeshFile(path))) {  // the header alone is read
     std::ifstream in(path, std::ios::binary);
     std::error_code ec;
     const std::uint64_t size = std::filesystem::file_size(path, ec);
     try {
-      return in && !ec && pcdStreams(path, in, size);
+      return in && !ec && (ext == ".pcd" ? pcdStreams(path, in, size) : plyStreams(path, in, size));
     } catch (const InputError&) {
       return false;
     }
   }
   return ext == ".las" || ext == ".xyz" || ext == ".txt" || ext == ".csv";
 }
+
+namespace {
+
+/// The bounds of the points seen, in the frame readChunks hands them (before the
+/// recentring), each point checked against kMaxCoordinateM.
+struct BoundsCheck {
+  const std::string& path;
+  Vec3 lo{Vec3::Constant(std::numeric_limits<double>::infinity())}, hi{-lo};
+  std::uint64_t points{0};
+  void add(const PointList& chunk) {
+    for (const Vec3& p : chunk) {
+      if (p.cwiseAbs().maxCoeff() > kMaxCoordinateM)
+        throw InputError(path + ": point " + formatRawPoint(p) + " lies beyond " +
+                         formatNumber(kMaxCoordinateM / 1e3) +
+                         " km of the origin; remove it or fix input.scale");
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    points += chunk.size();
+  }
+  /// The stream's info (loadCloud's frame) once every point is seen: refuses an empty
+  /// or too wide cloud; `shift` gets the recentring beyond a LAS file's own.
+  CloudStreamInfo finish(const CloudReadOptions& options, const std::optional<LasCloud>& las,
+                         Vec3& shift) const {
+    if (points == 0)
+      throw InputError(path + (las ? ": no point is left after drop_classes; drop fewer classes"
+                                   : ": the cloud has no points"));
+    if ((hi - lo).maxCoeff() > kMaxCloudExtentM)
+      throw InputError(path + ": the cloud spans " + formatNumber((hi - lo).maxCoeff() / 1e3, 4) +
+                       " km, wider than " + formatNumber(kMaxCloudExtentM / 1e3) +
+                       " km: it is not in metres (set input.scale) or holds a stray point");
+    CloudStreamInfo info;
+    info.points = points;
+    Vec3 origin = las ? Vec3(las->origin_m * options.scale) : Vec3::Zero();
+    shift = farFromOrigin(lo, hi) ? recentringOrigin(lo, hi) : Vec3::Zero();
+    origin += shift;
+    info.read.origin_m = origin;
+    info.min = lo - shift;
+    info.max = hi - shift;
+    if (las) {
+      info.crs_unit = las->unit_name + " (" + las->unit_source + ")";
+      info.read.crs = las->crs;
+      info.read.crs_source = las->crs_source;
+      info.read.note = path + ": LAS " + std::to_string(las->version_major) + "." +
+                       std::to_string(las->version_minor) + ", " +
+                       std::to_string(las->points_in_file) + " points, " +
+                       std::to_string(las->dropped) + " dropped by input.drop_classes";
+    }
+    return info;
+  }
+};
+
+/// `points` less `shift` to `sink` (as they are when `shift` is zero).
+void handShifted(const PointList& points, const Vec3& shift, const CloudChunkSink& sink) {
+  if (shift == Vec3::Zero()) {
+    sink(points);
+    return;
+  }
+  PointList shifted = points;
+  for (Vec3& p : shifted) p -= shift;
+  sink(shifted);
+}
+
+}  // namespace
 
 CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& options,
                             std::size_t chunk_points, const CloudChunkSink& sink,
@@ -287,54 +359,35 @@ CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& opt
   requireRegularFile(path);
   if (chunk_points == 0) throw InputError("streamCloud: chunk_points must be > 0");
   // Pass 1: count and bounds, so that the frame is loadCloud's before any point is handed on.
-  CloudStreamInfo info;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  BoundsCheck bounds{path};
   const std::optional<LasCloud> las =
-      readChunks(path, options, chunk_points, [&](const PointList& points) {
-        for (const Vec3& p : points) {
-          if (p.cwiseAbs().maxCoeff() > kMaxCoordinateM)
-            throw InputError(path + ": point " + formatRawPoint(p) + " lies beyond " +
-                             formatNumber(kMaxCoordinateM / 1e3) +
-                             " km of the origin; remove it or fix input.scale");
-          lo = lo.cwiseMin(p);
-          hi = hi.cwiseMax(p);
-        }
-        info.points += points.size();
-      });
-  if (info.points == 0)
-    throw InputError(path + (las ? ": no point is left after drop_classes; drop fewer classes"
-                                 : ": the cloud has no points"));
-  if ((hi - lo).maxCoeff() > kMaxCloudExtentM)
-    throw InputError(path + ": the cloud spans " + formatNumber((hi - lo).maxCoeff() / 1e3, 4) +
-                     " km, wider than " + formatNumber(kMaxCloudExtentM / 1e3) +
-                     " km: it is not in metres (set input.scale) or holds a stray point");
-  Vec3 origin = las ? Vec3(las->origin_m * options.scale) : Vec3::Zero();
-  const Vec3 shift = farFromOrigin(lo, hi) ? recentringOrigin(lo, hi) : Vec3::Zero();
-  origin += shift;
-  info.read.origin_m = origin;
-  info.min = lo - shift;
-  info.max = hi - shift;
-  if (las) {
-    info.crs_unit = las->unit_name + " (" + las->unit_source + ")";
-    info.read.crs = las->crs;
-    info.read.crs_source = las->crs_source;
-    info.read.note = path + ": LAS " + std::to_string(las->version_major) + "." +
-                     std::to_string(las->version_minor) + ", " +
-                     std::to_string(las->points_in_file) + " points, " +
-                     std::to_string(las->dropped) + " dropped by input.drop_classes";
-  }
+      readChunks(path, options, chunk_points, [&](const PointList& points) { bounds.add(points); });
+  Vec3 shift = Vec3::Zero();
+  const CloudStreamInfo info = bounds.finish(options, las, shift);
   if (on_bounds) on_bounds(info);
   // Pass 2: the points in that frame.
-  readChunks(path, options, chunk_points, [&](const PointList& points) {
-    if (shift == Vec3::Zero()) {
-      sink(points);
-      return;
-    }
-    PointList shifted = points;
-    for (Vec3& p : shifted) p -= shift;
-    sink(shifted);
-  });
+  readChunks(path, options, chunk_points,
+             [&](const PointList& points) { handShifted(points, shift, sink); });
   return info;
+}
+
+CloudStreamInfo streamCloudInFrame(const std::string& path, const CloudReadOptions& options,
+                                   const Vec3& origin_m, std::size_t chunk_points,
+                                   const CloudChunkSink& sink) {
+  options.validate();
+  requireRegularFile(path);
+  if (chunk_points == 0) throw InputError("streamCloudInFrame: chunk_points must be > 0");
+  BoundsCheck bounds{path};
+  Vec3 shift = origin_m;  // less a LAS file's own recentring, known from its header
+  const std::optional<LasCloud> las = readChunks(
+      path, options, chunk_points,
+      [&](const PointList& points) {
+        bounds.add(points);
+        handShifted(points, shift, sink);
+      },
+      [&](const LasCloud& header) { shift = origin_m - header.origin_m * options.scale; });
+  Vec3 unused = Vec3::Zero();
+  return bounds.finish(options, las, unused);
 }
 
 PointColours loadCloudColours(const std::string& path) {

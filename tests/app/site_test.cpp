@@ -234,11 +234,14 @@ TEST_F(SiteTest, IndexedClearanceEqualsBruteForceNearAndFar) {
   extra.sorties[1].waypoints = {Vec3(-5.0, -5.0, 3.0)};                           // one point
   extra.sorties[2].waypoints = {Vec3(-40.0, 5.0, 2.0), Vec3(90.0, 5.0, 2.0)};     // across all
   const std::vector<const uavip::planning::FlightPlan*> flights{&planned, &extra};
-  for (const double cutoff : {0.5, 3.0, 40.0}) {
+  // Each cutoff read in two passes (the frame found) and in one (the frame given).
+  const Vec3 frame = Vec3::Zero();
+  for (const double cutoff : {0.5, 3.0, 40.0, -0.5, -3.0, -40.0}) {
     std::uint64_t points = 0;
     Vec3 origin = Vec3::Constant(1.0);
     const auto clear =
-        app::clearanceToCloud(p("site.xyz"), config_.input, flights, cutoff, 500, &origin, &points);
+        app::clearanceToCloud(p("site.xyz"), config_.input, flights, std::abs(cutoff), 500, &origin,
+                              &points, cutoff < 0.0 ? &frame : nullptr);
     EXPECT_EQ(points, read.size());
     EXPECT_EQ(origin, Vec3::Zero());
     ASSERT_EQ(clear.size(), 2U);

@@ -4,6 +4,8 @@
 #include "uavip/io/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -51,6 +53,48 @@ TEST(StagedOutputs, FilesAppearTogetherOnCommit) {
   EXPECT_EQ(slurp(dir / "sub" / "c.txt"), "new c");
   EXPECT_EQ(slurp(dir / "b.txt"), "old b");
   EXPECT_EQ(entries(dir), 3u);  // a.txt, b.txt, sub: no temporaries left
+}
+
+/// This host's name as a temporary's name carries it, written out here.
+std::string hostInName() {
+  char name[256] = {};
+  EXPECT_EQ(::gethostname(name, sizeof name - 1), 0);
+  std::string h(name);
+  for (char& c : h)
+    if (c == '/' || c == '.') c = '-';
+  return h;
+}
+
+TEST(StagedOutputs, AStaleTemporaryOfADeadProcessIsRemovedWhenItsTargetIsWritten) {
+  // A folder this process has not written in yet (each folder is looked at once).
+  const fs::path dir =
+      fs::temp_directory_path() / ("uavip_staged_stale_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "b.txt") << "old b";
+  const pid_t child = ::fork();  // a process of this host that is no longer alive
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const std::string host = hostInName(), dead = std::to_string(child);
+  const std::string live = std::to_string(::getppid());
+  const auto leave = [&](const std::string& name) { std::ofstream(dir / name) << "partial"; };
+  leave("a.txt.tmp" + host + "-" + dead);            // a.txt's, by a dead process: stale
+  leave("a.txt.tmp" + host + "-" + live);            // a.txt's, by a live process
+  leave("a.txt.tmp" + host + "x-" + dead);           // a.txt's, by another host
+  leave("b.txt.tmp" + host + "-" + dead);            // not an output of this run
+  leave("a.txt.tmp" + host + "-" + dead + "-keep");  // not a temporary's name
+  StagedOutputs out;
+  out.write((dir / "a.txt").string(), "new a");
+  EXPECT_FALSE(fs::exists(dir / ("a.txt.tmp" + host + "-" + dead)));
+  out.commit();
+  EXPECT_EQ(slurp(dir / "a.txt"), "new a");
+  for (const std::string& kept :
+       {"a.txt.tmp" + host + "-" + live, "a.txt.tmp" + host + "x-" + dead,
+        "b.txt.tmp" + host + "-" + dead, "a.txt.tmp" + host + "-" + dead + "-keep"})
+    EXPECT_TRUE(fs::exists(dir / kept)) << kept;
+  EXPECT_EQ(entries(dir), 6u);  // a.txt, b.txt and the four kept
+  fs::remove_all(dir);
 }
 
 TEST(StagedOutputs, AnErrorBeforeCommitLeavesTheEarlierFilesWhole) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
 #include <unistd.h>
 
@@ -379,6 +380,55 @@ TEST(CloudIoPcd, StreamedAsLoadedChunkByChunk) {
   }
   EXPECT_NE(loaded.find("point 2345 "), std::string::npos) << loaded;
   EXPECT_EQ(streamed_error, loaded);
+  std::filesystem::remove_all(dir);
+}
+
+// PLY files as PCL writes them (ascii and binary_little_endian, a camera element after
+// the vertices) are streamed a chunk at a time: the same points as loadCloud (PCL's
+// reader); a sensor frame (the camera's viewport has rows) is read whole, its missing
+// returns skipped.
+TEST(CloudIoPly, StreamedAsLoadedChunkByChunk) {
+  pcl::PointCloud<pcl::PointXYZ> flat;
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-30.0f, 30.0f);
+  for (int i = 0; i < 2500; ++i) flat.push_back(pcl::PointXYZ(u(rng), u(rng), u(rng)));
+  pcl::PointCloud<pcl::PointXYZ> organized(50, 30);
+  for (std::size_t i = 0; i < organized.size(); ++i) {
+    organized[i].getVector3fMap() = Eigen::Vector3f(u(rng), u(rng), u(rng));
+    if (i % 5 == 1) organized[i].z = std::numeric_limits<float>::quiet_NaN();
+  }
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uavip_ply_stream_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto at = [&](const std::string& name) { return (dir / name).string(); };
+  ASSERT_EQ(pcl::io::savePLYFileASCII(at("a.ply"), flat), 0);
+  ASSERT_EQ(pcl::io::savePLYFileBinary(at("b.ply"), flat), 0);
+  ASSERT_EQ(pcl::io::savePLYFileBinary(at("o.ply"), organized), 0);
+  for (const std::string& f : {at("a.ply"), at("b.ply"), at("o.ply")}) {
+    const PointList whole = loadCloud(f);
+    EXPECT_EQ(whole.size(),
+              f == at("o.ply") ? organized.size() - (organized.size() + 3) / 5 : flat.size())
+        << f;
+    for (const std::size_t chunk : {std::size_t{1}, std::size_t{777}, std::size_t{1} << 20})
+      EXPECT_EQ(streamed(f, chunk), whole) << f << ", chunks of " << chunk;
+  }
+  EXPECT_FALSE(streamsInBoundedMemory(at("o.ply")));  // a sensor frame: read whole
+  EXPECT_TRUE(streamsInBoundedMemory(at("a.ply")));
+  EXPECT_TRUE(streamsInBoundedMemory(at("b.ply")));
+  // A truncated binary file is refused naming the file, not a crash.
+  std::string bytes;
+  {
+    std::ifstream in(at("b.ply"), std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  std::ofstream(at("t.ply"), std::ios::binary) << bytes.substr(0, body + 12 * 1000 + 5);
+  try {
+    streamed(at("t.ply"), 300);
+    ADD_FAILURE() << "a truncated PLY was streamed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(at("t.ply")), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -8,14 +8,19 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "uavip/core/error.h"
 #include "uavip/io/cloud_io.h"
+#include "uavip/io/file_digest.h"
 
 namespace {
 
@@ -77,6 +82,121 @@ TEST(StreamCloud, SamePointsAndFrameAsLoadCloud) {
   EXPECT_EQ(info.read.origin_m, whole_info.origin_m);
   ASSERT_EQ(streamed.size(), whole.size());
   for (std::size_t i = 0; i < whole.size(); ++i) EXPECT_EQ(streamed[i], whole[i]) << i;
+  fs::remove_all(d);
+}
+
+/// Every point and the info of a stream in a known frame (one pass).
+PointList streamedInFrame(const std::string& path, const Vec3& frame, io::CloudStreamInfo* info) {
+  PointList out;
+  *info = io::streamCloudInFrame(path, {}, frame, 333, [&](const PointList& chunk) {
+    EXPECT_LE(chunk.size(), 333U);
+    out.insert(out.end(), chunk.begin(), chunk.end());
+  });
+  return out;
+}
+
+TEST(StreamCloud, InAKnownFrameOnePassGivesTheTwoPassPoints) {
+  const fs::path d = tempDir("frame");
+  writeCloud(d / "far.xyz", 5000, Vec3(500100.0, 5400200.0, 30.0), Vec3(80.0, 40.0, 10.0), 3);
+  writeCloud(d / "near.xyz", 3000, Vec3(-5.0, 2.0, 0.0), Vec3(30.0, 20.0, 5.0), 4);
+  for (const std::string& f : {(d / "far.xyz").string(), (d / "near.xyz").string(),
+                               std::string(UAVIP_SOURCE_DIR) + "/tests/data/autzen_trim.las"}) {
+    PointList two;
+    const io::CloudStreamInfo two_info = io::streamCloud(f, {}, 333, [&](const PointList& chunk) {
+      two.insert(two.end(), chunk.begin(), chunk.end());
+    });
+    io::CloudStreamInfo info;
+    const PointList one = streamedInFrame(f, two_info.read.origin_m, &info);
+    EXPECT_EQ(one, two) << f;  // bit for bit
+    EXPECT_EQ(info.read.origin_m, two_info.read.origin_m) << f;
+    EXPECT_EQ(info.points, two_info.points) << f;
+    EXPECT_EQ(info.min, two_info.min) << f;
+    EXPECT_EQ(info.max, two_info.max) << f;
+    // Another frame: the points shifted by the difference, the file's own frame said.
+    const Vec3 other = two_info.read.origin_m + Vec3(3.0, -2.0, 1.0);
+    const PointList shifted = streamedInFrame(f, other, &info);
+    EXPECT_EQ(info.read.origin_m, two_info.read.origin_m) << f;
+    ASSERT_EQ(shifted.size(), two.size()) << f;
+    for (std::size_t i = 0; i < two.size(); i += 97)
+      EXPECT_LT((shifted[i] - (two[i] - Vec3(3.0, -2.0, 1.0))).norm(), 1e-6) << f << " " << i;
+  }
+  fs::remove_all(d);
+}
+
+/// Writes `points` as a PLY file of double x y z after a uchar and a float property:
+/// "ascii", "binary_little_endian" or "binary_big_endian".
+void writePly(const fs::path& file, const PointList& points, const std::string& format) {
+  std::ofstream out(file, std::ios::binary);
+  out << "ply\nformat " << format << " 1.0\ncomment uavip test\nelement vertex " << points.size()
+      << "\nproperty uchar quality\nproperty double x\nproperty double y\nproperty double "
+         "z\nproperty float intensity\nelement extra 1\nproperty int tag\nend_header\n";
+  out.precision(17);
+  const auto put = [&](const auto& value) {
+    char bytes[sizeof value];
+    std::memcpy(bytes, &value, sizeof value);
+    if (format == "binary_big_endian") std::reverse(bytes, bytes + sizeof value);
+    out.write(bytes, sizeof value);
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    if (format == "ascii") {
+      out << i % 200 << " " << p.x() << " " << p.y() << " " << p.z() << " " << 0.5 * i << "\n";
+      continue;
+    }
+    put(static_cast<std::uint8_t>(i % 200));
+    put(p.x());
+    put(p.y());
+    put(p.z());
+    put(static_cast<float>(0.5 * i));
+  }
+  if (format == "ascii")
+    out << "7\n";
+  else
+    put(std::int32_t{7});
+}
+
+TEST(TileCloud, APlySiteTiledInAStreamAsReadWhole) {
+  // The same points as ascii and little-endian PLY (streamed) and big-endian PLY
+  // (read whole by PCL): the same points read, the same tiles byte for byte.
+  const fs::path d = tempDir("ply");
+  const PointList input =
+      writeCloud(d / "site.csv", 6000, Vec3(300010.0, 4100020.0, 5.0), Vec3(61.0, 33.0, 8.0), 9);
+  const std::vector<std::string> formats = {"ascii", "binary_little_endian", "binary_big_endian"};
+  for (const std::string& format : formats) writePly(d / (format + ".ply"), input, format);
+  EXPECT_TRUE(io::streamsInBoundedMemory((d / "ascii.ply").string()));
+  EXPECT_TRUE(io::streamsInBoundedMemory((d / "binary_little_endian.ply").string()));
+  EXPECT_FALSE(io::streamsInBoundedMemory((d / "binary_big_endian.ply").string()));
+  tiling::TileOptions options;
+  options.tile_size_m = 20.0;
+  options.buffer_m = 4.5;
+  options.chunk_points = 1000;
+  std::vector<std::vector<std::string>> digests;
+  for (const std::string& format : formats) {
+    const std::string ply = (d / (format + ".ply")).string();
+    io::CloudReadInfo whole_info;
+    const PointList whole = io::loadCloud(ply, {}, &whole_info);
+    ASSERT_EQ(whole.size(), input.size()) << format;
+    PointList streamed;
+    const io::CloudStreamInfo info = io::streamCloud(ply, {}, 777, [&](const PointList& chunk) {
+      EXPECT_LE(chunk.size(), 777U);
+      streamed.insert(streamed.end(), chunk.begin(), chunk.end());
+    });
+    EXPECT_EQ(streamed, whole) << format;  // bit for bit, in the same frame
+    EXPECT_EQ(info.read.origin_m, whole_info.origin_m) << format;
+    io::StagedOutputs outputs;
+    const tiling::Manifest m =
+        tiling::tileCloud(ply, {}, options, (d / ("tiles_" + format)).string(), outputs);
+    outputs.commit();
+    EXPECT_EQ(m.input_points, input.size()) << format;
+    digests.emplace_back();
+    for (const auto& t : m.tiles) {
+      EXPECT_EQ(io::sha256File((d / ("tiles_" + format) / t.cloud).string()), t.sha256);
+      digests.back().push_back(t.sha256);
+    }
+  }
+  EXPECT_GT(digests[0].size(), 3U);
+  EXPECT_EQ(digests[0], digests[2]);  // ascii streamed, big endian read whole
+  EXPECT_EQ(digests[1], digests[2]);  // little endian streamed
   fs::remove_all(d);
 }
 

@@ -221,11 +221,15 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
 /// (world::CollisionWorld::proximity) only against the chunks whose points fell into
 /// its cells. A sortie whose nearest point lies farther than `cutoff_m` is measured
 /// again against every point (a second pass, for those sorties only). `origin` gets
-/// the read's origin (io::CloudReadInfo::origin_m), `points` the points read.
+/// the read's origin (io::CloudReadInfo::origin_m), `points` the points read. With
+/// `frame_m` (the flights' frame, e.g. the manifest's source_offset_m) the input is
+/// read in one pass in that frame (io::streamCloudInFrame; compare `origin` with it),
+/// else in loadCloud's frame (io::streamCloud, which finds it in a pass of its own).
 std::vector<std::vector<double>> clearanceToCloud(
     const std::string& input, const io::CloudReadOptions& read,
     const std::vector<const planning::FlightPlan*>& flights, double cutoff_m,
-    std::size_t chunk_points, Vec3* origin = nullptr, std::uint64_t* points = nullptr);
+    std::size_t chunk_points, Vec3* origin = nullptr, std::uint64_t* points = nullptr,
+    const Vec3* frame_m = nullptr);
 
 /// OUT/site.json of a site in several sections: each section's folder, tiles and flight,
 /// and its clearance to the input (its one writer).

@@ -32,7 +32,9 @@ class StagedOutputs {
   /// Stages `text` for `path` (creating its folder). Throws InputError naming the
   /// path when it is a folder or cannot be written.
   void write(const std::string& path, const std::string& text);
-  /// Stages the file write(tmp_path) makes for `path`.
+  /// Stages the file write(tmp_path) makes for `path`. Temporaries of `path` that a
+  /// process of this host no longer running left (a task killed mid-write) are
+  /// removed first; a live process's, or another host's, are left alone.
   void writeWith(const std::string& path, const std::function<void(const std::string&)>& write);
   /// Renames every staged file onto its target, in the order staged (the one a reader
   /// takes as the mark of a complete result goes last). Test hook: core/test_fault.h.

@@ -123,8 +123,9 @@ struct CloudStreamInfo {
 };
 
 /// True when streamCloud reads `path` in bounded memory (LAS, x y z text, ascii and
-/// binary PCD); binary_compressed PCD (one LZF block), PLY and meshes are read whole
-/// and then handed on in chunks.
+/// binary PCD, ascii and binary_little_endian PLY of points whose vertex element comes
+/// first with scalar properties only); binary_compressed PCD (one LZF block), other
+/// PLY files and meshes are read whole and then handed on in chunks.
 bool streamsInBoundedMemory(const std::string& path);
 
 /// The points loadCloud would return, in the same frame (same origin_m, same
@@ -137,6 +138,16 @@ bool streamsInBoundedMemory(const std::string& path);
 CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& options,
                             std::size_t chunk_points, const CloudChunkSink& sink,
                             const std::function<void(const CloudStreamInfo&)>& on_bounds = {});
+
+/// streamCloud in one pass when the frame is known (e.g. a tiling manifest's
+/// source_offset_m): the points loadCloud would return had it subtracted `origin_m`,
+/// handed to `sink` as they are read. The returned info (origin_m, bounds, count) is
+/// streamCloud's, found on the way: the caller compares info.read.origin_m with
+/// `origin_m` (they differ only for a file changed since the frame was found). The
+/// same errors as streamCloud, raised once every point is read.
+CloudStreamInfo streamCloudInFrame(const std::string& path, const CloudReadOptions& options,
+                                   const Vec3& origin_m, std::size_t chunk_points,
+                                   const CloudChunkSink& sink);
 
 /// PCL prints warnings and errors of its own on stderr (e.g. a RANSAC model with too
 /// few inliers, which uavip handles): they are silenced unless `verbose`, so that an
