@@ -363,7 +363,7 @@ CloudStreamInfo streamCloud(const std::string& path, const CloudReadOptions& opt
   const std::optional<LasCloud> las =
       readChunks(path, options, chunk_points, [&](const PointList& points) { bounds.add(points); });
   Vec3 shift = Vec3::Zero();
-  const CloudStreamInfo info = bounds.finish(options, las, shift);
+  CloudStreamInfo info = bounds.finish(options, las, shift);
   if (on_bounds) on_bounds(info);
   // Pass 2: the points in that frame.
   readChunks(path, options, chunk_points,

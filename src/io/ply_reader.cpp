@@ -273,7 +273,7 @@ bool streamPly(const std::string& path, std::istream& in, std::uint64_t file_siz
     for (std::size_t i = 0; i < h.vertex.size(); ++i) {
       if (h.vertex[i].name == names[a]) {  // the first property of that name
         column[a] = i;
-        f.offset = static_cast<std::uint32_t>(ascii ? 8 * a : at);
+        f.offset = static_cast<std::uint32_t>(ascii ? std::size_t{8} * a : at);
         f.datatype = ascii ? std::uint8_t{pcl::PCLPointField::FLOAT64} : pclType(h.vertex[i].type);
         break;
       }
@@ -320,7 +320,7 @@ bool streamPly(const std::string& path, std::istream& in, std::uint64_t file_siz
                            std::to_string(h.vertex.size()) + " properties");
         for (int a = 0; a < 3; ++a) {
           const double v = asciiValue(words[column[a]], h.vertex[column[a]].type);
-          std::memcpy(blob.data.data() + k * step + 8 * a, &v, 8);
+          std::memcpy(blob.data.data() + k * step + std::size_t{8} * a, &v, 8);
         }
       }
     }

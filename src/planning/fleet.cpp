@@ -438,6 +438,49 @@ bool resolveConflicts(FleetPlan& plan, double stop_at = kInf) {
   return false;
 }
 
+/// The earliest take-off at or after `ready` [s] of UAV u's pieces `base` (timed from
+/// t = 0) that keeps clear, by the separation and slack, of every piece placed for the
+/// other UAVs; ≥ stop_at when none is found before it.
+double earliestTakeoff(double ready, std::size_t u, const std::vector<MotionPiece>& base,
+                       const std::vector<std::vector<MotionPiece>>& placed, const FleetOptions& o,
+                       double stop_at) {
+  constexpr double kEps = 1e-3;
+  double t = ready;
+  for (bool moved = true; moved && t < stop_at;) {
+    moved = false;
+    for (std::size_t v = 0; v < placed.size() && !moved; ++v) {
+      if (v == u) continue;
+      for (const MotionPiece& q0 : base) {
+        const double q_t0 = q0.t0 + t;
+        const double q_t1 = q0.t1 + t;
+        for (const MotionPiece& p : placed[v]) {
+          if (p.t1 + o.slack_s < q_t0 || q_t1 + o.slack_s < p.t0) continue;
+          if (segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m) continue;
+          t += p.t1 + o.slack_s - q_t0 + kEps;  // q starts after p's widened window
+          moved = true;
+          break;
+        }
+        if (moved) break;
+      }
+    }
+  }
+  return t;
+}
+
+/// Sortie `pick` flown as the `next`-th: the sorties between move one later (and the
+/// flight's order with them).
+void flyNow(FlightPlan& flight, std::size_t next, std::size_t pick) {
+  auto& sorties = flight.sorties;
+  std::rotate(sorties.begin() + static_cast<std::ptrdiff_t>(next),
+              sorties.begin() + static_cast<std::ptrdiff_t>(pick),
+              sorties.begin() + static_cast<std::ptrdiff_t>(pick + 1));
+  auto& order = flight.order;
+  if (order.size() == sorties.size())
+    std::rotate(order.begin() + static_cast<std::ptrdiff_t>(next),
+                order.begin() + static_cast<std::ptrdiff_t>(pick),
+                order.begin() + static_cast<std::ptrdiff_t>(pick + 1));
+}
+
 /// List scheduling (fleet.h): sorties taken in the order their UAV is ready (launch
 /// offset, or the previous landing plus the battery swap), each taking off at the
 /// earliest time from then on at which it keeps the separation, with the slack, from
@@ -462,30 +505,6 @@ bool packSorties(FleetPlan& plan, double stop_at, bool free_order = false) {
     for (std::size_t v = 0; v < n; ++v)
       if (next[v] < plan.uavs[v].flight.sorties.size() && (u == n || ready[v] < ready[u])) u = v;
     if (u == n) break;
-    // The earliest take-off at or after `ready` of pieces `base` (from t = 0) that
-    // keeps clear of every piece placed for the other UAVs.
-    const auto earliest = [&](const std::vector<MotionPiece>& base) {
-      double t = ready[u];
-      for (bool moved = true; moved && t < stop_at;) {
-        moved = false;
-        for (std::size_t v = 0; v < n && !moved; ++v) {
-          if (v == u) continue;
-          for (const MotionPiece& q0 : base) {
-            const double q_t0 = q0.t0 + t;
-            const double q_t1 = q0.t1 + t;
-            for (const MotionPiece& p : placed[v]) {
-              if (p.t1 + o.slack_s < q_t0 || q_t1 + o.slack_s < p.t0) continue;
-              if (segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m) continue;
-              t += p.t1 + o.slack_s - q_t0 + kEps;  // q starts after p's widened window
-              moved = true;
-              break;
-            }
-            if (moved) break;
-          }
-        }
-      }
-      return t;
-    };
     auto& sorties = plan.uavs[u].flight.sorties;
     const std::size_t last = free_order ? sorties.size() : next[u] + 1;
     std::size_t pick = next[u];
@@ -496,7 +515,7 @@ bool packSorties(FleetPlan& plan, double stop_at, bool free_order = false) {
       for (const auto& st : sorties[k].stops) at.push_back(st.waypoint);
       auto pieces = sortieMotion(sorties[k].waypoints, at, plan.model, o.takeoff_landing_s, 0.0,
                                  static_cast<int>(next[u]));
-      const double tk = earliest(pieces);
+      const double tk = earliestTakeoff(ready[u], u, pieces, placed, o, stop_at);
       if (tk < t - kEps) {
         t = tk;
         pick = k;
@@ -504,16 +523,7 @@ bool packSorties(FleetPlan& plan, double stop_at, bool free_order = false) {
       }
     }
     if (t >= stop_at) return false;
-    if (pick != next[u]) {  // fly `pick` now: the sorties between move one later
-      std::rotate(sorties.begin() + static_cast<std::ptrdiff_t>(next[u]),
-                  sorties.begin() + static_cast<std::ptrdiff_t>(pick),
-                  sorties.begin() + static_cast<std::ptrdiff_t>(pick + 1));
-      auto& order = plan.uavs[u].flight.order;
-      if (order.size() == sorties.size())
-        std::rotate(order.begin() + static_cast<std::ptrdiff_t>(next[u]),
-                    order.begin() + static_cast<std::ptrdiff_t>(pick),
-                    order.begin() + static_cast<std::ptrdiff_t>(pick + 1));
-    }
+    if (pick != next[u]) flyNow(plan.uavs[u].flight, next[u], pick);
     const Sortie& sortie = sorties[next[u]];
     if (t > ready[u] + kEps) ++plan.waits;
     wait[u][next[u]] = t - ready[u];
@@ -946,6 +956,51 @@ bool flyCandidate(FleetPlan& plan, const std::vector<Job>& jobs, const std::vect
   return true;
 }
 
+/// The fleet's candidate assignments (fleet.h): the min–max assignment of the
+/// estimates, the next best ones, spatial partitions and chunks, by estimate; fills
+/// `sets` with the job sets they assign.
+std::vector<Candidate> fleetCandidates(const std::vector<SurfaceMission>& missions,
+                                       const FlightPlan& single, const PointList& stops,
+                                       const std::vector<FleetUav>& uavs,
+                                       const FlightOptions& flight, const FleetOptions& fleet,
+                                       std::vector<JobSet>& sets) {
+  std::vector<Candidate> candidates;
+  Assignment a;
+  std::size_t split = 0;
+  const std::vector<Job> whole = surfaceJobs(missions, single, flight.model);
+  std::vector<Job> jobs = splitSurfaces(whole, uavs, flight.model, fleet, a, split);
+  sets.push_back({std::move(jobs), split});
+  candidates.push_back({0, a.owner, a.makespan_s, "min-max"});
+  for (auto& c : nextBest(sets[0].jobs, uavs, flight.model, fleet, a.owner))
+    candidates.push_back(std::move(c));
+  spatialCandidates(whole, stops, uavs, flight.model, fleet, sets, candidates);
+  chunkCandidates(whole, uavs, flight.model, fleet, sets, candidates);
+  std::stable_sort(
+      candidates.begin(), candidates.end(),
+      [](const Candidate& x, const Candidate& y) { return x.estimate_s < y.estimate_s; });
+  return candidates;
+}
+
+/// The waits of a flown trial placed two ways, list scheduling (any order when
+/// `per_job`: every sortie a round trip of one job) and the earliest conflict's wait;
+/// keeps the shorter conflict-free schedule. False when none is conflict-free and
+/// shorter than `bar` [s].
+bool placeWaits(FleetPlan& trial, double bar, bool per_job) {
+  FleetPlan packed = trial;
+  bool ok_packed = packSorties(packed, bar);
+  if (per_job) {
+    FleetPlan free = trial;
+    if (packSorties(free, ok_packed ? packed.makespan_s : bar, true)) {
+      packed = std::move(free);
+      ok_packed = true;
+    }
+  }
+  const bool ok = resolveConflicts(trial, ok_packed ? packed.makespan_s : bar) || ok_packed;
+  if (ok_packed && (trial.separation.conflict || trial.makespan_s >= packed.makespan_s))
+    trial = std::move(packed);
+  return ok && !trial.separation.conflict && trial.makespan_s < bar;
+}
+
 }  // namespace
 
 FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPlan& single,
@@ -979,22 +1034,8 @@ FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPla
   // assignments, and spatial partitions; each flown and scheduled, the shortest
   // makespan with its waits kept.
   std::vector<JobSet> sets;
-  std::vector<Candidate> candidates;
-  {
-    Assignment a;
-    std::size_t split = 0;
-    const std::vector<Job> whole = surfaceJobs(missions, single, flight.model);
-    std::vector<Job> jobs = splitSurfaces(whole, plan.uavs, flight.model, fleet, a, split);
-    sets.push_back({std::move(jobs), split});
-    candidates.push_back({0, a.owner, a.makespan_s, "min-max"});
-    for (auto& c : nextBest(sets[0].jobs, plan.uavs, flight.model, fleet, a.owner))
-      candidates.push_back(std::move(c));
-    spatialCandidates(whole, stops, plan.uavs, flight.model, fleet, sets, candidates);
-    chunkCandidates(whole, plan.uavs, flight.model, fleet, sets, candidates);
-  }
-  std::stable_sort(
-      candidates.begin(), candidates.end(),
-      [](const Candidate& x, const Candidate& y) { return x.estimate_s < y.estimate_s; });
+  const std::vector<Candidate> candidates =
+      fleetCandidates(missions, single, stops, plan.uavs, flight, fleet, sets);
   // Each candidate flown as one flight per UAV, then (small job sets) one flight per job.
   std::vector<std::pair<const Candidate*, bool>> tries;
   for (const bool per_job : {false, true})
@@ -1009,20 +1050,7 @@ FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPla
     if (!flyCandidate(trial, set.jobs, c->owner, per_job, cache, grid, validator, planner, flight))
       continue;
     const double bar = found ? best.makespan_s : plan.single_uav_s;
-    // Two ways to place the waits: list scheduling, and the earliest conflict's wait.
-    FleetPlan packed = trial;
-    bool ok_packed = packSorties(packed, bar);
-    if (per_job) {  // every sortie a round trip of one job: any order
-      FleetPlan free = trial;
-      if (packSorties(free, ok_packed ? packed.makespan_s : bar, true)) {
-        packed = std::move(free);
-        ok_packed = true;
-      }
-    }
-    const bool ok = resolveConflicts(trial, ok_packed ? packed.makespan_s : bar) || ok_packed;
-    if (ok_packed && (trial.separation.conflict || trial.makespan_s >= packed.makespan_s))
-      trial = std::move(packed);
-    if (!ok || trial.separation.conflict || trial.makespan_s >= bar) continue;
+    if (!placeWaits(trial, bar, per_job)) continue;
     trial.jobs = set.jobs.size();
     trial.split_surfaces = set.split;
     trial.assignment = c->how + (per_job ? ", a flight per job" : "");

@@ -28,7 +28,7 @@ std::string slurp(const fs::path& p) {
 
 /// A fresh folder holding a.txt = "old a" and b.txt = "old b".
 fs::path folder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("uavip_staged_" + name);
+  fs::path dir = fs::temp_directory_path() / ("uavip_staged_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   writeFileAtomic((dir / "a.txt").string(), "old a");

@@ -35,7 +35,7 @@ class CloudIo : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string file(const std::string& name, const std::string& text) const {
-    const std::string p = (dir_ / name).string();
+    std::string p = (dir_ / name).string();
     std::ofstream(p) << text;
     return p;
   }
@@ -422,7 +422,8 @@ TEST(CloudIoPly, StreamedAsLoadedChunkByChunk) {
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
   const std::size_t body = bytes.find("end_header\n") + 11;
-  std::ofstream(at("t.ply"), std::ios::binary) << bytes.substr(0, body + 12 * 1000 + 5);
+  std::ofstream(at("t.ply"), std::ios::binary)
+      << bytes.substr(0, body + std::size_t{12} * 1000 + 5);
   try {
     streamed(at("t.ply"), 300);
     ADD_FAILURE() << "a truncated PLY was streamed";

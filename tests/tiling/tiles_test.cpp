@@ -140,14 +140,15 @@ void writePly(const fs::path& file, const PointList& points, const std::string& 
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
     if (format == "ascii") {
-      out << i % 200 << " " << p.x() << " " << p.y() << " " << p.z() << " " << 0.5 * i << "\n";
+      out << i % 200 << " " << p.x() << " " << p.y() << " " << p.z() << " "
+          << 0.5 * static_cast<double>(i) << "\n";
       continue;
     }
     put(static_cast<std::uint8_t>(i % 200));
     put(p.x());
     put(p.y());
     put(p.z());
-    put(static_cast<float>(0.5 * i));
+    put(static_cast<float>(0.5 * static_cast<double>(i)));
   }
   if (format == "ascii")
     out << "7\n";
