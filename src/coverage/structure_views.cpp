@@ -11,7 +11,6 @@
 
 #include "uavip/core/error.h"
 #include "uavip/core/math.h"
-#include "uavip/core/union_find.h"
 #include "uavip/core/voxel_key.h"
 
 namespace uavip::coverage {
@@ -284,9 +283,115 @@ std::vector<std::size_t> pruneMultiCover(const std::vector<std::vector<std::uint
   return out;
 }
 
-/// The linking of the file comment: adds candidates to `chosen` until the links join
-/// the chosen photos into one group or no candidate joins two; returns the groups left.
-std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
+/// The chosen photos' registration as an incremental reconstruction builds it (file
+/// comment, "Linking"): the photo ranks of each model, largest first.
+class RegistrationModels {
+ public:
+  RegistrationModels(const std::vector<std::vector<std::uint32_t>>& sets,
+                     const std::vector<Vec3>& axis, const std::vector<std::size_t>& chosen,
+                     std::size_t n_points, double share, double min_cos)
+      : sets_(sets),
+        axis_(axis),
+        chosen_(chosen),
+        share_(share),
+        min_cos_(min_cos),
+        viewers_(n_points),
+        model_(chosen.size(), -1) {
+    for (std::size_t k = 0; k < chosen.size(); ++k)
+      for (const auto p : sets[chosen[k]]) viewers_[p].push_back(static_cast<std::uint32_t>(k));
+    while (true) {
+      const auto [a, b] = seedPair();
+      if (a == chosen.size()) break;
+      grow(a, b);
+    }
+    for (std::size_t k = 0; k < chosen.size(); ++k)  // the unregistered: one model each
+      if (model_[k] < 0) models_.push_back({k});
+    std::stable_sort(models_.begin(), models_.end(),
+                     [](const auto& x, const auto& y) { return x.size() > y.size(); });
+  }
+
+  const std::vector<std::vector<std::size_t>>& models() const { return models_; }
+
+ private:
+  bool compatible(std::size_t k, std::size_t l) const {
+    return axis_[chosen_[k]].dot(axis_[chosen_[l]]) >= min_cos_;
+  }
+  /// Photo k has enough triangulated points to register.
+  bool enough(std::size_t k, std::size_t anchored) const {
+    return static_cast<double>(anchored) >= share_ * static_cast<double>(sets_[chosen_[k]].size());
+  }
+
+  /// The unregistered pair sharing the most points (≥ share of the smaller set, axes
+  /// compatible); {n, n} when none is left.
+  std::pair<std::size_t, std::size_t> seedPair() const {
+    const std::size_t n = chosen_.size();
+    std::pair<std::size_t, std::size_t> best{n, n};
+    std::size_t best_common = 0;
+    std::vector<std::size_t> common(n, 0);
+    std::vector<std::size_t> touched;
+    for (std::size_t a = 0; a < n; ++a) {
+      if (model_[a] >= 0) continue;
+      touched.clear();
+      for (const auto p : sets_[chosen_[a]])
+        for (const auto b : viewers_[p])
+          if (b > a && model_[b] < 0 && common[b]++ == 0) touched.push_back(b);
+      for (const auto b : touched) {
+        const std::size_t smaller = std::min(sets_[chosen_[a]].size(), sets_[chosen_[b]].size());
+        const bool better = common[b] > best_common ||
+                            (common[b] == best_common && a == best.first && b < best.second);
+        if (compatible(a, b) && better &&
+            static_cast<double>(common[b]) >= share_ * static_cast<double>(smaller)) {
+          best = {a, b};
+          best_common = common[b];
+        }
+        common[b] = 0;
+      }
+    }
+    return best;
+  }
+
+  /// One model from the seed pair: a photo registers once ≥ share of its points are each
+  /// seen by two registered photos whose axes are compatible with its own.
+  void grow(std::size_t a, std::size_t b) {
+    const auto id = static_cast<int>(models_.size());
+    models_.emplace_back();
+    std::vector<std::vector<std::uint8_t>> seen_by(chosen_.size());
+    std::vector<std::size_t> anchored(chosen_.size(), 0);
+    std::vector<std::size_t> queue = {a, b};
+    model_[a] = model_[b] = id;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::size_t k = queue[q];
+      models_.back().push_back(k);
+      for (const auto p : sets_[chosen_[k]]) {
+        for (const auto j : viewers_[p]) {
+          if (model_[j] >= 0 || !compatible(j, k)) continue;
+          const auto& set = sets_[chosen_[j]];
+          if (seen_by[j].empty()) seen_by[j].assign(set.size(), 0);
+          const auto at =
+              static_cast<std::size_t>(std::lower_bound(set.begin(), set.end(), p) - set.begin());
+          if (++seen_by[j][at] != 2) continue;
+          if (!enough(j, ++anchored[j])) continue;
+          model_[j] = id;
+          queue.push_back(j);
+        }
+      }
+    }
+  }
+
+  const std::vector<std::vector<std::uint32_t>>& sets_;
+  const std::vector<Vec3>& axis_;
+  const std::vector<std::size_t>& chosen_;
+  double share_;
+  double min_cos_;
+  std::vector<std::vector<std::uint32_t>> viewers_;  ///< per point, the ranks that image it
+  std::vector<int> model_;                           ///< per rank, its model (−1: none yet)
+  std::vector<std::vector<std::size_t>> models_;
+};
+
+/// The linking of the file comment: while the chosen photos register in more than one
+/// model, adds the candidate that registers in the largest and brings it the most
+/// points imaged outside it (not yet seen twice in it); returns the models left.
+std::size_t linkModels(const std::vector<std::vector<std::uint32_t>>& sets,
                        const std::vector<Candidate>& usable, std::size_t n_points,
                        const StructureViewOptions& o, std::vector<std::size_t>& chosen,
                        std::size_t& added) {
@@ -298,57 +403,37 @@ std::size_t linkGroups(const std::vector<std::vector<std::uint32_t>>& sets,
   for (const auto i : chosen) is_chosen[i] = 1;
   added = 0;
   while (true) {
-    std::vector<std::vector<std::uint32_t>> by_point(n_points);
+    const RegistrationModels reg(sets, axis, chosen, n_points, o.link_share, min_cos);
+    const auto& models = reg.models();
+    if (models.size() <= 1) return models.size();
+    std::vector<char> in_main(chosen.size(), 0);
+    for (const auto k : models.front()) in_main[k] = 1;
+    std::vector<std::vector<std::size_t>> main_by(n_points);  // chosen indices in the model
+    std::vector<char> outside(n_points, 0);
     for (std::size_t k = 0; k < chosen.size(); ++k)
-      for (const auto p : sets[chosen[k]]) by_point[p].push_back(static_cast<std::uint32_t>(k));
-    std::vector<std::size_t> common(chosen.size(), 0);
-    std::vector<std::uint32_t> touched;
-    // The chosen ranks candidate i is linked to.
-    const auto links = [&](std::size_t i) {
-      touched.clear();
-      for (const auto p : sets[i]) {
-        for (const auto k : by_point[p]) {
-          if (common[k]++ == 0) touched.push_back(k);
-        }
+      for (const auto p : sets[chosen[k]]) {
+        if (in_main[k] != 0)
+          main_by[p].push_back(chosen[k]);
+        else
+          outside[p] = 1;
       }
-      std::vector<std::uint32_t> out;
-      for (const auto k : touched) {
-        const std::size_t j = chosen[k];
-        const double smaller = static_cast<double>(std::min(sets[i].size(), sets[j].size()));
-        if (j != i && axis[i].dot(axis[j]) >= min_cos &&
-            static_cast<double>(common[k]) >= o.link_share * smaller)
-          out.push_back(k);
-        common[k] = 0;
-      }
-      return out;
-    };
-    UnionFind groups(chosen.size());
-    for (std::size_t k = 0; k < chosen.size(); ++k)
-      for (const auto l : links(chosen[k])) groups.join(k, l);
-    std::vector<std::size_t> size(chosen.size(), 0);
-    std::size_t n_groups = 0;
-    for (std::size_t k = 0; k < chosen.size(); ++k) {
-      n_groups += groups.find(k) == k ? 1 : 0;
-      ++size[groups.find(k)];
-    }
-    if (n_groups <= 1) return n_groups;
-    std::size_t best = usable.size(), best_groups = 1, best_joined = 0;
+    std::size_t best = usable.size(), best_gain = 0;
     for (std::size_t i = 0; i < usable.size(); ++i) {
-      if (is_chosen[i] != 0) continue;
-      std::vector<std::size_t> roots;
-      for (const auto k : links(i)) roots.push_back(groups.find(k));
-      std::sort(roots.begin(), roots.end());
-      roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
-      std::size_t joined = 0;
-      for (const auto r : roots) joined += size[r];
-      if (roots.size() > best_groups ||
-          (roots.size() == best_groups && roots.size() >= 2 && joined > best_joined)) {
+      if (is_chosen[i] != 0 || sets[i].empty()) continue;
+      std::size_t anchored = 0, gain = 0;
+      for (const auto p : sets[i]) {
+        std::size_t views = 0;
+        for (const auto j : main_by[p]) views += axis[i].dot(axis[j]) >= min_cos ? 1 : 0;
+        anchored += views >= 2 ? 1 : 0;
+        gain += outside[p] != 0 && views < 2 ? 1 : 0;
+      }
+      if (gain > best_gain &&
+          static_cast<double>(anchored) >= o.link_share * static_cast<double>(sets[i].size())) {
         best = i;
-        best_groups = roots.size();
-        best_joined = joined;
+        best_gain = gain;
       }
     }
-    if (best == usable.size()) return n_groups;
+    if (best == usable.size()) return models.size();
     chosen.push_back(best);
     is_chosen[best] = 1;
     ++added;
@@ -380,7 +465,7 @@ std::vector<std::size_t> chooseMultiCover(const PointList& points,
       pruneMultiCover(sets, greedyMultiCover(sets, weights, cover, needed), points, centres,
                       o.min_views, o.min_triangulation_deg);
   if (o.link_share > 0.0)
-    out.components = linkGroups(sets, usable, points.size(), o, chosen, out.linking);
+    out.components = linkModels(sets, usable, points.size(), o, chosen, out.linking);
   cover.reset();
   for (const auto i : chosen) cover.add(i, sets[i]);
   for (std::uint32_t p = 0; p < points.size(); ++p) {

@@ -462,52 +462,71 @@ World shaft(double edge, double height, double step) {
   return w;
 }
 
-/// Groups of views by the link rule, recomputed by breadth-first search: two views
-/// are linked when they image ≥ share × the smaller set in common and their optical
-/// axes (camera → target) differ by ≤ max_deg.
-std::size_t linkedGroups(const StructureViews& v, double share, double max_deg) {
+/// Brute-force reference of the registration (structure_views.h, link_share): models
+/// grown by rescanning every unregistered photo until none joins, seeds by exhaustive
+/// pair search (most shared points, ties to the lowest pair); returns the models.
+std::size_t registeredModels(const StructureViews& v, double share, double max_deg) {
   const std::size_t n = v.views.size();
-  std::vector<std::vector<std::size_t>> adjacent(n);
-  for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t b = a + 1; b < n; ++b) {
-      std::vector<std::uint32_t> common;
-      std::set_intersection(v.imaged[a].begin(), v.imaged[a].end(), v.imaged[b].begin(),
-                            v.imaged[b].end(), std::back_inserter(common));
-      const double smaller = static_cast<double>(std::min(v.imaged[a].size(), v.imaged[b].size()));
-      const Vec3 da = (v.targets[a] - v.views[a].position).normalized();
-      const Vec3 db = (v.targets[b] - v.views[b].position).normalized();
-      const double angle = std::acos(std::clamp(da.dot(db), -1.0, 1.0)) * 180.0 / kPi;
-      if (static_cast<double>(common.size()) >= share * smaller && angle <= max_deg) {
-        adjacent[a].push_back(b);
-        adjacent[b].push_back(a);
+  std::vector<Vec3> axis;
+  for (std::size_t a = 0; a < n; ++a)
+    axis.push_back((v.targets[a] - v.views[a].position).normalized());
+  const auto compatible = [&](std::size_t a, std::size_t b) {
+    return std::acos(std::clamp(axis[a].dot(axis[b]), -1.0, 1.0)) * 180.0 / kPi <= max_deg + 1e-9;
+  };
+  const auto common = [&](std::size_t a, std::size_t b) {
+    std::vector<std::uint32_t> both;
+    std::set_intersection(v.imaged[a].begin(), v.imaged[a].end(), v.imaged[b].begin(),
+                          v.imaged[b].end(), std::back_inserter(both));
+    return both.size();
+  };
+  std::vector<int> model(n, -1);
+  std::size_t models = 0;
+  while (true) {
+    std::size_t best_a = n, best_b = n, best = 0;
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t b = a + 1; b < n; ++b) {
+        if (model[a] >= 0 || model[b] >= 0 || !compatible(a, b)) continue;
+        const std::size_t c = common(a, b);
+        const double smaller =
+            static_cast<double>(std::min(v.imaged[a].size(), v.imaged[b].size()));
+        if (c > best && static_cast<double>(c) >= share * smaller) {
+          best = c;
+          best_a = a;
+          best_b = b;
+        }
       }
-    }
-  }
-  std::vector<char> seen(n, 0);
-  std::size_t groups = 0;
-  for (std::size_t start = 0; start < n; ++start) {
-    if (seen[start] != 0) continue;
-    ++groups;
-    std::vector<std::size_t> stack = {start};
-    seen[start] = 1;
-    while (!stack.empty()) {
-      const std::size_t a = stack.back();
-      stack.pop_back();
-      for (const auto b : adjacent[a]) {
-        if (seen[b] == 0) {
-          seen[b] = 1;
-          stack.push_back(b);
+    if (best_a == n) break;
+    const int id = static_cast<int>(models++);
+    model[best_a] = model[best_b] = id;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (model[j] >= 0) continue;
+        std::size_t anchored = 0;
+        for (const auto p : v.imaged[j]) {
+          std::size_t views = 0;
+          for (std::size_t k = 0; k < n; ++k)
+            if (model[k] == id && compatible(j, k) &&
+                std::binary_search(v.imaged[k].begin(), v.imaged[k].end(), p))
+              ++views;
+          anchored += views >= 2 ? 1 : 0;
+        }
+        if (static_cast<double>(anchored) >= share * static_cast<double>(v.imaged[j].size())) {
+          model[j] = id;
+          grew = true;
         }
       }
     }
   }
-  return groups;
+  for (std::size_t j = 0; j < n; ++j) models += model[j] < 0 ? 1 : 0;
+  return models;
 }
 
-TEST(StructureViews, CornerCandidatesJoinTheFacesOfAShaftIntoOneLinkedGroup) {
+TEST(StructureViews, CornerCandidatesJoinTheFacesOfAShaftIntoOneModel) {
   // Four faces 90° apart: no face-on or tilted photo of one face is within 50° of one of
   // the next, so the faces stay apart; photos turned 45° about z at the edges see both
-  // faces and link them. The groups are recounted from what the views image.
+  // faces and, two or more at an edge, register the next face's photos. The models are
+  // recounted by brute force from what the views image.
   const World w = shaft(3.0, 3.0, 0.25);
   const PinholeCamera camera(PinholeIntrinsics{});
   const ViewpointFree is_free = [&](const Vec3& c) { return c.z() >= 0.5 && !w.inside(c); };
@@ -530,13 +549,13 @@ TEST(StructureViews, CornerCandidatesJoinTheFacesOfAShaftIntoOneLinkedGroup) {
   // Candidates per seed: along n, 2 per tilt, 2 per yaw (every normal is horizontal).
   EXPECT_EQ(apart.candidates, 5 * apart.seeds);
   EXPECT_EQ(joined.candidates, 7 * joined.seeds);
-  EXPECT_GE(linkedGroups(apart, 0.3, 50.0), 4u);
-  EXPECT_EQ(apart.components, linkedGroups(apart, 0.3, 50.0));
+  EXPECT_GE(registeredModels(apart, 0.3, 50.0), 4u);
+  EXPECT_EQ(apart.components, registeredModels(apart, 0.3, 50.0));
   EXPECT_EQ(joined.components, 1u);
-  EXPECT_EQ(linkedGroups(joined, 0.3, 50.0), 1u);
+  EXPECT_EQ(registeredModels(joined, 0.3, 50.0), 1u);
   EXPECT_EQ(joined.reached, joined.achievable);
   std::cout << "shaft: " << apart.views.size() << " photos in " << apart.components
-            << " groups without corner photos, " << joined.views.size() << " (" << joined.linking
+            << " models without corner photos, " << joined.views.size() << " (" << joined.linking
             << " linking) in one with them\n";
 }
 

@@ -45,12 +45,17 @@
 /// level, near ones do not image well: neighbouring photos then share range and tilt, which feature
 /// matching needs.
 ///
-/// `link_share` > 0 (a reconstruction): two chosen photos are linked when they image
-/// ≥ link_share × the smaller of their point sets in common and their optical axes
-/// differ by ≤ `link_max_angle_deg` (what feature matching can join); while the links
-/// leave the chosen photos in more than one group, the candidate linked to the most
-/// groups (≥ 2; ties to the larger joined photo count, then the lower index) is added.
-/// `components` reports the groups left (1: one matching graph).
+/// `link_share` > 0 (a reconstruction): the chosen photos are registered as an
+/// incremental reconstruction (COLMAP's mapper) would: a model starts from the pair
+/// sharing the most points (≥ link_share × the smaller set, optical axes within
+/// `link_max_angle_deg`, what feature matching can join), and a photo joins it once
+/// ≥ link_share of its points are each imaged by two photos of the model whose axes are
+/// within link_max_angle_deg of its own (points it can match that are already
+/// triangulated); the rest start further models. A link by shared points alone is not
+/// enough: across a corner, the far face's photos need two photos of the model that see
+/// it. While more than one model is left, the candidate that registers in the largest and
+/// images the most points seen outside it and not yet twice in it is added (ties to the
+/// lower index). `components` reports the models left (1: one model).
 
 #include <cstddef>
 #include <cstdint>
@@ -106,8 +111,8 @@ struct StructureViews {
   std::vector<std::vector<std::uint32_t>> imaged;
   std::size_t achievable{0};  ///< Σ over points of min(min_views, candidates imaging it)
   std::size_t reached{0};     ///< Σ over points of the chosen views' level (≤ achievable)
-  std::size_t linking{0};     ///< photos added to link the groups (link_share > 0)
-  std::size_t components{0};  ///< groups of linked photos left (link_share > 0)
+  std::size_t linking{0};     ///< photos added to join the models (link_share > 0)
+  std::size_t components{0};  ///< models the chosen photos register in (link_share > 0)
 };
 
 /// Share of what two views image in common: |a ∩ b| / max(|a|, |b|) (0 when both are
