@@ -369,7 +369,7 @@ class RegistrationModels {
           if (seen_by[j].empty()) seen_by[j].assign(set.size(), 0);
           const auto at =
               static_cast<std::size_t>(std::lower_bound(set.begin(), set.end(), p) - set.begin());
-          if (++seen_by[j][at] != 2) continue;
+          if (seen_by[j][at] >= 2 || ++seen_by[j][at] != 2) continue;  // saturates at 2
           if (!enough(j, ++anchored[j])) continue;
           model_[j] = id;
           queue.push_back(j);
