@@ -150,7 +150,7 @@ Vec3 recentreScenario(app::Scenario& scenario) {
   }
   for (const auto& p : scenario.world.points()) box.extend(p.p);
   if (box.empty() || !io::farFromOrigin(box.min, box.max)) return Vec3::Zero();
-  const Vec3 origin = io::recentringOrigin(box.min, box.max);
+  Vec3 origin = io::recentringOrigin(box.min, box.max);
   scenario.world = worldInLogFrame(scenario.world, origin);
   for (Vec3& s : scenario.scan.stations) s -= origin;
   auto& planes = scenario.config.perception.planes;
@@ -417,6 +417,49 @@ std::optional<planning::FleetPlan> flyFleet(const std::vector<planning::SurfaceM
                              config.fleet);
 }
 
+namespace {
+
+/// A reconstruction in surfaces mode: a column of photos along every convex edge
+/// between two chosen surfaces (coverage::planEdgeLinks), appended to `strategies`
+/// with ids above every surface's (in `mission_ids`), so that the faces' photos join
+/// into one model. An edge is found within the RANSAC distance plus a voxel.
+void addEdgeLinks(const Scene& scene, const app::Config& config,
+                  const std::vector<int>& surface_ids,
+                  std::vector<coverage::FlightStrategy>& strategies,
+                  std::vector<int>& mission_ids) {
+  if (config.coverage.purpose != "reconstruction" || surface_ids.size() < 2) return;
+  std::vector<const Surface*> chosen;
+  chosen.reserve(surface_ids.size());
+  for (const int id : surface_ids) chosen.push_back(&surfaceById(scene, id));
+  int first_id = 0;
+  for (const auto& s : scene.surfaces) first_id = std::max(first_id, s.id + 1);
+  const double tolerance_m =
+      config.perception.planes.distance_threshold_m + config.preprocess.voxel_m;
+  for (auto& link : coverage::planEdgeLinks(coverage::convexEdges(chosen, tolerance_m),
+                                            config.coverage, first_id)) {
+    mission_ids.push_back(link.surface_id);
+    strategies.push_back(std::move(link));
+  }
+}
+
+/// Stage 6 of plan(): the chosen surfaces' photo stops, then the edge links; the
+/// missions' ids (the surfaces', then the links') in `mission_ids`. Surfaces are
+/// independent, each strategy written to its own slot, on every core.
+std::vector<coverage::FlightStrategy> photoStops(const Scene& scene, const app::Config& config,
+                                                 const std::vector<int>& surface_ids,
+                                                 std::vector<int>& mission_ids) {
+  std::vector<coverage::FlightStrategy> strategies(surface_ids.size());
+  parallelFor(surface_ids.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
+    strategies[i] =
+        coverage::planFlightStrategy(surfaceById(scene, surface_ids[i]), config.coverage);
+  });
+  mission_ids = surface_ids;
+  addEdgeLinks(scene, config, surface_ids, strategies, mission_ids);
+  return strategies;
+}
+
+}  // namespace
+
 PlanResult plan(const Scene& scene, const app::Config& config, const std::vector<int>& surface_ids,
                 const Progress& progress) {
   PlanResult result;
@@ -431,13 +474,11 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
     });
   }
 
-  // Stage 6 first: the grid must also cover every stop. Surfaces are independent,
-  // each strategy written to its own slot, on every core.
-  std::vector<coverage::FlightStrategy> strategies(surface_ids.size());
-  parallelFor(surface_ids.size(), hardwareThreads(), [&](std::size_t i, std::size_t) {
-    strategies[i] =
-        coverage::planFlightStrategy(surfaceById(scene, surface_ids[i]), config.coverage);
-  });
+  // Stage 6 first: the grid must also cover every stop.
+  std::vector<int> mission_ids;
+  const std::vector<coverage::FlightStrategy> strategies =
+      photoStops(scene, config, surface_ids, mission_ids);
+  const std::size_t surfaces = surface_ids.size();
   PointList stop_positions;
   for (const auto& strategy : strategies)
     for (const auto& stop : strategy.stops) stop_positions.push_back(stop.position);
@@ -467,7 +508,8 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   const auto t2 = SteadyClock::now();
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   result.missions =
-      planMissions(strategies, surface_ids, grid, validator, *planner, config, progress);
+      planMissions(strategies, mission_ids, grid, validator, *planner, config, progress);
+  for (std::size_t i = surfaces; i < result.missions.size(); ++i) result.missions[i].kind = "edge";
   // The flight and the coverage of the flown photos only read the missions (a
   // surface that coverage turns `partial` stays flyable): the flight runs on a second
   // thread meanwhile (its A* legs use one core), the coverage is written in after.
@@ -483,13 +525,13 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
   // voxels before their target (its own surface never hides it at ≤ 75°).
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  std::vector<std::optional<coverage::CoverageResult>> measured(strategies.size());
-  for (std::size_t i = 0; i < strategies.size(); ++i)
+  std::vector<std::optional<coverage::CoverageResult>> measured(surfaces);
+  for (std::size_t i = 0; i < surfaces; ++i)
     measured[i] = coverageOf(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config,
                              flight_done);
   result.times.planning_s = secondsSince(t2);
   auto [flown, flight_s] = flight.get();
-  for (std::size_t i = 0; i < strategies.size(); ++i) {
+  for (std::size_t i = 0; i < surfaces; ++i) {
     if (!measured[i]) continue;
     applyCoverage(result.missions[i], *measured[i], surfaceById(scene, surface_ids[i]), config);
     applyMultiView(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config);

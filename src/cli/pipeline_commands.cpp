@@ -128,8 +128,11 @@ void printPlanSummary(const app::PlanResult& p) {
     std::cout << "\n";
   }
   for (const auto& m : p.missions) {
-    std::cout << "  " << (m.kind == "structure" ? "structure " : "surface ") << m.surface_id << ": "
-              << planning::toString(m.status) << ", " << m.strategy.stops.size() << " stops";
+    const char* what = m.kind == "plane"  ? "surface "
+                       : m.kind == "edge" ? "edge link "
+                                          : "structure ";
+    std::cout << "  " << what << m.surface_id << ": " << planning::toString(m.status) << ", "
+              << m.strategy.stops.size() << " stops";
     if (!m.moved_stops.empty()) std::cout << " (" << m.moved_stops.size() << " moved by repair)";
     if (m.coverage.evaluated)
       std::cout << ", coverage " << formatFixed(100.0 * m.coverage.fraction, 1) << " %";
@@ -170,17 +173,21 @@ void printFlight(const planning::FlightPlan& f) {
 
 /// One line over all surfaces: what the mission is, in numbers.
 void printTotals(const app::PlanResult& p) {
-  std::size_t ok = 0, stops = 0, waypoints = 0;
+  std::size_t ok = 0, stops = 0, waypoints = 0, links = 0, links_ok = 0;
   double length = 0.0;
   for (const auto& m : p.missions) {
+    const bool link = m.kind == "edge";
+    links += link ? 1 : 0;
     if (!planning::flyable(m.status)) continue;
-    ++ok;
+    (link ? links_ok : ok) += 1;
     stops += m.strategy.stops.size();
     waypoints += m.waypoints.size();
     length += m.path_length_m;
   }
-  std::cout << "summary: " << ok << " of " << p.missions.size() << " surfaces with a mission, "
-            << stops << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1)
+  std::cout << "summary: " << ok << " of " << p.missions.size() - links
+            << " surfaces with a mission, ";
+  if (links > 0) std::cout << links_ok << " of " << links << " edge links, ";
+  std::cout << stops << " photo stops, " << waypoints << " waypoints, " << formatFixed(length, 1)
             << " m over the surfaces\n";
   printFlight(p.flight);
 }

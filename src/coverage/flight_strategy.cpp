@@ -227,14 +227,15 @@ struct SurfaceFrame {
   bool horizontal{false};
 };
 
-SurfaceFrame surfaceFrame(const Surface& surface, const Vec3& n) {
+/// `axis_u`: the surface's first in-plane axis, the image width of a horizontal one.
+SurfaceFrame surfaceFrame(const Vec3& axis_u, const Vec3& n) {
   SurfaceFrame f;
   f.n = n;
   f.horizontal = std::abs(n.z()) >= kHorizontalNz;
   if (!f.horizontal) {
     f.axis_w = Vec3::UnitZ().cross(n).normalized();
   } else {
-    f.axis_w = surface.axis_u - surface.axis_u.dot(n) * n;
+    f.axis_w = axis_u - axis_u.dot(n) * n;
     f.axis_w = f.axis_w.norm() > 1e-9 ? f.axis_w.normalized() : anyOrthogonal(n);
   }
   f.axis_h = n.cross(f.axis_w).normalized();
@@ -470,7 +471,7 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
-  const SurfaceFrame f = surfaceFrame(surface, surface.plane.normal / nnorm);
+  const SurfaceFrame f = surfaceFrame(surface.axis_u, surface.plane.normal / nnorm);
   fs.axis_w = f.axis_w;
   fs.axis_h = f.axis_h;
   const Attitude at = stopAttitude(f, options.gimbal);
@@ -494,6 +495,118 @@ double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b) {
   if (!(fw > 0.0) || !(fh > 0.0)) return 0.0;
   return std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_w)) / fw) *
          std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_h)) / fh);
+}
+
+namespace {
+
+/// Edges: planes at least this far from parallel and from folded flat [deg].
+constexpr double kEdgeMinAngleDeg = 30.0;
+
+/// The stretch [lo, hi] of the line p0 + t·d that `surface`'s boundary vertices within
+/// `tol` of `other` reach; empty when fewer than two do.
+std::optional<std::pair<double, double>> stretchNear(const Surface& surface, const Plane& other,
+                                                     const Vec3& p0, const Vec3& d, double tol) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  int near = 0;
+  for (const auto& v : surface.boundary) {
+    if (!(std::abs(other.signedDistance(v)) <= tol)) continue;
+    const double t = (v - p0).dot(d);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+    ++near;
+  }
+  if (near < 2) return std::nullopt;
+  return std::make_pair(lo, hi);
+}
+
+/// The convex edge of a and b, if they share one (convexEdges).
+std::optional<SurfaceEdge> edgeOf(const Surface& a, const Surface& b, double tol) {
+  const Vec3 na = a.plane.normal.normalized();
+  const Vec3 nb = b.plane.normal.normalized();
+  const double cos_max = std::cos(kEdgeMinAngleDeg * kPi / 180.0);
+  if (!na.allFinite() || !nb.allFinite() || !(std::abs(na.dot(nb)) <= cos_max)) return {};
+  // Convex: each centroid behind the other's plane.
+  if (!(a.plane.signedDistance(b.centroid) < -tol && b.plane.signedDistance(a.centroid) < -tol))
+    return {};
+  // The planes' line: direction na × nb, through the point nearest the origin
+  // (planes n·x = h with h = −offset).
+  const Vec3 n3 = na.cross(nb);
+  const double ha = -a.plane.offset / a.plane.normal.norm();
+  const double hb = -b.plane.offset / b.plane.normal.norm();
+  const Vec3 p0 = (ha * nb.cross(n3) + hb * n3.cross(na)) / n3.squaredNorm();
+  const Vec3 d = n3.normalized();
+  const Plane pa{na, -ha};
+  const Plane pb{nb, -hb};
+  const auto sa = stretchNear(a, pb, p0, d, tol);
+  const auto sb = stretchNear(b, pa, p0, d, tol);
+  if (!sa || !sb) return {};
+  const double lo = std::max(sa->first, sb->first);
+  const double hi = std::min(sa->second, sb->second);
+  if (!(hi - lo >= tol)) return {};
+  SurfaceEdge e;
+  e.surface_a = a.id;
+  e.surface_b = b.id;
+  e.p0 = p0 + lo * d;
+  e.p1 = p0 + hi * d;
+  e.bisector = (na + nb).normalized();
+  return e;
+}
+
+}  // namespace
+
+std::vector<SurfaceEdge> convexEdges(const std::vector<const Surface*>& surfaces,
+                                     double tolerance_m) {
+  std::vector<const Surface*> sorted = surfaces;
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const Surface* x, const Surface* y) { return x->id < y->id; });
+  std::vector<SurfaceEdge> edges;
+  for (std::size_t i = 0; i < sorted.size(); ++i)
+    for (std::size_t j = i + 1; j < sorted.size(); ++j)
+      if (auto e = edgeOf(*sorted[i], *sorted[j], tolerance_m)) edges.push_back(*e);
+  return edges;
+}
+
+std::vector<FlightStrategy> planEdgeLinks(const std::vector<SurfaceEdge>& edges,
+                                          const CoverageOptions& options, int first_id) {
+  options.validate();
+  std::vector<FlightStrategy> links;
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const SurfaceEdge& e = edges[k];
+    FlightStrategy fs;
+    fs.surface_id = first_id + static_cast<int>(k);
+    fs.camera = solveCamera(options.camera, options.standoff_m);
+    const Vec3 d = (e.p1 - e.p0).normalized();
+    const SurfaceFrame f = surfaceFrame(d, e.bisector);
+    fs.axis_w = f.axis_w;
+    fs.axis_h = f.axis_h;
+    // The footprint's side that lies along the edge sets the spacing.
+    const bool along_w = std::abs(d.dot(f.axis_w)) >= std::abs(d.dot(f.axis_h));
+    const double footprint = along_w ? fs.camera.footprint_w_m : fs.camera.footprint_h_m;
+    const double spacing = footprint * (1.0 - kReconstructionShare);
+    const double len = (e.p1 - e.p0).norm();
+    const double cells = cellsAlong(len, spacing, true);
+    const double step = edgeSpacing(len, cells, spacing);
+    (along_w ? fs.spacing_w_m : fs.spacing_h_m) = step;
+    (along_w ? fs.spacing_h_m : fs.spacing_w_m) = footprint;
+    fs.cols = along_w ? static_cast<int>(cells) : 1;
+    fs.rows = along_w ? 1 : static_cast<int>(cells);
+    const Attitude at = stopAttitude(f, options.gimbal);
+    for (int i = 0; i < static_cast<int>(cells); ++i) {
+      Stop s;
+      s.index = i;
+      s.surface_id = fs.surface_id;
+      (along_w ? s.col : s.row) = i;
+      s.target = e.p0 + (cells > 1.0 ? kEdgeInsetM + i * step : 0.5 * len) * d;
+      s.position = s.target + fs.camera.standoff_m * e.bisector;
+      s.yaw_deg = at.yaw;
+      s.gimbal_pitch_deg = at.pitch;
+      s.gimbal_ok = at.gimbal_ok;
+      fs.stops.push_back(s);
+    }
+    links.push_back(std::move(fs));
+  }
+  return links;
 }
 
 }  // namespace uavip::coverage

@@ -36,7 +36,8 @@ double plannedStandoff(const io::MissionRecord& mission) {
   return kNan;
 }
 
-/// One photo of stop `stop` of `surface` (kind "structure": surface_id −1).
+/// One photo of stop `stop` of `surface` (a planar surface's photo keeps its id; those of
+/// kind "structure" and "edge", which see several surfaces, get −1).
 PlannedPhoto makePhoto(const io::SurfaceRecord& surface, std::size_t stop, int sortie,
                        const PhotoCamera& camera, const std::string& path) {
   const io::StopRecord& s = surface.stops[stop];
@@ -48,7 +49,7 @@ PlannedPhoto makePhoto(const io::SurfaceRecord& surface, std::size_t stop, int s
   if (!s.target)
     throw InputError(path + ": stop " + p.stop_id +
                      " has no target (written by an older uavip); re-run uavip plan");
-  p.surface_id = surface.kind == "structure" ? -1 : surface.surface_id;
+  p.surface_id = surface.kind == "structure" || surface.kind == "edge" ? -1 : surface.surface_id;
   p.sortie = sortie;
   p.view.position = s.position;
   p.view.yaw_deg = s.yaw_deg;

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
@@ -504,6 +506,116 @@ TEST(FlightStrategy, TooManyStopsAreRefusedBeforeAnyIsMade) {
   }
   o.max_stops = 600000;  // now allowed: the count is the ideal one
   EXPECT_EQ(planFlightStrategy(wallFacingX(), o).stops.size(), 500000u);
+}
+
+/// The six faces of the box [lo, hi], outward normals, ids 0–5.
+std::vector<Surface> boxFaces(const Vec3& lo, const Vec3& hi) {
+  std::vector<Surface> faces;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    for (const int side : {0, 1}) {
+      Vec3 origin = lo;
+      origin[axis] = side == 0 ? lo[axis] : hi[axis];
+      const Vec3 u = Vec3::Unit(a), v = Vec3::Unit(b);
+      Vec3 n = Vec3::Zero();
+      n[axis] = side == 0 ? -1.0 : 1.0;
+      faces.push_back(makeSurface(rectangle(origin, u, v, hi[a] - lo[a], hi[b] - lo[b]), n, u,
+                                  static_cast<int>(faces.size())));
+    }
+  }
+  return faces;
+}
+
+TEST(EdgeLinks, ABoxHasItsTwelveEdgesAndNoOther) {
+  const Vec3 lo(0.0, 0.0, 1.0), hi(2.0, 3.0, 2.5);
+  const std::vector<Surface> faces = boxFaces(lo, hi);
+  std::vector<const Surface*> chosen;
+  chosen.reserve(faces.size());
+  for (const auto& f : faces) chosen.push_back(&f);
+  const std::vector<SurfaceEdge> edges = convexEdges(chosen, 0.25);
+  // Reference: the corner pairs that differ in exactly one coordinate.
+  std::vector<std::pair<Vec3, Vec3>> truth;
+  for (int i = 0; i < 8; ++i)
+    for (int j = i + 1; j < 8; ++j) {
+      const int diff = i ^ j;
+      if (diff != 1 && diff != 2 && diff != 4) continue;
+      const auto corner = [&](int k) {
+        return Vec3((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(),
+                    (k & 4) ? hi.z() : lo.z());
+      };
+      truth.emplace_back(corner(i), corner(j));
+    }
+  ASSERT_EQ(truth.size(), 12u);
+  ASSERT_EQ(edges.size(), 12u);
+  std::set<std::size_t> matched;
+  for (const auto& e : edges) {
+    for (std::size_t t = 0; t < truth.size(); ++t) {
+      const auto& [a, b] = truth[t];
+      if (((e.p0 - a).norm() < 1e-9 && (e.p1 - b).norm() < 1e-9) ||
+          ((e.p0 - b).norm() < 1e-9 && (e.p1 - a).norm() < 1e-9))
+        matched.insert(t);
+    }
+    const Vec3 sum = faces[static_cast<std::size_t>(e.surface_a)].plane.normal +
+                     faces[static_cast<std::size_t>(e.surface_b)].plane.normal;
+    EXPECT_LT((e.bisector - sum.normalized()).norm(), 1e-12);
+  }
+  EXPECT_EQ(matched.size(), 12u);
+
+  // Only a face and its opposite: parallel planes share no edge.
+  EXPECT_TRUE(convexEdges({&faces[0], &faces[1]}, 0.25).empty());
+  // A wall standing on a floor in front of it meets it at a concave edge: no link.
+  const Surface wall = makeSurface(rectangle(Vec3(0, 0, 0), Vec3::UnitX(), Vec3::UnitZ(), 4.0, 3.0),
+                                   -Vec3::UnitY(), Vec3::UnitX(), 0);
+  const Surface floor =
+      makeSurface(rectangle(Vec3(0, -3, 0), Vec3::UnitX(), Vec3::UnitY(), 4.0, 3.0), Vec3::UnitZ(),
+                  Vec3::UnitX(), 1);
+  EXPECT_TRUE(convexEdges({&wall, &floor}, 0.25).empty());
+}
+
+TEST(EdgeLinks, PhotosLookAtTheEdgeAlongItsBisectorAndShareTheirFootprint) {
+  const std::vector<Surface> faces = boxFaces(Vec3(0.0, 0.0, 1.0), Vec3(2.0, 3.0, 2.5));
+  std::vector<const Surface*> chosen;
+  chosen.reserve(faces.size());
+  for (const auto& f : faces) chosen.push_back(&f);
+  const std::vector<SurfaceEdge> edges = convexEdges(chosen, 0.25);
+  CoverageOptions o;
+  o.camera.footprint_w_m = 0.9;
+  o.camera.footprint_h_m = 0.6;
+  o.standoff_m = 1.5;
+  const std::vector<FlightStrategy> links = planEdgeLinks(edges, o, 10);
+  ASSERT_EQ(links.size(), edges.size());
+  for (std::size_t k = 0; k < links.size(); ++k) {
+    const SurfaceEdge& e = edges[k];
+    const FlightStrategy& fs = links[k];
+    EXPECT_EQ(fs.surface_id, 10 + static_cast<int>(k));
+    const Vec3 d = (e.p1 - e.p0).normalized();
+    const double len = (e.p1 - e.p0).norm();
+    // The footprint's side along the edge: the image width for a horizontal edge.
+    const double along = std::abs(d.z()) < 0.5 ? 0.9 : 0.6;
+    ASSERT_GE(fs.stops.size(), 2u);
+    EXPECT_GE(static_cast<double>(fs.stops.size() - 1) * 0.4 * along, len - 2e-3 - 1e-9);
+    for (std::size_t i = 0; i < fs.stops.size(); ++i) {
+      const Stop& s = fs.stops[i];
+      EXPECT_EQ(s.surface_id, fs.surface_id);
+      // The target lies on the edge, the UAV on its bisector at the standoff.
+      const double t = (s.target - e.p0).dot(d);
+      EXPECT_LT((e.p0 + t * d - s.target).norm(), 1e-9);
+      EXPECT_GE(t, 0.0);
+      EXPECT_LE(t, len);
+      EXPECT_LT((s.position - (s.target + 1.5 * e.bisector)).norm(), 1e-9);
+      // The camera (yaw by the UAV, pitch by the gimbal) looks at the target.
+      const Frame f = frameOf(s.yaw_deg, s.gimbal_pitch_deg);
+      EXPECT_LT((f.forward + e.bisector).norm(), 1e-9) << "edge " << k << " stop " << i;
+      EXPECT_TRUE(s.gimbal_ok);
+      if (i > 0) {  // consecutive photos share >= 60 % of the footprint along the edge
+        const double step = (s.target - fs.stops[i - 1].target).norm();
+        EXPECT_LE(step, (1.0 - kReconstructionShare) * along + 1e-9);
+        EXPECT_GT(step, 0.0);
+      }
+    }
+    EXPECT_LT((fs.stops.front().target - e.p0).norm(), 2e-3);
+    EXPECT_LT((fs.stops.back().target - e.p1).norm(), 2e-3);
+  }
 }
 
 }  // namespace

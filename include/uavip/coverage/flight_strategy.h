@@ -105,4 +105,29 @@ double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
 /// coverage.max_stops, when the grid would have more cells than max_stops.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options);
 
+/// A convex edge where two surfaces meet (the side faces of a box, a face and its roof):
+/// the segment [p0, p1] of the planes' line that both boundaries reach.
+struct SurfaceEdge {
+  int surface_a{0}, surface_b{0};
+  Vec3 p0{Vec3::Zero()}, p1{Vec3::Zero()};  ///< ends of the shared edge [m]
+  Vec3 bisector{Vec3::UnitX()};  ///< unit, normalize(n_a + n_b): into free space at the edge
+};
+
+/// The convex edges between `surfaces`: two planes 30°–150° apart, whose boundaries
+/// both have vertices within `tolerance_m` of the other plane along a common stretch of
+/// their line (the edge), each surface's centroid behind the other's plane. Edges
+/// shorter than `tolerance_m` are left out. Order: by (surface_a, surface_b).
+std::vector<SurfaceEdge> convexEdges(const std::vector<const Surface*>& surfaces,
+                                     double tolerance_m);
+
+/// Reconstruction across surface edges (issue 46): photos square to each face meet a
+/// convex edge 90° apart, which SIFT does not match, so a model stops at the edge.
+/// One column of photos per edge, on its bisector at the standoff, aimed at the edge
+/// (45° incidence on both faces of a right angle), edge to edge along it at
+/// (1 − kReconstructionShare) of the footprint, ties one face's model to the next's.
+/// Each edge is a FlightStrategy of its own with id `first_id` + its index in `edges`
+/// (rows along the edge, one column; axis_w, axis_h the image axes).
+std::vector<FlightStrategy> planEdgeLinks(const std::vector<SurfaceEdge>& edges,
+                                          const CoverageOptions& options, int first_id);
+
 }  // namespace uavip::coverage

@@ -104,7 +104,8 @@ struct StopRecord {
 /// One surface's mission as recorded.
 struct SurfaceRecord {
   int surface_id{0};
-  std::string kind;    ///< "structure" for plan --cover structure's views, else the surface's kind
+  std::string kind;    ///< "structure" (plan --cover structure), "edge" (a reconstruction's edge
+                       ///< link), else "plane"
   std::string status;  ///< ok, partial, blocked, failed, …
   /// The camera's standoff (`camera.standoff_m`) [m]; NaN when absent.
   double standoff_m{std::numeric_limits<double>::quiet_NaN()};

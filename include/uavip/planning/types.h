@@ -133,7 +133,8 @@ struct Leg {
 /// The mission of one surface.
 struct SurfaceMission {
   int surface_id{0};
-  /// "plane": a detected surface's rows (§II-F); "structure": the photos of the
+  /// "plane": a detected surface's rows (§II-F); "edge": a reconstruction's photos
+  /// along a convex edge of two surfaces (coverage::planEdgeLinks); "structure": the photos of the
   /// whole structure (coverage/structure_views.h).
   std::string kind{"plane"};
   SurfaceStatus status{SurfaceStatus::NoStops};
