@@ -24,7 +24,9 @@
 //    horizontal, axis_h = n × axis_w points up the surface. The heading is the
 //    horizontal view direction: yaw = atan2(−n_y, −n_x).
 //  * Near-horizontal surface (|n_z| >= kHorizontalNz: roof, deck top, ceiling, deck
-//    underside): axis_w = surface.axis_u projected onto the plane, axis_h = n × axis_w.
+//    underside): axis_w = surface.axis_u projected onto the plane (or the longer side of
+//    the boundary's least enclosing rectangle when that is 2 % smaller than the one along
+//    axis_u: horizontalRowAxis), axis_h = n × axis_w.
 //    A gimbal pitched from horizontal to straight down turns the image "up" onto the
 //    UAV's forward direction, so when looking down (pitch < 0) the heading is the
 //    horizontal direction of axis_h: yaw = atan2(axis_h_y, axis_h_x). Pitched to
@@ -264,6 +266,49 @@ Attitude stopAttitude(const SurfaceFrame& f, const GimbalLimits& gimbal) {
   return at;
 }
 
+/// A horizontal surface's rows run along the boundary's minimum-area enclosing
+/// rectangle (rotating calipers over its convex hull: one side lies on a hull edge)
+/// when that rectangle is at least this much smaller than the one along axis_u.
+constexpr double kRectangleGain = 0.02;
+
+/// Row axis of a horizontal surface (its image width, see the conventions at the top):
+/// axis_u (PCA's first axis, projected on the plane n) unless the boundary's
+/// minimum-area rectangle is kRectangleGain smaller than its rectangle along axis_u;
+/// then that rectangle's longer side, turned to axis_u's side. PCA's axis is arbitrary
+/// on a near-square roof and would lay the grid diagonally: more photos, and centres
+/// moved off the corners' air that break the rows' shared footprint.
+Vec3 horizontalRowAxis(const Surface& surface, const Vec3& n) {
+  Vec3 u = surface.axis_u - surface.axis_u.dot(n) * n;
+  u = u.norm() > 1e-9 ? u.normalized() : anyOrthogonal(n);
+  const Vec3 v = n.cross(u);
+  std::vector<Vec2> pts;
+  pts.reserve(surface.boundary.size());
+  for (const auto& p : surface.boundary) pts.emplace_back(p.dot(u), p.dot(v));
+  const std::vector<Vec2> hull = convexHull2d(pts);
+  if (hull.size() < 3) return u;
+  const auto extents = [&](const Vec2& dir) {
+    const auto [alo, ahi] = projectRange(hull, dir);
+    const auto [blo, bhi] = projectRange(hull, Vec2(-dir.y(), dir.x()));
+    return std::make_pair(ahi - alo, bhi - blo);
+  };
+  const auto [bu, bv] = extents(Vec2::UnitX());
+  double best_area = (1.0 - kRectangleGain) * bu * bv;
+  std::optional<Vec2> best;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+    if (!(e.norm() > 1e-12)) continue;
+    const Vec2 dir = e.normalized();
+    const auto [a, b] = extents(dir);
+    if (a * b < best_area) {
+      best_area = a * b;
+      best = a >= b ? dir : Vec2(-dir.y(), dir.x());
+    }
+  }
+  if (!best) return u;
+  const Vec2 w = best->x() >= 0.0 ? *best : Vec2(-*best);
+  return (w.x() * u + w.y() * v).normalized();
+}
+
 /// The boundary and its holes in (axis_w, axis_h) coordinates about origin [m].
 Region regionInFrame(const Surface& surface, const SurfaceFrame& f, const Vec3& origin) {
   const auto toFrame = [&](const PointList& loop) {
@@ -471,7 +516,10 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
-  const SurfaceFrame f = surfaceFrame(surface.axis_u, surface.plane.normal / nnorm);
+  const SurfaceFrame f = surfaceFrame(std::abs(surface.plane.normal.z() / nnorm) >= kHorizontalNz
+                                          ? horizontalRowAxis(surface, surface.plane.normal / nnorm)
+                                          : surface.axis_u,
+                                      surface.plane.normal / nnorm);
   fs.axis_w = f.axis_w;
   fs.axis_h = f.axis_h;
   const Attitude at = stopAttitude(f, options.gimbal);

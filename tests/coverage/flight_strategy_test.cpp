@@ -244,6 +244,30 @@ TEST(FlightStrategy, HorizontalSurfaceHeadingRule) {
   EXPECT_EQ(tf.rows, 13);  // ⌈4/0.32⌉ = ⌈12.5⌉
 }
 
+TEST(FlightStrategy, ASquareRoofsRowsRunAlongItsSidesWhateverPcaSays) {
+  // A 3 m square roof whose sides run at 30° from +x. PCA's axis is arbitrary on a
+  // square: given along the diagonal (75°), the grid still follows the sides, with the
+  // count of the same roof given axis_u along a side (the reference: ⌈3/0.48⌉ × ⌈3/0.32⌉).
+  const Vec3 side(std::cos(30.0 * kDeg), std::sin(30.0 * kDeg), 0.0);
+  const Vec3 other = Vec3::UnitZ().cross(side);
+  const PointList square = rectangle(Vec3(1, 2, 3), side, other, 3.0, 3.0);
+  const Vec3 diagonal = (side + other).normalized();
+  const FlightStrategy along =
+      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), side), CoverageOptions{});
+  const FlightStrategy diag =
+      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), diagonal), CoverageOptions{});
+  EXPECT_EQ(along.cols, 7);
+  EXPECT_EQ(along.rows, 10);
+  EXPECT_EQ(along.stops.size(), 70u);
+  EXPECT_EQ(diag.stops.size(), along.stops.size());
+  EXPECT_NEAR(std::abs(diag.axis_w.dot(side)) + std::abs(diag.axis_w.dot(other)), 1.0, 1e-9);
+  EXPECT_GE(diag.axis_w.dot(diagonal), 0.0);  // turned to axis_u's side
+  // A clearly oblong roof keeps PCA's axis exactly (its rectangle is already the least).
+  const Surface oblong =
+      makeSurface(rectangle(Vec3(0, 0, 0), side, other, 4.0, 2.0), Vec3::UnitZ(), side);
+  EXPECT_LT((planFlightStrategy(oblong, CoverageOptions{}).axis_w - side).norm(), 1e-12);
+}
+
 TEST(FlightStrategy, CameraFrameMatchesImageAxes) {
   // For every orientation, the camera frame built from (yaw, pitch) alone looks along
   // −n with image right = axis_w and image up = axis_h (no roll needed).
