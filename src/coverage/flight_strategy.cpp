@@ -24,9 +24,9 @@
 //    horizontal, axis_h = n × axis_w points up the surface. The heading is the
 //    horizontal view direction: yaw = atan2(−n_y, −n_x).
 //  * Near-horizontal surface (|n_z| >= kHorizontalNz: roof, deck top, ceiling, deck
-//    underside): axis_w = surface.axis_u projected onto the plane (or the longer side of
-//    the boundary's least enclosing rectangle when that is 2 % smaller than the one along
-//    axis_u: horizontalRowAxis), axis_h = n × axis_w.
+//    underside): axis_w = surface.axis_u projected onto the plane (a mosaic or a
+//    reconstruction: the longer side of the boundary's least enclosing rectangle when
+//    that is 2 % smaller than the one along axis_u, horizontalRowAxis), axis_h = n × axis_w.
 //    A gimbal pitched from horizontal to straight down turns the image "up" onto the
 //    UAV's forward direction, so when looking down (pitch < 0) the heading is the
 //    horizontal direction of axis_h: yaw = atan2(axis_h_y, axis_h_x). Pitched to
@@ -271,7 +271,8 @@ Attitude stopAttitude(const SurfaceFrame& f, const GimbalLimits& gimbal) {
 /// when that rectangle is at least this much smaller than the one along axis_u.
 constexpr double kRectangleGain = 0.02;
 
-/// Row axis of a horizontal surface (its image width, see the conventions at the top):
+/// Row axis of a horizontal surface of a mosaic or a reconstruction (its image width, see
+/// the conventions at the top; inspection keeps axis_u, the paper's grid as before):
 /// axis_u (PCA's first axis, projected on the plane n) unless the boundary's
 /// minimum-area rectangle is kRectangleGain smaller than its rectangle along axis_u;
 /// then that rectangle's longer side, turned to axis_u's side. PCA's axis is arbitrary
@@ -516,10 +517,11 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
-  const SurfaceFrame f = surfaceFrame(std::abs(surface.plane.normal.z() / nnorm) >= kHorizontalNz
-                                          ? horizontalRowAxis(surface, surface.plane.normal / nnorm)
-                                          : surface.axis_u,
-                                      surface.plane.normal / nnorm);
+  const SurfaceFrame f = surfaceFrame(
+      options.purpose != "inspection" && std::abs(surface.plane.normal.z() / nnorm) >= kHorizontalNz
+          ? horizontalRowAxis(surface, surface.plane.normal / nnorm)
+          : surface.axis_u,
+      surface.plane.normal / nnorm);
   fs.axis_w = f.axis_w;
   fs.axis_h = f.axis_h;
   const Attitude at = stopAttitude(f, options.gimbal);

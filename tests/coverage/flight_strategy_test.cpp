@@ -245,17 +245,19 @@ TEST(FlightStrategy, HorizontalSurfaceHeadingRule) {
 }
 
 TEST(FlightStrategy, ASquareRoofsRowsRunAlongItsSidesWhateverPcaSays) {
-  // A 3 m square roof whose sides run at 30° from +x. PCA's axis is arbitrary on a
-  // square: given along the diagonal (75°), the grid still follows the sides, with the
-  // count of the same roof given axis_u along a side (the reference: ⌈3/0.48⌉ × ⌈3/0.32⌉).
+  // A 3 m square roof whose sides run at 30° from +x, planned for a mosaic (at the
+  // options' overlap, 0.2). PCA's axis is arbitrary on a square: given along the diagonal
+  // (75°), the grid still follows the sides, with the count of the same roof given
+  // axis_u along a side (the reference: ⌈3/0.48⌉ × ⌈3/0.32⌉).
+  CoverageOptions mosaic;
+  mosaic.purpose = "mosaic";
   const Vec3 side(std::cos(30.0 * kDeg), std::sin(30.0 * kDeg), 0.0);
   const Vec3 other = Vec3::UnitZ().cross(side);
   const PointList square = rectangle(Vec3(1, 2, 3), side, other, 3.0, 3.0);
   const Vec3 diagonal = (side + other).normalized();
-  const FlightStrategy along =
-      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), side), CoverageOptions{});
+  const FlightStrategy along = planFlightStrategy(makeSurface(square, Vec3::UnitZ(), side), mosaic);
   const FlightStrategy diag =
-      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), diagonal), CoverageOptions{});
+      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), diagonal), mosaic);
   EXPECT_EQ(along.cols, 7);
   EXPECT_EQ(along.rows, 10);
   EXPECT_EQ(along.stops.size(), 70u);
@@ -265,7 +267,12 @@ TEST(FlightStrategy, ASquareRoofsRowsRunAlongItsSidesWhateverPcaSays) {
   // A clearly oblong roof keeps PCA's axis exactly (its rectangle is already the least).
   const Surface oblong =
       makeSurface(rectangle(Vec3(0, 0, 0), side, other, 4.0, 2.0), Vec3::UnitZ(), side);
-  EXPECT_LT((planFlightStrategy(oblong, CoverageOptions{}).axis_w - side).norm(), 1e-12);
+  EXPECT_LT((planFlightStrategy(oblong, mosaic).axis_w - side).norm(), 1e-12);
+  // Inspection keeps PCA's axis: the paper's grid, as before.
+  const FlightStrategy inspection =
+      planFlightStrategy(makeSurface(square, Vec3::UnitZ(), diagonal), CoverageOptions{});
+  EXPECT_LT((inspection.axis_w - diagonal).norm(), 1e-12);
+  EXPECT_GT(inspection.stops.size(), along.stops.size());
 }
 
 TEST(FlightStrategy, CameraFrameMatchesImageAxes) {
