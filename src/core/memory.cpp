@@ -1,11 +1,13 @@
 #include "uavip/core/memory.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>  // defines __GLIBC__ on glibc
 #include <fstream>
 #include <limits>
 #include <string>
+#include <thread>
 
 #include "uavip/core/error.h"
 #include "uavip/core/text.h"
@@ -47,6 +49,7 @@ void keepFreedMemoryForReuse() {
   // 32 MB: glibc's largest accepted mmap threshold on 64-bit (4 MB · sizeof(long)).
   mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);  // trim only above 1 GiB of free heap top
+  mallopt(M_ARENA_MAX, static_cast<int>(std::max(1U, std::thread::hardware_concurrency())));
 #endif
 }
 
