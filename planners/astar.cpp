@@ -1,5 +1,8 @@
 #include "planners/astar.h"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,14 +26,18 @@ namespace uavip::planners {
 
 namespace {
 
-/// Grids up to this many voxels use a dense scratch (16 B/voxel of address space,
-/// kept in a pool every thread borrows from and reused by every search on a grid of
-/// the same size; zero pages, so only the pages a search touches cost memory and
-/// time: a search costs O(expansions), not O(grid)); larger grids use a hash map so
-/// memory stays bounded.
+/// Grids up to this many voxels use a dense scratch (12 B a voxel of address space,
+/// laid out in tiles (TileLayout), kept in a pool every thread borrows from and reused by every
+/// search on a grid of the same size; zero pages, so only the pages a search touches cost memory
+/// and time: a search costs O(expansions), not O(grid)); larger grids use a hash map so memory
+/// stays bounded.
 constexpr std::size_t kDenseScratchLimit = 16'000'000;
 
 constexpr std::uint8_t kNoParent = 255;
+
+/// A dense scratch gives its pages back once searches have written this many bytes
+/// of them (DenseStore::release).
+constexpr std::size_t kResidentBytes = std::size_t{64} << 20;
 
 struct Move {
   int dx, dy, dz;
@@ -79,6 +86,17 @@ class ZeroedArray {
     size_ = n;
   }
   std::size_t size() const { return size_; }
+  /// Gives the whole pages inside the array back to the OS; they read as zero again
+  /// (anonymous memory), so the array stays zero-initialised where it was.
+  void releasePages() {
+    if (data_ == nullptr) return;
+    const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+    char* const bytes = reinterpret_cast<char*>(data_);
+    const std::size_t head = (page - reinterpret_cast<std::uintptr_t>(bytes) % page) % page;
+    const std::size_t size = size_ * sizeof(T);
+    const std::size_t whole = size > head ? (size - head) / page * page : 0;
+    if (whole > 0) ::madvise(bytes + head, whole, MADV_DONTNEED);
+  }
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
 
@@ -92,6 +110,14 @@ class ZeroedArray {
 /// g-score, stamp (24 bits) and parent (8 bits) share one 12-byte cell (4-byte
 /// aligned: the g-score's 8 bytes copied in and out), a quarter less memory than a
 /// 16-byte aligned one for the pages a long search faults in.
+///
+/// Pages: a cell is read only on a page written since the last release (`written_`,
+/// a byte a 4 KiB page); any other reads as unvisited without touching memory. So a
+/// page's first touch is a write (one fault) rather than a read that maps the
+/// kernel's zero page and a write that then replaces it (a second fault, and a TLB
+/// flush on every core the process runs on). Once searches have written
+/// kResidentBytes of pages, release() gives them back, so a scratch holds at most
+/// that much plus one search, however many legs a flight searches on it.
 struct DenseStore {
   struct Cell {
     std::uint32_t g[2];  ///< the g-score's bytes
@@ -99,33 +125,56 @@ struct DenseStore {
   };
   static_assert(sizeof(Cell) == 12, "a 12-byte cell");
   static constexpr std::uint32_t kStamps = std::uint32_t{1} << 24;
-  ZeroedArray<Cell> cells;
-  std::uint32_t current{0};
+  static constexpr std::size_t kPageBytes = 4096;  ///< pages counted in 4 KiB
 
-  std::size_t size() const { return cells.size(); }
+  std::size_t size() const { return cells_.size(); }
   void begin(std::size_t n) {
-    if (cells.size() != n) {
-      cells.reset(n);
-      current = 0;
+    if (cells_.size() != n) {
+      cells_.reset(n);
+      written_.assign(n * sizeof(Cell) / kPageBytes + 1, 0);
+      written_pages_ = 0;
+      current_ = 0;
     }
-    if (++current == kStamps) {  // wrapped: clear once
-      cells.reset(n);
-      current = 1;
+    if (++current_ == kStamps) {  // wrapped: clear once
+      cells_.reset(n);
+      forgetPages();
+      current_ = 1;
     }
   }
+  /// After a search: the pages back to the OS once kResidentBytes are written.
+  void release() {
+    if (written_pages_ * kPageBytes < kResidentBytes) return;
+    cells_.releasePages();
+    forgetPages();
+  }
   NodeState get(std::size_t i) const {
-    const Cell& c = cells[i];
-    if ((c.tag >> 8) != current) return {};
+    if (written_[i * sizeof(Cell) / kPageBytes] == 0) return {};
+    const Cell& c = cells_[i];
+    if ((c.tag >> 8) != current_) return {};
     double g = 0.0;
     std::memcpy(&g, c.g, sizeof g);
     const auto bits = static_cast<std::uint8_t>(c.tag & 0x7F);
     return {g, bits == 0x7F ? kNoParent : bits, (c.tag & 0x80) != 0};
   }
   void set(std::size_t i, const NodeState& s) {
-    Cell& c = cells[i];
+    std::uint8_t& w = written_[i * sizeof(Cell) / kPageBytes];
+    written_pages_ += 1U - w;
+    w = 1;
+    Cell& c = cells_[i];
     std::memcpy(c.g, &s.g, sizeof s.g);
-    c.tag = current << 8 | static_cast<std::uint32_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0));
+    c.tag = current_ << 8 | static_cast<std::uint32_t>((s.parent & 0x7F) | (s.closed ? 0x80 : 0));
   }
+
+ private:
+  void forgetPages() {
+    std::fill(written_.begin(), written_.end(), std::uint8_t{0});
+    written_pages_ = 0;
+  }
+
+  ZeroedArray<Cell> cells_;
+  std::uint32_t current_{0};
+  std::vector<std::uint8_t> written_;  ///< per page: written since the last release
+  std::size_t written_pages_{0};
 };
 
 struct HashStore {
@@ -325,6 +374,33 @@ struct CorridorSpace {
   std::size_t voxelCount() const { return grid.voxelCount(); }
 };
 
+/// The search state's slot of a voxel: the grid in tiles of 8 × 8 × 8 voxels, each
+/// tile's 512 slots together (6 KiB of 12-byte cells). A search's compact region then
+/// writes a page or two per tile it reaches instead of a page per x-row it crosses
+/// (a 50³-voxel region: about 500 pages, not 2,500), which bounds the dense scratch's
+/// resident memory and its page faults. The open list still orders ties by the
+/// grid's linear index, so paths do not depend on the layout.
+struct TileLayout {
+  static constexpr int kShift = 3;  ///< 8 voxels a side
+  static constexpr int kMask = (1 << kShift) - 1;
+  std::size_t tiles_x{0}, tiles_y{0}, slots{0};
+
+  explicit TileLayout(const std::array<int, 3>& dims) {
+    const auto tiles = [](int n) { return (static_cast<std::size_t>(n) + kMask) >> kShift; };
+    tiles_x = tiles(dims[0]);
+    tiles_y = tiles(dims[1]);
+    slots = (tiles_x * tiles_y * tiles(dims[2])) << (3 * kShift);
+  }
+  std::size_t of(const world::Index3& i) const {
+    const std::size_t tile = (static_cast<std::size_t>(i.z >> kShift) * tiles_y +
+                              static_cast<std::size_t>(i.y >> kShift)) *
+                                 tiles_x +
+                             static_cast<std::size_t>(i.x >> kShift);
+    return tile << (3 * kShift) | static_cast<std::size_t>((i.z & kMask) << (2 * kShift) |
+                                                           (i.y & kMask) << kShift | (i.x & kMask));
+  }
+};
+
 template <typename Store, typename Space>
 GridSearchResult search(Store& store, const Space& grid, const world::Index3& start,
                         const world::Index3& goal, const AStarOptions& options) {
@@ -332,12 +408,13 @@ GridSearchResult search(Store& store, const Space& grid, const world::Index3& st
   if (grid.isBlocked(start) || grid.isBlocked(goal)) return result;
   const std::vector<Move> moves = makeMoves(options);
   const auto& dims = grid.dims();
-  store.begin(grid.voxelCount());
+  const TileLayout slots(dims);
+  store.begin(slots.slots);
 
   std::priority_queue<OpenEntry, std::vector<OpenEntry>, WorseEntry> open;
   const std::size_t start_idx = grid.linear(start);
   const std::size_t goal_idx = grid.linear(goal);
-  store.set(start_idx, {0.0, kNoParent, false});
+  store.set(slots.of(start), {0.0, kNoParent, false});
   open.push({heuristic(start, goal, options), 0.0, start_idx});
 
   auto toIndex3 = [&dims](std::size_t i) {
@@ -350,22 +427,24 @@ GridSearchResult search(Store& store, const Space& grid, const world::Index3& st
   while (!open.empty()) {
     const OpenEntry top = open.top();
     open.pop();
-    NodeState s = store.get(top.idx);
+    const world::Index3 c = toIndex3(top.idx);
+    const std::size_t slot = slots.of(c);
+    NodeState s = store.get(slot);
     if (s.closed || top.g > s.g) continue;  // stale entry
     s.closed = true;
-    store.set(top.idx, s);
+    store.set(slot, s);
     if (top.idx == goal_idx) {
       result.found = true;
       result.cost = s.g;
       // Walk the parent moves back to the start.
-      world::Index3 c = goal;
-      result.cells.push_back(c);
+      world::Index3 at = goal;
+      result.cells.push_back(at);
       std::uint8_t p = s.parent;
       while (p != kNoParent) {
         const Move& m = moves[p];
-        c = {c.x - m.dx, c.y - m.dy, c.z - m.dz};
-        result.cells.push_back(c);
-        p = store.get(grid.linear(c)).parent;
+        at = {at.x - m.dx, at.y - m.dy, at.z - m.dz};
+        result.cells.push_back(at);
+        p = store.get(slots.of(at)).parent;
       }
       std::reverse(result.cells.begin(), result.cells.end());
       return result;
@@ -375,17 +454,16 @@ GridSearchResult search(Store& store, const Space& grid, const world::Index3& st
       return result;
     }
     ++result.expansions;
-    const world::Index3 c = toIndex3(top.idx);
     for (std::size_t m = 0; m < moves.size(); ++m) {
       const world::Index3 n{c.x + moves[m].dx, c.y + moves[m].dy, c.z + moves[m].dz};
       if (grid.isBlocked(n)) continue;
-      const std::size_t ni = grid.linear(n);
-      const NodeState ns = store.get(ni);
+      const std::size_t n_slot = slots.of(n);
+      const NodeState ns = store.get(n_slot);
       if (ns.closed) continue;
       const double g = s.g + moves[m].cost;
       if (g < ns.g) {
-        store.set(ni, {g, static_cast<std::uint8_t>(m), false});
-        open.push({g + heuristic(n, goal, options), g, ni});
+        store.set(n_slot, {g, static_cast<std::uint8_t>(m), false});
+        open.push({g + heuristic(n, goal, options), g, grid.linear(n)});
       }
     }
   }
@@ -417,6 +495,10 @@ class ScratchPool {
     kept_.erase(it);
     return s;
   }
+  void clear() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    kept_.clear();
+  }
   void give(std::unique_ptr<DenseStore> s) {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (kept_.size() >= kPoolKeep) kept_.erase(kept_.begin());  // the least recently given
@@ -439,15 +521,23 @@ ScratchPool& scratchPool() {
 template <typename Space>
 GridSearchResult searchSpace(const Space& space, const world::Index3& start,
                              const world::Index3& goal, const AStarOptions& options) {
-  if (space.voxelCount() <= kDenseScratchLimit) {
-    std::unique_ptr<DenseStore> dense = scratchPool().take(space.voxelCount());
+  const std::size_t slots = TileLayout(space.dims()).slots;
+  if (space.voxelCount() <= kDenseScratchLimit && slots <= 2 * kDenseScratchLimit) {
+    std::unique_ptr<DenseStore> dense = scratchPool().take(slots);
     GridSearchResult r = search(*dense, space, start, goal, options);
+    dense->release();
     scratchPool().give(std::move(dense));
     return r;
   }
   HashStore hash;
   return search(hash, space, start, goal, options);
 }
+
+}  // namespace
+
+void releaseSearchScratch() { scratchPool().clear(); }
+
+namespace {
 
 /// Takes `spent` expansions off o's budget; false when nothing is left (a budget of 0
 /// means unlimited, so a spent budget must not become 0).

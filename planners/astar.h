@@ -47,6 +47,11 @@ struct GridSearchResult {
 GridSearchResult astarSearch(const world::VoxelGrid& grid, const world::Index3& start,
                              const world::Index3& goal, const AStarOptions& options);
 
+/// Frees the dense search scratches kept for reuse (their pages: up to 12 B a voxel
+/// of the grid each, one per thread that searched). For the end of a parallel phase,
+/// so that the next phase's one thread does not keep the others' pages resident.
+void releaseSearchScratch();
+
 /// Step cost of a move (dx, dy, dz) ∈ {−1,0,1}³ under the options.
 double stepCost(int dx, int dy, int dz, const AStarOptions& options);
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "plan_steps.h"
+#include "planners/astar.h"
 #include "planners/registry.h"
 #include "uavip/app/assemble.h"
 #include "uavip/app/assemble_truth.h"
@@ -290,7 +291,10 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
     grid_options.resolution_m = autoGridResolution(region.max - region.min, grid_options);
   world::VoxelGrid::requireFits(region,
                                 grid_options);  // before the solids are sampled at the resolution
-  PointList occupied = safetyPoints(scene);
+  // The measured points (safetyPoints: the clean and the safety cloud) are read in
+  // place; a site section's copy of them was the grid's peak of memory.
+  std::vector<const PointList*> occupied{&scene.cloud};
+  if (scene.safety) occupied.push_back(&scene.safety->points);
   // Solids matter as far as a point can block a voxel of the grid.
   const double reach_m =
       grid_options.padding_m + grid_options.inflation_radius_m + 3.0 * grid_options.resolution_m;
@@ -298,13 +302,15 @@ world::VoxelGrid planningGrid(const Scene& scene, const world::CollisionWorld& w
   reach.min.array() -= reach_m;
   reach.max.array() += reach_m;
   const PointList solids = world.solidSamples(0.5 * grid_options.resolution_m, occupied, &reach);
-  occupied.insert(occupied.end(), solids.begin(), solids.end());
-  for (const auto& k : scene.keep_out) {  // the operator's volumes are solid inside too
-    const PointList inside =
-        world::interiorSamples(world::keepOutSolid(k), grid_options.resolution_m, &reach);
-    occupied.insert(occupied.end(), inside.begin(), inside.end());
+  std::vector<PointList> keep_out_insides;  // the operator's volumes are solid inside too
+  keep_out_insides.reserve(scene.keep_out.size());
+  for (const auto& k : scene.keep_out) {
+    keep_out_insides.push_back(
+        world::interiorSamples(world::keepOutSolid(k), grid_options.resolution_m, &reach));
   }
-  return world::VoxelGrid::build(occupied, {}, grid_options, region);
+  occupied.push_back(&solids);
+  for (const auto& inside : keep_out_insides) occupied.push_back(&inside);
+  return world::VoxelGrid::build(occupied, grid_options, region);
 }
 
 }  // namespace
@@ -351,6 +357,7 @@ std::vector<planning::SurfaceMission> planMissions(
     missions[i] =
         planning::planSurfaceMission(strategies[i], grid, validator, mine, mission_options);
   });
+  planners::releaseSearchScratch();  // the flight then searches on one thread: one scratch
   return missions;
 }
 

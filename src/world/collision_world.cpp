@@ -545,7 +545,8 @@ void CollisionWorld::build(const Scene& scene) {
   im.manager->setup();
 }
 
-PointList CollisionWorld::solidSamples(double spacing, const PointList& occupied,
+PointList CollisionWorld::solidSamples(double spacing,
+                                       const std::vector<const PointList*>& occupied,
                                        const Aabb* region) const {
   requirePositive(spacing, "world", "solid sample spacing");
   if (!impl_) return {};

@@ -423,7 +423,8 @@ void sampleTriangle(const std::array<Vec3, 3>& p, double spacing, const VoxelKey
 }  // namespace
 
 PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
-                       const PointList& occupied, const Aabb* region, const TriangleMesh* mesh) {
+                       const std::vector<const PointList*>& occupied, const Aabb* region,
+                       const TriangleMesh* mesh) {
   requirePositive(spacing, "world", "solid sample spacing");
   const auto meets = [region](const Aabb& b) {
     return region == nullptr || (((b.max - region->min).array() >= 0.0).all() &&
@@ -471,11 +472,12 @@ PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
   sortUniqueKeys(keys);
   // Voxels the measured points already fill add nothing.
   std::vector<std::uint64_t> measured;
-  measured.reserve(occupied.size());
   const Aabb inside{all.min - Vec3::Constant(spacing), all.max + Vec3::Constant(spacing)};
-  for (const auto& q : occupied) {
-    if (((q - inside.min).array() >= 0.0).all() && ((q - inside.max).array() <= 0.0).all()) {
-      measured.push_back(keyer.key(q));
+  for (const PointList* cloud : occupied) {
+    for (const auto& q : *cloud) {
+      if (((q - inside.min).array() >= 0.0).all() && ((q - inside.max).array() <= 0.0).all()) {
+        measured.push_back(keyer.key(q));
+      }
     }
   }
   sortUniqueKeys(measured);

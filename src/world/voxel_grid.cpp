@@ -124,23 +124,14 @@ const params::Table<GridOptions>& GridOptions::table() {
   return t;
 }
 
-VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
-                           const GridOptions& options, const Aabb& region) {
+VoxelGrid VoxelGrid::build(const std::vector<const PointList*>& clouds, const GridOptions& options,
+                           const Aabb& region) {
   require(!region.empty() && region.min.allFinite() && region.max.allFinite(), "grid",
           "the region is empty");
   options.validate("grid");
-  Aabb box = region;
-  for (const auto& p : extra) box.extend(p);
-  const Vec3 lo = box.min.array() - options.padding_m;
-  const Vec3 hi = box.max.array() + options.padding_m;
-  // A point blocks voxels up to r + √3·res away (plus a voxel of rounding).
-  const double reach = options.inflation_radius_m + 3.0 * options.resolution_m;
-  PointList cropped;
-  for (const auto& p : cloud) {
-    if (((p - lo).array() >= -reach).all() && ((p - hi).array() <= reach).all())
-      cropped.push_back(p);
-  }
-  return buildWithin(cropped, lo, hi, options);
+  const Vec3 lo = region.min.array() - options.padding_m;
+  const Vec3 hi = region.max.array() + options.padding_m;
+  return buildWithin(clouds, lo, hi, options);
 }
 
 VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
@@ -152,13 +143,12 @@ VoxelGrid VoxelGrid::build(const PointList& cloud, const PointList& extra,
   Aabb box = boundingBox(cloud);
   for (const auto& p : extra) box.extend(p);
   if (box.empty()) box.extend(Vec3::Zero());  // nothing to cover: a padded box around the origin
-  return buildWithin(cloud, box.min.array() - options.padding_m,
+  return buildWithin({&cloud}, box.min.array() - options.padding_m,
                      box.max.array() + options.padding_m, options);
 }
 
-VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
-                                 const GridOptions& options) {
-  require(allFinite(cloud), "grid", "the cloud contains a non-finite coordinate");
+VoxelGrid VoxelGrid::buildWithin(const std::vector<const PointList*>& clouds, const Vec3& lo,
+                                 const Vec3& hi, const GridOptions& options) {
   static std::atomic<std::uint64_t> last_id{0};
   VoxelGrid g;
   g.content_id_ = ++last_id;
@@ -169,7 +159,7 @@ VoxelGrid VoxelGrid::buildWithin(const PointList& cloud, const Vec3& lo, const V
   // boundaries are multiples of the resolution) coincide with the dense voxels.
   const double count = gridShape(lo, hi, options, g.origin_, g.dims_);
   g.blocked_.assign(static_cast<std::size_t>(count), kFree);
-  if (!cloud.empty()) g.markOccupied(cloud);
+  for (const PointList* cloud : clouds) g.markOccupied(*cloud);
   g.inflate();
   g.blocked_count_ = static_cast<std::size_t>(std::count_if(
       g.blocked_.begin(), g.blocked_.end(), [](std::uint8_t v) { return v != kFree; }));

@@ -156,6 +156,32 @@ TEST(AStar, OptimalAgainstExhaustiveSearchOnRandomGrids) {
   (void)unreachable;
 }
 
+// The search state is laid out in tiles of 8³ voxels: grids whose sides are no
+// multiple of 8 (partial tiles on every axis), searched with the scratch kept and
+// after it is freed (releaseSearchScratch), give the exhaustive optimum each time.
+TEST(AStar, OptimalOnPartialTilesAndAfterTheScratchIsFreed) {
+  std::mt19937 rng(7);
+  const VoxelGrid g = unitGrid(11, 9, 13, {{5, 4, 6}, {5, 5, 6}, {2, 7, 3}, {9, 1, 10}});
+  const std::vector<Index3> free_cells = freeCells(g);
+  ASSERT_GE(free_cells.size(), 2u);
+  AStarOptions o;
+  o.cost = AStarCost::Euclidean;
+  o.a2 = 1.5;
+  for (int pair = 0; pair < 8; ++pair) {
+    const Index3 s = free_cells[rng() % free_cells.size()];
+    const Index3 t = free_cells[rng() % free_cells.size()];
+    const double ref = referenceCost(g, s, t, o);
+    ASSERT_TRUE(std::isfinite(ref));
+    for (int round = 0; round < 2; ++round) {
+      const GridSearchResult r = astarSearch(g, s, t, o);
+      ASSERT_TRUE(r.found);
+      EXPECT_NEAR(r.cost, ref, 1e-9);
+      expectValidPath(g, r, s, t, o);
+      if (round == 0) releaseSearchScratch();
+    }
+  }
+}
+
 TEST(AStar, PaperCostInFreeSpaceIsWeightedL1) {
   const VoxelGrid g = unitGrid(10, 9, 7, {});
   std::mt19937 rng(3);

@@ -374,7 +374,7 @@ TEST(Solids, ShellSamplesSkipOccupiedVoxelsAndStayInTheRegion) {
   const PointList all = shellSamples(solids, spacing);
   // A measured point at a sample's voxel centre removes exactly that sample.
   const PointList occupied = {all[0], all[all.size() / 2]};
-  const PointList rest = shellSamples(solids, spacing, occupied);
+  const PointList rest = shellSamples(solids, spacing, {&occupied});
   EXPECT_EQ(rest.size(), all.size() - 2);
   for (const auto& s : rest) {
     for (const auto& o : occupied) EXPECT_GT((s - o).norm(), 1e-9);

@@ -252,7 +252,8 @@ TEST(VoxelGrid, RequireFitsRefusesBeforeAllocatingAndNamesTheResolutionThatFits)
   }
   o.resolution_m = 0.026;
   EXPECT_NO_THROW(VoxelGrid::requireFits(region, o));
-  EXPECT_NO_THROW(VoxelGrid::build({Vec3(0, 0, 0), Vec3(10, 10, 10)}, {}, o, region));
+  const PointList corners{Vec3(0, 0, 0), Vec3(10, 10, 10)};
+  EXPECT_NO_THROW(VoxelGrid::build({&corners}, o, region));
 }
 
 TEST(VoxelGrid, BadOptionsThrow) {

@@ -131,14 +131,14 @@ class CollisionWorld {
   /// obstacle hulls and boxes) and on a mesh input's triangles, each face sampled at
   /// ≤ `spacing` (so a triangle too small to get a sampled point still marks its
   /// voxels), leaving out the
-  /// voxels that already hold a point of `occupied`. A planning grid that marks
+  /// voxels that already hold a point of one of the `occupied` clouds. A planning grid that marks
   /// these occupied cannot cross what the validator's solids enclose — on sparse,
   /// concave real clusters a hull spans free space the points leave open, and a
   /// planner that flew there would fail validation. The interior of a solid is
   /// reachable only through its shell.
   /// Only solids whose bounds meet `region` (when given) are sampled, and only
   /// their samples inside it.
-  PointList solidSamples(double spacing, const PointList& occupied = {},
+  PointList solidSamples(double spacing, const std::vector<const PointList*>& occupied = {},
                          const Aabb* region = nullptr) const;
 
  private:

@@ -86,11 +86,11 @@ PointList interiorSamples(const Polyhedron& solid, double spacing, const Aabb* r
 
 /// Voxel centres (edge `spacing` [m]) on the shell of every non-empty solid, each
 /// triangle sampled in rows at most `spacing` apart, leaving out the voxels that
-/// already hold a point of `occupied`. Only solids whose bounds meet `region` (when
-/// given) are sampled, and only their samples inside it. Sorted by voxel key. The
-/// triangles of `mesh` (when given) are sampled as the solids' are.
+/// already hold a point of one of the `occupied` clouds (read in place). Only solids whose bounds
+/// meet `region` (when given) are sampled, and only their samples inside it. Sorted by voxel key.
+/// The triangles of `mesh` (when given) are sampled as the solids' are.
 PointList shellSamples(const std::vector<Polyhedron>& solids, double spacing,
-                       const PointList& occupied = {}, const Aabb* region = nullptr,
-                       const TriangleMesh* mesh = nullptr);
+                       const std::vector<const PointList*>& occupied = {},
+                       const Aabb* region = nullptr, const TriangleMesh* mesh = nullptr);
 
 }  // namespace uavip::world

@@ -61,11 +61,12 @@ class VoxelGrid final : public FreeSpace {
   static VoxelGrid build(const PointList& cloud, const PointList& extra,
                          const GridOptions& options);
   /// A grid over `region` only (grown by padding_m): a surface's neighbourhood on a
-  /// large site instead of the whole site. Points of `cloud` outside the region
-  /// still block it when they lie within the inflation of a voxel inside it (the
-  /// cloud is cropped to region + padding + inflation), so the safety argument
-  /// holds; everything outside the grid is blocked.
-  static VoxelGrid build(const PointList& cloud, const PointList& extra, const GridOptions& options,
+  /// large site instead of the whole site. Every point of every cloud of `clouds`
+  /// marks its voxel when it lies inside (read in place: a site section's clouds are
+  /// tens of MB, not copied); a point outside blocks nothing, and everything outside
+  /// the grid counts as blocked, so the safety argument holds. Non-finite points mark
+  /// nothing.
+  static VoxelGrid build(const std::vector<const PointList*>& clouds, const GridOptions& options,
                          const Aabb& region);
 
   /// Throws the InputError build(…, region) would throw for a grid over max_voxels
@@ -123,9 +124,9 @@ class VoxelGrid final : public FreeSpace {
   }
 
  private:
-  /// The grid over [lo, hi]; every point of `cloud` marks its voxel if inside.
-  static VoxelGrid buildWithin(const PointList& cloud, const Vec3& lo, const Vec3& hi,
-                               const GridOptions& options);
+  /// The grid over [lo, hi]; every point of the clouds marks its voxel if inside.
+  static VoxelGrid buildWithin(const std::vector<const PointList*>& clouds, const Vec3& lo,
+                               const Vec3& hi, const GridOptions& options);
   /// Occupancy (paper §II-G): every point's own voxel.
   void markOccupied(const PointList& cloud);
   /// Counts the occupied voxels; returns those with a free face neighbour (the
