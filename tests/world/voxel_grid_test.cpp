@@ -183,6 +183,7 @@ TEST(VoxelGrid, AsAFreeSpaceItIsItsBoxAndItsContentHasOneId) {
   }
   EXPECT_EQ(space.resolution(), o.resolution_m);
   // A copy holds the same voxels, so the same id; a grid built anew gets a new one.
+  // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): the copy is what is tested
   const VoxelGrid copy = g;
   const VoxelGrid again = VoxelGrid::build(cloud, {}, o);
   EXPECT_NE(g.contentId(), 0u);
