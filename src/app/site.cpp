@@ -17,6 +17,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/file_digest.h"
 #include "uavip/io/json_numbers.h"
+#include "uavip/io/mission_json.h"
 #include "uavip/io/scene_json.h"
 #include "uavip/planning/path_validator.h"
 
@@ -100,6 +101,21 @@ tiling::MergeOptions sectionMergeOptions(const std::vector<tiling::TileScene>& t
   return resolveForScene(largest->scene, config).config.mergeOptions(!alone);
 }
 
+/// The config a section of a site in `sections` sections is planned with: with several,
+/// one UAV (the site's fleet flies the sections at once, app/site_fleet.h). Throws
+/// InputError for fleet.homes then: each section flies from its own home.
+Config sectionConfig(const Config& config, std::size_t sections) {
+  if (sections <= 1 || !config.fleet.active()) return config;
+  if (!config.fleet.homes.empty())
+    throw InputError("fleet." + planning::FleetOptions::keyOf(&planning::FleetOptions::homes) +
+                     ": a site of " + std::to_string(sections) +
+                     " sections flies each section's sorties from that section's own home; "
+                     "leave the homes out, or merge the site as one section (--section-tiles)");
+  Config own = config;
+  own.fleet.uavs = 1;
+  return own;
+}
+
 /// Merges and plans one section of `parts` (the tiles' results checked).
 SectionPlan planSectionOf(const tiling::Manifest& m,
                           const std::vector<std::vector<std::size_t>>& parts, std::size_t section,
@@ -114,7 +130,7 @@ SectionPlan planSectionOf(const tiling::Manifest& m,
   for (const auto& t : tiles) r.tiles.push_back(t.tile.index);
   const tiling::MergeOptions mo = sectionMergeOptions(tiles, config, r.alone());
   r.detected.scene = tiling::mergeTileScenes(m, tiles, mo, &r.stats);
-  r.detected.resolved = resolveForScene(r.detected.scene, config);
+  r.detected.resolved = resolveForScene(r.detected.scene, sectionConfig(config, parts.size()));
   r.merge_s = secondsSince(t0);
 
   const auto t1 = SteadyClock::now();
@@ -174,6 +190,17 @@ SectionSummary readSummary(const nlohmann::json& j) {
     }
   };
   readSorties(f.at("sorties"), s.flight);
+  const nlohmann::json& stops = f.at("stops");  // per sortie: [surface, stop, waypoint]
+  if (stops.size() != s.flight.sorties.size()) throw InputError("stops not one list per sortie");
+  for (std::size_t k = 0; k < stops.size(); ++k) {
+    planning::Sortie& sortie = s.flight.sorties[k];
+    for (const auto& st : stops[k]) {
+      const planning::FlightStop stop{st.at(0).get<int>(), st.at(1).get<int>(),
+                                      st.at(2).get<std::size_t>()};
+      if (stop.waypoint >= sortie.waypoints.size()) throw InputError("a stop past its sortie");
+      sortie.stops.push_back(stop);
+    }
+  }
   if (r.contains("fleet")) {
     const nlohmann::json& fl = r.at("fleet");
     s.uavs = fl.at("uavs").get<int>();
@@ -269,7 +296,8 @@ SectionSummary summarize(const SectionPlan& p) {
 SectionKey sectionKey(const tiling::Manifest& manifest, const std::string& config_path,
                       int section_tiles, bool views, int uavs) {
   SectionKey k;
-  k.uavs = uavs;
+  // With several sections each is planned for one UAV (sectionConfig).
+  k.uavs = siteSections(manifest, section_tiles).size() > 1 ? 1 : uavs;
   k.manifest_sha256 = io::sha256File(manifest.path);
   k.config_sha256 = config_path.empty() ? std::string() : io::sha256File(config_path);
   k.section_tiles = section_tiles;
@@ -302,6 +330,12 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
     return sorties;
   };
   const nlohmann::json sorties = sortiesOf(s.flight);
+  nlohmann::json sortie_stops = nlohmann::json::array();  // the site's fleet times hovers by them
+  for (const auto& sortie : s.flight.sorties) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& st : sortie.stops) list.push_back({st.surface_id, st.stop, st.waypoint});
+    sortie_stops.push_back(std::move(list));
+  }
   const nlohmann::json stats = {
       {"surface_parts", s.stats.surface_parts},     {"surfaces_dropped", s.stats.surfaces_dropped},
       {"surfaces_joined", s.stats.surfaces_joined}, {"surfaces_demoted", s.stats.surfaces_demoted},
@@ -319,7 +353,8 @@ std::string sectionResultJsonText(const tiling::Manifest& manifest, const Sectio
                               {"reason", s.flight.reason},
                               {"home", fullVec(s.flight.home)},
                               {"length_m", s.flight.length_m},
-                              {"sorties", sorties}}}};
+                              {"sorties", sorties},
+                              {"stops", sortie_stops}}}};
   if (!s.uav_flights.empty()) {  // a fleet: each UAV's sorties (checked against the input)
     nlohmann::json flights = nlohmann::json::array();
     for (const auto& f : s.uav_flights)
@@ -382,6 +417,10 @@ SectionResult readSectionResult(const tiling::Manifest& manifest, const SectionK
     }
     if (j.at("views") != key.views) {
       r.why = key.views ? "planned without views" : "planned with views";
+      return r;
+    }
+    if (!j.at("summary").at("flight").contains("stops")) {
+      r.why = "made by an older uavip (no photo stops per sortie)";
       return r;
     }
     const auto tiles = j.at("tiles").get<std::vector<std::size_t>>();
@@ -684,6 +723,7 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
   options.validate();
   requireSiteInput(manifest);
   const auto parts = siteSections(manifest, options.section_tiles);
+  sectionConfig(config, parts.size());  // refuses fleet.homes before any work
   std::vector<SectionResult> found(parts.size());
   std::vector<std::size_t> here;  // sections planned here, and their tiles
   std::vector<std::size_t> tiles;
@@ -728,19 +768,55 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
   site.input_points = checkAgainstInput(manifest, site.sections);
   site.min_clearance_m = requireClearOfInput(manifest, site.sections, site.required_clearance_m);
   site.check_s = secondsSince(t0);
+  if (parts.size() > 1 && config.fleet.active()) {  // the sections flown at once
+    std::vector<const planning::FlightPlan*> flights;
+    for (const auto& s : site.sections) flights.push_back(&s.flight);
+    site.fleet = planSiteFleet(flights, config.fleet, config.flightOptions().model);
+  }
   return site;
 }
 
+namespace {
+
+/// site.json `fleet` (docs/fleet.md, "Sites in sections"): the fleet's summary
+/// (io::fleetSummaryToJson) with mode, uavs_flying, sorties and each UAV's sorties by
+/// section folder and sortie number (from 1, as in its mission.json) with take-off times.
+nlohmann::json siteFleetJson(const SiteFleet& fleet, const std::vector<SectionSummary>& sections) {
+  nlohmann::json j = io::fleetSummaryToJson(fleet.plan);
+  j["mode"] = "sections at once";
+  j["uavs_flying"] = fleet.uavs_flying;
+  j["sorties"] = fleet.plan.jobs;
+  nlohmann::json uavs = nlohmann::json::array();
+  for (std::size_t u = 0; u < fleet.plan.uavs.size(); ++u) {
+    const planning::FleetUav& uav = fleet.plan.uavs[u];
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t k = 0; k < fleet.runs[u].size(); ++k) {
+      const SiteSortie& at = fleet.runs[u][k];
+      list.push_back(
+          {{"folder", std::filesystem::path(sections[at.section].out).filename().string()},
+           {"section", at.section},
+           {"sortie", at.sortie + 1},
+           {"start_s", io::round4(uav.sortie_start_s.at(k))},
+           {"duration_s", io::round4(uav.flight.sorties[k].duration_s)}});
+    }
+    uavs.push_back({{"uav", u + 1},
+                    {"home", io::vec(uav.home)},
+                    {"stop_count", uav.stops},
+                    {"wait_s", io::round4(uav.wait_s)},
+                    {"end_s", io::round4(uav.end_s)},
+                    {"sorties", list}});
+  }
+  j["uavs"] = std::move(uavs);
+  return j;
+}
+
+}  // namespace
+
 std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& site) {
   nlohmann::json list = nlohmann::json::array();
-  double makespan = 0.0, single = 0.0;
-  int uavs = 1;
-  std::size_t fleets = 0;  // sections flown by a fleet
   for (const SectionSummary& s : site.sections) {
     double min_clear = std::numeric_limits<double>::infinity();
     for (const double c : s.min_clearance_to_input_m) min_clear = std::min(min_clear, c);
-    for (const auto& u : s.uav_min_clearance_to_input_m)
-      for (const double c : u) min_clear = std::min(min_clear, c);
     list.push_back(
         {{"folder", std::filesystem::path(s.out).filename().string()},
          {"tiles", s.tiles},
@@ -752,16 +828,6 @@ std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& sit
          {"sorties", s.flight.sorties.size()},
          {"min_clearance_to_input_m",
           std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
-    if (!s.uav_flights.empty()) {
-      list.back()["fleet"] = {{"uavs", s.uavs},
-                              {"makespan_s", io::round4(s.makespan_s)},
-                              {"single_uav_s", io::round4(s.single_uav_s)}};
-      uavs = std::max(uavs, s.uavs);
-    }
-    // One section at a time: the site's makespan sums the sections' fleets'.
-    makespan += s.makespan_s;
-    single += s.single_uav_s;
-    fleets += !s.uav_flights.empty();
   }
   nlohmann::json j = {{"format", "uavip site 1"},
                       {"manifest", manifest.path},
@@ -770,12 +836,7 @@ std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& sit
                       {"clearance_m", site.required_clearance_m},
                       {"source_offset_m", io::vec(manifest.source_offset_m)},
                       {"sections", list}};
-  if (uavs > 1)
-    j["fleet"] = {{"uavs", uavs},
-                  {"sections_flown", fleets},
-                  {"makespan_s", io::round4(makespan)},
-                  {"single_uav_s", io::round4(single)},
-                  {"speedup", makespan > 0.0 ? io::round4(single / makespan) : 0.0}};
+  if (site.fleet) j["fleet"] = siteFleetJson(*site.fleet, site.sections);
   return j.dump(1) + "\n";
 }
 

@@ -221,6 +221,38 @@ int planSectionCommand(const std::string& manifest_path, long section,
   return kExitOk;
 }
 
+/// The site's fleet (sections at once): makespan against one UAV and the bound, the
+/// separation, and each UAV's run of sections with its take-off.
+void printSiteFleet(const app::SiteFleet& fleet, const std::vector<app::SectionSummary>& sections) {
+  const planning::FleetPlan& f = fleet.plan;
+  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
+  std::cout << "fleet: " << f.uavs.size() << " UAVs flying the sections at once ("
+            << fleet.uavs_flying << " flying), makespan " << minutes(f.makespan_s)
+            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
+            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
+            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " sorties, "
+            << f.waits << " waits" << (f.fallback_single ? "; UAV 1 flies alone" : "")
+            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
+            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
+            << formatNumber(f.options.slack_s) << " s slack (separation "
+            << formatNumber(f.options.separation_m) << " m)\n";
+  for (std::size_t u = 0; u < f.uavs.size(); ++u) {
+    const auto& run = fleet.runs[u];
+    std::cout << "  uav " << u + 1 << ": ";
+    if (run.empty()) {
+      std::cout << "idle\n";
+      continue;
+    }
+    const auto name = [&](const app::SiteSortie& s) {
+      return std::filesystem::path(sections[s.section].out).filename().string() + " sortie " +
+             std::to_string(s.sortie + 1);
+    };
+    std::cout << run.size() << " sorties, " << name(run.front()) << " to " << name(run.back())
+              << ", take-off at " << formatFixed(f.uavs[u].sortie_start_s.front(), 1)
+              << " s, lands " << formatFixed(f.uavs[u].end_s, 1) << " s\n";
+  }
+}
+
 void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
                        const std::string& out, bool views) {
   const auto& results = site.sections;
@@ -264,19 +296,14 @@ void printMergeSummary(const tiling::Manifest& m, const app::SiteResult& site,
                                  std::to_string(results.size()) + " section(s) by plan-section)"
                            : std::string())
             << ", validation " << formatFixed(site.check_s, 2) << " s\n";
-  double makespan = 0.0, single = 0.0;
-  int uavs = 1;
-  for (const auto& r : results) {
-    makespan += r.makespan_s;
-    single += r.single_uav_s;
-    uavs = std::max(uavs, r.uavs);
+  if (alone && results[0].uavs > 1) {
+    const auto& r = results[0];
+    std::cout << "fleet: " << r.uavs << " UAVs flying the site, makespan "
+              << formatFixed(r.makespan_s / 60.0, 1) << " min (single UAV "
+              << formatFixed(r.single_uav_s / 60.0, 1) << " min, speed-up "
+              << formatFixed(r.makespan_s > 0.0 ? r.single_uav_s / r.makespan_s : 0.0, 2) << ")\n";
   }
-  if (uavs > 1)
-    std::cout << "fleet: " << uavs << " UAVs flying "
-              << (alone ? std::string("the site") : "one section at a time") << ", makespan "
-              << formatFixed(makespan / 60.0, 1) << " min (single UAV "
-              << formatFixed(single / 60.0, 1) << " min, speed-up "
-              << formatFixed(makespan > 0.0 ? single / makespan : 0.0, 2) << ")\n";
+  if (site.fleet) printSiteFleet(*site.fleet, results);
   std::cout << "results: "
             << (alone ? pathIn(out, "mission.json") + ", " + pathIn(out, "scene.json") +
                             (views ? ", " + pathIn(out, "mission.html") : std::string())

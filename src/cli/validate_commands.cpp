@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -54,15 +55,13 @@ std::vector<NamedPath> pathsOf(const io::MissionRecord& mission) {
   return out;
 }
 
+/// Names UAV u's sortie k (0-based) in messages.
+using SortieNamer = std::function<std::string(int uav, int sortie)>;
+
 /// The fleet's separation, recomputed from the waypoints, the take-off times and the
-/// flight model (planning/fleet_types.h), and every stop of the flight flown once by
-/// the fleet. Empty when both hold, else the error line.
-std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mission,
-                       std::ostream& out) {
-  std::map<std::pair<int, std::size_t>, int> flown;
-  for (const auto& u : fleet.uavs)
-    for (const auto& s : u.sorties)
-      for (const auto& st : s.stops) ++flown[{st.surface_id, st.stop}];
+/// flight model (planning/fleet_types.h). Empty when it holds, else the error line.
+std::string checkFleetSeparation(const io::FleetRecord& fleet, std::ostream& out,
+                                 const SortieNamer& name) {
   const auto motion = io::recordedFleetMotion(fleet);
   const planning::SeparationCheck c =
       planning::checkSeparation(motion, fleet.options.separation_m, fleet.options.slack_s);
@@ -75,13 +74,27 @@ std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mi
   if (c.conflict) {
     const auto& k = *c.conflict;
     std::ostringstream msg;
-    msg << "uav " << k.uav_a + 1 << " (sortie " << k.sortie_a + 1 << ") and uav " << k.uav_b + 1
-        << " (sortie " << k.sortie_b + 1 << ") may come " << formatFixed(k.distance_m, 3)
+    msg << "uav " << k.uav_a + 1 << " (" << name(k.uav_a, k.sortie_a) << ") and uav " << k.uav_b + 1
+        << " (" << name(k.uav_b, k.sortie_b) << ") may come " << formatFixed(k.distance_m, 3)
         << " m apart at t = " << formatFixed(k.time_s, 1) << " s, closer than the separation "
         << formatNumber(fleet.options.separation_m) << " m (with up to "
         << formatNumber(fleet.options.slack_s) << " s of delay)";
     return msg.str();
   }
+  return {};
+}
+
+/// checkFleetSeparation, and every stop of the flight flown once by the fleet. Empty
+/// when both hold, else the error line.
+std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mission,
+                       std::ostream& out) {
+  const std::string separation = checkFleetSeparation(
+      fleet, out, [](int, int k) { return "sortie " + std::to_string(k + 1); });
+  if (!separation.empty()) return separation;
+  std::map<std::pair<int, std::size_t>, int> flown;
+  for (const auto& u : fleet.uavs)
+    for (const auto& s : u.sorties)
+      for (const auto& st : s.stops) ++flown[{st.surface_id, st.stop}];
   if (mission.flight) {
     for (const auto& s : mission.flight->sorties) {
       for (const auto& st : s.stops) {
@@ -282,9 +295,102 @@ void validatePath(const Checkers& c, const NamedPath& s, Tally& t) {
   if (t.first_error.empty()) t.first_error = s.label + ": " + msg.str();
 }
 
+/// The sections' flights of a site.json (`sections[]`, their mission.json beside it),
+/// by folder; sections whose flight is not ok are left out.
+std::map<std::string, io::MissionRecord> siteMissions(const io::JsonReader& r,
+                                                      const nlohmann::json& site) {
+  std::map<std::string, io::MissionRecord> out;
+  const nlohmann::json& sections = r.list(r.at(site, "sections", ""), "sections");
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const std::string f = io::JsonReader::item("sections", i);
+    const std::string folder = r.text(r.at(sections[i], "folder", f), f + ".folder");
+    if (folder.empty() || folder.find('/') != std::string::npos || folder == "..")
+      r.fail(f + ".folder", "must name a folder beside site.json");
+    if (r.text(r.at(sections[i], "flight_status", f), f + ".flight_status") != "ok") continue;
+    const std::string path = (fs::path(r.file()).parent_path() / folder / "mission.json").string();
+    io::MissionRecord m = io::loadMission(path);
+    if (!m.flight) throw InputError(path + ": no flight; merge the site again");
+    out.emplace(folder, std::move(m));
+  }
+  return out;
+}
+
+/// `uavip validate site.json` of a site flown by a fleet with its sections at once
+/// (app/site_fleet.h): each UAV's sorties taken from the sections' mission.json by
+/// folder and number, their motion recomputed from the waypoints, take-off times and
+/// the recorded flight model, the separation checked exactly (checkFleetSeparation), and
+/// every sortie of every flown section flown exactly once. The sorties' clearance is
+/// each section's (`uavip validate SECTION/mission.json`; merge checked it against every
+/// input point).
+int validateSiteCommand(const std::string& path, const nlohmann::json& site, const Verbosity& v) {
+  const io::JsonReader r(path);
+  if (!site.contains("fleet"))
+    throw InputError(path +
+                     ": a site without a fleet has nothing to check here; validate each "
+                     "section: uavip validate " +
+                     (fs::path(path).parent_path() / "section_NNN" / "mission.json").string());
+  const auto missions = siteMissions(r, site);
+  io::FleetRecord fleet = io::fleetSettingsFromJson(site.at("fleet"), path);
+  const nlohmann::json& uavs = r.list(r.at(site.at("fleet"), "uavs", "fleet"), "fleet.uavs");
+  std::map<std::pair<std::string, std::size_t>, int> flown;
+  std::vector<std::vector<std::string>> names;  // "section_001 sortie 3" per UAV's sortie
+  for (std::size_t u = 0; u < uavs.size(); ++u) {
+    const std::string fu = io::JsonReader::item("fleet.uavs", u);
+    const nlohmann::json& list = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
+    io::FleetUavRecord rec;
+    names.emplace_back();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string fs_ = io::JsonReader::item(fu + ".sorties", i);
+      const std::string folder = r.text(r.at(list[i], "folder", fs_), fs_ + ".folder");
+      const auto it = missions.find(folder);
+      if (it == missions.end()) r.fail(fs_ + ".folder", "names no flown section of the site");
+      const auto& sorties = it->second.flight->sorties;
+      const auto k =
+          static_cast<std::size_t>(r.integer(r.at(list[i], "sortie", fs_), fs_ + ".sortie", 1,
+                                             static_cast<std::int64_t>(sorties.size())));
+      rec.sorties.push_back(sorties[k - 1]);
+      rec.start_s.push_back(
+          r.number(r.at(list[i], "start_s", fs_), fs_ + ".start_s", 0.0, 1e9, "s"));
+      ++flown[{folder, k - 1}];
+      names.back().push_back(folder + " sortie " + std::to_string(k));
+    }
+    fleet.uavs.push_back(std::move(rec));
+  }
+  const auto t0 = SteadyClock::now();
+  std::ostringstream out;
+  std::string error = checkFleetSeparation(fleet, out, [&](int u, int k) {
+    return names[static_cast<std::size_t>(u)][static_cast<std::size_t>(k)];
+  });
+  std::size_t sorties = 0;
+  for (const auto& [folder, m] : missions) {
+    for (std::size_t k = 0; k < m.flight->sorties.size() && error.empty(); ++k) {
+      const auto it = flown.find({folder, k});
+      const int n = it == flown.end() ? 0 : it->second;
+      if (n != 1)
+        error = "fleet: " + folder + " sortie " + std::to_string(k + 1) + " is flown " +
+                std::to_string(n) + " times by the fleet, not once";
+    }
+    sorties += m.flight->sorties.size();
+  }
+  if (!v.quiet) {
+    std::cout << "site " << path << ": " << missions.size() << " sections flown at once, "
+              << sorties << " sorties\n"
+              << out.str() << "checked in " << formatFixed(secondsSince(t0), 3)
+              << " s; each sortie's clearance: uavip validate SECTION/mission.json\n";
+  }
+  if (!error.empty()) {
+    std::cerr << "uavip: " << error << "\n";
+    return kExitNoMission;
+  }
+  return kExitOk;
+}
+
 int validateCommand(const std::string& mission_path, std::string scene_path, double clearance_arg,
                     bool clearance_given, const std::string& cloud_arg, const Verbosity& v) {
-  const io::MissionRecord mission = io::loadMission(mission_path);
+  const nlohmann::json j = io::JsonReader(mission_path).load();
+  if (j.is_object() && j.value("format", "") == "uavip site 1")  // merge's, several sections
+    return validateSiteCommand(mission_path, j, v);
+  const io::MissionRecord mission = io::missionFromJson(j, mission_path);
   const std::vector<NamedPath> paths = pathsOf(mission);
   if (scene_path.empty())
     scene_path = (fs::path(mission_path).parent_path() / "scene.json").string();
@@ -374,7 +480,8 @@ void addValidateCommands(CLI::App& cli, CommandRegistry& registry) {
   const auto [val, a] = missionCommand<ValidateArgs>(
       cli, "validate",
       "Re-check a mission.json against its scene: sweep the UAV along every waypoint path "
-      "(exit 3 if any ok surface comes closer than the clearance)");
+      "(exit 3 if any ok surface comes closer than the clearance). Given a site.json of merge "
+      "--uavs K, re-check its fleet's schedule across the sections (exit 3 on a conflict)");
   const Verbosity& v = registry.verbosity();
   val->add_option("--scene", a->scene,
                   "Scene to check against (default: scene.json next to the mission)");

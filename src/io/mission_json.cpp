@@ -195,13 +195,19 @@ json fleetUavToJson(const planning::FleetUav& u, std::size_t index, const planni
 }  // namespace
 
 json fleetToJson(const planning::FleetPlan& f) {
+  json uavs = json::array();
+  for (std::size_t i = 0; i < f.uavs.size(); ++i) uavs.push_back(fleetUavToJson(f.uavs[i], i, f));
+  json j = fleetSummaryToJson(f);
+  j["uavs"] = std::move(uavs);
+  return j;
+}
+
+json fleetSummaryToJson(const planning::FleetPlan& f) {
   json options = json::object();
   for (const auto& row : planning::FleetOptions::table().rows()) {
     const params::Value v = row.get(f.options);
     if (v.present && v.numbers.size() == 1) options[row.key] = v.number();
   }
-  json uavs = json::array();
-  for (std::size_t i = 0; i < f.uavs.size(); ++i) uavs.push_back(fleetUavToJson(f.uavs[i], i, f));
   const auto& sep = f.separation;
   return {{"status", planning::toString(f.status)},
           {"reason", f.reason},
@@ -223,7 +229,6 @@ json fleetToJson(const planning::FleetPlan& f) {
              std::isfinite(sep.nominal_min_m) ? json(round4(sep.nominal_time_s)) : json(nullptr)},
             {"swept_m", finiteOrNull(sep.swept_min_m)}}},
           {"model", modelToJson(f.model)},
-          {"uavs", uavs},
           {"timings", {{"fleet_s", round4(f.seconds)}}}};
 }
 

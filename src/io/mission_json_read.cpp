@@ -107,22 +107,22 @@ SortieRecord readSortie(const JsonReader& r, const json& j, const std::string& f
   return s;
 }
 
-/// `fleet`: the options (through their table), the flight model, each UAV's sorties.
-FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m) {
+/// A fleet block's status, options (through their table), flight model and makespan.
+FleetRecord readFleetSettings(const JsonReader& r, const json& j, const std::string& where) {
   FleetRecord f;
-  f.status = r.text(r.at(j, "status", "fleet"), "fleet.status");
-  const json& options = r.at(j, "options", "fleet");
+  f.status = r.text(r.at(j, "status", where), where + ".status");
+  const json& options = r.at(j, "options", where);
   for (const auto& row : planning::FleetOptions::table().rows()) {
     if (!options.contains(row.key)) continue;
     params::Value v;
-    v.numbers = {r.number(options.at(row.key), "fleet.options." + row.key)};
+    v.numbers = {r.number(options.at(row.key), where + ".options." + row.key)};
     const std::string what = row.problem(v);
-    if (!what.empty()) r.fail("fleet.options." + row.key, what);
+    if (!what.empty()) r.fail(where + ".options." + row.key, what);
     row.set(f.options, v);
   }
-  const json& model = r.at(j, "model", "fleet");
+  const json& model = r.at(j, "model", where);
   const auto field = [&](const char* key, double& out) {
-    out = r.number(r.at(model, key, "fleet.model"), std::string("fleet.model.") + key);
+    out = r.number(r.at(model, key, where + ".model"), where + ".model." + key);
   };
   field("cruise_speed_m_s", f.model.cruise_speed_m_s);
   field("climb_speed_m_s", f.model.climb_speed_m_s);
@@ -132,11 +132,17 @@ FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m
   field("endurance_s", f.model.endurance_s);
   field("reserve", f.model.reserve);
   try {
-    f.model.validate("fleet.model");
+    f.model.validate(where + ".model");
   } catch (const InputError& e) {
-    r.fail("fleet.model", e.what());
+    r.fail(where + ".model", e.what());
   }
-  f.makespan_s = r.number(r.at(j, "makespan_s", "fleet"), "fleet.makespan_s");
+  f.makespan_s = r.number(r.at(j, "makespan_s", where), where + ".makespan_s");
+  return f;
+}
+
+/// `fleet`: the settings, then each UAV's sorties.
+FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m) {
+  FleetRecord f = readFleetSettings(r, j, "fleet");
   const std::string list = JsonReader::join("fleet", "uavs");
   const json& uavs = r.list(r.at(j, "uavs", "fleet"), list);
   for (std::size_t u = 0; u < uavs.size(); ++u) {
@@ -156,6 +162,11 @@ FleetRecord readFleet(const JsonReader& r, const json& j, const MissionRecord& m
 }
 
 }  // namespace
+
+FleetRecord fleetSettingsFromJson(const json& fleet, const std::string& path,
+                                  const std::string& where) {
+  return readFleetSettings(JsonReader(path), fleet, where);
+}
 
 std::vector<std::vector<planning::MotionPiece>> recordedFleetMotion(const FleetRecord& fleet) {
   std::vector<std::vector<planning::MotionPiece>> motion;

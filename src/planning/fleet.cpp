@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <string>
@@ -14,6 +15,7 @@
 #include "uavip/core/error.h"
 #include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
+#include "uavip/core/neighbour_index.h"
 #include "uavip/core/stopwatch.h"
 #include "uavip/core/text.h"
 #include "uavip/planning/tour.h"
@@ -241,9 +243,38 @@ PointList fleetRegion(const FleetOptions& fleet, const Vec3& home) {
   return {home + Vec3(r, r, 0.0), home - Vec3(r, r, 0.0)};
 }
 
+namespace {
+
+/// The least flight time [s] from any other stop to stop i (infinity: none), exact:
+/// a flight of T seconds covers at most T × √(cruise² + vertical²) metres
+/// (FlightModel::segmentSeconds), so every stop faster to reach than the nearest one
+/// lies within that radius of it.
+double fromNearestStop(const PointList& stops, std::size_t i, const FlightModel& model,
+                       const NeighbourIndex& index, std::vector<int>& found,
+                       std::vector<float>& squared) {
+  int near[2];
+  float near_m2[2];
+  index.nearest(i, 1, 2, near, near_m2);
+  const auto other = static_cast<std::size_t>(near[0]) != i ? near[0] : near[1];
+  double reach = model.segmentSeconds(stops[static_cast<std::size_t>(other)], stops[i]);
+  const double vertical = std::max(model.climb_speed_m_s, model.descent_speed_m_s);
+  const double radius = reach * std::hypot(model.cruise_speed_m_s, vertical);
+  index.within(stops[i], radius * (1.0 + 1e-6) + 1e-3, found, squared, false);
+  for (const int k : found)
+    if (static_cast<std::size_t>(k) != i)
+      reach = std::min(reach, model.segmentSeconds(stops[static_cast<std::size_t>(k)], stops[i]));
+  return reach;
+}
+
+}  // namespace
+
 FleetBound fleetLowerBound(const PointList& stops, const PointList& homes, const FlightModel& model,
                            const FleetOptions& fleet) {
   FleetBound b;
+  std::unique_ptr<NeighbourIndex> index;
+  if (stops.size() > 1) index = std::make_unique<NeighbourIndex>(stops);
+  std::vector<int> found;
+  std::vector<float> squared;
   for (std::size_t i = 0; i < stops.size(); ++i) {
     double reach = kInf;
     double trip = kInf;
@@ -251,8 +282,7 @@ FleetBound fleetLowerBound(const PointList& stops, const PointList& homes, const
       reach = std::min(reach, model.segmentSeconds(h, stops[i]));
       trip = std::min(trip, model.segmentSeconds(h, stops[i]) + model.segmentSeconds(stops[i], h));
     }
-    for (std::size_t k = 0; k < stops.size(); ++k)
-      if (k != i) reach = std::min(reach, model.segmentSeconds(stops[k], stops[i]));
+    if (index) reach = std::min(reach, fromNearestStop(stops, i, model, *index, found, squared));
     b.work_s += model.stopSeconds() + reach;
     b.round_trip_s = std::max(b.round_trip_s, trip + model.stopSeconds() + fleet.takeoff_landing_s);
   }
@@ -450,11 +480,17 @@ double earliestTakeoff(double ready, std::size_t u, const std::vector<MotionPiec
     moved = false;
     for (std::size_t v = 0; v < placed.size() && !moved; ++v) {
       if (v == u) continue;
+      const std::vector<MotionPiece>& other = placed[v];  // in time order
       for (const MotionPiece& q0 : base) {
         const double q_t0 = q0.t0 + t;
         const double q_t1 = q0.t1 + t;
-        for (const MotionPiece& p : placed[v]) {
-          if (p.t1 + o.slack_s < q_t0 || q_t1 + o.slack_s < p.t0) continue;
+        // The pieces whose widened windows overlap q's: from the first that ends no
+        // earlier than q_t0 − slack to the last that starts by q_t1 + slack.
+        auto p_it = std::partition_point(other.begin(), other.end(), [&](const MotionPiece& p) {
+          return p.t1 + o.slack_s < q_t0;
+        });
+        for (; p_it != other.end() && p_it->t0 <= q_t1 + o.slack_s; ++p_it) {
+          const MotionPiece& p = *p_it;
           if (segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m) continue;
           t += p.t1 + o.slack_s - q_t0 + kEps;  // q starts after p's widened window
           moved = true;
@@ -1002,6 +1038,8 @@ bool placeWaits(FleetPlan& trial, double bar, bool per_job) {
 }
 
 }  // namespace
+
+bool scheduleInOrder(FleetPlan& plan) { return packSorties(plan, kInf); }
 
 FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPlan& single,
                     const world::VoxelGrid& grid, const PathValidator& validator, Planner& planner,

@@ -9,10 +9,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "tests/cli/cli_runner.h"
+#include "tests/cli/fleet_sampling.h"
 #include "tests/tiling/block_site.h"
 
 namespace {
@@ -20,6 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using uavip::Vec3;
 using uavip::cli_test::Result;
+using uavip::cli_test::sampledClosestApproach;
 using uavip::cli_test::slurp;
 using uavip::cli_test::uavip;
 
@@ -185,11 +188,14 @@ nlohmann::json withoutTimings(const nlohmann::json& j) {
   return j;
 }
 
-// Issue 45, item 5: `merge --uavs K` flies the tiled site with the fleet, one section at a
-// time. Each section's mission.json has its fleet, which `uavip validate` (the motion
-// recomputed from the waypoints and the flight model, every UAV's leg against every
-// input point) accepts; site.json sums the sections' makespans. K = 1 is today's merge.
-TEST_F(TileCli, FleetFliesEachSectionConflictFree) {
+// Issue 45, item 5: `merge --uavs K` flies the tiled site with the fleet. A site of one
+// section is planned as a scene is: its mission.json has the fleet, which `uavip
+// validate` (the motion recomputed from the waypoints and the flight model, every UAV's
+// leg against every input point) accepts. A site of several sections keeps each
+// section's one-UAV flight and flies the sections at once (app/site_fleet.h): every
+// sortie once, never closer than the separation by brute force, `validate site.json`.
+// K = 1 is today's merge.
+TEST_F(TileCli, FleetFliesTheSiteConflictFree) {
   ASSERT_EQ(tile_codes_, 0);
   ASSERT_EQ(merged_.code, 0) << merged_.out;
   // K = 1: the same mission and scene as the merge without --uavs.
@@ -223,64 +229,110 @@ TEST_F(TileCli, FleetFliesEachSectionConflictFree) {
   EXPECT_NE(vw.out.find("fleet: 2 UAVs"), std::string::npos) << vw.out;
   EXPECT_FALSE(mission["fleet"]["fallback_single"].get<bool>()) << "both UAVs fly";
 
-  // K = 2, one tile a section: a fleet per section, each validated; site.json's makespan
-  // is the sum of the sections' (flown one after the other).
+  // K = 2, one tile a section: every section planned for one UAV, exactly as the merge
+  // of one UAV plans it, and the sections flown at once by site.json's fleet, which
+  // `uavip validate site.json` re-checks from the sections' waypoints.
   const Result sections = uavip("merge " + p("T/manifest.json") + " -o " + p("fleet_sections") +
                                 " --section-tiles 1 --no-views --uavs 2" + fleet_cfg);
   std::cout << sections.out;
   ASSERT_EQ(sections.code, 0) << sections.out;
+  const Result single = uavip("-q merge " + p("T/manifest.json") + " -o " + p("one_sections") +
+                              " --section-tiles 1 --no-views" + fleet_cfg);
+  ASSERT_EQ(single.code, 0) << single.out;
   const auto site = nlohmann::json::parse(slurp(dir_ / "fleet_sections/site.json"));
   ASSERT_TRUE(site.contains("fleet")) << site.dump(1);
-  double makespan = 0.0;
-  std::size_t fleets = 0, shared = 0;
+  const auto& fleet = site["fleet"];
+  EXPECT_EQ(fleet["mode"], "sections at once");
+  EXPECT_FALSE(nlohmann::json::parse(slurp(dir_ / "one_sections/site.json")).contains("fleet"));
+  // The reference: the one-UAV merge's sections, their sorties and times by the model.
+  std::map<std::pair<std::string, int>, int> flown;
+  std::size_t sorties = 0;
+  double alone_s = 0.0;
+  nlohmann::json rebuilt = {{"model", fleet["model"]}, {"options", fleet["options"]}};
+  std::map<std::string, nlohmann::json> missions;
   for (const auto& s : site["sections"]) {
+    const std::string f = std::string(s["folder"]) + "/mission.json";
+    const auto m = nlohmann::json::parse(slurp(dir_ / "fleet_sections" / f));
+    EXPECT_FALSE(m.contains("fleet")) << f;
+    EXPECT_EQ(withoutTimings(m),
+              withoutTimings(nlohmann::json::parse(slurp(dir_ / "one_sections" / f))))
+        << f;
     if (s["flight_status"] != "ok") continue;
-    const std::string folder = p("fleet_sections/" + std::string(s["folder"]));
-    const auto m = nlohmann::json::parse(slurp(fs::path(folder) / "mission.json"));
-    ASSERT_TRUE(m.contains("fleet")) << folder;
-    ASSERT_TRUE(s.contains("fleet")) << folder;
-    EXPECT_EQ(m["fleet"]["uavs"].size(), 2U) << folder;
-    EXPECT_NEAR(s["fleet"]["makespan_s"].get<double>(), m["fleet"]["makespan_s"].get<double>(),
-                1e-3);
-    makespan += m["fleet"]["makespan_s"].get<double>();
-    ++fleets;
-    shared += !m["fleet"]["fallback_single"].get<bool>();
-    const Result v = uavip("validate " + folder + "/mission.json --cloud " + p("site.xyz"));
-    EXPECT_EQ(v.code, 0) << folder << ": " << v.out;
-    EXPECT_NE(v.out.find("fleet: 2 UAVs"), std::string::npos) << v.out;
+    sorties += m["flight"]["sorties"].size();
+    alone_s += m["flight"]["duration_s"].get<double>();
+    missions[s["folder"]] = m;
   }
-  EXPECT_GE(fleets, 1U);
-  EXPECT_GE(shared, 1U) << "no section where both UAVs fly";
-  EXPECT_EQ(site["fleet"]["sections_flown"].get<std::size_t>(), fleets);
-  EXPECT_NEAR(site["fleet"]["makespan_s"].get<double>(), makespan, 1e-2);
+  ASSERT_GE(missions.size(), 2U) << "the test needs two flown sections";
+  std::size_t flying = 0;
+  for (const auto& u : fleet["uavs"]) {
+    nlohmann::json uav = {{"sorties", nlohmann::json::array()}};
+    for (const auto& k : u["sorties"]) {
+      const int n = k["sortie"].get<int>();
+      ++flown[{k["folder"], n}];
+      nlohmann::json sortie = missions.at(k["folder"])["flight"]["sorties"].at(n - 1);
+      sortie["start_s"] = k["start_s"];
+      uav["sorties"].push_back(sortie);
+    }
+    flying += !u["sorties"].empty();
+    rebuilt["uavs"].push_back(uav);
+  }
+  EXPECT_EQ(flown.size(), sorties) << "every sortie of the site flown";
+  for (const auto& [k, n] : flown) EXPECT_EQ(n, 1) << k.first << " sortie " << k.second;
+  EXPECT_EQ(flying, 2U) << "both UAVs fly";
+  EXPECT_NEAR(fleet["single_uav_s"].get<double>(), alone_s, 0.01 * sorties);
+  EXPECT_LT(fleet["makespan_s"].get<double>(), alone_s);
+  EXPECT_GE(fleet["makespan_s"].get<double>(), fleet["lower_bound_s"].get<double>());
+  // Brute force on sampled times and delays: never closer than the separation.
+  EXPECT_GE(sampledClosestApproach(rebuilt), fleet["options"]["separation_m"].get<double>() - 1e-6);
+  const Result vs = uavip("validate " + p("fleet_sections/site.json"));
+  EXPECT_EQ(vs.code, 0) << vs.out;
+  EXPECT_NE(vs.out.find("sections flown at once"), std::string::npos) << vs.out;
 
-  // Sections stay independent tasks: plan-section --uavs 2 results are joined by
-  // merge --uavs 2 as the merge would plan them, and refused as stale by a merge of 1 UAV.
+  // A hand-made conflict: UAV 2 flies UAV 1's sorties with it, at the same times.
+  auto bad = site;
+  bad["fleet"]["uavs"][1]["sorties"] = site["fleet"]["uavs"][0]["sorties"];
+  fs::create_directories(dir_ / "bad_site");
+  for (const auto& [folder, m] : missions)
+    fs::copy(dir_ / "fleet_sections" / folder, dir_ / "bad_site" / folder,
+             fs::copy_options::recursive);
+  std::ofstream(dir_ / "bad_site/site.json") << bad.dump(1);
+  const Result conflict = uavip("validate " + p("bad_site/site.json"));
+  EXPECT_EQ(conflict.code, 3) << conflict.out;
+  EXPECT_NE(conflict.out.find("closer than the separation"), std::string::npos) << conflict.out;
+
+  // Sections stay independent tasks: plan-section results for one UAV are joined by
+  // merge --uavs 2 into the same site fleet as the merge planned.
   fs::copy(dir_ / "T", dir_ / "T_fleet", fs::copy_options::recursive);
-  const std::size_t count = site["sections"].size();
-  for (std::size_t i = 0; i < count; ++i) {
-    const Result r =
-        uavip("-q plan-section " + p("T_fleet/manifest.json") + " --section " + std::to_string(i) +
-              " --section-tiles 1 --no-views --uavs 2" + fleet_cfg);
+  for (std::size_t i = 0; i < site["sections"].size(); ++i) {
+    const Result r = uavip("-q plan-section " + p("T_fleet/manifest.json") + " --section " +
+                           std::to_string(i) + " --section-tiles 1 --no-views" + fleet_cfg);
     ASSERT_EQ(r.code, 0) << r.out;
   }
   const Result joined =
       uavip("-q merge " + p("T_fleet/manifest.json") + " -o " + p("fleet_joined") +
             " --section-tiles 1 --no-views --uavs 2 --require-sections" + fleet_cfg);
   ASSERT_EQ(joined.code, 0) << joined.out;
-  for (const auto& s : site["sections"]) {
-    if (s["flight_status"] != "ok") continue;
-    const std::string f = std::string(s["folder"]) + "/mission.json";
-    auto a = withoutTimings(nlohmann::json::parse(slurp(dir_ / "fleet_joined" / f)));
-    auto b = withoutTimings(nlohmann::json::parse(slurp(dir_ / "fleet_sections" / f)));
-    a.erase("source");  // the manifest's path: T_fleet/ and T/
-    b.erase("source");
-    EXPECT_EQ(a, b) << f;
+  auto a = withoutTimings(nlohmann::json::parse(slurp(dir_ / "fleet_joined/site.json")));
+  auto b = withoutTimings(site);
+  for (auto* j : {&a, &b}) {  // the manifest's and input's paths: T_fleet/ and T/
+    j->erase("manifest");
+    j->erase("input");
   }
-  const Result stale = uavip("-q merge " + p("T_fleet/manifest.json") + " -o " + p("stale_one") +
-                             " --section-tiles 1 --no-views --require-sections" + fleet_cfg);
-  EXPECT_EQ(stale.code, 2) << stale.out;
-  EXPECT_NE(stale.out.find("planned for 2 UAV(s), not 1"), std::string::npos) << stale.out;
+  EXPECT_EQ(a["fleet"], b["fleet"]);
+
+  // fleet.homes has no place in a site of several sections: exit 2, nothing written.
+  {
+    std::ofstream cfg(dir_ / "homes.yaml");
+    cfg << slurp(dir_ / "site.yaml")
+        << "fleet: {uavs: 2, launch_interval_s: 5.0, separation_m: 3.0, slack_s: 10.0,\n"
+           "        homes: [[0, -20, 1], [10, -20, 1]]}\n";
+  }
+  const Result homes = uavip("-q merge " + p("T/manifest.json") + " -o " + p("homes_out") +
+                             " --section-tiles 1 --no-views -c " + p("homes.yaml"));
+  EXPECT_EQ(homes.code, 2) << homes.out;
+  EXPECT_EQ(lines(homes.out), 1) << homes.out;
+  EXPECT_NE(homes.out.find("own home"), std::string::npos) << homes.out;
+  EXPECT_FALSE(fs::exists(dir_ / "homes_out/site.json"));
 }
 
 }  // namespace

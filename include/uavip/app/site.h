@@ -21,6 +21,7 @@
 
 #include "uavip/app/pipeline.h"
 #include "uavip/app/scenario.h"
+#include "uavip/app/site_fleet.h"
 #include "uavip/io/cloud_io.h"
 #include "uavip/planning/flight_planner.h"
 #include "uavip/tiling/merge.h"
@@ -125,8 +126,9 @@ struct SectionSummary {
   bool joined{false};  ///< read from plan-section's result, not planned by the merge
   /// The smallest distance of each sortie to any input point [m] (infinity: none read).
   std::vector<double> min_clearance_to_input_m;
-  /// A fleet (merge --uavs K, K > 1): each UAV's flight over the section, its makespan
-  /// and the single UAV's [s] (the section is flown by the fleet before the next one).
+  /// A fleet over a site of one section (merge --uavs K, K > 1): each UAV's flight, the
+  /// makespan and the single UAV's [s]. A site of several sections plans each for one
+  /// UAV and flies them at once (SiteResult::fleet).
   std::vector<planning::FlightPlan> uav_flights;
   int uavs{1};
   double makespan_s{0.0};
@@ -144,7 +146,9 @@ struct SectionKey {
   std::string config_sha256;    ///< of the config file used; empty for the defaults
   int section_tiles{0};         ///< SiteOptions::section_tiles as given (0: chosen)
   bool views{true};             ///< the section's views were drawn
-  int uavs{1};                  ///< the fleet's UAVs (fleet.uavs, merge --uavs)
+  /// The UAVs a section is planned for: fleet.uavs (merge --uavs) on a site of one
+  /// section, else 1 (the site's fleet flies the sections at once).
+  int uavs{1};
 };
 
 /// The key of `manifest` planned with the config file `config_path` (empty: defaults).
@@ -191,6 +195,8 @@ struct SiteResult {
   double required_clearance_m{0.0};  ///< the UAV's inflation radius [m]
   double min_clearance_m{0.0};       ///< over every sortie [m] (infinity: no sortie)
   double check_s{0.0};               ///< the streamed check [s]
+  /// With a fleet (fleet.uavs > 1) over several sections: the sections flown at once.
+  std::optional<SiteFleet> fleet;
   /// False when some section has surfaces but none has a collision-free flight.
   bool flyable() const;
 };
@@ -232,7 +238,8 @@ std::vector<std::vector<double>> clearanceToCloud(
     const Vec3* frame_m = nullptr);
 
 /// OUT/site.json of a site in several sections: each section's folder, tiles and flight,
-/// and its clearance to the input (its one writer).
+/// and its clearance to the input; with a fleet, `fleet` (the sections flown at once,
+/// site_fleet.h: the schedule of every UAV's sorties by section) (its one writer).
 std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& site);
 
 }  // namespace uavip::app

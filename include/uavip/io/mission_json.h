@@ -39,6 +39,9 @@ nlohmann::json flightToJson(const planning::FlightPlan& flight, const planning::
 /// validation}}.
 nlohmann::json fleetToJson(const planning::FleetPlan& fleet);
 
+/// fleetToJson without `uavs` (a site's fleet lists its UAVs' sorties by section).
+nlohmann::json fleetSummaryToJson(const planning::FleetPlan& fleet);
+
 /// The whole mission file; `meta` is merged at the top level (version, source,
 /// planner, camera…).
 nlohmann::json missionToJson(const std::vector<planning::SurfaceMission>& missions,
@@ -155,6 +158,12 @@ struct FleetRecord {
 /// times and flight model (planning::sortieMotion over its sorties): what `validate`
 /// checks and what the mission page replays.
 std::vector<std::vector<planning::MotionPiece>> recordedFleetMotion(const FleetRecord& fleet);
+
+/// A `fleet` block's status, options (through their table), flight model and
+/// makespan_s (what fleetSummaryToJson wrote), `where` naming it in errors; uavs left
+/// empty. Throws InputError naming `path` and the field.
+FleetRecord fleetSettingsFromJson(const nlohmann::json& fleet, const std::string& path,
+                                  const std::string& where = "fleet");
 
 /// A mission.json read back.
 struct MissionRecord {
