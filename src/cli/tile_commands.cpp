@@ -408,8 +408,10 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
                   "Join only results of plan-section (the Slurm merge): refuse, naming the "
                   "sections to plan, instead of planning a missing or stale one here");
   merge->add_option("--uavs", a->uavs,
-                    "Fly each section with K UAVs at once, one section after the other "
-                    "(fleet.uavs; give plan-section the same)");
+                    "Fly the site with K UAVs at once (fleet.uavs): several sections are "
+                    "flown at once, each UAV a run of their sorties (site.json `fleet`; check "
+                    "it with `uavip validate site.json`); a site of one section shares its "
+                    "stops as `plan --uavs K` does");
   registry.add(merge, [a, &v] {
     return mergeCommand(a->manifest, a->config, a->out, a->section_tiles, !a->no_views,
                         a->require_sections, a->uavs, v);
@@ -432,8 +434,9 @@ void addTileCommands(CLI::App& cli, CommandRegistry& registry) {
                     "Do nothing when the section's result is there and up to date");
   section->add_flag("--list", a->list, "Print the sections (tiles and points) and exit");
   section->add_option("--uavs", a->uavs,
-                      "Fly the section with K UAVs at once, as merge's option (give merge the "
-                      "same)");
+                      "K UAVs, as merge's option (give merge the same); only a site of one "
+                      "section plans a fleet here, several sections are planned for one UAV "
+                      "and shared by the merge");
   registry.add(section, [a, &v] {
     return planSectionCommand(a->manifest, a->section, a->config, a->section_tiles, !a->no_views,
                               a->if_stale, a->list, a->uavs, v);

@@ -170,6 +170,37 @@ TEST(FleetLowerBound, KnownGeometry) {
   EXPECT_NEAR(b.bound_s, 16.0, 1e-9);
 }
 
+// The work W takes each stop's fastest approach from a kd-tree's radius search; the
+// reference is every other stop and home tried, on clouds with duplicates and with
+// climbs and descents slower than the cruise.
+TEST(FleetLowerBound, WorkMatchesEveryPairTried) {
+  std::mt19937 rng(45);
+  FlightModel model;
+  model.climb_speed_m_s = 0.7;
+  model.descent_speed_m_s = 4.0;
+  FleetOptions fleet;
+  fleet.uavs = 3;
+  for (int trial = 0; trial < 20; ++trial) {
+    PointList stops;
+    for (int i = 0; i < 60 + 7 * trial; ++i) stops.push_back(randomPoint(rng, 20.0));
+    stops.push_back(stops[5]);  // a duplicate: reached in no time
+    const PointList homes{randomPoint(rng, 30.0), randomPoint(rng, 30.0)};
+    double work = 0.0;
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+      double reach = kInf;
+      for (const Vec3& h : homes) reach = std::min(reach, model.segmentSeconds(h, stops[i]));
+      for (std::size_t k = 0; k < stops.size(); ++k)
+        if (k != i) reach = std::min(reach, model.segmentSeconds(stops[k], stops[i]));
+      work += model.stopSeconds() + reach;
+    }
+    EXPECT_NEAR(fleetLowerBound(stops, homes, model, fleet).work_s, work, 1e-9 * work)
+        << "trial " << trial;
+  }
+  // One stop: reached from a home only.
+  const FleetBound one = fleetLowerBound({Vec3(6, 0, 0)}, {Vec3(0, 0, 0)}, model, fleet);
+  EXPECT_NEAR(one.work_s, 2.0 + model.stopSeconds(), 1e-12);
+}
+
 TEST(FleetOptions, RefusesHomesTooCloseOrMiscounted) {
   FleetOptions o;
   o.uavs = 2;
