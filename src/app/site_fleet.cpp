@@ -52,6 +52,25 @@ SiteSorties siteSorties(const std::vector<const planning::FlightPlan*>& flights,
   return out;
 }
 
+/// The runs in the order `scheduled` flies each UAV's sorties (scheduleFlights with
+/// any order reorders them; `planned` holds them in the runs' order).
+void reorderRuns(const planning::FleetPlan& scheduled, const planning::FleetPlan& planned,
+                 std::vector<std::vector<SiteSortie>>& runs) {
+  for (std::size_t u = 0; u < runs.size(); ++u) {
+    const auto& from = planned.uavs[u].flight.sorties;
+    std::vector<SiteSortie> order;
+    std::vector<bool> used(from.size(), false);
+    for (const auto& s : scheduled.uavs[u].flight.sorties)
+      for (std::size_t k = 0; k < from.size(); ++k)
+        if (!used[k] && from[k].waypoints == s.waypoints) {
+          used[k] = true;
+          order.push_back(runs[u][k]);
+          break;
+        }
+    runs[u] = std::move(order);
+  }
+}
+
 }  // namespace
 
 std::vector<std::size_t> contiguousRuns(const std::vector<double>& seconds, int uavs,
@@ -136,7 +155,16 @@ SiteFleet planSiteFleet(const std::vector<const planning::FlightPlan*>& flights,
                                     "'s home (its first sortie)"
                               : "idle";
     }
-    return planning::scheduleInOrder(plan);
+    // Each UAV's sorties in the site's order, or in any order (whichever can take off
+    // earliest): the sooner conflict-free schedule, in order on a tie.
+    planning::FleetPlan any = plan;
+    const bool in_order = planning::scheduleFlights(plan);
+    if (planning::scheduleFlights(any, true) && (!in_order || any.makespan_s < plan.makespan_s)) {
+      reorderRuns(any, plan, out.runs);
+      plan = std::move(any);
+      return true;
+    }
+    return in_order;
   };
   const bool ok =
       fly(contiguousRuns(all.seconds, fleet.uavs, fleet.launch_interval_s, fleet.battery_swap_s));

@@ -88,7 +88,7 @@ std::string checkFleetSeparation(const io::FleetRecord& fleet, std::ostream& out
 /// when both hold, else the error line.
 std::string checkFleet(const io::FleetRecord& fleet, const io::MissionRecord& mission,
                        std::ostream& out) {
-  const std::string separation = checkFleetSeparation(
+  std::string separation = checkFleetSeparation(
       fleet, out, [](int, int k) { return "sortie " + std::to_string(k + 1); });
   if (!separation.empty()) return separation;
   std::map<std::pair<int, std::size_t>, int> flown;

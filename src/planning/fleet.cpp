@@ -1039,7 +1039,7 @@ bool placeWaits(FleetPlan& trial, double bar, bool per_job) {
 
 }  // namespace
 
-bool scheduleInOrder(FleetPlan& plan) { return packSorties(plan, kInf); }
+bool scheduleFlights(FleetPlan& plan, bool any_order) { return packSorties(plan, kInf, any_order); }
 
 FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPlan& single,
                     const world::VoxelGrid& grid, const PathValidator& validator, Planner& planner,

@@ -11,9 +11,10 @@
 /// u + 1's first ones, which it flew at the start. Each sortie is flown as planned,
 /// from its own section's home; a UAV moves to the next section's home on the ground
 /// between two sorties, in no time (as the single UAV does between sections). The
-/// schedule is planning::scheduleInOrder's: UAV u takes off u × launch_interval_s after
+/// schedule is planning::scheduleFlights': UAV u takes off u × launch_interval_s after
 /// UAV 1, each sortie at its earliest take-off that keeps separation_m from every
-/// other UAV with up to slack_s of delay (waits on the ground).
+/// other UAV with up to slack_s of delay (waits on the ground); each UAV's run in the
+/// site's order or in any order, the sooner kept.
 
 #include <cstddef>
 #include <vector>

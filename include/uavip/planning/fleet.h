@@ -51,12 +51,14 @@ FleetPlan planFleet(const std::vector<SurfaceMission>& missions, const FlightPla
                     const FlightOptions& flight, const FleetOptions& fleet);
 
 /// Schedules a fleet whose flights are fixed (plan.uavs[u].flight, its sorties round
-/// trips flown in their order; plan.options and plan.model set): list scheduling as
-/// for planFleet's candidates, each sortie at its earliest take-off that keeps the
-/// separation with the slack from every sortie placed before. Sets each UAV's
-/// sortie_start_s, wait_s and end_s, and the plan's makespan_s, waits and separation
-/// (the check of the final schedule). False when that check still finds a conflict.
-bool scheduleInOrder(FleetPlan& plan);
+/// trips; plan.options and plan.model set): list scheduling as for planFleet's
+/// candidates, each sortie at its earliest take-off that keeps the separation with the
+/// slack from every sortie placed before. In order, or with `any_order` the UAV that is
+/// ready takes whichever of its sorties left can take off earliest (its flight's sorties
+/// reordered so). Sets each UAV's sortie_start_s, wait_s and end_s, and the plan's
+/// makespan_s, waits and separation (the check of the final schedule). False when that
+/// check still finds a conflict.
+bool scheduleFlights(FleetPlan& plan, bool any_order = false);
 
 /// Spacing of the default homes along their line [m]: 1.2 × separation_m, at least
 /// separation_m + 1 m.
