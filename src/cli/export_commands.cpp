@@ -18,6 +18,7 @@
 #include "uavip/core/text.h"
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/geodesy.h"
+#include "uavip/io/json_reader.h"
 #include "uavip/io/map_export.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/wpml_export.h"
@@ -36,6 +37,9 @@ struct ExportArgs {
   int uav{0};  ///< --uav: only this UAV of a fleet (from 1); 0 = every UAV
   /// Set per UAV of a fleet: file names get _uavN_sortieM, flights carry the UAV.
   int fleet_uav{0};
+  /// Set per sortie of a site's fleet (its number in the UAV's run, from 1): the one
+  /// sortie exported gets this number, and kml / geojson a file per sortie too.
+  int uav_sortie{0};
   double hold_s{1.0}, acceptance_m{0.3}, speed_m_s{2.0}, takeoff_height_m{20.0};
   std::size_t max_waypoints{io::kWpmlMaxWaypoints};
   /// Where the flight lies and the scene it is checked against (app/placement.h).
@@ -72,7 +76,10 @@ std::vector<io::Flight> flightsToExport(const io::MissionRecord& mission, const 
       throw InputError("--sortie: " + std::to_string(a.sortie) + " does not exist; " + a.mission +
                        " has " + std::to_string(flights.size()) + " sortie(s), numbered from 1");
     if (a.sortie > 0) flights = {flights[static_cast<std::size_t>(a.sortie - 1)]};
-    for (auto& f : flights) f.uav = a.fleet_uav;
+    for (auto& f : flights) {
+      f.uav = a.fleet_uav;
+      if (a.uav_sortie > 0) f.sortie = a.uav_sortie;
+    }
     return flights;
   }
   return {io::flightFromMission(mission, a.mission, a.surface)};
@@ -164,8 +171,10 @@ int mapExport(const ExportArgs& a, const Verbosity& v, const std::vector<io::Fli
   std::string path = a.out;
   if (a.fleet_uav > 0) {
     const fs::path out(a.out);
-    path = (out.parent_path() /
-            (out.stem().string() + "_uav" + std::to_string(a.fleet_uav) + out.extension().string()))
+    const std::string sortie =
+        a.uav_sortie > 0 ? "_sortie" + std::to_string(a.uav_sortie) : std::string();
+    path = (out.parent_path() / (out.stem().string() + "_uav" + std::to_string(a.fleet_uav) +
+                                 sortie + out.extension().string()))
                .string();
   }
   const std::string name = fs::path(path).stem().string();
@@ -358,8 +367,55 @@ int exportFleet(const ExportArgs& a, const Verbosity& v, const io::MissionRecord
   return kExitOk;
 }
 
+/// A site's fleet (site.json of `merge --uavs K` over several sections,
+/// app/site_fleet.h; every UAV, or --uav's): each UAV's sorties in its order, each
+/// exported from its own section's mission.json (its home, scene and frame) as
+/// OUT_uavN_sortieM, after a line per UAV with its take-off times.
+int exportSite(const ExportArgs& a, const Verbosity& v, const nlohmann::json& site) {
+  if (!site.contains("fleet"))
+    throw InputError(a.mission + ": a site without a fleet; export each section: uavip export " +
+                     (fs::path(a.mission).parent_path() / "section_NNN" / "mission.json").string() +
+                     " --surface all ...");
+  if (a.sortie != 0 || (!a.surface.empty() && a.surface != "all"))
+    throw InputError("--sortie / --surface: a site's fleet is exported by UAV (--uav N) or whole");
+  if (!a.scene.empty())
+    throw InputError("--scene: each sortie of a site is checked against its own section's scene");
+  const auto missions = io::siteMissions(site, a.mission);
+  const io::SiteFleetRecord record = io::siteFleetFromJson(site, a.mission, missions);
+  const auto uavs = static_cast<int>(record.sorties.size());
+  if (a.uav < 0 || a.uav > uavs)
+    throw InputError("--uav: " + std::to_string(a.uav) + " does not exist; " + a.mission + " has " +
+                     std::to_string(uavs) + " UAVs, numbered from 1");
+  for (int u = 0; u < uavs; ++u) {
+    if (a.uav > 0 && u + 1 != a.uav) continue;
+    const auto& run = record.sorties[static_cast<std::size_t>(u)];
+    const io::FleetUavRecord& rec = record.fleet.uavs[static_cast<std::size_t>(u)];
+    if (!v.quiet) {
+      std::cout << "uav " << u + 1 << ": " << run.size() << " sorties, take-off at";
+      for (std::size_t k = 0; k < run.size(); ++k)
+        std::cout << " +" << formatFixed(rec.start_s[k], 1) << " s (" << run[k].first << " sortie "
+                  << run[k].second + 1 << ")";
+      std::cout << (run.empty() ? " - (stays on the ground)" : "") << "\n";
+    }
+    for (std::size_t k = 0; k < run.size(); ++k) {
+      io::MissionRecord own = missions.at(run[k].first);
+      own.flight = io::FlightRecord{"ok", "", {rec.sorties[k]}};
+      ExportArgs b = a;
+      b.mission = (fs::path(a.mission).parent_path() / run[k].first / "mission.json").string();
+      b.fleet_uav = u + 1;
+      b.uav_sortie = static_cast<int>(k) + 1;
+      b.surface = "all";
+      const int code = exportOne(b, v, own);
+      if (code != kExitOk) return code;
+    }
+  }
+  return kExitOk;
+}
+
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
-  const io::MissionRecord mission = io::loadMission(a.mission);
+  const nlohmann::json j = io::JsonReader(a.mission).load();
+  if (j.is_object() && j.value("format", "") == "uavip site 1") return exportSite(a, v, j);
+  const io::MissionRecord mission = io::missionFromJson(j, a.mission);
   if (mission.fleet && (a.surface == "all" || a.sortie != 0 || a.uav != 0))
     return exportFleet(a, v, mission);
   if (a.uav != 0) throw InputError("--uav: " + a.mission + " has no fleet (plan with --uavs K)");
@@ -416,7 +472,8 @@ void addExportCommands(CLI::App& cli, CommandRegistry& registry) {
   ex->add_option("--sortie", a->sortie, "Only this sortie of the ordered flight (from 1)");
   ex->add_option("--uav", a->uav,
                  "A fleet (plan --uavs K): only this UAV's sorties (from 1); default: every UAV's, "
-                 "one file per UAV and sortie (OUT_uavN_sortieM)");
+                 "one file per UAV and sortie (OUT_uavN_sortieM). Given a site.json of merge "
+                 "--uavs K, each UAV's sorties across the sections, one file each");
   ex->add_option("--scene", a->scene,
                  "scene.json the mission was planned in (default: beside the mission); every "
                  "exported leg is checked against it");

@@ -295,26 +295,6 @@ void validatePath(const Checkers& c, const NamedPath& s, Tally& t) {
   if (t.first_error.empty()) t.first_error = s.label + ": " + msg.str();
 }
 
-/// The sections' flights of a site.json (`sections[]`, their mission.json beside it),
-/// by folder; sections whose flight is not ok are left out.
-std::map<std::string, io::MissionRecord> siteMissions(const io::JsonReader& r,
-                                                      const nlohmann::json& site) {
-  std::map<std::string, io::MissionRecord> out;
-  const nlohmann::json& sections = r.list(r.at(site, "sections", ""), "sections");
-  for (std::size_t i = 0; i < sections.size(); ++i) {
-    const std::string f = io::JsonReader::item("sections", i);
-    const std::string folder = r.text(r.at(sections[i], "folder", f), f + ".folder");
-    if (folder.empty() || folder.find('/') != std::string::npos || folder == "..")
-      r.fail(f + ".folder", "must name a folder beside site.json");
-    if (r.text(r.at(sections[i], "flight_status", f), f + ".flight_status") != "ok") continue;
-    const std::string path = (fs::path(r.file()).parent_path() / folder / "mission.json").string();
-    io::MissionRecord m = io::loadMission(path);
-    if (!m.flight) throw InputError(path + ": no flight; merge the site again");
-    out.emplace(folder, std::move(m));
-  }
-  return out;
-}
-
 /// `uavip validate site.json` of a site flown by a fleet with its sections at once
 /// (app/site_fleet.h): each UAV's sorties taken from the sections' mission.json by
 /// folder and number, their motion recomputed from the waypoints, take-off times and
@@ -323,43 +303,21 @@ std::map<std::string, io::MissionRecord> siteMissions(const io::JsonReader& r,
 /// each section's (`uavip validate SECTION/mission.json`; merge checked it against every
 /// input point).
 int validateSiteCommand(const std::string& path, const nlohmann::json& site, const Verbosity& v) {
-  const io::JsonReader r(path);
   if (!site.contains("fleet"))
     throw InputError(path +
                      ": a site without a fleet has nothing to check here; validate each "
                      "section: uavip validate " +
                      (fs::path(path).parent_path() / "section_NNN" / "mission.json").string());
-  const auto missions = siteMissions(r, site);
-  io::FleetRecord fleet = io::fleetSettingsFromJson(site.at("fleet"), path);
-  const nlohmann::json& uavs = r.list(r.at(site.at("fleet"), "uavs", "fleet"), "fleet.uavs");
+  const auto missions = io::siteMissions(site, path);
+  const io::SiteFleetRecord record = io::siteFleetFromJson(site, path, missions);
   std::map<std::pair<std::string, std::size_t>, int> flown;
-  std::vector<std::vector<std::string>> names;  // "section_001 sortie 3" per UAV's sortie
-  for (std::size_t u = 0; u < uavs.size(); ++u) {
-    const std::string fu = io::JsonReader::item("fleet.uavs", u);
-    const nlohmann::json& list = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
-    io::FleetUavRecord rec;
-    names.emplace_back();
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string fs_ = io::JsonReader::item(fu + ".sorties", i);
-      const std::string folder = r.text(r.at(list[i], "folder", fs_), fs_ + ".folder");
-      const auto it = missions.find(folder);
-      if (it == missions.end()) r.fail(fs_ + ".folder", "names no flown section of the site");
-      const auto& sorties = it->second.flight->sorties;
-      const auto k =
-          static_cast<std::size_t>(r.integer(r.at(list[i], "sortie", fs_), fs_ + ".sortie", 1,
-                                             static_cast<std::int64_t>(sorties.size())));
-      rec.sorties.push_back(sorties[k - 1]);
-      rec.start_s.push_back(
-          r.number(r.at(list[i], "start_s", fs_), fs_ + ".start_s", 0.0, 1e9, "s"));
-      ++flown[{folder, k - 1}];
-      names.back().push_back(folder + " sortie " + std::to_string(k));
-    }
-    fleet.uavs.push_back(std::move(rec));
-  }
+  for (const auto& run : record.sorties)
+    for (const auto& at : run) ++flown[at];
   const auto t0 = SteadyClock::now();
   std::ostringstream out;
-  std::string error = checkFleetSeparation(fleet, out, [&](int u, int k) {
-    return names[static_cast<std::size_t>(u)][static_cast<std::size_t>(k)];
+  std::string error = checkFleetSeparation(record.fleet, out, [&](int u, int k) {
+    const auto& at = record.sorties[static_cast<std::size_t>(u)][static_cast<std::size_t>(k)];
+    return at.first + " sortie " + std::to_string(at.second + 1);
   });
   std::size_t sorties = 0;
   for (const auto& [folder, m] : missions) {

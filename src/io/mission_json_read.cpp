@@ -1,6 +1,8 @@
 // Reading mission.json back (io/mission_json.h): kept apart from the writer so that
 // readers (export, validate, the fuzz target) need no planning code.
 
+#include <filesystem>
+
 #include "uavip/core/error.h"
 #include "uavip/io/json_reader.h"
 #include "uavip/io/mission_json.h"
@@ -247,6 +249,56 @@ MissionRecord missionFromJson(const json& j, const std::string& path) {
 
 MissionRecord loadMission(const std::string& path) {
   return missionFromJson(JsonReader(path).load(), path);
+}
+
+std::map<std::string, MissionRecord> siteMissions(const json& site, const std::string& path) {
+  const JsonReader r(path);
+  std::map<std::string, MissionRecord> out;
+  const json& sections = r.list(r.at(site, "sections", ""), "sections");
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const std::string f = JsonReader::item("sections", i);
+    const std::string folder = r.text(r.at(sections[i], "folder", f), f + ".folder");
+    if (folder.empty() || folder.find('/') != std::string::npos || folder == "..")
+      r.fail(f + ".folder", "must name a folder beside site.json");
+    if (r.text(r.at(sections[i], "flight_status", f), f + ".flight_status") != "ok") continue;
+    const std::string mission =
+        (std::filesystem::path(path).parent_path() / folder / "mission.json").string();
+    MissionRecord m = loadMission(mission);
+    if (!m.flight) throw InputError(mission + ": no flight; merge the site again");
+    out.emplace(folder, std::move(m));
+  }
+  return out;
+}
+
+SiteFleetRecord siteFleetFromJson(const json& site, const std::string& path,
+                                  const std::map<std::string, MissionRecord>& missions) {
+  const JsonReader r(path);
+  SiteFleetRecord out;
+  const json& fleet = r.at(site, "fleet", "");
+  out.fleet = readFleetSettings(r, fleet, "fleet");
+  const json& uavs = r.list(r.at(fleet, "uavs", "fleet"), "fleet.uavs");
+  for (std::size_t u = 0; u < uavs.size(); ++u) {
+    const std::string fu = JsonReader::item("fleet.uavs", u);
+    const json& list = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
+    FleetUavRecord rec;
+    out.sorties.emplace_back();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string fs = JsonReader::item(fu + ".sorties", i);
+      const std::string folder = r.text(r.at(list[i], "folder", fs), fs + ".folder");
+      const auto it = missions.find(folder);
+      if (it == missions.end()) r.fail(fs + ".folder", "names no flown section of the site");
+      const auto& sorties = it->second.flight->sorties;
+      const auto k =
+          static_cast<std::size_t>(r.integer(r.at(list[i], "sortie", fs), fs + ".sortie", 1,
+                                             static_cast<std::int64_t>(sorties.size())));
+      rec.sorties.push_back(sorties[k - 1]);
+      rec.start_s.push_back(r.number(r.at(list[i], "start_s", fs), fs + ".start_s", 0.0, 1e9, "s"));
+      out.sorties.back().emplace_back(folder, k - 1);
+    }
+    if (!rec.sorties.empty()) rec.home = rec.sorties.front().waypoints.front();
+    out.fleet.uavs.push_back(std::move(rec));
+  }
+  return out;
 }
 
 }  // namespace uavip::io

@@ -288,6 +288,41 @@ TEST_F(TileCli, FleetFliesTheSiteConflictFree) {
   EXPECT_EQ(vs.code, 0) << vs.out;
   EXPECT_NE(vs.out.find("sections flown at once"), std::string::npos) << vs.out;
 
+  // Export: one file per UAV and sortie, each the very route the section's own export
+  // writes for the sortie it names; map files carry the UAV.
+  const std::string origin = " --origin 47.3977,8.5456,488 -o ";
+  const Result plan = uavip("export " + p("fleet_sections/site.json") + " --format qgc-plan" +
+                            origin + p("export/site.plan"));
+  ASSERT_EQ(plan.code, 0) << plan.out;
+  for (std::size_t u = 0; u < fleet["uavs"].size(); ++u) {
+    const auto& list = fleet["uavs"][u]["sorties"];
+    EXPECT_NE(plan.out.find("uav " + std::to_string(u + 1) + ": " + std::to_string(list.size()) +
+                            " sorties"),
+              std::string::npos)
+        << plan.out;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::string name =
+          "site_uav" + std::to_string(u + 1) + "_sortie" + std::to_string(k + 1) + ".plan";
+      const std::string ref = "ref_" + name;
+      const Result one = uavip(
+          "-q export " + p("fleet_sections/" + std::string(list[k]["folder"]) + "/mission.json") +
+          " --sortie " + std::to_string(list[k]["sortie"].get<int>()) + " --format qgc-plan" +
+          origin + p("export/" + ref));
+      ASSERT_EQ(one.code, 0) << one.out;
+      const auto got = nlohmann::json::parse(slurp(dir_ / "export" / name));
+      EXPECT_EQ(got["mission"]["items"],
+                nlohmann::json::parse(slurp(dir_ / "export" / ref))["mission"]["items"])
+          << name;
+    }
+  }
+  const Result geo = uavip("-q export " + p("fleet_sections/site.json") + " --uav 2" +
+                           " --format geojson" + origin + p("export/site.geojson"));
+  ASSERT_EQ(geo.code, 0) << geo.out;
+  const auto g = nlohmann::json::parse(slurp(dir_ / "export/site_uav2_sortie1.geojson"));
+  for (const auto& feature : g["features"])
+    if (feature["properties"]["kind"] == "path") EXPECT_EQ(feature["properties"]["uav"], 2);
+  EXPECT_FALSE(fs::exists(dir_ / "export/site_uav1_sortie1.geojson")) << "--uav 2 only";
+
   // A hand-made conflict: UAV 2 flies UAV 1's sorties with it, at the same times.
   auto bad = site;
   bad["fleet"]["uavs"][1]["sorties"] = site["fleet"]["uavs"][0]["sorties"];

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -192,6 +193,26 @@ MissionRecord missionFromJson(const nlohmann::json& mission, const std::string& 
 
 /// Loads and reads `path` (missionFromJson).
 MissionRecord loadMission(const std::string& path);
+
+/// The flown sections of a site.json (`merge` of several sections, at `path`): each
+/// section whose flight_status is ok, its mission.json beside site.json (loadMission),
+/// by folder. Throws InputError naming the file and field.
+std::map<std::string, MissionRecord> siteMissions(const nlohmann::json& site,
+                                                  const std::string& path);
+
+/// A site's fleet as recorded (site.json `fleet`, app/site_fleet.h).
+struct SiteFleetRecord {
+  /// The settings and each UAV's sorties (copied from `missions`) with their take-off times.
+  FleetRecord fleet;
+  /// Per UAV, per sortie: the section's folder and the sortie's index in its flight (0-based).
+  std::vector<std::vector<std::pair<std::string, std::size_t>>> sorties;
+};
+
+/// Reads site.json `fleet` against the sections' flights; throws InputError (naming
+/// `path` and the field) for a folder that is no flown section or a sortie beyond its
+/// flight.
+SiteFleetRecord siteFleetFromJson(const nlohmann::json& site, const std::string& path,
+                                  const std::map<std::string, MissionRecord>& missions);
 
 /// A stop is the waypoint within this distance of its position (mission.json rounds
 /// coordinates to 0.1 mm) [m].
