@@ -637,13 +637,65 @@ def stitch_surface(folder, rows, max_photos):
     return out
 
 
+# Photos of one block at most: OpenCV's bundle adjusters hold a dense Jacobian (two rows
+# per inlier match, four columns per photo in affine-partial), so one panorama of 510
+# photos (single_plane's mosaic: ~2,000 plan-adjacent pairs of ~200 inliers) needs
+# ~13 GB and had not finished after 20 min; 64 photos need ~0.2 GB.
+STITCH_BLOCK = 64
+
+
+def stitch_blocks(folder, rows, max_photos):
+    """A surface of more than STITCH_BLOCK photos in blocks: the plan's (u, v) box cut into
+    k x k cells of at most ~STITCH_BLOCK / 2 photos, each block a cell's photos and those
+    within one footprint around it (so neighbouring blocks share a band of photos), each
+    stitched and checked against the plan as one panorama. The surface counts when every
+    block counts; `in_panorama` is the photos of counted blocks. Blocks that each fit the
+    plan within 10 % of a footprint and overlap are one panorama in the plan's frame."""
+    rows = rows[:max_photos] if max_photos else rows
+    n = len(rows)
+    if n <= STITCH_BLOCK:
+        return stitch_surface(folder, rows, 0)
+    ex, ey = plan_axes(rows)
+    w_m, h_m = rows[0]["footprint"]
+    uv = np.array([[r["target"] @ ex, r["target"] @ ey] for r in rows])
+    lo, hi = uv.min(axis=0), uv.max(axis=0) + 1e-9
+    k = 2
+    while True:
+        size = (hi - lo) / k
+        cell = np.minimum(((uv - lo) / size).astype(int), k - 1)
+        blocks = []
+        for cx in range(k):
+            for cy in range(k):
+                a = lo + size * np.array([cx, cy]) - np.array([w_m, h_m])
+                b = lo + size * np.array([cx + 1, cy + 1]) + np.array([w_m, h_m])
+                core = np.all(cell == [cx, cy], axis=1)
+                if not core.any():
+                    continue
+                inside = np.all((uv >= a) & (uv <= b), axis=1)
+                blocks.append([i for i in range(n) if inside[i]])
+        if max(len(b) for b in blocks) <= STITCH_BLOCK or k >= n:
+            break
+        k += 1
+    placed = set()
+    counted, worst = 0, 0.0
+    for b in blocks:
+        res = stitch_surface(folder, [rows[i] for i in b], 0)
+        worst = max(worst, res.get("worst_placement_footprints", math.inf))
+        if res["counts"]:
+            counted += 1
+            placed.update(b)
+    return {"photos": n, "in_panorama": len(placed), "blocks": len(blocks),
+            "blocks_counted": counted, "worst_placement_footprints": worst,
+            "counts": counted == len(blocks) and len(placed) == n}
+
+
 def stitch_all(folder, rows, max_photos):
     surfaces = sorted({r["surface_id"] for r in rows if r["surface_id"] >= 0})
     out = {}
     for sid in surfaces:
         srows = [r for r in rows if r["surface_id"] == sid]
         if len(srows) >= 2:
-            out[str(sid)] = stitch_surface(folder, srows, max_photos)
+            out[str(sid)] = stitch_blocks(folder, srows, max_photos)
     return out
 
 
@@ -852,8 +904,10 @@ def markdown_row(res):
         cells += ["–"] * 8
     s = res.get("stitch")
     if s:
-        cells.append(", ".join(f"{v['in_panorama']}/{v['photos']}{'' if v['counts'] else '✗'}"
-                               for v in s.values()))
+        cells.append(", ".join(
+            f"{v['in_panorama']}/{v['photos']}{'' if v['counts'] else '✗'}"
+            + (f" ({v['blocks_counted']}/{v['blocks']} blocks)" if "blocks" in v else "")
+            for v in s.values()))
     else:
         cells.append("–")
     cells.append(f"{res['timings']['total_s']:.0f}")

@@ -217,6 +217,9 @@ int planSectionCommand(const std::string& manifest_path, long section,
               << formatFixed(secondsSince(t0), 2) << " s -> "
               << pathIn(folder, app::kSectionResultFile) << "\n";
     printFleet(plan.planned.fleet);
+    if (config.fleet.uavs > 1 && plan.count > 1)
+      std::cout << "planned for one UAV: merge --uavs " << config.fleet.uavs
+                << " shares the site's sorties among the UAVs (the sections flown at once)\n";
   }
   return kExitOk;
 }

@@ -276,9 +276,10 @@ SiteFleetRecord siteFleetFromJson(const json& site, const std::string& path,
   SiteFleetRecord out;
   const json& fleet = r.at(site, "fleet", "");
   out.fleet = readFleetSettings(r, fleet, "fleet");
-  const json& uavs = r.list(r.at(fleet, "uavs", "fleet"), "fleet.uavs");
+  const std::string list = JsonReader::join("fleet", "uavs");  // the UAVs, not the key
+  const json& uavs = r.list(r.at(fleet, "uavs", "fleet"), list);
   for (std::size_t u = 0; u < uavs.size(); ++u) {
-    const std::string fu = JsonReader::item("fleet.uavs", u);
+    const std::string fu = JsonReader::item(list, u);
     const json& list = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
     FleetUavRecord rec;
     out.sorties.emplace_back();
