@@ -9,6 +9,9 @@
 # for one UAV (or taken from SITE_DIR/KM/T when that holds them), then
 # `merge --uavs K --require-sections` flies the sections at once (docs/fleet.md) and
 # `uavip validate site.json` re-checks it; run time is the merge's (KS default 1 2 4 8).
+# A scenario structure:CLOUD (e.g. structure:tests/data/fcplanner_MBS.pcd) is a real
+# cloud: `uavip detect` once, then `uavip plan --cover structure --uavs K` (run time: the
+# plan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 uavip=${1:-build/uavip}
@@ -77,10 +80,21 @@ for s in "${scenarios[@]}"; do
     site_case "$s"
     continue
   fi
+  if [[ $s == structure:* ]]; then
+    scene="$work/$(basename "${s#structure:}")"
+    "$uavip" detect "${s#structure:}" -q --no-views -o "$scene"
+  fi
   for k in ${KS:-1 2 3 4 5}; do
-    out="$work/$s-$k"
+    out="$work/$(basename "$s")-$k"
     start=$(date +%s.%N)
-    "$uavip" run "scenarios/$s.yaml" --uavs "$k" -q --no-views -o "$out" >/dev/null 2>&1 || true
+    if [[ $s == structure:* ]]; then
+      mkdir -p "$out"
+      cp "$scene"/*.json "$scene"/*.pcd "$out/"
+      "$uavip" plan "$out/scene.json" --cover structure --uavs "$k" -q --no-views -o "$out" \
+        >/dev/null 2>&1 || true
+    else
+      "$uavip" run "scenarios/$s.yaml" --uavs "$k" -q --no-views -o "$out" >/dev/null 2>&1 || true
+    fi
     end=$(date +%s.%N)
     v=$("$uavip" validate "$out/mission.json" -q >/dev/null 2>&1 && echo ok || echo "FAILED")
     python3 - "$out/mission.json" "$s" "$k" "$start" "$end" "$v" <<'EOF'
