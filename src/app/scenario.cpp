@@ -436,7 +436,6 @@ world::GridOptions Config::gridOptions() const { return gridOptions(uav.inflatio
 planning::MissionOptions Config::missionOptions() const {
   planning::MissionOptions m = mission;
   m.gimbal = coverage.gimbal;
-  m.repair_square_on = coverage.purpose == "mosaic";  // stitchable photos (types.h)
   return m;
 }
 

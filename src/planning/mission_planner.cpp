@@ -65,9 +65,8 @@ std::array<double, 3> repairFactors(const MissionOptions& options) {
 /// A free pose near an infeasible stop that still photographs its target: the
 /// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
-/// The first candidate that is free, in the gimbal limits and in clear sight of the
-/// target wins: by distance, then tilt; with options.repair_square_on by tilt, then
-/// distance. Returns false if none is.
+/// The first candidate in that order that is free, in the gimbal limits and in
+/// clear sight of the target wins. Returns false if none is.
 bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                 const world::VoxelGrid& grid, const MissionOptions& options) {
   const double standoff = strategy.camera.standoff_m;
@@ -77,26 +76,16 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                       ? Vec3(-strategy.axis_h)
                       : strategy.axis_h;
   const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
-  const auto tryAt = [&](double f, double deg) {
-    const double a = deg * kPi / 180.0;
-    for (const auto& side : sides) {
-      if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
-      const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-      if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
+  for (const double f : repairFactors(options)) {
+    for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
+      const double a = deg * kPi / 180.0;
+      for (const auto& side : sides) {
+        if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
+        const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
+        if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
+      }
     }
-    return false;
-  };
-  constexpr std::array<double, 5> kTiltsDeg{0.0, 15.0, 30.0, 45.0, 60.0};
-  const auto factors = repairFactors(options);
-  if (options.repair_square_on) {
-    for (const double deg : kTiltsDeg)
-      for (const double f : factors)
-        if (tryAt(f, deg)) return true;
-    return false;
   }
-  for (const double f : factors)
-    for (const double deg : kTiltsDeg)
-      if (tryAt(f, deg)) return true;
   return false;
 }
 

@@ -133,43 +133,6 @@ TEST(MissionPlanner, StartBehindTheWallGoesAround) {
   expectStopsInOrderAndSafe(m, cloud);
 }
 
-// Repair for a mosaic keeps the photo square to the wall. A post 0.35 m below stop 1's
-// pose blocks it. By default the stop is tilted (15° or more) at the standoff; with
-// repair_square_on it backs off square to the wall (1.5 × the standoff, the first free
-// distance). Reference: the candidates' geometry (the wall's normal is +x, the post's
-// inflation 0.5 m).
-TEST(MissionPlanner, MosaicRepairBacksOffSquareBeforeItTilts) {
-  PointList cloud = wall();
-  for (double dy = -0.05; dy <= 0.051; dy += 0.05) cloud.emplace_back(1.5, 2.0 + dy, 0.65);
-  auto strategy = strategyInFront();
-  strategy.camera.standoff_m = 1.5;
-  strategy.axis_w = Vec3::UnitY();
-  strategy.axis_h = Vec3::UnitZ();
-  const auto grid = gridFor(cloud, strategy, {Vec3(3.0, 2.0, 1.0)});
-  const PathValidator validator(cloud, kRadius);
-  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
-  const Vec3 target = strategy.stops[1].target;
-  ASSERT_EQ(target, Vec3(0.0, 2.0, 1.0));
-  for (const bool square : {false, true}) {
-    MissionOptions options;
-    options.max_standoff_factor = 2.0;  // distances 1, 1.5 and 2 × the standoff
-    options.repair_square_on = square;
-    const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, options);
-    ASSERT_EQ(m.status, SurfaceStatus::Ok) << m.reason;
-    ASSERT_EQ(m.moved_stops, std::vector<int>{1});
-    const Vec3 d = m.strategy.stops[1].position - target;
-    const double tilt = std::acos(std::clamp(d.normalized().x(), -1.0, 1.0)) * 180.0 / kPi;
-    if (square) {
-      EXPECT_NEAR(tilt, 0.0, 1e-9);
-      EXPECT_NEAR(d.norm(), 2.25, 1e-9);
-    } else {
-      EXPECT_GE(tilt, 15.0 - 1e-9);  // the grid's inflation decides which tilt is free
-      EXPECT_NEAR(d.norm(), 1.5, 1e-9);
-    }
-    expectStopsInOrderAndSafe(m, cloud);
-  }
-}
-
 TEST(MissionPlanner, StopInsideInflationBlocksTheSurface) {
   const PointList cloud = wall();
   auto strategy = strategyInFront();

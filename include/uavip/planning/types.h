@@ -78,12 +78,6 @@ struct MissionOptions {
   /// by that factor). Moved stops are counted and listed.
   bool repair_stops{true};
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
-  /// Repair keeps the photo square to its surface where it can: every distance untilted
-  /// first, then 15° at every distance, then 30°, … (else every tilt at the standoff
-  /// first). A mosaic's affine stitcher cannot join a photo tilted 30° to its neighbours
-  /// (benchmarks/README.md, "Per purpose"); a farther, square photo only changes scale.
-  /// Not a key: app::Config::missionOptions sets it for coverage.purpose mosaic.
-  bool repair_square_on{false};
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
   coverage::GimbalLimits gimbal;  ///< pitch limits a repaired stop must respect (the camera's)
