@@ -611,12 +611,17 @@ def stitch_surface(folder, rows, max_photos):
         centres.append((small.shape[1] / 2.0, small.shape[0] / 2.0))
     matcher = cv2.detail_AffineBestOf2NearestMatcher(False, False)
     pairs = matcher.apply2(features, mask)
-    matcher.collectGarbage()
     kept = cv2.detail.leaveBiggestComponent(features, pairs, conf)
     kept = [int(k) for k in np.array(kept).ravel()]
     out = {"photos": n, "in_panorama": 0, "counts": False}
     if len(kept) < 2:
         return out
+    if len(kept) < n:  # Python's lists are not cut in place: match the component again
+        features = [features[i] for i in kept]
+        for k, f in enumerate(features):
+            f.img_idx = k
+        pairs = matcher.apply2(features, np.ascontiguousarray(mask[np.ix_(kept, kept)]))
+    matcher.collectGarbage()
     ok, cameras = cv2.detail_AffineBasedEstimator().apply(features, pairs, None)
     if not ok:
         return out
@@ -627,6 +632,8 @@ def stitch_surface(folder, rows, max_photos):
     ok, cameras = adjuster.apply(features, pairs, cameras)
     if not ok:
         return out
+    # Where the composite puts each photo: the affine warper the SCANS stitcher composes
+    # with (a photo of another range is misplaced by it: that is the stitcher's verdict).
     warper = cv2.PyRotationWarper("affine", 1.0)
     placed = np.array([warper.warpPoint(centres[kept[k]], cameras[k].K().astype(np.float32),
                                         cameras[k].R) for k in range(len(kept))], float)
