@@ -114,6 +114,11 @@ void setUavs(app::Config& config, int uavs);
 /// and each UAV (nothing without a fleet) (pipeline_commands.cpp).
 void printFleet(const std::optional<planning::FleetPlan>& fleet);
 
+/// "makespan M min (single UAV S min, speed-up X, lower bound B min)" of a fleet.
+std::string fleetTimesText(const planning::FleetPlan& fleet);
+/// "closest approach N m on schedule, W m with T s slack (separation D m)" of a fleet.
+std::string fleetSeparationText(const planning::FleetPlan& fleet);
+
 /// run, detect, plan (pipeline_commands.cpp).
 void addPipelineCommands(CLI::App& cli, CommandRegistry& registry);
 

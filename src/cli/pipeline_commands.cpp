@@ -384,24 +384,30 @@ void setUavs(app::Config& config, int uavs) {
   config.validate("--uavs");
 }
 
+std::string fleetTimesText(const planning::FleetPlan& f) {
+  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
+  return "makespan " + minutes(f.makespan_s) + " (single UAV " + minutes(f.single_uav_s) +
+         ", speed-up " + formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2) +
+         ", lower bound " + minutes(f.lower_bound_s) + ")";
+}
+
+std::string fleetSeparationText(const planning::FleetPlan& f) {
+  return "closest approach " + formatFixed(f.separation.nominal_min_m, 2) + " m on schedule, " +
+         formatFixed(f.separation.swept_min_m, 2) + " m with " + formatNumber(f.options.slack_s) +
+         " s slack (separation " + formatNumber(f.options.separation_m) + " m)";
+}
+
 /// The fleet: makespan against the single flight and the bound, separation, each UAV.
 void printFleet(const std::optional<planning::FleetPlan>& fleet) {
   if (!fleet) return;
   const planning::FleetPlan& f = *fleet;
-  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
-  std::cout << "fleet: " << f.uavs.size() << " UAVs, makespan " << minutes(f.makespan_s)
-            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
-            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
-            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " jobs, "
-            << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
+  std::cout << "fleet: " << f.uavs.size() << " UAVs, " << fleetTimesText(f) << ", " << f.jobs
+            << " jobs, " << f.split_surfaces << " surfaces shared, " << f.waits << " waits"
             << (f.assignment.empty() ? ""
                                      : ", assignment " + f.assignment + " of " +
                                            std::to_string(f.candidates) + " tried")
-            << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "")
-            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
-            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
-            << formatNumber(f.options.slack_s) << " s slack (separation "
-            << formatNumber(f.options.separation_m) << " m)\n";
+            << (f.fallback_single ? "; UAV 1 flies alone (the fleet was no faster)" : "") << "; "
+            << fleetSeparationText(f) << "\n";
   for (std::size_t i = 0; i < f.uavs.size(); ++i) {
     const auto& u = f.uavs[i];
     std::cout << "  uav " << i + 1 << ": home " << formatPoint(u.home) << ", " << u.stops

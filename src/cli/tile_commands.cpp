@@ -228,17 +228,11 @@ int planSectionCommand(const std::string& manifest_path, long section,
 /// separation, and each UAV's run of sections with its take-off.
 void printSiteFleet(const app::SiteFleet& fleet, const std::vector<app::SectionSummary>& sections) {
   const planning::FleetPlan& f = fleet.plan;
-  const auto minutes = [](double s) { return formatFixed(s / 60.0, 1) + " min"; };
   std::cout << "fleet: " << f.uavs.size() << " UAVs flying the sections at once ("
-            << fleet.uavs_flying << " flying), makespan " << minutes(f.makespan_s)
-            << " (single UAV " << minutes(f.single_uav_s) << ", speed-up "
-            << formatFixed(f.makespan_s > 0.0 ? f.single_uav_s / f.makespan_s : 0.0, 2)
-            << ", lower bound " << minutes(f.lower_bound_s) << "), " << f.jobs << " sorties, "
-            << f.waits << " waits" << (f.fallback_single ? "; UAV 1 flies alone" : "")
-            << "; closest approach " << formatFixed(f.separation.nominal_min_m, 2)
-            << " m on schedule, " << formatFixed(f.separation.swept_min_m, 2) << " m with "
-            << formatNumber(f.options.slack_s) << " s slack (separation "
-            << formatNumber(f.options.separation_m) << " m)\n";
+            << fleet.uavs_flying << " flying), " << fleetTimesText(f) << ", " << f.jobs
+            << " sorties, " << f.waits << " waits"
+            << (f.fallback_single ? "; UAV 1 flies alone" : "") << "; " << fleetSeparationText(f)
+            << "\n";
   for (std::size_t u = 0; u < f.uavs.size(); ++u) {
     const auto& run = fleet.runs[u];
     std::cout << "  uav " << u + 1 << ": ";
