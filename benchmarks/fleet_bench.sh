@@ -22,15 +22,21 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 echo "| scenario | K | makespan [min] | one UAV [min] | speed-up | lower bound [min] | makespan / bound | waits | closest approach nominal / swept [m] | UAVs flying | sorties per UAV | run time [s] | validate |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-site_row() {  # site.json's fleet (or, for K = 1, the sections' flights) as a row
+row() {  # FILE (mission.json, or site.json of a merge) SCENARIO K SECONDS VALIDATE: one row
   python3 - "$@" <<'EOF'
 import json, sys
 path, s, k, secs, v = sys.argv[1:]
-site = json.load(open(path))
-f = site.get("fleet")
-if f is None:
-    n = sum(x["sorties"] for x in site["sections"])
-    print(f"| {s} | {k} | – | – | 1.00 | – | – | – | – | 1 | {n} | {float(secs):.1f} | {v} |")
+doc = json.load(open(path))
+f = doc.get("fleet")
+secs = float(secs)
+if f is None:  # K = 1: the single flight (a site: its sections' flights)
+    if "sections" in doc:
+        n = sum(x["sorties"] for x in doc["sections"])
+        print(f"| {s} | {k} | – | – | 1.00 | – | – | – | – | 1 | {n} | {secs:.1f} | {v} |")
+    else:
+        d = doc["flight"]["duration_s"] / 60
+        n = len(doc["flight"]["sorties"])
+        print(f"| {s} | {k} | {d:.1f} | {d:.1f} | 1.00 | – | – | – | – | 1 | {n} | {secs:.1f} | {v} |")
     sys.exit()
 flying = [u for u in f["uavs"] if u["sorties"]]
 ca = f["closest_approach"]
@@ -39,7 +45,7 @@ sw = "–" if ca["swept_m"] is None else f"{ca['swept_m']:.1f}"
 print(f"| {s} | {k} | {f['makespan_s']/60:.1f} | {f['single_uav_s']/60:.1f} | {f['speedup']:.2f} | "
       f"{f['lower_bound_s']/60:.1f} | {f['makespan_s']/f['lower_bound_s']:.2f} | {f['waits']} | "
       f"{nom} / {sw} | {len(flying)} | {'/'.join(str(len(u['sorties'])) for u in f['uavs'])} | "
-      f"{float(secs):.1f} | {v} |")
+      f"{secs:.1f} | {v} |")
 EOF
 }
 
@@ -71,7 +77,7 @@ site_case() {  # viaduct:KM
     if [ "$k" != 1 ]; then
       v=$("$uavip" validate "$out/site.json" -q >/dev/null 2>&1 && echo ok || echo FAILED)
     fi
-    site_row "$out/site.json" "$s" "$k" "$(python3 -c "print($end - $start)")" "$v"
+    row "$out/site.json" "$s" "$k" "$(python3 -c "print($end - $start)")" "$v"
   done
 }
 
@@ -97,25 +103,6 @@ for s in "${scenarios[@]}"; do
     fi
     end=$(date +%s.%N)
     v=$("$uavip" validate "$out/mission.json" -q >/dev/null 2>&1 && echo ok || echo "FAILED")
-    python3 - "$out/mission.json" "$s" "$k" "$start" "$end" "$v" <<'EOF'
-import json, sys
-path, s, k, t0, t1, v = sys.argv[1:]
-m = json.load(open(path))
-f = m.get("fleet")
-secs = float(t1) - float(t0)
-if f is None:  # K = 1: the single flight
-    d = m["flight"]["duration_s"] / 60
-    n = len(m["flight"]["sorties"])
-    print(f"| {s} | {k} | {d:.1f} | {d:.1f} | 1.00 | – | – | – | – | 1 | {n} | {secs:.1f} | {v} |")
-    sys.exit()
-flying = [u for u in f["uavs"] if u["sorties"]]
-ca = f["closest_approach"]
-nom = "–" if ca["nominal_m"] is None else f"{ca['nominal_m']:.1f}"
-sw = "–" if ca["swept_m"] is None else f"{ca['swept_m']:.1f}"
-print(f"| {s} | {k} | {f['makespan_s']/60:.1f} | {f['single_uav_s']/60:.1f} | {f['speedup']:.2f} | "
-      f"{f['lower_bound_s']/60:.1f} | {f['makespan_s']/f['lower_bound_s']:.2f} | {f['waits']} | "
-      f"{nom} / {sw} | {len(flying)} | {'/'.join(str(len(u['sorties'])) for u in f['uavs'])} | "
-      f"{secs:.1f} | {v} |")
-EOF
+    row "$out/mission.json" "$s" "$k" "$(python3 -c "print($end - $start)")" "$v"
   done
 done
