@@ -778,7 +778,7 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
 
 namespace {
 
-/// site.json `fleet` (docs/fleet.md, "Sites in sections"): the fleet's summary
+/// site.json `fleet` (docs/fleet.md, "A tiled site"): the fleet's summary
 /// (io::fleetSummaryToJson) with mode, uavs_flying, sorties and each UAV's sorties by
 /// section folder and sortie number (from 1, as in its mission.json) with take-off times.
 nlohmann::json siteFleetJson(const SiteFleet& fleet, const std::vector<SectionSummary>& sections) {
@@ -829,7 +829,7 @@ std::string siteJsonText(const tiling::Manifest& manifest, const SiteResult& sit
          {"min_clearance_to_input_m",
           std::isfinite(min_clear) ? nlohmann::json(io::round4(min_clear)) : nlohmann::json()}});
   }
-  nlohmann::json j = {{"format", "uavip site 1"},
+  nlohmann::json j = {{"format", io::kSiteFormat},
                       {"manifest", manifest.path},
                       {"input", manifest.input},
                       {"input_points", site.input_points},

@@ -414,7 +414,7 @@ int exportSite(const ExportArgs& a, const Verbosity& v, const nlohmann::json& si
 
 int exportCommand(const ExportArgs& a, const Verbosity& v) {
   const nlohmann::json j = io::JsonReader(a.mission).load();
-  if (j.is_object() && j.value("format", "") == "uavip site 1") return exportSite(a, v, j);
+  if (io::isSiteJson(j)) return exportSite(a, v, j);
   const io::MissionRecord mission = io::missionFromJson(j, a.mission);
   if (mission.fleet && (a.surface == "all" || a.sortie != 0 || a.uav != 0))
     return exportFleet(a, v, mission);

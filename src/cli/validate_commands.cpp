@@ -346,7 +346,7 @@ int validateSiteCommand(const std::string& path, const nlohmann::json& site, con
 int validateCommand(const std::string& mission_path, std::string scene_path, double clearance_arg,
                     bool clearance_given, const std::string& cloud_arg, const Verbosity& v) {
   const nlohmann::json j = io::JsonReader(mission_path).load();
-  if (j.is_object() && j.value("format", "") == "uavip site 1")  // merge's, several sections
+  if (io::isSiteJson(j))  // merge's, several sections
     return validateSiteCommand(mission_path, j, v);
   const io::MissionRecord mission = io::missionFromJson(j, mission_path);
   const std::vector<NamedPath> paths = pathsOf(mission);

@@ -251,6 +251,12 @@ MissionRecord loadMission(const std::string& path) {
   return missionFromJson(JsonReader(path).load(), path);
 }
 
+bool isSiteJson(const json& j) {
+  if (!j.is_object()) return false;
+  const auto it = j.find("format");
+  return it != j.end() && it->is_string() && it->get<std::string>() == kSiteFormat;
+}
+
 std::map<std::string, MissionRecord> siteMissions(const json& site, const std::string& path) {
   const JsonReader r(path);
   std::map<std::string, MissionRecord> out;

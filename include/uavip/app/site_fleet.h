@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// A tiled site flown by a fleet with its sections at once (`uavip merge --uavs K` on a
-/// site of several sections; issue 45, item 5; docs/fleet.md "Sites in sections").
+/// site of several sections; issue 45, item 5; docs/fleet.md "A tiled site").
 ///
 /// Each section keeps the one-UAV flight it was planned with, as an independent task
 /// (`plan-section`, app/site.h). The site's sorties — section by section, each

@@ -194,6 +194,12 @@ MissionRecord missionFromJson(const nlohmann::json& mission, const std::string& 
 /// Loads and reads `path` (missionFromJson).
 MissionRecord loadMission(const std::string& path);
 
+/// site.json's `format` (app::siteJsonText writes it).
+inline constexpr const char* kSiteFormat = "uavip site 1";
+
+/// True when `j` is a site.json (an object whose `format` is kSiteFormat).
+bool isSiteJson(const nlohmann::json& j);
+
 /// The flown sections of a site.json (`merge` of several sections, at `path`): each
 /// section whose flight_status is ok, its mission.json beside site.json (loadMission),
 /// by folder. Throws InputError naming the file and field.
