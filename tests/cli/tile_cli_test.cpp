@@ -244,6 +244,12 @@ TEST_F(TileCli, FleetFliesTheSiteConflictFree) {
   const auto& fleet = site["fleet"];
   EXPECT_EQ(fleet["mode"], "sections at once");
   EXPECT_FALSE(nlohmann::json::parse(slurp(dir_ / "one_sections/site.json")).contains("fleet"));
+  for (const char* command : {"validate ", "export --format csv -o x.csv "}) {  // no fleet there
+    const Result none = uavip(std::string(command) + p("one_sections/site.json"));
+    EXPECT_EQ(none.code, 2) << command << none.out;
+    EXPECT_EQ(lines(none.out), 1) << command << none.out;
+    EXPECT_NE(none.out.find("section_NNN"), std::string::npos) << command << none.out;
+  }
   // The reference: the one-UAV merge's sections, their sorties and times by the model.
   std::map<std::pair<std::string, int>, int> flown;
   std::size_t sorties = 0;
