@@ -1,7 +1,10 @@
 #include "uavip/app/site_fleet.h"
 
+#include <algorithm>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "uavip/core/error.h"
 #include "uavip/core/stopwatch.h"
