@@ -102,15 +102,11 @@ tiling::MergeOptions sectionMergeOptions(const std::vector<tiling::TileScene>& t
 }
 
 /// The config a section of a site in `sections` sections is planned with: with several,
-/// one UAV (the site's fleet flies the sections at once, app/site_fleet.h). Throws
-/// InputError for fleet.homes then: each section flies from its own home.
+/// one UAV (the site's fleet flies the sections at once, app/site_fleet.h; fleet.homes
+/// refused there).
 Config sectionConfig(const Config& config, std::size_t sections) {
+  refuseFleetHomes(config.fleet, sections);
   if (sections <= 1 || !config.fleet.active()) return config;
-  if (!config.fleet.homes.empty())
-    throw InputError("fleet." + planning::FleetOptions::keyOf(&planning::FleetOptions::homes) +
-                     ": a site of " + std::to_string(sections) +
-                     " sections flies each section's sorties from that section's own home; "
-                     "leave the homes out, or merge the site as one section (--section-tiles)");
   Config own = config;
   own.fleet.uavs = 1;
   return own;
@@ -723,7 +719,7 @@ SiteResult planSite(const tiling::Manifest& manifest, const Config& config,
   options.validate();
   requireSiteInput(manifest);
   const auto parts = siteSections(manifest, options.section_tiles);
-  sectionConfig(config, parts.size());  // refuses fleet.homes before any work
+  refuseFleetHomes(config.fleet, parts.size());  // before any work
   std::vector<SectionResult> found(parts.size());
   std::vector<std::size_t> here;  // sections planned here, and their tiles
   std::vector<std::size_t> tiles;

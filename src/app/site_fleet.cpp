@@ -17,15 +17,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// A sortie's time in the air by the fleet's motion model (planning::sortieMotion with
-/// no take-off/landing time): its flight and hovers [s].
-double airborneSeconds(const planning::Sortie& s, const planning::FlightModel& model) {
-  std::vector<std::size_t> at;
-  for (const auto& st : s.stops) at.push_back(st.waypoint);
-  const auto pieces = planning::sortieMotion(s.waypoints, at, model, 0.0, 0.0, 0);
-  return pieces.empty() ? 0.0 : pieces.back().t1;
-}
-
 /// The site's sorties in order, with what the plan needs of them.
 struct SiteSorties {
   std::vector<SiteSortie> order;
@@ -45,7 +36,7 @@ SiteSorties siteSorties(const std::vector<const planning::FlightPlan*>& flights,
     out.homes.push_back(f->home);
     for (std::size_t k = 0; k < f->sorties.size(); ++k) {
       planning::Sortie copy = f->sorties[k];
-      copy.duration_s = airborneSeconds(copy, model);
+      copy.duration_s = planning::sortieSeconds(copy, model);  // joined results carry none
       for (const auto& st : copy.stops) out.stops.push_back(copy.waypoints.at(st.waypoint));
       out.order.push_back({s, k});
       out.seconds.push_back(copy.duration_s + fleet.takeoff_landing_s);
@@ -75,6 +66,15 @@ void reorderRuns(const planning::FleetPlan& scheduled, const planning::FleetPlan
 }
 
 }  // namespace
+
+void refuseFleetHomes(const planning::FleetOptions& fleet, std::size_t sections) {
+  if (sections <= 1 || fleet.homes.empty()) return;
+  using planning::FleetOptions;
+  throw InputError("fleet." + FleetOptions::keyOf(&FleetOptions::homes) + ": a site of " +
+                   std::to_string(sections) +
+                   " sections flies each section's sorties from that section's own home; "
+                   "leave the homes out, or merge the site as one section (--section-tiles)");
+}
 
 std::vector<std::size_t> contiguousRuns(const std::vector<double>& seconds, int uavs,
                                         double launch_interval_s, double battery_swap_s) {
@@ -111,12 +111,7 @@ SiteFleet planSiteFleet(const std::vector<const planning::FlightPlan*>& flights,
                         const planning::FleetOptions& fleet, const planning::FlightModel& model) {
   const auto t0 = SteadyClock::now();
   fleet.validate("fleet");
-  using planning::FleetOptions;
-  if (!fleet.homes.empty())
-    throw InputError("fleet." + FleetOptions::keyOf(&FleetOptions::homes) + ": a site of " +
-                     std::to_string(flights.size()) +
-                     " sections flies each section's sorties from that section's own home; "
-                     "leave the homes out, or merge the site as one section (--section-tiles)");
+  refuseFleetHomes(fleet, flights.size());
   SiteSorties all = siteSorties(flights, fleet, model);
   if (all.stops.size() < static_cast<std::size_t>(fleet.uavs))
     throw InputError("fleet: uavs " + std::to_string(fleet.uavs) + " is more than the " +

@@ -320,8 +320,7 @@ std::string splitSorties(const TourPath& tour, const FlightPlan& plan, const Fli
     }
     appendLeg(s.waypoints, *legs.path(exit, plan.home));
     s.length_m = polylineLength(s.waypoints);
-    s.duration_s =
-        model.pathSeconds(s.waypoints) + static_cast<double>(s.stops.size()) * model.stopSeconds();
+    s.duration_s = sortieSeconds(s, model);
     sorties.push_back(std::move(s));
     first = last + 1;
   }

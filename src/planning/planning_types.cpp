@@ -82,6 +82,11 @@ double FlightModel::pathSeconds(const PointList& path) const {
 
 void FlightModel::validate(const std::string& where) const { table().check(*this, where); }
 
+double sortieSeconds(const Sortie& sortie, const FlightModel& model) {
+  return model.pathSeconds(sortie.waypoints) +
+         static_cast<double>(sortie.stops.size()) * model.stopSeconds();
+}
+
 const params::Table<FlightModel>& FlightModel::table() {
   static const params::Table<FlightModel> t = [] {
     using O = FlightModel;

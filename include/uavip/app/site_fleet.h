@@ -41,6 +41,10 @@ struct SiteFleet {
   std::size_t uavs_flying{0};                 ///< UAVs with at least one sortie
 };
 
+/// Throws InputError for fleet.homes on a site of several `sections`: each section flies
+/// from its own home (the one check of merge, plan-section and planSiteFleet).
+void refuseFleetHomes(const planning::FleetOptions& fleet, std::size_t sections);
+
 /// The split of `seconds` (each sortie's time: flight, hovers and take-off/landing, in
 /// site order) into `uavs` contiguous runs that minimises the latest end, UAV u
 /// (0-based) ending at u × launch_interval_s + its run's seconds + battery_swap_s

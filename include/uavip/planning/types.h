@@ -235,9 +235,13 @@ struct Sortie {
   PointList waypoints;            ///< [m]; first and last are home
   std::vector<FlightStop> stops;  ///< in flight order
   double length_m{0.0};
-  double duration_s{0.0};  ///< flight + hover + settle [s]
+  double duration_s{0.0};  ///< flight + hover + settle [s] (sortieSeconds)
   ValidationResult validation;
 };
+
+/// A sortie's time by the flight model [s]: its waypoints flown (FlightModel::pathSeconds)
+/// plus hover and settle at each photo stop; the motion of fleet_types.h ends then too.
+double sortieSeconds(const Sortie& sortie, const FlightModel& model);
 
 /// A surface in the tour.
 struct SurfaceVisit {
