@@ -436,6 +436,7 @@ world::GridOptions Config::gridOptions() const { return gridOptions(uav.inflatio
 planning::MissionOptions Config::missionOptions() const {
   planning::MissionOptions m = mission;
   m.gimbal = coverage.gimbal;
+  m.mosaic_repair = coverage.purpose == "mosaic";
   return m;
 }
 

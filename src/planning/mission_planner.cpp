@@ -62,6 +62,54 @@ std::array<double, 3> repairFactors(const MissionOptions& options) {
   return {1.0, 0.5 * (1.0 + options.max_standoff_factor), options.max_standoff_factor};
 }
 
+/// A mosaic's repair (coverage.purpose mosaic), tried before repairStop's: OpenCV's
+/// affine stitcher joins photos taken square at the standoff and tilted up to 15°,
+/// not more, nor from another range (docs/photo_purposes.md). First square at the
+/// standoff with the photo centre slid in the plane by at most half the overlap on
+/// each axis (each neighbour keeps at least half its planned overlap), smallest slide
+/// first; then tilts of 5°, 10° and 15° toward ±axis_h, ±axis_w and the diagonals.
+bool repairMosaicStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
+                      const world::VoxelGrid& grid, const MissionOptions& options) {
+  const auto& cam = strategy.camera;
+  const double standoff = cam.standoff_m;
+  if (!(standoff > 0.0)) return false;
+  const Vec3 n = (stop.position - stop.target) / standoff;
+  const double slide_w = 0.5 * std::max(0.0, cam.footprint_w_m - strategy.spacing_w_m);
+  const double slide_h = 0.5 * std::max(0.0, cam.footprint_h_m - strategy.spacing_h_m);
+  constexpr int kSteps = 4;  // slides of 1/4 … 4/4 of the allowance on each axis
+  std::vector<Vec3> slides;
+  for (int i = -kSteps; i <= kSteps; ++i) {
+    for (int j = -kSteps; j <= kSteps; ++j) {
+      if (i != 0 || j != 0)
+        slides.push_back((i * slide_w * strategy.axis_w + j * slide_h * strategy.axis_h) / kSteps);
+    }
+  }
+  std::stable_sort(slides.begin(), slides.end(),
+                   [](const Vec3& a, const Vec3& b) { return a.squaredNorm() < b.squaredNorm(); });
+  const Vec3 target = stop.target;
+  for (const Vec3& d : slides) {
+    stop.target = target + d;
+    if (lookFrom(stop, stop.target + standoff * n, grid, options)) return true;
+  }
+  stop.target = target;
+  const Vec3 dirs[8] = {strategy.axis_h,
+                        -strategy.axis_h,
+                        strategy.axis_w,
+                        -strategy.axis_w,
+                        (strategy.axis_h + strategy.axis_w).normalized(),
+                        (strategy.axis_h - strategy.axis_w).normalized(),
+                        (-strategy.axis_h + strategy.axis_w).normalized(),
+                        (-strategy.axis_h - strategy.axis_w).normalized()};
+  for (const double deg : {5.0, 10.0, 15.0}) {
+    const double a = deg * kPi / 180.0;
+    for (const Vec3& side : dirs) {
+      const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
+      if (lookFrom(stop, target + standoff * dir, grid, options)) return true;
+    }
+  }
+  return false;
+}
+
 /// A free pose near an infeasible stop that still photographs its target: the
 /// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
@@ -154,7 +202,8 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
       }
     } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
       if (options.repair_stops && stops[i].position.allFinite() &&
-          repairStop(stops[i], strategy, grid, options)) {
+          ((options.mosaic_repair && repairMosaicStop(stops[i], strategy, grid, options)) ||
+           repairStop(stops[i], strategy, grid, options))) {
         m.moved_stops.push_back(static_cast<int>(i));
         if (first_usable < 0) first_usable = static_cast<int>(i);
       } else {

@@ -270,6 +270,108 @@ TEST(MissionPlanner, AStopIsDroppedForTheGimbalOnlyWhenBruteForceFindsNoPose) {
     EXPECT_TRUE(brutePoseExists(s.target, -Vec3::UnitZ(), 1.5, m3e, grid, cloud));
 }
 
+/// Whether a pose square to the wall (normal +x) at `standoff` from a target slid by at
+/// most (`slide_w`, `slide_h`) along (y, z) is free: brute force on a 1 cm lattice.
+bool bruteSquarePoseExists(const Vec3& target, double standoff, double slide_w, double slide_h,
+                           const world::VoxelGrid& grid) {
+  for (double dw = -slide_w; dw <= slide_w + 1e-9; dw += 0.01)
+    for (double dh = -slide_h; dh <= slide_h + 1e-9; dh += 0.01)
+      if (grid.isFree(target + Vec3(standoff, dw, dh))) return true;
+  return false;
+}
+
+/// Whether a pose at `standoff` from `target` within `max_deg` of the normal +x is free:
+/// brute force over 1° of tilt and 5° of direction.
+bool bruteTiltedPoseExists(const Vec3& target, double standoff, double max_deg,
+                           const world::VoxelGrid& grid) {
+  for (double t = 1.0; t <= max_deg + 1e-9; t += 1.0)
+    for (double phi = 0.0; phi < 360.0; phi += 5.0) {
+      const double a = t * kPi / 180.0, b = phi * kPi / 180.0;
+      const Vec3 d(std::cos(a), std::sin(a) * std::cos(b), std::sin(a) * std::sin(b));
+      if (grid.isFree(target + standoff * d)) return true;
+    }
+  return false;
+}
+
+TEST(MissionPlanner, AMosaicStopIsMovedSquareOrWithinFifteenDegrees) {
+  // A 6 m wall (x = 0), three stops 1.5 m in front at y = 1, 3, 5 (z = 1.5), a mosaic's
+  // footprint 0.6 × 0.4 m at overlaps 0.6 / 0.3: slides of up to 0.18 m along y and
+  // 0.06 m along z keep half the overlap. One measured point blocks each stop: beside
+  // stop 0 (a slide frees it), above stop 1 (only a tilt down frees it), right in front
+  // of stop 2 (nothing within 15° does).
+  PointList cloud;
+  for (double y = 0.0; y <= 6.0001; y += 0.1)
+    for (double z = 0.0; z <= 3.0001; z += 0.1) cloud.emplace_back(0.0, y, z);
+  const PointList obstacles = {Vec3(1.5, 1.9, 1.5), Vec3(1.5, 3.0, 2.1), Vec3(1.0, 5.0, 1.5)};
+  cloud.insert(cloud.end(), obstacles.begin(), obstacles.end());
+  coverage::FlightStrategy strategy;
+  strategy.surface_id = 3;
+  strategy.camera = {0.6, 0.4, 1.5, 0.0, 0.0};
+  strategy.spacing_w_m = 0.24;
+  strategy.spacing_h_m = 0.28;
+  strategy.axis_w = Vec3::UnitY();
+  strategy.axis_h = Vec3::UnitZ();
+  for (int k = 0; k < 3; ++k) {
+    coverage::Stop stop;
+    stop.index = k;
+    stop.surface_id = 3;
+    stop.col = k;
+    stop.target = Vec3(0.0, 1.0 + 2.0 * k, 1.5);
+    stop.position = stop.target + Vec3(1.5, 0.0, 0.0);
+    stop.yaw_deg = 180.0;
+    strategy.stops.push_back(stop);
+  }
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  const double slide_w = 0.18, slide_h = 0.06;
+  // The set-up, checked by brute force: every stop blocked; stop 0 freed by a slide;
+  // stop 1 by a tilt of at most 15° only; stop 2 by neither.
+  for (const auto& stop : strategy.stops) ASSERT_FALSE(grid.isFree(stop.position));
+  const auto& st = strategy.stops;
+  ASSERT_TRUE(bruteSquarePoseExists(st[0].target, 1.5, slide_w, slide_h, grid));
+  ASSERT_FALSE(bruteSquarePoseExists(st[1].target, 1.5, slide_w, slide_h, grid));
+  ASSERT_TRUE(bruteTiltedPoseExists(st[1].target, 1.5, 15.0, grid));
+  ASSERT_FALSE(bruteSquarePoseExists(st[2].target, 1.5, slide_w, slide_h, grid));
+  ASSERT_FALSE(bruteTiltedPoseExists(st[2].target, 1.5, 15.0, grid));
+
+  MissionOptions mosaic;
+  mosaic.mosaic_repair = true;
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, mosaic);
+  MissionOptions inspection;
+  const SurfaceMission i = planSurfaceMission(strategy, grid, validator, *planner, inspection);
+  ASSERT_EQ(m.moved_stops.size(), 3u) << m.reason;
+  const auto angle = [](const coverage::Stop& s) {
+    const Vec3 d = (s.position - s.target).normalized();
+    return std::acos(std::clamp(d.x(), -1.0, 1.0)) * 180.0 / kPi;
+  };
+  const auto& a = m.strategy.stops;
+  for (const auto& s : a) EXPECT_TRUE(grid.isFree(s.position)) << s.index;
+  // Stop 0: square, at the standoff, its photo centre slid along the wall within the
+  // allowance; inspection's repair tilts it instead.
+  EXPECT_NEAR(angle(a[0]), 0.0, 1e-6);
+  EXPECT_NEAR((a[0].position - a[0].target).norm(), 1.5, 1e-9);
+  EXPECT_NEAR(a[0].target.x(), 0.0, 1e-12);
+  EXPECT_LE(std::abs(a[0].target.y() - st[0].target.y()), slide_w + 1e-9);
+  EXPECT_LE(std::abs(a[0].target.z() - st[0].target.z()), slide_h + 1e-9);
+  EXPECT_GT((a[0].target - st[0].target).norm(), 0.0);
+  EXPECT_GE(angle(i.strategy.stops[0]), 15.0 - 1e-6);
+  // Stop 1: its target kept, at the standoff, tilted by at most 15°.
+  EXPECT_EQ(a[1].target, st[1].target);
+  EXPECT_NEAR((a[1].position - a[1].target).norm(), 1.5, 1e-9);
+  EXPECT_GT(angle(a[1]), 1.0);
+  EXPECT_LE(angle(a[1]), 15.0 + 1e-6);
+  // Stop 2: left to the general repair, as inspection's.
+  EXPECT_EQ(a[2].position, i.strategy.stops[2].position);
+  EXPECT_EQ(a[2].target, st[2].target);
+  // Each stop is still photographed from where the camera looks at its target.
+  for (const auto& s : a) {
+    const Vec3 look = s.target - s.position;
+    EXPECT_NEAR(s.gimbal_pitch_deg, std::atan2(look.z(), look.head<2>().norm()) * 180.0 / kPi,
+                1e-9);
+  }
+}
+
 TEST(MissionPlanner, EnclosedStopIsUnreachable) {
   PointList cloud = wall();
   // A closed box of points around (7, 2, 1.5), half-size 1.5 m, spacing 0.1 m.

@@ -78,6 +78,10 @@ struct MissionOptions {
   /// by that factor). Moved stops are counted and listed.
   bool repair_stops{true};
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
+  /// Repair for a mosaic first (coverage.purpose mosaic, set by Config::missionOptions):
+  /// square at the standoff with the photo centre slid by up to half the overlap, then
+  /// tilts of at most 15°, before the tilts and distances above.
+  bool mosaic_repair{false};
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
   coverage::GimbalLimits gimbal;  ///< pitch limits a repaired stop must respect (the camera's)
