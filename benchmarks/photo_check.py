@@ -778,7 +778,7 @@ def run_case(args):
     result = {"case": name, "scenario": scenario_rel,
               "overlap": args.overlap, "cover": "structure" if args.cover_structure else "surfaces",
               "purpose": args.purpose, "matcher": args.matcher, "threads": args.threads,
-              "image_scale": args.image_scale}
+              "image_scale": args.image_scale, "surface": args.surface}
     folder = args.photos_dir
     if args.mesh:
         return run_mesh_case(args, name, work, logf, t_start, result)
@@ -786,7 +786,8 @@ def run_case(args):
                                 args.purpose)
     if folder is None:
         t0 = time.time()
-        run([args.uavip, "run", scenario, "-o", os.path.join(work, "plan"), "-q"], logf)
+        run([args.uavip, "run", scenario, "-o", os.path.join(work, "plan"), "-q"] +
+            (["--surface", args.surface] if args.surface else []), logf)
         timings["plan_s"] = round(time.time() - t0, 1)
         result["plan"] = plan_summary(os.path.join(work, "plan", "mission.json"))
         t0 = time.time()
@@ -941,6 +942,7 @@ def main():
                     help="set coverage.purpose (a copy of the scenario)")
     ap.add_argument("--cover-structure", action="store_true",
                     help="coverage.mode structure (as plan --cover structure)")
+    ap.add_argument("--surface", help="the surfaces to plan, as uavip run --surface (default: all)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "photo_check"), help="output folder")
     ap.add_argument("--name", help="case name (default: from scenario and options)")
     ap.add_argument("--uavip", default=os.path.join(ROOT, "build", "uavip"))
