@@ -64,6 +64,9 @@ MATCH_NEIGHBOURS = 10
 NOISE_POSITION_M = 0.03
 NOISE_ROTATION_DEG = 0.5
 PLACEMENT_TOLERANCE = 0.10  # share of a footprint
+# A panorama counts when it holds this share of its photos, each placed within the tolerance
+# (issue 46: "one panorama holding >= 95 % of its photos").
+PANORAMA_SHARE = 0.95
 MESH_SPACING_M = 0.02
 MESH_MAX_SAMPLES = 3_000_000
 MESH_RANGE_FACTOR = 1.25
@@ -640,7 +643,8 @@ def stitch_surface(folder, rows, max_photos):
     res = similarity_2d_residuals(placed, plan_uv[kept])
     worst = float(np.max(np.abs(res) / np.array([w_m, h_m])))
     out.update({"in_panorama": len(kept), "worst_placement_footprints": worst,
-                "counts": len(kept) == n and worst <= PLACEMENT_TOLERANCE})
+                "counts": len(kept) >= PANORAMA_SHARE * n and worst <= PLACEMENT_TOLERANCE,
+                "kept": kept})
     return out
 
 
@@ -690,10 +694,10 @@ def stitch_blocks(folder, rows, max_photos):
         worst = max(worst, res.get("worst_placement_footprints", math.inf))
         if res["counts"]:
             counted += 1
-            placed.update(b)
+            placed.update(b[k] for k in res["kept"])
     return {"photos": n, "in_panorama": len(placed), "blocks": len(blocks),
             "blocks_counted": counted, "worst_placement_footprints": worst,
-            "counts": counted == len(blocks) and len(placed) == n}
+            "counts": counted == len(blocks) and len(placed) >= PANORAMA_SHARE * n}
 
 
 def stitch_all(folder, rows, max_photos):

@@ -110,6 +110,34 @@ bool repairMosaicStop(coverage::Stop& stop, const coverage::FlightStrategy& stra
   return false;
 }
 
+/// Whether stop i's footprint (on its plane, along the strategy's axes) lies inside the
+/// footprints of the other stops still taken (problem None) within two rows and three
+/// columns of it: 5 × 5 sample points over it, edges included, each inside one of them.
+bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
+                                  const coverage::FlightStrategy& strategy) {
+  const auto& stops = m.strategy.stops;
+  const double hw = 0.5 * strategy.camera.footprint_w_m, hh = 0.5 * strategy.camera.footprint_h_m;
+  std::vector<std::size_t> near;
+  for (std::size_t j = 0; j < stops.size(); ++j) {
+    if (j != i && m.stop_problems[j] == StopProblem::None &&
+        std::abs(stops[j].row - stops[i].row) <= 2 && std::abs(stops[j].col - stops[i].col) <= 3)
+      near.push_back(j);
+  }
+  for (int a = -2; a <= 2; ++a) {
+    for (int b = -2; b <= 2; ++b) {
+      const Vec3 q =
+          stops[i].target + 0.5 * a * hw * strategy.axis_w + 0.5 * b * hh * strategy.axis_h;
+      const bool inside = std::any_of(near.begin(), near.end(), [&](std::size_t j) {
+        const Vec3 d = q - stops[j].target;
+        return std::abs(d.dot(strategy.axis_w)) <= hw + 1e-9 &&
+               std::abs(d.dot(strategy.axis_h)) <= hh + 1e-9;
+      });
+      if (!inside) return false;
+    }
+  }
+  return true;
+}
+
 /// A free pose near an infeasible stop that still photographs its target: the
 /// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
@@ -201,9 +229,14 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
         m.stop_problems[i] = StopProblem::GimbalLimit;
       }
     } else if (!stops[i].position.allFinite() || !grid.isFree(stops[i].position)) {
-      if (options.repair_stops && stops[i].position.allFinite() &&
-          ((options.mosaic_repair && repairMosaicStop(stops[i], strategy, grid, options)) ||
-           repairStop(stops[i], strategy, grid, options))) {
+      const bool mosaic_kept = options.repair_stops && options.mosaic_repair &&
+                               stops[i].position.allFinite() &&
+                               repairMosaicStop(stops[i], strategy, grid, options);
+      if (!mosaic_kept && options.repair_stops && options.mosaic_repair &&
+          footprintCoveredByNeighbours(m, i, strategy)) {
+        m.stop_problems[i] = StopProblem::MosaicCovered;
+      } else if (mosaic_kept || (options.repair_stops && stops[i].position.allFinite() &&
+                                 repairStop(stops[i], strategy, grid, options))) {
         m.moved_stops.push_back(static_cast<int>(i));
         if (first_usable < 0) first_usable = static_cast<int>(i);
       } else {
@@ -211,6 +244,23 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
       }
     } else if (first_usable < 0) {
       first_usable = static_cast<int>(i);
+    }
+  }
+  // A stop left out on neighbours that were left out after it: repaired after all
+  // (adding a stop back only covers more, so one pass in order keeps every other).
+  for (std::size_t i = 0; i < stops.size(); ++i) {
+    if (m.stop_problems[i] != StopProblem::MosaicCovered ||
+        footprintCoveredByNeighbours(m, i, strategy))
+      continue;
+    if (repairStop(stops[i], strategy, grid, options)) {
+      m.stop_problems[i] = StopProblem::None;
+      m.moved_stops.insert(
+          std::upper_bound(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(i)),
+          static_cast<int>(i));
+      if (first_usable < 0 || static_cast<int>(i) < first_usable)
+        first_usable = static_cast<int>(i);
+    } else {
+      m.stop_problems[i] = StopProblem::InObstacleSpace;
     }
   }
   return first_usable;
@@ -267,16 +317,24 @@ void markUnreachable(SurfaceMission& m, const world::VoxelGrid& grid, const Miss
 std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& grid,
                             const MissionOptions& options, std::size_t& n_bad,
                             std::size_t& n_obstacle) {
-  std::size_t n_gimbal = 0, n_unreachable = 0;
+  std::size_t n_gimbal = 0, n_unreachable = 0, n_covered = 0;
   n_obstacle = 0;
   for (const auto p : m.stop_problems) {
     n_gimbal += p == StopProblem::GimbalLimit;
     n_obstacle += p == StopProblem::InObstacleSpace;
     n_unreachable += p == StopProblem::Unreachable;
+    n_covered += p == StopProblem::MosaicCovered;
   }
   n_bad = n_gimbal + n_obstacle + n_unreachable;
-  if (n_bad == 0) return {};
+  std::ostringstream covered;
+  if (n_covered > 0) {
+    covered << n_covered << " of " << m.stop_problems.size()
+            << " stops left out of the mosaic (in obstacle space, no pose square or within 15 "
+               "deg; their neighbours cover their footprints)";
+  }
+  if (n_bad == 0) return covered.str();
   std::ostringstream os;
+  if (n_covered > 0) os << covered.str() << "; ";
   os << n_bad << " of " << m.stop_problems.size() << " stops infeasible: ";
   bool first = true;
   auto part = [&](std::size_t n, const std::string& what) {
@@ -439,7 +497,7 @@ SurfaceMission planSurfaceMission(const coverage::FlightStrategy& strategy,
     return finish();
   }
   m.status = n_bad > 0 ? SurfaceStatus::Partial : SurfaceStatus::Ok;
-  if (n_bad > 0) m.reason = skipped + "; those stops are skipped";
+  if (!skipped.empty()) m.reason = skipped + (n_bad > 0 ? "; those stops are skipped" : "");
   return finish();
 }
 

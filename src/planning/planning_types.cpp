@@ -51,6 +51,8 @@ const char* toString(StopProblem problem) {
       return "in_obstacle_space";
     case StopProblem::Unreachable:
       return "unreachable";
+    case StopProblem::MosaicCovered:
+      return "mosaic_covered";
   }
   return "unknown";
 }

@@ -372,6 +372,71 @@ TEST(MissionPlanner, AMosaicStopIsMovedSquareOrWithinFifteenDegrees) {
   }
 }
 
+TEST(MissionPlanner, AMosaicLeavesOutOnlyStopsItsNeighboursCover) {
+  // One row of nine mosaic stops 0.24 m apart (footprint 0.6 × 0.4 m, overlap 0.6) in
+  // front of the wall; a measured point 0.5 m in front of the middle stop blocks several.
+  PointList cloud = wall();
+  cloud.emplace_back(1.0, 2.0, 1.5);
+  coverage::FlightStrategy strategy;
+  strategy.surface_id = 3;
+  strategy.camera = {0.6, 0.4, 1.5, 0.0, 0.0};
+  strategy.spacing_w_m = 0.24;
+  strategy.spacing_h_m = 0.28;
+  strategy.axis_w = Vec3::UnitY();
+  strategy.axis_h = Vec3::UnitZ();
+  for (int k = 0; k < 9; ++k) {
+    coverage::Stop stop;
+    stop.index = k;
+    stop.surface_id = 3;
+    stop.col = k;
+    stop.target = Vec3(0.0, 2.0 + 0.24 * (k - 4), 1.5);
+    stop.position = stop.target + Vec3(1.5, 0.0, 0.0);
+    stop.yaw_deg = 180.0;
+    strategy.stops.push_back(stop);
+  }
+  const auto grid = gridFor(cloud, strategy);
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  MissionOptions options;
+  options.mosaic_repair = true;
+  const SurfaceMission m = planSurfaceMission(strategy, grid, validator, *planner, options);
+  ASSERT_EQ(m.status, SurfaceStatus::Ok) << m.reason;
+  std::vector<std::size_t> flown, left_out;
+  for (std::size_t i = 0; i < m.stop_problems.size(); ++i) {
+    if (m.stop_problems[i] == StopProblem::None) flown.push_back(i);
+    if (m.stop_problems[i] == StopProblem::MosaicCovered) left_out.push_back(i);
+  }
+  ASSERT_FALSE(left_out.empty()) << "the obstacle leaves no stop out: the set-up is wrong";
+  EXPECT_EQ(flown.size() + left_out.size(), 9u);
+  EXPECT_NE(m.reason.find(std::to_string(left_out.size()) + " of 9 stops left out of the mosaic"),
+            std::string::npos)
+      << m.reason;
+  const auto& a = m.strategy.stops;
+  for (const std::size_t i : left_out) {
+    // Rightly left out: brute force finds no square pose within the slide allowance and
+    // none within 15°, and every 1 cm point of its footprint lies in a flown stop's.
+    EXPECT_FALSE(bruteSquarePoseExists(strategy.stops[i].target, 1.5, 0.18, 0.06, grid)) << i;
+    EXPECT_FALSE(bruteTiltedPoseExists(strategy.stops[i].target, 1.5, 15.0, grid)) << i;
+    for (double dw = -0.3; dw <= 0.3 + 1e-9; dw += 0.01)
+      for (double dh = -0.2; dh <= 0.2 + 1e-9; dh += 0.01) {
+        const Vec3 q = strategy.stops[i].target + Vec3(0.0, dw, dh);
+        EXPECT_TRUE(std::any_of(flown.begin(), flown.end(),
+                                [&](std::size_t j) {
+                                  return std::abs(q.y() - a[j].target.y()) <= 0.3 + 1e-9 &&
+                                         std::abs(q.z() - a[j].target.z()) <= 0.2 + 1e-9;
+                                }))
+            << "stop " << i << " at (" << dw << ", " << dh << ")";
+      }
+  }
+  for (const std::size_t j : flown) EXPECT_TRUE(grid.isFree(a[j].position)) << j;
+  // Inspection keeps every stop (moved, none left out).
+  const SurfaceMission i =
+      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  EXPECT_TRUE(std::none_of(i.stop_problems.begin(), i.stop_problems.end(),
+                           [](StopProblem p) { return p == StopProblem::MosaicCovered; }));
+  EXPECT_STREQ(toString(StopProblem::MosaicCovered), "mosaic_covered");
+}
+
 TEST(MissionPlanner, EnclosedStopIsUnreachable) {
   PointList cloud = wall();
   // A closed box of points around (7, 2, 1.5), half-size 1.5 m, spacing 0.1 m.
