@@ -63,11 +63,11 @@ std::array<double, 3> repairFactors(const MissionOptions& options) {
 }
 
 /// A mosaic's repair (coverage.purpose mosaic), tried before repairStop's: OpenCV's
-/// affine stitcher joins photos taken square at the standoff and tilted up to 15°,
-/// not more, nor from another range (docs/photo_purposes.md). First square at the
-/// standoff with the photo centre slid in the plane by at most half the overlap on
-/// each axis (each neighbour keeps at least half its planned overlap), smallest slide
-/// first; then tilts of 5°, 10° and 15° toward ±axis_h, ±axis_w and the diagonals.
+/// affine stitcher places photos taken square at the standoff; it misplaces photos tilted
+/// 10–15° by 0.2–0.3 of a footprint and joins neither 30° tilts nor other ranges
+/// (docs/photo_purposes.md). So: square at the standoff, the photo centre slid in the
+/// plane by at most half the overlap on each axis (each neighbour keeps at least half its
+/// planned overlap), the smallest slide that is free and in clear sight first.
 bool repairMosaicStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                       const world::VoxelGrid& grid, const MissionOptions& options) {
   const auto& cam = strategy.camera;
@@ -92,47 +92,43 @@ bool repairMosaicStop(coverage::Stop& stop, const coverage::FlightStrategy& stra
     if (lookFrom(stop, stop.target + standoff * n, grid, options)) return true;
   }
   stop.target = target;
-  const Vec3 dirs[8] = {strategy.axis_h,
-                        -strategy.axis_h,
-                        strategy.axis_w,
-                        -strategy.axis_w,
-                        (strategy.axis_h + strategy.axis_w).normalized(),
-                        (strategy.axis_h - strategy.axis_w).normalized(),
-                        (-strategy.axis_h + strategy.axis_w).normalized(),
-                        (-strategy.axis_h - strategy.axis_w).normalized()};
-  for (const double deg : {5.0, 10.0, 15.0}) {
-    const double a = deg * kPi / 180.0;
-    for (const Vec3& side : dirs) {
-      const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-      if (lookFrom(stop, target + standoff * dir, grid, options)) return true;
-    }
-  }
   return false;
 }
 
 /// Whether stop i's footprint (on its plane, along the strategy's axes) lies inside the
-/// footprints of the other stops still taken (problem None) within two rows and three
-/// columns of it: 5 × 5 sample points over it, edges included, each inside one of them.
+/// union of the footprints of the other stops still taken (problem None) within two rows
+/// and three columns of it. Exact: the rectangles' edges cut stop i's footprint into
+/// cells, and each cell's centre must lie in one of them.
 bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
                                   const coverage::FlightStrategy& strategy) {
   const auto& stops = m.strategy.stops;
   const double hw = 0.5 * strategy.camera.footprint_w_m, hh = 0.5 * strategy.camera.footprint_h_m;
-  std::vector<std::size_t> near;
+  const auto uv = [&](const Vec3& p) {
+    return Eigen::Vector2d(p.dot(strategy.axis_w), p.dot(strategy.axis_h));
+  };
+  const Eigen::Vector2d c = uv(stops[i].target);
+  std::vector<Eigen::Vector2d> near;
+  std::vector<double> us = {c.x() - hw, c.x() + hw}, vs = {c.y() - hh, c.y() + hh};
   for (std::size_t j = 0; j < stops.size(); ++j) {
-    if (j != i && m.stop_problems[j] == StopProblem::None &&
-        std::abs(stops[j].row - stops[i].row) <= 2 && std::abs(stops[j].col - stops[i].col) <= 3)
-      near.push_back(j);
+    if (j == i || m.stop_problems[j] != StopProblem::None ||
+        std::abs(stops[j].row - stops[i].row) > 2 || std::abs(stops[j].col - stops[i].col) > 3)
+      continue;
+    const Eigen::Vector2d q = uv(stops[j].target);
+    near.push_back(q);
+    for (const double u : {q.x() - hw, q.x() + hw})
+      if (u > us[0] && u < us[1]) us.push_back(u);
+    for (const double v : {q.y() - hh, q.y() + hh})
+      if (v > vs[0] && v < vs[1]) vs.push_back(v);
   }
-  for (int a = -2; a <= 2; ++a) {
-    for (int b = -2; b <= 2; ++b) {
-      const Vec3 q =
-          stops[i].target + 0.5 * a * hw * strategy.axis_w + 0.5 * b * hh * strategy.axis_h;
-      const bool inside = std::any_of(near.begin(), near.end(), [&](std::size_t j) {
-        const Vec3 d = q - stops[j].target;
-        return std::abs(d.dot(strategy.axis_w)) <= hw + 1e-9 &&
-               std::abs(d.dot(strategy.axis_h)) <= hh + 1e-9;
-      });
-      if (!inside) return false;
+  std::sort(us.begin(), us.end());
+  std::sort(vs.begin(), vs.end());
+  for (std::size_t a = 0; a + 1 < us.size(); ++a) {
+    for (std::size_t b = 0; b + 1 < vs.size(); ++b) {
+      const Eigen::Vector2d p(0.5 * (us[a] + us[a + 1]), 0.5 * (vs[b] + vs[b + 1]));
+      if (std::none_of(near.begin(), near.end(), [&](const Eigen::Vector2d& q) {
+            return std::abs(p.x() - q.x()) <= hw && std::abs(p.y() - q.y()) <= hh;
+          }))
+        return false;
     }
   }
   return true;
@@ -329,8 +325,8 @@ std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& gri
   std::ostringstream covered;
   if (n_covered > 0) {
     covered << n_covered << " of " << m.stop_problems.size()
-            << " stops left out of the mosaic (in obstacle space, no pose square or within 15 "
-               "deg; their neighbours cover their footprints)";
+            << " stops left out of the mosaic (in obstacle space, no square pose within the "
+               "overlap; their neighbours cover their footprints)";
   }
   if (n_bad == 0) return covered.str();
   std::ostringstream os;

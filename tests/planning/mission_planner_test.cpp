@@ -293,12 +293,12 @@ bool bruteTiltedPoseExists(const Vec3& target, double standoff, double max_deg,
   return false;
 }
 
-TEST(MissionPlanner, AMosaicStopIsMovedSquareOrWithinFifteenDegrees) {
+TEST(MissionPlanner, AMosaicStopIsMovedSquareWithinTheOverlap) {
   // A 6 m wall (x = 0), three stops 1.5 m in front at y = 1, 3, 5 (z = 1.5), a mosaic's
   // footprint 0.6 × 0.4 m at overlaps 0.6 / 0.3: slides of up to 0.18 m along y and
   // 0.06 m along z keep half the overlap. One measured point blocks each stop: beside
   // stop 0 (a slide frees it), above stop 1 (only a tilt down frees it), right in front
-  // of stop 2 (nothing within 15° does).
+  // of stop 2 (nothing within 15° does). The stops are 2 m apart: none covers another.
   PointList cloud;
   for (double y = 0.0; y <= 6.0001; y += 0.1)
     for (double z = 0.0; z <= 3.0001; z += 0.1) cloud.emplace_back(0.0, y, z);
@@ -356,14 +356,13 @@ TEST(MissionPlanner, AMosaicStopIsMovedSquareOrWithinFifteenDegrees) {
   EXPECT_LE(std::abs(a[0].target.z() - st[0].target.z()), slide_h + 1e-9);
   EXPECT_GT((a[0].target - st[0].target).norm(), 0.0);
   EXPECT_GE(angle(i.strategy.stops[0]), 15.0 - 1e-6);
-  // Stop 1: its target kept, at the standoff, tilted by at most 15°.
-  EXPECT_EQ(a[1].target, st[1].target);
-  EXPECT_NEAR((a[1].position - a[1].target).norm(), 1.5, 1e-9);
-  EXPECT_GT(angle(a[1]), 1.0);
-  EXPECT_LE(angle(a[1]), 15.0 + 1e-6);
-  // Stop 2: left to the general repair, as inspection's.
-  EXPECT_EQ(a[2].position, i.strategy.stops[2].position);
-  EXPECT_EQ(a[2].target, st[2].target);
+  // Stops 1 and 2: no square pose; left to the general repair, as inspection's (a tilt
+  // misplaces a photo in OpenCV's affine mosaic, but leaving it out would leave a hole).
+  for (const int k : {1, 2}) {
+    EXPECT_EQ(a[k].position, i.strategy.stops[k].position) << k;
+    EXPECT_EQ(a[k].target, st[k].target) << k;
+    EXPECT_GE(angle(a[k]), 15.0 - 1e-6) << k;
+  }
   // Each stop is still photographed from where the camera looks at its target.
   for (const auto& s : a) {
     const Vec3 look = s.target - s.position;
@@ -413,10 +412,9 @@ TEST(MissionPlanner, AMosaicLeavesOutOnlyStopsItsNeighboursCover) {
       << m.reason;
   const auto& a = m.strategy.stops;
   for (const std::size_t i : left_out) {
-    // Rightly left out: brute force finds no square pose within the slide allowance and
-    // none within 15°, and every 1 cm point of its footprint lies in a flown stop's.
+    // Rightly left out: brute force finds no square pose within the slide allowance, and
+    // every 1 cm point of its footprint lies in a flown stop's.
     EXPECT_FALSE(bruteSquarePoseExists(strategy.stops[i].target, 1.5, 0.18, 0.06, grid)) << i;
-    EXPECT_FALSE(bruteTiltedPoseExists(strategy.stops[i].target, 1.5, 15.0, grid)) << i;
     for (double dw = -0.3; dw <= 0.3 + 1e-9; dw += 0.01)
       for (double dh = -0.2; dh <= 0.2 + 1e-9; dh += 0.01) {
         const Vec3 q = strategy.stops[i].target + Vec3(0.0, dw, dh);

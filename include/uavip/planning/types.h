@@ -60,9 +60,9 @@ inline bool flyable(SurfaceStatus status) {
 const char* toString(SurfaceStatus status);
 
 /// Why a stop cannot be used.
-/// MosaicCovered: a mosaic's stop in obstacle space that no pose square or tilted at most
-/// 15° reaches, left out because its neighbours' footprints cover its own (not infeasible:
-/// the surface's status ignores it; the reason counts it).
+/// MosaicCovered: a mosaic's stop in obstacle space that no square pose reaches (its
+/// photo centre slid by up to half the overlap), left out because its neighbours' footprints cover
+/// its own (not infeasible: the surface's status ignores it; the reason counts it).
 enum class StopProblem { None, GimbalLimit, InObstacleSpace, Unreachable, MosaicCovered };
 const char* toString(StopProblem problem);
 
@@ -82,9 +82,9 @@ struct MissionOptions {
   bool repair_stops{true};
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
   /// Repair for a mosaic (coverage.purpose mosaic, set by Config::missionOptions): square
-  /// at the standoff with the photo centre slid by up to half the overlap, then tilts of
-  /// at most 15°; a stop neither reaches is left out when its neighbours' footprints
-  /// cover its own (StopProblem::MosaicCovered), else repaired as above.
+  /// at the standoff with the photo centre slid by up to half the overlap; a stop that
+  /// finds no such pose is left out when its neighbours' footprints cover its own
+  /// (StopProblem::MosaicCovered), else repaired as above.
   bool mosaic_repair{false};
   /// A flyable surface whose measured coverage is below this is `partial` [0, 1].
   double min_coverage{0.95};
