@@ -67,6 +67,11 @@ PLACEMENT_TOLERANCE = 0.10  # share of a footprint
 # A panorama counts when it holds this share of its photos, each placed within the tolerance
 # (issue 46: "one panorama holding >= 95 % of its photos").
 PANORAMA_SHARE = 0.95
+# The truth: a rectangle counts in completeness when some photo aims at it within this
+# angle of its normal; a sample within CONTACT_M of a coplanar rectangle lying against it
+# is not outer surface.
+CHOSEN_MAX_DEG = 50.0
+CONTACT_M = 1e-3
 MESH_SPACING_M = 0.02
 MESH_MAX_SAMPLES = 3_000_000
 MESH_RANGE_FACTOR = 1.25
@@ -209,7 +214,9 @@ class Truth:
         self.boxes = {k: g for k, g in groups.items() if len(g) == 6}
 
     def inner_mask(self, points, own_name):
-        """True where a point lies strictly inside a box of the world other than its own."""
+        """True where a point lies strictly inside a box of the world other than its own, or
+        on another rectangle lying against its own (coplanar: a pier's top under a deck's
+        underside; neither side of that contact can be seen)."""
         inside_any = np.zeros(len(points), bool)
         own_box = own_name.rpartition("/")[0]
         for name, faces in self.boxes.items():
@@ -219,6 +226,14 @@ class Truth:
             for f in faces:
                 inside &= (points - f["c"]) @ f["n"] < -1e-6
             inside_any |= inside
+        own = next(r for r in self.rects if r["name"] == own_name)
+        for r in self.rects:
+            if r["name"] == own_name or abs(r["n"] @ own["n"]) < 0.999:
+                continue
+            d = points - r["c"]
+            s = d @ r["u"] / (r["u"] @ r["u"])
+            t = d @ r["v"] / (r["v"] @ r["v"])
+            inside_any |= (np.abs(d @ r["n"]) < CONTACT_M) & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
         return inside_any
 
     def distance(self, points):
@@ -233,15 +248,21 @@ class Truth:
             best = np.minimum(best, np.linalg.norm(points - foot, axis=1))
         return best
 
-    def chosen(self, targets, tol=0.05):
-        """The rectangles some photo aims at (a target within tol of the rectangle)."""
+    def chosen(self, targets, centres, tol=0.05):
+        """The rectangles some photo aims at: its target within tol of the rectangle, seen
+        within CHOSEN_MAX_DEG of the rectangle's normal (a pier face's bottom row aims at
+        the ground's line too, 60-90 deg off the ground's normal; an edge link at 45 deg
+        chooses both faces)."""
         out = []
+        view = centres - targets
+        view /= np.linalg.norm(view, axis=1)[:, None]
+        cos_max = math.cos(math.radians(CHOSEN_MAX_DEG))
         for r in self.rects:
             d = targets - r["c"]
             s = d @ r["u"] / (r["u"] @ r["u"])
             t = d @ r["v"] / (r["v"] @ r["v"])
             on = (np.abs(d @ r["n"]) < tol) & (s > -1e-3) & (s < 1 + 1e-3) & (t > -1e-3) & (t < 1 + 1e-3)
-            if on.any():
+            if (on & (np.abs(view @ r["n"]) >= cos_max)).any():
                 out.append(r)
         return out
 
@@ -811,7 +832,8 @@ def run_case(args):
         raise CheckError(f"{scenario}: sensing mode {truth_json['sensing_mode']}: the truth is "
                          "in the scenario's frame only in mode sample")
     truth = Truth(truth_json)
-    chosen = truth.chosen(np.array([r["target"] for r in rows]))
+    chosen = truth.chosen(np.array([r["target"] for r in rows]),
+                          np.array([r["centre"] for r in rows]))
     result["chosen_rects"] = [r["name"] for r in chosen]
     return check_photos(args, name, work, logf, t_start, timings, result, folder, meta, rows,
                         truth, chosen)
