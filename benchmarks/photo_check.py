@@ -763,12 +763,15 @@ def prepare_scenario(src, work, overlap, structure, purpose=None):
 
 
 def plan_summary(mission_json):
-    """Photos, path, sorties and the multi-view counts of a plan (mission.json)."""
+    """Photos (the flown stops), stops planned, path, sorties and the multi-view counts of a
+    plan (mission.json)."""
     with open(mission_json) as f:
         m = json.load(f)
     flight = m["flight"]
     views = [s["coverage"] for s in m["surfaces"] if s.get("coverage") and "views_min" in s["coverage"]]
-    out = {"photos": sum(s["stop_count"] for s in m["surfaces"]),
+    out = {"photos": sum(st.get("problem", "none") == "none"
+                         for s in m["surfaces"] for st in s["stops"]),
+           "stops_planned": sum(s["stop_count"] for s in m["surfaces"]),
            "path_m": flight["length_m"], "sorties": flight["sortie_count"]}
     if views:
         out["views_min"] = min(v["views_min"] for v in views)
