@@ -484,6 +484,7 @@ PlanResult planStructure(const Scene& scene, const app::Config& config, const Pr
   const auto planner = planners::makePlanner(config.planner, config.planner_settings);
   planning::MissionOptions mission_options = config.missionOptions();
   mission_options.direct_legs = true;
+  mission_options.mosaic_repair = false;  // views, not rows: nothing to slide along or to cover
   planning::SurfaceMission mission =
       planning::planSurfaceMission(strategy, grid, *validator, *planner, mission_options);
   mission.kind = "structure";
