@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "planners/registry.h"
 #include "uavip/core/error.h"
@@ -293,6 +294,29 @@ bool bruteTiltedPoseExists(const Vec3& target, double standoff, double max_deg,
   return false;
 }
 
+/// A mosaic's row in front of the wall x = 0: stops 1.5 m out at z = 1.5 and the given y,
+/// footprint 0.6 × 0.4 m at overlaps 0.6 / 0.3 (spacing 0.24 / 0.28 m), image width along y.
+coverage::FlightStrategy mosaicRow(const std::vector<double>& ys) {
+  coverage::FlightStrategy strategy;
+  strategy.surface_id = 3;
+  strategy.camera = {0.6, 0.4, 1.5, 0.0, 0.0};
+  strategy.spacing_w_m = 0.24;
+  strategy.spacing_h_m = 0.28;
+  strategy.axis_w = Vec3::UnitY();
+  strategy.axis_h = Vec3::UnitZ();
+  for (std::size_t k = 0; k < ys.size(); ++k) {
+    coverage::Stop stop;
+    stop.index = static_cast<int>(k);
+    stop.surface_id = 3;
+    stop.col = static_cast<int>(k);
+    stop.target = Vec3(0.0, ys[k], 1.5);
+    stop.position = stop.target + Vec3(1.5, 0.0, 0.0);
+    stop.yaw_deg = 180.0;
+    strategy.stops.push_back(stop);
+  }
+  return strategy;
+}
+
 TEST(MissionPlanner, AMosaicStopIsMovedSquareWithinTheOverlap) {
   // A 6 m wall (x = 0), three stops 1.5 m in front at y = 1, 3, 5 (z = 1.5), a mosaic's
   // footprint 0.6 × 0.4 m at overlaps 0.6 / 0.3: slides of up to 0.18 m along y and
@@ -304,23 +328,7 @@ TEST(MissionPlanner, AMosaicStopIsMovedSquareWithinTheOverlap) {
     for (double z = 0.0; z <= 3.0001; z += 0.1) cloud.emplace_back(0.0, y, z);
   const PointList obstacles = {Vec3(1.5, 1.9, 1.5), Vec3(1.5, 3.0, 2.1), Vec3(1.0, 5.0, 1.5)};
   cloud.insert(cloud.end(), obstacles.begin(), obstacles.end());
-  coverage::FlightStrategy strategy;
-  strategy.surface_id = 3;
-  strategy.camera = {0.6, 0.4, 1.5, 0.0, 0.0};
-  strategy.spacing_w_m = 0.24;
-  strategy.spacing_h_m = 0.28;
-  strategy.axis_w = Vec3::UnitY();
-  strategy.axis_h = Vec3::UnitZ();
-  for (int k = 0; k < 3; ++k) {
-    coverage::Stop stop;
-    stop.index = k;
-    stop.surface_id = 3;
-    stop.col = k;
-    stop.target = Vec3(0.0, 1.0 + 2.0 * k, 1.5);
-    stop.position = stop.target + Vec3(1.5, 0.0, 0.0);
-    stop.yaw_deg = 180.0;
-    strategy.stops.push_back(stop);
-  }
+  const auto strategy = mosaicRow({1.0, 3.0, 5.0});
   const auto grid = gridFor(cloud, strategy);
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
@@ -376,23 +384,9 @@ TEST(MissionPlanner, AMosaicLeavesOutOnlyStopsItsNeighboursCover) {
   // front of the wall; a measured point 0.5 m in front of the middle stop blocks several.
   PointList cloud = wall();
   cloud.emplace_back(1.0, 2.0, 1.5);
-  coverage::FlightStrategy strategy;
-  strategy.surface_id = 3;
-  strategy.camera = {0.6, 0.4, 1.5, 0.0, 0.0};
-  strategy.spacing_w_m = 0.24;
-  strategy.spacing_h_m = 0.28;
-  strategy.axis_w = Vec3::UnitY();
-  strategy.axis_h = Vec3::UnitZ();
-  for (int k = 0; k < 9; ++k) {
-    coverage::Stop stop;
-    stop.index = k;
-    stop.surface_id = 3;
-    stop.col = k;
-    stop.target = Vec3(0.0, 2.0 + 0.24 * (k - 4), 1.5);
-    stop.position = stop.target + Vec3(1.5, 0.0, 0.0);
-    stop.yaw_deg = 180.0;
-    strategy.stops.push_back(stop);
-  }
+  std::vector<double> ys;
+  for (int k = 0; k < 9; ++k) ys.push_back(2.0 + 0.24 * (k - 4));
+  const auto strategy = mosaicRow(ys);
   const auto grid = gridFor(cloud, strategy);
   const PathValidator validator(cloud, kRadius);
   auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
