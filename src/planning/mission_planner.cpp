@@ -98,7 +98,9 @@ bool repairMosaicStop(coverage::Stop& stop, const coverage::FlightStrategy& stra
 /// Whether stop i's footprint (on its plane, along the strategy's axes) lies inside the
 /// union of the footprints of the other stops still taken (problem None) within two rows
 /// and three columns of it. Exact: the rectangles' edges cut stop i's footprint into
-/// cells, and each cell's centre must lie in one of them.
+/// cells, and each cell's centre must lie in one of them. Every footprint is taken as the
+/// nominal one at its target (a neighbour repaired by tilt or distance images a little
+/// differently); the plan's coverage is measured afterwards as for every plan.
 bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
                                   const coverage::FlightStrategy& strategy) {
   const auto& stops = m.strategy.stops;
