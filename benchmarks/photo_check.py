@@ -727,7 +727,9 @@ def stitch_all(folder, rows, max_photos):
     for sid in surfaces:
         srows = [r for r in rows if r["surface_id"] == sid]
         if len(srows) >= 2:
-            out[str(sid)] = stitch_blocks(folder, srows, max_photos)
+            res = stitch_blocks(folder, srows, max_photos)
+            res.pop("kept", None)  # the block's own indices: not for result.json
+            out[str(sid)] = res
     return out
 
 

@@ -282,10 +282,10 @@ SiteFleetRecord siteFleetFromJson(const json& site, const std::string& path,
   SiteFleetRecord out;
   const json& fleet = r.at(site, "fleet", "");
   out.fleet = readFleetSettings(r, fleet, "fleet");
-  const std::string list = JsonReader::join("fleet", "uavs");  // the UAVs, not the key
-  const json& uavs = r.list(r.at(fleet, "uavs", "fleet"), list);
+  const std::string uavs_where = JsonReader::join("fleet", "uavs");
+  const json& uavs = r.list(r.at(fleet, "uavs", "fleet"), uavs_where);
   for (std::size_t u = 0; u < uavs.size(); ++u) {
-    const std::string fu = JsonReader::item(list, u);
+    const std::string fu = JsonReader::item(uavs_where, u);
     const json& list = r.list(r.at(uavs[u], "sorties", fu), fu + ".sorties");
     FleetUavRecord rec;
     out.sorties.emplace_back();

@@ -325,11 +325,14 @@ TEST_F(TileCli, FleetFliesTheSiteConflictFree) {
                            " --format geojson" + origin + p("export/site.geojson"));
   ASSERT_EQ(geo.code, 0) << geo.out;
   const auto g = nlohmann::json::parse(slurp(dir_ / "export/site_uav2_sortie1.geojson"));
+  int paths = 0;
   for (const auto& feature : g["features"]) {
     if (feature["properties"]["kind"] == "path") {
       EXPECT_EQ(feature["properties"]["uav"], 2);
+      ++paths;
     }
   }
+  EXPECT_GE(paths, 1) << "no path feature to carry the UAV";
   EXPECT_FALSE(fs::exists(dir_ / "export/site_uav1_sortie1.geojson")) << "--uav 2 only";
 
   // A hand-made conflict: UAV 2 flies UAV 1's sorties with it, at the same times.
