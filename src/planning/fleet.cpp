@@ -421,7 +421,8 @@ double clearShift(const MotionPiece& q, const std::vector<MotionPiece>& other, d
   for (const MotionPiece& p : other) {
     if (p.t1 + slack_s < q.t0 + shift) continue;
     if (p.t0 > q.t1 + shift + slack_s) break;
-    if (segmentSegmentDistance(p.a, p.b, q.a, q.b) < separation_m)
+    if (segmentBoxesDistance(p.a, p.b, q.a, q.b) < separation_m &&
+        segmentSegmentDistance(p.a, p.b, q.a, q.b) < separation_m)
       shift = p.t1 + slack_s - q.t0 + kEps;
   }
   return std::max(shift, kEps);
@@ -440,9 +441,14 @@ bool resolveConflicts(FleetPlan& plan, double stop_at = kInf) {
     scheduleSorties(plan, wait);
     if (plan.makespan_s >= stop_at) return false;
     const auto motion = fleetMotion(plan);
-    plan.separation = checkSeparation(motion, plan.options.separation_m, slack);
-    if (!plan.separation.conflict) return true;
-    const FleetConflict& c = *plan.separation.conflict;
+    const auto conflict = firstConflict(motion, plan.options.separation_m, slack);
+    if (!conflict) {
+      plan.separation = checkSeparation(motion, plan.options.separation_m, slack);
+      return true;
+    }
+    plan.separation = SeparationCheck{};  // the least distances only for the final schedule
+    plan.separation.conflict = conflict;
+    const FleetConflict& c = *conflict;
     const MotionPiece& p = motion[static_cast<std::size_t>(c.uav_a)][c.piece_a];
     const MotionPiece& q = motion[static_cast<std::size_t>(c.uav_b)][c.piece_b];
     // Least shift of a's sortie that clears p of every piece of b, or of b's for q.
@@ -491,7 +497,9 @@ double earliestTakeoff(double ready, std::size_t u, const std::vector<MotionPiec
         });
         for (; p_it != other.end() && p_it->t0 <= q_t1 + o.slack_s; ++p_it) {
           const MotionPiece& p = *p_it;
-          if (segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m) continue;
+          if (segmentBoxesDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m ||
+              segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m)
+            continue;
           t += p.t1 + o.slack_s - q_t0 + kEps;  // q starts after p's widened window
           moved = true;
           break;
@@ -887,7 +895,7 @@ void chunkCandidates(const std::vector<Job>& whole, const std::vector<FleetUav>&
       }
       if (parts > 1) ++set.split;
     }
-    if (set.jobs.size() == whole.size() || set.jobs.size() > 24) continue;
+    if (set.jobs.size() == whole.size() || set.jobs.size() > kPerJobMax) continue;
     Assignment a = assign(set.jobs, uavs, model, fleet);
     out.push_back(
         {sets.size(), a.owner, a.makespan_s, "parts of ~" + formatFixed(chunk, 0) + " s, min-max"});

@@ -146,11 +146,17 @@ void checkPair(const std::vector<MotionPiece>& pa, const std::vector<MotionPiece
     for (std::size_t j = first; j < pb.size() && pb[j].t0 <= p.t1 + slack_s; ++j) {
       const MotionPiece& q = pb[j];
       ++out.pairs;
+      // A pair no nearer than the separation and every least distance so far changes
+      // nothing; the nominal approach is no nearer than the segments (d).
+      const double far = segmentBoxesDistance(p.a, p.b, q.a, q.b);
+      if (far >= separation_m && far >= out.swept_min_m && far >= out.nominal_min_m) continue;
       const double d = segmentSegmentDistance(p.a, p.b, q.a, q.b);
       out.swept_min_m = std::min(out.swept_min_m, d);
-      if (const auto c = closestApproach(p, q); c && c->distance_m < out.nominal_min_m) {
-        out.nominal_min_m = c->distance_m;
-        out.nominal_time_s = c->time_s;
+      if (d < out.nominal_min_m) {
+        if (const auto c = closestApproach(p, q); c && c->distance_m < out.nominal_min_m) {
+          out.nominal_min_m = c->distance_m;
+          out.nominal_time_s = c->time_s;
+        }
       }
       if (d >= separation_m) continue;
       const double when = std::max(p.t0, q.t0);
@@ -172,6 +178,38 @@ SeparationCheck checkSeparation(const std::vector<std::vector<MotionPiece>>& uav
       checkPair(uavs[a], uavs[b], static_cast<int>(a), static_cast<int>(b), separation_m, slack_s,
                 out);
   return out;
+}
+
+std::optional<FleetConflict> firstConflict(const std::vector<std::vector<MotionPiece>>& uavs,
+                                           double separation_m, double slack_s) {
+  std::optional<FleetConflict> best;
+  // checkSeparation's conflict: the least start of the pair's overlap, the first pair in
+  // (a, b, piece of a, piece of b) order among equals; pairs no earlier are skipped.
+  for (std::size_t a = 0; a < uavs.size(); ++a) {
+    for (std::size_t b = a + 1; b < uavs.size(); ++b) {
+      const auto& pa = uavs[a];
+      const auto& pb = uavs[b];
+      std::size_t first = 0;
+      for (std::size_t i = 0; i < pa.size() && (!best || pa[i].t0 < best->time_s); ++i) {
+        const MotionPiece& p = pa[i];
+        while (first < pb.size() && pb[first].t1 + slack_s < p.t0) ++first;
+        for (std::size_t j = first; j < pb.size() && pb[j].t0 <= p.t1 + slack_s; ++j) {
+          const MotionPiece& q = pb[j];
+          const double when = std::max(p.t0, q.t0);
+          if (best && when >= best->time_s) {
+            if (q.t0 >= best->time_s) break;  // so is every later piece of b
+            continue;
+          }
+          if (segmentBoxesDistance(p.a, p.b, q.a, q.b) >= separation_m) continue;
+          const double d = segmentSegmentDistance(p.a, p.b, q.a, q.b);
+          if (d >= separation_m) continue;
+          best = FleetConflict{static_cast<int>(a), static_cast<int>(b), p.sortie, q.sortie,
+                               i, j, when, d};
+        }
+      }
+    }
+  }
+  return best;
 }
 
 std::vector<std::vector<MotionPiece>> fleetMotion(const FleetPlan& plan) {

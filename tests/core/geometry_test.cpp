@@ -74,7 +74,24 @@ TEST(Geometry, SegmentSegmentDistanceMatchesDenseSampling) {
     EXPECT_NEAR(pointSegmentDistance(on_a, a0, a1), 0.0, 1e-9);
     EXPECT_NEAR(pointSegmentDistance(on_b, b0, b1), 0.0, 1e-9);
     EXPECT_NEAR(segmentSegmentDistance(b0, b1, a0, a1), exact, 1e-9);  // symmetric
+    // The boxes' distance never exceeds the brute-force least distance.
+    EXPECT_LE(segmentBoxesDistance(a0, a1, b0, b1), best + 1e-9) << trial;
   }
+}
+
+TEST(Geometry, SegmentBoxesDistanceKnownCases) {
+  // Parallel to one axis: the boxes' gap is the segments' distance.
+  EXPECT_NEAR(segmentBoxesDistance({0, 0, 0}, {1, 0, 0}, {3, 0, 0}, {5, 0, 0}), 2.0, 1e-12);
+  EXPECT_NEAR(segmentBoxesDistance({0, 0, 0}, {0, 0, 4}, {3, 4, 1}, {3, 4, 2}), 5.0, 1e-12);
+  // Diagonals of the unit square cross: boxes meet.
+  EXPECT_EQ(segmentBoxesDistance({0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}), 0.0);
+  // Skew segments in the planes x = 0 and x = 1 whose projections on x = 0 cross: the
+  // boxes are 1 m apart in x, and so are the segments.
+  EXPECT_NEAR(segmentBoxesDistance({0, 0, 0}, {0, 2, 2}, {1, 0, 2}, {1, 2, 0}), 1.0, 1e-12);
+  EXPECT_NEAR(segmentSegmentDistance({0, 0, 0}, {0, 2, 2}, {1, 0, 2}, {1, 2, 0}), 1.0, 1e-12);
+  // Segments whose boxes are far below their distance: a bound, not the distance.
+  EXPECT_EQ(segmentBoxesDistance({0, 0, 0}, {4, 4, 0}, {0, 3, 0}, {1, 4, 0}), 0.0);
+  EXPECT_GT(segmentSegmentDistance({0, 0, 0}, {4, 4, 0}, {0, 3, 0}, {1, 4, 0}), 2.0);
 }
 
 TEST(Geometry, SegmentSegmentDistanceKnownCases) {

@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "planners/registry.h"
 #include "uavip/core/error.h"
+#include "uavip/core/geometry.h"
 #include "uavip/core/math.h"
 #include "uavip/planning/mission_planner.h"
 
@@ -103,6 +105,74 @@ TEST(Separation, ParallelTracksApartPass) {
   EXPECT_FALSE(c.conflict);
   EXPECT_NEAR(c.swept_min_m, 6.0, 1e-9);
   EXPECT_TRUE(checkSeparation(uavs, 6.5, 0.0).conflict);
+}
+
+/// A UAV's motion in time order: `n` contiguous pieces (every third a hover) from t0,
+/// a gap of a few seconds (on the ground) every seventh piece, inside a cube of 2 × half
+/// centred at `centre`.
+std::vector<MotionPiece> randomMotion(std::mt19937& rng, const Vec3& centre, double half, double t0,
+                                      int n) {
+  std::uniform_real_distribution<double> dt(0.5, 6.0);
+  std::vector<MotionPiece> out;
+  Vec3 at = centre + randomPoint(rng, half);
+  double t = t0;
+  for (int i = 0; i < n; ++i) {
+    if (i % 7 == 6) t += dt(rng);
+    const Vec3 to = i % 3 == 2 ? at : Vec3(centre + randomPoint(rng, half));
+    const double d = dt(rng);
+    out.push_back({at, to, t, t + d, i / 7});
+    at = to;
+    t += d;
+  }
+  return out;
+}
+
+TEST(Separation, FirstConflictAndLeastDistancesMatchEveryPair) {
+  std::mt19937 rng(11);
+  int conflicts = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const double sep = 2.0 + 0.1 * (trial % 30);
+    const double slack = trial % 3 == 0 ? 0.0 : 5.0 * (trial % 4);
+    std::vector<std::vector<MotionPiece>> uavs;
+    const double apart = 12.0 + 3.0 * (trial % 5);  // cubes of 20 m: 8 m overlap to 4 m apart
+    for (int u = 0; u < 3; ++u)
+      uavs.push_back(randomMotion(rng, Vec3(apart * u, 0, 0), 10.0, 10.0 * u, 30));
+    // Every pair of pieces whose widened windows overlap, in (a, b, i, j) order.
+    std::optional<FleetConflict> first;
+    double swept = kInf;
+    double nominal = kInf;
+    for (std::size_t a = 0; a < uavs.size(); ++a)
+      for (std::size_t b = a + 1; b < uavs.size(); ++b)
+        for (std::size_t i = 0; i < uavs[a].size(); ++i)
+          for (std::size_t j = 0; j < uavs[b].size(); ++j) {
+            const MotionPiece& p = uavs[a][i];
+            const MotionPiece& q = uavs[b][j];
+            if (p.t0 > q.t1 + slack || q.t0 > p.t1 + slack) continue;
+            const double d = segmentSegmentDistance(p.a, p.b, q.a, q.b);
+            swept = std::min(swept, d);
+            if (const auto c = closestApproach(p, q)) nominal = std::min(nominal, c->distance_m);
+            const double when = std::max(p.t0, q.t0);
+            if (d < sep && (!first || when < first->time_s))
+              first = FleetConflict{static_cast<int>(a), static_cast<int>(b), 0, 0, i, j, when, d};
+          }
+    const SeparationCheck full = checkSeparation(uavs, sep, slack);
+    const auto quick = firstConflict(uavs, sep, slack);
+    EXPECT_NEAR(full.swept_min_m, swept, 1e-12) << trial;
+    EXPECT_NEAR(full.nominal_min_m, nominal, 1e-12) << trial;
+    ASSERT_EQ(first.has_value(), full.conflict.has_value()) << trial;
+    ASSERT_EQ(first.has_value(), quick.has_value()) << trial;
+    if (!first) continue;
+    ++conflicts;
+    for (const auto& c : {*full.conflict, *quick}) {
+      EXPECT_EQ(c.uav_a, first->uav_a) << trial;
+      EXPECT_EQ(c.uav_b, first->uav_b) << trial;
+      EXPECT_EQ(c.piece_a, first->piece_a) << trial;
+      EXPECT_EQ(c.piece_b, first->piece_b) << trial;
+      EXPECT_DOUBLE_EQ(c.time_s, first->time_s) << trial;
+    }
+  }
+  EXPECT_GT(conflicts, 10);  // the cases exercise both outcomes
+  EXPECT_LT(conflicts, 60);
 }
 
 /// The least makespan over every assignment (additive job costs plus an offset per UAV).

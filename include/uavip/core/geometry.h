@@ -38,6 +38,11 @@ double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b);
 double segmentSegmentDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                               Vec3* on_a = nullptr, Vec3* on_b = nullptr);
 
+/// A lower bound of segmentSegmentDistance, cheap: the distance between the two segments'
+/// axis-aligned bounding boxes [m] (0 when the boxes meet). Exact for segments along one
+/// axis; a pair this far apart needs no exact test against a smaller distance.
+double segmentBoxesDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
+
 /// Sum of segment lengths of a polyline [m].
 double polylineLength(const PointList& path);
 

@@ -115,6 +115,11 @@ struct SeparationCheck {
 SeparationCheck checkSeparation(const std::vector<std::vector<MotionPiece>>& uavs,
                                 double separation_m, double slack_s);
 
+/// The conflict checkSeparation reports (the same one), without its least distances:
+/// for a planner that checks many schedules, it stops at the earliest conflict found.
+std::optional<FleetConflict> firstConflict(const std::vector<std::vector<MotionPiece>>& uavs,
+                                           double separation_m, double slack_s);
+
 /// One UAV of the fleet: its flight (sorties from its home) and when each sortie
 /// takes off.
 struct FleetUav {
