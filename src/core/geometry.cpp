@@ -31,9 +31,8 @@ double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 double segmentBoxesDistance(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
   // Per axis the gap between the intervals [lo, hi] of the two boxes, 0 where they overlap.
-  const Vec3 gap = (b0.cwiseMin(b1) - a0.cwiseMax(a1))
-                       .cwiseMax(a0.cwiseMin(a1) - b0.cwiseMax(b1))
-                       .cwiseMax(0.0);
+  const Vec3 gap =
+      (b0.cwiseMin(b1) - a0.cwiseMax(a1)).cwiseMax(a0.cwiseMin(a1) - b0.cwiseMax(b1)).cwiseMax(0.0);
   return gap.norm();
 }
 

@@ -203,8 +203,8 @@ std::optional<FleetConflict> firstConflict(const std::vector<std::vector<MotionP
           if (segmentBoxesDistance(p.a, p.b, q.a, q.b) >= separation_m) continue;
           const double d = segmentSegmentDistance(p.a, p.b, q.a, q.b);
           if (d >= separation_m) continue;
-          best = FleetConflict{static_cast<int>(a), static_cast<int>(b), p.sortie, q.sortie,
-                               i, j, when, d};
+          best = FleetConflict{
+              static_cast<int>(a), static_cast<int>(b), p.sortie, q.sortie, i, j, when, d};
         }
       }
     }
