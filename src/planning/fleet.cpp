@@ -50,9 +50,13 @@ std::vector<PathStop> flownStops(const SurfaceMission& m) {
   return out;
 }
 
-/// One job: a surface, or a part of consecutive stops of one.
+/// One job: a surface, or a part of consecutive flown stops of one. The surface's mission
+/// (thousands of stops on a large surface) is shared by its parts and by every candidate's
+/// copy of the job; a part's own mission is made only when it is flown (partMission).
 struct Job {
-  SurfaceMission mission;  ///< its stops only are flown
+  std::shared_ptr<const SurfaceMission> surface;  ///< the whole surface's mission
+  std::size_t k0{0};                              ///< its flown stops: [k0, k1) of
+  std::size_t k1{0};                              ///< flownStops(*surface)
   std::size_t stops{0};
   Vec3 first{Vec3::Zero()};     ///< first flown stop [m]
   Vec3 last{Vec3::Zero()};      ///< last flown stop [m]
@@ -61,38 +65,50 @@ struct Job {
   bool part{false};             ///< a part of a surface
 };
 
-/// The job of stops [k0, k1) of `path` (flown stops of `m`).
-Job makeJob(const SurfaceMission& m, const std::vector<PathStop>& path, std::size_t k0,
-            std::size_t k1, const FlightModel& model) {
+/// The job of stops [k0, k1) of `path` (flown stops of `surface`).
+Job makeJob(const std::shared_ptr<const SurfaceMission>& surface, const std::vector<PathStop>& path,
+            std::size_t k0, std::size_t k1, const FlightModel& model) {
   Job j;
-  j.mission = m;
-  j.mission.raw_path.clear();
-  j.mission.coverage.uncovered_points.clear();
+  j.surface = surface;
+  j.k0 = k0;
+  j.k1 = k1;
   j.part = k1 - k0 < path.size();
-  for (std::size_t k = 0; k < path.size(); ++k) {
-    if (k < k0 || k >= k1)
-      j.mission.stop_problems[static_cast<std::size_t>(path[k].stop)] = StopProblem::Unreachable;
-  }
   const std::size_t w0 = path[k0].waypoint;
   const std::size_t w1 = path[k1 - 1].waypoint;
-  const auto& wp = m.waypoints;
-  j.mission.waypoints.assign(wp.begin() + static_cast<std::ptrdiff_t>(w0),
-                             wp.begin() + static_cast<std::ptrdiff_t>(w1 + 1));
-  const auto& clear = m.validation.segment_clearance_m;
-  if (clear.size() + 1 == wp.size()) {
-    j.mission.validation.segment_clearance_m.assign(
-        clear.begin() + static_cast<std::ptrdiff_t>(w0),
-        clear.begin() + static_cast<std::ptrdiff_t>(w1));
-  }
-  j.mission.path_length_m = polylineLength(j.mission.waypoints);
+  const auto& wp = surface->waypoints;
+  const PointList own(wp.begin() + static_cast<std::ptrdiff_t>(w0),
+                      wp.begin() + static_cast<std::ptrdiff_t>(w1 + 1));
   j.stops = k1 - k0;
   j.first = wp[w0];
   j.last = wp[w1];
   for (std::size_t k = k0; k < k1; ++k) j.centroid += wp[path[k].waypoint];
   j.centroid /= static_cast<double>(j.stops);
-  j.inner_s =
-      model.pathSeconds(j.mission.waypoints) + static_cast<double>(j.stops) * model.stopSeconds();
+  j.inner_s = model.pathSeconds(own) + static_cast<double>(j.stops) * model.stopSeconds();
   return j;
+}
+
+/// The mission a job flies: its surface's, the stops outside the job marked Unreachable,
+/// the path cut from its first flown stop to its last.
+SurfaceMission partMission(const Job& j) {
+  const SurfaceMission& m = *j.surface;
+  const auto path = flownStops(m);
+  SurfaceMission out = m;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    if (k < j.k0 || k >= j.k1)
+      out.stop_problems[static_cast<std::size_t>(path[k].stop)] = StopProblem::Unreachable;
+  }
+  const std::size_t w0 = path[j.k0].waypoint;
+  const std::size_t w1 = path[j.k1 - 1].waypoint;
+  const auto& wp = m.waypoints;
+  out.waypoints.assign(wp.begin() + static_cast<std::ptrdiff_t>(w0),
+                       wp.begin() + static_cast<std::ptrdiff_t>(w1 + 1));
+  const auto& clear = m.validation.segment_clearance_m;
+  if (clear.size() + 1 == wp.size()) {
+    out.validation.segment_clearance_m.assign(clear.begin() + static_cast<std::ptrdiff_t>(w0),
+                                              clear.begin() + static_cast<std::ptrdiff_t>(w1));
+  }
+  out.path_length_m = polylineLength(out.waypoints);
+  return out;
 }
 
 /// Estimated time of one UAV flying `jobs` from `home` (the file comment of fleet.h) [s].
@@ -598,8 +614,11 @@ std::vector<Job> surfaceJobs(const std::vector<SurfaceMission>& missions, const 
   for (const auto& visit : single.order) {
     for (const auto& m : missions) {
       if (m.surface_id != visit.surface_id || !flyable(m.status)) continue;
-      const auto path = flownStops(m);
-      if (!path.empty()) jobs.push_back(makeJob(m, path, 0, path.size(), model));
+      auto surface = std::make_shared<SurfaceMission>(m);
+      surface->raw_path.clear();
+      surface->coverage.uncovered_points.clear();
+      const auto path = flownStops(*surface);
+      if (!path.empty()) jobs.push_back(makeJob(surface, path, 0, path.size(), model));
       break;
     }
   }
@@ -651,12 +670,11 @@ std::vector<Job> splitJob(const std::vector<Job>& jobs, std::size_t j, std::size
       out.push_back(jobs[i]);
       continue;
     }
-    const SurfaceMission& m = jobs[i].mission;
-    const auto path = flownStops(m);
+    const auto path = flownStops(*jobs[i].surface);
     for (std::size_t p = 0; p < parts; ++p) {
       const std::size_t k0 = path.size() * p / parts;
       const std::size_t k1 = path.size() * (p + 1) / parts;
-      if (k1 > k0) out.push_back(makeJob(m, path, k0, k1, model));
+      if (k1 > k0) out.push_back(makeJob(jobs[i].surface, path, k0, k1, model));
     }
   }
   return out;
@@ -840,14 +858,14 @@ void spatialCandidates(const std::vector<Job>& whole, const PointList& stops,
     JobSet set;
     std::vector<int> slab;
     for (const Job& w : whole) {
-      const auto path = flownStops(w.mission);
+      const auto path = flownStops(*w.surface);
       std::size_t k0 = 0;
       for (std::size_t i = 1; i <= path.size(); ++i) {
-        if (i < path.size() && slabOf(w.mission.waypoints[path[i].waypoint]) ==
-                                   slabOf(w.mission.waypoints[path[k0].waypoint]))
+        if (i < path.size() && slabOf(w.surface->waypoints[path[i].waypoint]) ==
+                                   slabOf(w.surface->waypoints[path[k0].waypoint]))
           continue;
-        set.jobs.push_back(makeJob(w.mission, path, k0, i, model));
-        slab.push_back(slabOf(w.mission.waypoints[path[k0].waypoint]));
+        set.jobs.push_back(makeJob(w.surface, path, k0, i, model));
+        slab.push_back(slabOf(w.surface->waypoints[path[k0].waypoint]));
         k0 = i;
       }
     }
@@ -866,7 +884,7 @@ void spatialCandidates(const std::vector<Job>& whole, const PointList& stops,
     } while (k <= 5 && std::next_permutation(perm.begin(), perm.end()));
     std::set<int> parted;
     for (const Job& j : set.jobs)
-      if (j.part) parted.insert(j.mission.surface_id);
+      if (j.part) parted.insert(j.surface->surface_id);
     set.split = parted.size();
     best.how = "slabs along (" + formatFixed(axis.x(), 2) + ", " + formatFixed(axis.y(), 2) + ", " +
                formatFixed(axis.z(), 2) + ")";
@@ -885,13 +903,13 @@ void chunkCandidates(const std::vector<Job>& whole, const std::vector<FleetUav>&
     const double chunk = std::max(60.0, factor * fleet.slack_s);
     JobSet set;
     for (const Job& w : whole) {
-      const auto path = flownStops(w.mission);
+      const auto path = flownStops(*w.surface);
       const auto parts = std::min<std::size_t>(
           path.size(), static_cast<std::size_t>(std::max(1.0, std::round(w.inner_s / chunk))));
       for (std::size_t p = 0; p < parts; ++p) {
         const std::size_t k0 = path.size() * p / parts;
         const std::size_t k1 = path.size() * (p + 1) / parts;
-        if (k1 > k0) set.jobs.push_back(makeJob(w.mission, path, k0, k1, model));
+        if (k1 > k0) set.jobs.push_back(makeJob(w.surface, path, k0, k1, model));
       }
       if (parts > 1) ++set.split;
     }
@@ -968,7 +986,7 @@ bool flyCandidate(FleetPlan& plan, const std::vector<Job>& jobs, const std::vect
     if (it == cache.end()) {
       std::vector<SurfaceMission> ms;
       ms.reserve(set.size());
-      for (const int j : set) ms.push_back(jobs[static_cast<std::size_t>(j)].mission);
+      for (const int j : set) ms.push_back(partMission(jobs[static_cast<std::size_t>(j)]));
       own.home = plan.uavs[static_cast<std::size_t>(u)].home;
       it = cache.emplace(std::move(key), planFlight(ms, grid, validator, planner, own)).first;
     }
