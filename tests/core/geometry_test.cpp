@@ -132,6 +132,7 @@ TEST(Geometry, PolygonAreaOfKnownPolygonsInTiltedPlanes) {
   EXPECT_NEAR(polygonArea(placeTilted({{0, 2}, {3, 2}, {3, 0}, {0, 0}})), 6.0, 1e-9);
   // Regular hexagon of circumradius 1: 3√3/2.
   std::vector<Eigen::Vector2d> hex;
+  hex.reserve(6);
   for (int i = 0; i < 6; ++i) hex.emplace_back(std::cos(i * M_PI / 3), std::sin(i * M_PI / 3));
   EXPECT_NEAR(polygonArea(placeTilted(hex)), 1.5 * std::sqrt(3.0), 1e-9);
   // Non-convex L shape: 2×2 square minus a 1×1 corner = 3.
@@ -207,6 +208,7 @@ TEST(Geometry, ConvexHull2dMatchesBruteForce) {
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   for (int trial = 0; trial < 30; ++trial) {
     std::vector<Vec2> pts;
+    pts.reserve(40 + static_cast<std::size_t>(trial));
     for (int i = 0; i < 40 + trial; ++i) pts.emplace_back(u(rng), u(rng));
     // Collinear points on a square's edges and duplicates: not hull vertices.
     const double h = 12.0;

@@ -134,6 +134,7 @@ TEST(Separation, FirstConflictAndLeastDistancesMatchEveryPair) {
     const double sep = 2.0 + 0.1 * (trial % 30);
     const double slack = trial % 3 == 0 ? 0.0 : 5.0 * (trial % 4);
     std::vector<std::vector<MotionPiece>> uavs;
+    uavs.reserve(3);
     const double apart = 12.0 + 3.0 * (trial % 5);  // cubes of 20 m: 8 m overlap to 4 m apart
     for (int u = 0; u < 3; ++u)
       uavs.push_back(randomMotion(rng, Vec3(apart * u, 0, 0), 10.0, 10.0 * u, 30));
