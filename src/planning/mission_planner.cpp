@@ -324,15 +324,34 @@ std::string describeSkipped(const SurfaceMission& m, const world::VoxelGrid& gri
     n_covered += p == StopProblem::MosaicCovered;
   }
   n_bad = n_gimbal + n_obstacle + n_unreachable;
+  // A mosaic's flown photos the general repair moved off square at the standoff.
+  std::size_t n_off_square = 0, n_flown = 0;
+  if (options.mosaic_repair) {
+    const Vec3 normal = m.strategy.axis_w.cross(m.strategy.axis_h).normalized();
+    const double standoff = m.strategy.camera.standoff_m;
+    const double cos_square = std::cos(0.5 * kPi / 180.0);
+    for (std::size_t i = 0; i < m.stop_problems.size(); ++i) {
+      if (m.stop_problems[i] != StopProblem::None) continue;
+      ++n_flown;
+      const Vec3 d = m.strategy.stops[i].position - m.strategy.stops[i].target;
+      if (std::abs(d.norm() - standoff) > 1e-3 || std::abs(d.normalized().dot(normal)) < cos_square)
+        ++n_off_square;
+    }
+  }
   std::ostringstream covered;
   if (n_covered > 0) {
     covered << n_covered << " of " << m.stop_problems.size()
             << " stops left out of the mosaic (in obstacle space, no square pose within the "
                "overlap; their neighbours cover their footprints)";
   }
+  if (n_off_square > 0) {
+    covered << (n_covered > 0 ? "; " : "") << n_off_square << " of " << n_flown
+            << " photos off square (tilted or farther than the standoff around obstacles: an "
+               "affine stitcher such as OpenCV's SCANS misplaces them)";
+  }
   if (n_bad == 0) return covered.str();
   std::ostringstream os;
-  if (n_covered > 0) os << covered.str() << "; ";
+  if (n_covered + n_off_square > 0) os << covered.str() << "; ";
   os << n_bad << " of " << m.stop_problems.size() << " stops infeasible: ";
   bool first = true;
   auto part = [&](std::size_t n, const std::string& what) {

@@ -371,6 +371,13 @@ TEST(MissionPlanner, AMosaicStopIsMovedSquareWithinTheOverlap) {
     EXPECT_EQ(a[k].target, st[k].target) << k;
     EXPECT_GE(angle(a[k]), 15.0 - 1e-6) << k;
   }
+  // The reason counts the photos off square (here the two tilted).
+  const auto off_square = std::count_if(a.begin(), a.end(), [&](const coverage::Stop& s) {
+    return angle(s) > 0.5 || std::abs((s.position - s.target).norm() - 1.5) > 1e-3;
+  });
+  EXPECT_EQ(off_square, 2);
+  EXPECT_NE(m.reason.find("2 of 3 photos off square"), std::string::npos) << m.reason;
+  EXPECT_EQ(i.reason.find("off square"), std::string::npos) << i.reason;  // inspection: not said
   // Each stop is still photographed from where the camera looks at its target.
   for (const auto& s : a) {
     const Vec3 look = s.target - s.position;
