@@ -497,22 +497,41 @@ double earliestTakeoff(double ready, std::size_t u, const std::vector<MotionPiec
                        const std::vector<std::vector<MotionPiece>>& placed, const FleetOptions& o,
                        double stop_at) {
   constexpr double kEps = 1e-3;
+  if (base.empty()) return ready;
+  // The sortie's bounding box: another UAV's piece that far from it meets none of its pieces.
+  Vec3 lo = base.front().a;
+  Vec3 hi = lo;
+  for (const MotionPiece& q : base) {
+    lo = lo.cwiseMin(q.a).cwiseMin(q.b);
+    hi = hi.cwiseMax(q.a).cwiseMax(q.b);
+  }
+  std::vector<const MotionPiece*> near;  // of one other UAV, in time order
   double t = ready;
   for (bool moved = true; moved && t < stop_at;) {
     moved = false;
     for (std::size_t v = 0; v < placed.size() && !moved; ++v) {
       if (v == u) continue;
       const std::vector<MotionPiece>& other = placed[v];  // in time order
+      // Its pieces whose widened windows overlap the sortie's and whose boxes come
+      // within the separation of the sortie's box.
+      near.clear();
+      const double s_t0 = base.front().t0 + t;
+      const double s_t1 = base.back().t1 + t;
+      auto it = std::partition_point(other.begin(), other.end(),
+                                     [&](const MotionPiece& p) { return p.t1 + o.slack_s < s_t0; });
+      for (; it != other.end() && it->t0 <= s_t1 + o.slack_s; ++it)
+        if (segmentBoxesDistance(it->a, it->b, lo, hi) < o.separation_m) near.push_back(&*it);
+      if (near.empty()) continue;
       for (const MotionPiece& q0 : base) {
         const double q_t0 = q0.t0 + t;
         const double q_t1 = q0.t1 + t;
         // The pieces whose widened windows overlap q's: from the first that ends no
         // earlier than q_t0 − slack to the last that starts by q_t1 + slack.
-        auto p_it = std::partition_point(other.begin(), other.end(), [&](const MotionPiece& p) {
-          return p.t1 + o.slack_s < q_t0;
+        auto p_it = std::partition_point(near.begin(), near.end(), [&](const MotionPiece* p) {
+          return p->t1 + o.slack_s < q_t0;
         });
-        for (; p_it != other.end() && p_it->t0 <= q_t1 + o.slack_s; ++p_it) {
-          const MotionPiece& p = *p_it;
+        for (; p_it != near.end() && (*p_it)->t0 <= q_t1 + o.slack_s; ++p_it) {
+          const MotionPiece& p = **p_it;
           if (segmentBoxesDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m ||
               segmentSegmentDistance(p.a, p.b, q0.a, q0.b) >= o.separation_m)
             continue;
