@@ -9,10 +9,10 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
   camera centres as position priors (<= 10 neighbours; or sequential matching, 10
   neighbours in flown order), the incremental mapper. SIFT runs from the image's own
   resolution (first_octave 0: the texture's finest feature is >= 3 px, no upsampling),
-  one orientation a keypoint (COLMAP's default two would double the 4096). Reported: photos registered,
-  models, the largest model, mean reprojection error; camera centres against the plan
-  after a similarity fit (Umeyama) per model; accuracy (90th percentile of the distance
-  from the sparse points, after the same fit, to the world's rectangles) and
+  one orientation a keypoint (COLMAP's default two would double the 4096). Reported: photos
+  registered (in any model, each once), models, the largest model, mean reprojection error;
+  camera centres against the plan after a similarity fit (Umeyama) per model; accuracy
+  (90th percentile of the distance from the sparse points, after the same fit, to the world's rectangles) and
   completeness (share of the chosen surfaces' outer truth, sampled at 1 cm, within
   5 and 10 cm of a sparse point).
 * a second pass with seeded pose noise on the priors (3 cm per axis, 0.5 deg), as GNSS
@@ -562,7 +562,9 @@ def colmap_pass(args, folder, meta, rows, db_features, work, priors, truth, chos
     t0 = time.time()
     models = match_and_map(args.colmap, folder, db, work, args.matcher, args.threads, logf)
     res = {
-        "registered": int(sum(len(m["images"]) for m in models)),
+        # Photos in some model: COLMAP may register one photo in two models.
+        "registered": len(set().union(*(m["images"].keys() for m in models))),
+        "registrations": int(sum(len(m["images"]) for m in models)),
         "models": len(models),
         "largest": len(models[0]["images"]) if models else 0,
         "model_sizes": [len(m["images"]) for m in models],
