@@ -781,6 +781,10 @@ def plan_summary(mission_json):
         out["views_min"] = min(v["views_min"] for v in views)
         out["triangulation_deg_min"] = min(v["triangulation_deg_min"] for v in views)
         out["consecutive_share_min"] = min(v["consecutive_share_min"] for v in views)
+        below = [v["views_below_min"] for v in views if "views_below_min" in v]
+        if below:
+            out["views_below_min"] = sum(below)
+            out["points"] = sum(v["points"] for v in views)
     return out
 
 

@@ -97,6 +97,9 @@ void applyMultiView(planning::SurfaceMission& m, const Surface& surface,
   c.multi_view = true;
   c.views_min = st.views_min;
   c.views_median = st.views_median;
+  if (config.coverage.purpose == "reconstruction")
+    c.views_below_min = std::count_if(st.views.begin(), st.views.end(),
+                                      [&](int v) { return v < config.coverage.min_views; });
   c.angle_min_deg = st.angle_min_deg;
   c.angle_median_deg = st.angle_median_deg;
   const coverage::Stop* previous = nullptr;

@@ -369,6 +369,9 @@ void multiViewFlown(planning::SurfaceMission& mission, const StructurePoints& s,
   c.multi_view = true;
   c.views_min = st.views_min;
   c.views_median = st.views_median;
+  if (options.min_views > 1)
+    c.views_below_min = std::count_if(st.views.begin(), st.views.end(),
+                                      [&](int v) { return v < options.min_views; });
   c.angle_min_deg = st.angle_min_deg;
   c.angle_median_deg = st.angle_median_deg;
   const auto imaged = coverage::imagedByView(s.points, s.normals, flown, camera, options.criteria,

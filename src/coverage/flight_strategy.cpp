@@ -389,8 +389,8 @@ std::optional<Vec2> photoCentre(const Region& region, const FlightStrategy& fs, 
 
 /// Cells along an axis of extent `len` at most `spacing` apart, counted in double
 /// (a tiny footprint or a huge boundary must not overflow). Rows: max(⌈len/spacing⌉,
-/// 1), tolerant of rounding (4.8/0.48 = 10), centred on the extent. Edge to edge
-/// (reconstruction): the first and last photo centres kEdgeInsetM inside the extent's
+/// 1), tolerant of rounding (4.8/0.48 = 10), centred on the extent. Edge to edge (an
+/// edge link, planEdgeLinks): the first and last photo centres kEdgeInsetM inside the extent's
 /// ends, so a point at an edge is in as many footprints as half a footprint holds.
 double cellsAlong(double len, double spacing, bool edge_to_edge) {
   if (!edge_to_edge) return std::max(1.0, std::ceil(len / spacing - 1e-9));
@@ -403,14 +403,76 @@ double edgeSpacing(double len, double cells, double spacing) {
   return cells > 1.0 ? (len - 2.0 * kEdgeInsetM) / (cells - 1.0) : spacing;
 }
 
-/// Sets fs.cols and fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi]
-/// (edge to edge for reconstruction, which narrows the spacing to fit); throws
-/// InputError beyond options.max_stops.
-void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions& options,
-              double wlo, double whi, double hlo, double hhi) {
-  const bool edges = options.purpose == "reconstruction";
-  const double cols = cellsAlong(whi - wlo, fs.spacing_w_m, edges);
-  const double rows = cellsAlong(hhi - hlo, fs.spacing_h_m, edges);
+/// Reconstruction's photo centres along a row over the extent [lo, hi] [m] (issue 46):
+/// every point of the extent in `views` footprints of width `footprint` from this row
+/// alone, consecutive centres at most `spacing` apart (spacing <= footprint / views, so
+/// a point inside is in ⌊footprint / spacing⌋ >= views). At each end the first `views`
+/// centres (the outer one kEdgeInsetM inside the end) lie within half a footprint of the
+/// edge, `edge` = footprint / (2 (views − 1) + margin) apart, so an edge point is in
+/// `views` too; between them the centres are evenly spaced. An extent too short for
+/// that gets `edge` spacing throughout, and at least `views` centres.
+class ReconstructionColumns {
+ public:
+  ReconstructionColumns(double lo, double hi, double footprint, double spacing, int views)
+      : a_(lo + kEdgeInsetM), b_(hi - kEdgeInsetM), views_(views) {
+    if (!(b_ > a_)) {
+      a_ = b_ = 0.5 * (lo + hi);
+      return;
+    }
+    edge_ = views > 1 ? std::min(spacing, 0.5 * footprint / (views - 1 + kEdgeMargin)) : spacing;
+    c0_ = a_ + (views - 1) * edge_;
+    c1_ = b_ - (views - 1) * edge_;
+    dense_ = c1_ - c0_ < edge_;
+    intervals_ = dense_
+                     ? std::max(std::ceil((b_ - a_) / edge_ - 1e-9), std::max(views - 1, 1) + 0.0)
+                     : std::ceil((c1_ - c0_) / spacing - 1e-9);
+  }
+  /// How many centres (counted in double: checked against max_stops before any is made).
+  double count() const {
+    if (!(b_ > a_)) return 1.0;
+    return dense_ ? intervals_ + 1.0 : intervals_ + 1.0 + 2.0 * (views_ - 1);
+  }
+  /// The centres, in increasing order [m].
+  std::vector<double> centres() const {
+    if (!(b_ > a_)) return {a_};
+    std::vector<double> xs;
+    xs.reserve(static_cast<std::size_t>(count()));
+    const auto evenly = [&xs](double from, double to, double intervals) {
+      for (double k = 0.0; k <= intervals; ++k) xs.push_back(from + (to - from) * k / intervals);
+    };
+    if (dense_) {
+      evenly(a_, b_, intervals_);
+      return xs;
+    }
+    for (int k = 0; k + 1 < views_; ++k) xs.push_back(a_ + k * edge_);
+    evenly(c0_, c1_, intervals_);
+    for (int k = views_ - 2; k >= 0; --k) xs.push_back(b_ - k * edge_);
+    return xs;
+  }
+
+ private:
+  double a_, b_;
+  int views_;
+  double edge_{0.0}, c0_{0.0}, c1_{0.0}, intervals_{0.0};
+  bool dense_{false};
+};
+
+/// The photo centres' coordinates along axis_w of every row (fs.cols of them) and
+/// fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi]. The paper's grid
+/// (inspection, mosaic): cells `spacing` apart centred on the extent. A reconstruction:
+/// reconstructionColumns along the rows, rows at the file's side overlap across them
+/// (min_views come from each row alone; bridgeRows keeps consecutive photos sharing
+/// kReconstructionShare from one row to the next). Throws InputError beyond
+/// options.max_stops.
+std::vector<double> sizeGrid(FlightStrategy& fs, const Surface& surface,
+                             const CoverageOptions& options, double wlo, double whi, double hlo,
+                             double hhi) {
+  const bool reconstruction = options.purpose == "reconstruction";
+  const double cells_w = cellsAlong(whi - wlo, fs.spacing_w_m, false);
+  const double rows = cellsAlong(hhi - hlo, fs.spacing_h_m, false);
+  const ReconstructionColumns along(wlo, whi, fs.camera.footprint_w_m, fs.spacing_w_m,
+                                    options.min_views);
+  const double cols = reconstruction ? along.count() : cells_w;
   if (!(cols * rows <= options.max_stops)) {
     std::ostringstream os;
     os << "surface " << surface.id << " (" << whi - wlo << " x " << hhi - hlo << " m) would need "
@@ -419,46 +481,41 @@ void sizeGrid(FlightStrategy& fs, const Surface& surface, const CoverageOptions&
        << "; use a larger footprint (camera) or raise coverage.max_stops";
     throw InputError(os.str());
   }
-  fs.cols = static_cast<int>(cols);
+  std::vector<double> xs;
+  if (reconstruction) {
+    xs = along.centres();
+  } else {
+    const double wc = 0.5 * (wlo + whi);
+    for (int c = 0; c < static_cast<int>(cells_w); ++c)
+      xs.push_back(wc + (c - 0.5 * (cells_w - 1)) * fs.spacing_w_m);
+  }
+  fs.cols = static_cast<int>(xs.size());
   fs.rows = static_cast<int>(rows);
-  if (edges) {
-    fs.spacing_w_m = edgeSpacing(whi - wlo, cols, fs.spacing_w_m);
-    fs.spacing_h_m = edgeSpacing(hhi - hlo, rows, fs.spacing_h_m);
-  }
+  return xs;
 }
 
-/// Footprints per spacing (1 / (1 − overlap)) on each axis of a reconstruction: at
-/// least 1/(1 − kReconstructionShare) (consecutive photos along a row or from row to
-/// row share that much) and the file's overlap, raised until every point is in
-/// min_views footprints. With centres edge to edge at spacing footprint/m, a point
-/// lies in ⌊m⌋ footprints per axis inside and ⌊m/2⌋ + 1 at an edge; the product
-/// counts (the footprints are a grid). An axis is raised to just above the next even
-/// m, where its edge count grows by one.
-std::pair<double, double> reconstructionDensity(const CoverageOptions& options) {
-  const double base = 1.0 / (1.0 - kReconstructionShare);
-  double mw = std::max(base, 1.0 / (1.0 - options.overlap_w));
-  double mh = std::max(base, 1.0 / (1.0 - options.overlap_h));
-  const auto edge = [](double m) { return std::floor(0.5 * m) + 1.0; };
-  while (std::min(edge(mw) * edge(mh), std::floor(mw) * std::floor(mh)) <
-         static_cast<double>(options.min_views)) {
-    double& m = edge(mw) <= edge(mh) ? mw : mh;
-    m = 2.0 * edge(m) + kEdgeMargin;
-  }
-  return {mw, mh};
+/// A reconstruction's spacing along its rows [m]: footprint / m with m the largest of
+/// min_views + kEdgeMargin (each row alone gives every point min_views photos),
+/// 1 / (1 − kReconstructionShare) (consecutive photos of a row share that much) and
+/// the file's front overlap.
+double reconstructionSpacingW(const CoverageOptions& options, double footprint_w) {
+  const double m = std::max({options.min_views + kEdgeMargin, 1.0 / (1.0 - kReconstructionShare),
+                             1.0 / (1.0 - options.overlap_w)});
+  return footprint_w / m;
 }
 
-/// Row r's stops, on the grid centred on (wc, hc) in the frame about origin, whose
-/// footprints overlap the region, in column order; each looks at the region
-/// (photoCentre).
+/// Row r's stops, at the column coordinates `xs` along axis_w, on the grid centred on
+/// hc across the rows in the frame about origin, whose footprints overlap the region,
+/// in column order; each looks at the region (photoCentre).
 std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
-                           const Vec3& origin, const Region& region, const Attitude& at, double wc,
-                           double hc, int r) {
+                           const Vec3& origin, const Region& region, const Attitude& at,
+                           const std::vector<double>& xs, double hc, int r) {
   const double half_w = 0.5 * fs.camera.footprint_w_m;
   const double half_h = 0.5 * fs.camera.footprint_h_m;
   const double b = hc + (r - 0.5 * (fs.rows - 1)) * fs.spacing_h_m;
   std::vector<Stop> row;
   for (int c = 0; c < fs.cols; ++c) {
-    const double a = wc + (c - 0.5 * (fs.cols - 1)) * fs.spacing_w_m;
+    const double a = xs[static_cast<std::size_t>(c)];
     if (!(region.overlap(rectangle(a, b, half_w, half_h)).first > kOverlapTol)) continue;
     const std::optional<Vec2> centre = photoCentre(region, fs, a, b);
     if (!centre) continue;
@@ -476,17 +533,65 @@ std::vector<Stop> rowStops(const FlightStrategy& fs, const Surface& surface, con
   return row;
 }
 
+/// Most photos added between two consecutive stops of a reconstruction (bridgeRows).
+constexpr int kMaxBridgeSteps = 16;
+
+/// Reconstruction: photos added where consecutive stops share less than
+/// kReconstructionShare of their footprint (a row's last stop and the next row's
+/// first, rows (1 − overlap_h) of a footprint apart), evenly on the segment between
+/// their targets, as few as make every step share it; none where a step would take
+/// more than kMaxBridgeSteps or an added footprint would miss the region (a jump over
+/// a hole). An added stop keeps the row and column of the stop it follows.
+void bridgeRows(FlightStrategy& fs, const Vec3& origin, const Region& region) {
+  const double fw = fs.camera.footprint_w_m;
+  const double fh = fs.camera.footprint_h_m;
+  if (fs.stops.size() < 2 || !(fw > 0.0) || !(fh > 0.0)) return;
+  const auto uv = [&](const Vec3& p) {
+    return Vec2((p - origin).dot(fs.axis_w), (p - origin).dot(fs.axis_h));
+  };
+  std::vector<Stop> out;
+  out.reserve(fs.stops.size());
+  out.push_back(fs.stops.front());
+  for (std::size_t i = 1; i < fs.stops.size(); ++i) {
+    const Stop& a = fs.stops[i - 1];
+    const Stop& b = fs.stops[i];
+    const Vec2 d = uv(b.target) - uv(a.target);
+    int steps = 1;
+    while (steps <= kMaxBridgeSteps &&
+           (1.0 - std::abs(d.x()) / (steps * fw)) * (1.0 - std::abs(d.y()) / (steps * fh)) <
+               kReconstructionShare)
+      ++steps;
+    std::vector<Stop> added;
+    for (int k = 1; steps <= kMaxBridgeSteps && k < steps; ++k) {
+      Stop s = a;
+      const double t = static_cast<double>(k) / steps;
+      s.target = a.target + t * (b.target - a.target);
+      s.position = a.position + t * (b.position - a.position);
+      const Vec2 c = uv(s.target);
+      if (!(region.overlap(rectangle(c.x(), c.y(), 0.5 * fw, 0.5 * fh)).first > kOverlapTol)) {
+        added.clear();
+        break;
+      }
+      added.push_back(s);
+    }
+    out.insert(out.end(), added.begin(), added.end());
+    out.push_back(b);
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) out[i].index = static_cast<int>(i);
+  fs.stops = std::move(out);
+}
+
 /// The boustrophedon of stops over the surface's boundary (fs.cols, fs.rows set).
 /// Rows are independent: a large grid's rows are found on every core (each row to
 /// its own slot), then joined in order.
 void placeStops(FlightStrategy& fs, const Surface& surface, const SurfaceFrame& f,
-                const Vec3& origin, const Region& region, const Attitude& at, double wc,
-                double hc) {
+                const Vec3& origin, const Region& region, const Attitude& at,
+                const std::vector<double>& xs, double hc) {
   std::vector<std::vector<Stop>> rows(static_cast<std::size_t>(fs.rows));
   const double cells = static_cast<double>(fs.rows) * static_cast<double>(fs.cols);
   parallelFor(rows.size(), cells >= kParallelCells ? hardwareThreads() : 1,
               [&](std::size_t r, std::size_t) {
-                rows[r] = rowStops(fs, surface, f, origin, region, at, wc, hc, static_cast<int>(r));
+                rows[r] = rowStops(fs, surface, f, origin, region, at, xs, hc, static_cast<int>(r));
               });
   bool left_to_right = true;
   for (auto& row : rows) {
@@ -509,11 +614,8 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   fs.camera = solveCamera(options.camera, options.standoff_m);
   fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
   fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
-  if (options.purpose == "reconstruction") {
-    const auto [mw, mh] = reconstructionDensity(options);
-    fs.spacing_w_m = fs.camera.footprint_w_m / mw;
-    fs.spacing_h_m = fs.camera.footprint_h_m / mh;
-  }
+  if (options.purpose == "reconstruction")
+    fs.spacing_w_m = reconstructionSpacingW(options, fs.camera.footprint_w_m);
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
@@ -533,8 +635,9 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   const Region region = regionInFrame(surface, f, origin);
   const auto [wlo, whi] = projectRange(region.outer, Vec2::UnitX());
   const auto [hlo, hhi] = projectRange(region.outer, Vec2::UnitY());
-  sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
-  placeStops(fs, surface, f, origin, region, at, 0.5 * (wlo + whi), 0.5 * (hlo + hhi));
+  const std::vector<double> xs = sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
+  placeStops(fs, surface, f, origin, region, at, xs, 0.5 * (hlo + hhi));
+  if (options.purpose == "reconstruction") bridgeRows(fs, origin, region);
   return fs;
 }
 

@@ -34,6 +34,7 @@ json coverageToJson(const planning::SurfaceMission::Coverage& c) {
   if (c.multi_view) {
     j["views_min"] = c.views_min;
     j["views_median"] = c.views_median;
+    if (c.views_below_min >= 0) j["views_below_min"] = c.views_below_min;
     j["triangulation_deg_min"] = round4(c.angle_min_deg);
     j["triangulation_deg_median"] = round4(c.angle_median_deg);
     j["consecutive_share_min"] = round4(c.consecutive_share_min);

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "uavip/coverage/flight_strategy.h"
@@ -113,18 +115,23 @@ TEST(MultiView, MatchesBruteForceCount) {
 }
 
 /// A hand-built 2 m x 1 m wall facing +x (the plane x = 0, y in [-1, 1], z in [0, 1]).
-Surface smallWall() {
+Surface wall(double w, double h);
+Surface smallWall() { return wall(2.0, 1.0); }
+
+/// A w x h m wall in the plane x = 0 facing +x: y in [-w/2, w/2], z in [0, h].
+Surface wall(double w, double h) {
   Surface s;
   s.id = 1;
   s.plane.normal = Vec3::UnitX();
   s.plane.offset = 0.0;
-  s.boundary = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(0, 1, 1), Vec3(0, -1, 1)};
+  s.boundary = {Vec3(0, -0.5 * w, 0), Vec3(0, 0.5 * w, 0), Vec3(0, 0.5 * w, h),
+                Vec3(0, -0.5 * w, h)};
   s.inliers = s.boundary;
-  s.centroid = Vec3(0, 0, 0.5);
+  s.centroid = Vec3(0, 0, 0.5 * h);
   s.axis_u = Vec3::UnitY();
   s.axis_v = s.plane.normal.cross(s.axis_u);
-  s.area_m2 = 2.0;
-  s.density_area_m2 = 2.0;
+  s.area_m2 = w * h;
+  s.density_area_m2 = w * h;
   return s;
 }
 
@@ -135,44 +142,92 @@ double sharedShare(const Stop& a, const Stop& b, double fw, double fh) {
   return oy * oz / (fw * fh);
 }
 
-TEST(MultiView, ReconstructionPlanMeetsItsTargets) {
-  const Surface wall = smallWall();
-  for (const int k : {3, 5}) {
-    CoverageOptions o;  // the paper's 0.6 x 0.4 m footprint at 1.5 m
-    o.purpose = "reconstruction";
-    o.min_views = k;
-    const FlightStrategy fs = planFlightStrategy(wall, o);
-    ASSERT_FALSE(fs.stops.empty());
-    // Brute force over points every 1 cm (inside the wall, off its edges by 0.5 cm):
-    // footprints that hold the point, and the rays' largest angle.
-    int min_views = 1 << 20;
-    double min_angle = 180.0;
-    for (double y = -0.995; y < 1.0; y += 0.01) {
-      for (double z = 0.005; z < 1.0; z += 0.01) {
-        const Vec3 p(0.0, y, z);
-        std::vector<Vec3> rays;
-        for (const auto& s : fs.stops) {
-          if (std::abs(p.y() - s.target.y()) <= 0.3 && std::abs(p.z() - s.target.z()) <= 0.2)
-            rays.push_back((s.position - p).normalized());
-        }
-        double angle = 0.0;
-        for (std::size_t a = 0; a < rays.size(); ++a)
-          for (std::size_t b = a + 1; b < rays.size(); ++b)
-            angle = std::max(angle, std::acos(std::clamp(rays[a].dot(rays[b]), -1.0, 1.0)) / kDeg);
-        min_views = std::min(min_views, static_cast<int>(rays.size()));
-        min_angle = std::min(min_angle, angle);
+/// Brute force over points every `step` m inside a w x h wall (off its edges by half a
+/// step): the least count of footprints (fw x fh about each stop's target) holding a
+/// point, and the least of the points' largest angle between two of their rays [deg].
+std::pair<int, double> leastViews(const FlightStrategy& fs, double w, double h, double fw,
+                                  double fh, double step) {
+  int min_views = 1 << 20;
+  double min_angle = 180.0;
+  for (double y = -0.5 * w + 0.5 * step; y < 0.5 * w; y += step) {
+    for (double z = 0.5 * step; z < h; z += step) {
+      const Vec3 p(0.0, y, z);
+      std::vector<Vec3> rays;
+      for (const auto& s : fs.stops) {
+        if (std::abs(p.y() - s.target.y()) <= 0.5 * fw &&
+            std::abs(p.z() - s.target.z()) <= 0.5 * fh)
+          rays.push_back((s.position - p).normalized());
       }
+      double angle = 0.0;
+      for (std::size_t a = 0; a < rays.size(); ++a)
+        for (std::size_t b = a + 1; b < rays.size(); ++b)
+          angle = std::max(angle, std::acos(std::clamp(rays[a].dot(rays[b]), -1.0, 1.0)) / kDeg);
+      min_views = std::min(min_views, static_cast<int>(rays.size()));
+      min_angle = std::min(min_angle, angle);
     }
-    EXPECT_GE(min_views, k) << "min_views " << k;
-    EXPECT_GE(min_angle, o.min_triangulation_deg) << "min_views " << k;
+  }
+  return {min_views, min_angle};
+}
+
+TEST(MultiView, ReconstructionPlanMeetsItsTargets) {
+  // Walls narrower than a footprint, about one, a few, and single_plane's 8 x 4 m; the
+  // paper's 0.6 x 0.4 m footprint at 1.5 m, side overlap 0.2 (the default) and 0.
+  struct Case {
+    double w, h;
+    int views;
+    double overlap;
+  };
+  const std::vector<Case> cases = {{2.0, 1.0, 3, 0.2},  {2.0, 1.0, 5, 0.2}, {2.0, 1.0, 2, 0.0},
+                                   {0.25, 0.3, 3, 0.2}, {0.5, 1.3, 3, 0.2}, {0.7, 0.5, 4, 0.0},
+                                   {1.1, 0.9, 2, 0.2},  {3.3, 0.4, 3, 0.0}, {8.0, 4.0, 3, 0.2}};
+  for (const Case& c : cases) {
+    CoverageOptions o;
+    o.purpose = "reconstruction";
+    o.min_views = c.views;
+    o.overlap_h = c.overlap;
+    const FlightStrategy fs = planFlightStrategy(wall(c.w, c.h), o);
+    const std::string what = std::to_string(c.w) + " x " + std::to_string(c.h) + " m, " +
+                             std::to_string(c.views) + " views";
+    ASSERT_FALSE(fs.stops.empty()) << what;
+    const auto [min_views, min_angle] = leastViews(fs, c.w, c.h, 0.6, 0.4, c.w > 4.0 ? 0.02 : 0.01);
+    EXPECT_GE(min_views, c.views) << what;
+    if (c.views > 1) {
+      EXPECT_GE(min_angle, o.min_triangulation_deg) << what;
+    }
     for (std::size_t i = 1; i < fs.stops.size(); ++i) {
       EXPECT_GE(sharedShare(fs.stops[i - 1], fs.stops[i], 0.6, 0.4), kReconstructionShare - 1e-9)
-          << "stops " << i - 1 << ", " << i;
+          << what << ", stops " << i - 1 << ", " << i;
       EXPECT_NEAR(footprintShare(fs, fs.stops[i - 1], fs.stops[i]),
                   sharedShare(fs.stops[i - 1], fs.stops[i], 0.6, 0.4), 1e-9);
+      EXPECT_EQ(fs.stops[i].index, static_cast<int>(i));
     }
-    for (const auto& s : fs.stops) EXPECT_NEAR((s.position - s.target).norm(), 1.5, 1e-9);
+    for (const auto& s : fs.stops) {
+      EXPECT_NEAR((s.position - s.target).norm(), 1.5, 1e-9);
+      EXPECT_LE(std::abs(s.target.y()), 0.5 * c.w) << what;
+      EXPECT_GE(s.target.z(), 0.0) << what;
+      EXPECT_LE(s.target.z(), c.h) << what;
+    }
   }
+}
+
+TEST(MultiView, ReconstructionCostsLittleMoreThanItsCountingBound) {
+  // single_plane's 8 x 4 m wall, the paper's camera, 3 views at the default side
+  // overlap 0.2: the counting bound is 3 x 32 / 0.24 = 400 photos. Rows of photos a
+  // third of a footprint apart, the rows 0.8 of a footprint apart (13 rows: 12.5 of
+  // them span the wall), a few more at each row's ends and one between rows take
+  // 13 x 44 + 12 = 584 (1.46 x); a grid 0.4 of a footprint apart on both axes (the
+  // 60 % share on both) would take 35 x 26 = 910 (2.3 x).
+  CoverageOptions o;
+  o.purpose = "reconstruction";
+  const FlightStrategy fs = planFlightStrategy(wall(8.0, 4.0), o);
+  const double bound = 3.0 * 32.0 / (0.6 * 0.4);
+  EXPECT_LE(static_cast<double>(fs.stops.size()), 1.5 * bound) << fs.stops.size();
+  // With no side overlap the rows meet edge to edge (10 rows, two photos between
+  // each): 10 x 44 + 18 = 458 (1.15 x).
+  o.overlap_h = 0.0;
+  const FlightStrategy tight = planFlightStrategy(wall(8.0, 4.0), o);
+  EXPECT_LE(static_cast<double>(tight.stops.size()), 1.2 * bound) << tight.stops.size();
+  EXPECT_EQ(tight.rows, 10);
 }
 
 TEST(MultiView, InspectionAndMosaicKeepThePaperRows) {

@@ -165,6 +165,8 @@ struct SurfaceMission {
     bool multi_view{false};
     int views_min{0};
     int views_median{0};
+    /// Reconstruction: points in fewer than coverage.min_views photos; −1 otherwise.
+    long views_below_min{-1};
     double angle_min_deg{0.0};     ///< [deg]
     double angle_median_deg{0.0};  ///< [deg]
     /// Least share of its footprint a photo has in common with the next one
