@@ -559,7 +559,7 @@ void bridgeRows(FlightStrategy& fs, const Vec3& origin, const Region& region) {
     int steps = 1;
     while (steps <= kMaxBridgeSteps &&
            (1.0 - std::abs(d.x()) / (steps * fw)) * (1.0 - std::abs(d.y()) / (steps * fh)) <
-               kReconstructionShare)
+               kReconstructionShare - 1e-9)
       ++steps;
     std::vector<Stop> added;
     for (int k = 1; steps <= kMaxBridgeSteps && k < steps; ++k) {

@@ -7,7 +7,10 @@
 /// cell centre, or the nearest point of the surface to what the cell holds: no photo of
 /// air beside a concave outline or in a window); each stop offset by the standoff
 /// along the outward normal, ordered boustrophedon, with yaw and gimbal pitch for a
-/// 2-DOF gimbal.
+/// 2-DOF gimbal. A reconstruction (issue 46) keeps the rows but spaces a row's photos
+/// so that the row alone puts every point in min_views of them (denser at the row's
+/// ends) and adds photos between rows so that consecutive photos share
+/// kReconstructionShare of their footprint.
 
 #include <optional>
 #include <string>
@@ -87,7 +90,8 @@ struct FlightStrategy {
   Vec3 axis_w{Vec3::UnitX()};  ///< in-plane direction of the image width (horizontal for
                                ///< non-horizontal surfaces)
   Vec3 axis_h{Vec3::UnitY()};  ///< in-plane direction of the image height
-  double spacing_w_m{0.0};     ///< footprint_w·(1 − overlap_w) [m]
+  double spacing_w_m{0.0};     ///< footprint_w·(1 − overlap_w); a reconstruction's
+                               ///< inner spacing along its rows [m]
   double spacing_h_m{0.0};     ///< footprint_h·(1 − overlap_h) [m]
   int cols{0}, rows{0};        ///< grid size before removing cells off the surface
   std::vector<Stop>
@@ -100,7 +104,8 @@ struct FlightStrategy {
 double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per
-/// axis, grid centred on the boundary's extent. A surface with < 3 boundary
+/// axis, grid centred on the boundary's extent (a reconstruction's columns: edge to
+/// edge of the extent, min_views photos within half a footprint of each edge). A surface with < 3 boundary
 /// vertices gives no stops. Throws InputError, naming the surface, the count and
 /// coverage.max_stops, when the grid would have more cells than max_stops.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options);
