@@ -105,9 +105,10 @@ double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per
 /// axis, grid centred on the boundary's extent (a reconstruction's columns: edge to
-/// edge of the extent, min_views photos within half a footprint of each edge). A surface with < 3 boundary
-/// vertices gives no stops. Throws InputError, naming the surface, the count and
-/// coverage.max_stops, when the grid would have more cells than max_stops.
+/// edge of the extent, min_views photos within half a footprint of each edge). A
+/// surface with < 3 boundary vertices gives no stops. Throws InputError, naming the
+/// surface, the count and coverage.max_stops, when the grid would have more cells
+/// than max_stops.
 FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions& options);
 
 /// A convex edge where two surfaces meet (the side faces of a box, a face and its roof):
