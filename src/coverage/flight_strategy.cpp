@@ -460,7 +460,7 @@ class ReconstructionColumns {
 /// The photo centres' coordinates along axis_w of every row (fs.cols of them) and
 /// fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi]. The paper's grid
 /// (inspection, mosaic): cells `spacing` apart centred on the extent. A reconstruction:
-/// reconstructionColumns along the rows, rows at the file's side overlap across them
+/// ReconstructionColumns along the rows, rows at the file's side overlap across them
 /// (min_views come from each row alone; bridgeRows keeps consecutive photos sharing
 /// kReconstructionShare from one row to the next). Throws InputError beyond
 /// options.max_stops.
