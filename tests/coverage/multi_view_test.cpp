@@ -114,10 +114,6 @@ TEST(MultiView, MatchesBruteForceCount) {
   EXPECT_GT(differ, 0);
 }
 
-/// A hand-built 2 m x 1 m wall facing +x (the plane x = 0, y in [-1, 1], z in [0, 1]).
-Surface wall(double w, double h);
-Surface smallWall() { return wall(2.0, 1.0); }
-
 /// A w x h m wall in the plane x = 0 facing +x: y in [-w/2, w/2], z in [0, h].
 Surface wall(double w, double h) {
   Surface s;
@@ -134,6 +130,9 @@ Surface wall(double w, double h) {
   s.density_area_m2 = w * h;
   return s;
 }
+
+/// A hand-built 2 m x 1 m wall facing +x (the plane x = 0, y in [-1, 1], z in [0, 1]).
+Surface smallWall() { return wall(2.0, 1.0); }
 
 /// Share of footprint a's rectangle (fw x fh about its target, in y and z) that b's holds.
 double sharedShare(const Stop& a, const Stop& b, double fw, double fh) {
