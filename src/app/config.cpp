@@ -39,6 +39,26 @@ void record(ResolvedConfig& r, const void* field, double value, const std::strin
   r.values.push_back({key, value, r.config.sources.fromFile(key) ? "set" : otherwise});
 }
 
+/// The overlap of a purpose whose file sets no coverage.overlap: a mosaic's photos
+/// overlap 0.6 along the rows and 0.3 across them; a reconstruction's rows overlap by
+/// what its surfaces' points in front of the plane need (coverage/flight_strategy.cpp,
+/// reconstructionShrink): the paper's 0.2 is for inspection.
+void purposeOverlap(ResolvedConfig& r) {
+  Config& c = r.config;
+  if (c.setInFile(&c.coverage.overlap_w)) return;
+  if (c.coverage.purpose == "mosaic") {
+    c.coverage.overlap_w = coverage::kMosaicOverlapW;
+    c.coverage.overlap_h = coverage::kMosaicOverlapH;
+    r.values.push_back({c.keyOf(&c.coverage.overlap_w), c.coverage.overlap_w,
+                        "purpose mosaic: 0.6 along the rows, 0.3 across them"});
+  } else if (c.coverage.purpose == "reconstruction") {
+    c.coverage.overlap_w = coverage::kReconstructionOverlap;
+    c.coverage.overlap_h = coverage::kReconstructionOverlap;
+    r.values.push_back({c.keyOf(&c.coverage.overlap_w), c.coverage.overlap_w,
+                        "purpose reconstruction: what the points in front of each plane need"});
+  }
+}
+
 }  // namespace
 
 double autoGridResolution(const Vec3& extent_m, const world::GridOptions& grid) {
@@ -110,14 +130,7 @@ ResolvedConfig resolveConfig(const app::Config& config, const preprocess::CloudS
                         camera_set ? "set" : "default (paper)"});
   }
 
-  // A mosaic's photos overlap 0.6 along the rows and 0.3 across them unless the file
-  // sets coverage.overlap.
-  if (c.coverage.purpose == "mosaic" && !c.setInFile(&c.coverage.overlap_w)) {
-    c.coverage.overlap_w = coverage::kMosaicOverlapW;
-    c.coverage.overlap_h = coverage::kMosaicOverlapH;
-    r.values.push_back({c.keyOf(&c.coverage.overlap_w), c.coverage.overlap_w,
-                        "purpose mosaic: 0.6 along the rows, 0.3 across them"});
-  }
+  purposeOverlap(r);
 
   // The planning grid of the whole site (app::plan applies the rule again to the
   // region it plans): a 1 km site gets a coarser grid, not an error.

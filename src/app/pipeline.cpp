@@ -364,6 +364,72 @@ std::vector<planning::SurfaceMission> planMissions(
   return missions;
 }
 
+/// Rounds of reconstruction's top-up (topUpSurface).
+constexpr int kTopUpRounds = 3;
+/// Most path the top-up may add per photo it adds, × the surface's path per photo
+/// before it: points photographed too rarely in a tight corner (bridge_span's deck
+/// above its pier) take stops that the obstacle repair sends to both sides of the
+/// pier, 8 × the deck's path per photo each (single_cube's bottom face: 1.4 ×).
+constexpr double kTopUpPathPerPhoto = 3.0;
+
+/// Reconstruction (issue 46): where the planned flight images a surface's point, but
+/// fewer than coverage.min_views times (the test of coverageOf), stops aimed at those
+/// points (coverage::addStopsFor) and the surface planned again, up to kTopUpRounds
+/// rounds while the count of such points falls; `m` is replaced only by a mission that
+/// is flyable, leaves fewer of them and whose path grew by at most kTopUpPathPerPhoto
+/// × the first's path per photo for each photo added. A point no photo images is a coverage gap
+/// (obstacles, line of sight: the surface's coverage reports it), not topped up: on
+/// bridge_span's deck that doubled the surface's path for 2 % of its points.
+void topUpSurface(planning::SurfaceMission& m, const coverage::FlightStrategy& planned,
+                  const Surface& surface, const coverage::LineOfSight& sight,
+                  const PlanningSpace& space, planning::Planner& planner,
+                  const app::Config& config) {
+  if (!planning::flyable(m.status) || surface.inliers.empty()) return;
+  const auto lowPoints = [&](const planning::SurfaceMission& mission) {
+    const coverage::MultiViewStats st = coverage::multiViewStats(
+        surface.inliers, {surface.plane.normal}, flownViews(mission), coverageCamera(config),
+        coverageCriteria(), &sight, hardwareThreads());
+    std::pair<PointList, std::vector<int>> low;
+    for (std::size_t k = 0; k < st.views.size(); ++k) {
+      if (st.views[k] > 0 && st.views[k] < config.coverage.min_views) {
+        low.first.push_back(surface.inliers[k]);
+        low.second.push_back(config.coverage.min_views - st.views[k]);
+      }
+    }
+    return low;
+  };
+  coverage::FlightStrategy strategy = planned;
+  auto low = lowPoints(m);
+  const double photos = static_cast<double>(flownViews(m).size());
+  const double path_per_photo_m = photos > 0.0 ? m.path_length_m / photos : 0.0;
+  const double first_path_m = m.path_length_m;
+  for (int round = 0; round < kTopUpRounds && !low.first.empty(); ++round) {
+    if (coverage::addStopsFor(strategy, surface, low.first, low.second) == 0) return;
+    planning::SurfaceMission next = planning::planSurfaceMission(
+        strategy, space.grid, space.validator, planner, config.missionOptions());
+    const double added = static_cast<double>(flownViews(next).size()) - photos;
+    if (!planning::flyable(next.status) ||
+        next.path_length_m - first_path_m > kTopUpPathPerPhoto * added * path_per_photo_m)
+      return;
+    auto still = lowPoints(next);
+    if (still.first.size() >= low.first.size()) return;
+    m = std::move(next);
+    low = std::move(still);
+  }
+}
+
+/// topUpSurface for each of `surface_ids` (the first missions; edge links follow them)
+/// when coverage.purpose is reconstruction.
+void topUpViews(std::vector<planning::SurfaceMission>& missions,
+                const std::vector<coverage::FlightStrategy>& strategies, const Scene& scene,
+                const std::vector<int>& surface_ids, const coverage::LineOfSight& sight,
+                const PlanningSpace& space, planning::Planner& planner, const app::Config& config) {
+  if (config.coverage.purpose != "reconstruction") return;
+  for (std::size_t i = 0; i < surface_ids.size(); ++i)
+    topUpSurface(missions[i], strategies[i], surfaceById(scene, surface_ids[i]), sight, space,
+                 planner, config);
+}
+
 }  // namespace
 
 void requireWithinReach(const std::optional<Vec3>& point, const std::string& key,
@@ -520,6 +586,9 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.missions =
       planMissions(strategies, mission_ids, grid, validator, *planner, config, progress);
   for (std::size_t i = surfaces; i < result.missions.size(); ++i) result.missions[i].kind = "edge";
+  // Grid-sized voxels, rays end 3.5 voxels before their target (never hidden at ≤ 75°).
+  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
+  topUpViews(result.missions, strategies, scene, surface_ids, sight, space, *planner, config);
   // The flight and the coverage of the flown photos only read the missions (a
   // surface that coverage turns `partial` stays flyable): the flight runs on a second
   // thread meanwhile (its A* legs use one core), the coverage is written in after.
@@ -532,9 +601,6 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
     flight_done.open();
     return std::make_pair(std::move(f), secondsSince(t3));
   });
-  // One line-of-sight index for every surface: grid-sized voxels, rays end 3.5
-  // voxels before their target (its own surface never hides it at ≤ 75°).
-  const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
   std::vector<std::optional<coverage::CoverageResult>> measured(surfaces);
   for (std::size_t i = 0; i < surfaces; ++i)
     measured[i] = coverageOf(result.missions[i], surfaceById(scene, surface_ids[i]), sight, config,

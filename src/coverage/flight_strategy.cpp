@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -61,6 +62,18 @@ constexpr double kEdgeInsetM = 1e-3;
 /// Reconstruction: footprints per spacing are raised to this much above an even
 /// count, so an edge point keeps its extra footprint despite rounding.
 constexpr double kEdgeMargin = 0.1;
+/// Reconstruction: the quantile of the inliers' heights in front of the plane the
+/// rows' margin keeps in view (reconstructionShrink).
+constexpr double kReconstructionFrontQuantile = 0.999;
+/// Reconstruction: the largest margin the inliers' heights may ask for, a share of the
+/// footprint (a surface whose points stand farther out is not a plane to photograph).
+constexpr double kMaxReconstructionShrink = 0.3;
+/// addStopsFor: a stop added counts a view for the points within this share of its
+/// footprint about its target (room for a repair's tilt; a point still short is found
+/// again in the pipeline's next round).
+constexpr double kTopUpFootprintShare = 0.8;
+/// addStopsFor: candidate targets per footprint side.
+constexpr double kTopUpCells = 8.0;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -205,7 +218,8 @@ const params::Table<CoverageOptions>& CoverageOptions::table() {
         .address = [](const O& o) -> const void* { return &o.gimbal; };
     p.add("purpose", &O::purpose,
           "inspection (the paper's rows at overlap), mosaic (overlap 0.6 / 0.3 unless set) or "
-          "reconstruction (min_views photos of every point, 60 % shared by consecutive photos)")
+          "reconstruction (min_views photos of every point, 60 % shared by consecutive photos, "
+          "rows overlapping by what the points in front of the plane need unless overlap is set)")
         .oneOf({"inspection", "mosaic", "reconstruction"});
     p.add("min_views", &O::min_views, "reconstruction: photos that image every surface point")
         .within(2, 50);
@@ -457,21 +471,39 @@ class ReconstructionColumns {
   bool dense_{false};
 };
 
+/// A reconstruction's rows over an extent `len` [m] across them, counted in double:
+/// each row holds the points `shrink` of a footprint in front of the plane within its
+/// reach, fh (1 − max(overlap_h, shrink)) (the file's side overlap is a margin at least
+/// as large), and the rows are as few as reach the extent's two edges, spread evenly
+/// between them: every seam and both edges keep the same margin (a grid centred on the
+/// extent left its slack beyond the edges). Sets fs.spacing_h_m to their spacing.
+double reconstructionRows(FlightStrategy& fs, double len, double overlap_h, double shrink) {
+  const double reach = fs.camera.footprint_h_m * (1.0 - std::max(overlap_h, shrink));
+  if (!(len > reach) || !(reach > 0.0)) {
+    fs.spacing_h_m = std::max(reach, 0.0);
+    return 1.0;
+  }
+  const double rows = std::ceil((len - reach) / reach - 1e-9) + 1.0;
+  fs.spacing_h_m = (len - reach) / (rows - 1.0);
+  return rows;
+}
+
 /// The photo centres' coordinates along axis_w of every row (fs.cols of them) and
 /// fs.rows to cover the boundary's extent [wlo, whi] × [hlo, hhi]. The paper's grid
 /// (inspection, mosaic): cells `spacing` apart centred on the extent. A reconstruction:
-/// ReconstructionColumns along the rows, rows at the file's side overlap across them
-/// (min_views come from each row alone; bridgeRows keeps consecutive photos sharing
-/// kReconstructionShare from one row to the next). Throws InputError beyond
-/// options.max_stops.
+/// ReconstructionColumns along the rows (min_views come from each row alone, for points
+/// `shrink` of a footprint in front of the plane too; bridgeRows keeps consecutive photos
+/// sharing kReconstructionShare from one row to the next) and reconstructionRows across
+/// them (fs.spacing_h_m set to theirs). Throws InputError beyond options.max_stops.
 std::vector<double> sizeGrid(FlightStrategy& fs, const Surface& surface,
-                             const CoverageOptions& options, double wlo, double whi, double hlo,
-                             double hhi) {
+                             const CoverageOptions& options, double shrink, double wlo, double whi,
+                             double hlo, double hhi) {
   const bool reconstruction = options.purpose == "reconstruction";
   const double cells_w = cellsAlong(whi - wlo, fs.spacing_w_m, false);
-  const double rows = cellsAlong(hhi - hlo, fs.spacing_h_m, false);
-  const ReconstructionColumns along(wlo, whi, fs.camera.footprint_w_m, fs.spacing_w_m,
-                                    options.min_views);
+  const double rows = reconstruction ? reconstructionRows(fs, hhi - hlo, options.overlap_h, shrink)
+                                     : cellsAlong(hhi - hlo, fs.spacing_h_m, false);
+  const ReconstructionColumns along(wlo, whi, fs.camera.footprint_w_m * (1.0 - shrink),
+                                    fs.spacing_w_m, options.min_views);
   const double cols = reconstruction ? along.count() : cells_w;
   if (!(cols * rows <= options.max_stops)) {
     std::ostringstream os;
@@ -495,13 +527,38 @@ std::vector<double> sizeGrid(FlightStrategy& fs, const Surface& surface,
 }
 
 /// A reconstruction's spacing along its rows [m]: footprint / m with m the largest of
-/// min_views + kEdgeMargin (each row alone gives every point min_views photos),
+/// (min_views + kEdgeMargin) / (1 − shrink) (each row alone gives every point, on the
+/// plane or `shrink` of a footprint nearer the camera, min_views photos),
 /// 1 / (1 − kReconstructionShare) (consecutive photos of a row share that much) and
 /// the file's front overlap.
-double reconstructionSpacingW(const CoverageOptions& options, double footprint_w) {
-  const double m = std::max({options.min_views + kEdgeMargin, 1.0 / (1.0 - kReconstructionShare),
-                             1.0 / (1.0 - options.overlap_w)});
+double reconstructionSpacingW(const CoverageOptions& options, double footprint_w, double shrink) {
+  const double m = std::max({(options.min_views + kEdgeMargin) / (1.0 - shrink),
+                             1.0 / (1.0 - kReconstructionShare), 1.0 / (1.0 - options.overlap_w)});
   return footprint_w / m;
+}
+
+/// Reconstruction: the share of a footprint's width and height that the surface's
+/// points in front of its plane fall outside of. A point δ [m] nearer the camera than
+/// the plane, seen from the standoff d, lies in the frustum only within (1 − δ/d) of
+/// the footprint around the photo's centre, so rows (and photos along them) must
+/// overlap by δ/d to keep it in min_views at their seams. δ: the
+/// kReconstructionFrontQuantile of the inliers' heights above the plane (the scan's
+/// noise, not one stray point; photo_check counts the points left below min_views);
+/// at most kMaxReconstructionShrink; 0 without inliers.
+double reconstructionShrink(const Surface& surface, double standoff) {
+  if (surface.inliers.empty() || !(standoff > 0.0)) return 0.0;
+  const double nn = surface.plane.normal.norm();
+  if (!(nn > 0.0) || !std::isfinite(nn)) return 0.0;
+  std::vector<double> front;
+  front.reserve(surface.inliers.size());
+  for (const Vec3& p : surface.inliers) {
+    const double h = surface.plane.signedDistance(p) / nn;
+    front.push_back(std::isfinite(h) ? std::max(0.0, h) : 0.0);
+  }
+  const auto k = static_cast<std::size_t>(
+      std::floor(kReconstructionFrontQuantile * static_cast<double>(front.size() - 1)));
+  std::nth_element(front.begin(), front.begin() + static_cast<std::ptrdiff_t>(k), front.end());
+  return std::min(kMaxReconstructionShrink, front[k] / standoff);
 }
 
 /// Row r's stops, at the column coordinates `xs` along axis_w, on the grid centred on
@@ -614,8 +671,11 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   fs.camera = solveCamera(options.camera, options.standoff_m);
   fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
   fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
+  const double shrink = options.purpose == "reconstruction"
+                            ? reconstructionShrink(surface, fs.camera.standoff_m)
+                            : 0.0;
   if (options.purpose == "reconstruction")
-    fs.spacing_w_m = reconstructionSpacingW(options, fs.camera.footprint_w_m);
+    fs.spacing_w_m = reconstructionSpacingW(options, fs.camera.footprint_w_m, shrink);
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;
@@ -635,7 +695,7 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   const Region region = regionInFrame(surface, f, origin);
   const auto [wlo, whi] = projectRange(region.outer, Vec2::UnitX());
   const auto [hlo, hhi] = projectRange(region.outer, Vec2::UnitY());
-  const std::vector<double> xs = sizeGrid(fs, surface, options, wlo, whi, hlo, hhi);
+  const std::vector<double> xs = sizeGrid(fs, surface, options, shrink, wlo, whi, hlo, hhi);
   placeStops(fs, surface, f, origin, region, at, xs, 0.5 * (hlo + hhi));
   if (options.purpose == "reconstruction") bridgeRows(fs, origin, region);
   return fs;
@@ -648,6 +708,124 @@ double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b) {
   if (!(fw > 0.0) || !(fh > 0.0)) return 0.0;
   return std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_w)) / fw) *
          std::max(0.0, 1.0 - std::abs(d.dot(fs.axis_h)) / fh);
+}
+
+namespace {
+
+/// addStopsFor's targets: among the short points' projections onto the plane (the
+/// first in each cell of kTopUpCells × kTopUpCells per footprint is a candidate), the
+/// candidate whose central kTopUpFootprintShare of a footprint holds the most points
+/// still short, each holding point then one view less short, until none is short.
+PointList topUpTargets(const FlightStrategy& fs, const Surface& surface, const PointList& points,
+                       const std::vector<int>& missing) {
+  const double fw = fs.camera.footprint_w_m, fh = fs.camera.footprint_h_m;
+  PointList targets;
+  std::vector<int> short_by;
+  std::map<std::pair<long, long>, std::size_t> cells;
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (missing[i] <= 0 || !points[i].allFinite()) continue;
+    const Vec3 t = surface.plane.project(points[i]);
+    const std::pair<long, long> cell{
+        static_cast<long>(std::floor(t.dot(fs.axis_w) * kTopUpCells / fw)),
+        static_cast<long>(std::floor(t.dot(fs.axis_h) * kTopUpCells / fh))};
+    if (cells.emplace(cell, targets.size()).second) candidates.push_back(targets.size());
+    targets.push_back(t);
+    short_by.push_back(missing[i]);
+  }
+  const auto holds = [&](const Vec3& centre, const Vec3& p) {
+    const Vec3 d = p - centre;
+    return std::abs(d.dot(fs.axis_w)) <= 0.5 * kTopUpFootprintShare * fw &&
+           std::abs(d.dot(fs.axis_h)) <= 0.5 * kTopUpFootprintShare * fh;
+  };
+  PointList chosen;
+  std::vector<char> used(candidates.size(), 0);
+  while (true) {
+    std::size_t best = candidates.size();
+    long best_gain = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      if (used[c]) continue;
+      long gain = 0;
+      for (std::size_t i = 0; i < targets.size(); ++i)
+        if (short_by[i] > 0 && holds(targets[candidates[c]], targets[i])) ++gain;
+      if (gain > best_gain) {
+        best = c;
+        best_gain = gain;
+      }
+    }
+    if (best == candidates.size()) return chosen;
+    used[best] = 1;
+    const Vec3 centre = targets[candidates[best]];
+    for (std::size_t i = 0; i < targets.size(); ++i)
+      if (short_by[i] > 0 && holds(centre, targets[i])) --short_by[i];
+    chosen.push_back(centre);
+  }
+}
+
+/// The stop k an added stop `s` is flown after: where the least footprint it shares
+/// with stops k and k + 1 gains most on what those two share (a gap of the order is
+/// filled), then the shortest detour.
+std::size_t flownAfter(const FlightStrategy& fs, const Stop& s) {
+  std::size_t best = 0;
+  double best_share = -2.0, best_detour = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < fs.stops.size(); ++k) {
+    const bool last = k + 1 == fs.stops.size();
+    const double share = last ? footprintShare(fs, fs.stops[k], s) - 1.0
+                              : std::min(footprintShare(fs, fs.stops[k], s),
+                                         footprintShare(fs, s, fs.stops[k + 1])) -
+                                    footprintShare(fs, fs.stops[k], fs.stops[k + 1]);
+    const double detour = (s.target - fs.stops[k].target).norm() +
+                          (last ? 0.0
+                                : (fs.stops[k + 1].target - s.target).norm() -
+                                      (fs.stops[k + 1].target - fs.stops[k].target).norm());
+    if (share > best_share + 1e-12 ||
+        (share > best_share - 1e-12 && detour < best_detour - 1e-12)) {
+      best = k;
+      best_share = share;
+      best_detour = detour;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::size_t addStopsFor(FlightStrategy& fs, const Surface& surface, const PointList& points,
+                        const std::vector<int>& missing) {
+  const double nn = surface.plane.normal.norm();
+  const double standoff = fs.camera.standoff_m;
+  if (fs.stops.empty() || points.size() != missing.size() || !(nn > 0.0) || !std::isfinite(nn) ||
+      !(standoff > 0.0) || !(fs.camera.footprint_w_m > 0.0) || !(fs.camera.footprint_h_m > 0.0))
+    return 0;
+  const Vec3 n = surface.plane.normal / nn;
+  const PointList chosen = topUpTargets(fs, surface, points, missing);
+  std::vector<std::vector<Stop>> after(fs.stops.size());  // added stops, by the stop they follow
+  for (const Vec3& target : chosen) {
+    Stop s = fs.stops.front();
+    s.target = target;
+    s.position = target + standoff * n;
+    const std::size_t k = flownAfter(fs, s);
+    const Stop& before = fs.stops[k];
+    s.row = before.row;
+    s.col = before.col;
+    s.yaw_deg = before.yaw_deg;
+    s.gimbal_pitch_deg = before.gimbal_pitch_deg;
+    s.gimbal_ok = before.gimbal_ok;
+    after[k].push_back(s);
+  }
+  std::vector<Stop> out;
+  out.reserve(fs.stops.size() + chosen.size());
+  for (std::size_t k = 0; k < fs.stops.size(); ++k) {
+    out.push_back(fs.stops[k]);
+    const Vec3 from = fs.stops[k].target;  // several after one stop: nearest first
+    std::stable_sort(after[k].begin(), after[k].end(), [&](const Stop& a, const Stop& b) {
+      return (a.target - from).squaredNorm() < (b.target - from).squaredNorm();
+    });
+    out.insert(out.end(), after[k].begin(), after[k].end());
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) out[i].index = static_cast<int>(i);
+  fs.stops = std::move(out);
+  return chosen.size();
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -137,10 +138,13 @@ bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
 }
 
 /// A free pose near an infeasible stop that still photographs its target: the
-/// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
-/// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor).
-/// The first candidate in that order that is free, in the gimbal limits and in
-/// clear sight of the target wins. Returns false if none is.
+/// standoff direction tilted by 15–45° toward ±axis_h (from above / below) and
+/// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor), then
+/// 60° at those distances: COLMAP's SIFT left single_plane's one 60° photo out of its
+/// model and registered every photo up to 45° (docs/photo_purposes.md), so a farther
+/// 45° pose beats a 60° one at the standoff. The first candidate in that order that is
+/// free, in the gimbal limits and in clear sight of the target wins. Returns false if
+/// none is.
 bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                 const world::VoxelGrid& grid, const MissionOptions& options) {
   const double standoff = strategy.camera.standoff_m;
@@ -150,13 +154,16 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                       ? Vec3(-strategy.axis_h)
                       : strategy.axis_h;
   const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
-  for (const double f : repairFactors(options)) {
-    for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0}) {
-      const double a = deg * kPi / 180.0;
-      for (const auto& side : sides) {
-        if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
-        const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-        if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
+  const std::initializer_list<double> tilt_tiers[2] = {{0.0, 15.0, 30.0, 45.0}, {60.0}};
+  for (const auto& tilts : tilt_tiers) {
+    for (const double f : repairFactors(options)) {
+      for (const double deg : tilts) {
+        const double a = deg * kPi / 180.0;
+        for (const auto& side : sides) {
+          if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
+          const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
+          if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
+        }
       }
     }
   }

@@ -241,7 +241,8 @@ TEST(MultiView, ReconstructionRowsKeepAMarginForPointsOffThePlane) {
   // own margin, kEdgeMargin, is not at test here), counted through each photo's
   // frustum by brute force (sees): rows edge to edge (side overlap 0: five rows, seams
   // at 0.4 m steps) leave the seams' points in no photo (a row's photos share its
-  // height); the default side overlap (0.2) keeps them in min_views. A margin under
+  // height); a side overlap of 0.2 (CoverageOptions' default; the app's reconstruction
+  // takes the inliers' own margin, next test) keeps them in min_views. A margin under
   // 5 cm / 1.5 m = 0.033 would not: single_plane's scan at 0 left 240 points below.
   const OpenSight open;
   for (const double overlap : {0.0, CoverageOptions{}.overlap_h}) {
@@ -267,6 +268,110 @@ TEST(MultiView, ReconstructionRowsKeepAMarginForPointsOffThePlane) {
       EXPECT_LT(least, o.min_views) << "rows edge to edge";
     }
   }
+}
+
+TEST(MultiView, ReconstructionRowsOverlapByWhatTheInliersInFrontNeed) {
+  // The same 3 x 2 m wall, its inliers every 5 cm on the plane and every tenth of them
+  // 5 cm in front (the scan's noise); the file's overlap 0. The rows overlap by what
+  // those points need (5 cm / 1.5 m of a footprint): brute force through each frustum
+  // finds every point 4.9 cm in front (the seams meet exactly at 5 cm) in min_views
+  // photos, seams, ends and edges included, with fewer
+  // photos than the old default (side overlap 0.2). One stray inlier 1 m out (above the
+  // 99.9th percentile) changes nothing.
+  const OpenSight open;
+  Surface noisy = wall(3.0, 2.0);
+  noisy.inliers.clear();
+  int k = 0;
+  for (double y = -1.5; y <= 1.5 + 1e-9; y += 0.05)
+    for (double z = 0.0; z <= 2.0 + 1e-9; z += 0.05)
+      noisy.inliers.emplace_back(++k % 10 == 0 ? 0.05 : 0.0, y, z);
+  CoverageOptions o;
+  o.purpose = "reconstruction";
+  o.overlap_w = o.overlap_h = 0.0;
+  const FlightStrategy fs = planFlightStrategy(noisy, o);
+  std::vector<ViewPose> views;
+  for (const auto& st : fs.stops) views.push_back({st.position, st.yaw_deg, st.gimbal_pitch_deg});
+  int least = 1 << 20;
+  for (double y = -1.5; y <= 1.5 + 1e-9; y += 0.01) {
+    for (int j = 0; j <= 400; ++j) {
+      const Vec3 p(0.049, y, 0.005 * j);
+      int n = 0;
+      for (const auto& v : views) n += sees(v, p, 0.6, 0.4, 1.5, 2.0, 89.0, open) ? 1 : 0;
+      least = std::min(least, n);
+    }
+  }
+  EXPECT_GE(least, o.min_views);
+  CoverageOptions old = o;
+  old.overlap_w = old.overlap_h = 0.2;
+  EXPECT_LT(fs.stops.size(), planFlightStrategy(wall(3.0, 2.0), old).stops.size());
+  Surface stray = noisy;
+  stray.inliers.emplace_back(1.0, 0.0, 1.0);
+  const FlightStrategy same = planFlightStrategy(stray, o);
+  ASSERT_EQ(same.stops.size(), fs.stops.size());
+  for (std::size_t i = 0; i < fs.stops.size(); ++i)
+    EXPECT_EQ(same.stops[i].position, fs.stops[i].position) << "stop " << i;
+}
+
+/// Points every `step` m inside a w x h wall (as leastViews) that fewer than `views`
+/// footprints (fw x fh about each stop's target) hold, and how many they miss: brute
+/// force.
+std::pair<PointList, std::vector<int>> pointsBelow(const FlightStrategy& fs, double w, double h,
+                                                   int views, double step) {
+  std::pair<PointList, std::vector<int>> low;
+  for (double y = -0.5 * w + 0.5 * step; y < 0.5 * w; y += step) {
+    for (double z = 0.5 * step; z < h; z += step) {
+      const auto n = std::count_if(fs.stops.begin(), fs.stops.end(), [&](const Stop& s) {
+        return std::abs(y - s.target.y()) <= 0.3 && std::abs(z - s.target.z()) <= 0.2;
+      });
+      if (n < views) {
+        low.first.emplace_back(0.0, y, z);
+        low.second.push_back(views - static_cast<int>(n));
+      }
+    }
+  }
+  return low;
+}
+
+TEST(MultiView, TopUpStopsGiveEveryPointItsViewsBack) {
+  // A 3 x 2 m wall's reconstruction with three neighbouring stops of a middle row left
+  // out (as stops the obstacle repair could not place): brute force finds points below
+  // min_views; addStopsFor, given them and what they miss, adds stops square at the
+  // standoff aimed at them until no point is below (at most 3 rounds, as the
+  // pipeline's top-up), at most two more than were left out, each flown next to a stop
+  // it shares footprint with.
+  CoverageOptions o;
+  o.purpose = "reconstruction";
+  FlightStrategy fs = planFlightStrategy(wall(3.0, 2.0), o);
+  const std::size_t planned = fs.stops.size();
+  const std::size_t mid = planned / 2;
+  fs.stops.erase(fs.stops.begin() + static_cast<std::ptrdiff_t>(mid) - 1,
+                 fs.stops.begin() + static_cast<std::ptrdiff_t>(mid) + 2);
+  auto low = pointsBelow(fs, 3.0, 2.0, o.min_views, 0.02);
+  ASSERT_FALSE(low.first.empty());
+  const Surface surface = wall(3.0, 2.0);
+  int rounds = 0;
+  for (; rounds < 3 && !low.first.empty(); ++rounds) {
+    const std::size_t before = fs.stops.size();
+    const std::size_t added = addStopsFor(fs, surface, low.first, low.second);
+    EXPECT_EQ(added, fs.stops.size() - before);
+    low = pointsBelow(fs, 3.0, 2.0, o.min_views, 0.02);
+  }
+  EXPECT_TRUE(low.first.empty()) << low.first.size() << " points below after " << rounds
+                                 << " rounds";
+  EXPECT_LE(fs.stops.size(), planned + 2);
+  for (std::size_t i = 0; i < fs.stops.size(); ++i) {
+    const Stop& s = fs.stops[i];
+    EXPECT_EQ(s.index, static_cast<int>(i));
+    EXPECT_NEAR(s.target.x(), 0.0, 1e-9);
+    EXPECT_TRUE((s.position - (s.target + 1.5 * Vec3::UnitX())).norm() < 1e-9) << "stop " << i;
+    if (i > 0) {
+      EXPECT_GT(sharedShare(fs.stops[i - 1], s, 0.6, 0.4), 0.0) << "stop " << i;
+    }
+  }
+  // Nothing short: nothing changes.
+  const std::size_t topped = fs.stops.size();
+  EXPECT_EQ(addStopsFor(fs, surface, {}, {}), 0u);
+  EXPECT_EQ(fs.stops.size(), topped);
 }
 
 TEST(MultiView, InspectionAndMosaicKeepThePaperRows) {

@@ -12,6 +12,7 @@
 /// ends) and adds photos between rows so that consecutive photos share
 /// kReconstructionShare of their footprint.
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,7 +53,9 @@ struct CoverageOptions {
   /// What the photos are for: "inspection" (the paper's rows at `overlap`),
   /// "mosaic" (rows the app gives 0.6 / 0.3 overlap unless the file sets it) or
   /// "reconstruction" (rows dense enough that every point is in min_views
-  /// footprints and consecutive photos share >= kReconstructionShare of theirs).
+  /// footprints and consecutive photos share >= kReconstructionShare of theirs; the
+  /// rows overlap by at least what the surface's points in front of its plane need,
+  /// and by `overlap` when the file sets it).
   std::string purpose{"inspection"};
   /// Reconstruction: photos that must image every surface point.
   int min_views{3};
@@ -70,6 +73,9 @@ constexpr double kReconstructionShare = 0.6;
 /// Overlaps of a mosaic when the file sets none (front = along the image width, side).
 constexpr double kMosaicOverlapW = 0.6;
 constexpr double kMosaicOverlapH = 0.3;
+/// Overlap of a reconstruction when the file sets none: its rows then overlap by what
+/// the surface's points in front of the plane need (planFlightStrategy).
+constexpr double kReconstructionOverlap = 0.0;
 
 /// One photo stop.
 struct Stop {
@@ -102,6 +108,19 @@ struct FlightStrategy {
 /// (1 − |Δw|/footprint_w)·(1 − |Δh|/footprint_h), each factor clamped at 0, Δ their
 /// targets' offset along the strategy's axes [0, 1].
 double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
+
+/// Reconstruction's top-up (issue 46): photos for the `points` of `surface` that the
+/// planned flight images too few times, `missing[i]` views short (a stop the obstacle
+/// repair tilted or moved images less than its nominal footprint; a centre moved off a
+/// hole's air leaves a gap). Greedy cover: among the points' projections (one candidate
+/// per eighth of a footprint), the target whose central 0.8 of a footprint holds the
+/// most points still short gets a stop, square to the plane at the standoff, until none
+/// is short. Each is flown right after the stop k where the least footprint it shares
+/// with stop k and stop k + 1 (footprintShare) gains most on what those two share (it
+/// fills a gap of the order; then the shortest detour), nearest to stop k first, with
+/// stop k's attitude, row and column. Returns how many were added.
+std::size_t addStopsFor(FlightStrategy& fs, const Surface& surface, const PointList& points,
+                        const std::vector<int>& missing);
 
 /// Plans the photo stops of one surface. Cells: n = max(⌈extent/spacing⌉, 1) per
 /// axis, grid centred on the boundary's extent (a reconstruction's columns: edge to
