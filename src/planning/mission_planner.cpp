@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -138,13 +137,15 @@ bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
 }
 
 /// A free pose near an infeasible stop that still photographs its target: the
-/// standoff direction tilted by 15–45° toward ±axis_h (from above / below) and
-/// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor), then
-/// 60° at those distances: COLMAP's SIFT left single_plane's one 60° photo out of its
-/// model and registered every photo up to 45° (docs/photo_purposes.md), so a farther
-/// 45° pose beats a 60° one at the standoff. The first candidate in that order that is
-/// free, in the gimbal limits and in clear sight of the target wins. Returns false if
-/// none is.
+/// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
+/// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor). The
+/// least stretched photo first: distance / cos(tilt) (the factor its ground sample
+/// grows by along the tilt), so 15° at 1.125 × the standoff comes before 45° at it and
+/// every 60° last. COLMAP's SIFT, which takes a change of scale better than one of
+/// viewpoint, left out single_plane's photos repaired 60° and 45° from below beside
+/// neighbours repaired from above (benchmarks/README.md). The first free candidate in
+/// that order, in the gimbal limits and in clear sight of the target, wins. Returns
+/// false if none is.
 bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                 const world::VoxelGrid& grid, const MissionOptions& options) {
   const double standoff = strategy.camera.standoff_m;
@@ -154,17 +155,21 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
                       ? Vec3(-strategy.axis_h)
                       : strategy.axis_h;
   const Vec3 sides[4] = {up, -up, strategy.axis_w, -strategy.axis_w};
-  const std::initializer_list<double> tilt_tiers[2] = {{0.0, 15.0, 30.0, 45.0}, {60.0}};
-  for (const auto& tilts : tilt_tiers) {
-    for (const double f : repairFactors(options)) {
-      for (const double deg : tilts) {
-        const double a = deg * kPi / 180.0;
-        for (const auto& side : sides) {
-          if (deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
-          const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-          if (lookFrom(stop, stop.target + f * standoff * dir, grid, options)) return true;
-        }
-      }
+  struct Candidate {
+    double stretch, factor, deg;
+  };
+  std::vector<Candidate> candidates;
+  for (const double f : repairFactors(options))
+    for (const double deg : {0.0, 15.0, 30.0, 45.0, 60.0})
+      candidates.push_back({f / std::cos(deg * kPi / 180.0), f, deg});
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.stretch < y.stretch; });
+  for (const Candidate& c : candidates) {
+    const double a = c.deg * kPi / 180.0;
+    for (const auto& side : sides) {
+      if (c.deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
+      const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
+      if (lookFrom(stop, stop.target + c.factor * standoff * dir, grid, options)) return true;
     }
   }
   return false;

@@ -76,10 +76,10 @@ struct MissionOptions {
   std::optional<Vec3> start;  ///< take-off / entry point; must be free. Default: the first stop
   /// Stop repair: a stop inside the inflated obstacle space is moved to a nearby
   /// free pose that still looks at its photo centre with a clear line of sight:
-  /// tilted from above, below or the sides by 15–45° at the same distance or
+  /// tilted from above, below or the sides by 15–60° at the same distance or
   /// farther out up to max_standoff_factor × the standoff (footprint and GSD grow
-  /// by that factor), 60° only when none of those is free. Moved stops are counted
-  /// and listed.
+  /// by that factor), the least stretched photo (distance / cos tilt) first. Moved
+  /// stops are counted and listed.
   bool repair_stops{true};
   double max_standoff_factor{1.25};  ///< farthest repaired stop, × standoff (GSD allowance)
   /// Repair for a mosaic (coverage.purpose mosaic, set by Config::missionOptions): square
