@@ -719,24 +719,39 @@ namespace {
 PointList topUpTargets(const FlightStrategy& fs, const Surface& surface, const PointList& points,
                        const std::vector<int>& missing) {
   const double fw = fs.camera.footprint_w_m, fh = fs.camera.footprint_h_m;
+  using Cell = std::pair<long, long>;
   PointList targets;
   std::vector<int> short_by;
-  std::map<std::pair<long, long>, std::size_t> cells;
-  std::vector<std::size_t> candidates;
+  std::map<Cell, std::vector<std::size_t>> in_cell;  // the points of each cell
+  std::vector<Cell> candidates;                      // cells, in the points' order
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (missing[i] <= 0 || !points[i].allFinite()) continue;
     const Vec3 t = surface.plane.project(points[i]);
-    const std::pair<long, long> cell{
-        static_cast<long>(std::floor(t.dot(fs.axis_w) * kTopUpCells / fw)),
-        static_cast<long>(std::floor(t.dot(fs.axis_h) * kTopUpCells / fh))};
-    if (cells.emplace(cell, targets.size()).second) candidates.push_back(targets.size());
+    const Cell cell{static_cast<long>(std::floor(t.dot(fs.axis_w) * kTopUpCells / fw)),
+                    static_cast<long>(std::floor(t.dot(fs.axis_h) * kTopUpCells / fh))};
+    auto& members = in_cell[cell];
+    if (members.empty()) candidates.push_back(cell);
+    members.push_back(targets.size());
     targets.push_back(t);
     short_by.push_back(missing[i]);
   }
-  const auto holds = [&](const Vec3& centre, const Vec3& p) {
-    const Vec3 d = p - centre;
-    return std::abs(d.dot(fs.axis_w)) <= 0.5 * kTopUpFootprintShare * fw &&
-           std::abs(d.dot(fs.axis_h)) <= 0.5 * kTopUpFootprintShare * fh;
+  // A candidate is its cell's first point; it holds points within kTopUpFootprintShare
+  // of a footprint about it, all in the cells within `reach` of its own.
+  const long reach = static_cast<long>(std::ceil(0.5 * kTopUpFootprintShare * kTopUpCells)) + 1;
+  const auto forHeld = [&](const Cell& c, const auto& visit) {
+    const Vec3& centre = targets[in_cell[c].front()];
+    for (long du = -reach; du <= reach; ++du) {
+      for (long dv = -reach; dv <= reach; ++dv) {
+        const auto it = in_cell.find({c.first + du, c.second + dv});
+        if (it == in_cell.end()) continue;
+        for (const std::size_t i : it->second) {
+          const Vec3 d = targets[i] - centre;
+          if (std::abs(d.dot(fs.axis_w)) <= 0.5 * kTopUpFootprintShare * fw &&
+              std::abs(d.dot(fs.axis_h)) <= 0.5 * kTopUpFootprintShare * fh)
+            visit(i);
+        }
+      }
+    }
   };
   PointList chosen;
   std::vector<char> used(candidates.size(), 0);
@@ -746,8 +761,7 @@ PointList topUpTargets(const FlightStrategy& fs, const Surface& surface, const P
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       if (used[c]) continue;
       long gain = 0;
-      for (std::size_t i = 0; i < targets.size(); ++i)
-        if (short_by[i] > 0 && holds(targets[candidates[c]], targets[i])) ++gain;
+      forHeld(candidates[c], [&](std::size_t i) { gain += short_by[i] > 0 ? 1 : 0; });
       if (gain > best_gain) {
         best = c;
         best_gain = gain;
@@ -755,10 +769,10 @@ PointList topUpTargets(const FlightStrategy& fs, const Surface& surface, const P
     }
     if (best == candidates.size()) return chosen;
     used[best] = 1;
-    const Vec3 centre = targets[candidates[best]];
-    for (std::size_t i = 0; i < targets.size(); ++i)
-      if (short_by[i] > 0 && holds(centre, targets[i])) --short_by[i];
-    chosen.push_back(centre);
+    forHeld(candidates[best], [&](std::size_t i) {
+      if (short_by[i] > 0) --short_by[i];
+    });
+    chosen.push_back(targets[in_cell[candidates[best]].front()]);
   }
 }
 
