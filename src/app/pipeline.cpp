@@ -69,7 +69,9 @@ coverage::CoverageCriteria coverageCriteria() {
 
 /// Coverage (coverage_evaluator.h) of a flyable mission: the surface's points that a
 /// flown stop images — inside the photo (the footprint frustum, out to 1.5 × the
-/// standoff), incidence ≤ 75° (coverageCriteria), line of sight through the cloud's voxels.
+/// standoff), incidence ≤ 75° (coverageCriteria), line of sight through the cloud's voxels
+/// (grid-sized; a ray ends 3.5 voxels before its point, whose own surface never hides it
+/// at ≤ 75°).
 /// Nothing when the mission is not flyable or the surface has no points; applyCoverage
 /// writes it into the mission. The views are shared by every core, but beside the
 /// flight only the calling thread works until `gate` opens (the flight's A* legs use
@@ -419,15 +421,20 @@ void topUpSurface(planning::SurfaceMission& m, const coverage::FlightStrategy& p
 }
 
 /// topUpSurface for each of `surface_ids` (the first missions; edge links follow them)
-/// when coverage.purpose is reconstruction.
+/// when coverage.purpose is reconstruction, a progress line each.
 void topUpViews(std::vector<planning::SurfaceMission>& missions,
                 const std::vector<coverage::FlightStrategy>& strategies, const Scene& scene,
                 const std::vector<int>& surface_ids, const coverage::LineOfSight& sight,
-                const PlanningSpace& space, planning::Planner& planner, const app::Config& config) {
+                const PlanningSpace& space, planning::Planner& planner, const app::Config& config,
+                const Progress& progress) {
   if (config.coverage.purpose != "reconstruction") return;
-  for (std::size_t i = 0; i < surface_ids.size(); ++i)
+  for (std::size_t i = 0; i < surface_ids.size(); ++i) {
+    reportProgress(progress, "stage 7: reconstruction top-up, surface " +
+                                 std::to_string(surface_ids[i]) + " (" + std::to_string(i + 1) +
+                                 "/" + std::to_string(surface_ids.size()) + ")");
     topUpSurface(missions[i], strategies[i], surfaceById(scene, surface_ids[i]), sight, space,
                  planner, config);
+  }
 }
 
 }  // namespace
@@ -586,9 +593,9 @@ PlanResult plan(const Scene& scene, const app::Config& config, const std::vector
   result.missions =
       planMissions(strategies, mission_ids, grid, validator, *planner, config, progress);
   for (std::size_t i = surfaces; i < result.missions.size(); ++i) result.missions[i].kind = "edge";
-  // Grid-sized voxels, rays end 3.5 voxels before their target (never hidden at ≤ 75°).
   const coverage::VoxelLineOfSight sight(scene.cloud, grid.resolution(), 3.5 * grid.resolution());
-  topUpViews(result.missions, strategies, scene, surface_ids, sight, space, *planner, config);
+  topUpViews(result.missions, strategies, scene, surface_ids, sight, space, *planner, config,
+             progress);
   // The flight and the coverage of the flown photos only read the missions (a
   // surface that coverage turns `partial` stays flyable): the flight runs on a second
   // thread meanwhile (its A* legs use one core), the coverage is written in after.

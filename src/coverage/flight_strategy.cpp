@@ -671,11 +671,11 @@ FlightStrategy planFlightStrategy(const Surface& surface, const CoverageOptions&
   fs.camera = solveCamera(options.camera, options.standoff_m);
   fs.spacing_w_m = fs.camera.footprint_w_m * (1.0 - options.overlap_w);
   fs.spacing_h_m = fs.camera.footprint_h_m * (1.0 - options.overlap_h);
-  const double shrink = options.purpose == "reconstruction"
-                            ? reconstructionShrink(surface, fs.camera.standoff_m)
-                            : 0.0;
-  if (options.purpose == "reconstruction")
+  double shrink = 0.0;
+  if (options.purpose == "reconstruction") {
+    shrink = reconstructionShrink(surface, fs.camera.standoff_m);
     fs.spacing_w_m = reconstructionSpacingW(options, fs.camera.footprint_w_m, shrink);
+  }
 
   const double nnorm = surface.plane.normal.norm();
   if (!(nnorm > 0.0) || !std::isfinite(nnorm)) return fs;

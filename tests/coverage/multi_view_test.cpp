@@ -235,6 +235,26 @@ class OpenSight final : public LineOfSight {
   bool clear(const Vec3&, const Vec3&) const override { return true; }
 };
 
+/// The least count of fs's photos (0.6 x 0.4 m at 1.5 m) that see a point `depth` [m] in
+/// front of the wall x = 0, over y in [y_lo, y_hi] every `y_step` and z in [0, 2] every
+/// 5 mm: brute force through each frustum (sees).
+int leastViewsInFront(const FlightStrategy& fs, double depth, double y_lo, double y_hi,
+                      double y_step) {
+  const OpenSight open;
+  std::vector<ViewPose> views;
+  for (const auto& st : fs.stops) views.push_back({st.position, st.yaw_deg, st.gimbal_pitch_deg});
+  int least = 1 << 20;
+  for (double y = y_lo; y <= y_hi + 1e-9; y += y_step) {
+    for (int k = 0; k <= 400; ++k) {
+      const Vec3 p(depth, y, 0.005 * k);
+      int n = 0;
+      for (const auto& v : views) n += sees(v, p, 0.6, 0.4, 1.5, 2.0, 89.0, open) ? 1 : 0;
+      least = std::min(least, n);
+    }
+  }
+  return least;
+}
+
 TEST(MultiView, ReconstructionRowsKeepAMarginForPointsOffThePlane) {
   // A scan's points lie a little off the fitted plane. Points 5 cm in front of a 3 x 2 m
   // wall, every 5 mm across the rows' seams, away from the rows' ends (the columns'
@@ -244,24 +264,13 @@ TEST(MultiView, ReconstructionRowsKeepAMarginForPointsOffThePlane) {
   // height); a side overlap of 0.2 (CoverageOptions' default; the app's reconstruction
   // takes the inliers' own margin, next test) keeps them in min_views. A margin under
   // 5 cm / 1.5 m = 0.033 would not: single_plane's scan at 0 left 240 points below.
-  const OpenSight open;
   for (const double overlap : {0.0, CoverageOptions{}.overlap_h}) {
     CoverageOptions o;
     o.purpose = "reconstruction";
     o.overlap_w = overlap;
     o.overlap_h = overlap;
     const FlightStrategy fs = planFlightStrategy(wall(3.0, 2.0), o);
-    std::vector<ViewPose> views;
-    for (const auto& st : fs.stops) views.push_back({st.position, st.yaw_deg, st.gimbal_pitch_deg});
-    int least = 1 << 20;
-    for (double y = -1.2; y <= 1.2 + 1e-9; y += 0.1) {
-      for (int k = 0; k <= 400; ++k) {
-        const Vec3 p(0.05, y, 0.005 * k);
-        int n = 0;
-        for (const auto& v : views) n += sees(v, p, 0.6, 0.4, 1.5, 2.0, 89.0, open) ? 1 : 0;
-        least = std::min(least, n);
-      }
-    }
+    const int least = leastViewsInFront(fs, 0.05, -1.2, 1.2, 0.1);
     if (overlap > 0.0) {
       EXPECT_GE(least, o.min_views) << "overlap " << overlap;
     } else {
@@ -278,7 +287,6 @@ TEST(MultiView, ReconstructionRowsOverlapByWhatTheInliersInFrontNeed) {
   // photos, seams, ends and edges included, with fewer
   // photos than the old default (side overlap 0.2). One stray inlier 1 m out (above the
   // 99.9th percentile) changes nothing.
-  const OpenSight open;
   Surface noisy = wall(3.0, 2.0);
   noisy.inliers.clear();
   int k = 0;
@@ -289,18 +297,7 @@ TEST(MultiView, ReconstructionRowsOverlapByWhatTheInliersInFrontNeed) {
   o.purpose = "reconstruction";
   o.overlap_w = o.overlap_h = 0.0;
   const FlightStrategy fs = planFlightStrategy(noisy, o);
-  std::vector<ViewPose> views;
-  for (const auto& st : fs.stops) views.push_back({st.position, st.yaw_deg, st.gimbal_pitch_deg});
-  int least = 1 << 20;
-  for (double y = -1.5; y <= 1.5 + 1e-9; y += 0.01) {
-    for (int j = 0; j <= 400; ++j) {
-      const Vec3 p(0.049, y, 0.005 * j);
-      int n = 0;
-      for (const auto& v : views) n += sees(v, p, 0.6, 0.4, 1.5, 2.0, 89.0, open) ? 1 : 0;
-      least = std::min(least, n);
-    }
-  }
-  EXPECT_GE(least, o.min_views);
+  EXPECT_GE(leastViewsInFront(fs, 0.049, -1.5, 1.5, 0.01), o.min_views);
   CoverageOptions old = o;
   old.overlap_w = old.overlap_h = 0.2;
   EXPECT_LT(fs.stops.size(), planFlightStrategy(wall(3.0, 2.0), old).stops.size());
