@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "uavip/core/aircraft.h"
@@ -136,6 +137,11 @@ bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
   return true;
 }
 
+/// Largest change of viewing direction [deg] from the stop flown before that
+/// repairStop prefers to a less stretched pose: SIFT matches 15–20° of viewpoint change
+/// well, 30° and more poorly (docs/photo_purposes.md).
+constexpr double kFollowDeg = 20.0;
+
 /// A free pose near an infeasible stop that still photographs its target: the
 /// standoff direction tilted by 15–60° toward ±axis_h (from above / below) and
 /// ±axis_w (the sides), at the standoff or farther (up to max_standoff_factor). The
@@ -144,10 +150,14 @@ bool footprintCoveredByNeighbours(const SurfaceMission& m, std::size_t i,
 /// every 60° last. COLMAP's SIFT, which takes a change of scale better than one of
 /// viewpoint, left out single_plane's photos repaired 60° and 45° from below beside
 /// neighbours repaired from above (benchmarks/README.md). The first free candidate in
-/// that order, in the gimbal limits and in clear sight of the target, wins. Returns
-/// false if none is.
+/// that order, in the gimbal limits and in clear sight of the target, wins; given the
+/// viewing direction `follow` of the stop flown before (unit, target to camera), the
+/// first free one within kFollowDeg of it wins instead where one exists: a run of
+/// repaired stops keeps one side and tilt (COLMAP left out single_plane's photo repaired
+/// 15° to the side between two 30° from below). Returns false if none is free.
 bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
-                const world::VoxelGrid& grid, const MissionOptions& options) {
+                const world::VoxelGrid& grid, const MissionOptions& options,
+                const std::optional<Vec3>& follow) {
   const double standoff = strategy.camera.standoff_m;
   if (!(standoff > 0.0)) return false;
   const Vec3 n = (stop.position - stop.target) / standoff;
@@ -164,15 +174,40 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
       candidates.push_back({f / std::cos(deg * kPi / 180.0), f, deg});
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& x, const Candidate& y) { return x.stretch < y.stretch; });
+  const double cos_follow = std::cos(kFollowDeg * kPi / 180.0);
+  std::optional<coverage::Stop> least;  // the least stretched free pose, kept if none follows
   for (const Candidate& c : candidates) {
     const double a = c.deg * kPi / 180.0;
     for (const auto& side : sides) {
       if (c.deg == 0.0 && &side != &sides[0]) continue;  // one untilted candidate per distance
       const Vec3 dir = (std::cos(a) * n + std::sin(a) * side).normalized();
-      if (lookFrom(stop, stop.target + c.factor * standoff * dir, grid, options)) return true;
+      const bool follows = !follow || dir.dot(*follow) >= cos_follow;
+      if (least && !follows) continue;
+      coverage::Stop trial = stop;
+      if (!lookFrom(trial, stop.target + c.factor * standoff * dir, grid, options)) continue;
+      if (follows) {
+        stop = trial;
+        return true;
+      }
+      least = trial;
     }
   }
-  return false;
+  if (!least) return false;
+  stop = *least;
+  return true;
+}
+
+/// The viewing direction of stop i's predecessor among the stops kept so far (problem
+/// None, index below i): unit, target to camera; none for the first.
+std::optional<Vec3> predecessorView(const SurfaceMission& m, std::size_t i) {
+  for (std::size_t j = i; j-- > 0;) {
+    if (m.stop_problems[j] != StopProblem::None) continue;
+    const Vec3 d = m.strategy.stops[j].position - m.strategy.stops[j].target;
+    const double len = d.norm();
+    if (len > 0.0 && std::isfinite(len)) return Vec3(d / len);
+    return std::nullopt;
+  }
+  return std::nullopt;
 }
 
 /// The search for a stop the gimbal cannot take when repairStop finds nothing: every
@@ -230,7 +265,7 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
   for (std::size_t i = 0; i < stops.size(); ++i) {
     if (!stops[i].gimbal_ok) {
       if (options.repair_stops && stops[i].position.allFinite() &&
-          (repairStop(stops[i], strategy, grid, options) ||
+          (repairStop(stops[i], strategy, grid, options, predecessorView(m, i)) ||
            searchGimbalPose(stops[i], strategy, grid, options))) {
         m.moved_stops.push_back(static_cast<int>(i));
         m.gimbal_moved_stops.push_back(static_cast<int>(i));
@@ -245,8 +280,9 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
       if (!mosaic_kept && options.repair_stops && options.mosaic_repair &&
           footprintCoveredByNeighbours(m, i, strategy)) {
         m.stop_problems[i] = StopProblem::MosaicCovered;
-      } else if (mosaic_kept || (options.repair_stops && stops[i].position.allFinite() &&
-                                 repairStop(stops[i], strategy, grid, options))) {
+      } else if (mosaic_kept ||
+                 (options.repair_stops && stops[i].position.allFinite() &&
+                  repairStop(stops[i], strategy, grid, options, predecessorView(m, i)))) {
         m.moved_stops.push_back(static_cast<int>(i));
         if (first_usable < 0) first_usable = static_cast<int>(i);
       } else {
@@ -262,7 +298,7 @@ int checkStops(SurfaceMission& m, const coverage::FlightStrategy& strategy,
     if (m.stop_problems[i] != StopProblem::MosaicCovered ||
         footprintCoveredByNeighbours(m, i, strategy))
       continue;
-    if (repairStop(stops[i], strategy, grid, options)) {
+    if (repairStop(stops[i], strategy, grid, options, predecessorView(m, i))) {
       m.stop_problems[i] = StopProblem::None;
       m.moved_stops.insert(
           std::upper_bound(m.moved_stops.begin(), m.moved_stops.end(), static_cast<int>(i)),

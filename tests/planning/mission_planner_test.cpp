@@ -509,6 +509,89 @@ TEST(MissionPlanner, ARepairedStopTurnsNoMoreThan45DegWhenAFartherPoseAllows) {
   EXPECT_GT(d.norm(), kStandoff + 1e-9);
 }
 
+/// A pose at `deg` of tilt toward the unit `side` from the normal +x, `factor` × 3 m
+/// from `target`.
+Vec3 poseAt(const Vec3& target, double deg, const Vec3& side, double factor) {
+  const double a = deg * kPi / 180.0;
+  return target + 3.0 * factor * (std::cos(a) * Vec3::UnitX() + std::sin(a) * side);
+}
+
+TEST(MissionPlanner, ARunOfRepairedStopsKeepsOneSide) {
+  // A wall x = 0 and two consecutive stops 3 m in front of (0, 2, 3) and (0, 6, 3).
+  // Two discs of points on each stop's normal (inflation 0.5 m) block every pose within
+  // 15° at all three distances; a point at each blocks 30° up and down at the standoff,
+  // and for the first also 30° toward +y. So the first can only be repaired 30° toward −y, and
+  // the second could go 30° toward +y (the side tried first) or −y. The second must keep
+  // the first's side: turning to +y would change the viewpoint by 60° between two
+  // consecutive photos, which SIFT does not match (docs/photo_purposes.md).
+  PointList cloud;
+  for (double y = 0.0; y <= 8.0001; y += 0.1)
+    for (double z = 0.0; z <= 6.0001; z += 0.1) cloud.emplace_back(0.0, y, z);
+  const Vec3 ta(0.0, 2.0, 3.0), tb(0.0, 6.0, 3.0);
+  const Vec3 up = Vec3::UnitZ(), side = Vec3::UnitY();
+  for (const Vec3& t : {ta, tb}) {
+    for (const double x : {3.15, 3.5})  // two discs of radius 1 m around the normal
+      for (double r = 0.0; r <= 1.0001; r += 0.05) {
+        const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / 0.05)));
+        for (int k = 0; k < n; ++k) {
+          const double phi = 2.0 * kPi * k / n;
+          cloud.push_back(t + Vec3(x, r * std::cos(phi), r * std::sin(phi)));
+        }
+      }
+    cloud.push_back(poseAt(t, 30.0, up, 1.0));
+    cloud.push_back(poseAt(t, 30.0, -up, 1.0));
+  }
+  cloud.push_back(poseAt(ta, 30.0, side, 1.0));
+  coverage::FlightStrategy strategy;
+  strategy.surface_id = 3;
+  strategy.camera.standoff_m = 3.0;
+  strategy.axis_w = Vec3::UnitY();
+  strategy.axis_h = Vec3::UnitZ();
+  for (const Vec3& t : {ta, tb}) {
+    coverage::Stop stop;
+    stop.index = static_cast<int>(strategy.stops.size());
+    stop.surface_id = 3;
+    stop.col = stop.index;
+    stop.target = t;
+    stop.position = poseAt(t, 0.0, up, 1.0);
+    stop.yaw_deg = 180.0;
+    strategy.stops.push_back(stop);
+  }
+  world::GridOptions o;
+  o.resolution_m = 0.1;
+  o.inflation_radius_m = kRadius;
+  o.padding_m = 2.0;
+  const auto grid = world::VoxelGrid::build(cloud, {poseAt(ta, 0.0, up, 1.25)}, o);
+  // The scene does what it says (brute force): nothing free within 15° at any distance
+  // for either stop; the second has a free pose in clear sight 30° toward each side.
+  const auto clear = [&](const Vec3& p, const Vec3& t) {
+    return grid.isFree(p) && std::none_of(cloud.begin(), cloud.end(), [&](const Vec3& q) {
+             return pointSegmentDistance(q, p, t + 0.35 * (p - t).normalized()) < 0.1;
+           });
+  };
+  for (const Vec3& t : {ta, tb}) {
+    ASSERT_FALSE(bruteClearPoseExists(t, 3.0, 3.75, 15.0, grid, cloud));
+    ASSERT_FALSE(clear(poseAt(t, 30.0, up, 1.0), t));
+    ASSERT_FALSE(clear(poseAt(t, 30.0, -up, 1.0), t));
+  }
+  ASSERT_FALSE(clear(poseAt(ta, 30.0, side, 1.0), ta));
+  ASSERT_TRUE(clear(poseAt(ta, 30.0, -side, 1.0), ta));
+  ASSERT_TRUE(clear(poseAt(tb, 30.0, side, 1.0), tb));
+  ASSERT_TRUE(clear(poseAt(tb, 30.0, -side, 1.0), tb));
+  const PathValidator validator(cloud, kRadius);
+  auto planner = planners::makePlanner("astar", planners::PlannerSettings{});
+  const SurfaceMission m =
+      planSurfaceMission(strategy, grid, validator, *planner, MissionOptions{});
+  ASSERT_EQ(m.stop_problems[0], StopProblem::None);
+  ASSERT_EQ(m.stop_problems[1], StopProblem::None);
+  const Vec3 da = (m.strategy.stops[0].position - ta).normalized();
+  const Vec3 db = (m.strategy.stops[1].position - tb).normalized();
+  EXPECT_LT(da.y(), 0.0) << da.transpose();
+  EXPECT_LE(std::acos(std::min(1.0, da.dot(db))) * 180.0 / kPi, 20.0 + 1e-6)
+      << da.transpose() << " then " << db.transpose();
+  EXPECT_LE(std::acos(db.x()) * 180.0 / kPi, 30.0 + 1e-6) << db.transpose();
+}
+
 TEST(MissionPlanner, EnclosedStopIsUnreachable) {
   PointList cloud = wall();
   // A closed box of points around (7, 2, 1.5), half-size 1.5 m, spacing 0.1 m.
