@@ -345,12 +345,15 @@ def samples_along(length, spacing):
     return max(int(math.floor(length / spacing + 1e-9)) + 1, 2)
 
 
-def completeness(truth, rects, points, taus=TAUS_M, spacing=TRUTH_SPACING_M):
+def completeness(truth, rects, points, taus=TAUS_M, spacing=TRUTH_SPACING_M, by_rect=None):
     """Share of the rectangles' outer truth (a grid of `spacing`, both edges included, as
-    sim samples it) within each tau of a point. Returns ({tau: share}, outer samples)."""
+    sim samples it) within each tau of a point. Returns ({tau: share}, outer samples);
+    fills `by_rect` (a dict) with each rectangle's {samples, tau: share}, to show where a
+    model leaves the truth out."""
     covered = {tau: 0 for tau in taus}
     total = 0
     for r in rects:
+        own = {tau: 0 for tau in taus}
         lu, lv = np.linalg.norm(r["u"]), np.linalg.norm(r["v"])
         nu, nv = samples_along(lu, spacing), samples_along(lv, spacing)
         du, dv = lu / (nu - 1), lv / (nv - 1)
@@ -362,6 +365,8 @@ def completeness(truth, rects, points, taus=TAUS_M, spacing=TRUTH_SPACING_M):
             grid = r["c"] + i * du * eu + np.outer(sv, ev)
             outer[i] = ~truth.inner_mask(grid, r["name"])
         total += int(outer.sum())
+        if by_rect is not None:
+            by_rect[r["name"]] = {"samples": int(outer.sum())}
         if len(points) == 0:
             continue
         d = points - r["c"]
@@ -385,7 +390,11 @@ def completeness(truth, rects, points, taus=TAUS_M, spacing=TRUTH_SPACING_M):
                     jj = j0 + dj
                     m = ok_i & (jj >= 0) & (jj < nv) & (ds2 + (jj * dv - ts) ** 2 <= r2)
                     hit[ii[m], jj[m]] = True
-            covered[tau] += int((hit & outer).sum())
+            own[tau] = int((hit & outer).sum())
+            covered[tau] += own[tau]
+        if by_rect is not None and outer.any():
+            by_rect[r["name"]].update(
+                {f"{int(round(tau * 100))}cm": own[tau] / int(outer.sum()) for tau in taus})
     return {tau: (covered[tau] / total if total else 0.0) for tau in taus}, total
 
 
@@ -547,7 +556,9 @@ def score_models(models, rows, fit_centres, truth, chosen):
         whole, _ = truth.completeness(pts)
         out["completeness_whole_mesh"] = {f"{int(round(tau * 100))}cm": v for tau, v in whole.items()}
     else:
-        comp, total = completeness(truth, chosen, pts)
+        by_rect = {}
+        comp, total = completeness(truth, chosen, pts, by_rect=by_rect)
+        out["completeness_by_rectangle"] = by_rect
     out["completeness"] = {f"{int(round(tau * 100))}cm": v for tau, v in comp.items()}
     out["truth_samples"] = total
     return out
