@@ -838,8 +838,15 @@ std::size_t addStopsFor(FlightStrategy& fs, const Surface& surface, const PointL
     out.insert(out.end(), after[k].begin(), after[k].end());
   }
   for (std::size_t i = 0; i < out.size(); ++i) out[i].index = static_cast<int>(i);
+  const std::size_t before = fs.stops.size();
   fs.stops = std::move(out);
-  return chosen.size();
+  // An added stop between rows shares less than kReconstructionShare with the stops it
+  // is flown between: bridged as the rows' turns are (the planned order already is).
+  const SurfaceFrame f{n, fs.axis_w, fs.axis_h, std::abs(n.z()) >= kHorizontalNz};
+  const Vec3 origin = surface.plane.project(surface.centroid);
+  if (surface.boundary.size() >= 3 && allFinite(surface.boundary) && origin.allFinite())
+    bridgeRows(fs, origin, regionInFrame(surface, f, origin));
+  return fs.stops.size() - before;
 }
 
 namespace {

@@ -334,8 +334,8 @@ TEST(MultiView, TopUpStopsGiveEveryPointItsViewsBack) {
   // out (as stops the obstacle repair could not place): brute force finds points below
   // min_views; addStopsFor, given them and what they miss, adds stops square at the
   // standoff aimed at them until no point is below (at most 3 rounds, as the
-  // pipeline's top-up), at most two more than were left out, each flown next to a stop
-  // it shares footprint with.
+  // pipeline's top-up), at most two more than were left out, each flown where it and
+  // both its neighbours share kReconstructionShare of their footprints (the 60 %).
   CoverageOptions o;
   o.purpose = "reconstruction";
   FlightStrategy fs = planFlightStrategy(wall(3.0, 2.0), o);
@@ -362,13 +362,51 @@ TEST(MultiView, TopUpStopsGiveEveryPointItsViewsBack) {
     EXPECT_NEAR(s.target.x(), 0.0, 1e-9);
     EXPECT_TRUE((s.position - (s.target + 1.5 * Vec3::UnitX())).norm() < 1e-9) << "stop " << i;
     if (i > 0) {
-      EXPECT_GT(sharedShare(fs.stops[i - 1], s, 0.6, 0.4), 0.0) << "stop " << i;
+      EXPECT_GE(sharedShare(fs.stops[i - 1], s, 0.6, 0.4), kReconstructionShare - 1e-9)
+          << "stop " << i;
     }
   }
   // Nothing short: nothing changes.
   const std::size_t topped = fs.stops.size();
   EXPECT_EQ(addStopsFor(fs, surface, {}, {}), 0u);
   EXPECT_EQ(fs.stops.size(), topped);
+}
+
+TEST(MultiView, ATopUpStopBetweenRowsIsBridged) {
+  // Points short of one view on the seam between the first two rows, mid-wall: the stop
+  // aimed at them stands half a row off both rows, sharing about half a footprint with
+  // any row stop, so photos must join it to the order (every consecutive pair shares
+  // kReconstructionShare, brute force on the targets), and one on each side does.
+  CoverageOptions o;
+  o.purpose = "reconstruction";
+  o.overlap_w = o.overlap_h = 0.0;  // the app's reconstruction default (no file overlap)
+  const Surface surface = wall(3.0, 2.0);
+  FlightStrategy fs = planFlightStrategy(surface, o);
+  double z0 = 0.0, z1 = 0.0;
+  int n0 = 0, n1 = 0;
+  for (const Stop& s : fs.stops) {
+    if (s.row == 0) z0 += s.target.z(), ++n0;
+    if (s.row == 1) z1 += s.target.z(), ++n1;
+  }
+  ASSERT_GT(n0, 0);
+  ASSERT_GT(n1, 0);
+  const double seam = 0.5 * (z0 / n0 + z1 / n1);
+  ASSERT_GT(z1 / n1 - z0 / n0, 0.3);  // rows most of a footprint apart
+  PointList points;
+  for (double dy = -0.02; dy <= 0.0201; dy += 0.01) points.emplace_back(0.0, 0.1 + dy, seam);
+  const std::vector<int> missing(points.size(), 1);
+  const std::size_t before = fs.stops.size();
+  const std::size_t added = addStopsFor(fs, surface, points, missing);
+  EXPECT_EQ(added, fs.stops.size() - before);
+  EXPECT_LE(added, 3u);
+  EXPECT_TRUE(std::any_of(fs.stops.begin(), fs.stops.end(), [&](const Stop& s) {
+    return std::abs(s.target.y() - 0.1) <= 0.24 && std::abs(s.target.z() - seam) <= 0.16;
+  }));
+  for (std::size_t i = 1; i < fs.stops.size(); ++i) {
+    EXPECT_EQ(fs.stops[i].index, static_cast<int>(i));
+    EXPECT_GE(sharedShare(fs.stops[i - 1], fs.stops[i], 0.6, 0.4), kReconstructionShare - 1e-9)
+        << "stops " << i - 1 << " and " << i;
+  }
 }
 
 TEST(MultiView, InspectionAndMosaicKeepThePaperRows) {

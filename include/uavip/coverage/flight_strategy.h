@@ -118,7 +118,9 @@ double footprintShare(const FlightStrategy& fs, const Stop& a, const Stop& b);
 /// is short. Each is flown right after the stop k where the least footprint it shares
 /// with stop k and stop k + 1 (footprintShare) gains most on what those two share (it
 /// fills a gap of the order; then the shortest detour), nearest to stop k first, with
-/// stop k's attitude, row and column. Returns how many were added.
+/// stop k's attitude, row and column; where an added stop and a stop it is flown beside
+/// share less than kReconstructionShare, photos between them bridge the step as between
+/// rows. Returns how many stops were added (bridges included).
 std::size_t addStopsFor(FlightStrategy& fs, const Surface& surface, const PointList& points,
                         const std::vector<int>& missing);
 
