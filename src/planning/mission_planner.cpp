@@ -198,9 +198,11 @@ bool repairStop(coverage::Stop& stop, const coverage::FlightStrategy& strategy,
 }
 
 /// The viewing direction of stop i's predecessor among the stops kept so far (problem
-/// None, index below i): unit, target to camera; none for the first.
+/// None, at most kFollowLookback before i: past a longer run left out the flight jumps
+/// anyway, and the search stays linear): unit, target to camera; none for the first.
 std::optional<Vec3> predecessorView(const SurfaceMission& m, std::size_t i) {
-  for (std::size_t j = i; j-- > 0;) {
+  constexpr std::size_t kFollowLookback = 4;
+  for (std::size_t j = i; j-- > 0 && i - j <= kFollowLookback;) {
     if (m.stop_problems[j] != StopProblem::None) continue;
     const Vec3 d = m.strategy.stops[j].position - m.strategy.stops[j].target;
     const double len = d.norm();
