@@ -438,6 +438,16 @@ TEST(MissionPlanner, AMosaicLeavesOutOnlyStopsItsNeighboursCover) {
 /// +x is free and in clear sight of it (no measured point within 0.1 m of the line of
 /// sight up to 0.35 m before the target): brute force over 1° of tilt, 5° of direction
 /// and 5 cm of distance.
+/// Whether pose `p` is free and in clear sight of `target` (no measured point within
+/// 0.1 m of the line of sight up to 0.35 m before the target), by brute force.
+bool clearPose(const Vec3& p, const Vec3& target, const world::VoxelGrid& grid,
+               const PointList& cloud) {
+  const Vec3 end = target + 0.35 * (p - target).normalized();
+  return grid.isFree(p) && std::none_of(cloud.begin(), cloud.end(), [&](const Vec3& q) {
+           return pointSegmentDistance(q, p, end) < 0.1;
+         });
+}
+
 bool bruteClearPoseExists(const Vec3& target, double dist_lo, double dist_hi, double max_deg,
                           const world::VoxelGrid& grid, const PointList& cloud) {
   for (double r = dist_lo; r <= dist_hi + 1e-9; r += 0.05)
@@ -445,14 +455,50 @@ bool bruteClearPoseExists(const Vec3& target, double dist_lo, double dist_hi, do
       for (double phi = 0.0; phi < 360.0; phi += 5.0) {
         const double a = t * kPi / 180.0, b = phi * kPi / 180.0;
         const Vec3 d(std::cos(a), std::sin(a) * std::cos(b), std::sin(a) * std::sin(b));
-        const Vec3 p = target + r * d;
-        if (!grid.isFree(p)) continue;
-        const Vec3 end = target + 0.35 * d;
-        if (std::none_of(cloud.begin(), cloud.end(),
-                         [&](const Vec3& q) { return pointSegmentDistance(q, p, end) < 0.1; }))
-          return true;
+        if (clearPose(target + r * d, target, grid, cloud)) return true;
       }
   return false;
+}
+
+/// A disc of points (5 cm apart) in the plane x = centre.x(), of `radius` [m] about `centre`.
+void addDisc(PointList& cloud, const Vec3& centre, double radius) {
+  for (double r = 0.0; r <= radius + 1e-4; r += 0.05) {
+    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / 0.05)));
+    for (int k = 0; k < n; ++k) {
+      const double phi = 2.0 * kPi * k / n;
+      cloud.push_back(centre + Vec3(0.0, r * std::cos(phi), r * std::sin(phi)));
+    }
+  }
+}
+
+/// Stops `standoff` [m] in front (+x) of the wall x = 0 at `targets`, in that order,
+/// surface 3, rows along y.
+coverage::FlightStrategy strategyFacingWall(const PointList& targets, double standoff) {
+  coverage::FlightStrategy strategy;
+  strategy.surface_id = 3;
+  strategy.camera.standoff_m = standoff;
+  strategy.axis_w = Vec3::UnitY();
+  strategy.axis_h = Vec3::UnitZ();
+  for (const Vec3& t : targets) {
+    coverage::Stop stop;
+    stop.index = static_cast<int>(strategy.stops.size());
+    stop.surface_id = 3;
+    stop.col = stop.index;
+    stop.target = t;
+    stop.position = t + standoff * Vec3::UnitX();
+    stop.yaw_deg = 180.0;
+    strategy.stops.push_back(stop);
+  }
+  return strategy;
+}
+
+/// A grid of `resolution` [m] over the cloud and `extra`, inflated by kRadius.
+world::VoxelGrid gridOver(const PointList& cloud, const PointList& extra, double resolution) {
+  world::GridOptions o;
+  o.resolution_m = resolution;
+  o.inflation_radius_m = kRadius;
+  o.padding_m = 2.0;
+  return world::VoxelGrid::build(cloud, extra, o);
 }
 
 TEST(MissionPlanner, ARepairedStopTurnsNoMoreThan45DegWhenAFartherPoseAllows) {
@@ -465,33 +511,13 @@ TEST(MissionPlanner, ARepairedStopTurnsNoMoreThan45DegWhenAFartherPoseAllows) {
   const Vec3 target(0.0, 2.0, 1.5);
   constexpr double kStandoff = 3.0;
   PointList cloud = wall();
-  for (double r = 0.0; r <= 1.2001; r += 0.05) {
-    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / 0.05)));
-    for (int k = 0; k < n; ++k) {
-      const double phi = 2.0 * kPi * k / n;
-      cloud.emplace_back(2.8, 2.0 + r * std::cos(phi), 1.5 + r * std::sin(phi));
-    }
-  }
+  addDisc(cloud, Vec3(2.8, 2.0, 1.5), 1.2);
   for (int k = 0; k < 240; ++k) {
     const double phi = 2.0 * kPi * k / 240;
     cloud.emplace_back(2.33, 2.0 + 1.91 * std::cos(phi), 1.5 + 1.91 * std::sin(phi));
   }
-  coverage::FlightStrategy strategy;
-  strategy.surface_id = 3;
-  strategy.camera.standoff_m = kStandoff;
-  strategy.axis_w = Vec3::UnitY();
-  strategy.axis_h = Vec3::UnitZ();
-  coverage::Stop stop;
-  stop.surface_id = 3;
-  stop.target = target;
-  stop.position = target + kStandoff * Vec3::UnitX();
-  stop.yaw_deg = 180.0;
-  strategy.stops.push_back(stop);
-  world::GridOptions o;
-  o.resolution_m = 0.05;
-  o.inflation_radius_m = kRadius;
-  o.padding_m = 2.0;
-  const auto grid = world::VoxelGrid::build(cloud, {stop.position}, o);
+  const coverage::FlightStrategy strategy = strategyFacingWall({target}, kStandoff);
+  const auto grid = gridOver(cloud, {strategy.stops[0].position}, 0.05);
   // The scene does what it says (brute force): nothing within 45° at the standoff,
   // 60° there, and within 45° at 1.25 × the standoff.
   ASSERT_FALSE(bruteClearPoseExists(target, kStandoff, kStandoff, 45.0, grid, cloud));
@@ -530,45 +556,16 @@ TEST(MissionPlanner, ARunOfRepairedStopsKeepsOneSide) {
   const Vec3 ta(0.0, 2.0, 3.0), tb(0.0, 6.0, 3.0);
   const Vec3 up = Vec3::UnitZ(), side = Vec3::UnitY();
   for (const Vec3& t : {ta, tb}) {
-    for (const double x : {3.15, 3.5})  // two discs of radius 1 m around the normal
-      for (double r = 0.0; r <= 1.0001; r += 0.05) {
-        const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / 0.05)));
-        for (int k = 0; k < n; ++k) {
-          const double phi = 2.0 * kPi * k / n;
-          cloud.push_back(t + Vec3(x, r * std::cos(phi), r * std::sin(phi)));
-        }
-      }
+    for (const double x : {3.15, 3.5}) addDisc(cloud, t + Vec3(x, 0.0, 0.0), 1.0);
     cloud.push_back(poseAt(t, 30.0, up, 1.0));
     cloud.push_back(poseAt(t, 30.0, -up, 1.0));
   }
   cloud.push_back(poseAt(ta, 30.0, side, 1.0));
-  coverage::FlightStrategy strategy;
-  strategy.surface_id = 3;
-  strategy.camera.standoff_m = 3.0;
-  strategy.axis_w = Vec3::UnitY();
-  strategy.axis_h = Vec3::UnitZ();
-  for (const Vec3& t : {ta, tb}) {
-    coverage::Stop stop;
-    stop.index = static_cast<int>(strategy.stops.size());
-    stop.surface_id = 3;
-    stop.col = stop.index;
-    stop.target = t;
-    stop.position = poseAt(t, 0.0, up, 1.0);
-    stop.yaw_deg = 180.0;
-    strategy.stops.push_back(stop);
-  }
-  world::GridOptions o;
-  o.resolution_m = 0.1;
-  o.inflation_radius_m = kRadius;
-  o.padding_m = 2.0;
-  const auto grid = world::VoxelGrid::build(cloud, {poseAt(ta, 0.0, up, 1.25)}, o);
+  const coverage::FlightStrategy strategy = strategyFacingWall({ta, tb}, 3.0);
+  const auto grid = gridOver(cloud, {poseAt(ta, 0.0, up, 1.25)}, 0.1);
   // The scene does what it says (brute force): nothing free within 15° at any distance
   // for either stop; the second has a free pose in clear sight 30° toward each side.
-  const auto clear = [&](const Vec3& p, const Vec3& t) {
-    return grid.isFree(p) && std::none_of(cloud.begin(), cloud.end(), [&](const Vec3& q) {
-             return pointSegmentDistance(q, p, t + 0.35 * (p - t).normalized()) < 0.1;
-           });
-  };
+  const auto clear = [&](const Vec3& p, const Vec3& t) { return clearPose(p, t, grid, cloud); };
   for (const Vec3& t : {ta, tb}) {
     ASSERT_FALSE(bruteClearPoseExists(t, 3.0, 3.75, 15.0, grid, cloud));
     ASSERT_FALSE(clear(poseAt(t, 30.0, up, 1.0), t));
