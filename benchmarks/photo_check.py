@@ -5,9 +5,10 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
 (docs/formats.md, "The photo folder"), then
 
 * COLMAP 3.8 on the CPU reconstructs the photos with the plan's known pinhole
-  intrinsics: SIFT (<= 4096 features an image), spatial matching with the planned
-  camera centres as position priors (<= 10 neighbours; or sequential matching, 10
-  neighbours in flown order), the incremental mapper. SIFT runs from the image's own
+  intrinsics: SIFT (<= 4096 features an image), matching of the image pairs the planned
+  poses say overlap (view_pairs: each photo with the 10 whose planned views overlap
+  its own most; or, as until stop 60, spatial matching of the 10 nearest planned camera
+  centres, or sequential matching, 10 neighbours in flown order), the incremental mapper. SIFT runs from the image's own
   resolution (first_octave 0: the texture's finest feature is >= 3 px, no upsampling),
   one orientation a keypoint (COLMAP's default two would double the 4096). Reported: photos
   registered (in any model, each once), models, the largest model, mean reprojection error;
@@ -16,7 +17,7 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
   completeness (share of the chosen surfaces' outer truth, sampled at 1 cm, within
   5 and 10 cm of a sparse point).
 * a second pass with seeded pose noise on the priors (3 cm per axis, 0.5 deg), as GNSS
-  and a gimbal give: the spatial matcher sees the noisy positions and the similarity
+  and a gimbal give: the matcher's pairs come from the noisy poses and the similarity
   fit is made to them (georeferencing by GNSS); the errors are still measured against
   the true plan and the truth. COLMAP 3.8's mapper uses no pose prior, so the rotation
   noise only reaches the database.
@@ -61,6 +62,9 @@ TRUTH_SPACING_M = 0.01
 TAUS_M = (0.05, 0.10)
 MAX_FEATURES = 4096
 MATCH_NEIGHBOURS = 10
+# view_pairs: two photos whose rays to a target part by more than this do not both see it
+# (the incidence limit of the coverage, 75 deg, less a margin for SIFT across views).
+PAIR_MAX_RAY_DEG = 60.0
 NOISE_POSITION_M = 0.03
 NOISE_ROTATION_DEG = 0.5
 PLACEMENT_TOLERANCE = 0.10  # share of a footprint
@@ -114,12 +118,24 @@ def quat_to_rot(qw, qx, qy, qz):
 
 
 def rot_to_quat(r):
-    """Unit quaternion (w, x, y, z) of a rotation matrix."""
-    w = math.sqrt(max(0.0, 1 + r[0, 0] + r[1, 1] + r[2, 2])) / 2
-    x = math.copysign(math.sqrt(max(0.0, 1 + r[0, 0] - r[1, 1] - r[2, 2])) / 2, r[2, 1] - r[1, 2])
-    y = math.copysign(math.sqrt(max(0.0, 1 - r[0, 0] + r[1, 1] - r[2, 2])) / 2, r[0, 2] - r[2, 0])
-    z = math.copysign(math.sqrt(max(0.0, 1 - r[0, 0] - r[1, 1] + r[2, 2])) / 2, r[1, 0] - r[0, 1])
-    return np.array([w, x, y, z])
+    """Unit quaternion (w, x, y, z) of a rotation matrix, from its largest diagonal term
+    (Shepperd): exact for half turns too, where w = 0 leaves no sign to copy."""
+    t = np.trace(r)
+    k = int(np.argmax([t, r[0, 0], r[1, 1], r[2, 2]]))
+    if k == 0:
+        s = 2 * math.sqrt(1 + t)
+        q = [s / 4, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s]
+    elif k == 1:
+        s = 2 * math.sqrt(1 + r[0, 0] - r[1, 1] - r[2, 2])
+        q = [(r[2, 1] - r[1, 2]) / s, s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s]
+    elif k == 2:
+        s = 2 * math.sqrt(1 - r[0, 0] + r[1, 1] - r[2, 2])
+        q = [(r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s]
+    else:
+        s = 2 * math.sqrt(1 - r[0, 0] - r[1, 1] + r[2, 2])
+        q = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4]
+    q = np.array(q)
+    return q if q[0] >= 0 else -q
 
 
 def umeyama(src, dst):
@@ -450,12 +466,55 @@ def write_priors(db, rows, centres, quats):
     con.close()
 
 
-def match_and_map(colmap, folder, db, work, matcher, threads, logf):
-    """Matching and the mapper on db; returns the models as text folders, largest first."""
+def view_pairs(rows, camera, k=MATCH_NEIGHBOURS):
+    """Image pairs by what the planned photos see: photo j's target (the surface point
+    at its image centre) projected into photo i lands at the offsets (du, dv) from i's
+    image centre, a share (1 - |du| / W)(1 - |dv| / H) of the image (0 behind the camera,
+    outside the image, or where the two rays to the target part by more than
+    PAIR_MAX_RAY_DEG: the target faces j, so i sees it edge-on or from behind), and the
+    pair scores the smaller of its two ways. Each photo is paired with the k others of
+    the highest score (ties in flown order). Unlike the camera centres' k nearest, this
+    pairs a photo of a structure's edge, taken at 45 deg, with the photos of both faces
+    beside it, not only with its own column of edge photos."""
+    centres = np.array([r["centre"] for r in rows])
+    targets = np.array([r["target"] for r in rows])
+    back = centres - targets  # each target's ray back to its own camera
+    back /= np.maximum(np.linalg.norm(back, axis=1), 1e-12)[:, None]
+    w, h = float(camera["width_px"]), float(camera["height_px"])
+    share = np.zeros((len(rows), len(rows)))
+    for i, r in enumerate(rows):
+        cam = (targets - centres[i]) @ quat_to_rot(*r["q"])  # camera frame, +z ahead
+        z = cam[:, 2]
+        ray = centres[i] - targets
+        cos = np.einsum("ij,ij->i", ray, back) / np.maximum(np.linalg.norm(ray, axis=1), 1e-12)
+        ahead = (z > 1e-9) & (cos >= math.cos(math.radians(PAIR_MAX_RAY_DEG)))
+        zs = np.where(ahead, z, 1.0)
+        du = np.abs(camera["fx_px"] * cam[:, 0] / zs + camera["cx_px"] - 0.5 * w) / w
+        dv = np.abs(camera["fy_px"] * cam[:, 1] / zs + camera["cy_px"] - 0.5 * h) / h
+        share[i] = np.where(ahead, np.clip(1 - du, 0, None) * np.clip(1 - dv, 0, None), 0.0)
+    score = np.minimum(share, share.T)
+    np.fill_diagonal(score, 0.0)
+    pairs = set()
+    for i in range(len(rows)):
+        best = np.lexsort((np.arange(len(rows)), -score[i]))[:k]  # stable: flown order
+        pairs.update((min(i, j), max(i, j)) for j in best if score[i, j] > 0)
+    return sorted(pairs)
+
+
+def match_and_map(colmap, folder, db, work, matcher, threads, logf, rows=None, camera=None):
+    """Matching and the mapper on db; returns the models as text folders, largest first.
+    matcher "view" needs the photo folder's rows and camera (view_pairs)."""
     env = colmap_env()
     common = ["--database_path", db, "--SiftMatching.use_gpu", "0",
               "--SiftMatching.num_threads", str(threads)]
-    if matcher == "spatial":
+    if matcher == "view":
+        pair_list = os.path.join(work, "pairs.txt")
+        with open(pair_list, "w") as f:
+            f.writelines(f"{rows[i]['image']} {rows[j]['image']}\n"
+                         for i, j in view_pairs(rows, camera))
+        run([colmap, "matches_importer", *common, "--match_list_path", pair_list,
+             "--match_type", "pairs"], logf, env)
+    elif matcher == "spatial":
         # ignore_z 0: the photos of a wall differ in height, not only in x and y.
         run([colmap, "spatial_matcher", *common, "--SpatialMatching.is_gps", "0",
              "--SpatialMatching.ignore_z", "0",
@@ -571,7 +630,10 @@ def colmap_pass(args, folder, meta, rows, db_features, work, priors, truth, chos
     shutil.copyfile(db_features, db)
     write_priors(db, rows, priors[0], priors[1])
     t0 = time.time()
-    models = match_and_map(args.colmap, folder, db, work, args.matcher, args.threads, logf)
+    # the pairs a matcher chooses come from the priors too (the planned targets stay)
+    prior_rows = [dict(r, centre=c, q=q) for r, c, q in zip(rows, priors[0], priors[1])]
+    models = match_and_map(args.colmap, folder, db, work, args.matcher, args.threads, logf,
+                           prior_rows, meta["camera"])
     res = {
         # Photos in some model: COLMAP may register one photo in two models.
         "registered": len(set().union(*(m["images"].keys() for m in models))),
@@ -1003,7 +1065,10 @@ def main():
                          "(uavip photos --image-scale; e.g. 0.25 for a 20 MP camera)")
     ap.add_argument("--stitch-max-photos", type=int, default=0,
                     help="stitch only the first N photos of each surface (0: all)")
-    ap.add_argument("--matcher", choices=("spatial", "sequential"), default="spatial")
+    ap.add_argument("--matcher", choices=("view", "spatial", "sequential"), default="view",
+                    help="image pairs: view (the photos whose planned views overlap most, "
+                    "view_pairs), spatial (nearest planned camera centres) or sequential "
+                    "(flown order); 10 an image")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seed", type=int, default=46, help="seed of the pose noise")
     ap.add_argument("--no-colmap", action="store_true")
