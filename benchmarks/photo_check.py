@@ -5,10 +5,11 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
 (docs/formats.md, "The photo folder"), then
 
 * COLMAP 3.8 on the CPU reconstructs the photos with the plan's known pinhole
-  intrinsics: SIFT (<= 4096 features an image), matching of the image pairs the planned
-  poses say overlap (view_pairs: each photo with the 10 whose planned views overlap
-  its own most; or, as until stop 60, spatial matching of the 10 nearest planned camera
-  centres, or sequential matching, 10 neighbours in flown order), the incremental mapper. SIFT runs from the image's own
+  intrinsics: SIFT (<= 4096 features an image), matching of the image pairs the photo
+  folder lists (pairs.txt, photo/view_pairs.h: each photo with the 10 whose planned
+  views overlap its own most; or, as until stop 60, spatial matching of the 10 nearest
+  planned camera centres, or sequential matching, 10 neighbours in flown order), the
+  incremental mapper. SIFT runs from the image's own
   resolution (first_octave 0: the texture's finest feature is >= 3 px, no upsampling),
   one orientation a keypoint (COLMAP's default two would double the 4096). Reported: photos
   registered (in any model, each once), models, the largest model, mean reprojection error;
@@ -17,10 +18,11 @@ For each scenario: `uavip run` plans it, `uavip photos` renders every photo stop
   completeness (share of the chosen surfaces' outer truth, sampled at 1 cm, within
   5 and 10 cm of a sparse point).
 * a second pass with seeded pose noise on the priors (3 cm per axis, 0.5 deg), as GNSS
-  and a gimbal give: the matcher's pairs come from the noisy poses and the similarity
-  fit is made to them (georeferencing by GNSS); the errors are still measured against
-  the true plan and the truth. COLMAP 3.8's mapper uses no pose prior, so the rotation
-  noise only reaches the database.
+  and a gimbal give: the similarity fit is made to the noisy centres (georeferencing by
+  GNSS), and --matcher spatial matches by them (the folder's pairs come from the plan,
+  as they would for a flight of it); the errors are still measured against the true
+  plan and the truth. COLMAP 3.8's mapper uses no pose prior, so the rotation noise
+  only reaches the database.
 * OpenCV's stitcher in SCANS mode per planar surface (poses.csv surface_id >= 0): the
   pipeline cv2.Stitcher_create(cv2.Stitcher_SCANS) configures (ORB at its registration
   resolution, affine best-of-2-nearest matching, the biggest component above its
@@ -62,9 +64,6 @@ TRUTH_SPACING_M = 0.01
 TAUS_M = (0.05, 0.10)
 MAX_FEATURES = 4096
 MATCH_NEIGHBOURS = 10
-# view_pairs: two photos whose rays to a target part by more than this do not both see it
-# (the incidence limit of the coverage, 75 deg, less a margin for SIFT across views).
-PAIR_MAX_RAY_DEG = 60.0
 NOISE_POSITION_M = 0.03
 NOISE_ROTATION_DEG = 0.5
 PLACEMENT_TOLERANCE = 0.10  # share of a footprint
@@ -466,52 +465,29 @@ def write_priors(db, rows, centres, quats):
     con.close()
 
 
-def view_pairs(rows, camera, k=MATCH_NEIGHBOURS):
-    """Image pairs by what the planned photos see: photo j's target (the surface point
-    at its image centre) projected into photo i lands at the offsets (du, dv) from i's
-    image centre, a share (1 - |du| / W)(1 - |dv| / H) of the image (0 behind the camera,
-    outside the image, or where the two rays to the target part by more than
-    PAIR_MAX_RAY_DEG: the target faces j, so i sees it edge-on or from behind), and the
-    pair scores the smaller of its two ways. Each photo is paired with the k others of
-    the highest score (ties in flown order). Unlike the camera centres' k nearest, this
-    pairs a photo of a structure's edge, taken at 45 deg, with the photos of both faces
-    beside it, not only with its own column of edge photos."""
-    centres = np.array([r["centre"] for r in rows])
-    targets = np.array([r["target"] for r in rows])
-    back = centres - targets  # each target's ray back to its own camera
-    back /= np.maximum(np.linalg.norm(back, axis=1), 1e-12)[:, None]
-    w, h = float(camera["width_px"]), float(camera["height_px"])
-    share = np.zeros((len(rows), len(rows)))
-    for i, r in enumerate(rows):
-        cam = (targets - centres[i]) @ quat_to_rot(*r["q"])  # camera frame, +z ahead
-        z = cam[:, 2]
-        ray = centres[i] - targets
-        cos = np.einsum("ij,ij->i", ray, back) / np.maximum(np.linalg.norm(ray, axis=1), 1e-12)
-        ahead = (z > 1e-9) & (cos >= math.cos(math.radians(PAIR_MAX_RAY_DEG)))
-        zs = np.where(ahead, z, 1.0)
-        du = np.abs(camera["fx_px"] * cam[:, 0] / zs + camera["cx_px"] - 0.5 * w) / w
-        dv = np.abs(camera["fy_px"] * cam[:, 1] / zs + camera["cy_px"] - 0.5 * h) / h
-        share[i] = np.where(ahead, np.clip(1 - du, 0, None) * np.clip(1 - dv, 0, None), 0.0)
-    score = np.minimum(share, share.T)
-    np.fill_diagonal(score, 0.0)
-    pairs = set()
-    for i in range(len(rows)):
-        best = np.lexsort((np.arange(len(rows)), -score[i]))[:k]  # stable: flown order
-        pairs.update((min(i, j), max(i, j)) for j in best if score[i, j] > 0)
-    return sorted(pairs)
+def folder_pairs(folder, rows):
+    """The photo folder's pairs.txt (photo/view_pairs.h: each photo with the 10 whose
+    planned views overlap its own most), those of the photos checked."""
+    path = os.path.join(folder, "pairs.txt")
+    if not os.path.exists(path):
+        raise CheckError(f"{path}: missing (a folder from an older uavip); render the photos "
+                         "again with `uavip photos`, or pass --matcher spatial")
+    names = {r["image"] for r in rows}
+    with open(path) as f:
+        pairs = [line.split() for line in f if line.strip()]
+    return [p for p in pairs if len(p) == 2 and p[0] in names and p[1] in names]
 
 
-def match_and_map(colmap, folder, db, work, matcher, threads, logf, rows=None, camera=None):
+def match_and_map(colmap, folder, db, work, matcher, threads, logf, rows=None):
     """Matching and the mapper on db; returns the models as text folders, largest first.
-    matcher "view" needs the photo folder's rows and camera (view_pairs)."""
+    matcher "view" matches the folder's pairs among `rows` (folder_pairs)."""
     env = colmap_env()
     common = ["--database_path", db, "--SiftMatching.use_gpu", "0",
               "--SiftMatching.num_threads", str(threads)]
     if matcher == "view":
         pair_list = os.path.join(work, "pairs.txt")
         with open(pair_list, "w") as f:
-            f.writelines(f"{rows[i]['image']} {rows[j]['image']}\n"
-                         for i, j in view_pairs(rows, camera))
+            f.writelines(f"{a} {b}\n" for a, b in folder_pairs(folder, rows))
         run([colmap, "matches_importer", *common, "--match_list_path", pair_list,
              "--match_type", "pairs"], logf, env)
     elif matcher == "spatial":
@@ -630,10 +606,7 @@ def colmap_pass(args, folder, meta, rows, db_features, work, priors, truth, chos
     shutil.copyfile(db_features, db)
     write_priors(db, rows, priors[0], priors[1])
     t0 = time.time()
-    # the pairs a matcher chooses come from the priors too (the planned targets stay)
-    prior_rows = [dict(r, centre=c, q=q) for r, c, q in zip(rows, priors[0], priors[1])]
-    models = match_and_map(args.colmap, folder, db, work, args.matcher, args.threads, logf,
-                           prior_rows, meta["camera"])
+    models = match_and_map(args.colmap, folder, db, work, args.matcher, args.threads, logf, rows)
     res = {
         # Photos in some model: COLMAP may register one photo in two models.
         "registered": len(set().union(*(m["images"].keys() for m in models))),
@@ -1066,9 +1039,9 @@ def main():
     ap.add_argument("--stitch-max-photos", type=int, default=0,
                     help="stitch only the first N photos of each surface (0: all)")
     ap.add_argument("--matcher", choices=("view", "spatial", "sequential"), default="view",
-                    help="image pairs: view (the photos whose planned views overlap most, "
-                    "view_pairs), spatial (nearest planned camera centres) or sequential "
-                    "(flown order); 10 an image")
+                    help="image pairs: view (the photo folder's pairs.txt: the photos whose "
+                    "planned views overlap most), spatial (nearest planned camera centres) or "
+                    "sequential (flown order); 10 an image")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seed", type=int, default=46, help="seed of the pose noise")
     ap.add_argument("--no-colmap", action="store_true")

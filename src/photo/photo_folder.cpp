@@ -15,6 +15,7 @@
 #include "uavip/io/atomic_file.h"
 #include "uavip/io/mission_export.h"
 #include "uavip/io/wpml_export.h"
+#include "uavip/photo/view_pairs.h"
 #include "uavip/world/solids.h"
 
 namespace uavip::photo {
@@ -314,6 +315,8 @@ PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCa
   staged.write(out + "/sparse/images.txt", colmapImages(photos));
   staged.write(out + "/sparse/points3D.txt", colmapPoints());
   staged.write(out + "/poses.csv", posesCsv(photos));
+  staged.write(out + "/pairs.txt",
+               colmapPairs(photos, viewPairs(photos, camera, kPairsPerPhoto, threads)));
   staged.write(out + "/photos.json",
                photosJson(mission_path, world_path, camera, look, photos.size()));
   staged.commit();

@@ -6,7 +6,8 @@
 // triangles rendering as its rectangles do; a cloud preview: splats where the
 // projection puts them, nearest first, a PCD's colours in the order of its points; and
 // the CLI end to end (run --photos, photos against another world, against the mesh a
-// mission was detected from, a preview from the cloud it was detected from).
+// mission was detected from, a preview from the cloud it was detected from); the image
+// pairs to match against a brute-force overlap of what the photos see.
 
 #include <gtest/gtest.h>
 #include <png.h>
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -31,6 +33,7 @@
 #include "uavip/io/cloud_io.h"
 #include "uavip/io/mission_json.h"
 #include "uavip/photo/photo_folder.h"
+#include "uavip/photo/view_pairs.h"
 
 namespace {
 
@@ -273,7 +276,7 @@ TEST(PhotoFolder, SameBytesWithOneAndTwoThreadsAndPngsDecodeToTheRender) {
   const fs::path d1 = tempDir("t1"), d2 = tempDir("t2");
   const auto one = writeFolder(m, world, 1, d1);
   const auto two = writeFolder(m, world, 2, d2);
-  EXPECT_EQ(one.size(), 10U);  // 5 images, 3 sparse files, poses.csv, photos.json
+  EXPECT_EQ(one.size(), 11U);  // 5 images, 3 sparse files, pairs.txt, poses.csv, photos.json
   EXPECT_TRUE(one == two);
   // The PNG holds the rendered pixels, and they show texture (not one colour).
   const photo::RayCaster caster(world);
@@ -711,3 +714,126 @@ TEST(PhotosCli, PreviewFromTheCloudAMissionWasDetectedFrom) {
 }
 
 }  // namespace
+
+namespace {
+
+/// A structure's vertical edge (face A: x = 0, seen from −x; face B: y = 3, seen from
+/// +y), each face's rows of photos and a column of photos along the edge at 45°, as
+/// uavip's edge link flies it: 0.6 × 0.4 m footprints at 1.5 m.
+struct EdgeScene {
+  sim::WorldModel world;
+  photo::PhotoCamera camera;
+  std::vector<photo::PlannedPhoto> photos;
+  std::vector<char> face;  ///< 'A', 'B' or 'e' (edge) per photo
+};
+
+EdgeScene edgeScene() {
+  EdgeScene s;
+  s.world.addPlane({"A", Vec3(0, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 2)});
+  s.world.addPlane({"B", Vec3(0, 3, 0), Vec3(3, 0, 0), Vec3(0, 0, 2)});
+  auto& k = s.camera.intrinsics;
+  k.width_px = 600;
+  k.height_px = 400;
+  k.fx_px = k.fy_px = 1500.0;
+  k.cx_px = 300.0;
+  k.cy_px = 200.0;
+  s.camera.standoff_m = 1.5;
+  const auto add = [&](const Vec3& target, const Vec3& normal, char face) {
+    photo::PlannedPhoto p;
+    p.order = s.photos.size() + 1;
+    p.stop_id = "p" + std::to_string(p.order);
+    p.view = viewAt(target, normal, 1.5);
+    p.pose = photo::poseFromView(p.view);
+    p.target = target;
+    s.photos.push_back(p);
+    s.face.push_back(face);
+  };
+  for (const double z : {0.4, 0.75, 1.1, 1.45}) {
+    for (double a = 0.1; a < 2.95; a += 0.19) {
+      add(Vec3(0.0, a, z), -Vec3::UnitX(), 'A');
+      add(Vec3(a, 3.0, z), Vec3::UnitY(), 'B');
+    }
+  }
+  for (double z = 0.3; z < 1.75; z += 0.155)
+    add(Vec3(0.0, 3.0, z), Vec3(-1.0, 1.0, 0.0).normalized(), 'e');
+  return s;
+}
+
+/// Brute force: the share of the face points that photo a's rays through a 24 × 16
+/// pixel grid hit first which photo b sees (in its image, ahead of it, in front of
+/// the face: outward normals −x on A, +y on B).
+double bruteForceOverlap(const EdgeScene& s, const photo::PlannedPhoto& a,
+                         const photo::PlannedPhoto& b) {
+  const auto& k = s.camera.intrinsics;
+  int hits = 0, seen = 0;
+  for (int iu = 0; iu < 24; ++iu) {
+    for (int iv = 0; iv < 16; ++iv) {
+      const double u = (iu + 0.5) * k.width_px / 24.0, v = (iv + 0.5) * k.height_px / 16.0;
+      const Vec3 d =
+          (a.pose.camera_to_world * Vec3((u - k.cx_px) / k.fx_px, (v - k.cy_px) / k.fy_px, 1.0))
+              .normalized();
+      Vec3 p;
+      if (!std::isfinite(bruteForceHit(s.world, a.pose.position, d, &p))) continue;
+      ++hits;
+      const Vec3 n = std::abs(p.x()) < 1e-9 ? Vec3(-Vec3::UnitX()) : Vec3(Vec3::UnitY());
+      const Vec3 c = b.pose.camera_to_world.transpose() * (p - b.pose.position);
+      if (n.dot(b.pose.position - p) <= 0.0 || c.z() <= 0.0) continue;
+      const double bu = k.fx_px * c.x() / c.z() + k.cx_px, bv = k.fy_px * c.y() / c.z() + k.cy_px;
+      if (bu >= 0 && bu < k.width_px && bv >= 0 && bv < k.height_px) ++seen;
+    }
+  }
+  return hits ? static_cast<double>(seen) / hits : 0.0;
+}
+
+}  // namespace
+
+/// Every pair overlaps by brute force, every photo is paired with the photo that
+/// overlaps it most, and every edge photo with photos of both faces (what COLMAP needs
+/// to join the edge column to the faces). The camera centres' 10 nearest (COLMAP's
+/// spatial matcher) miss the last: checked too, so the scene tells the rules apart.
+TEST(ViewPairs, PairPhotosThatSeeTheSamePointsEdgePhotosWithBothFaces) {
+  const EdgeScene s = edgeScene();
+  const std::size_t n = s.photos.size();
+  std::vector<std::vector<double>> overlap(n, std::vector<double>(n, 0.0));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j)
+      if (i != j) overlap[i][j] = bruteForceOverlap(s, s.photos[i], s.photos[j]);
+  const auto pairs = photo::viewPairs(s.photos, s.camera, photo::kPairsPerPhoto, 2);
+  EXPECT_EQ(pairs, photo::viewPairs(s.photos, s.camera, photo::kPairsPerPhoto, 1));
+  std::vector<std::vector<std::size_t>> partners(n);
+  for (const auto& [i, j] : pairs) {
+    ASSERT_LT(i, j);
+    EXPECT_GT(std::min(overlap[i][j], overlap[j][i]), 0.0) << "pair " << i << "-" << j;
+    partners[i].push_back(j);
+    partners[j].push_back(i);
+  }
+  int spatial_misses = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto best = static_cast<std::size_t>(
+        std::max_element(overlap[i].begin(), overlap[i].end()) - overlap[i].begin());
+    EXPECT_NE(std::find(partners[i].begin(), partners[i].end(), best), partners[i].end())
+        << "photo " << i << " is not paired with " << best << " (overlap " << overlap[i][best]
+        << ")";
+    EXPECT_LE(partners[i].size(), n - 1);
+    if (s.face[i] != 'e') continue;
+    const auto sees = [&](const std::vector<std::size_t>& js, char f) {
+      return std::any_of(js.begin(), js.end(), [&](std::size_t j) { return s.face[j] == f; });
+    };
+    EXPECT_TRUE(sees(partners[i], 'A') && sees(partners[i], 'B')) << "edge photo " << i;
+    std::vector<std::size_t> near(n);
+    std::iota(near.begin(), near.end(), std::size_t{0});
+    const Vec3 c = s.photos[i].pose.position;
+    std::sort(near.begin(), near.end(), [&](std::size_t a, std::size_t b) {
+      return (s.photos[a].pose.position - c).norm() < (s.photos[b].pose.position - c).norm();
+    });
+    near.erase(near.begin());  // itself
+    near.resize(10);
+    spatial_misses += !(sees(near, 'A') && sees(near, 'B'));
+  }
+  EXPECT_GT(spatial_misses, 0) << "the 10 nearest centres pair every edge photo with both faces";
+  // pairs.txt names the images.
+  const std::string text = photo::colmapPairs(s.photos, pairs);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), static_cast<std::ptrdiff_t>(pairs.size()));
+  EXPECT_EQ(text.substr(0, text.find('\n')), s.photos[pairs[0].first].stop_id + ".png " +
+                                                 s.photos[pairs[0].second].stop_id + ".png");
+}

@@ -5,7 +5,8 @@
 /// tools read
 /// (docs/formats.md "The photo folder"): images/<stop_id>.png, a COLMAP text model
 /// with the planned poses and intrinsics (sparse/cameras.txt, images.txt, empty
-/// points3D.txt), poses.csv and photos.json.
+/// points3D.txt), the image pairs worth matching (pairs.txt, view_pairs.h), poses.csv
+/// and photos.json.
 ///
 /// The camera: a pinhole camera's intrinsics as planned; a sensor camera's
 /// fx = f·Iw/Sw, fy = f·Ih/Sh, principal point at the image centre; a camera given
