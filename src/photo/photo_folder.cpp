@@ -287,12 +287,14 @@ namespace {
 /// Draws one photo.
 using PhotoDrawer = std::function<Image(const PhotoPose&)>;
 
-/// Renders every photo with `draw` and writes the folder (writePhotoFolder).
+/// Renders every photo with `draw` and writes the folder (writePhotoFolder);
+/// `surface` (the world or mesh the photos show; none for a preview, which is not for
+/// photogrammetry) gives pairs.txt.
 PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCamera& camera,
                           const PhotoDrawer& draw, const nlohmann::json& look,
                           const std::string& mission_path, const std::string& world_path,
-                          const std::string& out, const PhotoOptions& options,
-                          PhotoSummary summary) {
+                          const std::string& out, const PhotoOptions& options, PhotoSummary summary,
+                          const RayCaster* surface) {
   const auto t0 = SteadyClock::now();
   io::StagedOutputs staged;
   const int threads = std::max(1, options.threads);
@@ -315,8 +317,9 @@ PhotoSummary renderFolder(const std::vector<PlannedPhoto>& photos, const PhotoCa
   staged.write(out + "/sparse/images.txt", colmapImages(photos));
   staged.write(out + "/sparse/points3D.txt", colmapPoints());
   staged.write(out + "/poses.csv", posesCsv(photos));
-  staged.write(out + "/pairs.txt",
-               colmapPairs(photos, viewPairs(photos, camera, kPairsPerPhoto, threads)));
+  if (surface != nullptr)
+    staged.write(out + "/pairs.txt",
+                 colmapPairs(photos, viewPairs(photos, camera, *surface, kPairsPerPhoto, threads)));
   staged.write(out + "/photos.json",
                photosJson(mission_path, world_path, camera, look, photos.size()));
   staged.commit();
@@ -343,7 +346,7 @@ PhotoSummary renderTextured(const std::vector<PlannedPhoto>& photos, const Photo
       [&](const PhotoPose& pose) {
         return renderPhoto(caster, surface_texture, camera.intrinsics, pose);
       },
-      textureJson(texture), mission_path, world_path, out, options, summary);
+      textureJson(texture), mission_path, world_path, out, options, summary, &caster);
 }
 
 }  // namespace
@@ -414,7 +417,7 @@ PhotoSummary writePreviewFolder(const io::MissionRecord& mission, const std::str
   return renderFolder(
       photos, camera,
       [&](const PhotoPose& pose) { return renderPointPreview(cloud, camera.intrinsics, pose); },
-      look, mission_path, cloud_path, out, options, summary);
+      look, mission_path, cloud_path, out, options, summary, nullptr);
 }
 
 }  // namespace uavip::photo

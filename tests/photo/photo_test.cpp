@@ -791,6 +791,7 @@ double bruteForceOverlap(const EdgeScene& s, const photo::PlannedPhoto& a,
 /// overlaps it most, and every edge photo with photos of both faces (what COLMAP needs
 /// to join the edge column to the faces). The camera centres' 10 nearest (COLMAP's
 /// spatial matcher) miss the last: checked too, so the scene tells the rules apart.
+/// seenShare: nothing from behind the face, beyond kPairMaxRayDeg or through a wall.
 TEST(ViewPairs, PairPhotosThatSeeTheSamePointsEdgePhotosWithBothFaces) {
   const EdgeScene s = edgeScene();
   const std::size_t n = s.photos.size();
@@ -798,8 +799,9 @@ TEST(ViewPairs, PairPhotosThatSeeTheSamePointsEdgePhotosWithBothFaces) {
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j)
       if (i != j) overlap[i][j] = bruteForceOverlap(s, s.photos[i], s.photos[j]);
-  const auto pairs = photo::viewPairs(s.photos, s.camera, photo::kPairsPerPhoto, 2);
-  EXPECT_EQ(pairs, photo::viewPairs(s.photos, s.camera, photo::kPairsPerPhoto, 1));
+  const photo::RayCaster surface(s.world);
+  const auto pairs = photo::viewPairs(s.photos, s.camera, surface, photo::kPairsPerPhoto, 2);
+  EXPECT_EQ(pairs, photo::viewPairs(s.photos, s.camera, surface, photo::kPairsPerPhoto, 1));
   std::vector<std::vector<std::size_t>> partners(n);
   for (const auto& [i, j] : pairs) {
     ASSERT_LT(i, j);
@@ -831,6 +833,31 @@ TEST(ViewPairs, PairPhotosThatSeeTheSamePointsEdgePhotosWithBothFaces) {
     spatial_misses += !(sees(near, 'A') && sees(near, 'B'));
   }
   EXPECT_GT(spatial_misses, 0) << "the 10 nearest centres pair every edge photo with both faces";
+  // One photo of face A against cameras aimed at its target from other sides: behind
+  // the face it sees nothing; beside it, within kPairMaxRayDeg of the photo's rays, it
+  // shares; beyond that angle it does not (SIFT would not match); and a wall between
+  // them hides what it would see.
+  std::size_t mid = 0;  // the photo of face A aimed nearest (0, 1.5, 1)
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.face[i] == 'A' && (s.photos[i].target - Vec3(0, 1.5, 1)).norm() <
+                                (s.photos[mid].target - Vec3(0, 1.5, 1)).norm())
+      mid = i;
+  const photo::PlannedPhoto& a = s.photos[mid];
+  const photo::PhotoSamples samples = photo::photoSamples(surface, s.camera.intrinsics, a.pose);
+  ASSERT_FALSE(samples.points.empty());
+  const auto cameraAt = [&](double deg, double side, const sim::WorldModel& w) {
+    const Vec3 n(-std::cos(deg * kDegToRad), side * std::sin(deg * kDegToRad), 0.0);
+    const photo::RayCaster caster(w);
+    const photo::PhotoPose pose = photo::poseFromView(viewAt(a.target, n, 1.5));
+    return photo::seenShare(caster, s.camera.intrinsics, samples, a.pose, pose);
+  };
+  EXPECT_GT(cameraAt(0.0, 1.0, s.world), 0.9);
+  EXPECT_GT(cameraAt(0.8 * photo::kPairMaxRayDeg, 1.0, s.world), 0.0);
+  EXPECT_EQ(cameraAt(1.3 * photo::kPairMaxRayDeg, 1.0, s.world), 0.0);
+  EXPECT_EQ(cameraAt(180.0, 1.0, s.world), 0.0);  // behind face A
+  sim::WorldModel walled = s.world;
+  walled.addPlane({"screen", Vec3(-0.7, -1.0, -1.0), Vec3(0, 6, 0), Vec3(0, 0, 4)});
+  EXPECT_EQ(cameraAt(0.0, 1.0, walled), 0.0);
   // pairs.txt names the images.
   const std::string text = photo::colmapPairs(s.photos, pairs);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), static_cast<std::ptrdiff_t>(pairs.size()));
