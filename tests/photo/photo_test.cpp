@@ -745,6 +745,8 @@ EdgeScene edgeScene() {
     p.view = viewAt(target, normal, 1.5);
     p.pose = photo::poseFromView(p.view);
     p.target = target;
+    p.footprint_w_m = 0.6;
+    p.footprint_h_m = 0.4;
     s.photos.push_back(p);
     s.face.push_back(face);
   };
